@@ -1,0 +1,82 @@
+"""Table 1 step 7: energies and Lagrange's equations with multipliers, (15)-(29).
+
+    d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D = Q_nc
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..model import TIME, Mechanism
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    kinetic: sp.Expr          # T, (16)-(19)
+    gravity_potential: sp.Expr  # V_G, (20)
+    elastic_potential: sp.Expr  # V_E, (21)
+    lagrangian: sp.Expr       # L = T - V_G - V_E, (22)
+    dt_dL_dqdot: sp.Matrix    # (23)
+    dL_dq: sp.Matrix          # (24)
+    constraint_forces: sp.Matrix  # A^T lambda, (27)
+    applied_forces: sp.Matrix     # Q_nc, (28)
+    dissipative_forces: sp.Matrix  # V_D = dD/dqdot, (29)
+
+    def residual(self) -> sp.Matrix:
+        """Left side minus right side of (15): zero along every motion."""
+        return (self.dt_dL_dqdot - self.dL_dq + self.constraint_forces
+                + self.dissipative_forces - self.applied_forces)
+
+
+def kinetic_energy(mechanism: Mechanism) -> sp.Expr:
+    """Translation of each centre of mass plus rotation about it."""
+    total = sp.S.Zero
+    for body in mechanism.bodies:
+        v = sp.Matrix(body.centre).diff(TIME)
+        total += body.mass * v.dot(v) / 2 + body.inertia * sp.diff(body.angle, TIME) ** 2 / 2
+    return total
+
+
+def gravity_potential(mechanism: Mechanism) -> sp.Expr:
+    return sum((b.mass * mechanism.gravity * b.centre[1] for b in mechanism.bodies), sp.S.Zero)
+
+
+def elastic_potential(mechanism: Mechanism) -> sp.Expr:
+    return sum((s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in mechanism.springs),
+               sp.S.Zero)
+
+
+def rayleigh_dissipation(mechanism: Mechanism) -> sp.Expr:
+    return sum((d.coefficient * sp.diff(d.length, TIME) ** 2 / 2 for d in mechanism.dampers),
+               sp.S.Zero)
+
+
+def applied_forces(mechanism: Mechanism) -> sp.Matrix:
+    """Generalised forces by virtual work: Q_i = sum F . d(point)/dq_i."""
+    q = mechanism.q
+    Q = sp.zeros(len(q), 1)
+    for force in mechanism.forces:
+        Q += sp.Matrix(force.point).jacobian(q).T * sp.Matrix(force.force)
+    return Q
+
+
+def derive_dynamics(mechanism: Mechanism, jacobian: sp.Matrix,
+                    multipliers: tuple[sp.Symbol, ...]) -> Dynamics:
+    q = mechanism.q
+    qdot = q.diff(TIME)
+    T, V_G, V_E = kinetic_energy(mechanism), gravity_potential(mechanism), elastic_potential(mechanism)
+    lagrangian = T - V_G - V_E
+    dL_dqdot = sp.Matrix([lagrangian.diff(v) for v in qdot])
+    D = rayleigh_dissipation(mechanism)
+    return Dynamics(
+        kinetic=T,
+        gravity_potential=V_G,
+        elastic_potential=V_E,
+        lagrangian=lagrangian,
+        dt_dL_dqdot=dL_dqdot.diff(TIME),
+        dL_dq=sp.Matrix([lagrangian.diff(c) for c in q]),
+        constraint_forces=jacobian.T * sp.Matrix(multipliers),
+        applied_forces=applied_forces(mechanism),
+        dissipative_forces=sp.Matrix([D.diff(v) for v in qdot]),
+    )

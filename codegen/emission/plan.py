@@ -1,0 +1,193 @@
+"""Layer 3: the emission plan -- which C functions exist, their inputs, outputs,
+expressions, units and the paper's equation each one implements.
+
+The plan reads only the derivation. It is the single list that the printer, the
+templates, the Python wrapper and the tests all walk.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..derivation import Derivation
+
+
+@dataclass(frozen=True)
+class Input:
+    """A function argument: a scalar, or an array of ``size`` (a size macro name)."""
+
+    name: str
+    symbols: tuple[sp.Symbol, ...]
+    description: str
+    size: str | None = None  # None: a scalar passed by value
+
+
+@dataclass(frozen=True)
+class Output:
+    """An output written through a pointer; arrays are row-major."""
+
+    name: str
+    exprs: tuple[sp.Expr, ...]
+    description: str
+    size: str | None = None  # None: a scalar written through double*
+
+
+@dataclass(frozen=True)
+class CFunction:
+    name: str
+    summary: str
+    equation: str
+    inputs: tuple[Input, ...]
+    outputs: tuple[Output, ...]
+
+
+@dataclass(frozen=True)
+class Status:
+    suffix: str   # the C enum name without the PREFIX_ part
+    value: int
+    message: str
+    parameters: tuple[str, ...] = ()  # the parameters a failed requirement is about
+
+
+#: Codes every library has, in a fixed order so their values never move.
+GENERIC_STATUSES = (
+    Status("OK", 0, "success"),
+    Status("ERR_NULL_POINTER", 1, "a pointer argument is NULL"),
+    Status("ERR_NONFINITE", 2, "an input value is NaN or infinite"),
+    Status("ERR_ZERO_POLYNOMIAL", 3, "every polynomial coefficient is zero"),
+    Status("ERR_NONFINITE_PARAM", 4, "a parameter is NaN or infinite"),
+    Status("ERR_SINGULAR_STATE", 5, None),  # message from the mechanism
+)
+
+
+@dataclass(frozen=True)
+class Plan:
+    prefix: str
+    parameters: tuple[tuple[str, str, str, str], ...]  # (name, unit, description, example)
+    sizes: dict[str, int]
+    requirements: tuple                            # model.Requirement
+    singular_state: str
+    functions: tuple[CFunction, ...]
+
+    def function(self, name: str) -> CFunction:
+        return next(f for f in self.functions if f.name == name)
+
+    @property
+    def statuses(self) -> tuple[Status, ...]:
+        generic = tuple(Status(s.suffix, s.value, s.message or self.singular_state)
+                        for s in GENERIC_STATUSES)
+        order = [p[0] for p in self.parameters]
+        return generic + tuple(
+            Status(f"ERR_{r.code}", len(generic) + i, r.message,
+                   tuple(sorted((s.name for s in r.condition.free_symbols), key=order.index)))
+            for i, r in enumerate(self.requirements))
+
+
+def _units(coords) -> str:
+    return ", ".join(f"{c.name} [{c.unit}]" for c in coords)
+
+
+def build_plan(d: Derivation) -> Plan:
+    m, s = d.mechanism, d.state
+    kin, dyn, red, eq, lin = d.kinematics, d.dynamics, d.reduction, d.equilibrium, d.linearisation
+    fr = d.frozen
+    n, c = len(m.coordinates), len(m.constraints)
+    units = _units(m.coordinates)
+    coords = Input("coords", s.coords, f"generalised coordinates: {units}", "N_COORDS")
+    rates = Input("rates", s.rates, "their time derivatives, same order [unit/s]", "N_COORDS")
+    accels = Input("accels", s.accels, "their second derivatives, same order [unit/s^2]",
+                   "N_COORDS")
+    multipliers = Input("multipliers", s.multipliers,
+                        "Lagrange multipliers lambda_1.. (one per constraint)", "N_CONSTRAINTS")
+    theta = Input(red.theta.name, (red.theta,), f"independent coordinate {red.theta.name} [rad]")
+    theta_d = Input(red.theta_d.name, (red.theta_d,), f"its rate [rad/s]")
+    theta_e = Input(red.theta.name, (red.theta,), "equilibrium angle theta_E [rad]")
+
+    def vec(M) -> tuple:
+        return tuple(fr(e) for e in M)
+
+    def fn(key: str, summary: str, inputs, outputs) -> CFunction:
+        return CFunction(key, summary, m.equations.get(key, ""), tuple(inputs), tuple(outputs))
+
+    points = kin.point_positions
+    functions = (
+        fn("position_constraints", "Position constraints f(q) = 0 (zero on the mechanism).",
+           [coords], [Output("f", vec(kin.constraints), "constraint values [m]", "N_CONSTRAINTS")]),
+        fn("constraint_jacobian", "Velocity-constraint matrix A = df/dq, so that A qdot = 0.",
+           [coords], [Output("A", vec(kin.jacobian),
+                             f"row-major {c}x{n}; column j has the unit m per unit of q_j",
+                             "N_JACOBIAN")]),
+        fn("velocity_constraints", "Velocity constraints A(q) qdot = 0.",
+           [coords, rates], [Output("f_d", vec(kin.velocity_constraints), "values [m/s]",
+                                    "N_CONSTRAINTS")]),
+        fn("acceleration_constraints", "Acceleration constraints A qddot + Adot qdot = 0.",
+           [coords, rates, accels],
+           [Output("f_dd", vec(kin.acceleration_constraints), "values [m/s^2]", "N_CONSTRAINTS")]),
+        fn("point_kinematics",
+           f"Positions and velocities of the points {', '.join(points)} (x, y for each).",
+           [coords, rates],
+           [Output("positions", tuple(fr(e) for p in points.values() for e in p),
+                   "x, y of each point [m]", "N_POINT_COORDS"),
+            Output("velocities", tuple(fr(e) for p in kin.point_velocities.values() for e in p),
+                   "vx, vy of each point [m/s]", "N_POINT_COORDS")]),
+        fn("energies", "Kinetic and potential energies and the Lagrangian L = T - V_G - V_E.",
+           [coords, rates],
+           [Output("T", (fr(dyn.kinetic),), "kinetic energy [J]"),
+            Output("V_G", (fr(dyn.gravity_potential),), "gravitational potential energy [J]"),
+            Output("V_E", (fr(dyn.elastic_potential),), "elastic potential energy [J]"),
+            Output("lagrangian", (fr(dyn.lagrangian),), "Lagrangian [J]")]),
+        fn("lagrange_terms",
+           "Terms of Lagrange's equations with multipliers, one entry per coordinate; "
+           "residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.",
+           [coords, rates, accels, multipliers],
+           [Output("dt_dL_dqdot", vec(dyn.dt_dL_dqdot), "d/dt (dL/dqdot) [N or N m]", "N_COORDS"),
+            Output("dL_dq", vec(dyn.dL_dq), "dL/dq [N or N m]", "N_COORDS"),
+            Output("constraint_forces", vec(dyn.constraint_forces), "A^T lambda", "N_COORDS"),
+            Output("dissipative_forces", vec(dyn.dissipative_forces), "V_D", "N_COORDS"),
+            Output("applied_forces", vec(dyn.applied_forces), "Q_nc", "N_COORDS"),
+            Output("residual", vec(dyn.residual()), "left minus right side of (15)",
+                   "N_COORDS")]),
+        fn("dependent_state",
+           "All coordinates and rates from the independent angle and its rate.",
+           [theta, theta_d],
+           [Output("coords", tuple(red.positions), f"coordinates: {units}", "N_COORDS"),
+            Output("rates", tuple(red.velocities), "their rates [unit/s]", "N_COORDS")]),
+        fn("reduced_coefficients",
+           "Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + e3 sin + e4 cos = 0.",
+           [theta], [Output("e", red.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s], e3 [N m], "
+                                        "e4 [N m]", "N_REDUCED")]),
+        fn("angular_acceleration", "thetaddot from the reduced equation of motion.",
+           [theta, theta_d], [Output("theta_dd", (red.angular_acceleration,), "[rad/s^2]")]),
+        fn("equilibrium_residual", "Static equilibrium residual G(theta); zero at equilibria.",
+           [theta], [Output("residual", (eq.residual,), "[N m]")]),
+        fn("equilibrium_branches",
+           "r*G = alpha + beta*r (genuine branch) and beta*r - alpha (the branch squaring "
+           "adds); a root of the degree-12 polynomial zeroes one of them.",
+           [theta], [Output("genuine", (eq.genuine_branch,), "[N m^2]"),
+                     Output("extraneous", (eq.extraneous_branch,), "[N m^2]")]),
+        fn("sigma",
+           f"Coefficients sigma_0..sigma_{len(eq.sigma) - 1} of sum sigma_i tau^i = "
+           f"(1+tau^2)^{eq.weight} (beta^2 r^2 - alpha^2), tau = tan(theta/2).",
+           [], [Output("sigma", eq.sigma, "[N^2 m^4]", "N_SIGMA")]),
+        fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
+           [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
+                       Output("B", (lin.damping,), "B_EQ [N m s]"),
+                       Output("K", (lin.stiffness,), "K_EQ [N m]")]),
+        fn("vibration", "omega_n^2 = K/M and zeta*omega_n = B/(2M); "
+                        "omega_n = sqrt(K/M), zeta = B/(2 M omega_n).",
+           [theta_e], [Output("omega_n_squared", (lin.omega_n_squared,), "[rad^2/s^2]"),
+                       Output("zeta_omega_n", (lin.zeta_omega_n,), "[1/s]")]),
+    )
+    return Plan(
+        prefix=m.name,
+        parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
+                         for p in m.parameters),
+        sizes={"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
+               "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
+               "N_REDUCED": len(red.e), "N_SIGMA": len(eq.sigma),
+               "MAX_ROOTS": len(eq.sigma) - 1},
+        requirements=m.requirements,
+        singular_state=m.singular_state,
+        functions=functions,
+    )

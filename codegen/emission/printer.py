@@ -1,0 +1,92 @@
+"""Layer 4a: expressions to C statements, through SymPy's C99 printer after one
+common-subexpression pass over all outputs of a function.
+
+The real type is a setting: ``CTarget("float")`` prints sinf/sqrtf and F-suffixed
+literals from the very same expressions, so a float build computes in float.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.codegen.ast import float32, float64, real
+from sympy.printing.c import C99CodePrinter
+
+from .plan import CFunction
+
+_REAL_TYPES = {"double": float64, "float": float32}
+
+
+class RealPrinter(C99CodePrinter):
+    """C99 printer with small integer and half-integer powers as products and sqrt."""
+
+    def __init__(self, ctype: str = "double"):
+        super().__init__({"type_aliases": {real: _REAL_TYPES[ctype]}})
+        self.ctype = ctype
+
+    def _print_And(self, expr):
+        return " && ".join(f"({self._print(a)})" for a in expr.args)
+
+    def _print_Or(self, expr):
+        return " || ".join(f"({self._print(a)})" for a in expr.args)
+
+    def _print_Pow(self, expr):
+        base, exp = expr.base, expr.exp
+        if exp.is_Rational and exp.q in (1, 2) and 0 < abs(exp) <= 4 and exp != sp.S.Half:
+            whole, half = divmod(abs(exp.p), 2) if exp.q == 2 else (abs(exp.p), 0)
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"])
+            factors = [b] * whole + ([self._print(sp.sqrt(base))] if half else [])
+            product = "*".join(factors)
+            if exp > 0:
+                return product if len(factors) == 1 else f"({product})"
+            return f"{self._print(sp.S.One)}/({product})"
+        return super()._print_Pow(expr)
+
+
+@dataclass(frozen=True)
+class CTarget:
+    ctype: str = "double"
+
+    @property
+    def printer(self) -> RealPrinter:
+        return RealPrinter(self.ctype)
+
+
+@dataclass(frozen=True)
+class PrintedBody:
+    """Unpacked inputs, const temporaries, and output assignments into ``out``."""
+
+    unpack: tuple[tuple[str, str], ...]       # (local name, source expression)
+    temporaries: tuple[tuple[str, str], ...]  # (name, C expression)
+    assignments: tuple[str, ...]              # C expression of out[i]
+    operations: int
+
+
+def _temporary_prefix(used: set[sp.Symbol]) -> str:
+    names = {s.name for s in used}
+    prefix = "tmp"
+    while any(n.startswith(prefix) for n in names):
+        prefix = "_" + prefix
+    return prefix
+
+
+def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget) -> PrintedBody:
+    exprs = [e for o in function.outputs for e in o.exprs]
+    used = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+    prefix = _temporary_prefix(used)
+    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix),
+                                   order="canonical")
+    printer = target.printer
+    unpack = [(name, f"params->{name}") for name in parameters
+              if sp.Symbol(name, real=True) in used]
+    for arg in function.inputs:
+        for i, sym in enumerate(arg.symbols):
+            if sym in used:
+                unpack.append((sym.name, f"{arg.name}[{i}]" if arg.size else arg.name))
+    operations = sum(sp.count_ops(e) for _, e in replacements) + sum(sp.count_ops(e) for e in reduced)
+    return PrintedBody(
+        unpack=tuple((n, src) for n, src in unpack if n != src),
+        temporaries=tuple((str(s), printer.doprint(e)) for s, e in replacements),
+        assignments=tuple(printer.doprint(e) for e in reduced),
+        operations=int(operations),
+    )

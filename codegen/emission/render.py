@@ -1,0 +1,168 @@
+"""Layer 4b: the emission plan through Jinja2 templates into C source files.
+
+One cached environment with StrictUndefined: a missing template variable is an error,
+never an empty string. Output depends only on the plan, the templates and the
+generator's version, so regeneration is byte-for-byte reproducible.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import json
+
+import jinja2
+
+from .. import __version__
+from .plan import CFunction, Plan
+from .printer import CTarget, PrintedBody, print_body
+
+BANNER = "generated file, do not edit"
+
+
+@lru_cache(maxsize=None)
+def environment(template_dir: str) -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(template_dir),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+    env.filters["prefix_with"] = lambda value, prefix: f"{prefix}{value}"
+    return env
+
+
+@dataclass(frozen=True)
+class RenderedFunction:
+    name: str
+    summary: str
+    equation: str
+    inputs: tuple
+    outputs: tuple
+    signature: str
+    pointer_signature: str
+    batch_signature: str
+    batch_arrays: tuple[tuple[str, str], ...]
+    batch_call: tuple[str, ...]
+    body: PrintedBody
+    n_out: int
+    pointer_checks: tuple[str, ...]
+    finite_checks: tuple[str, ...]
+    copies: tuple[str, ...]
+
+
+def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = False) -> str:
+    P = prefix.upper()
+
+    def array(name, size):
+        return f"*{name}" if arrays_as_pointers else f"{name}[{P}_{size}]"
+
+    args = [f"const {prefix}_params *params"]
+    for arg in f.inputs:
+        args.append(f"const {ctype} {array(arg.name, arg.size)}" if arg.size
+                    else f"{ctype} {arg.name}")
+    for out in f.outputs:
+        args.append(f"{ctype} {array(out.name, out.size)}" if out.size else f"{ctype} *{out.name}")
+    return f"{prefix}_status {prefix}_{f.name}({', '.join(args)})"
+
+
+def batch_signature(f: CFunction, prefix: str, ctype: str) -> str:
+    args = [f"size_t count", f"const {prefix}_params *params"]
+    args += [f"const {ctype} *{a.name}" for a in f.inputs]
+    args += [f"{ctype} *{o.name}" for o in f.outputs]
+    args.append(f"{prefix}_status *statuses")
+    return f"{prefix}_status {prefix}_{f.name}_batch({', '.join(args)})"
+
+
+def _batch_call(f: CFunction, P: str) -> tuple[str, ...]:
+    """Arguments of item i: the i-th value of a scalar, the i-th block of an array."""
+    def at(name, size):
+        return f"&{name}[i * {P}_{size}]" if size else None
+
+    args = [at(a.name, a.size) or f"{a.name}[i]" for a in f.inputs]
+    args += [at(o.name, o.size) or f"&{o.name}[i]" for o in f.outputs]
+    return tuple(args)
+
+
+def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
+    P = plan.prefix.upper()
+    copies, offset = [], 0
+    for out in f.outputs:
+        n = len(out.exprs)
+        copies.append(f"copy_out({out.name}, out + {offset}, {n});" if out.size
+                      else f"*{out.name} = out[{offset}];")
+        offset += n
+    return RenderedFunction(
+        name=f.name, summary=f.summary, equation=f.equation, inputs=f.inputs,
+        outputs=f.outputs,
+        signature=signature(f, plan.prefix, target.ctype),
+        pointer_signature=signature(f, plan.prefix, target.ctype, arrays_as_pointers=True),
+        batch_signature=batch_signature(f, plan.prefix, target.ctype),
+        batch_arrays=tuple((x.name, x.size) for x in f.inputs + f.outputs),
+        batch_call=_batch_call(f, P),
+        body=print_body(f, tuple(p[0] for p in plan.parameters), target),
+        n_out=offset,
+        pointer_checks=tuple(a.name for a in f.inputs if a.size)
+        + tuple(o.name for o in f.outputs),
+        finite_checks=tuple(f"{a.name}, {P}_{a.size}" if a.size else f"&{a.name}, 1"
+                            for a in f.inputs),
+        copies=tuple(copies),
+    )
+
+
+def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
+    """File name -> text of every generated file."""
+    env = environment(str(template_dir))
+    prefix, P = plan.prefix, plan.prefix.upper()
+    header = f"{prefix}.h"
+    # The source is stdio-free; size_t comes from stddef.h, included by the header.
+    printer = target.printer
+    requirement_checks = [
+        {"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
+        for r in plan.requirements
+    ]
+    used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
+    context = {
+        "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
+        "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
+        "title": f"Vibration analysis of the {prefix} mechanism.",
+        "sizes": sorted(plan.sizes.items()),
+        "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
+                     for s in plan.statuses],
+        "parameters": plan.parameters,
+        "singular_state": plan.singular_state,
+        "requirement_unpack": [(n, f"params->{n}") for p in plan.parameters for n in [p[0]]
+                               if n in used],
+        "requirements": requirement_checks,
+        "functions": [_rendered(f, plan, target) for f in plan.functions],
+    }
+    files = {}
+    for suffix in ("h", "c", "cdef"):
+        template = f"{prefix}.{suffix}.j2"
+        files[f"{prefix}.{suffix}"] = env.get_template(template).render(template=template,
+                                                                         **context)
+    files[f"{prefix}_api.json"] = api_spec(plan)
+    return files
+
+
+def api_spec(plan: Plan) -> str:
+    """What the Python wrapper needs to call every function, as JSON."""
+    def arg(x):
+        return {"name": x.name, "size": plan.sizes[x.size] if x.size else None}
+
+    spec = {
+        "prefix": plan.prefix,
+        "version": __version__,
+        "parameters": [dict(zip(("name", "unit", "description", "example"), p))
+                       for p in plan.parameters],
+        "sizes": plan.sizes,
+        "statuses": [{"name": s.suffix, "value": s.value, "message": s.message,
+                      "parameters": list(s.parameters)} for s in plan.statuses],
+        "functions": [{"name": f.name, "summary": f.summary, "equation": f.equation,
+                       "inputs": [arg(a) for a in f.inputs],
+                       "outputs": [arg(o) for o in f.outputs]} for f in plan.functions],
+    }
+    return json.dumps(spec, indent=1, sort_keys=True) + "\n"

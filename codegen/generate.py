@@ -1,0 +1,49 @@
+"""Model -> derivation -> plan -> rendered files, written to (or compared with) a folder.
+
+Hand-written C sources in templates/c/ are copied unchanged beside the generated ones.
+"""
+from __future__ import annotations
+
+import difflib
+from pathlib import Path
+
+from .derivation import derive
+from .emission.plan import build_plan
+from .emission.render import render
+from .model import Mechanism, doughty
+
+ROOT = Path(__file__).resolve().parent.parent
+TEMPLATES = ROOT / "templates"
+GENERATED = ROOT / "generated"
+
+
+def emit(mechanism: Mechanism | None = None, templates: Path = TEMPLATES) -> dict[str, str]:
+    """File name -> text of every file in generated/."""
+    mechanism = mechanism or doughty.build()
+    files = render(build_plan(derive(mechanism)), templates)
+    for source in sorted((templates / "c").glob("*.c")):
+        files[source.name] = source.read_text()
+    return files
+
+
+def write(out: Path = GENERATED, templates: Path = TEMPLATES) -> list[str]:
+    out.mkdir(parents=True, exist_ok=True)
+    files = emit(templates=templates)
+    for stale in set(p.name for p in out.iterdir() if p.is_file()) - set(files):
+        (out / stale).unlink()
+    for name, text in files.items():
+        (out / name).write_text(text)
+    return sorted(files)
+
+
+def stale(out: Path = GENERATED, templates: Path = TEMPLATES) -> str:
+    """A unified diff of committed files against what the generator emits now ('' if none)."""
+    files = emit(templates=templates)
+    present = {p.name for p in out.iterdir() if p.is_file()} if out.is_dir() else set()
+    diff = []
+    for name in sorted(set(files) | present):
+        old = (out / name).read_text() if name in present else ""
+        new = files.get(name, "")
+        diff += difflib.unified_diff(old.splitlines(True), new.splitlines(True),
+                                     f"committed/{name}", f"generator/{name}")
+    return "".join(diff)

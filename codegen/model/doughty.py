@@ -1,0 +1,100 @@
+"""Doughty's two-slider mechanism (SPEC, Table 1 steps 1-2), as data.
+
+Slider 1 (m_A) runs on the X axis, slider 2 (m_B) on the Y axis, and a uniform bar
+(m_C, length L) joins them. A spring k with a parallel damper b runs from the fixed
+point O' = (H, 0) to the point P of the bar at distance a from B; r and phi are its
+length and direction. Gravity acts along -Y, a force F pushes slider 2 along +Y.
+"""
+import sympy as sp
+
+from .mechanism import (Body, Coordinate, Damper, Mechanism, Parameter, PointForce, Requirement,
+                        Spring)
+
+
+def _param(name: str, unit: str, description: str, value: str) -> Parameter:
+    return Parameter(sp.Symbol(name, real=True), unit, description, value)
+
+
+PARAMETERS = (
+    _param("H", "m", "abscissa of the spring's fixed point O'", "0.18"),
+    _param("L", "m", "length of the bar", "0.9"),
+    _param("a", "m", "distance from B to the spring's attachment P", "0.135"),
+    _param("m_A", "kg", "mass of slider 1", "0.194"),
+    _param("m_B", "kg", "mass of slider 2", "0.143"),
+    _param("m_C", "kg", "mass of the bar", "9.124"),
+    _param("k", "N/m", "spring stiffness", "3500"),
+    _param("b", "N s/m", "damping coefficient", "875"),
+    _param("l_ND", "m", "free length of the spring", "0.15"),
+    _param("F", "N", "force on slider 2 along +Y", "110"),
+    _param("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+)
+
+COORDINATES = (
+    Coordinate("p", "m", "position of slider 1 on X"),
+    Coordinate("q", "m", "position of slider 2 on Y"),
+    Coordinate("r", "m", "length of the spring and damper"),
+    Coordinate("theta", "rad", "angle of the bar"),
+    Coordinate("phi", "rad", "direction of the spring"),
+)
+
+
+def build() -> Mechanism:
+    H, L, a, m_A, m_B, m_C, k, b, l_ND, F, g = (p.symbol for p in PARAMETERS)
+    p, q, r, theta, phi = (c.function for c in COORDINATES)
+    cos, sin = sp.cos, sp.sin
+    bar_centre = (p - L / 2 * cos(theta), L / 2 * sin(theta))
+    slider_2 = (sp.S.Zero, q)
+    return Mechanism(
+        name="doughty",
+        parameters=PARAMETERS,
+        coordinates=COORDINATES,
+        independent="theta",
+        constraints=(  # (4)-(7): the two vector loops O'-P-B and O'-P-A
+            a * cos(theta) - H + r * cos(phi),
+            q - a * sin(theta) - r * sin(phi),
+            p - H - (L - a) * cos(theta) + r * cos(phi),
+            (L - a) * sin(theta) - r * sin(phi),
+        ),
+        bodies=(
+            Body("slider 1", m_A, (p, sp.S.Zero)),
+            Body("slider 2", m_B, slider_2),
+            Body("bar", m_C, bar_centre, inertia=m_C * L**2 / 12, angle=theta),
+        ),
+        springs=(Spring(k, l_ND, r),),
+        dampers=(Damper(b, r),),
+        forces=(PointForce(slider_2, (sp.S.Zero, F)),),
+        gravity=g,
+        points={"A": (p, sp.S.Zero), "B": slider_2, "C": bar_centre},
+        requirements=(
+            Requirement(L > 0, "L_NOT_POSITIVE", "L must be positive"),
+            Requirement(sp.And(a >= 0, a <= L), "A_OUT_OF_RANGE", "a must lie in [0, L]"),
+            Requirement(l_ND >= 0, "L_ND_NEGATIVE", "l_ND must not be negative"),
+            Requirement(sp.And(m_A >= 0, m_B >= 0, m_C >= 0), "MASS_NEGATIVE",
+                        "masses m_A, m_B, m_C must not be negative"),
+            # e0 = L^2 (m_A sin^2 + m_B cos^2 + m_C/3) vanishes at some angle unless:
+            Requirement(sp.Or(m_C > 0, sp.And(m_A > 0, m_B > 0)), "MASS_SINGULAR",
+                        "m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia"),
+            Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
+            Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
+        ),
+        singular_state="the spring length r is zero, so its direction is undefined",
+        polar_pairs=(("r", "phi"),),
+        static_split={"elastic": sin(theta), "load": cos(theta)},
+        equations={
+            "position_constraints": "(4)-(7)",
+            "velocity_constraints": "(8)-(11)",
+            "constraint_jacobian": "(25)",
+            "acceleration_constraints": "Table 1 step 5 (d/dt of (8)-(11))",
+            "point_kinematics": "(12)-(14)",
+            "energies": "(16)-(22)",
+            "lagrange_terms": "(15), (23)-(29)",
+            "dependent_state": "(30)-(35)",
+            "reduced_coefficients": "(36)-(41)",
+            "angular_acceleration": "(36)",
+            "equilibrium_residual": "(42)-(43)",
+            "equilibrium_branches": "(43), squared into (45)",
+            "sigma": "(44)-(45)",
+            "linearisation": "(46)-(53)",
+            "vibration": "(54)-(55)",
+        },
+    )
