@@ -26,8 +26,39 @@ def _generate(args) -> int:
     return 0
 
 
+def _assignment(text: str) -> tuple[str, float]:
+    name, sep, value = text.partition("=")
+    if not sep:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    try:
+        return name.strip(), float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{name.strip()}: {value!r} is not a number") from None
+
+
+def _analyze(args) -> int:
+    import json
+
+    from . import api
+    from .analysis import analyze, table
+
+    try:
+        params = api.example_params(**dict(args.set))
+        result = analyze(params)
+    except ValueError as error:  # LibraryError included: one line, no traceback
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=1))
+    else:
+        values = ", ".join(f"{k}={v:g}" for k, v in vars(params).items())
+        print(f"Vibration analysis of Doughty's mechanism: {values}\n")
+        print(table(result))
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
-    from .generate import GENERATED
+    GENERATED = Path(__file__).resolve().parent.parent / "generated"
 
     top = argparse.ArgumentParser(prog="python -m codegen", description=__doc__)
     verbs = top.add_subparsers(dest="verb", required=True)
@@ -36,6 +67,12 @@ def parser() -> argparse.ArgumentParser:
     gen.add_argument("--check", action="store_true",
                      help="only compare the folder with what would be written; exit 1 if stale")
     gen.set_defaults(run=_generate)
+    ana = verbs.add_parser("analyze", help="every equilibrium and its vibration (Table 3)")
+    ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
+                     help="override a Table 2 parameter (repeatable): H, L, a, m_A, m_B, m_C, "
+                          "k, b, l_ND, F, g")
+    ana.add_argument("--json", action="store_true", help="print one JSON object")
+    ana.set_defaults(run=_analyze)
     return top
 
 

@@ -233,6 +233,56 @@ doughty_status doughty_vibration_batch(size_t count, const doughty_params *param
 doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
                                        double theta[DOUGHTY_MAX_ROOTS], int *n_roots);
 
+/* Stability of an equilibrium from M, B, K (M > 0). */
+typedef enum doughty_stability {
+    DOUGHTY_STABLE = 0,   /* K > 0, B > 0: perturbations decay */
+    DOUGHTY_MARGINAL = 1, /* K > 0, B = 0 (undamped), or K = 0 */
+    DOUGHTY_UNSTABLE = 2  /* K < 0: a perturbation grows */
+} doughty_stability;
+
+/* Character of the free motion about an equilibrium. */
+typedef enum doughty_damping {
+    DOUGHTY_UNDERDAMPED = 0,       /* 0 < zeta < 1 */
+    DOUGHTY_CRITICALLY_DAMPED = 1, /* zeta = 1 to rounding */
+    DOUGHTY_OVERDAMPED = 2,        /* zeta > 1 */
+    DOUGHTY_UNDAMPED = 3,          /* B = 0, K > 0 */
+    DOUGHTY_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
+} doughty_damping;
+
+/* One real root of the polynomial (45) and the vibration about it, (46)-(55). */
+typedef struct doughty_equilibrium {
+    double theta;           /* theta_E [rad] in (-pi, pi] */
+    int genuine;            /* 1: satisfies (43); 0: a root squaring added */
+    double residual;        /* G(theta_E) (43) [N m] */
+    double branch_residual; /* the zeroed branch, genuine or extraneous [N m^2] */
+    double branch_scale;    /* |genuine| + |extraneous| at theta_E: the size of the terms */
+    double M;               /* M_EQ [kg m^2] (50) */
+    double B;               /* B_EQ [N m s] (51) */
+    double K;               /* K_EQ [N m] (52) */
+    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    doughty_stability stability;
+    doughty_damping damping;
+} doughty_equilibrium;
+
+/* Everything Table 1 steps 8-10 say about one parameter set. */
+typedef struct doughty_analysis {
+    double sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 of (45) */
+    int n_roots;                                    /* real roots found, <= MAX_ROOTS */
+    doughty_equilibrium roots[DOUGHTY_MAX_ROOTS]; /* ascending theta */
+} doughty_analysis;
+
+/* All real roots of (45), classified and linearised: the paper's Table 3 in one call.
+ * Returns DOUGHTY_OK or the first failure (bad parameters, a root where r = 0);
+ * *result is written only on success. */
+doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result);
+
+/* doughty_analyze over count parameter sets; statuses[i] for each. */
+doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,
+                                  doughty_analysis *results, doughty_status *statuses);
+
 #ifdef __cplusplus
 }
 #endif

@@ -130,6 +130,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
         "title": f"Vibration analysis of the {prefix} mechanism.",
         "sizes": sorted(plan.sizes.items()),
+        "sizes_map": plan.sizes,
         "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
                      for s in plan.statuses],
         "parameters": plan.parameters,
@@ -144,6 +145,8 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         template = f"{prefix}.{suffix}.j2"
         files[f"{prefix}.{suffix}"] = env.get_template(template).render(template=template,
                                                                          **context)
+    files[f"{prefix}_analysis.c"] = env.get_template("analysis.c.j2").render(
+        template="analysis.c.j2", **context)
     files[f"{prefix}_api.json"] = api_spec(plan)
     return files
 

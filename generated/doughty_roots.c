@@ -1,0 +1,319 @@
+/*
+ * doughty_roots.c -- real roots of the equilibrium polynomial (45),
+ *     p(tau) = sum_{i=0}^{12} sigma_i tau^i,   tau = tan(theta / 2).
+ * Hand-written (not generated). Plain C99 + libm; no allocation, no mutable static state.
+ *
+ * Why this algorithm rather than companion-matrix eigenvalues (GSL, numpy.roots):
+ * eigenvalue methods give complex approximations and leave the "is this root real?" decision to
+ * an arbitrary tolerance, which fails exactly in the cases the application produces (close
+ * pairs 5e-4 apart, double roots from a sin^2 factor). Here every real root is isolated with
+ * certified signs instead:
+ *
+ * 1. Two charts on bounded intervals, so no root bound is needed and tau = infinity is an
+ *    ordinary point: chart A is p(tau) on [-1, 1] (|theta| <= 90 deg), chart B is the reversed
+ *    polynomial q(u) = u^m p(1/u) on the open interval (-1, 1) (|theta| > 90 deg, u = 0 is
+ *    theta = pi). Chart B takes its endpoint signs from chart A (q(1) = p(1),
+ *    q(-1) = (-1)^m p(-1)), so a root on the seam tau = +-1 is found by exactly one chart.
+ * 2. Exactly zero low/high coefficients (after a power-of-two normalisation, which is exact)
+ *    are stripped: tau^k gives theta = 0, a degree drop gives theta = pi, each reported once.
+ * 3. Isolation by recursion on derivatives: the real roots of f' cut [-1, 1] into pieces on
+ *    which f is monotone, so each piece holds at most one root, bracketed by a sign change and
+ *    found by Newton safeguarded with bisection. Starting from the linear (m-1)-th derivative,
+ *    each level's roots are the next level's critical points.
+ * 4. A sign is trusted only when |f(x)| exceeds Higham's running error bound for Horner's rule
+ *    (plus, at a critical point, the change of f over the point's own uncertainty). A point
+ *    whose sign is not trusted is a root to working precision; a run of such points is reported
+ *    once, which is how double roots (no sign change) are found and reported once.
+ */
+#include "doughty.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+#define DR_DEG 12                          /* degree of the full polynomial */
+#define DR_PI 3.14159265358979323846264338327950288
+#define DR_EPS (8.0 * DBL_EPSILON)         /* relative uncertainty granted to each coefficient */
+#define DR_DELMAX 1e-7                     /* cap on a point's uncertainty, ~sqrt(DR_EPS): the
+                                              spread of a double root under DR_EPS */
+#define DR_MAXIT 400                       /* Newton/bisection cap; bisection alone needs ~1100
+                                              halvings only to reach denormals */
+
+/* f(x) = sum a[i] x^i by the compensated Horner scheme (Graillat, Langlois & Louvet, 2005):
+ * error-free transformations (fma for the product, Knuth's TwoSum for the sum) make the result
+ * as accurate as Horner's rule in twice the working precision, so signs stay right much closer
+ * to a root and clustered roots come out to full accuracy. *mag receives sum |a_i| |x|^i. */
+static double eval(const double *a, int n, double x, double *mag)
+{
+    double s = a[n];
+    double c = 0.0;
+    double m = fabs(a[n]);
+    const double ax = fabs(x);
+    for (int i = n - 1; i >= 0; --i) {
+        const double p = s * x;
+        const double pe = fma(s, x, -p);          /* s * x = p + pe exactly */
+        s = p + a[i];
+        const double z = s - p;
+        const double se = (p - (s - z)) + (a[i] - z);   /* p + a[i] = s + se exactly */
+        c = c * x + (pe + se);
+        m = m * ax + fabs(a[i]);
+    }
+    *mag = m;
+    return s + c;
+}
+
+/* Root of f (degree n, derivative df) in (lo, hi), where f has the trusted sign slo at lo and
+ * -slo at hi and is monotone. Newton steps are taken only while they stay inside the bracket and
+ * at least halve the step before last (the rule of Numerical Recipes' rtsafe); otherwise bisect.
+ * *del receives the uncertainty of the result: last step plus the root's sensitivity to the
+ * coefficient uncertainty DR_EPS. */
+static double solve(const double *f, const double *df, int n, double lo, double hi, int slo,
+                    double *del)
+{
+    double x = 0.5 * (lo + hi);
+    double dx = hi - lo;
+    double mag, dmag;
+    for (int it = 0; it < DR_MAXIT; ++it) {
+        const double v = eval(f, n, x, &mag);
+        const double dv = eval(df, n - 1, x, &dmag);
+        if (v == 0.0) {
+            dx = 0.0;
+            break;
+        }
+        if ((v > 0.0) == (slo > 0)) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        const double dxold = dx;
+        const double xn = (dv != 0.0) ? x - v / dv : lo;
+        if (dv != 0.0 && xn > lo && xn < hi && fabs(2.0 * v) <= fabs(dxold * dv)) {
+            dx = v / dv;
+            x = xn;
+        } else {
+            dx = 0.5 * (hi - lo);
+            x = lo + dx;
+        }
+        if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+            break;
+        }
+    }
+    (void)eval(f, n, x, &mag);
+    const double dv = fabs(eval(df, n - 1, x, &dmag));
+    *del = fabs(dx) + ((dv > 0.0) ? fmin(DR_EPS * mag / dv, DR_DELMAX) : DR_DELMAX);
+    return x;
+}
+
+/* Roots on [-1, 1] of f = d[k] (degree n = m - k), given the sorted roots crit[0..nc) of
+ * f' = d[k+1] with their uncertainties cdel. Writes sorted roots to rt (uncertainties to rdel)
+ * and returns their number, at most nc + 1.
+ * ends_in != NULL (chart B, level 0): endpoint signs are imposed, and runs of untrusted signs
+ * touching an endpoint are left to chart A. ends_out != NULL: endpoint signs are reported. */
+static int level_roots(const double *f, const double *df, const double *d2f, int n,
+                       const double *crit, const double *cdel, int nc, const int *ends_in,
+                       int *ends_out, double *rt, double *rdel)
+{
+    double px[DR_DEG + 2], pv[DR_DEG + 2], pd[DR_DEG + 2];   /* points, f, uncertainty */
+    int ps[DR_DEG + 2] = {0};
+    const int np = nc + 2;
+
+    px[0] = -1.0;
+    pd[0] = 0.0;
+    for (int i = 0; i < nc; ++i) {
+        px[i + 1] = crit[i];
+        pd[i + 1] = cdel[i];
+    }
+    px[np - 1] = 1.0;
+    pd[np - 1] = 0.0;
+
+    for (int j = 0; j < np; ++j) {
+        /* Trust the sign of f only outside the values that a relative change of DR_EPS in each
+         * coefficient can produce (|f| <= DR_EPS sum |a_i||x|^i means x is an exact root of
+         * such a perturbed polynomial), widened by the variation of f over the point's own
+         * uncertainty pd, about |f'| pd + |f''| pd^2 / 2. */
+        double mag, m1, m2;
+        pv[j] = eval(f, n, px[j], &mag);
+        const double d1 = fabs(eval(df, n - 1, px[j], &m1));
+        const double d2 = (n >= 2) ? fabs(eval(d2f, n - 2, px[j], &m2)) : 0.0;
+        const double tol = DR_EPS * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
+        ps[j] = (fabs(pv[j]) <= tol) ? 0 : (pv[j] > 0.0 ? 1 : -1);
+        /* Should this point stand for a (multiple) root, this is how far the root may be. */
+        pd[j] += (d1 > 0.0) ? fmin(tol / d1, DR_DELMAX) : DR_DELMAX;
+    }
+    if (ends_in != NULL) {
+        ps[0] = ends_in[0];
+        ps[np - 1] = ends_in[1];
+    }
+    if (ends_out != NULL) {
+        ends_out[0] = ps[0];
+        ends_out[1] = ps[np - 1];
+    }
+
+    int nr = 0;
+    int run_start = -1;          /* first index of the current run of untrusted signs */
+    double best = 0.0;           /* smallest |f| in that run; its point represents the run */
+    for (int j = 0; j < np; ++j) {
+        if (ps[j] == 0) {
+            if (run_start < 0) {
+                run_start = j;
+                best = fabs(pv[j]);
+                rt[nr] = px[j];
+                rdel[nr] = pd[j];
+                ++nr;
+            } else if (fabs(pv[j]) < best) {
+                best = fabs(pv[j]);
+                rt[nr - 1] = px[j];
+                rdel[nr - 1] = pd[j];
+            }
+            continue;
+        }
+        if (run_start >= 0) {
+            if (ends_in != NULL && run_start == 0) {
+                --nr;            /* seam root already reported by chart A */
+            }
+            run_start = -1;
+        } else if (j > 0 && ps[j - 1] == -ps[j]) {
+            rt[nr] = solve(f, df, n, px[j - 1], px[j], ps[j - 1], &rdel[nr]);
+            ++nr;
+        }
+    }
+    if (run_start >= 0 && ends_in != NULL) {
+        --nr;                    /* run reaching the right endpoint: chart A's */
+    }
+    return nr;
+}
+
+/* Roots of c[0..m] (m >= 1) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted. */
+static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out, double *roots)
+{
+    double d[DR_DEG + 1][DR_DEG + 1];    /* d[k] = k-th derivative, degree m - k */
+    double cdel[DR_DEG] = {0.0}, rt[DR_DEG], rdel[DR_DEG];
+    double *crit = roots;                /* each level's roots are the next one's critical points */
+    int nc = 0;
+
+    for (int i = 0; i <= m; ++i) {
+        d[0][i] = c[i];
+    }
+    for (int k = 1; k <= m; ++k) {
+        for (int i = 0; i <= m - k; ++i) {
+            d[k][i] = (double)(i + 1) * d[k - 1][i + 1];
+        }
+    }
+    for (int k = m - 1; k >= 0; --k) {
+        const double *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
+        const int nr = level_roots(d[k], d[k + 1], d2f, m - k, crit, cdel, nc,
+                                   k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
+                                   rt, rdel);
+        for (int i = 0; i < nr; ++i) {
+            crit[i] = rt[i];
+            cdel[i] = rdel[i];
+        }
+        nc = nr;
+    }
+    return nc;
+}
+
+/* theta = 2 atan(1/u) in (-pi, pi]; u = 0 (tau = infinity) is pi. The two branches avoid the
+ * cancellation of subtracting 2 pi. */
+static double theta_of_u(double u)
+{
+    const double t = (u >= 0.0) ? 2.0 * atan2(1.0, u) : -2.0 * atan2(1.0, -u);
+    return (t <= -DR_PI) ? DR_PI : t;
+}
+
+doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
+                                       double theta[DOUGHTY_MAX_ROOTS], int *n_roots)
+{
+    double s[DR_DEG + 1];
+    double out[2 * DR_DEG + 2];
+    double amax = 0.0;
+    int nout = 0;
+    int e;
+
+    if (sigma == NULL || theta == NULL || n_roots == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    for (int i = 0; i <= DR_DEG; ++i) {
+        if (!isfinite(sigma[i])) {
+            return DOUGHTY_ERR_NONFINITE;
+        }
+        amax = fmax(amax, fabs(sigma[i]));
+    }
+    if (amax == 0.0) {
+        return DOUGHTY_ERR_ZERO_POLYNOMIAL;
+    }
+
+    /* Power-of-two scaling is exact: results do not depend on the overall magnitude. */
+    (void)frexp(amax, &e);
+    for (int i = 0; i <= DR_DEG; ++i) {
+        s[i] = ldexp(sigma[i], -e);
+    }
+    int lo = 0;
+    int hi = DR_DEG;
+    while (s[lo] == 0.0) {
+        ++lo;
+    }
+    while (s[hi] == 0.0) {
+        --hi;
+    }
+    if (lo > 0) {
+        out[nout++] = 0.0;                /* factor tau^lo */
+    }
+    if (hi < DR_DEG) {
+        out[nout++] = DR_PI;              /* degree drop: roots at tau = infinity */
+    }
+    const int m = hi - lo;
+    if (m > 0) {
+        double a[DR_DEG + 1], q[DR_DEG + 1], r[DR_DEG];
+        int ends[2], ends_b[2];
+        for (int i = 0; i <= m; ++i) {
+            a[i] = s[lo + i];
+            q[m - i] = s[lo + i];
+        }
+        const int na = chart_roots(a, m, NULL, ends, r);
+        for (int i = 0; i < na; ++i) {
+            out[nout++] = 2.0 * atan(r[i]);
+        }
+        ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
+        ends_b[1] = ends[1];
+        const int nb = chart_roots(q, m, ends_b, NULL, r);
+        for (int i = 0; i < nb; ++i) {
+            out[nout++] = theta_of_u(r[i]);
+        }
+    }
+
+    /* Insertion sort; then drop values equal to working precision (also across the wrap at
+     * +-pi), which can only be the same root seen twice. */
+    for (int i = 1; i < nout; ++i) {
+        const double t = out[i];
+        int j = i - 1;
+        while (j >= 0 && out[j] > t) {
+            out[j + 1] = out[j];
+            --j;
+        }
+        out[j + 1] = t;
+    }
+    const double tiny = 4.0 * DBL_EPSILON;
+    int n = 0;
+    for (int i = 0; i < nout; ++i) {
+        if (n == 0 || out[i] - out[n - 1] > tiny) {
+            out[n++] = out[i];
+        }
+    }
+    if (n > 1 && out[0] + 2.0 * DR_PI - out[n - 1] <= tiny) {
+        for (int i = 1; i < n; ++i) {
+            out[i - 1] = out[i];
+        }
+        --n;
+    }
+    /* Never reached in exact arithmetic (a degree-12 polynomial has at most 12 roots); keeps the
+     * output in bounds should rounding ever make the charts disagree. */
+    if (n > DOUGHTY_MAX_ROOTS) {
+        n = DOUGHTY_MAX_ROOTS;
+    }
+    for (int i = 0; i < n; ++i) {
+        theta[i] = out[i];
+    }
+    *n_roots = n;
+    return DOUGHTY_OK;
+}
