@@ -45,6 +45,10 @@ def make_builder(generated: Path = GENERATED) -> FFI:
 
 ffibuilder = make_builder()
 
-if __name__ == "__main__":
+if __name__ == "__main__":  # an in-place build for development: codegen/_native.*.so
     os.chdir(ROOT)
-    ffibuilder.compile(tmpdir=str(ROOT), verbose=False)
+    try:
+        ffibuilder.compile(tmpdir=str(ROOT), verbose=False)
+    finally:  # distutils leaves objects beside relative sources
+        for obj in GENERATED.glob("*.o"):
+            obj.unlink()

@@ -15,6 +15,13 @@ from .model import Mechanism, doughty
 ROOT = Path(__file__).resolve().parent.parent
 TEMPLATES = ROOT / "templates"
 GENERATED = ROOT / "generated"
+BUILD_BYPRODUCTS = (".o",)  # objects a compiler may leave beside the sources
+
+
+def _present(out: Path) -> set[str]:
+    if not out.is_dir():
+        return set()
+    return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS}
 
 
 def emit(mechanism: Mechanism | None = None, templates: Path = TEMPLATES) -> dict[str, str]:
@@ -29,7 +36,7 @@ def emit(mechanism: Mechanism | None = None, templates: Path = TEMPLATES) -> dic
 def write(out: Path = GENERATED, templates: Path = TEMPLATES) -> list[str]:
     out.mkdir(parents=True, exist_ok=True)
     files = emit(templates=templates)
-    for stale in set(p.name for p in out.iterdir() if p.is_file()) - set(files):
+    for stale in _present(out) - set(files):
         (out / stale).unlink()
     for name, text in files.items():
         (out / name).write_text(text)
@@ -39,7 +46,7 @@ def write(out: Path = GENERATED, templates: Path = TEMPLATES) -> list[str]:
 def stale(out: Path = GENERATED, templates: Path = TEMPLATES) -> str:
     """A unified diff of committed files against what the generator emits now ('' if none)."""
     files = emit(templates=templates)
-    present = {p.name for p in out.iterdir() if p.is_file()} if out.is_dir() else set()
+    present = _present(out)
     diff = []
     for name in sorted(set(files) | present):
         old = (out / name).read_text() if name in present else ""
