@@ -3,7 +3,11 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY      = $(VENV)/bin/python
 
-.PHONY: all venv analyze generate check build test bench clean
+CC       ?= gcc
+STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
+SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
+
+.PHONY: all venv analyze generate check build test lint sanitize bench clean
 
 all: generate build test
 
@@ -30,6 +34,18 @@ analyze: venv  ## the paper's example: every equilibrium and its vibration (Tabl
 
 test: venv check  ## generated/ up to date, then the whole test suite (what CI runs)
 	$(PY) -m pytest
+
+lint:  ## gcc and clang with strict warnings, and cppcheck, over generated/
+	for cc in gcc clang; do for f in generated/*.c; do \
+	  $$cc $(STRICT) -O2 -Igenerated -c $$f -o /dev/null || exit 1; done; done
+	cppcheck --quiet --error-exitcode=1 --enable=warning,style,performance,portability \
+	  --std=c99 --inline-suppr -Igenerated generated/*.c
+
+sanitize:  ## the C test driver under AddressSanitizer + UBSan, Table 2 + random/hostile sets
+	mkdir -p build
+	$(CC) $(SANITIZE) -Igenerated tests/c/sanitize_driver.c generated/*.c -lm \
+	  -o build/sanitize_driver
+	ASAN_OPTIONS=detect_leaks=1 ./build/sanitize_driver 5000
 
 bench: venv  ## time the compiled functions (see benchmarks/)
 	$(PY) benchmarks/run.py
