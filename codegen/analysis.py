@@ -24,7 +24,7 @@ class Equilibrium:
     theta: float           # theta_E [rad]
     genuine: bool          # satisfies (43); else a root squaring added
     residual: float        # G(theta_E) [N m]
-    relative_residual: float  # the zeroed branch over the size of its terms
+    relative_residual: float  # |G(theta_E)| over the size of its terms
     M: float
     B: float
     K: float
@@ -67,10 +67,10 @@ class Analysis:
 
 
 def _equilibrium(e) -> Equilibrium:
-    scale = e.branch_scale
+    scale = e.residual_scale
     return Equilibrium(
         theta=e.theta, genuine=bool(e.genuine), residual=e.residual,
-        relative_residual=abs(e.branch_residual) / scale if scale else 0.0,
+        relative_residual=abs(e.residual) / scale if scale else 0.0,
         M=e.M, B=e.B, K=e.K,
         omega_n=complex(e.omega_n[0], e.omega_n[1]), zeta=complex(e.zeta[0], e.zeta[1]),
         eigenvalues=tuple(complex(e.eigen_re[i], e.eigen_im[i]) for i in range(2)),

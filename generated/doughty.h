@@ -254,8 +254,8 @@ typedef struct doughty_equilibrium {
     double theta;           /* theta_E [rad] in (-pi, pi] */
     int genuine;            /* 1: satisfies (43); 0: a root squaring added */
     double residual;        /* G(theta_E) (43) [N m] */
-    double branch_residual; /* the zeroed branch, genuine or extraneous [N m^2] */
-    double branch_scale;    /* |genuine| + |extraneous| at theta_E: the size of the terms */
+    double residual_scale;  /* size of the terms of (43) at theta_E [N m]; a genuine root
+                               has |residual| / residual_scale near machine epsilon */
     double M;               /* M_EQ [kg m^2] (50) */
     double B;               /* B_EQ [N m s] (51) */
     double K;               /* K_EQ [N m] (52) */

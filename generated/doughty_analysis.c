@@ -13,6 +13,9 @@
 #include <string.h>
 
 #define NEWTON_STEPS 8
+/* Roots closer than this [rad] are one multiple root that rounding split in two: the root
+ * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (doughty_roots.c). */
+#define MULTIPLE_ROOT_SPREAD 1e-7
 
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays inside the root's neighbourhood, so polishing can never move a root
@@ -106,12 +109,25 @@ static void classify_motion(double b, double k, doughty_equilibrium *e)
     }
 }
 
+/* The size against which G(theta_E) counts as zero: its two terms e3 sin and e4 cos (43),
+ * plus the change of G over the rounding of theta_E itself, |K| max(|theta|, 1). */
+static doughty_status residual_scale(const doughty_params *params, double theta, double k,
+                                     double *scale)
+{
+    double e[DOUGHTY_N_REDUCED];
+    const doughty_status status = doughty_reduced_coefficients(params, theta, e);
+    if (status == DOUGHTY_OK) {
+        *scale = fabs(e[3] * sin(theta)) + fabs(e[4] * cos(theta)) + fabs(k) * fmax(fabs(theta), 1.0);
+    }
+    return status;
+}
+
 /* One root: classify by which branch of the squared equation it zeroes (a comparison of the
  * two branch values, free of any absolute threshold), polish, then linearise. */
 static doughty_status study_root(const doughty_params *params, double theta,
                                  doughty_equilibrium *e)
 {
-    double genuine, extraneous, residual, m, b, k;
+    double genuine, extraneous, m, b, k;
     doughty_status status = doughty_equilibrium_branches(params, theta, &genuine, &extraneous);
     if (status != DOUGHTY_OK) {
         return status;
@@ -120,17 +136,14 @@ static doughty_status study_root(const doughty_params *params, double theta,
     e->theta = e->genuine ? wrap(polish(params, theta)) : theta;
     status = doughty_linearisation(params, e->theta, &m, &b, &k);
     if (status == DOUGHTY_OK) {
-        status = doughty_equilibrium_branches(params, e->theta, &genuine, &extraneous);
+        status = doughty_equilibrium_residual(params, e->theta, &e->residual);
     }
     if (status == DOUGHTY_OK) {
-        status = doughty_equilibrium_residual(params, e->theta, &residual);
+        status = residual_scale(params, e->theta, k, &e->residual_scale);
     }
     if (status != DOUGHTY_OK) {
         return status;
     }
-    e->branch_residual = e->genuine ? genuine : extraneous;
-    e->branch_scale = fabs(genuine) + fabs(extraneous);
-    e->residual = residual;
     e->M = m;
     e->B = b;
     e->K = k;
@@ -138,6 +151,23 @@ static doughty_status study_root(const doughty_params *params, double theta,
     eigenvalues(m, b, k, e->eigen_re, e->eigen_im);
     classify_motion(b, k, e);
     return DOUGHTY_OK;
+}
+
+/* Merge neighbours closer than MULTIPLE_ROOT_SPREAD (sorted input); a merged root is genuine
+ * if either half is. Returns the new count. */
+static int merge_split_roots(doughty_equilibrium *roots, int count)
+{
+    int i, kept = 0;
+    for (i = 0; i < count; ++i) {
+        if (kept > 0 && roots[i].theta - roots[kept - 1].theta <= MULTIPLE_ROOT_SPREAD) {
+            if (roots[i].genuine && !roots[kept - 1].genuine) {
+                roots[kept - 1] = roots[i];
+            }
+            continue;
+        }
+        roots[kept++] = roots[i];
+    }
+    return kept;
 }
 
 doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result)
@@ -174,6 +204,7 @@ doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *r
             work.roots[j - 1] = swap;
         }
     }
+    work.n_roots = merge_split_roots(work.roots, count);
     *result = work;
     return DOUGHTY_OK;
 }
