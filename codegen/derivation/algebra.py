@@ -16,7 +16,7 @@ def square_roots(expr: sp.Expr) -> list[sp.Expr]:
     return sorted(found, key=sp.default_sort_key)
 
 
-def tidy(expr: sp.Expr, step: Callable[[sp.Expr], sp.Expr] = sp.cancel) -> sp.Expr:
+def tidy(expr: sp.Expr, step: Callable[[sp.Expr], sp.Expr] = sp.factor) -> sp.Expr:
     """Apply ``step`` with every square root held as an opaque symbol."""
     roots = {sp.sqrt(b): sp.Dummy(f"root{i}", positive=True)
              for i, b in enumerate(square_roots(expr))}

@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .algebra import tidy
 from .reduction import Reduction
 
 
@@ -33,10 +32,10 @@ class Linearisation:
 
 
 def derive_linearisation(reduction: Reduction) -> Linearisation:
-    f = reduction.equation
+    f = reduction.structured_equation
     at_rest = {reduction.theta_d: 0, reduction.theta_dd: 0}
     return Linearisation(
-        mass=tidy(f.diff(reduction.theta_dd).subs(at_rest)),
-        damping=tidy(f.diff(reduction.theta_d).subs(at_rest)),
-        stiffness=tidy(f.diff(reduction.theta).subs(at_rest), sp.expand),
+        mass=f.diff(reduction.theta_dd).subs(at_rest),
+        damping=f.diff(reduction.theta_d).subs(at_rest),
+        stiffness=f.diff(reduction.theta).subs(at_rest),
     )

@@ -27,9 +27,20 @@ class Reduction:
     theta_dd: sp.Symbol
     positions: sp.Matrix   # q(theta), (30), (31), (34)
     velocities: sp.Matrix  # S(theta) thetadot, (32), (35)
-    equation: sp.Expr      # the reduced equation of motion, (36)
+    equation: sp.Expr      # the reduced equation of motion, (36), as projected
     e: tuple[sp.Expr, ...]  # e0..e4, (37)-(41)
-    static_force: sp.Expr   # G(theta), the reduced equation at rest
+    split: tuple[sp.Expr, sp.Expr]  # the factors of e3 and e4 in G: sin, cos for Doughty
+
+    @property
+    def static_force(self) -> sp.Expr:
+        """G(theta) = e3 sin + e4 cos: the reduced equation at rest, (42)."""
+        return self.e[3] * self.split[0] + self.e[4] * self.split[1]
+
+    @property
+    def structured_equation(self) -> sp.Expr:
+        """(36) assembled from its coefficients; equal to ``equation``, better conditioned."""
+        e0, e1, e2 = self.e[:3]
+        return e0 * self.theta_dd + e1 * self.theta_d**2 + e2 * self.theta_d + self.static_force
 
     @property
     def angular_acceleration(self) -> sp.Expr:
@@ -96,17 +107,20 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     # The reduced equation is affine in thetaddot and quadratic in thetadot.
     e0 = tidy(equation.diff(theta_dd).subs(at_rest))
     e1 = tidy(equation.diff(theta_d, 2).subs(at_rest) / 2)
-    e2 = tidy(equation.diff(theta_d).subs(at_rest))
+    # Damping projects to sum c (dl/dtheta)^2: squaring the factored rate keeps the
+    # radicand a sum of squares, accurate where r is small (expanding it is not).
+    e2 = sum((d.coefficient * tidy(reduce(d.length).diff(theta)) ** 2
+              for d in mechanism.dampers), sp.S.Zero)
     # The paper writes the static force as e3*sin + e4*cos: the springs' part and the
     # part of gravity and applied forces, each divided by its own factor.
-    split = {name: factor.subs(freezer) for name, factor in mechanism.static_split.items()}
+    split = tuple(mechanism.static_split[k].subs(freezer) for k in ("elastic", "load"))
     elastic = reduce(dynamics.elastic_potential).diff(theta)
     load = reduce(dynamics.gravity_potential).diff(theta) - (S.T * reduce(dynamics.applied_forces))[0]
-    e3 = tidy(elastic / split["elastic"])
-    e4 = tidy(load / split["load"])
+    e3 = tidy(elastic / split[0])
+    e4 = tidy(load / split[1])
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd,
         positions=positions, velocities=S * theta_d, equation=equation,
         e=(e0, e1, e2, e3, e4),
-        static_force=tidy(equation.subs(at_rest), sp.expand),
+        split=split,
     )
