@@ -669,7 +669,7 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
     return DOUGHTY_OK;
 }
 
-/* reduced_coefficients: eq. (36)-(41). Total ops: 93. */
+/* reduced_coefficients: eq. (36)-(41). Total ops: 53. */
 doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED])
 {
     double out[5];
@@ -701,20 +701,17 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
         const double tmp2 = (tmp1*tmp1);
         const double tmp3 = cos(theta);
         const double tmp4 = (tmp3*tmp3);
-        const double tmp5 = (1.0/4.0)*m_C;
+        const double tmp5 = 3*m_C;
         const double tmp6 = tmp0*tmp3;
-        const double tmp7 = (H*H);
-        const double tmp8 = a*tmp3;
-        const double tmp9 = 2*tmp8;
-        const double tmp10 = H*tmp9;
-        const double tmp11 = (a*a);
-        const double tmp12 = tmp11*tmp4;
-        const double tmp13 = sqrt(((H - tmp8)*(H - tmp8)) + ((L*tmp1 - a*tmp1)*(L*tmp1 - a*tmp1)));
-        out[0] = tmp0*(m_A*tmp2 + m_B*tmp4 + (1.0/12.0)*m_C + tmp2*tmp5 + tmp4*tmp5);
+        const double tmp7 = a*tmp3;
+        const double tmp8 = H*a - 2*L*tmp7 + tmp6;
+        const double tmp9 = ((H - tmp7)*(H - tmp7)) + ((L*tmp1 - a*tmp1)*(L*tmp1 - a*tmp1));
+        const double tmp10 = sqrt(tmp9);
+        out[0] = (1.0/12.0)*tmp0*(12*m_A*tmp2 + 12*m_B*tmp4 + m_C + tmp2*tmp5 + tmp4*tmp5);
         out[1] = tmp1*tmp6*(m_A - m_B);
-        out[2] = b*tmp2*(-4*H*L*tmp11*tmp3 + (L*L*L*L)*tmp4 - 4*(L*L*L)*a*tmp4 + tmp0*tmp10 + 4*tmp0*tmp12 + tmp11*tmp7)/(-2*L*a*tmp2 + tmp0*tmp2 - tmp10 + tmp11*tmp2 + tmp12 + tmp7);
-        out[3] = k*(-H*a*l_ND + H*a*tmp13 + 2*L*a*l_ND*tmp3 - L*tmp13*tmp9 - l_ND*tmp6 + tmp0*tmp13*tmp3)/tmp13;
-        out[4] = L*(-F + g*m_B + (1.0/2.0)*g*m_C);
+        out[2] = b*tmp2*(tmp8*tmp8)/tmp9;
+        out[3] = k*tmp8*(-l_ND + tmp10)/tmp10;
+        out[4] = (1.0/2.0)*L*(-2*F + 2*g*m_B + g*m_C);
     }
     if (!all_finite(out, 5)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -723,7 +720,7 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* angular_acceleration: eq. (36). Total ops: 110. */
+/* angular_acceleration: eq. (36). Total ops: 65. */
 doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd)
 {
     double out[1];
@@ -758,20 +755,13 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
         const double tmp2 = (tmp1*tmp1);
         const double tmp3 = cos(theta);
         const double tmp4 = (tmp3*tmp3);
-        const double tmp5 = (1.0/4.0)*m_C;
-        const double tmp6 = a*tmp1;
-        const double tmp7 = L*tmp3;
-        const double tmp8 = g*tmp7;
-        const double tmp9 = tmp0*tmp1*tmp3;
-        const double tmp10 = a*tmp3;
-        const double tmp11 = L*tmp1;
-        const double tmp12 = 1/(sqrt(((H - tmp10)*(H - tmp10)) + ((tmp11 - tmp6)*(tmp11 - tmp6))));
-        const double tmp13 = 2*tmp10;
-        const double tmp14 = (H*H);
-        const double tmp15 = H*tmp13;
-        const double tmp16 = (a*a);
-        const double tmp17 = tmp16*tmp4;
-        out[0] = (F*L*tmp3 + H*a*k*l_ND*tmp1*tmp12 - H*k*tmp6 + 2*L*a*k*tmp1*tmp3 - b*theta_d*tmp2*(-4*H*tmp16*tmp7 + (L*L*L*L)*tmp4 - 4*(L*L*L)*a*tmp4 + tmp0*tmp15 + 4*tmp0*tmp17 + tmp14*tmp16)/(-2*L*a*tmp2 + tmp0*tmp2 + tmp14 - tmp15 + tmp16*tmp2 + tmp17) + k*l_ND*tmp0*tmp1*tmp12*tmp3 - k*l_ND*tmp11*tmp12*tmp13 - k*tmp9 - m_B*tmp8 - 1.0/2.0*m_C*tmp8 - (theta_d*theta_d)*tmp9*(m_A - m_B))/(tmp0*(m_A*tmp2 + m_B*tmp4 + (1.0/12.0)*m_C + tmp2*tmp5 + tmp4*tmp5));
+        const double tmp5 = 3*m_C;
+        const double tmp6 = tmp0*tmp3;
+        const double tmp7 = a*tmp3;
+        const double tmp8 = H*a - 2*L*tmp7 + tmp6;
+        const double tmp9 = ((H - tmp7)*(H - tmp7)) + ((L*tmp1 - a*tmp1)*(L*tmp1 - a*tmp1));
+        const double tmp10 = sqrt(tmp9);
+        out[0] = 12*(-1.0/2.0*L*tmp3*(-2*F + 2*g*m_B + g*m_C) - b*theta_d*tmp2*(tmp8*tmp8)/tmp9 - k*tmp1*tmp8*(-l_ND + tmp10)/tmp10 - (theta_d*theta_d)*tmp1*tmp6*(m_A - m_B))/(tmp0*(12*m_A*tmp2 + 12*m_B*tmp4 + m_C + tmp2*tmp5 + tmp4*tmp5));
     }
     if (!all_finite(out, 1)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -780,7 +770,7 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* equilibrium_residual: eq. (42)-(43). Total ops: 39. */
+/* equilibrium_residual: eq. (42)-(43). Total ops: 34. */
 doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual)
 {
     double out[1];
@@ -806,17 +796,10 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
         const double F = params->F;
         const double g = params->g;
         const double tmp0 = cos(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = a*tmp2;
-        const double tmp4 = H*k*tmp3;
-        const double tmp5 = g*tmp1;
-        const double tmp6 = (L*L)*k*tmp0*tmp2;
-        const double tmp7 = a*tmp0;
-        const double tmp8 = L*tmp2;
-        const double tmp9 = 2*k*tmp7*tmp8;
-        const double tmp10 = l_ND/sqrt(((H - tmp7)*(H - tmp7)) + ((-tmp3 + tmp8)*(-tmp3 + tmp8)));
-        out[0] = -F*tmp1 + m_B*tmp5 + (1.0/2.0)*m_C*tmp5 - tmp10*tmp4 - tmp10*tmp6 + tmp10*tmp9 + tmp4 + tmp6 - tmp9;
+        const double tmp1 = sin(theta);
+        const double tmp2 = a*tmp0;
+        const double tmp3 = sqrt(((H - tmp2)*(H - tmp2)) + ((L*tmp1 - a*tmp1)*(L*tmp1 - a*tmp1)));
+        out[0] = (1.0/2.0)*L*tmp0*(-2*F + 2*g*m_B + g*m_C) + k*tmp1*(-l_ND + tmp3)*(H*a + (L*L)*tmp0 - 2*L*tmp2)/tmp3;
     }
     if (!all_finite(out, 1)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -963,7 +946,7 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
     return DOUGHTY_OK;
 }
 
-/* linearisation: eq. (46)-(53). Total ops: 114. */
+/* linearisation: eq. (46)-(53). Total ops: 79. */
 doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K)
 {
     double out[3];
@@ -1001,39 +984,25 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
         const double tmp2 = (tmp1*tmp1);
         const double tmp3 = cos(theta);
         const double tmp4 = (tmp3*tmp3);
-        const double tmp5 = (1.0/4.0)*m_C;
-        const double tmp6 = (H*H);
-        const double tmp7 = a*tmp3;
-        const double tmp8 = H*tmp7;
-        const double tmp9 = 2*tmp8;
-        const double tmp10 = tmp0*tmp2;
-        const double tmp11 = (a*a);
-        const double tmp12 = tmp11*tmp2;
-        const double tmp13 = tmp11*tmp4;
-        const double tmp14 = a*tmp2;
-        const double tmp15 = 2*L;
-        const double tmp16 = tmp14*tmp15;
-        const double tmp17 = (L*L*L*L)*tmp4;
-        const double tmp18 = 4*H*L*tmp3;
-        const double tmp19 = 4*(L*L*L);
-        const double tmp20 = 4*tmp13;
-        const double tmp21 = L*tmp1;
-        const double tmp22 = k*tmp8;
-        const double tmp23 = g*tmp21;
-        const double tmp24 = k*tmp4;
-        const double tmp25 = tmp0*tmp24;
-        const double tmp26 = k*tmp16;
-        const double tmp27 = a*tmp15*tmp24;
-        const double tmp28 = k*tmp10;
-        const double tmp29 = ((H - tmp7)*(H - tmp7)) + ((-a*tmp1 + tmp21)*(-a*tmp1 + tmp21));
-        const double tmp30 = l_ND/sqrt(tmp29);
-        const double tmp31 = l_ND/(tmp29*sqrt(tmp29));
-        const double tmp32 = k*tmp31;
-        const double tmp33 = tmp12*tmp32;
-        const double tmp34 = tmp28*tmp31;
-        out[0] = tmp0*(m_A*tmp2 + m_B*tmp4 + (1.0/12.0)*m_C + tmp2*tmp5 + tmp4*tmp5);
-        out[1] = b*tmp2*(-a*tmp19*tmp4 + tmp0*tmp20 + tmp0*tmp9 - tmp11*tmp18 + tmp11*tmp6 + tmp17)/(tmp10 + tmp12 + tmp13 - tmp16 + tmp6 - tmp9);
-        out[2] = F*tmp21 - m_B*tmp23 - 1.0/2.0*m_C*tmp23 - tmp14*tmp19*tmp24*tmp31 + tmp17*tmp2*tmp32 - tmp18*tmp33 + tmp20*tmp34 - tmp22*tmp30 + tmp22 - tmp25*tmp30 + tmp25 - tmp26*tmp30 + tmp26 + tmp27*tmp30 - tmp27 + tmp28*tmp30 - tmp28 + tmp33*tmp6 + tmp34*tmp9;
+        const double tmp5 = 3*m_C;
+        const double tmp6 = a*tmp3;
+        const double tmp7 = 2*tmp6;
+        const double tmp8 = H*a - L*tmp7 + tmp0*tmp3;
+        const double tmp9 = H - tmp6;
+        const double tmp10 = L*tmp1;
+        const double tmp11 = a*tmp1;
+        const double tmp12 = tmp10 - tmp11;
+        const double tmp13 = (tmp12*tmp12) + (tmp9*tmp9);
+        const double tmp14 = 1/(tmp13);
+        const double tmp15 = k*tmp1;
+        const double tmp16 = sqrt(tmp13);
+        const double tmp17 = -l_ND + tmp16;
+        const double tmp18 = tmp17/tmp16;
+        const double tmp19 = tmp11*tmp9 + (1.0/2.0)*tmp12*(2*L*tmp3 - tmp7);
+        const double tmp20 = tmp15*tmp8;
+        out[0] = (1.0/12.0)*tmp0*(12*m_A*tmp2 + 12*m_B*tmp4 + m_C + tmp2*tmp5 + tmp4*tmp5);
+        out[1] = b*tmp14*tmp2*(tmp8*tmp8);
+        out[2] = k*tmp18*tmp3*tmp8 - 1.0/2.0*tmp10*(-2*F + 2*g*m_B + g*m_C) + tmp14*tmp19*tmp20 + tmp15*tmp18*(2*L*a*tmp1 - tmp0*tmp1) - tmp17*tmp19*tmp20/(tmp13*sqrt(tmp13));
     }
     if (!all_finite(out, 3)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -1044,7 +1013,7 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
     return DOUGHTY_OK;
 }
 
-/* vibration: eq. (54)-(55). Total ops: 123. */
+/* vibration: eq. (54)-(55). Total ops: 83. */
 doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
 {
     double out[2];
@@ -1076,42 +1045,28 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
         const double g = params->g;
         const double tmp0 = sin(theta);
         const double tmp1 = L*tmp0;
-        const double tmp2 = cos(theta);
-        const double tmp3 = a*tmp2;
-        const double tmp4 = H*tmp3;
-        const double tmp5 = k*tmp4;
-        const double tmp6 = g*tmp1;
-        const double tmp7 = (L*L);
-        const double tmp8 = (tmp2*tmp2);
-        const double tmp9 = k*tmp8;
-        const double tmp10 = tmp7*tmp9;
-        const double tmp11 = (tmp0*tmp0);
-        const double tmp12 = a*tmp11;
-        const double tmp13 = 2*L;
-        const double tmp14 = tmp12*tmp13;
-        const double tmp15 = k*tmp14;
-        const double tmp16 = a*tmp13*tmp9;
-        const double tmp17 = tmp11*tmp7;
-        const double tmp18 = k*tmp17;
-        const double tmp19 = ((H - tmp3)*(H - tmp3)) + ((-a*tmp0 + tmp1)*(-a*tmp0 + tmp1));
-        const double tmp20 = l_ND/sqrt(tmp19);
-        const double tmp21 = (H*H);
-        const double tmp22 = (a*a);
-        const double tmp23 = tmp11*tmp22;
-        const double tmp24 = l_ND/(tmp19*sqrt(tmp19));
-        const double tmp25 = k*tmp24;
-        const double tmp26 = tmp23*tmp25;
-        const double tmp27 = (L*L*L*L)*tmp8;
-        const double tmp28 = 4*H*L*tmp2;
-        const double tmp29 = 2*tmp4;
-        const double tmp30 = tmp18*tmp24;
-        const double tmp31 = 4*(L*L*L);
-        const double tmp32 = tmp22*tmp8;
-        const double tmp33 = 4*tmp32;
-        const double tmp34 = (1.0/4.0)*m_C;
-        const double tmp35 = 1/(tmp7*(m_A*tmp11 + m_B*tmp8 + (1.0/12.0)*m_C + tmp11*tmp34 + tmp34*tmp8));
-        out[0] = tmp35*(F*tmp1 - m_B*tmp6 - 1.0/2.0*m_C*tmp6 - tmp10*tmp20 + tmp10 + tmp11*tmp25*tmp27 - tmp12*tmp24*tmp31*tmp9 - tmp15*tmp20 + tmp15 + tmp16*tmp20 - tmp16 + tmp18*tmp20 - tmp18 - tmp20*tmp5 + tmp21*tmp26 - tmp26*tmp28 + tmp29*tmp30 + tmp30*tmp33 + tmp5);
-        out[1] = (1.0/2.0)*b*tmp11*tmp35*(-a*tmp31*tmp8 + tmp21*tmp22 - tmp22*tmp28 + tmp27 + tmp29*tmp7 + tmp33*tmp7)/(-tmp14 + tmp17 + tmp21 + tmp23 - tmp29 + tmp32);
+        const double tmp2 = (L*L);
+        const double tmp3 = k*tmp0;
+        const double tmp4 = cos(theta);
+        const double tmp5 = a*tmp4;
+        const double tmp6 = H - tmp5;
+        const double tmp7 = a*tmp0;
+        const double tmp8 = tmp1 - tmp7;
+        const double tmp9 = (tmp6*tmp6) + (tmp8*tmp8);
+        const double tmp10 = sqrt(tmp9);
+        const double tmp11 = -l_ND + tmp10;
+        const double tmp12 = tmp11/tmp10;
+        const double tmp13 = 2*tmp5;
+        const double tmp14 = H*a - L*tmp13 + tmp2*tmp4;
+        const double tmp15 = 1/(tmp9);
+        const double tmp16 = tmp6*tmp7 + (1.0/2.0)*tmp8*(2*L*tmp4 - tmp13);
+        const double tmp17 = tmp14*tmp3;
+        const double tmp18 = (tmp0*tmp0);
+        const double tmp19 = (tmp4*tmp4);
+        const double tmp20 = 3*m_C;
+        const double tmp21 = 1/(tmp2*(12*m_A*tmp18 + 12*m_B*tmp19 + m_C + tmp18*tmp20 + tmp19*tmp20));
+        out[0] = 12*tmp21*(k*tmp12*tmp14*tmp4 - 1.0/2.0*tmp1*(-2*F + 2*g*m_B + g*m_C) - tmp11*tmp16*tmp17/(tmp9*sqrt(tmp9)) + tmp12*tmp3*(2*L*a*tmp0 - tmp0*tmp2) + tmp15*tmp16*tmp17);
+        out[1] = 6*b*(tmp14*tmp14)*tmp15*tmp18*tmp21;
     }
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;

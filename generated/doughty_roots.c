@@ -22,16 +22,19 @@
  *    each level's roots are the next level's critical points.
  * 4. Values come from the compensated Horner scheme, as accurate as Horner's rule in twice the
  *    working precision. Plain Horner is not enough: in the application's example the extrema
- *    between the close pairs are only 1e-16..1e-13 of the terms summed, i.e. at plain Horner's
- *    error level, and merging them would lose two equilibria.
+ *    between the close pairs are only ~1e-16..1e-13 of the terms summed, i.e. at plain
+ *    Horner's error level, and merging them would lose two equilibria. (The error-free
+ *    transformations need IEEE double arithmetic: no -ffast-math, no x87 extended precision.)
  * 5. A critical point is a multiple root (reported once; there is no sign change to bracket) if
  *    |f| there is within the compensated error bound plus f's variation over the point's own
- *    uncertainty, or if both (a) a relative change of DR_ULPS ulps in each coefficient can make
- *    f vanish there and (b) the two roots beside it (real or complex, |x - c| ~
+ *    uncertainty, or if both (a) changing each coefficient by DR_ULPS ulps of the largest one
+ *    can make f vanish there and (b) the two roots beside it (real or complex, |x - c| ~
  *    sqrt(2|f|/|f''|)) lie within DR_PAIR of it. Such a pair cannot be told from a double root
- *    whose coefficients carry rounding errors (sigma_i come from long expressions: in tests, 1
- *    ulp missed or doubled 11% of rounded double roots, 16 ulps 0.03%, 64 none), while (b)
- *    keeps genuine close pairs (the application's are 25x farther apart) separate.
+ *    whose coefficients carry rounding errors: sigma_i come from long expressions, and one that
+ *    should vanish (a sin^2 factor) is a residue of terms as large as the other sigma_i, hence
+ *    (a) is norm-wise. With double roots' coefficients computed in double arithmetic, allowing
+ *    1 ulp missed or doubled 11% of them in our trials, 16 ulps 0.03%, 64 none; (b) keeps
+ *    genuine close pairs (the application's are 25x farther apart) separate.
  *    Runs of consecutive such points are one root.
  */
 #include "doughty.h"
@@ -44,8 +47,9 @@
 #define DR_PI 3.14159265358979323846264338327950288
 #define DR_ULPS 64.0                       /* see 5(a) */
 #define DR_PAIR 1e-5                       /* see 5(b); in chart units (theta ~ 2 u) */
-#define DR_MAXIT 400                       /* Newton/bisection cap; bisection alone needs ~1100
-                                              halvings only to reach denormals */
+#define DR_MAXIT 400                       /* iteration cap: ~60 halvings reach full relative
+                                              precision; only a root at 0 needs more, and there
+                                              Newton converges (fast) */
 
 /* f(x) = sum a[i] x^i by the compensated Horner scheme (Graillat, Langlois & Louvet, 2005):
  * error-free transformations (fma for the product, Knuth's TwoSum for the sum) give
@@ -124,6 +128,10 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
     int ps[DR_DEG + 2] = {0};                                /* trusted sign, 0 = root */
     const int np = nc + 2;
     const double g = (double)n * DBL_EPSILON;                /* gamma_{2n} */
+    double amax = 0.0;                                       /* largest |coefficient| */
+    for (int i = 0; i <= n; ++i) {
+        amax = (fabs(f[i]) > amax) ? fabs(f[i]) : amax;
+    }
 
     px[0] = -1.0;
     pd[0] = 0.0;
@@ -142,10 +150,14 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
         /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
         double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
         int zero = fabs(v) <= tol;
-        if (!zero && j > 0 && j < np - 1 && fabs(v) <= ceps * mag &&
+        double pw = 0.0;                                     /* sum |x|^i */
+        for (int i = 0; i <= n; ++i) {
+            pw = pw * fabs(px[j]) + 1.0;
+        }
+        if (!zero && j > 0 && j < np - 1 && fabs(v) <= ceps * amax * pw &&
             2.0 * fabs(v) <= d2 * DR_PAIR * DR_PAIR) {
             zero = 1;                                        /* 5(a) and 5(b) */
-            tol = ceps * mag;
+            tol = ceps * amax * pw;
         }
         pv[j] = v;
         ps[j] = zero ? 0 : (v > 0.0 ? 1 : -1);
