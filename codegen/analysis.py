@@ -50,8 +50,12 @@ class Analysis:
         return tuple(r for r in self.roots if r.genuine)
 
     def to_dict(self) -> dict:
-        def pair(z: complex) -> list[float]:
-            return [z.real, z.imag]
+        """JSON-ready; an infinite zeta (K = 0 with B > 0) becomes null, never Infinity."""
+        def finite(x: float) -> float | None:
+            return x if math.isfinite(x) else None
+
+        def pair(z: complex) -> list[float | None]:
+            return [finite(z.real), finite(z.imag)]
 
         return {
             "params": asdict(self.params),
