@@ -44,6 +44,7 @@ class Analysis:
     params: object
     sigma: tuple[float, ...]
     roots: tuple[Equilibrium, ...]
+    singular: tuple[float, ...] = ()  # angles [rad] of roots where r = 0: (43) undefined
 
     @property
     def equilibria(self) -> tuple[Equilibrium, ...]:
@@ -67,6 +68,7 @@ class Analysis:
                 "eigenvalues": [pair(z) for z in r.eigenvalues],
                 "stability": r.stability, "damping": r.damping,
             } for r in self.roots],
+            "singular_roots_deg": [math.degrees(t) for t in self.singular],
         }
 
 
@@ -84,7 +86,8 @@ def _equilibrium(e) -> Equilibrium:
 
 def _from_c(params, result) -> Analysis:
     return Analysis(params, tuple(result.sigma),
-                    tuple(_equilibrium(result.roots[i]) for i in range(result.n_roots)))
+                    tuple(_equilibrium(result.roots[i]) for i in range(result.n_roots)),
+                    tuple(result.singular_theta[i] for i in range(result.n_singular)))
 
 
 def analyze(params=None) -> Analysis:
@@ -131,10 +134,14 @@ def table(analysis: Analysis) -> str:
             f"{r.theta_deg:14.4f} {'genuine' if r.genuine else 'extraneous':>10} {r.M:8.4f} "
             f"{r.B:11.4g} {r.K:11.5g} {_complex(r.omega_n):>12} {_complex(r.zeta):>13} "
             f"{eig:>30} {r.stability:>9} {r.damping:>11}")
-    n = len(analysis.roots)
+    n = len(analysis.roots) + len(analysis.singular)
     g = len(analysis.equilibria)
-    lines.append(f"\n{n} real roots of (45): {g} genuine equilibria, {n - g} extraneous "
-                 f"(roots of the squared equation only).")
+    lines.append(f"\n{n} real roots of (45): {g} genuine equilibria, "
+                 f"{len(analysis.roots) - g} extraneous (roots of the squared equation only)"
+                 + (f", {len(analysis.singular)} where r = 0." if analysis.singular else "."))
+    if analysis.singular:
+        angles = ", ".join(f"{math.degrees(t):.4f}" for t in analysis.singular)
+        lines.append(f"Roots where the spring length r is zero, so (43) is undefined: {angles} deg.")
     lines.append("sigma_0..sigma_12 of (45):")
     lines += [f"  sigma_{i:<2} = {s: .10e}" for i, s in enumerate(analysis.sigma)]
     return "\n".join(lines)

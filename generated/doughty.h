@@ -270,12 +270,14 @@ typedef struct doughty_equilibrium {
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct doughty_analysis {
     double sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 of (45) */
-    int n_roots;                                    /* real roots found, <= MAX_ROOTS */
+    int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
     doughty_equilibrium roots[DOUGHTY_MAX_ROOTS]; /* ascending theta */
+    int n_singular;         /* roots where the spring length r is zero: (43) is undefined */
+    double singular_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
 } doughty_analysis;
 
 /* All real roots of (45), classified and linearised: the paper's Table 3 in one call.
- * Returns DOUGHTY_OK or the first failure (bad parameters, a root where r = 0);
+ * Returns DOUGHTY_OK or the first failure (bad parameters);
  * *result is written only on success. */
 doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result);
 

@@ -13,15 +13,27 @@
 #include <string.h>
 
 #define NEWTON_STEPS 8
+/* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
+ * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
+#define POLISH_RADIUS 1e-3
+/* How far a root the branches call extraneous is searched for a genuine twin [rad]: the root
+ * finder reports roots closer than ~2e-5 (in its chart units) as one. */
+#define TWIN_RADIUS 2e-5
+/* |G| within this many rounding units of the size of its terms is zero to working precision */
+#define GENUINE_RESIDUAL (32.0 * DBL_EPSILON)
+/* A root the branches call genuine whose |G| stays above this relative size after Newton is
+ * the jump of G across r = 0, not an equilibrium (a regular root polishes to ~eps). */
+#define SINGULAR_RESIDUAL 1e-8
 /* Roots closer than this [rad] are one multiple root that rounding split in two: the root
  * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (doughty_roots.c). */
 #define MULTIPLE_ROOT_SPREAD 1e-7
 
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
- * shrinks |G| and stays inside the root's neighbourhood, so polishing can never move a root
- * onto another one. */
-static double polish(const doughty_params *params, double theta)
+ * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
+ * neighbour farther away than that. */
+static double polish(const doughty_params *params, double theta, double radius)
 {
+    const double start = theta;
     double residual, m, b, k;
     int i;
     if (doughty_equilibrium_residual(params, theta, &residual) != DOUGHTY_OK) {
@@ -33,7 +45,7 @@ static double polish(const doughty_params *params, double theta)
             break;
         }
         next = theta - residual / k;
-        if (!(fabs(next - theta) < 1e-3)
+        if (!(fabs(next - start) <= radius)
             || doughty_equilibrium_residual(params, next, &next_residual) != DOUGHTY_OK
             || !(fabs(next_residual) < fabs(residual))) {
             break;
@@ -122,34 +134,74 @@ static doughty_status residual_scale(const doughty_params *params, double theta,
     return status;
 }
 
+/* Whether theta puts the singular length (the spring's r) at zero to working precision,
+ * relative to the other lengths of the state: there (43) has no defined value. */
+static doughty_status check_regular(const doughty_params *params, double theta)
+{
+    double coords[DOUGHTY_N_COORDS], rates[DOUGHTY_N_COORDS], size = 0.0;
+    const doughty_status status = doughty_dependent_state(params, theta, 0.0, coords, rates);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    size = fmax(size, fabs(coords[0]));
+    size = fmax(size, fabs(coords[1]));
+    size = fmax(size, fabs(coords[2]));
+    return fabs(coords[2]) <= 64.0 * DBL_EPSILON * size
+               ? DOUGHTY_ERR_SINGULAR_STATE : DOUGHTY_OK;
+}
+
+/* M, B, K, G and the size of G's terms at theta, into e. */
+static doughty_status evaluate_at(const doughty_params *params, double theta,
+                                  doughty_equilibrium *e)
+{
+    doughty_status status = doughty_linearisation(params, theta, &e->M, &e->B, &e->K);
+    if (status == DOUGHTY_OK) {
+        status = doughty_equilibrium_residual(params, theta, &e->residual);
+    }
+    if (status == DOUGHTY_OK) {
+        status = residual_scale(params, theta, e->K, &e->residual_scale);
+    }
+    e->theta = theta;
+    return status;
+}
+
 /* One root: classify by which branch of the squared equation it zeroes (a comparison of the
- * two branch values, free of any absolute threshold), polish, then linearise. */
+ * two branch values, free of any absolute threshold), polish, then linearise. Where both
+ * branches vanish together (alpha ~ 0), or a genuine root lies closer than the root finder
+ * resolves, (43) itself decides, relative to the size of its terms. */
 static doughty_status study_root(const doughty_params *params, double theta,
                                  doughty_equilibrium *e)
 {
-    double genuine, extraneous, m, b, k;
-    doughty_status status = doughty_equilibrium_branches(params, theta, &genuine, &extraneous);
+    double genuine, extraneous;
+    doughty_status status = check_regular(params, theta);
+    if (status == DOUGHTY_OK) {
+        status = doughty_equilibrium_branches(params, theta, &genuine, &extraneous);
+    }
     if (status != DOUGHTY_OK) {
         return status;
     }
     e->genuine = fabs(genuine) <= fabs(extraneous);
-    e->theta = e->genuine ? wrap(polish(params, theta)) : theta;
-    status = doughty_linearisation(params, e->theta, &m, &b, &k);
-    if (status == DOUGHTY_OK) {
-        status = doughty_equilibrium_residual(params, e->theta, &e->residual);
-    }
-    if (status == DOUGHTY_OK) {
-        status = residual_scale(params, e->theta, k, &e->residual_scale);
-    }
+    status = evaluate_at(params, polish(params, theta, e->genuine ? POLISH_RADIUS : TWIN_RADIUS), e);
     if (status != DOUGHTY_OK) {
         return status;
     }
-    e->M = m;
-    e->B = b;
-    e->K = k;
-    frequency(m, b, k, e);
-    eigenvalues(m, b, k, e->eigen_re, e->eigen_im);
-    classify_motion(b, k, e);
+    if (e->genuine && !(fabs(e->residual) <= SINGULAR_RESIDUAL * e->residual_scale)) {
+        /* The genuine branch r*G vanishes but Newton cannot bring G near zero: G jumps
+         * here, which it does only where r = 0 (a root the finder placed ~1e-8 off it). */
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    e->genuine = e->genuine || fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
+    if (e->genuine) {
+        e->theta = wrap(e->theta);
+    } else if (e->theta != theta) { /* no genuine twin: report the root itself */
+        status = evaluate_at(params, theta, e);
+        if (status != DOUGHTY_OK) {
+            return status;
+        }
+    }
+    frequency(e->M, e->B, e->K, e);
+    eigenvalues(e->M, e->B, e->K, e->eigen_re, e->eigen_im);
+    classify_motion(e->B, e->K, e);
     return DOUGHTY_OK;
 }
 
@@ -188,13 +240,17 @@ doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *r
     if (status != DOUGHTY_OK) {
         return status;
     }
-    work.n_roots = count;
     for (i = 0; i < count; ++i) {
-        status = study_root(params, theta[i], &work.roots[i]);
-        if (status != DOUGHTY_OK) {
+        status = study_root(params, theta[i], &work.roots[work.n_roots]);
+        if (status == DOUGHTY_ERR_SINGULAR_STATE) {
+            work.singular_theta[work.n_singular++] = theta[i];
+        } else if (status != DOUGHTY_OK) {
             return status;
+        } else {
+            ++work.n_roots;
         }
     }
+    count = work.n_roots;
     /* Polishing moves roots by rounding-size amounts: keep them sorted (insertion sort). */
     for (i = 1; i < count; ++i) {
         int j;

@@ -69,6 +69,8 @@ class Plan:
     requirements: tuple                            # model.Requirement
     singular_state: str
     functions: tuple[CFunction, ...]
+    singular_length: int = -1          # coordinate whose vanishing is the singular state
+    length_coordinates: tuple[int, ...] = ()  # coordinates measured in metres
 
     def function(self, name: str) -> CFunction:
         return next(f for f in self.functions if f.name == name)
@@ -189,5 +191,8 @@ def build_plan(d: Derivation) -> Plan:
                "MAX_ROOTS": len(eq.sigma) - 1},
         requirements=m.requirements,
         singular_state=m.singular_state,
+        singular_length=next((i for i, c in enumerate(m.coordinates)
+                              for length, _ in m.polar_pairs[:1] if c.name == length), -1),
+        length_coordinates=tuple(i for i, c in enumerate(m.coordinates) if c.unit == "m"),
         functions=functions,
     )

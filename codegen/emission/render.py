@@ -135,6 +135,8 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
                      for s in plan.statuses],
         "parameters": plan.parameters,
         "singular_state": plan.singular_state,
+        "singular_length": plan.singular_length,
+        "length_coordinates": plan.length_coordinates,
         "requirement_unpack": [(n, f"params->{n}") for p in plan.parameters for n in [p[0]]
                                if n in used],
         "requirements": requirement_checks,

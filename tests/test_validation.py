@@ -1,0 +1,125 @@
+"""Bad input: every status code, from C, Python and the command line; valid edge cases."""
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from codegen import api
+from codegen._native import ffi, lib
+from codegen.analysis import analyze
+
+SENTINEL = 12345.678
+
+# One violation per requirement code: (overrides, code, parameter named in the error)
+VIOLATIONS = [
+    ({"L": 0.0}, "ERR_L_NOT_POSITIVE", "L"),
+    ({"L": -0.9}, "ERR_L_NOT_POSITIVE", "L"),
+    ({"a": -0.01}, "ERR_A_OUT_OF_RANGE", "a"),
+    ({"a": 0.95}, "ERR_A_OUT_OF_RANGE", "a"),
+    ({"l_ND": -0.1}, "ERR_L_ND_NEGATIVE", "l_ND"),
+    ({"m_B": -1.0}, "ERR_MASS_NEGATIVE", "m_B"),
+    ({"m_C": 0.0, "m_A": 0.0}, "ERR_MASS_SINGULAR", "m_A"),
+    ({"k": -1.0}, "ERR_K_NEGATIVE", "k"),
+    ({"b": -875.0}, "ERR_B_NEGATIVE", "b"),
+]
+
+
+def _c_params(**overrides):
+    return api._c_params(api.example_params(**overrides))
+
+
+def test_every_status_has_a_distinct_message():
+    messages = {ffi.string(lib.doughty_status_message(v)).decode() for v in api.STATUS.values()}
+    assert len(messages) == len(api.STATUS)
+    assert ffi.string(lib.doughty_status_message(999)).decode() == "unknown status code"
+
+
+@pytest.mark.parametrize("overrides, code, name", VIOLATIONS)
+def test_requirement_codes_from_c_python_and_cli(overrides, code, name):
+    assert lib.doughty_check_params(_c_params(**overrides)) == api.STATUS[code]
+    out = ffi.new("double[13]", [SENTINEL] * 13)
+    assert lib.doughty_sigma(_c_params(**overrides), out) == api.STATUS[code]
+    assert list(out) == [SENTINEL] * 13  # outputs untouched on failure
+    with pytest.raises(ValueError, match=name) as error:
+        api.sigma(api.example_params(**overrides))
+    assert error.value.code == code
+    _cli_fails([f"--set={k}={v}" for k, v in overrides.items()], name)
+
+
+@pytest.mark.parametrize("name", api.PARAMETER_NAMES)
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_nonfinite_parameter_is_named(name, value):
+    assert lib.doughty_check_params(_c_params(**{name: value})) == api.STATUS["ERR_NONFINITE_PARAM"]
+    with pytest.raises(ValueError, match=rf"^{name}: .*NaN or infinite"):
+        analyze(api.example_params(**{name: value}))
+
+
+def _cli_fails(args, name):
+    result = subprocess.run([sys.executable, "-m", "codegen", "analyze", *args],
+                            capture_output=True, text=True)
+    assert result.returncode != 0
+    assert len(result.stderr.strip().splitlines()) == 1 and name in result.stderr
+    assert "Traceback" not in result.stderr and result.stdout == ""
+
+
+def test_cli_nonfinite_parameter():
+    _cli_fails(["--set", "g=inf"], "g")
+
+
+def test_nonfinite_state_and_null_pointers():
+    p = _c_params()
+    out = ffi.new("double *", SENTINEL)
+    assert lib.doughty_equilibrium_residual(p, math.nan, out) == api.STATUS["ERR_NONFINITE"]
+    assert out[0] == SENTINEL
+    assert lib.doughty_equilibrium_residual(ffi.NULL, 0.1, out) == api.STATUS["ERR_NULL_POINTER"]
+    assert lib.doughty_equilibrium_residual(p, 0.1, ffi.NULL) == api.STATUS["ERR_NULL_POINTER"]
+    assert lib.doughty_analyze(p, ffi.NULL) == api.STATUS["ERR_NULL_POINTER"]
+    coords = np.array([0.9, 0.0, math.inf, 0.0, 0.0])
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        api.position_constraints(api.example_params(), coords)
+
+
+def test_zero_spring_length_is_reported_not_nan():
+    # H = a puts P on O' at theta = 0: r = 0 and the spring's direction is undefined.
+    p = api.example_params(H=0.135)
+    with pytest.raises(ValueError, match="spring length r is zero") as error:
+        api.reduced_coefficients(p, 0.0)
+    assert error.value.code == "ERR_SINGULAR_STATE"
+    out = ffi.new("double[5]", [SENTINEL] * 5)
+    assert lib.doughty_reduced_coefficients(api._c_params(p), 0.0, out) == \
+        api.STATUS["ERR_SINGULAR_STATE"]
+    assert list(out) == [SENTINEL] * 5
+
+
+def test_zero_polynomial_is_reported():
+    theta = ffi.new("double[12]", [SENTINEL] * 12)
+    n = ffi.new("int *", -1)
+    status = lib.doughty_poly_real_roots(ffi.new("double[13]"), theta, n)
+    assert status == api.STATUS["ERR_ZERO_POLYNOMIAL"] and n[0] == -1
+
+
+def test_batch_reports_the_failing_item():
+    table = api.params_array([api.example_params(), api.example_params(b=-1.0)])
+    with pytest.raises(ValueError, match=r"b: .*batch item 1"):
+        api.sigma(table)
+    values, statuses = api.FUNCTIONS["sigma"].batch(table, raise_on_error=False)
+    assert list(statuses) == [0, api.STATUS["ERR_B_NEGATIVE"]]
+
+
+@pytest.mark.parametrize("overrides", [
+    {"k": 0.0}, {"b": 0.0}, {"F": 0.0}, {"g": 0.0}, {"H": 0.0}, {"H": -0.3}, {"m_C": 0.0},
+    {"a": 0.0}, {"a": 0.9}, {"l_ND": 0.0}, {"F": (0.143 + 9.124 / 2) * 9.81},
+])
+def test_valid_edge_cases_work_without_nan(overrides):
+    result = analyze(api.example_params(**overrides))
+    assert result.roots, "every listed case has equilibria"
+    for r in result.roots:
+        values = [r.theta, r.M, r.B, r.K, r.residual, r.relative_residual,
+                  *(abs(z) for z in (r.omega_n, *r.eigenvalues))]
+        assert all(math.isfinite(v) for v in values), r
+        assert not math.isnan(r.zeta.real) and not math.isnan(r.zeta.imag)
+    assert result.equilibria
