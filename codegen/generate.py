@@ -5,7 +5,10 @@ Hand-written C sources in templates/c/ are copied unchanged beside the generated
 from __future__ import annotations
 
 import difflib
+import warnings
 from pathlib import Path
+
+import sympy
 
 from .derivation import derive
 from .emission.plan import build_plan
@@ -24,8 +27,16 @@ def _present(out: Path) -> set[str]:
     return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS}
 
 
+#: The SymPy release the committed generated/ was produced and tested with (pyproject pins it);
+#: common-subexpression elimination and printing may differ between releases.
+TESTED_SYMPY = "1.14.0"
+
+
 def emit(mechanism: Mechanism | None = None, templates: Path = TEMPLATES) -> dict[str, str]:
     """File name -> text of every file in generated/."""
+    if sympy.__version__ != TESTED_SYMPY:
+        warnings.warn(f"SymPy {sympy.__version__} is not the tested {TESTED_SYMPY}: the "
+                      f"generated files may differ from the committed ones", stacklevel=2)
     mechanism = mechanism or doughty.build()
     files = render(build_plan(derive(mechanism)), templates)
     for source in sorted((templates / "c").glob("*.c")):

@@ -99,3 +99,10 @@ def test_header_is_usable_from_cpp(tmp_path):
     src.write_text('#include "doughty.h"\nint main() { return DOUGHTY_OK; }\n')
     subprocess.run(["g++", "-Wall", "-Werror", "-I", str(GENERATED), "-c", str(src), "-o",
                     str(tmp_path / "use.o")], check=True)
+
+
+def test_pinned_sympy_is_the_one_installed():
+    import sympy
+
+    assert sympy.__version__ == generate.TESTED_SYMPY
+    assert f"sympy=={generate.TESTED_SYMPY}" in (ROOT / "pyproject.toml").read_text()
