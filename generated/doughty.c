@@ -43,6 +43,8 @@ const char *doughty_status_message(doughty_status status)
         return "a parameter is NaN or infinite";
     case DOUGHTY_ERR_SINGULAR_STATE:
         return "the spring length r is zero, so its direction is undefined";
+    case DOUGHTY_ERR_OVERFLOW:
+        return "a result is too large to represent";
     case DOUGHTY_ERR_L_NOT_POSITIVE:
         return "L must be positive";
     case DOUGHTY_ERR_A_OUT_OF_RANGE:
@@ -113,10 +115,7 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
 {
     double out[4];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (f == NULL) {
+    if (coords == NULL || f == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -146,7 +145,7 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
         out[3] = tmp2*tmp4 - tmp3;
     }
     if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(f, out + 0, 4);
     return DOUGHTY_OK;
@@ -157,10 +156,7 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
 {
     double out[20];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (A == NULL) {
+    if (coords == NULL || A == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -206,7 +202,7 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
         out[19] = tmp6;
     }
     if (!all_finite(out, 20)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(A, out + 0, 20);
     return DOUGHTY_OK;
@@ -217,13 +213,7 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
 {
     double out[4];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (f_d == NULL) {
+    if (coords == NULL || rates == NULL || f_d == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -262,7 +252,7 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
         out[3] = theta_d*tmp6*tmp8 - tmp7;
     }
     if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(f_d, out + 0, 4);
     return DOUGHTY_OK;
@@ -273,16 +263,7 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
 {
     double out[4];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (accels == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (f_dd == NULL) {
+    if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -333,7 +314,7 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
         out[3] = theta_dd*tmp13*tmp7 - tmp1*tmp14 - tmp12;
     }
     if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(f_dd, out + 0, 4);
     return DOUGHTY_OK;
@@ -344,16 +325,7 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
 {
     double out[12];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (positions == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (velocities == NULL) {
+    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -391,7 +363,7 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
         out[11] = theta_d*tmp1;
     }
     if (!all_finite(out, 12)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(positions, out + 0, 6);
     copy_out(velocities, out + 6, 6);
@@ -403,22 +375,7 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
 {
     double out[4];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (T == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (V_G == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (V_E == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (lagrangian == NULL) {
+    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -458,7 +415,7 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
         out[3] = tmp3 - tmp4 - tmp5 - tmp6;
     }
     if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     *T = out[0];
     *V_G = out[1];
@@ -472,34 +429,7 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
 {
     double out[30];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (accels == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (multipliers == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (dt_dL_dqdot == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (dL_dq == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (constraint_forces == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (dissipative_forces == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (applied_forces == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (residual == NULL) {
+    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -602,7 +532,7 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
         out[29] = tmp26;
     }
     if (!all_finite(out, 30)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(dt_dL_dqdot, out + 0, 5);
     copy_out(dL_dq, out + 5, 5);
@@ -618,10 +548,7 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
 {
     double out[10];
     doughty_status status;
-    if (coords == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (rates == NULL) {
+    if (coords == NULL || rates == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -813,10 +740,7 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
 {
     double out[2];
     doughty_status status;
-    if (genuine == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (extraneous == NULL) {
+    if (genuine == NULL || extraneous == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -852,7 +776,7 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
         out[1] = (1.0/2.0)*tmp11*tmp8 + tmp5;
     }
     if (!all_finite(out, 2)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     *genuine = out[0];
     *extraneous = out[1];
@@ -940,7 +864,7 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
         out[12] = tmp28*tmp43;
     }
     if (!all_finite(out, 13)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
+        return DOUGHTY_ERR_OVERFLOW;
     }
     copy_out(sigma, out + 0, 13);
     return DOUGHTY_OK;
@@ -951,13 +875,7 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
 {
     double out[3];
     doughty_status status;
-    if (M == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (B == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (K == NULL) {
+    if (M == NULL || B == NULL || K == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -1018,10 +936,7 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
 {
     double out[2];
     doughty_status status;
-    if (omega_n_squared == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    if (zeta_omega_n == NULL) {
+    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);

@@ -35,13 +35,14 @@ typedef enum doughty_status {
     DOUGHTY_ERR_ZERO_POLYNOMIAL = 3, /* every polynomial coefficient is zero */
     DOUGHTY_ERR_NONFINITE_PARAM = 4, /* a parameter is NaN or infinite */
     DOUGHTY_ERR_SINGULAR_STATE = 5, /* the spring length r is zero, so its direction is undefined */
-    DOUGHTY_ERR_L_NOT_POSITIVE = 6, /* L must be positive */
-    DOUGHTY_ERR_A_OUT_OF_RANGE = 7, /* a must lie in [0, L] */
-    DOUGHTY_ERR_L_ND_NEGATIVE = 8, /* l_ND must not be negative */
-    DOUGHTY_ERR_MASS_NEGATIVE = 9, /* masses m_A, m_B, m_C must not be negative */
-    DOUGHTY_ERR_MASS_SINGULAR = 10, /* m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia */
-    DOUGHTY_ERR_K_NEGATIVE = 11, /* k must not be negative */
-    DOUGHTY_ERR_B_NEGATIVE = 12 /* b must not be negative */
+    DOUGHTY_ERR_OVERFLOW = 6, /* a result is too large to represent */
+    DOUGHTY_ERR_L_NOT_POSITIVE = 7, /* L must be positive */
+    DOUGHTY_ERR_A_OUT_OF_RANGE = 8, /* a must lie in [0, L] */
+    DOUGHTY_ERR_L_ND_NEGATIVE = 9, /* l_ND must not be negative */
+    DOUGHTY_ERR_MASS_NEGATIVE = 10, /* masses m_A, m_B, m_C must not be negative */
+    DOUGHTY_ERR_MASS_SINGULAR = 11, /* m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia */
+    DOUGHTY_ERR_K_NEGATIVE = 12, /* k must not be negative */
+    DOUGHTY_ERR_B_NEGATIVE = 13 /* b must not be negative */
 } doughty_status;
 
 /* The mechanism's parameters (Table 2), SI units. */
@@ -69,7 +70,7 @@ doughty_status doughty_check_params(const doughty_params *params);
  * Paper: eq. (4)-(7).
  * in  coords: generalised coordinates: p [m], q [m], r [m], theta [rad], phi [rad]
  * out f: constraint values [m]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_position_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double f[DOUGHTY_N_CONSTRAINTS]);
 
@@ -77,7 +78,7 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
  * Paper: eq. (25).
  * in  coords: generalised coordinates: p [m], q [m], r [m], theta [rad], phi [rad]
  * out A: row-major 4x5; column j has the unit m per unit of q_j
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_constraint_jacobian(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double A[DOUGHTY_N_JACOBIAN]);
 
@@ -86,7 +87,7 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
  * in  coords: generalised coordinates: p [m], q [m], r [m], theta [rad], phi [rad]
  * in  rates: their time derivatives, same order [unit/s]
  * out f_d: values [m/s]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_velocity_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double f_d[DOUGHTY_N_CONSTRAINTS]);
 
@@ -96,7 +97,7 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
  * in  rates: their time derivatives, same order [unit/s]
  * in  accels: their second derivatives, same order [unit/s^2]
  * out f_dd: values [m/s^2]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_acceleration_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double f_dd[DOUGHTY_N_CONSTRAINTS]);
 
@@ -106,7 +107,7 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
  * in  rates: their time derivatives, same order [unit/s]
  * out positions: x, y of each point [m]
  * out velocities: vx, vy of each point [m/s]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_point_kinematics(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double positions[DOUGHTY_N_POINT_COORDS], double velocities[DOUGHTY_N_POINT_COORDS]);
 
@@ -118,7 +119,7 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
  * out V_G: gravitational potential energy [J]
  * out V_E: elastic potential energy [J]
  * out lagrangian: Lagrangian [J]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_energies(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian);
 
@@ -134,7 +135,7 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
  * out dissipative_forces: V_D
  * out applied_forces: Q_nc
  * out residual: left minus right side of (15)
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_lagrange_terms(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double dt_dL_dqdot[DOUGHTY_N_COORDS], double dL_dq[DOUGHTY_N_COORDS], double constraint_forces[DOUGHTY_N_COORDS], double dissipative_forces[DOUGHTY_N_COORDS], double applied_forces[DOUGHTY_N_COORDS], double residual[DOUGHTY_N_COORDS]);
 
@@ -178,14 +179,14 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
  * in  theta: independent coordinate theta [rad]
  * out genuine: [N m^2]
  * out extraneous: [N m^2]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double *genuine, double *extraneous);
 
 /* Coefficients sigma_0..sigma_12 of sum sigma_i tau^i = (1+tau^2)^6 (beta^2 r^2 - alpha^2), tau = tan(theta/2).
  * Paper: eq. (44)-(45).
  * out sigma: [N^2 m^4]
- * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
 doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA]);
 

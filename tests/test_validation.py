@@ -123,3 +123,12 @@ def test_valid_edge_cases_work_without_nan(overrides):
         assert all(math.isfinite(v) for v in values), r
         assert not math.isnan(r.zeta.real) and not math.isnan(r.zeta.imag)
     assert result.equilibria
+
+
+def test_overflow_is_reported_not_inf():
+    out = ffi.new("double[13]", [SENTINEL] * 13)
+    status = lib.doughty_sigma(_c_params(k=1e300), out)
+    assert status == api.STATUS["ERR_OVERFLOW"] and list(out) == [SENTINEL] * 13
+    with pytest.raises(ValueError, match="too large"):
+        analyze(api.example_params(k=1e300))
+    _cli_fails(["--set", "k=1e300"], "too large")

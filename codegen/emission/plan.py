@@ -58,6 +58,7 @@ GENERIC_STATUSES = (
     Status("ERR_ZERO_POLYNOMIAL", 3, "every polynomial coefficient is zero"),
     Status("ERR_NONFINITE_PARAM", 4, "a parameter is NaN or infinite"),
     Status("ERR_SINGULAR_STATE", 5, None),  # message from the mechanism
+    Status("ERR_OVERFLOW", 6, "a result is too large to represent"),
 )
 
 

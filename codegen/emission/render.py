@@ -13,6 +13,7 @@ from pathlib import Path
 import json
 
 import jinja2
+import sympy as sp
 
 from .. import __version__
 from .plan import CFunction, Plan
@@ -52,6 +53,7 @@ class RenderedFunction:
     pointer_checks: tuple[str, ...]
     finite_checks: tuple[str, ...]
     copies: tuple[str, ...]
+    may_be_singular: bool
 
 
 def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = False) -> str:
@@ -110,7 +112,13 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         finite_checks=tuple(f"{a.name}, {P}_{a.size}" if a.size else f"&{a.name}, 1"
                             for a in f.inputs),
         copies=tuple(copies),
+        may_be_singular=any(_has_denominator(e) for o in f.outputs for e in o.exprs),
     )
+
+
+def _has_denominator(expr) -> bool:
+    """Whether an expression divides by something that may vanish (a negative power)."""
+    return any(p.exp.is_negative for p in sp.sympify(expr).atoms(sp.Pow)) or expr.has(sp.atan2)
 
 
 def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
