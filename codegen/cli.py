@@ -26,14 +26,22 @@ def _generate(args) -> int:
     return 0
 
 
-def _assignment(text: str) -> tuple[str, float]:
+def _assignment(text: str) -> tuple[str, str]:
     name, sep, value = text.partition("=")
     if not sep:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
-    try:
-        return name.strip(), float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{name.strip()}: {value!r} is not a number") from None
+    return name.strip(), value.strip()
+
+
+def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
+    """Values as numbers; a ValueError names the parameter (reported as one line)."""
+    values = {}
+    for name, value in pairs:
+        try:
+            values[name] = float(value)
+        except ValueError:
+            raise ValueError(f"{name}: {value!r} is not a number") from None
+    return values
 
 
 def _analyze(args) -> int:
@@ -43,7 +51,7 @@ def _analyze(args) -> int:
     from .analysis import analyze, table
 
     try:
-        params = api.example_params(**dict(args.set))
+        params = api.example_params(**_overrides(args.set))
         result = analyze(params)
     except ValueError as error:  # LibraryError included: one line, no traceback
         print(f"error: {error}", file=sys.stderr)

@@ -21,6 +21,8 @@
 #define TWIN_RADIUS 2e-5
 /* |G| within this many rounding units of the size of its terms is zero to working precision */
 #define GENUINE_RESIDUAL (32.0 * DBL_EPSILON)
+/* Angles this close to -pi [rad] are pi (see wrap); 1e-10 rad is invisible in any table. */
+#define PI_SNAP 1e-10
 /* A root the branches call genuine whose |G| stays above this relative size after Newton is
  * the jump of G across r = 0, not an equilibrium (a regular root polishes to ~eps). */
 #define SINGULAR_RESIDUAL 1e-8
@@ -31,6 +33,10 @@
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. */
+static doughty_status residual_scale(const doughty_params *params, double theta, double k,
+                                     double *scale);
+
+/* A root already zero to working precision is left where it is (theta = pi stays pi). */
 static double polish(const doughty_params *params, double theta, double radius)
 {
     const double start = theta;
@@ -40,8 +46,10 @@ static double polish(const doughty_params *params, double theta, double radius)
         return theta;
     }
     for (i = 0; i < NEWTON_STEPS && residual != 0.0; ++i) {
-        double next, next_residual;
-        if (doughty_linearisation(params, theta, &m, &b, &k) != DOUGHTY_OK || k == 0.0) {
+        double next, next_residual, scale;
+        if (doughty_linearisation(params, theta, &m, &b, &k) != DOUGHTY_OK || k == 0.0
+            || residual_scale(params, theta, k, &scale) != DOUGHTY_OK
+            || fabs(residual) <= GENUINE_RESIDUAL * scale) {
             break;
         }
         next = theta - residual / k;
@@ -56,7 +64,9 @@ static double polish(const doughty_params *params, double theta, double radius)
     return theta;
 }
 
-/* Wrap into (-pi, pi]. */
+/* Wrap into (-pi, pi]. An angle within PI_SNAP of -pi is the root at tau = infinity seen from
+ * the negative side (a leading coefficient that is a rounding residue puts it ~1e-13 off):
+ * it is reported as pi, where (-pi, pi] puts that root. */
 static double wrap(double theta)
 {
     const double pi = 3.14159265358979323846;
@@ -65,7 +75,7 @@ static double wrap(double theta)
     } else if (theta <= -pi) {
         theta += 2.0 * pi;
     }
-    return theta;
+    return theta <= -pi + PI_SNAP ? pi : theta;
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. */
@@ -173,7 +183,9 @@ static doughty_status study_root(const doughty_params *params, double theta,
                                  doughty_equilibrium *e)
 {
     double genuine, extraneous;
-    doughty_status status = check_regular(params, theta);
+    doughty_status status;
+    theta = wrap(theta);
+    status = check_regular(params, theta);
     if (status == DOUGHTY_OK) {
         status = doughty_equilibrium_branches(params, theta, &genuine, &extraneous);
     }

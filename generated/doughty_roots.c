@@ -11,8 +11,15 @@
  * 1. Two charts on bounded intervals, so no root bound is needed and tau = infinity is an
  *    ordinary point: chart A is p(tau) on [-1, 1] (|theta| <= 90 deg); chart B is the reversed
  *    polynomial q(u) = u^m p(1/u) on the open interval (-1, 1) (|theta| > 90 deg; u = 0 is
- *    theta = pi). Chart B takes its endpoint signs from chart A (q(1) = p(1),
- *    q(-1) = (-1)^m p(-1)), so a root on the seam tau = +-1 is found by exactly one chart.
+ *    theta = pi). Both use the input's coefficients unchanged. The seam tau = +-1 belongs to
+ *    chart A: chart B takes its endpoint signs from it (q(1) = p(1), q(-1) = (-1)^m p(-1)) and
+ *    leaves it any run of untrusted signs touching an endpoint, so a seam root is found once.
+ *    Degenerate mechanisms (H = 0, a = 0 or k = 0: a factor cos^2(theta)) put double roots
+ *    exactly on the seam, and rounding in the coefficients moves f's critical point there a
+ *    few ulps either way, possibly outside both charts. So chart A also applies rule 5 at the
+ *    seam, to the critical point c = x - f'/f'' of f's quadratic model there when |c - x| <=
+ *    DR_PAIR. Such a root is reported on the seam if f' may vanish there within 5(a)'s
+ *    coefficient uncertainty, else at c; a split pair straddling the seam is one root.
  * 2. A power-of-two normalisation (exact) removes the overall magnitude; exactly zero low/high
  *    coefficients are stripped: a factor tau^k gives theta = 0, a degree drop theta = pi, each
  *    reported once whatever the multiplicity.
@@ -25,16 +32,17 @@
  *    between the close pairs are only ~1e-16..1e-13 of the terms summed, i.e. at plain
  *    Horner's error level, and merging them would lose two equilibria. (The error-free
  *    transformations need IEEE double arithmetic: no -ffast-math, no x87 extended precision.)
- * 5. A critical point is a multiple root (reported once; there is no sign change to bracket) if
- *    |f| there is within the compensated error bound plus f's variation over the point's own
- *    uncertainty, or if both (a) changing each coefficient by DR_ULPS ulps of the largest one
- *    can make f vanish there and (b) the two roots beside it (real or complex, |x - c| ~
- *    sqrt(2|f|/|f''|)) lie within DR_PAIR of it. Such a pair cannot be told from a double root
- *    whose coefficients carry rounding errors: sigma_i come from long expressions, and one that
- *    should vanish (a sin^2 factor) is a residue of terms as large as the other sigma_i, hence
- *    (a) is norm-wise. With double roots' coefficients computed in double arithmetic, allowing
- *    1 ulp missed or doubled 11% of them in our trials, 16 ulps 0.03%, 64 none; (b) keeps
- *    genuine close pairs (the application's are 25x farther apart) separate.
+ * 5. A critical point (or the seam, see 1) is a multiple root (reported once; there is no
+ *    sign change to bracket) if |f| there is within the compensated error bound plus f's
+ *    variation over the point's own uncertainty, or if both (a) changing each coefficient by
+ *    DR_ULPS ulps of the largest one can make f vanish there and (b) the two roots beside it
+ *    (real or complex, |x - c| ~ sqrt(2|f|/|f''|)) lie within DR_PAIR of it. Such a pair
+ *    cannot be told from a double root whose coefficients carry rounding errors: sigma_i come
+ *    from long expressions, and one that should vanish (a sin^2 factor) is a residue of terms
+ *    as large as the other sigma_i, hence (a) is norm-wise. With double roots' coefficients
+ *    computed in double arithmetic, allowing 1 ulp missed or doubled 11% of them in our
+ *    trials, 16 ulps 0.03%, 64 none; (b) keeps genuine close pairs (the application's are 25x
+ *    farther apart) separate.
  *    Runs of consecutive such points are one root.
  */
 #include "doughty.h"
@@ -116,10 +124,12 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
 }
 
 /* Roots on [-1, 1] of f = d[k] (degree n = m - k; f', f'' follow), given the sorted roots
- * crit[0..nc) of f' with their uncertainties cdel. ceps: relative uncertainty of f's
- * coefficients. Writes sorted roots to rt, uncertainties to rdel; returns their number
- * (at most nc + 1). ends_in != NULL (chart B, level 0): endpoint signs are imposed and runs of
- * untrusted signs touching an endpoint are left to chart A. ends_out: endpoint signs. */
+ * crit[0..nc) of f' with their uncertainties cdel. ceps: uncertainty of f's coefficients in
+ * units of their size (5a). Writes sorted roots to rt, uncertainties to rdel; returns their
+ * number (at most nc + 1). ends_in != NULL (chart B, level 0): endpoint signs are imposed,
+ * and runs of untrusted signs touching an endpoint are left to chart A. ends_out != NULL
+ * (chart A, level 0): the endpoints (the seam) are also tested by rule 5; their signs are
+ * stored there. */
 static int level_roots(const double *f, const double *df, const double *d2f, int n,
                        double ceps, const double *crit, const double *cdel, int nc,
                        const int *ends_in, int *ends_out, double *rt, double *rdel)
@@ -145,8 +155,10 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
     for (int j = 0; j < np; ++j) {
         double mag, m1, m2;
         const double v = eval(f, n, px[j], &mag);
-        const double d1 = fabs(eval(df, n - 1, px[j], &m1));
-        const double d2 = (n >= 2) ? fabs(eval(d2f, n - 2, px[j], &m2)) : 0.0;
+        const double d1s = eval(df, n - 1, px[j], &m1);
+        const double d2s = (n >= 2) ? eval(d2f, n - 2, px[j], &m2) : 0.0;
+        const double d1 = fabs(d1s);
+        const double d2 = fabs(d2s);
         /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
         double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
         int zero = fabs(v) <= tol;
@@ -154,12 +166,22 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
         for (int i = 0; i <= n; ++i) {
             pw = pw * fabs(px[j]) + 1.0;
         }
-        if (!zero && j > 0 && j < np - 1 && fabs(v) <= ceps * amax * pw &&
-            2.0 * fabs(v) <= d2 * DR_PAIR * DR_PAIR) {
+        /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
+         * point x + dc of f's quadratic model there (value fc), if it is within DR_PAIR. */
+        const int seam = ends_out != NULL && (j == 0 || j == np - 1);
+        const double dc = (seam && d2 > 0.0) ? -d1s / d2s : 0.0;
+        double fc = v + 0.5 * d1s * dc;
+        if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= DR_PAIR)) &&
+            fabs(fc) <= ceps * amax * pw && 2.0 * fabs(fc) <= d2 * DR_PAIR * DR_PAIR) {
             zero = 1;                                        /* 5(a) and 5(b) */
             tol = ceps * amax * pw;
+            if (seam && d1 > 0.5 * (double)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
+                px[j] += dc;
+            } else if (seam) {
+                fc = 0.0;                       /* on the seam: it stands for its run */
+            }
         }
-        pv[j] = v;
+        pv[j] = fc;
         ps[j] = zero ? 0 : (v > 0.0 ? 1 : -1);
         /* Should the point stand for a root, how far that root may be from it. */
         double est = DR_PAIR;
@@ -315,8 +337,8 @@ doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
         }
     }
 
-    /* Insertion sort; then drop values equal to working precision (also across the wrap at
-     * +-pi), which can only be the same root seen twice. */
+    /* Insertion sort; then merge values equal to working precision (also across the wrap at
+     * +-pi): the same root seen by both charts, or roots no double can tell apart. */
     for (int i = 1; i < nout; ++i) {
         const double t = out[i];
         int j = i - 1;
