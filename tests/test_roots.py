@@ -1,62 +1,32 @@
 """Tests for templates/c/doughty_roots.c: doughty_poly_real_roots.
 
-The C file is compiled on its own (strict warnings, -Werror) and loaded with cffi in ABI mode.
+Called through the project's cffi extension, i.e. the copy in generated/ as shipped (its strict
+compilation is tested in test_generation.py).
 References: roots built exactly, mpmath.polyroots at 50+ digits on the exact double coefficients,
 and exact Sturm counts (sympy) for integer polynomials.
 """
 import math
-import pathlib
 import random
-import shutil
-import subprocess
 from fractions import Fraction
 
-import cffi
 import mpmath
 import pytest
 import sympy
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-SOURCE = ROOT / "templates" / "c" / "doughty_roots.c"
-CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-          "-Werror", "-fPIC", "-shared"]
-
-OK, ERR_NULL, ERR_NONFINITE, ERR_ZERO = 0, 1, 2, 3
-DECLARATIONS = """
-typedef enum doughty_status {
-    DOUGHTY_OK = 0,
-    DOUGHTY_ERR_NULL_POINTER = 1,
-    DOUGHTY_ERR_NONFINITE = 2,
-    DOUGHTY_ERR_ZERO_POLYNOMIAL = 3
-} doughty_status;
-doughty_status doughty_poly_real_roots(const double sigma[13], double theta[12], int *n_roots);
-"""
-HEADER = ("#ifndef DOUGHTY_H\n#define DOUGHTY_H\n#define DOUGHTY_N_SIGMA 13\n"
-          "#define DOUGHTY_MAX_ROOTS 12\n" + DECLARATIONS + "#endif\n")
+from codegen import api
+from codegen._native import ffi as _ffi, lib as _lib
 
 
-def _build_standalone(tmp):
-    """Compile doughty_roots.c alone against a minimal doughty.h; return (ffi, lib)."""
-    cc = shutil.which("gcc")
-    if cc is None:
-        pytest.fail("gcc is required to build templates/c/doughty_roots.c")
-    (tmp / "include").mkdir()
-    (tmp / "include" / "doughty.h").write_text(HEADER)
-    so = tmp / "libdoughty_roots.so"
-    cmd = [cc, *CFLAGS, "-I", str(tmp / "include"), str(SOURCE), "-o", str(so), "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    assert proc.returncode == 0, f"{' '.join(cmd)}\n{proc.stdout}{proc.stderr}"
-    ffi = cffi.FFI()
-    ffi.cdef(DECLARATIONS)
-    return ffi, ffi.dlopen(str(so))
+OK, ERR_NULL, ERR_NONFINITE, ERR_ZERO = (api.STATUS[k] for k in (
+    "OK", "ERR_NULL_POINTER", "ERR_NONFINITE", "ERR_ZERO_POLYNOMIAL"))
 
 
 @pytest.fixture(scope="session")
-def clib(tmp_path_factory):
-    """(ffi, lib) exposing doughty_poly_real_roots. Swap this one line for the built extension."""
-    return _build_standalone(tmp_path_factory.mktemp("doughty_roots"))
+def clib():
+    """(ffi, lib) exposing doughty_poly_real_roots, from the project's extension."""
+    return _ffi, _lib
 
 
 def call(clib, sigma):
