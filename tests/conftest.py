@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import zlib
 from dataclasses import dataclass
 
@@ -19,8 +20,16 @@ import mpmath
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import settings
 
 from codegen import api
+
+
+# Property tests are deterministic by default, so CI judges the same examples every run;
+# HYPOTHESIS_PROFILE=explore searches fresh random examples (and remembers failures).
+settings.register_profile("deterministic", derandomize=True, database=None)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 
 SEED = 20_240_611
 #: Unit roundoff of IEEE double precision.

@@ -38,13 +38,25 @@ def _scaled(p, **factors):
     return api.Params(**{n: getattr(p, n) * factors.get(n, 1.0) for n in api.PARAMETER_NAMES})
 
 
+_GRID = np.linspace(-np.pi, np.pi, 4097)
+
+
+def _nearly_collapsing(p) -> bool:
+    """Whether the spring length r gets below 1e-6 L somewhere: near r = 0, G changes over an
+    angle ~ r_min/L and its terms grow like 1/r, so roots there are as ill-posed as at r = 0."""
+    (coords, _), statuses = api.FUNCTIONS["dependent_state"].batch(
+        api.params_array([p]), _GRID, 0.0, raise_on_error=False)
+    return bool((statuses != 0).any() or np.min(coords[:, 2]) < 1e-6 * p.L)
+
+
 def _analysis(p):
     """analyze(p), with parameter sets where a root puts r = 0 (|H| = a, or a = L) set
-    aside: the library reports those as DOUGHTY_ERR_SINGULAR_STATE (tested elsewhere)."""
+    aside: the library reports those as DOUGHTY_ERR_SINGULAR_STATE (tested elsewhere)..."""
     try:
         return analyze(p)
     except api.LibraryError as error:
-        assume(error.code != "ERR_SINGULAR_STATE")
+        # ... and neutral sets (H = 0, a = L/2 with F = g = 0: G vanishes identically)
+        assume(error.code not in ("ERR_SINGULAR_STATE", "ERR_ZERO_POLYNOMIAL"))
         raise
 
 
@@ -63,7 +75,7 @@ def _same_roots(a, b, tol=1e-8):
     return all(abs(math.remainder(x - y, 2 * math.pi)) < tol for (x, _), (y, _) in zip(a, b))
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(parameter_sets(), st.floats(0.01, 100.0))
 def test_angles_and_kinds_do_not_change_with_length_scale(p, s):
     _generic(p)
@@ -73,7 +85,7 @@ def test_angles_and_kinds_do_not_change_with_length_scale(p, s):
     assert _same_roots(base, _genuine_angles(_scaled(p, **factors)))
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(parameter_sets(), st.floats(1e-3, 1e3))
 def test_angles_and_kinds_do_not_change_when_k_F_g_scale_together(p, c):
     _generic(p)
@@ -82,9 +94,10 @@ def test_angles_and_kinds_do_not_change_when_k_F_g_scale_together(p, c):
     assert _same_roots(base, _genuine_angles(_scaled(p, k=c, F=c, g=c)))
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=1000, deadline=None)
 @given(parameter_sets())
 def test_genuine_roots_satisfy_43_and_extraneous_ones_fail_it(p):
+    assume(not _nearly_collapsing(p))
     for r in _analysis(p).roots:
         genuine, extraneous = api.equilibrium_branches(p, r.theta)
         if r.genuine:
