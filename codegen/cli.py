@@ -8,7 +8,16 @@ from pathlib import Path
 
 
 def _generate(args) -> int:
-    from . import generate  # the generator needs sympy and jinja2, the analysis does not
+    try:  # the generator needs sympy, jinja2 and the checkout's templates/; analysis does not
+        from . import generate
+    except ImportError as error:
+        print(f"error: generate needs the generator's dependencies ({error.name} is missing): "
+              "pip install -e '.[generate]' in a checkout", file=sys.stderr)
+        return 2
+    if not generate.TEMPLATES.is_dir():
+        print(f"error: no templates at {generate.TEMPLATES}: run generate from a checkout",
+              file=sys.stderr)
+        return 2
 
     start = time.perf_counter()
     if args.check:
