@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
+import numpy as np
+
 from . import api
 from ._native import ffi, lib
 
@@ -98,10 +100,8 @@ def analyze(params=None) -> Analysis:
     return _from_c(params, result)
 
 
-def analyze_batch(table) -> tuple[list[Analysis | None], "object"]:
+def analyze_batch(table) -> tuple[list[Analysis | None], np.ndarray]:
     """analyze over a params_array; (analyses, statuses), None where an item failed."""
-    import numpy as np
-
     table = np.ascontiguousarray(table, dtype=api.PARAMS_DTYPE)
     results = ffi.new("doughty_analysis[]", len(table))
     statuses = np.zeros(len(table), dtype=np.intc)

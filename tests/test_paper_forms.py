@@ -121,7 +121,7 @@ def _outputs(plan, function, output):
 def _comparisons(d, plan):
     """label -> (derived expressions, the paper's)."""
     fr = d.frozen
-    kin, dyn, red, eq = d.kinematics, d.dynamics, d.reduction, d.equilibrium
+    kin, red = d.kinematics, d.reduction
     out = functools.partial(_outputs, plan)
     tau = sp.Symbol("tau", real=True)
     half_angle = {sin(theta): 2 * tau / (1 + tau**2), cos(theta): (1 - tau**2) / (1 + tau**2)}

@@ -104,7 +104,7 @@ def build_plan(d: Derivation) -> Plan:
     multipliers = Input("multipliers", s.multipliers,
                         "Lagrange multipliers lambda_1.. (one per constraint)", "N_CONSTRAINTS")
     theta = Input(red.theta.name, (red.theta,), f"independent coordinate {red.theta.name} [rad]")
-    theta_d = Input(red.theta_d.name, (red.theta_d,), f"its rate [rad/s]")
+    theta_d = Input(red.theta_d.name, (red.theta_d,), "its rate [rad/s]")
     theta_e = Input(red.theta.name, (red.theta,), "equilibrium angle theta_E [rad]")
 
     def vec(M) -> tuple:

@@ -72,7 +72,7 @@ def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = 
 
 
 def batch_signature(f: CFunction, prefix: str, ctype: str) -> str:
-    args = [f"size_t count", f"const {prefix}_params *params"]
+    args = ["size_t count", f"const {prefix}_params *params"]
     args += [f"const {ctype} *{a.name}" for a in f.inputs]
     args += [f"{ctype} *{o.name}" for o in f.outputs]
     args.append(f"{prefix}_status *statuses")
