@@ -45,6 +45,8 @@ const char *doughty_status_message(doughty_status status)
         return "the spring length r is zero, so its direction is undefined";
     case DOUGHTY_ERR_OVERFLOW:
         return "a result is too large to represent";
+    case DOUGHTY_ERR_EVERY_ANGLE:
+        return "the equilibrium equation vanishes identically: every angle is an equilibrium";
     case DOUGHTY_ERR_L_NOT_POSITIVE:
         return "L must be positive";
     case DOUGHTY_ERR_A_OUT_OF_RANGE:

@@ -36,13 +36,14 @@ typedef enum doughty_status {
     DOUGHTY_ERR_NONFINITE_PARAM = 4, /* a parameter is NaN or infinite */
     DOUGHTY_ERR_SINGULAR_STATE = 5, /* the spring length r is zero, so its direction is undefined */
     DOUGHTY_ERR_OVERFLOW = 6, /* a result is too large to represent */
-    DOUGHTY_ERR_L_NOT_POSITIVE = 7, /* L must be positive */
-    DOUGHTY_ERR_A_OUT_OF_RANGE = 8, /* a must lie in [0, L] */
-    DOUGHTY_ERR_L_ND_NEGATIVE = 9, /* l_ND must not be negative */
-    DOUGHTY_ERR_MASS_NEGATIVE = 10, /* masses m_A, m_B, m_C must not be negative */
-    DOUGHTY_ERR_MASS_SINGULAR = 11, /* m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia */
-    DOUGHTY_ERR_K_NEGATIVE = 12, /* k must not be negative */
-    DOUGHTY_ERR_B_NEGATIVE = 13 /* b must not be negative */
+    DOUGHTY_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
+    DOUGHTY_ERR_L_NOT_POSITIVE = 8, /* L must be positive */
+    DOUGHTY_ERR_A_OUT_OF_RANGE = 9, /* a must lie in [0, L] */
+    DOUGHTY_ERR_L_ND_NEGATIVE = 10, /* l_ND must not be negative */
+    DOUGHTY_ERR_MASS_NEGATIVE = 11, /* masses m_A, m_B, m_C must not be negative */
+    DOUGHTY_ERR_MASS_SINGULAR = 12, /* m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia */
+    DOUGHTY_ERR_K_NEGATIVE = 13, /* k must not be negative */
+    DOUGHTY_ERR_B_NEGATIVE = 14 /* b must not be negative */
 } doughty_status;
 
 /* The mechanism's parameters (Table 2), SI units. */

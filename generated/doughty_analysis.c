@@ -248,6 +248,9 @@ doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *r
     status = doughty_sigma(params, work.sigma);
     if (status == DOUGHTY_OK) {
         status = doughty_poly_real_roots(work.sigma, theta, &count);
+        if (status == DOUGHTY_ERR_ZERO_POLYNOMIAL) {
+            status = DOUGHTY_ERR_EVERY_ANGLE; /* (45) vanishes because (43) does */
+        }
     }
     if (status != DOUGHTY_OK) {
         return status;

@@ -312,7 +312,7 @@ def analyze_or_reject(p):
     try:
         return analyze(p)
     except api.LibraryError as error:
-        if error.code == "ERR_ZERO_POLYNOMIAL":
+        if error.code == "ERR_EVERY_ANGLE":
             assert scan(p, +1).scale <= 1e-12 * natural_size(p), (error, p)
         else:
             assert error.code == "ERR_SINGULAR_STATE", error
@@ -358,8 +358,8 @@ def test_random_parameter_sets_match_the_scan(p):
 def balanced_sets(count, seed=20240611):
     """Random sets (the hypothesis box, k log-uniform) with F = (m_B + m_C/2) g, so e4 = 0:
     sin(theta) factors out of (43), theta = 0 and pi are equilibria, and so is P = 0; each
-    is a root of both branches (a double root of (45)). Seeded numpy rather than hypothesis,
-    so that the xfail below is deterministic and writes no hypothesis patch files."""
+    is a root of both branches (a double root of (45)). Seeded numpy rather than hypothesis:
+    the same 200 sets every run, counted per failure kind."""
     rng = np.random.default_rng(seed)
     for _ in range(count):
         L = rng.uniform(0.1, 3.0)
@@ -388,6 +388,8 @@ def test_balanced_force_reports_every_equilibrium_including_180_deg():
 
 
 def test_balanced_force_reports_180_deg_as_plus_pi():
+    """Regression: the build of 03:15 reported theta_E = pi as -pi + 4.4e-16 (-180.0000 in the
+    table) in 38 of these 200 sets."""
     negative = [p for p in balanced_sets(200)
                 if any(circular_distance(r.theta, np.pi) <= 1e-9 and r.theta < 0
                        for r in analyze(p).roots)]

@@ -132,3 +132,13 @@ def test_overflow_is_reported_not_inf():
     with pytest.raises(ValueError, match="too large"):
         analyze(api.example_params(k=1e300))
     _cli_fails(["--set", "k=1e300"], "too large")
+
+
+def test_neutral_mechanism_says_every_angle_is_an_equilibrium():
+    # H = 0, a = L/2: r = L/2 at every angle and P = 0, so with no load G vanishes identically
+    p = api.example_params(H=0.0, a=0.45, F=0.0, g=0.0)
+    with pytest.raises(ValueError, match="every angle is an equilibrium") as error:
+        analyze(p)
+    assert error.value.code == "ERR_EVERY_ANGLE"
+    _cli_fails(["--set", "H=0", "--set", "a=0.45", "--set", "F=0", "--set", "g=0"],
+               "every angle")

@@ -59,6 +59,8 @@ GENERIC_STATUSES = (
     Status("ERR_NONFINITE_PARAM", 4, "a parameter is NaN or infinite"),
     Status("ERR_SINGULAR_STATE", 5, None),  # message from the mechanism
     Status("ERR_OVERFLOW", 6, "a result is too large to represent"),
+    Status("ERR_EVERY_ANGLE", 7, "the equilibrium equation vanishes identically: "
+                                 "every angle is an equilibrium"),
 )
 
 
