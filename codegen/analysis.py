@@ -114,26 +114,32 @@ def analyze_batch(table) -> tuple[list[Analysis | None], np.ndarray]:
     return analyses, statuses
 
 
+def _number(x: float, digits: int = 4) -> str:
+    """Fixed decimals like the paper's Table 3, scientific for values below 1e-2."""
+    return f"{x:.{digits}f}" if x == 0 or abs(x) >= 1e-2 else f"{x:.{digits}e}"
+
+
 def _complex(z: complex, digits: int = 4) -> str:
     if z.imag == 0:
-        return f"{z.real:.{digits}f}"
+        return _number(z.real, digits)
     if z.real == 0:
-        return f"{z.imag:.{digits}g} i"
-    return f"{z.real:.{digits}g}{z.imag:+.{digits}g} i"
+        return f"{_number(z.imag, digits)} i"
+    return f"{_number(z.real, digits)}{'+' if z.imag >= 0 else '-'}{_number(abs(z.imag), digits)} i"
 
 
 def table(analysis: Analysis) -> str:
     """A table like the paper's Table 3, plus what the paper leaves implicit."""
     head = (f"{'theta_E [deg]':>14} {'kind':>10} {'M_EQ':>8} {'B_EQ':>11} {'K_EQ':>11} "
-            f"{'omega_n':>12} {'zeta':>13} {'eigenvalues [1/s]':>30} {'stability':>9} "
+            f"{'omega_n':>12} {'zeta':>13} {'eigenvalues [1/s]':>36} {'stability':>9} "
             f"{'damping':>11}")
     lines = [head, "-" * len(head)]
     for r in analysis.roots:
         eig = ", ".join(_complex(z, 4) for z in r.eigenvalues)
         lines.append(
             f"{r.theta_deg:14.4f} {'genuine' if r.genuine else 'extraneous':>10} {r.M:8.4f} "
-            f"{r.B:11.4g} {r.K:11.5g} {_complex(r.omega_n):>12} {_complex(r.zeta):>13} "
-            f"{eig:>30} {r.stability:>9} {r.damping:>11}")
+            f"{_number(r.B):>11} {_number(r.K):>11} {_complex(r.omega_n):>12} "
+            f"{_complex(r.zeta):>13} "
+            f"{eig:>36} {r.stability:>9} {r.damping:>11}")
     n = len(analysis.roots) + len(analysis.singular)
     g = len(analysis.equilibria)
     lines.append(f"\n{n} real roots of (45): {g} genuine equilibria, "
