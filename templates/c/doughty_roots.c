@@ -32,6 +32,9 @@
  *    between the close pairs are only ~1e-16..1e-13 of the terms summed, i.e. at plain
  *    Horner's error level, and merging them would lose two equilibria. (The error-free
  *    transformations need IEEE double arithmetic: no -ffast-math, no x87 extended precision.)
+ *    Plain Horner (with its rigorous error bound) is used only where that bound already
+ *    certifies the outcome: a sign far from zero, or a point clearly not a root; anything
+ *    closer is decided by the compensated values.
  * 5. A critical point (or the seam, see 1) is a multiple root (reported once; there is no
  *    sign change to bracket) if |f| there is within the compensated error bound plus f's
  *    variation over the point's own uncertainty, or if both (a) changing each coefficient by
@@ -59,42 +62,178 @@
                                               precision; only a root at 0 needs more, and there
                                               Newton converges (fast) */
 
+/* One step s <- s x + a of the compensated Horner scheme below: s + c carries the value, m the
+ * sum of |a_i||x|^i; xh + xl = x is x split by split(). The product's rounding error pe comes
+ * from fma where the hardware has it (FP_FAST_FMA); else from Dekker's TwoProduct, equally
+ * exact (no overflow can occur here: |s| stays far below 2^995) and much faster than a call to
+ * a software fma, around which every floating-point register must be saved. */
+static inline void split(double a, double *hi, double *lo)
+{
+    const double t = 134217729.0 * a;                     /* Veltkamp: 2^27 + 1 */
+    *hi = t - (t - a);
+    *lo = a - *hi;
+}
+
+static inline void cstep(double *s, double *c, double *m, double x, double xh, double xl,
+                         double ax, double a)
+{
+    const double p = *s * x;
+#ifdef FP_FAST_FMA
+    const double pe = fma(*s, x, -p);                     /* s * x = p + pe exactly */
+    (void)xh;
+    (void)xl;
+#else
+    double sh, sl;
+    split(*s, &sh, &sl);
+    const double pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl;   /* likewise */
+#endif
+    const double t = p + a;
+    const double z = t - p;
+    const double se = (p - (t - z)) + (a - z);           /* p + a = t + se exactly */
+    *s = t;
+    *c = *c * x + (pe + se);
+    *m = *m * ax + fabs(a);
+}
+
 /* f(x) = sum a[i] x^i by the compensated Horner scheme (Graillat, Langlois & Louvet, 2005):
- * error-free transformations (fma for the product, Knuth's TwoSum for the sum) give
- * |result - f(x)| <= u |f(x)| + gamma_{2n}^2 sum |a_i||x|^i. *mag receives sum |a_i||x|^i. */
+ * error-free transformations (TwoProduct for the product, see cstep; Knuth's TwoSum for the
+ * sum) give |result - f(x)| <= u |f(x)| + gamma_{2n}^2 sum |a_i||x|^i. *mag receives
+ * sum |a_i||x|^i. */
 static double eval(const double *a, int n, double x, double *mag)
 {
     double s = a[n];
     double c = 0.0;
     double m = fabs(a[n]);
     const double ax = fabs(x);
+    double xh, xl;
+    split(x, &xh, &xl);
     for (int i = n - 1; i >= 0; --i) {
-        const double p = s * x;
-        const double pe = fma(s, x, -p);                  /* s * x = p + pe exactly */
-        s = p + a[i];
-        const double z = s - p;
-        const double se = (p - (s - z)) + (a[i] - z);     /* p + a[i] = s + se exactly */
-        c = c * x + (pe + se);
-        m = m * ax + fabs(a[i]);
+        cstep(&s, &c, &m, x, xh, xl, ax, a[i]);
     }
     *mag = m;
     return s + c;
 }
 
+/* f, f' and f'' (degrees n >= 1, n - 1, n - 2; f'' = 0 when n < 2) at x, each exactly as eval
+ * computes it, in one loop so that the three independent recurrences overlap. */
+static void eval3(const double *f, const double *df, const double *d2f, int n, double x,
+                  double v[3], double mag[3])
+{
+    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
+    double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const double ax = fabs(x);
+    double xh, xl;
+    split(x, &xh, &xl);
+    int i = n - 1;
+    for (; i >= 2; --i) {
+        cstep(&s0, &c0, &m0, x, xh, xl, ax, f[i]);
+        cstep(&s1, &c1, &m1, x, xh, xl, ax, df[i - 1]);
+        cstep(&s2, &c2, &m2, x, xh, xl, ax, d2f[i - 2]);
+    }
+    for (; i >= 1; --i) {
+        cstep(&s0, &c0, &m0, x, xh, xl, ax, f[i]);
+        cstep(&s1, &c1, &m1, x, xh, xl, ax, df[i - 1]);
+    }
+    cstep(&s0, &c0, &m0, x, xh, xl, ax, f[0]);
+    v[0] = s0 + c0;
+    v[1] = s1 + c1;
+    v[2] = s2 + c2;
+    mag[0] = m0;
+    mag[1] = m1;
+    mag[2] = m2;
+}
+
+/* f(x) = sum a[i] x^i by the second-order Horner scheme: f = E(x^2) + x O(x^2), the even and
+ * odd parts by Horner's rule in y = x^2, two independent recurrences of half the length. With
+ * *mag = sum |a_i||x|^i, the result is within gamma_{3n/2+2} mag <= gamma_{4n} mag of f(x)
+ * (the Horner bound, Higham, Accuracy and Stability of Numerical Algorithms, 5.1, applied to
+ * each part, plus the rounding of y and of the final product and sum). */
+static inline double horner_eo(const double *a, int n, double x, double y, double ax,
+                               double *mag)
+{
+    int i = n - (n % 2);                                /* highest even index */
+    int k = n - 1 + (n % 2);                            /* highest odd index (-1 if none) */
+    double e = a[i], me = fabs(a[i]);
+    double o = 0.0, mo = 0.0;
+    if (k > 0) {
+        o = a[k];
+        mo = fabs(a[k]);
+    }
+    for (i -= 2, k -= 2; i >= 0; i -= 2, k -= 2) {
+        e = e * y + a[i];
+        me = me * y + fabs(a[i]);
+        if (k >= 1) {
+            o = o * y + a[k];
+            mo = mo * y + fabs(a[k]);
+        }
+    }
+    *mag = me + ax * mo;
+    return e + x * o;
+}
+
+/* f(x) and f'(x) (df: f's derivative, degree n - 1 >= 0) by horner_eo, with their sums
+ * *mag and *dmag. A value that exceeds PLAIN_OK's margin (gamma_{4n} mag) has a certain sign
+ * and a small relative error. */
+#define PLAIN_OK(v, n, mag) (fabs(v) > 4.0 * (double)(n) * DBL_EPSILON * (mag))
+static double horner2(const double *a, const double *df, int n, double x, double *mag,
+                      double *dv, double *dmag)
+{
+    const double y = x * x;
+    const double ax = fabs(x);
+    *dv = horner_eo(df, n - 1, x, y, ax, dmag);
+    return horner_eo(a, n, x, y, ax, mag);
+}
+
+/* f, f' and f'' as eval3 takes them, by plain Horner's rule, with the sums mag as eval3 gives
+ * them; each value is within gamma_{2n} times its mag of the truth (Higham, 5.1). */
+static void horner3(const double *f, const double *df, const double *d2f, int n, double x,
+                    double v[3], double mag[3])
+{
+    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
+    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const double ax = fabs(x);
+    int i = n - 1;
+    for (; i >= 2; --i) {
+        s0 = s0 * x + f[i];
+        s1 = s1 * x + df[i - 1];
+        s2 = s2 * x + d2f[i - 2];
+        m0 = m0 * ax + fabs(f[i]);
+        m1 = m1 * ax + fabs(df[i - 1]);
+        m2 = m2 * ax + fabs(d2f[i - 2]);
+    }
+    for (; i >= 1; --i) {
+        s0 = s0 * x + f[i];
+        s1 = s1 * x + df[i - 1];
+        m0 = m0 * ax + fabs(f[i]);
+        m1 = m1 * ax + fabs(df[i - 1]);
+    }
+    v[0] = s0 * x + f[0];
+    v[1] = s1;
+    v[2] = s2;
+    mag[0] = m0 * ax + fabs(f[0]);
+    mag[1] = m1;
+    mag[2] = m2;
+}
+
 /* Root of f (degree n, derivative df) in (lo, hi), where f is monotone with the trusted sign
  * slo at lo and -slo at hi. Newton steps are taken only while they stay inside the bracket and
- * at least halve the step before last (the rule of Numerical Recipes' rtsafe); else bisect.
- * *del receives the uncertainty of the result: the last step plus the root's sensitivity to a
- * relative change ceps in each coefficient. */
+ * at least halve the step before last (the rule of Numerical Recipes' rtsafe); else bisect. A
+ * Newton step below the resolution of x ends the search. f is evaluated by plain Horner where
+ * that certifies its sign, else by the compensated scheme; f' only steers Newton, so plain
+ * Horner serves. *del receives the uncertainty of the result: the last step plus the root's
+ * sensitivity to a relative change ceps in each coefficient. */
 static double solve(const double *f, const double *df, int n, double ceps, double lo,
                     double hi, int slo, double *del)
 {
     double x = 0.5 * (lo + hi);
     double dx = hi - lo;
-    double mag, dmag;
-    for (int it = 0; it < DR_MAXIT; ++it) {
-        const double v = eval(f, n, x, &mag);
-        const double dv = eval(df, n - 1, x, &dmag);
+    double mag, dv, dmag;
+    for (int it = 0;; ++it) {
+        double v = horner2(f, df, n, x, &mag, &dv, &dmag);
+        if (!PLAIN_OK(v, n, mag)) {
+            v = eval(f, n, x, &mag);
+        }
         if (v == 0.0) {
             dx = 0.0;
             break;
@@ -104,21 +243,37 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
         } else {
             hi = x;
         }
-        const double dxold = dx;
-        const double xn = (dv != 0.0) ? x - v / dv : lo;
-        if (dv != 0.0 && xn > lo && xn < hi && fabs(2.0 * v) <= fabs(dxold * dv)) {
-            dx = v / dv;
-            x = xn;
-        } else {
-            dx = 0.5 * (hi - lo);
-            x = lo + dx;
+        if (it == DR_MAXIT) {
+            break;                        /* x, mag, dv: the last point evaluated */
         }
+        const double dxold = dx;
+        if (dv != 0.0) {
+            dx = v / dv;
+            const double xn = x - dx;
+            if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+                /* Newton step below the resolution of x: converged (even if xn rounds onto or
+                 * just past an end of the bracket, which the test below would reject). */
+                if (xn > lo && xn < hi) {
+                    x = xn;
+                }
+                break;
+            }
+            if (xn > lo && xn < hi && fabs(2.0 * dx) <= fabs(dxold)) {
+                x = xn;
+                continue;
+            }
+        }
+        dx = 0.5 * (hi - lo);
+        x = lo + dx;
         if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
             break;
         }
     }
-    (void)eval(f, n, x, &mag);
-    const double dv = fabs(eval(df, n - 1, x, &dmag));
+    /* mag, dv: from the last evaluation, at most a step below the resolution of x away. */
+    if (!PLAIN_OK(dv, n - 1, dmag)) {
+        dv = eval(df, n - 1, x, &dmag);
+    }
+    dv = fabs(dv);
     *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, DR_PAIR) : DR_PAIR);
     return x;
 }
@@ -153,19 +308,42 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
     pd[np - 1] = 0.0;
 
     for (int j = 0; j < np; ++j) {
-        double mag, m1, m2;
-        const double v = eval(f, n, px[j], &mag);
-        const double d1s = eval(df, n - 1, px[j], &m1);
-        const double d2s = (n >= 2) ? eval(d2f, n - 2, px[j], &m2) : 0.0;
+        double pw = 0.0;                                     /* sum |x|^i */
+        for (int i = 0; i <= n; ++i) {
+            pw = pw * fabs(px[j]) + 1.0;
+        }
+        double vals[3], mags[3];
+        const int inner = j > 0 && j < np - 1;
+        if (inner || ends_out == NULL) {
+            /* Fast path (all points but the seam's): if plain Horner's values, widened by their
+             * error bounds (and a factor 2), show that neither the tolerance test below nor, at
+             * a critical point, 5(a)-(b) can hold, the point has a trusted sign and nothing
+             * else of it is used. Otherwise (the few points near a root of f) the compensated
+             * values decide as below. */
+            horner3(f, df, d2f, n, px[j], vals, mags);
+            const double e0 = 4.0 * (double)n * DBL_EPSILON * mags[0];
+            const double vlo = fabs(vals[0]) - e0;
+            const double d1up = fabs(vals[1]) + 4.0 * (double)n * DBL_EPSILON * mags[1];
+            const double d2up = fabs(vals[2]) + 4.0 * (double)n * DBL_EPSILON * mags[2];
+            const double tolup = DBL_EPSILON * (fabs(vals[0]) + e0) + 2.0 * g * g * mags[0] +
+                                 (d1up + 0.5 * d2up * pd[j]) * pd[j];
+            if (vlo > 2.0 * tolup && (!inner || vlo > 2.0 * ceps * amax * pw ||
+                                      vlo > d2up * DR_PAIR * DR_PAIR)) {
+                pv[j] = vals[0];
+                ps[j] = (vals[0] > 0.0) ? 1 : -1;
+                continue;
+            }
+        }
+        eval3(f, df, d2f, n, px[j], vals, mags);
+        const double v = vals[0];
+        const double mag = mags[0];
+        const double d1s = vals[1];
+        const double d2s = vals[2];
         const double d1 = fabs(d1s);
         const double d2 = fabs(d2s);
         /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
         double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
         int zero = fabs(v) <= tol;
-        double pw = 0.0;                                     /* sum |x|^i */
-        for (int i = 0; i <= n; ++i) {
-            pw = pw * fabs(px[j]) + 1.0;
-        }
         /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
          * point x + dc of f's quadratic model there (value fc), if it is within DR_PAIR. */
         const int seam = ends_out != NULL && (j == 0 || j == np - 1);
