@@ -145,18 +145,15 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "singular_state": plan.singular_state,
         "singular_length": plan.singular_length,
         "length_coordinates": plan.length_coordinates,
-        "requirement_unpack": [(n, f"params->{n}") for p in plan.parameters for n in [p[0]]
-                               if n in used],
+        "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
+                               if p[0] in used],
         "requirements": requirement_checks,
         "functions": [_rendered(f, plan, target) for f in plan.functions],
     }
-    files = {}
-    for suffix in ("h", "c", "cdef"):
-        template = f"{prefix}.{suffix}.j2"
-        files[f"{prefix}.{suffix}"] = env.get_template(template).render(template=template,
-                                                                         **context)
-    files[f"{prefix}_analysis.c"] = env.get_template("analysis.c.j2").render(
-        template="analysis.c.j2", **context)
+    templates = {f"{prefix}.h": f"{prefix}.h.j2", f"{prefix}.c": f"{prefix}.c.j2",
+                 f"{prefix}.cdef": f"{prefix}.cdef.j2", f"{prefix}_analysis.c": "analysis.c.j2"}
+    files = {name: env.get_template(template).render(template=template, **context)
+             for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)
     return files
 
