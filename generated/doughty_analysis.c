@@ -30,13 +30,23 @@
  * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (doughty_roots.c). */
 #define MULTIPLE_ROOT_SPREAD 1e-7
 
+/* The size against which G(theta_E) counts as zero: its two terms e3 sin and e4 cos (43),
+ * plus the change of G over the rounding of theta_E itself, |K| max(|theta|, 1). */
+static doughty_status residual_scale(const doughty_params *params, double theta, double k,
+                                     double *scale)
+{
+    double e[DOUGHTY_N_REDUCED];
+    const doughty_status status = doughty_reduced_coefficients(params, theta, e);
+    if (status == DOUGHTY_OK) {
+        *scale = fabs(e[3] * sin(theta)) + fabs(e[4] * cos(theta)) + fabs(k) * fmax(fabs(theta), 1.0);
+    }
+    return status;
+}
+
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
- * neighbour farther away than that. */
-static doughty_status residual_scale(const doughty_params *params, double theta, double k,
-                                     double *scale);
-
-/* A root already zero to working precision is left where it is (theta = pi stays pi). */
+ * neighbour farther away than that. A root already zero to working precision is left where it
+ * is (theta = pi stays pi). */
 static double polish(const doughty_params *params, double theta, double radius)
 {
     const double start = theta;
@@ -129,19 +139,6 @@ static void classify_motion(double b, double k, doughty_equilibrium *e)
     } else {
         e->damping = e->zeta[0] < 1.0 ? DOUGHTY_UNDERDAMPED : DOUGHTY_OVERDAMPED;
     }
-}
-
-/* The size against which G(theta_E) counts as zero: its two terms e3 sin and e4 cos (43),
- * plus the change of G over the rounding of theta_E itself, |K| max(|theta|, 1). */
-static doughty_status residual_scale(const doughty_params *params, double theta, double k,
-                                     double *scale)
-{
-    double e[DOUGHTY_N_REDUCED];
-    const doughty_status status = doughty_reduced_coefficients(params, theta, e);
-    if (status == DOUGHTY_OK) {
-        *scale = fabs(e[3] * sin(theta)) + fabs(e[4] * cos(theta)) + fabs(k) * fmax(fabs(theta), 1.0);
-    }
-    return status;
 }
 
 /* Whether theta puts the singular length (the spring's r) at zero to working precision,
