@@ -38,7 +38,8 @@ def derive(mechanism: Mechanism) -> Derivation:
     dynamics = derive_dynamics(mechanism, kinematics.jacobian, state.multipliers)  # step 7
     reduction = derive_reduction(mechanism, state, kinematics.constraints.subs(freezer),
                                  dynamics, freezer)                    # step 7, reduced
-    equilibrium = derive_equilibrium(reduction.static_force, reduction.theta)  # step 8
+    equilibrium = derive_equilibrium(reduction.static_terms, reduction.theta,   # step 8
+                                     reduction.solution.roots, mechanism.symbols)
     linearisation = derive_linearisation(reduction)                    # steps 9-10
     return Derivation(mechanism, state, freezer, kinematics, dynamics, reduction,
                       equilibrium, linearisation)

@@ -16,9 +16,30 @@ def square_roots(expr: sp.Expr) -> list[sp.Expr]:
     return sorted(found, key=sp.default_sort_key)
 
 
+#: Larger expressions are left as derived: factoring them costs seconds and rarely helps.
+TIDY_LIMIT = 400
+
+
 def tidy(expr: sp.Expr, step: Callable[[sp.Expr], sp.Expr] = sp.factor) -> sp.Expr:
-    """Apply ``step`` with every square root held as an opaque symbol."""
+    """Apply ``step`` with every square root held as an opaque symbol (up to TIDY_LIMIT
+    operations, so the cost is bounded and the result still deterministic)."""
+    if sp.count_ops(expr) > TIDY_LIMIT:
+        return expr
     roots = {sp.sqrt(b): sp.Dummy(f"root{i}", positive=True)
              for i, b in enumerate(square_roots(expr))}
-    held = expr.subs(roots)
-    return sp.factor_terms(step(held)).subs({v: k for k, v in roots.items()})
+    held = expr.xreplace(roots)  # outermost first: a nested root is one opaque symbol
+    return sp.factor_terms(step(held)).xreplace({v: k for k, v in roots.items()})
+
+
+def reduce_trig(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
+    """A rational function of cos(theta), sin(theta) with sin^2 replaced by 1 - cos^2 in its
+    numerator and denominator (so each is at most linear in sin), then factored."""
+    c, s = sp.Dummy("c"), sp.Dummy("s")
+    held = sp.together(expr.subs({sp.cos(theta): c, sp.sin(theta): s}))
+    num, den = sp.fraction(held)
+    unit = sp.Poly(s**2 + c**2 - 1, s)
+
+    def reduced(part):
+        return sp.factor(sp.Poly(sp.expand(part), s).rem(unit).as_expr())
+
+    return (reduced(num) / reduced(den)).subs({c: sp.cos(theta), s: sp.sin(theta)})

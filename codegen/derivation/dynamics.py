@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..model import TIME, Mechanism
+from ..model.mechanism import Torque
 
 
 @dataclass(frozen=True)
@@ -52,13 +53,29 @@ def rayleigh_dissipation(mechanism: Mechanism) -> sp.Expr:
                sp.S.Zero)
 
 
-def applied_forces(mechanism: Mechanism) -> sp.Matrix:
-    """Generalised forces by virtual work: Q_i = sum F . d(point)/dq_i."""
+def force_on(mechanism: Mechanism, load) -> sp.Matrix:
+    """Generalised force of one PointForce or Torque by virtual work: Q_i = F . dpoint/dq_i,
+    or T dangle/dq_i."""
     q = mechanism.q
-    Q = sp.zeros(len(q), 1)
-    for force in mechanism.forces:
-        Q += sp.Matrix(force.point).jacobian(q).T * sp.Matrix(force.force)
-    return Q
+    if isinstance(load, Torque):
+        return sp.Matrix([load.angle]).jacobian(q).T * load.torque
+    return sp.Matrix(load.point).jacobian(q).T * sp.Matrix(load.force)
+
+
+def applied_forces(mechanism: Mechanism) -> sp.Matrix:
+    """Generalised forces of every constant force and torque, by virtual work."""
+    return sum((force_on(mechanism, f) for f in mechanism.forces + mechanism.torques),
+               sp.zeros(len(mechanism.q), 1))
+
+
+def contributions(mechanism: Mechanism) -> tuple[sp.Expr, ...]:
+    """The potential of each spring, body (gravity) and constant load (-F.p, -T angle), in
+    the coordinates: G is the sum of their slopes along the motion, one physical cause each."""
+    parts = [s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in mechanism.springs]
+    parts += [b.mass * mechanism.gravity * b.centre[1] for b in mechanism.bodies if b.mass != 0]
+    parts += [-(f.force[0] * f.point[0] + f.force[1] * f.point[1]) for f in mechanism.forces]
+    parts += [-t.torque * t.angle for t in mechanism.torques]
+    return tuple(p.subs(mechanism.freezer()) for p in parts)
 
 
 def derive_dynamics(mechanism: Mechanism, jacobian: sp.Matrix,
@@ -76,7 +93,8 @@ def derive_dynamics(mechanism: Mechanism, jacobian: sp.Matrix,
         lagrangian=lagrangian,
         dt_dL_dqdot=dL_dqdot.diff(TIME),
         dL_dq=sp.Matrix([lagrangian.diff(c) for c in q]),
-        constraint_forces=jacobian.T * sp.Matrix(multipliers),
+        constraint_forces=(jacobian.T * sp.Matrix(multipliers) if multipliers
+                           else sp.zeros(len(q), 1)),
         applied_forces=applied_forces(mechanism),
         dissipative_forces=sp.Matrix([D.diff(v) for v in qdot]),
     )

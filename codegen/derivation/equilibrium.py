@@ -1,64 +1,96 @@
-"""Table 1 step 8: static equilibrium (42)-(43) and its polynomial form (44)-(45).
+"""Table 1 step 8: static equilibrium G(theta) = 0, (42)-(43), and its polynomial (44)-(45).
 
-At rest the reduced equation is G(theta) = 0. G holds the spring length rho = sqrt(R(theta))
-(34); multiplied by rho it reads alpha + beta*rho = 0 with alpha, beta free of roots.
-Squaring isolates the root: (beta*rho + alpha)(beta*rho - alpha) = beta^2 R - alpha^2 = 0.
-Its roots are those of the genuine branch alpha + beta*rho = 0 and of the extraneous branch
-beta*rho - alpha = 0, which squaring introduced. The tangent half-angle substitution turns
-beta^2 R - alpha^2 into the polynomial sum sigma_i tau^i.
+G holds the square roots of the position analysis. Each root has two signs, and each
+choice of signs is a *branch*: G on the branch where every root is positive is the
+mechanism as declared; flipping an assembly-mode root gives the other assembly mode (real
+equilibria of another assembly); flipping a length gives a negative length (extraneous).
+When G is algebraic in cos(theta), sin(theta) after its roots, eliminating the roots
+(elimination.py) gives one polynomial in tau = tan(theta/2) whose real roots are the zeros
+of G on every branch; evaluating G on each branch tells them apart. When theta also
+stands alone in G (a torsion spring), no polynomial holds it: ``polynomial`` is None.
 """
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import sympy as sp
 
-from .algebra import square_roots
-from .half_angle import to_tau
+from .elimination import Polynomial, eliminate
+from .positions import Root
+
+
+@dataclass(frozen=True)
+class Branch:
+    signs: tuple[int, ...]          # the sign of each root, in the order of ``roots``
+    residual: sp.Expr               # G on this branch
+    scale: sp.Expr                  # sum of |contributions|: the size G is measured against
+
+    @property
+    def label(self) -> str:
+        return "".join("+" if s > 0 else "-" for s in self.signs)
 
 
 @dataclass(frozen=True)
 class Equilibrium:
-    residual: sp.Expr   # G(theta), (43)
-    radicand: sp.Expr   # R(theta) = rho^2
-    alpha: sp.Expr
-    beta: sp.Expr
-    sigma: tuple[sp.Expr, ...]  # sigma_0..sigma_degree, (45)
-    weight: int                 # sum sigma_i tau^i = (1+tau^2)^weight (beta^2 R - alpha^2)
+    residual: sp.Expr               # G(theta), (43), roots written out
+    roots: tuple[Root, ...]
+    branches: tuple[Branch, ...]    # branches[0]: every root positive (the declared mode)
+    polynomial: Polynomial | None   # (45) generalised; None when G is transcendental
+    assembly: tuple[sp.Expr, ...]   # radicands of the assembly roots: >= 0 where it assembles
 
     @property
-    def rho(self) -> sp.Expr:
-        return sp.sqrt(self.radicand)
-
-    @property
-    def genuine_branch(self) -> sp.Expr:
-        """alpha + beta*rho = rho * G: zero at the equilibria."""
-        return self.alpha + self.beta * self.rho
-
-    @property
-    def extraneous_branch(self) -> sp.Expr:
-        """beta*rho - alpha: zero at the roots squaring added."""
-        return self.beta * self.rho - self.alpha
-
-    @property
-    def squared(self) -> sp.Expr:
-        return self.beta**2 * self.radicand - self.alpha**2
+    def sigma(self) -> tuple[sp.Expr, ...]:
+        return self.polynomial.explicit() if self.polynomial else ()
 
 
-def split_square_root(residual: sp.Expr) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """Write rho * residual as alpha + beta*rho, rho = sqrt(radicand)."""
-    (radicand,) = square_roots(residual)
-    rho = sp.Dummy("rho", positive=True)
-    times_rho = sp.Poly(sp.expand(residual.subs(sp.sqrt(radicand), rho) * rho), rho)
-    reduced = times_rho.rem(sp.Poly(rho**2 - radicand, rho))
-    if reduced.degree() > 1:
-        raise ValueError("residual is not linear in its square root")
-    beta, alpha = (reduced.coeff_monomial(rho), reduced.coeff_monomial(1))
-    return radicand, sp.factor(alpha), sp.factor(beta)
+def on_branch(expr: sp.Expr, roots: tuple[Root, ...], signs: tuple[int, ...]) -> sp.Expr:
+    """expr (in root symbols) with root i taken as signs[i] * sqrt(R_i), nested as needed."""
+    flip = {r.symbol: s * r.symbol for r, s in zip(roots, signs)}
+    result = expr.xreplace(flip)
+    for r in reversed(roots):
+        result = result.xreplace({r.symbol: sp.sqrt(r.radicand.xreplace(flip))})
+    return result
 
 
-def derive_equilibrium(residual: sp.Expr, theta: sp.Symbol) -> Equilibrium:
-    radicand, alpha, beta = split_square_root(residual)
-    poly = to_tau(beta**2 * radicand - alpha**2, theta)
-    return Equilibrium(residual, radicand, alpha, beta,
-                       sigma=poly.padded(2 * poly.weight + 1), weight=poly.weight)
+def common_numerator(terms: tuple[sp.Expr, ...]) -> sp.Expr:
+    """The numerator of sum(terms) over the least common multiple of their denominators
+    (factored, so a factor shared by several terms is counted once)."""
+    parts = [sp.fraction(sp.together(t)) for t in terms]
+    needed: dict[sp.Expr, int] = {}
+    factored = []
+    for _, den in parts:
+        _, factors = sp.factor_list(den)
+        factored.append(dict(factors))
+        for f, e in factors:
+            needed[f] = max(needed.get(f, 0), e)
+    return sp.Add(*(num / c * sp.Mul(*(f ** (e - have.get(f, 0)) for f, e in needed.items()))
+                    for (num, den), have in zip(parts, factored)
+                    for c in [sp.factor_list(den)[0]]))
+
+
+def is_algebraic(expr: sp.Expr, theta: sp.Symbol) -> bool:
+    """Whether theta enters only through cos(theta) and sin(theta)."""
+    trig = {a for a in expr.atoms(sp.cos, sp.sin) if a.args[0] == theta}
+    return not expr.xreplace({a: sp.Dummy() for a in trig}).has(theta) and all(
+        a.args[0] == theta for a in expr.atoms(sp.cos, sp.sin) if a.has(theta))
+
+
+def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tuple[Root, ...],
+                       parameters: tuple[sp.Symbol, ...]) -> Equilibrium:
+    """``terms``: G's contributions in the root symbols."""
+    residual = sum(terms, sp.S.Zero)
+    branches = []
+    for signs in itertools.product((1, -1), repeat=len(roots)):
+        branches.append(Branch(signs, on_branch(residual, roots, signs),
+                               sum((sp.Abs(on_branch(t, roots, signs)) for t in terms), sp.S.Zero)))
+    polynomial = None
+    if is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
+            is_algebraic(r.radicand, theta) for r in roots):
+        polynomial = eliminate(common_numerator(terms), theta, roots, parameters)
+    return Equilibrium(
+        residual=on_branch(residual, roots, (1,) * len(roots)),
+        roots=roots, branches=tuple(branches), polynomial=polynomial,
+        assembly=tuple(on_branch(r.radicand, roots, (1,) * len(roots)) for r in roots
+                       if r.kind == "assembly"),
+    )

@@ -45,6 +45,9 @@ class TauPolynomial:
                     conv[i + j] += x * y
         return TauPolynomial(tuple(conv), self.weight + other.weight)
 
+    def scaled(self, factor) -> "TauPolynomial":
+        return TauPolynomial(tuple(factor * c for c in self.coeffs), self.weight)
+
     def power(self, n: int) -> "TauPolynomial":
         result = TauPolynomial((sp.S.One,), 0)
         for _ in range(n):

@@ -20,7 +20,8 @@ class Kinematics:
 
 
 def position_constraints(mechanism: Mechanism) -> sp.Matrix:
-    return sp.Matrix(mechanism.constraints)
+    """f(q) as a column (0 x 1 for a mechanism without constraints)."""
+    return sp.Matrix(len(mechanism.constraints), 1, list(mechanism.constraints))
 
 
 def derive_kinematics(mechanism: Mechanism) -> Kinematics:
@@ -28,7 +29,7 @@ def derive_kinematics(mechanism: Mechanism) -> Kinematics:
     positions = {name: sp.Matrix(xy) for name, xy in mechanism.points.items()}
     return Kinematics(
         constraints=f,
-        jacobian=f.jacobian(mechanism.q),
+        jacobian=f.jacobian(mechanism.q) if f.rows else sp.zeros(0, len(mechanism.q)),
         velocity_constraints=f.diff(TIME),
         acceleration_constraints=f.diff(TIME, 2),
         point_positions=positions,

@@ -1,9 +1,10 @@
 """Table 1 steps 9-10: the perturbed, linearised equation (46)-(53) and the
 natural frequency and damping ratio (54)-(55).
 
-With theta = theta_E + theta_p and the reduced equation f(theta, thetadot, thetaddot) = 0,
-first order in theta_p gives M thetaddot_p + B thetadot_p + K theta_p = 0 with the
-partial derivatives of f at rest: M = df/dthetaddot, B = df/dthetadot, K = df/dtheta.
+With theta = theta_E + theta_p in e0 thetaddot + e1 thetadot^2 + e2 thetadot + G = 0,
+first order in theta_p gives M thetaddot_p + B thetadot_p + K theta_p = 0 with
+M = e0(theta_E), B = e2(theta_E) (e1 thetadot^2 is second order) and K = G'(theta_E), the
+slope of the static force, taken along the motion term by term in the roots' symbols.
 """
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .algebra import tidy
 from .reduction import Reduction
 
 
@@ -32,10 +34,7 @@ class Linearisation:
 
 
 def derive_linearisation(reduction: Reduction) -> Linearisation:
-    f = reduction.structured_equation
-    at_rest = {reduction.theta_d: 0, reduction.theta_dd: 0}
-    return Linearisation(
-        mass=f.diff(reduction.theta_dd).subs(at_rest),
-        damping=f.diff(reduction.theta_d).subs(at_rest),
-        stiffness=f.diff(reduction.theta).subs(at_rest),
-    )
+    solution = reduction.solution
+    slope = sum((tidy(solution.derivative(t)) for t in reduction.static_terms), sp.S.Zero)
+    return Linearisation(mass=reduction.e[0], damping=reduction.e[2],
+                         stiffness=solution.explicit(slope))

@@ -46,6 +46,7 @@ def build() -> Mechanism:
     slider_2 = (sp.S.Zero, q)
     return Mechanism(
         name="doughty",
+        title="Doughty's two-slider mechanism",
         parameters=PARAMETERS,
         coordinates=COORDINATES,
         independent="theta",
@@ -79,7 +80,6 @@ def build() -> Mechanism:
         ),
         singular_state="the spring length r is zero, so its direction is undefined",
         polar_pairs=(("r", "phi"),),
-        static_split={"elastic": sin(theta), "load": cos(theta)},
         equations={
             "position_constraints": "(4)-(7)",
             "velocity_constraints": "(8)-(11)",

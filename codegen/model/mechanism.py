@@ -75,6 +75,19 @@ class PointForce:
 
 
 @dataclass(frozen=True)
+class Torque:
+    """A constant torque acting on an angle expression of the coordinates (CCW positive)."""
+
+    torque: sp.Expr
+    angle: sp.Expr
+
+
+def distance(p: tuple[sp.Expr, sp.Expr], q: tuple[sp.Expr, sp.Expr]) -> sp.Expr:
+    """|p - q|: a *length* root (only its positive sign is physical)."""
+    return sp.sqrt((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2)
+
+
+@dataclass(frozen=True)
 class Requirement:
     """A condition valid parameters satisfy; ``code`` names the failure (a C enum suffix)."""
 
@@ -87,11 +100,16 @@ class Requirement:
 class Mechanism:
     """Everything the method needs to know about one mechanism.
 
-    ``polar_pairs`` names (length, angle) coordinate pairs that enter the constraints only
-    as ``length*cos(angle)`` and ``length*sin(angle)``; with them the position constraints
-    are linear in the dependent coordinates, so they are solved exactly in closed form.
-    ``static_split`` gives the factor by which the paper divides the elastic and the load
-    parts of the static generalised force (for Doughty: sin(theta) and cos(theta)).
+    The square roots of the closed-form position analysis are of two kinds, and the model
+    says which is which:
+    - ``polar_pairs`` names (length, angle) coordinate pairs that enter the constraints only
+      as ``length*cos(angle)`` and ``length*sin(angle)``: the length is a *length* root
+      (only its positive sign is physical), as is every ``distance`` in a spring or damper;
+    - ``assembly_modes`` are expressions of the coordinates, each positive in the assembly
+      mode the model describes: an angle of known length fixed by a quadratic (a dyad's
+      circle meeting a line or another circle) takes the sign that makes them hold; the
+      other sign is the mechanism's other assembly mode.
+    The independent coordinate ranges over (range_centre - pi, range_centre + pi].
     ``equations`` maps each named result to the paper's equation label, for comments.
     """
 
@@ -109,7 +127,10 @@ class Mechanism:
     requirements: tuple[Requirement, ...] = ()
     singular_state: str = "a denominator of the result vanishes"
     polar_pairs: tuple[tuple[str, str], ...] = ()
-    static_split: dict[str, sp.Expr] = field(default_factory=dict)
+    assembly_modes: tuple[sp.Expr, ...] = ()
+    torques: tuple[Torque, ...] = ()
+    range_centre: sp.Expr = sp.S.Zero
+    title: str = ""
     equations: dict[str, str] = field(default_factory=dict)
 
     def coordinate(self, name: str) -> sp.Expr:
@@ -122,6 +143,10 @@ class Mechanism:
     @property
     def symbols(self) -> tuple[sp.Symbol, ...]:
         return tuple(p.symbol for p in self.parameters)
+
+    def freezer(self) -> dict:
+        """Coordinate functions q_i(t) -> plain symbols named after them."""
+        return {c.function: sp.Symbol(c.name, real=True) for c in self.coordinates}
 
     def example(self) -> dict[sp.Symbol, sp.Rational]:
         return {p.symbol: sp.Rational(p.example_value) for p in self.parameters}

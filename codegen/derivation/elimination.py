@@ -1,0 +1,198 @@
+"""Step 8, algebraic part: every square root of G eliminated into one polynomial in tau.
+
+G is a rational function of cos(theta), sin(theta) and the roots rho_1..rho_n of the
+position analysis (rho_i^2 = R_i, where R_i may hold earlier roots). Its numerator N is a
+polynomial in them. Writing N = alpha + beta rho_n (powers of rho_n reduced by
+rho_n^2 = R_n), the product over both signs of rho_n, alpha^2 - beta^2 R_n, no longer holds
+rho_n; repeating for rho_{n-1}, .., rho_1 leaves a polynomial in cos, sin that vanishes
+wherever N vanishes on *some* branch (choice of signs of the roots). The tangent half-angle
+substitution makes it a polynomial in tau = tan(theta/2) (half_angle.py).
+
+Nothing is expanded in the parameters. Every polynomial is a map from monomials of the roots
+to coefficient vectors in tau, and after each squaring the non-trivial coefficients are
+named (a straight-line program of intermediates), so each step multiplies short sums of
+named values. The emitted coefficients are that program, and CSE sees its structure.
+Coefficients that vanish identically (and factors 1 + tau^2, which have no real root) are
+found by exact evaluation at random rational parameters, so the degree is derived.
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .half_angle import TauPolynomial, to_tau
+from .positions import Root
+
+Monomial = tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Polynomial:
+    """sum sigma_i tau^i = (1+tau^2)^weight * (product over branches of the numerator of G),
+    up to a constant factor, as a straight-line program."""
+
+    definitions: tuple[tuple[sp.Symbol, sp.Expr], ...]  # intermediates, in order
+    coefficients: tuple[sp.Expr, ...]                   # sigma_0..sigma_degree
+    weight: int
+
+    @property
+    def degree(self) -> int:
+        return len(self.coefficients) - 1
+
+    def explicit(self) -> tuple[sp.Expr, ...]:
+        """The coefficients in the parameters (a shared expression graph, for CSE)."""
+        values: dict[sp.Symbol, sp.Expr] = {}
+        for symbol, definition in self.definitions:
+            values[symbol] = definition.xreplace(values)
+        return tuple(c.xreplace(values) for c in self.coefficients)
+
+
+class _Program:
+    """Names non-trivial coefficients and evaluates them exactly at random parameters."""
+
+    def __init__(self, parameters: tuple[sp.Symbol, ...], trials: int = 3):
+        self.definitions: list[tuple[sp.Symbol, sp.Expr]] = []
+        rng = random.Random(20240611)
+        self.points = [{p: sp.Rational(rng.randint(1, 10**6), rng.randint(1, 10**6))
+                        for p in parameters} for _ in range(trials)]
+        self.values: list[dict] = [dict(p) for p in self.points]
+
+    def name(self, expr: sp.Expr) -> sp.Expr:
+        if expr.is_Number or expr.is_Symbol or (expr.is_Mul and len(expr.args) == 2
+                                                and expr.args[0].is_Number
+                                                and expr.args[1].is_Symbol):
+            return expr
+        symbol = sp.Symbol(f"w_{len(self.definitions)}", real=True)
+        self.definitions.append((symbol, expr))
+        for values in self.values:
+            values[symbol] = expr.xreplace(values)
+        return symbol
+
+    def vanishes(self, expr: sp.Expr) -> bool:
+        """Zero at every random point: identically zero (Schwartz-Zippel)."""
+        return all(expr.xreplace(v) == 0 for v in self.values)
+
+
+class RootPolynomial:
+    """sum over monomials m of coeffs[m](tau) * rho^m, each coefficient a TauPolynomial."""
+
+    def __init__(self, terms: dict[Monomial, TauPolynomial], n: int):
+        self.terms = {m: t for m, t in terms.items() if any(c != 0 for c in t.coeffs)}
+        self.n = n
+
+    @classmethod
+    def constant(cls, value: TauPolynomial, n: int) -> "RootPolynomial":
+        return cls({(0,) * n: value}, n)
+
+    def __add__(self, other: "RootPolynomial") -> "RootPolynomial":
+        terms = dict(self.terms)
+        for m, t in other.terms.items():
+            terms[m] = terms[m] + t if m in terms else t
+        return RootPolynomial(terms, self.n)
+
+    def __neg__(self) -> "RootPolynomial":
+        return RootPolynomial({m: t.scaled(-1) for m, t in self.terms.items()}, self.n)
+
+    def __mul__(self, other: "RootPolynomial") -> "RootPolynomial":
+        terms: dict[Monomial, TauPolynomial] = {}
+        for m1, t1 in self.terms.items():
+            for m2, t2 in other.terms.items():
+                m = tuple(a + b for a, b in zip(m1, m2))
+                product = t1 * t2
+                terms[m] = terms[m] + product if m in terms else product
+        return RootPolynomial(terms, self.n)
+
+    def split(self, i: int) -> tuple["RootPolynomial", "RootPolynomial"]:
+        """(alpha, beta) with self = alpha + beta rho_i (rho_i of degree <= 1 in self)."""
+        parts = ({}, {})
+        for m, t in self.terms.items():
+            parts[m[i]][m[:i] + (0,) + m[i + 1:]] = t
+        return RootPolynomial(parts[0], self.n), RootPolynomial(parts[1], self.n)
+
+    def reduced(self, radicands: list["RootPolynomial"]) -> "RootPolynomial":
+        """Powers rho_i^k, k >= 2, replaced by R_i rho_i^(k-2) until every degree is <= 1."""
+        result = self
+        while True:
+            high = next(((m, i) for m in result.terms for i, e in enumerate(m) if e >= 2), None)
+            if high is None:
+                return result
+            m, i = high
+            t = result.terms[m]
+            rest = dict(result.terms)
+            del rest[m]
+            lower = m[:i] + (m[i] - 2,) + m[i + 1:]
+            result = RootPolynomial(rest, self.n) + RootPolynomial({lower: t}, self.n) * radicands[i]
+
+    def named(self, program: _Program) -> "RootPolynomial":
+        return RootPolynomial({m: TauPolynomial(tuple(program.name(c) for c in t.coeffs),
+                                                t.weight)
+                               for m, t in self.terms.items()}, self.n)
+
+
+def to_root_polynomial(expr: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...]) -> RootPolynomial:
+    """A polynomial in cos(theta), sin(theta) and the root symbols, structured."""
+    n = len(roots)
+    index = {r.symbol: i for i, r in enumerate(roots)}
+    symbols = set(index)
+
+    def walk(e) -> RootPolynomial:
+        if not e.free_symbols & symbols:
+            return RootPolynomial.constant(to_tau(e, theta), n)
+        if e in index:
+            return RootPolynomial({tuple(int(j == index[e]) for j in range(n)):
+                                   TauPolynomial((sp.S.One,), 0)}, n)
+        if e.is_Add:
+            total = walk(e.args[0])
+            for a in e.args[1:]:
+                total = total + walk(a)
+            return total
+        if e.is_Mul:
+            total = walk(e.args[0])
+            for a in e.args[1:]:
+                total = total * walk(a)
+            return total
+        if e.is_Pow and e.exp.is_Integer and e.exp >= 0:
+            base, result = walk(e.base), RootPolynomial.constant(TauPolynomial((sp.S.One,), 0), n)
+            for _ in range(int(e.exp)):
+                result = result * base
+            return result
+        raise ValueError(f"not a polynomial in the roots and sin/cos of {theta}: {e}")
+
+    return walk(expr)
+
+
+def eliminate(numerator: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...],
+              parameters: tuple[sp.Symbol, ...]) -> Polynomial:
+    """The polynomial in tau whose real roots include every zero of ``numerator`` on every
+    branch of the roots."""
+    program = _Program(parameters)
+    radicands = [to_root_polynomial(r.radicand, theta, roots).named(program) for r in roots]
+    poly = to_root_polynomial(numerator, theta, roots).reduced(radicands).named(program)
+    for i in reversed(range(len(roots))):
+        alpha, beta = poly.split(i)
+        poly = (alpha * alpha + -(beta * beta * radicands[i])).reduced(radicands).named(program)
+    (tau,) = poly.terms.values() or (TauPolynomial((sp.S.Zero,), 0),)
+    coeffs = list(tau.coeffs) + [sp.S.Zero] * (2 * tau.weight + 1 - len(tau.coeffs))
+    weight = tau.weight
+    # A factor 1 + tau^2 (value zero at tau = i) has no real root: divide it out.
+    while weight > 0 and _divisible_by_one_plus_tau2(coeffs, program):
+        coeffs, weight = _divide_one_plus_tau2(coeffs, program), weight - 1
+    coeffs = [sp.S.Zero if program.vanishes(c) else c for c in coeffs]
+    return Polynomial(tuple(program.definitions), tuple(coeffs), weight)
+
+
+def _divisible_by_one_plus_tau2(coeffs, program) -> bool:
+    real = sum((c * (-1) ** (k // 2) for k, c in enumerate(coeffs) if k % 2 == 0), sp.S.Zero)
+    imag = sum((c * (-1) ** (k // 2) for k, c in enumerate(coeffs) if k % 2 == 1), sp.S.Zero)
+    return program.vanishes(real) and program.vanishes(imag)
+
+
+def _divide_one_plus_tau2(coeffs, program) -> list[sp.Expr]:
+    """Synthetic division by tau^2 + 1, from the top: q_k = p_{k+2} - q_{k+2}."""
+    degree = len(coeffs) - 1
+    q = [sp.S.Zero] * (degree - 1)
+    for k in range(degree - 2, -1, -1):
+        q[k] = program.name(coeffs[k + 2] - (q[k + 2] if k + 2 <= degree - 2 else 0))
+    return q

@@ -1,0 +1,294 @@
+"""Table 1 step 7 (position analysis): the dependent coordinates in closed form, with branches.
+
+The position constraints of a planar loop mechanism hold each unknown coordinate in one of
+three ways, and each is turned into a linear unknown:
+- a plain coordinate (a slider's x) is already linear;
+- a polar pair (length, angle), both unknown, enters as length*cos and length*sin: with
+  X = length cos(angle), Y = length sin(angle) it is linear, and length = sqrt(X^2 + Y^2),
+  a *length* root (only the positive sign is physical);
+- an angle of known length enters as cos(angle) and sin(angle): with C, S for them it is
+  linear, plus the unit-circle equation C^2 + S^2 = 1.
+Linear elimination leaves some unit pairs free. Each free pair meets one line
+P C + Q S = W (a solved equation of its own pair, or a solved pair's unit circle minus a
+multiple of its own, which cancels the quadratic terms: two circles give their radical
+line), so (C, S) = (P W - sigma Q D, Q W + sigma P D) / (P^2 + Q^2) with
+D = sqrt(P^2 + Q^2 - W^2): an *assembly-mode* root. Where P^2 + Q^2 - W^2 < 0 the
+mechanism cannot be assembled. The sign sigma is the model's declared assembly mode: the
+one for which its mode conditions hold.
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..model import Mechanism
+from .algebra import reduce_trig
+
+
+@dataclass(frozen=True)
+class Root:
+    """sqrt(radicand) in the closed form; ``kind`` is 'assembly' or 'length'."""
+
+    symbol: sp.Symbol       # stands for the non-negative root in ``positions``
+    radicand: sp.Expr       # in theta and the parameters (and earlier roots' symbols)
+    kind: str
+    coordinate: str         # the coordinate whose solution introduced it
+
+
+@dataclass(frozen=True)
+class PositionSolution:
+    theta: sp.Symbol
+    coords: tuple[sp.Symbol, ...]
+    positions: sp.Matrix            # q(theta), with root symbols
+    roots: tuple[Root, ...]         # in order: a root's radicand uses only earlier roots
+    trig: dict                      # cos/sin of each dependent angle, with root symbols
+
+    def substitute(self, expr: sp.Expr) -> sp.Expr:
+        """An expression of the coordinates as a function of theta and the root symbols:
+        cos and sin of dependent angles from the closed form (never cos(atan2(..)))."""
+        angles = {a.args[0] for a in self.trig}
+        for root in expr.atoms(sp.Pow):   # a distance: sin^2 + cos^2 = 1 for every angle
+            if root.exp == sp.S.Half:
+                radicand = root.base
+                for angle in angles:
+                    radicand = reduce_trig(radicand, angle)
+                expr = expr.xreplace({root: sp.sqrt(radicand)})
+        return expr.xreplace(self.trig).xreplace(dict(zip(self.coords, self.positions)))
+
+    def with_length_roots(self, expr: sp.Expr) -> tuple["PositionSolution", sp.Expr]:
+        """Every square root left in expr (a distance of the model) becomes a length root."""
+        roots = list(self.roots)
+        for radicand in sorted({a.base for a in expr.atoms(sp.Pow) if a.exp == sp.S.Half},
+                               key=sp.default_sort_key):
+            # sqrt(n / (s^2 d)) = sqrt(n d) / (s d) for s, d > 0: the root's radicand
+            # stays a polynomial, and square factors of the denominator leave the root.
+            n, den = sp.fraction(sp.together(radicand))
+            if not den.has(self.theta):
+                n, den = radicand, sp.S.One
+            elif not _positive_on_samples(den, self.theta, roots):
+                raise NotSolvable(f"cannot tell the sign of {den} under a square root")
+            coefficient, factors = sp.factor_list(den)
+            square = sp.Mul(*(f ** (e // 2) for f, e in factors))
+            odd = coefficient * sp.Mul(*(f ** (e % 2) for f, e in factors))
+            known = next((r for r in roots if sp.expand(r.radicand - n * odd) == 0), None)
+            if known is None:
+                known = Root(sp.Symbol(f"rho_{len(roots) + 1}", positive=True),
+                             sp.factor(n * odd), "length", "")
+                roots.append(known)
+            expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square * odd)})
+        return PositionSolution(self.theta, self.coords, self.positions, tuple(roots),
+                                self.trig), expr
+
+    def derivative(self, expr: sp.Expr) -> sp.Expr:
+        """d/dtheta of an expression in theta and root symbols: d rho/dtheta = R'/(2 rho)."""
+        rates: dict[sp.Symbol, sp.Expr] = {}
+        for r in self.roots:
+            rates[r.symbol] = self._partial(r.radicand, rates) / (2 * r.symbol)
+        return self._partial(expr, rates)
+
+    def _partial(self, expr, rates):
+        result = expr.diff(self.theta)
+        for symbol, rate in rates.items():
+            if expr.has(symbol):
+                result += expr.diff(symbol) * rate
+        return result
+
+    @property
+    def substitution(self) -> dict:
+        """Root symbols -> sqrt of their radicands, innermost first (apply in order)."""
+        return {r.symbol: sp.sqrt(r.radicand) for r in self.roots}
+
+    def explicit(self, expr):
+        """expr with every root symbol replaced by its square root (nested as needed)."""
+        for r in reversed(self.roots):
+            expr = expr.xreplace({r.symbol: sp.sqrt(r.radicand)})
+        return expr
+
+
+def _positive_on_samples(expr, theta, roots) -> bool:
+    """expr > 0 at random parameters and angles (a sum of squares, typically)."""
+    rng = random.Random(1)
+    symbols = sorted(expr.free_symbols - {theta}, key=sp.default_sort_key)
+    f = sp.lambdify([theta, *symbols], expr)
+    return all(f(rng.uniform(-3.2, 3.2), *(rng.uniform(0.1, 2.0) for _ in symbols)) > 0
+               for _ in range(200)) if not expr.free_symbols & {r.symbol for r in roots} else False
+
+
+class NotSolvable(ValueError):
+    """The constraints are not of the closed-form kind described in the module docstring."""
+
+
+def _trig_atoms(expr, angle):
+    return {a for a in expr.atoms(sp.cos, sp.sin) if a.args[0] == angle}
+
+
+def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
+                    constraints: sp.Matrix) -> PositionSolution:
+    names = [c.name for c in mechanism.coordinates]
+    sym = dict(zip(names, coords))
+    theta = sym[mechanism.independent]
+    eqs = [sp.expand(e) for e in constraints]
+    polar = {length: angle for length, angle in mechanism.polar_pairs}
+    polar_angles = set(polar.values())
+    linear: dict[str, sp.Symbol] = {}        # coordinate -> its linear unknown
+    pairs: dict[str, tuple[sp.Symbol, sp.Symbol]] = {}  # angle -> (C, S) or (X, Y)
+    unit_pairs: list[str] = []
+    for name in names:
+        if name == mechanism.independent or name in polar_angles:
+            continue
+        s = sym[name]
+        if name in polar:
+            ang = sym[polar[name]]
+            X, Y = sp.Symbol(f"X_{name}", real=True), sp.Symbol(f"Y_{name}", real=True)
+            eqs = [sp.expand(e.subs({sp.cos(ang): X / s, sp.sin(ang): Y / s})) for e in eqs]
+            pairs[polar[name]] = (X, Y)
+        elif any(_trig_atoms(e, s) for e in eqs):
+            C, S = sp.Symbol(f"C_{name}", real=True), sp.Symbol(f"S_{name}", real=True)
+            eqs = [e.subs({sp.cos(s): C, sp.sin(s): S}) for e in eqs]
+            pairs[name] = (C, S)
+            unit_pairs.append(name)
+        else:
+            linear[name] = s
+    unknowns = list(linear.values()) + [v for p in pairs.values() for v in p]
+    for e in eqs:
+        if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & {sym[n] for n in polar}:
+            raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
+    solution = sp.linsolve(eqs, unknowns) if unknowns else {()}
+    if not solution:
+        raise NotSolvable("the constraints have no solution for general parameters")
+    (values,) = solution
+    known = {u: v for u, v in zip(unknowns, values) if v != u}
+    roots: list[Root] = []
+    angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
+    for k, name in enumerate(_order_unit_pairs(unit_pairs, pairs, known)):
+        C, S = pairs[name]
+        line = _line_of(C, S, name, unit_pairs, pairs, known)
+        P, Q, W = _normalised(line, theta)
+        rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
+        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots)
+        norm = reduce_trig(P**2 + Q**2, theta)
+        roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name))
+        solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
+        known = {u: reduce_trig(v.subs(solved), theta) for u, v in known.items()} | solved
+        angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
+    result = []
+    for name in names:
+        s = sym[name]
+        if name == mechanism.independent:
+            result.append(s)
+        elif name in linear:
+            result.append(known.get(s, s))
+        elif name in polar:
+            X, Y = pairs[polar[name]]
+            rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
+            roots.append(Root(rho, compact(known[X] ** 2 + known[Y] ** 2, theta), "length",
+                              name))
+            result.append(rho)
+        else:
+            x, y = angles.get(name, (known[pairs[name][0]], known[pairs[name][1]]))
+            result.append(sp.atan2(y, x))
+    trig = {}
+    for name, (A, B) in pairs.items():
+        x, y = angles.get(name, (known[A], known[B]))
+        if name in polar_angles:  # cos = X / length, sin = Y / length
+            length = next(r.symbol for r in roots if r.coordinate == next(
+                l for l, a in polar.items() if a == name))
+            x, y = x / length, y / length
+        elif name in angles:      # (C, S) as solved, not their atan2 numerators
+            x, y = known[A], known[B]
+        trig[sp.cos(sym[name])], trig[sp.sin(sym[name])] = x, y
+    return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig)
+
+
+def _order_unit_pairs(unit_pairs, pairs, known):
+    """Free pairs (some of C, S not determined by linear elimination), in order."""
+    return [n for n in unit_pairs if any(v not in known for v in pairs[n])]
+
+
+def _normalised(line, theta):
+    """(P, Q, W) with trig reduced and their common factor divided out."""
+    parts = [sp.fraction(sp.together(reduce_trig(x, theta))) for x in line]
+    denominator = sp.lcm_list([den for _, den in parts])
+    numerators = [sp.cancel(num * denominator / den) for num, den in parts]
+    common = sp.gcd_list([x for x in numerators if x != 0])
+    return tuple(sp.factor(x / common) for x in numerators)
+
+
+def compact(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
+    """The shorter of expr factored as it stands or after reducing sin^2 + cos^2 = 1: a
+    product form stays accurate near its zeros (a dyad's limit positions)."""
+    return min((sp.factor(expr), reduce_trig(expr, theta)), key=sp.count_ops)
+
+
+def _line_of(C, S, name, unit_pairs, pairs, known):
+    """(P, Q, W) with P C + Q S = W, from the free pair's own solved half or a radical line."""
+    free = {v for n in unit_pairs for v in pairs[n] if v not in known}
+    for v in (C, S):
+        if v in known and not (known[v].free_symbols & free):
+            return (sp.S.Zero, sp.S.One, known[v]) if v is S else (sp.S.One, sp.S.Zero, known[v])
+    for other in unit_pairs:
+        if other == name or any(v not in known for v in pairs[other]):
+            continue
+        A, B = pairs[other]
+        circle = sp.expand(known[A] ** 2 + known[B] ** 2 - 1)
+        if not circle.free_symbols & {C, S} or circle.free_symbols & (free - {C, S}):
+            continue
+        poly = sp.Poly(circle, C, S)
+        lam = poly.coeff_monomial(C**2)
+        if lam == 0 or sp.expand(lam - poly.coeff_monomial(S**2)) != 0 or poly.coeff_monomial(C * S) != 0:
+            continue
+        line = sp.Poly(sp.expand(circle - lam * (C**2 + S**2 - 1)), C, S)
+        if line.total_degree() > 1:
+            continue
+        P, Q = line.coeff_monomial(C), line.coeff_monomial(S)
+        return tuple(sp.factor(x) for x in (P, Q, -line.coeff_monomial(1)))
+    raise NotSolvable(f"no line found for the angle {name}: not a dyad of the supported kinds")
+
+
+def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots):
+    """+1 or -1: the sign of the root for which the model's assembly-mode conditions hold.
+
+    A condition is an expression of the coordinates that is positive in the declared mode.
+    It is evaluated (30 digits) at the example parameters, at angles where every radicand so
+    far is positive; the answer must be the same at every such angle."""
+    import mpmath
+
+    to_unknowns = {}
+    for name, (A, B) in pairs.items():
+        to_unknowns[sp.cos(sym[name])] = A
+        to_unknowns[sp.sin(sym[name])] = B
+    norm = P**2 + Q**2
+    sign = sp.Symbol("sign")
+    cs = {C: (P * W - sign * Q * rho) / norm, S: (Q * W + sign * P * rho) / norm}
+    point = {**{u: v.subs(cs) for u, v in known.items()}, **cs}
+    conditions = [sp.sympify(c).subs(mechanism.freezer()).subs(to_unknowns).subs(point)
+                  for c in mechanism.assembly_modes]
+    conditions = [c for c in conditions if c.has(sign)]
+    example = mechanism.example()
+    args = [theta, sign] + [r.symbol for r in roots] + [rho]
+    radicands = [sp.lambdify([theta] + [r.symbol for r in roots[:i]], r.radicand.subs(example),
+                             "mpmath") for i, r in enumerate(roots)]
+    own = sp.lambdify([theta] + [r.symbol for r in roots], (norm - W**2).subs(example), "mpmath")
+    tests = [sp.lambdify(args, c.subs(example), "mpmath") for c in conditions]
+    votes = set()
+    with mpmath.workdps(30):
+        for th in mpmath.linspace(-mpmath.pi, mpmath.pi, 61)[1:]:
+            values = []
+            for rad in radicands:
+                values.append(rad(th, *values))
+                values[-1] = mpmath.sqrt(values[-1]) if values[-1] > 0 else None
+                if values[-1] is None:
+                    break
+            if None in values or not own(th, *values) > 0:
+                continue
+            r = mpmath.sqrt(own(th, *values))
+            holds = {s: bool(tests) and all(t(th, s, *values, r) > 0 for t in tests)
+                     for s in (1, -1)}
+            if holds[1] != holds[-1]:
+                votes.add(1 if holds[1] else -1)
+    if len(votes) != 1:
+        state = "ambiguous" if votes else "not decided by any assembly-mode condition"
+        raise NotSolvable(f"the assembly mode of {C.name[2:]} is {state}")
+    return votes.pop()

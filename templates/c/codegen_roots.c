@@ -1,0 +1,567 @@
+/*
+ * codegen_roots.c -- real roots of a polynomial of any degree n in [1, CODEGEN_MAX_DEGREE],
+ *     p(tau) = sum_{i=0}^{n} sigma_i tau^i,   tau = tan(theta / 2),
+ * reported as angles theta = 2 atan(tau) in (-pi, pi] (see codegen_runtime.h for the contract).
+ * Hand-written (not generated); shared by every generated library, whatever the mechanism.
+ * Plain C99 + libm; no allocation, no mutable static state, no I/O.
+ *
+ * Why not companion-matrix eigenvalues (GSL, numpy.roots): they return complex approximations
+ * and leave "is this root real?" to an arbitrary tolerance on the imaginary part, which fails
+ * in exactly the cases that equilibrium polynomials produce (close pairs such as 5e-4 apart,
+ * double roots). Here every real root is isolated by sign changes that are certified against a
+ * rounding-error bound:
+ *
+ * 1. Two charts on bounded intervals, so no root bound is needed and tau = infinity is an
+ *    ordinary point: chart A is p(tau) on [-1, 1] (|theta| <= 90 deg); chart B is the reversed
+ *    polynomial q(u) = u^m p(1/u) on the open interval (-1, 1) (|theta| > 90 deg; u = 0 is
+ *    theta = pi). Both use the input's coefficients unchanged. The seam tau = +-1 belongs to
+ *    chart A: chart B takes its endpoint signs from it (q(1) = p(1), q(-1) = (-1)^m p(-1)) and
+ *    leaves it any run of untrusted signs touching an endpoint, so a seam root is found once.
+ *    A factor cos^2(theta) = ((1 - tau^2) / (1 + tau^2))^2, common in degenerate
+ *    configurations of mechanisms, puts double roots exactly on the seam, and rounding in the
+ *    coefficients moves f's critical point there a few ulps either way, possibly outside both
+ *    charts. So chart A also applies rule 5 at the seam, to the critical point
+ *    c = x - f'/f'' of f's quadratic model there when |c - x| <= CR_PAIR. Such a root is
+ *    reported on the seam if f' may vanish there within 5(a)'s coefficient uncertainty, else
+ *    at c; a split pair straddling the seam is one root.
+ * 2. A power-of-two normalisation (exact) removes the overall magnitude; exactly zero low/high
+ *    coefficients are stripped: a factor tau^k gives theta = 0, a degree drop (sigma_n = 0)
+ *    theta = pi, each reported once whatever the multiplicity.
+ * 3. Isolation by recursion on derivatives: the real roots of f' cut [-1, 1] into pieces on
+ *    which f is monotone, so a piece holds at most one root, bracketed by a sign change and
+ *    found by Newton safeguarded with bisection. Starting from the linear (m-1)-th derivative,
+ *    each level's roots are the next level's critical points.
+ * 4. Values come from the compensated Horner scheme, as accurate as Horner's rule in twice the
+ *    working precision. Plain Horner is not enough: between roots of a close pair (0.03 deg
+ *    apart, as real mechanisms produce) the extremum of f can be only ~1e-16..1e-13 of the
+ *    terms summed, i.e. at plain Horner's error level, and merging such pairs would lose two
+ *    equilibria. (The error-free transformations need IEEE double arithmetic: no -ffast-math,
+ *    no x87 extended precision.) Plain Horner (with its rigorous error bound) is used only
+ *    where that bound already certifies the outcome: a sign far from zero, or a point clearly
+ *    not a root; anything closer is decided by the compensated values.
+ * 5. A critical point (or the seam, see 1) is a multiple root (reported once; there is no
+ *    sign change to bracket) if |f| there is within the compensated error bound plus f's
+ *    variation over the point's own uncertainty, or if both (a) changing each coefficient by
+ *    CR_ULPS ulps of the largest one can make f vanish there and (b) the two roots beside it
+ *    (real or complex, |x - c| ~ sqrt(2|f|/|f''|)) lie within CR_PAIR of it. Such a pair
+ *    cannot be told from a double root whose coefficients carry rounding errors: generated
+ *    coefficients come from long expressions, and one that should vanish (from a factor such
+ *    as sin^2(theta)) is a residue of terms as large as the other coefficients, hence (a) is
+ *    norm-wise. With double roots' coefficients computed in double arithmetic, allowing 1 ulp
+ *    missed or doubled 11% of them in trials at degree 12, 16 ulps 0.03%, 64 none; (b) keeps
+ *    genuine close pairs separate (a pair 0.03 deg apart in theta is still ~25x farther apart
+ *    than CR_PAIR).
+ *    Runs of consecutive such points are one root.
+ *
+ * Arrays are sized for CODEGEN_MAX_DEGREE; the degree itself is a run-time argument, and for
+ * every degree exactly sigma[0..degree] is read.
+ */
+#include "codegen_runtime.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+#define CR_MAXN CODEGEN_MAX_DEGREE        /* array bound: the largest degree accepted */
+#define CR_PI 3.14159265358979323846264338327950288
+#define CR_ULPS 64.0                       /* see 5(a) */
+#define CR_PAIR 1e-5                       /* see 5(b); in chart units (theta ~ 2 u) */
+#define CR_MAXIT 400                       /* iteration cap: ~60 halvings reach full relative
+                                              precision; only a root at 0 needs more, and there
+                                              Newton converges (fast) */
+
+/* One step s <- s x + a of the compensated Horner scheme below: s + c carries the value, m the
+ * sum of |a_i||x|^i; xh + xl = x is x split by split(). The product's rounding error pe comes
+ * from fma where the hardware has it (FP_FAST_FMA); else from Dekker's TwoProduct, equally
+ * exact (no overflow can occur here: |s| stays far below 2^995) and much faster than a call to
+ * a software fma, around which every floating-point register must be saved. */
+static inline void split(double a, double *hi, double *lo)
+{
+    const double t = 134217729.0 * a;                     /* Veltkamp: 2^27 + 1 */
+    *hi = t - (t - a);
+    *lo = a - *hi;
+}
+
+static inline void cstep(double *s, double *c, double *m, double x, double xh, double xl,
+                         double ax, double a)
+{
+    const double p = *s * x;
+#ifdef FP_FAST_FMA
+    const double pe = fma(*s, x, -p);                     /* s * x = p + pe exactly */
+    (void)xh;
+    (void)xl;
+#else
+    double sh, sl;
+    split(*s, &sh, &sl);
+    const double pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl;   /* likewise */
+#endif
+    const double t = p + a;
+    const double z = t - p;
+    const double se = (p - (t - z)) + (a - z);           /* p + a = t + se exactly */
+    *s = t;
+    *c = *c * x + (pe + se);
+    *m = *m * ax + fabs(a);
+}
+
+/* f(x) = sum a[i] x^i by the compensated Horner scheme (Graillat, Langlois & Louvet, 2005):
+ * error-free transformations (TwoProduct for the product, see cstep; Knuth's TwoSum for the
+ * sum) give |result - f(x)| <= u |f(x)| + gamma_{2n}^2 sum |a_i||x|^i. *mag receives
+ * sum |a_i||x|^i. */
+static double eval(const double *a, int n, double x, double *mag)
+{
+    double s = a[n];
+    double c = 0.0;
+    double m = fabs(a[n]);
+    const double ax = fabs(x);
+    double xh, xl;
+    split(x, &xh, &xl);
+    for (int i = n - 1; i >= 0; --i) {
+        cstep(&s, &c, &m, x, xh, xl, ax, a[i]);
+    }
+    *mag = m;
+    return s + c;
+}
+
+/* f, f' and f'' (degrees n >= 1, n - 1, n - 2; f'' = 0 when n < 2) at x, each exactly as eval
+ * computes it, in one loop so that the three independent recurrences overlap. */
+static void eval3(const double *f, const double *df, const double *d2f, int n, double x,
+                  double v[3], double mag[3])
+{
+    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
+    double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const double ax = fabs(x);
+    double xh, xl;
+    split(x, &xh, &xl);
+    int i = n - 1;
+    for (; i >= 2; --i) {
+        cstep(&s0, &c0, &m0, x, xh, xl, ax, f[i]);
+        cstep(&s1, &c1, &m1, x, xh, xl, ax, df[i - 1]);
+        cstep(&s2, &c2, &m2, x, xh, xl, ax, d2f[i - 2]);
+    }
+    for (; i >= 1; --i) {
+        cstep(&s0, &c0, &m0, x, xh, xl, ax, f[i]);
+        cstep(&s1, &c1, &m1, x, xh, xl, ax, df[i - 1]);
+    }
+    cstep(&s0, &c0, &m0, x, xh, xl, ax, f[0]);
+    v[0] = s0 + c0;
+    v[1] = s1 + c1;
+    v[2] = s2 + c2;
+    mag[0] = m0;
+    mag[1] = m1;
+    mag[2] = m2;
+}
+
+/* f(x) = sum a[i] x^i by the second-order Horner scheme: f = E(x^2) + x O(x^2), the even and
+ * odd parts by Horner's rule in y = x^2, two independent recurrences of half the length. With
+ * *mag = sum |a_i||x|^i, the result is within gamma_{3n/2+2} mag <= gamma_{4n} mag of f(x)
+ * (the Horner bound, Higham, Accuracy and Stability of Numerical Algorithms, 5.1, applied to
+ * each part, plus the rounding of y and of the final product and sum). */
+static inline double horner_eo(const double *a, int n, double x, double y, double ax,
+                               double *mag)
+{
+    int i = n - (n % 2);                                /* highest even index */
+    int k = n - 1 + (n % 2);                            /* highest odd index (-1 if none) */
+    double e = a[i], me = fabs(a[i]);
+    double o = 0.0, mo = 0.0;
+    if (k > 0) {
+        o = a[k];
+        mo = fabs(a[k]);
+    }
+    for (i -= 2, k -= 2; i >= 0; i -= 2, k -= 2) {
+        e = e * y + a[i];
+        me = me * y + fabs(a[i]);
+        if (k >= 1) {
+            o = o * y + a[k];
+            mo = mo * y + fabs(a[k]);
+        }
+    }
+    *mag = me + ax * mo;
+    return e + x * o;
+}
+
+/* f(x) and f'(x) (df: f's derivative, degree n - 1 >= 0) by horner_eo, with their sums
+ * *mag and *dmag. A value that exceeds PLAIN_OK's margin (gamma_{4n} mag) has a certain sign
+ * and a small relative error. */
+#define PLAIN_OK(v, n, mag) (fabs(v) > 4.0 * (double)(n) * DBL_EPSILON * (mag))
+static double horner2(const double *a, const double *df, int n, double x, double *mag,
+                      double *dv, double *dmag)
+{
+    const double y = x * x;
+    const double ax = fabs(x);
+    *dv = horner_eo(df, n - 1, x, y, ax, dmag);
+    return horner_eo(a, n, x, y, ax, mag);
+}
+
+/* f, f' and f'' as eval3 takes them, by plain Horner's rule, with the sums mag as eval3 gives
+ * them; each value is within gamma_{2n} times its mag of the truth (Higham, 5.1). */
+static void horner3(const double *f, const double *df, const double *d2f, int n, double x,
+                    double v[3], double mag[3])
+{
+    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
+    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const double ax = fabs(x);
+    int i = n - 1;
+    for (; i >= 2; --i) {
+        s0 = s0 * x + f[i];
+        s1 = s1 * x + df[i - 1];
+        s2 = s2 * x + d2f[i - 2];
+        m0 = m0 * ax + fabs(f[i]);
+        m1 = m1 * ax + fabs(df[i - 1]);
+        m2 = m2 * ax + fabs(d2f[i - 2]);
+    }
+    for (; i >= 1; --i) {
+        s0 = s0 * x + f[i];
+        s1 = s1 * x + df[i - 1];
+        m0 = m0 * ax + fabs(f[i]);
+        m1 = m1 * ax + fabs(df[i - 1]);
+    }
+    v[0] = s0 * x + f[0];
+    v[1] = s1;
+    v[2] = s2;
+    mag[0] = m0 * ax + fabs(f[0]);
+    mag[1] = m1;
+    mag[2] = m2;
+}
+
+/* Root of f (degree n, derivative df) in (lo, hi), where f is monotone with the trusted sign
+ * slo at lo and -slo at hi. Newton steps are taken only while they stay inside the bracket and
+ * at least halve the step before last (the rule of Numerical Recipes' rtsafe); else bisect. A
+ * Newton step below the resolution of x ends the search. f is evaluated by plain Horner where
+ * that certifies its sign, else by the compensated scheme; f' only steers Newton, so plain
+ * Horner serves. *del receives the uncertainty of the result: the last step plus the root's
+ * sensitivity to a relative change ceps in each coefficient. */
+static double solve(const double *f, const double *df, int n, double ceps, double lo,
+                    double hi, int slo, double *del)
+{
+    double x = 0.5 * (lo + hi);
+    double dx = hi - lo;
+    double mag, dv, dmag;
+    for (int it = 0;; ++it) {
+        double v = horner2(f, df, n, x, &mag, &dv, &dmag);
+        if (!PLAIN_OK(v, n, mag)) {
+            v = eval(f, n, x, &mag);
+        }
+        if (v == 0.0) {
+            dx = 0.0;
+            break;
+        }
+        if ((v > 0.0) == (slo > 0)) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        if (it == CR_MAXIT) {
+            break;                        /* x, mag, dv: the last point evaluated */
+        }
+        const double dxold = dx;
+        if (dv != 0.0) {
+            dx = v / dv;
+            const double xn = x - dx;
+            if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+                /* Newton step below the resolution of x: converged (even if xn rounds onto or
+                 * just past an end of the bracket, which the test below would reject). */
+                if (xn > lo && xn < hi) {
+                    x = xn;
+                }
+                break;
+            }
+            if (xn > lo && xn < hi && fabs(2.0 * dx) <= fabs(dxold)) {
+                x = xn;
+                continue;
+            }
+        }
+        dx = 0.5 * (hi - lo);
+        x = lo + dx;
+        if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+            break;
+        }
+    }
+    /* mag, dv: from the last evaluation, at most a step below the resolution of x away. */
+    if (!PLAIN_OK(dv, n - 1, dmag)) {
+        dv = eval(df, n - 1, x, &dmag);
+    }
+    dv = fabs(dv);
+    *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
+    return x;
+}
+
+/* Roots on [-1, 1] of f = d[k] (degree n = m - k; f', f'' follow), given the sorted roots
+ * crit[0..nc) of f' with their uncertainties cdel. ceps: uncertainty of f's coefficients in
+ * units of their size (5a). Writes sorted roots to rt, uncertainties to rdel; returns their
+ * number (at most nc + 1). ends_in != NULL (chart B, level 0): endpoint signs are imposed,
+ * and runs of untrusted signs touching an endpoint are left to chart A. ends_out != NULL
+ * (chart A, level 0): the endpoints (the seam) are also tested by rule 5; their signs are
+ * stored there. */
+static int level_roots(const double *f, const double *df, const double *d2f, int n,
+                       double ceps, const double *crit, const double *cdel, int nc,
+                       const int *ends_in, int *ends_out, double *rt, double *rdel)
+{
+    double px[CR_MAXN + 2], pv[CR_MAXN + 2], pd[CR_MAXN + 2];  /* points, f, uncertainty */
+    int ps[CR_MAXN + 2] = {0};                               /* trusted sign, 0 = root */
+    const int np = nc + 2;
+    const double g = (double)n * DBL_EPSILON;                /* gamma_{2n} */
+    double amax = 0.0;                                       /* largest |coefficient| */
+    for (int i = 0; i <= n; ++i) {
+        amax = (fabs(f[i]) > amax) ? fabs(f[i]) : amax;
+    }
+
+    px[0] = -1.0;
+    pd[0] = 0.0;
+    for (int i = 0; i < nc; ++i) {
+        px[i + 1] = crit[i];
+        pd[i + 1] = cdel[i];
+    }
+    px[np - 1] = 1.0;
+    pd[np - 1] = 0.0;
+
+    for (int j = 0; j < np; ++j) {
+        double pw = 0.0;                                     /* sum |x|^i */
+        for (int i = 0; i <= n; ++i) {
+            pw = pw * fabs(px[j]) + 1.0;
+        }
+        double vals[3], mags[3];
+        const int inner = j > 0 && j < np - 1;
+        if (inner || ends_out == NULL) {
+            /* Fast path (all points but the seam's): if plain Horner's values, widened by their
+             * error bounds (and a factor 2), show that neither the tolerance test below nor, at
+             * a critical point, 5(a)-(b) can hold, the point has a trusted sign and nothing
+             * else of it is used. Otherwise (the few points near a root of f) the compensated
+             * values decide as below. */
+            horner3(f, df, d2f, n, px[j], vals, mags);
+            const double e0 = 4.0 * (double)n * DBL_EPSILON * mags[0];
+            const double vlo = fabs(vals[0]) - e0;
+            const double d1up = fabs(vals[1]) + 4.0 * (double)n * DBL_EPSILON * mags[1];
+            const double d2up = fabs(vals[2]) + 4.0 * (double)n * DBL_EPSILON * mags[2];
+            const double tolup = DBL_EPSILON * (fabs(vals[0]) + e0) + 2.0 * g * g * mags[0] +
+                                 (d1up + 0.5 * d2up * pd[j]) * pd[j];
+            if (vlo > 2.0 * tolup && (!inner || vlo > 2.0 * ceps * amax * pw ||
+                                      vlo > d2up * CR_PAIR * CR_PAIR)) {
+                pv[j] = vals[0];
+                ps[j] = (vals[0] > 0.0) ? 1 : -1;
+                continue;
+            }
+        }
+        eval3(f, df, d2f, n, px[j], vals, mags);
+        const double v = vals[0];
+        const double mag = mags[0];
+        const double d1s = vals[1];
+        const double d2s = vals[2];
+        const double d1 = fabs(d1s);
+        const double d2 = fabs(d2s);
+        /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
+        double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
+        int zero = fabs(v) <= tol;
+        /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
+         * point x + dc of f's quadratic model there (value fc), if it is within CR_PAIR. */
+        const int seam = ends_out != NULL && (j == 0 || j == np - 1);
+        const double dc = (seam && d2 > 0.0) ? -d1s / d2s : 0.0;
+        double fc = v + 0.5 * d1s * dc;
+        if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= CR_PAIR)) &&
+            fabs(fc) <= ceps * amax * pw && 2.0 * fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
+            zero = 1;                                        /* 5(a) and 5(b) */
+            tol = ceps * amax * pw;
+            if (seam && d1 > 0.5 * (double)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
+                px[j] += dc;
+            } else if (seam) {
+                fc = 0.0;                       /* on the seam: it stands for its run */
+            }
+        }
+        pv[j] = fc;
+        ps[j] = zero ? 0 : (v > 0.0 ? 1 : -1);
+        /* Should the point stand for a root, how far that root may be from it. */
+        double est = CR_PAIR;
+        if (d1 > 0.0) {
+            est = fmin(est, tol / d1);
+        }
+        if (d2 > 0.0) {
+            est = fmin(est, sqrt(2.0 * tol / d2));
+        }
+        pd[j] += est;
+    }
+    if (ends_in != NULL) {
+        ps[0] = ends_in[0];
+        ps[np - 1] = ends_in[1];
+    }
+    if (ends_out != NULL) {
+        ends_out[0] = ps[0];
+        ends_out[1] = ps[np - 1];
+    }
+
+    int nr = 0;
+    int run_start = -1;          /* first index of the current run of untrusted signs */
+    double best = 0.0;           /* smallest |f| in that run; its point represents the run */
+    for (int j = 0; j < np; ++j) {
+        if (ps[j] == 0) {
+            if (run_start < 0) {
+                run_start = j;
+                best = fabs(pv[j]);
+                rt[nr] = px[j];
+                rdel[nr] = pd[j];
+                ++nr;
+            } else if (fabs(pv[j]) < best) {
+                best = fabs(pv[j]);
+                rt[nr - 1] = px[j];
+                rdel[nr - 1] = pd[j];
+            }
+            continue;
+        }
+        if (run_start >= 0) {
+            if (ends_in != NULL && run_start == 0) {
+                --nr;            /* seam root already reported by chart A */
+            }
+            run_start = -1;
+        } else if (j > 0 && ps[j - 1] == -ps[j]) {
+            rt[nr] = solve(f, df, n, ceps, px[j - 1], px[j], ps[j - 1], &rdel[nr]);
+            ++nr;
+        }
+    }
+    if (run_start >= 0 && ends_in != NULL) {
+        --nr;                    /* run reaching the right endpoint: chart A's */
+    }
+    return nr;
+}
+
+/* Roots of c[0..m] (1 <= m <= CR_MAXN) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted,
+ * into roots (room for m values; at most m are written). */
+static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out, double *roots)
+{
+    double d[CR_MAXN + 1][CR_MAXN + 1];  /* d[k] = k-th derivative, degree m - k */
+    double cdel[CR_MAXN] = {0.0}, rt[CR_MAXN], rdel[CR_MAXN];
+    double *crit = roots;                /* each level's roots are the next one's critical points */
+    int nc = 0;
+
+    for (int i = 0; i <= m; ++i) {
+        d[0][i] = c[i];
+    }
+    for (int k = 1; k <= m; ++k) {
+        for (int i = 0; i <= m - k; ++i) {
+            d[k][i] = (double)(i + 1) * d[k - 1][i + 1];
+        }
+    }
+    for (int k = m - 1; k >= 0; --k) {
+        const double *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
+        /* d[k]'s coefficients: the input's uncertainty plus one ulp per differentiation. */
+        const double ceps = (CR_ULPS + (double)k) * DBL_EPSILON;
+        const int nr = level_roots(d[k], d[k + 1], d2f, m - k, ceps, crit, cdel, nc,
+                                   k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
+                                   rt, rdel);
+        for (int i = 0; i < nr; ++i) {
+            crit[i] = rt[i];
+            cdel[i] = rdel[i];
+        }
+        nc = nr;
+    }
+    return nc;
+}
+
+/* theta = 2 atan(1/u) in (-pi, pi]; u = 0 (tau = infinity) is pi. The two branches avoid the
+ * cancellation of subtracting 2 pi. */
+static double theta_of_u(double u)
+{
+    const double t = (u >= 0.0) ? 2.0 * atan2(1.0, u) : -2.0 * atan2(1.0, -u);
+    return (t <= -CR_PI) ? CR_PI : t;
+}
+
+/* The contract is in codegen_runtime.h. Outputs are written only on success. */
+codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, double *theta,
+                                             int *n_roots)
+{
+    double s[CR_MAXN + 1];
+    double out[2 * CR_MAXN + 2];
+    double amax = 0.0;
+    int nout = 0;
+    int e;
+
+    /* The degree first: it says how much of sigma may be read. */
+    if (degree < 1 || degree > CR_MAXN) {
+        return CODEGEN_ROOTS_ERR_DEGREE;
+    }
+    if (sigma == NULL || theta == NULL || n_roots == NULL) {
+        return CODEGEN_ROOTS_ERR_NULL_POINTER;
+    }
+    for (int i = 0; i <= degree; ++i) {
+        if (!isfinite(sigma[i])) {
+            return CODEGEN_ROOTS_ERR_NONFINITE;
+        }
+        amax = fmax(amax, fabs(sigma[i]));
+    }
+    if (amax == 0.0) {
+        return CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL;
+    }
+
+    /* Power-of-two scaling is exact: results do not depend on the overall magnitude. */
+    (void)frexp(amax, &e);
+    for (int i = 0; i <= degree; ++i) {
+        s[i] = ldexp(sigma[i], -e);
+    }
+    int lo = 0;
+    int hi = degree;
+    while (s[lo] == 0.0) {                /* stops: some s[i] != 0 since amax > 0 */
+        ++lo;
+    }
+    while (s[hi] == 0.0) {
+        --hi;
+    }
+    if (lo > 0) {
+        out[nout++] = 0.0;                /* factor tau^lo */
+    }
+    if (hi < degree) {
+        out[nout++] = CR_PI;              /* degree drop: roots at tau = infinity */
+    }
+    const int m = hi - lo;
+    if (m > 0) {
+        double a[CR_MAXN + 1], q[CR_MAXN + 1], r[CR_MAXN];
+        int ends[2], ends_b[2];
+        for (int i = 0; i <= m; ++i) {
+            a[i] = s[lo + i];
+            q[m - i] = s[lo + i];
+        }
+        const int na = chart_roots(a, m, NULL, ends, r);
+        for (int i = 0; i < na; ++i) {
+            out[nout++] = 2.0 * atan(r[i]);
+        }
+        ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
+        ends_b[1] = ends[1];
+        const int nb = chart_roots(q, m, ends_b, NULL, r);
+        for (int i = 0; i < nb; ++i) {
+            out[nout++] = theta_of_u(r[i]);
+        }
+    }
+
+    /* Insertion sort; then merge values equal to working precision (also across the wrap at
+     * +-pi): the same root seen by both charts, or roots no double can tell apart. */
+    for (int i = 1; i < nout; ++i) {
+        const double t = out[i];
+        int j = i - 1;
+        while (j >= 0 && out[j] > t) {
+            out[j + 1] = out[j];
+            --j;
+        }
+        out[j + 1] = t;
+    }
+    const double tiny = 4.0 * DBL_EPSILON;
+    int n = 0;
+    for (int i = 0; i < nout; ++i) {
+        if (n == 0 || out[i] - out[n - 1] > tiny) {
+            out[n++] = out[i];
+        }
+    }
+    if (n > 1 && out[0] + 2.0 * CR_PI - out[n - 1] <= tiny) {
+        for (int i = 1; i < n; ++i) {
+            out[i - 1] = out[i];
+        }
+        --n;
+    }
+    /* Never reached in exact arithmetic (a polynomial of degree n has at most n roots on the
+     * projective line, tau = 0 and tau = infinity included); keeps the output within the
+     * caller's degree values should rounding ever make the charts disagree. */
+    if (n > degree) {
+        n = degree;
+    }
+    for (int i = 0; i < n; ++i) {
+        theta[i] = out[i];
+    }
+    *n_roots = n;
+    return CODEGEN_ROOTS_OK;
+}
