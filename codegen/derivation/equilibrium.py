@@ -37,7 +37,8 @@ class Equilibrium:
     roots: tuple[Root, ...]
     branches: tuple[Branch, ...]    # branches[0]: every root positive (the declared mode)
     polynomial: Polynomial | None   # (45) generalised; None when G is transcendental
-    assembly: tuple[sp.Expr, ...]   # radicands of the assembly roots: >= 0 where it assembles
+    radicands: tuple[sp.Expr, ...]  # of every root on the declared branch, roots written out
+    radicand_scales: tuple[sp.Expr, ...]  # sum of |terms| of each radicand
 
     @property
     def sigma(self) -> tuple[sp.Expr, ...]:
@@ -84,13 +85,19 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
     for signs in itertools.product((1, -1), repeat=len(roots)):
         branches.append(Branch(signs, on_branch(residual, roots, signs),
                                sum((sp.Abs(on_branch(t, roots, signs)) for t in terms), sp.S.Zero)))
+    declared = (1,) * len(roots)
     polynomial = None
     if is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
             is_algebraic(r.radicand, theta) for r in roots):
         polynomial = eliminate(common_numerator(terms), theta, roots, parameters)
     return Equilibrium(
-        residual=on_branch(residual, roots, (1,) * len(roots)),
+        residual=on_branch(residual, roots, declared),
         roots=roots, branches=tuple(branches), polynomial=polynomial,
-        assembly=tuple(on_branch(r.radicand, roots, (1,) * len(roots)) for r in roots
-                       if r.kind == "assembly"),
+        radicands=tuple(on_branch(r.radicand, roots, declared) for r in roots),
+        radicand_scales=tuple(on_branch(_magnitude(r.radicand), roots, declared) for r in roots),
     )
+
+
+def _magnitude(expr: sp.Expr) -> sp.Expr:
+    """Sum of |term| over the expanded terms: the size rounding is relative to."""
+    return sum((sp.Abs(t) for t in sp.Add.make_args(sp.expand(expr))), sp.S.Zero)

@@ -40,6 +40,8 @@ class CFunction:
     equation: str
     inputs: tuple[Input, ...]
     outputs: tuple[Output, ...]
+    # A straight-line program the outputs are written in: (symbol, expression) in order.
+    definitions: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -67,16 +69,20 @@ GENERIC_STATUSES = (
 @dataclass(frozen=True)
 class Plan:
     prefix: str
+    title: str
     parameters: tuple[tuple[str, str, str, str], ...]  # (name, unit, description, example)
     sizes: dict[str, int]
     requirements: tuple                            # model.Requirement
     singular_state: str
     functions: tuple[CFunction, ...]
-    singular_length: int = -1          # coordinate whose vanishing is the singular state
-    length_coordinates: tuple[int, ...] = ()  # coordinates measured in metres
+    root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
+    range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
 
     def function(self, name: str) -> CFunction:
         return next(f for f in self.functions if f.name == name)
+
+    def has(self, name: str) -> bool:
+        return any(f.name == name for f in self.functions)
 
     @property
     def statuses(self) -> tuple[Status, ...]:
@@ -108,15 +114,18 @@ def build_plan(d: Derivation) -> Plan:
     theta = Input(red.theta.name, (red.theta,), f"independent coordinate {red.theta.name} [rad]")
     theta_d = Input(red.theta_d.name, (red.theta_d,), "its rate [rad/s]")
     theta_e = Input(red.theta.name, (red.theta,), "equilibrium angle theta_E [rad]")
+    n_roots = len(eq.roots)
+    kinds = ", ".join(f"{r.kind}" for r in eq.roots)
 
     def vec(M) -> tuple:
         return tuple(fr(e) for e in M)
 
-    def fn(key: str, summary: str, inputs, outputs) -> CFunction:
-        return CFunction(key, summary, m.equations.get(key, ""), tuple(inputs), tuple(outputs))
+    def fn(key: str, summary: str, inputs, outputs, definitions=()) -> CFunction:
+        return CFunction(key, summary, m.equations.get(key, ""), tuple(inputs), tuple(outputs),
+                         tuple(definitions))
 
     points = kin.point_positions
-    functions = (
+    constrained = (
         fn("position_constraints", "Position constraints f(q) = 0 (zero on the mechanism).",
            [coords], [Output("f", vec(kin.constraints), "constraint values [m]", "N_CONSTRAINTS")]),
         fn("constraint_jacobian", "Velocity-constraint matrix A = df/dq, so that A qdot = 0.",
@@ -129,6 +138,8 @@ def build_plan(d: Derivation) -> Plan:
         fn("acceleration_constraints", "Acceleration constraints A qddot + Adot qdot = 0.",
            [coords, rates, accels],
            [Output("f_dd", vec(kin.acceleration_constraints), "values [m/s^2]", "N_CONSTRAINTS")]),
+    ) if c else ()
+    general = (
         fn("point_kinematics",
            f"Positions and velocities of the points {', '.join(points)} (x, y for each).",
            [coords, rates],
@@ -145,7 +156,7 @@ def build_plan(d: Derivation) -> Plan:
         fn("lagrange_terms",
            "Terms of Lagrange's equations with multipliers, one entry per coordinate; "
            "residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.",
-           [coords, rates, accels, multipliers],
+           [coords, rates, accels] + ([multipliers] if c else []),
            [Output("dt_dL_dqdot", vec(dyn.dt_dL_dqdot), "d/dt (dL/dqdot) [N or N m]", "N_COORDS"),
             Output("dL_dq", vec(dyn.dL_dq), "dL/dq [N or N m]", "N_COORDS"),
             Output("constraint_forces", vec(dyn.constraint_forces), "A^T lambda", "N_COORDS"),
@@ -154,27 +165,47 @@ def build_plan(d: Derivation) -> Plan:
             Output("residual", vec(dyn.residual()), "left minus right side of (15)",
                    "N_COORDS")]),
         fn("dependent_state",
-           "All coordinates and rates from the independent angle and its rate.",
+           "All coordinates and rates from the independent angle and its rate "
+           "(the declared assembly mode).",
            [theta, theta_d],
            [Output("coords", tuple(red.positions), f"coordinates: {units}", "N_COORDS"),
             Output("rates", tuple(red.velocities), "their rates [unit/s]", "N_COORDS")]),
         fn("reduced_coefficients",
-           "Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + e3 sin + e4 cos = 0.",
-           [theta], [Output("e", red.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s], e3 [N m], "
-                                        "e4 [N m]", "N_REDUCED")]),
+           "Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.",
+           [theta], [Output("e", red.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s]", "N_REDUCED")]),
         fn("angular_acceleration", "thetaddot from the reduced equation of motion.",
            [theta, theta_d], [Output("theta_dd", (red.angular_acceleration,), "[rad/s^2]")]),
-        fn("equilibrium_residual", "Static equilibrium residual G(theta); zero at equilibria.",
-           [theta], [Output("residual", (eq.residual,), "[N m]")]),
+        fn("equilibrium_residual",
+           "Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and "
+           "the sum of the magnitudes of its contributions (springs, gravity, loads).",
+           [theta], [Output("residual", (eq.residual,), "G [N m]"),
+                     Output("scale", (eq.branches[0].scale,), "[N m]")]),
+    )
+    branched = (
+        fn("radicands",
+           f"The radicands under the square roots of the position analysis ({kinds}), on the "
+           "declared branch, and the sum of the magnitudes of their terms. An assembly "
+           "radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: "
+           "a singular state (a limit position or a vanishing length).",
+           [theta], [Output("values", tuple(eq.radicands), "[unit^2]", "N_ROOTS"),
+                     Output("scales", tuple(eq.radicand_scales), "[unit^2]", "N_ROOTS")]),
         fn("equilibrium_branches",
-           "r*G = alpha + beta*r (genuine branch) and beta*r - alpha (the branch squaring "
-           "adds); a root of the degree-12 polynomial zeroes one of them.",
-           [theta], [Output("genuine", (eq.genuine_branch,), "[N m^2]"),
-                     Output("extraneous", (eq.extraneous_branch,), "[N m^2]")]),
+           f"G on each of the {2 ** n_roots} branches (sign choices of the square roots; "
+           "branch j takes root i negative when bit i of j is set; branch 0 is the mechanism "
+           "as declared). A root of the polynomial zeroes G on one branch.",
+           [theta], [Output("residuals", tuple(b.residual for b in eq.branches), "[N m]",
+                            "N_BRANCHES")]),
+    ) if n_roots else ()
+    polynomial = (
         fn("sigma",
-           f"Coefficients sigma_0..sigma_{len(eq.sigma) - 1} of sum sigma_i tau^i = "
-           f"(1+tau^2)^{eq.weight} (beta^2 r^2 - alpha^2), tau = tan(theta/2).",
-           [], [Output("sigma", eq.sigma, "[N^2 m^4]", "N_SIGMA")]),
+           f"Coefficients sigma_0..sigma_{eq.polynomial.degree} of sum sigma_i tau^i "
+           f"(tau = tan(theta/2)), which vanishes wherever G does on some branch: the "
+           f"numerator of G with every square root eliminated, times (1+tau^2)^"
+           f"{eq.polynomial.weight}.",
+           [], [Output("sigma", eq.polynomial.coefficients, "[as derived]", "N_SIGMA")],
+           eq.polynomial.definitions),
+    ) if eq.polynomial else ()
+    dynamics_at_rest = (
         fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
            [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
                        Output("B", (lin.damping,), "B_EQ [N m s]"),
@@ -184,18 +215,21 @@ def build_plan(d: Derivation) -> Plan:
            [theta_e], [Output("omega_n_squared", (lin.omega_n_squared,), "[rad^2/s^2]"),
                        Output("zeta_omega_n", (lin.zeta_omega_n,), "[1/s]")]),
     )
+    sizes = {"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
+             "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
+             "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots}
+    if eq.polynomial:
+        sizes |= {"DEGREE": eq.polynomial.degree, "N_SIGMA": eq.polynomial.degree + 1,
+                  "MAX_ROOTS": eq.polynomial.degree}
     return Plan(
         prefix=m.name,
+        title=m.title or m.name,
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
                          for p in m.parameters),
-        sizes={"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
-               "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
-               "N_REDUCED": len(red.e), "N_SIGMA": len(eq.sigma),
-               "MAX_ROOTS": len(eq.sigma) - 1},
+        sizes=sizes,
         requirements=m.requirements,
         singular_state=m.singular_state,
-        singular_length=next((i for i, c in enumerate(m.coordinates)
-                              for length, _ in m.polar_pairs[:1] if c.name == length), -1),
-        length_coordinates=tuple(i for i, c in enumerate(m.coordinates) if c.unit == "m"),
-        functions=functions,
+        root_kinds=tuple(r.kind for r in eq.roots),
+        range_centre=str(m.range_centre),
+        functions=constrained + general + branched + polynomial + dynamics_at_rest,
     )

@@ -70,20 +70,42 @@ def _temporary_prefix(used: set[sp.Symbol]) -> str:
     return prefix
 
 
+def needed_definitions(definitions, exprs) -> list:
+    """The definitions the expressions use, directly or through other definitions, in order."""
+    wanted = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+    kept = []
+    for symbol, definition in reversed(definitions):
+        if symbol in wanted:
+            kept.append((symbol, definition))
+            wanted |= definition.free_symbols
+    return kept[::-1]
+
+
 def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget) -> PrintedBody:
-    exprs = [e for o in function.outputs for e in o.exprs]
-    used = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+    # A parameter named like one of the function's arguments is unpacked as param_NAME.
+    arguments = {a.name for a in function.inputs + function.outputs}
+    renamed = {sp.Symbol(n, real=True): sp.Symbol(f"param_{n}", real=True)
+               for n in parameters if n in arguments}
+    exprs = [sp.sympify(e).xreplace(renamed) for o in function.outputs for e in o.exprs]
+    program = [(s, d.xreplace(renamed))
+               for s, d in needed_definitions(function.definitions, exprs)]
+    used = set().union(*(sp.sympify(e).free_symbols for e in exprs),
+                       *(d.free_symbols for _, d in program))
     prefix = _temporary_prefix(used)
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix),
                                    order="canonical")
+    replacements = program + replacements
     printer = target.printer
-    unpack = [(name, f"params->{name}") for name in parameters
-              if sp.Symbol(name, real=True) in used]
+    unpack = [(renamed.get(sp.Symbol(n, real=True), sp.Symbol(n)).name, f"params->{n}")
+              for n in parameters
+              if renamed.get(sp.Symbol(n, real=True), sp.Symbol(n, real=True)) in used]
+    used -= {symbol for symbol, _ in program}
     for arg in function.inputs:
         for i, sym in enumerate(arg.symbols):
             if sym in used:
                 unpack.append((sym.name, f"{arg.name}[{i}]" if arg.size else arg.name))
-    operations = sum(sp.count_ops(e) for _, e in replacements) + sum(sp.count_ops(e) for e in reduced)
+    operations = (sum(sp.count_ops(e) for _, e in replacements)
+                  + sum(sp.count_ops(e) for e in reduced))
     return PrintedBody(
         unpack=tuple((n, src) for n, src in unpack if n != src),
         temporaries=tuple((str(s), printer.doprint(e)) for s, e in replacements),

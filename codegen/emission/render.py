@@ -136,22 +136,27 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
-        "title": f"Vibration analysis of the {prefix} mechanism.",
+        "title": f"Vibration analysis of {plan.title}.",
         "sizes": sorted(plan.sizes.items()),
         "sizes_map": plan.sizes,
         "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
                      for s in plan.statuses],
         "parameters": plan.parameters,
         "singular_state": plan.singular_state,
-        "singular_length": plan.singular_length,
-        "length_coordinates": plan.length_coordinates,
+        "polynomial": plan.has("sigma"),
+        "root_kinds": plan.root_kinds,
+        "length_bits": sum(1 << i for i in range(2 ** len(plan.root_kinds))
+                           if any(i >> j & 1 and k == "length"
+                                  for j, k in enumerate(plan.root_kinds))),
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,
         "functions": [_rendered(f, plan, target) for f in plan.functions],
     }
-    templates = {f"{prefix}.h": f"{prefix}.h.j2", f"{prefix}.c": f"{prefix}.c.j2",
-                 f"{prefix}.cdef": f"{prefix}.cdef.j2", f"{prefix}_analysis.c": "analysis.c.j2"}
+    templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
+                 f"{prefix}.cdef": "library.cdef.j2"}
+    if context["polynomial"]:
+        templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)
@@ -165,6 +170,9 @@ def api_spec(plan: Plan) -> str:
 
     spec = {
         "prefix": plan.prefix,
+        "title": plan.title,
+        "root_kinds": list(plan.root_kinds),
+        "range_centre": plan.range_centre,
         "version": __version__,
         "parameters": [dict(zip(("name", "unit", "description", "example"), p))
                        for p in plan.parameters],

@@ -12,7 +12,7 @@ extern "C" {
 #endif
 
 #ifndef CODEGEN_MAX_DEGREE
-#define CODEGEN_MAX_DEGREE 32   /* largest degree the root finder accepts; stack use grows as its square */
+#define CODEGEN_MAX_DEGREE 64   /* largest degree the root finder accepts; stack use grows as its square */
 #endif
 
 /* Status of codegen_poly_real_roots. The values 0..3 deliberately equal the generated

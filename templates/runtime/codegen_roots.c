@@ -1,12 +1,15 @@
 /*
- * doughty_roots.c -- real roots of the equilibrium polynomial (45),
- *     p(tau) = sum_{i=0}^{12} sigma_i tau^i,   tau = tan(theta / 2).
- * Hand-written (not generated). Plain C99 + libm; no allocation, no mutable static state.
+ * codegen_roots.c -- real roots of a polynomial of any degree n in [1, CODEGEN_MAX_DEGREE],
+ *     p(tau) = sum_{i=0}^{n} sigma_i tau^i,   tau = tan(theta / 2),
+ * reported as angles theta = 2 atan(tau) in (-pi, pi] (see codegen_runtime.h for the contract).
+ * Hand-written (not generated); shared by every generated library, whatever the mechanism.
+ * Plain C99 + libm; no allocation, no mutable static state, no I/O.
  *
  * Why not companion-matrix eigenvalues (GSL, numpy.roots): they return complex approximations
  * and leave "is this root real?" to an arbitrary tolerance on the imaginary part, which fails
- * in exactly the cases this application produces (pairs 5e-4 apart, double roots). Here every
- * real root is isolated by sign changes that are certified against a rounding-error bound:
+ * in exactly the cases that equilibrium polynomials produce (close pairs such as 5e-4 apart,
+ * double roots). Here every real root is isolated by sign changes that are certified against a
+ * rounding-error bound:
  *
  * 1. Two charts on bounded intervals, so no root bound is needed and tau = infinity is an
  *    ordinary point: chart A is p(tau) on [-1, 1] (|theta| <= 90 deg); chart B is the reversed
@@ -14,51 +17,56 @@
  *    theta = pi). Both use the input's coefficients unchanged. The seam tau = +-1 belongs to
  *    chart A: chart B takes its endpoint signs from it (q(1) = p(1), q(-1) = (-1)^m p(-1)) and
  *    leaves it any run of untrusted signs touching an endpoint, so a seam root is found once.
- *    Degenerate mechanisms (H = 0, a = 0 or k = 0: a factor cos^2(theta)) put double roots
- *    exactly on the seam, and rounding in the coefficients moves f's critical point there a
- *    few ulps either way, possibly outside both charts. So chart A also applies rule 5 at the
- *    seam, to the critical point c = x - f'/f'' of f's quadratic model there when |c - x| <=
- *    DR_PAIR. Such a root is reported on the seam if f' may vanish there within 5(a)'s
- *    coefficient uncertainty, else at c; a split pair straddling the seam is one root.
+ *    A factor cos^2(theta) = ((1 - tau^2) / (1 + tau^2))^2, common in degenerate
+ *    configurations of mechanisms, puts double roots exactly on the seam, and rounding in the
+ *    coefficients moves f's critical point there a few ulps either way, possibly outside both
+ *    charts. So chart A also applies rule 5 at the seam, to the critical point
+ *    c = x - f'/f'' of f's quadratic model there when |c - x| <= CR_PAIR. Such a root is
+ *    reported on the seam if f' may vanish there within 5(a)'s coefficient uncertainty, else
+ *    at c; a split pair straddling the seam is one root.
  * 2. A power-of-two normalisation (exact) removes the overall magnitude; exactly zero low/high
- *    coefficients are stripped: a factor tau^k gives theta = 0, a degree drop theta = pi, each
- *    reported once whatever the multiplicity.
+ *    coefficients are stripped: a factor tau^k gives theta = 0, a degree drop (sigma_n = 0)
+ *    theta = pi, each reported once whatever the multiplicity.
  * 3. Isolation by recursion on derivatives: the real roots of f' cut [-1, 1] into pieces on
  *    which f is monotone, so a piece holds at most one root, bracketed by a sign change and
  *    found by Newton safeguarded with bisection. Starting from the linear (m-1)-th derivative,
  *    each level's roots are the next level's critical points.
  * 4. Values come from the compensated Horner scheme, as accurate as Horner's rule in twice the
- *    working precision. Plain Horner is not enough: in the application's example the extrema
- *    between the close pairs are only ~1e-16..1e-13 of the terms summed, i.e. at plain
- *    Horner's error level, and merging them would lose two equilibria. (The error-free
- *    transformations need IEEE double arithmetic: no -ffast-math, no x87 extended precision.)
- *    Plain Horner (with its rigorous error bound) is used only where that bound already
- *    certifies the outcome: a sign far from zero, or a point clearly not a root; anything
- *    closer is decided by the compensated values.
+ *    working precision. Plain Horner is not enough: between roots of a close pair (0.03 deg
+ *    apart, as real mechanisms produce) the extremum of f can be only ~1e-16..1e-13 of the
+ *    terms summed, i.e. at plain Horner's error level, and merging such pairs would lose two
+ *    equilibria. (The error-free transformations need IEEE double arithmetic: no -ffast-math,
+ *    no x87 extended precision.) Plain Horner (with its rigorous error bound) is used only
+ *    where that bound already certifies the outcome: a sign far from zero, or a point clearly
+ *    not a root; anything closer is decided by the compensated values.
  * 5. A critical point (or the seam, see 1) is a multiple root (reported once; there is no
  *    sign change to bracket) if |f| there is within the compensated error bound plus f's
  *    variation over the point's own uncertainty, or if both (a) changing each coefficient by
- *    DR_ULPS ulps of the largest one can make f vanish there and (b) the two roots beside it
- *    (real or complex, |x - c| ~ sqrt(2|f|/|f''|)) lie within DR_PAIR of it. Such a pair
- *    cannot be told from a double root whose coefficients carry rounding errors: sigma_i come
- *    from long expressions, and one that should vanish (a sin^2 factor) is a residue of terms
- *    as large as the other sigma_i, hence (a) is norm-wise. With double roots' coefficients
- *    computed in double arithmetic, allowing 1 ulp missed or doubled 11% of them in our
- *    trials, 16 ulps 0.03%, 64 none; (b) keeps genuine close pairs (the application's are 25x
- *    farther apart) separate.
+ *    CR_ULPS ulps of the largest one can make f vanish there and (b) the two roots beside it
+ *    (real or complex, |x - c| ~ sqrt(2|f|/|f''|)) lie within CR_PAIR of it. Such a pair
+ *    cannot be told from a double root whose coefficients carry rounding errors: generated
+ *    coefficients come from long expressions, and one that should vanish (from a factor such
+ *    as sin^2(theta)) is a residue of terms as large as the other coefficients, hence (a) is
+ *    norm-wise. With double roots' coefficients computed in double arithmetic, allowing 1 ulp
+ *    missed or doubled 11% of them in trials at degree 12, 16 ulps 0.03%, 64 none; (b) keeps
+ *    genuine close pairs separate (a pair 0.03 deg apart in theta is still ~25x farther apart
+ *    than CR_PAIR).
  *    Runs of consecutive such points are one root.
+ *
+ * Arrays are sized for CODEGEN_MAX_DEGREE; the degree itself is a run-time argument, and for
+ * every degree exactly sigma[0..degree] is read.
  */
-#include "doughty.h"
+#include "codegen_runtime.h"
 
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
 
-#define DR_DEG 12                          /* degree of the full polynomial */
-#define DR_PI 3.14159265358979323846264338327950288
-#define DR_ULPS 64.0                       /* see 5(a) */
-#define DR_PAIR 1e-5                       /* see 5(b); in chart units (theta ~ 2 u) */
-#define DR_MAXIT 400                       /* iteration cap: ~60 halvings reach full relative
+#define CR_MAXN CODEGEN_MAX_DEGREE        /* array bound: the largest degree accepted */
+#define CR_PI 3.14159265358979323846264338327950288
+#define CR_ULPS 64.0                       /* see 5(a) */
+#define CR_PAIR 1e-5                       /* see 5(b); in chart units (theta ~ 2 u) */
+#define CR_MAXIT 400                       /* iteration cap: ~60 halvings reach full relative
                                               precision; only a root at 0 needs more, and there
                                               Newton converges (fast) */
 
@@ -243,7 +251,7 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
         } else {
             hi = x;
         }
-        if (it == DR_MAXIT) {
+        if (it == CR_MAXIT) {
             break;                        /* x, mag, dv: the last point evaluated */
         }
         const double dxold = dx;
@@ -274,7 +282,7 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
         dv = eval(df, n - 1, x, &dmag);
     }
     dv = fabs(dv);
-    *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, DR_PAIR) : DR_PAIR);
+    *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
     return x;
 }
 
@@ -289,8 +297,8 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
                        double ceps, const double *crit, const double *cdel, int nc,
                        const int *ends_in, int *ends_out, double *rt, double *rdel)
 {
-    double px[DR_DEG + 2], pv[DR_DEG + 2], pd[DR_DEG + 2];   /* points, f, uncertainty */
-    int ps[DR_DEG + 2] = {0};                                /* trusted sign, 0 = root */
+    double px[CR_MAXN + 2], pv[CR_MAXN + 2], pd[CR_MAXN + 2];  /* points, f, uncertainty */
+    int ps[CR_MAXN + 2] = {0};                               /* trusted sign, 0 = root */
     const int np = nc + 2;
     const double g = (double)n * DBL_EPSILON;                /* gamma_{2n} */
     double amax = 0.0;                                       /* largest |coefficient| */
@@ -328,7 +336,7 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
             const double tolup = DBL_EPSILON * (fabs(vals[0]) + e0) + 2.0 * g * g * mags[0] +
                                  (d1up + 0.5 * d2up * pd[j]) * pd[j];
             if (vlo > 2.0 * tolup && (!inner || vlo > 2.0 * ceps * amax * pw ||
-                                      vlo > d2up * DR_PAIR * DR_PAIR)) {
+                                      vlo > d2up * CR_PAIR * CR_PAIR)) {
                 pv[j] = vals[0];
                 ps[j] = (vals[0] > 0.0) ? 1 : -1;
                 continue;
@@ -345,12 +353,12 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
         double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
         int zero = fabs(v) <= tol;
         /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
-         * point x + dc of f's quadratic model there (value fc), if it is within DR_PAIR. */
+         * point x + dc of f's quadratic model there (value fc), if it is within CR_PAIR. */
         const int seam = ends_out != NULL && (j == 0 || j == np - 1);
         const double dc = (seam && d2 > 0.0) ? -d1s / d2s : 0.0;
         double fc = v + 0.5 * d1s * dc;
-        if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= DR_PAIR)) &&
-            fabs(fc) <= ceps * amax * pw && 2.0 * fabs(fc) <= d2 * DR_PAIR * DR_PAIR) {
+        if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= CR_PAIR)) &&
+            fabs(fc) <= ceps * amax * pw && 2.0 * fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
             zero = 1;                                        /* 5(a) and 5(b) */
             tol = ceps * amax * pw;
             if (seam && d1 > 0.5 * (double)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
@@ -362,7 +370,7 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
         pv[j] = fc;
         ps[j] = zero ? 0 : (v > 0.0 ? 1 : -1);
         /* Should the point stand for a root, how far that root may be from it. */
-        double est = DR_PAIR;
+        double est = CR_PAIR;
         if (d1 > 0.0) {
             est = fmin(est, tol / d1);
         }
@@ -414,11 +422,12 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
     return nr;
 }
 
-/* Roots of c[0..m] (m >= 1) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted. */
+/* Roots of c[0..m] (1 <= m <= CR_MAXN) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted,
+ * into roots (room for m values; at most m are written). */
 static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out, double *roots)
 {
-    double d[DR_DEG + 1][DR_DEG + 1];    /* d[k] = k-th derivative, degree m - k */
-    double cdel[DR_DEG] = {0.0}, rt[DR_DEG], rdel[DR_DEG];
+    double d[CR_MAXN + 1][CR_MAXN + 1];  /* d[k] = k-th derivative, degree m - k */
+    double cdel[CR_MAXN] = {0.0}, rt[CR_MAXN], rdel[CR_MAXN];
     double *crit = roots;                /* each level's roots are the next one's critical points */
     int nc = 0;
 
@@ -433,7 +442,7 @@ static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out
     for (int k = m - 1; k >= 0; --k) {
         const double *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
         /* d[k]'s coefficients: the input's uncertainty plus one ulp per differentiation. */
-        const double ceps = (DR_ULPS + (double)k) * DBL_EPSILON;
+        const double ceps = (CR_ULPS + (double)k) * DBL_EPSILON;
         const int nr = level_roots(d[k], d[k + 1], d2f, m - k, ceps, crit, cdel, nc,
                                    k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
                                    rt, rdel);
@@ -451,39 +460,44 @@ static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out
 static double theta_of_u(double u)
 {
     const double t = (u >= 0.0) ? 2.0 * atan2(1.0, u) : -2.0 * atan2(1.0, -u);
-    return (t <= -DR_PI) ? DR_PI : t;
+    return (t <= -CR_PI) ? CR_PI : t;
 }
 
-doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
-                                       double theta[DOUGHTY_MAX_ROOTS], int *n_roots)
+/* The contract is in codegen_runtime.h. Outputs are written only on success. */
+codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, double *theta,
+                                             int *n_roots)
 {
-    double s[DR_DEG + 1];
-    double out[2 * DR_DEG + 2];
+    double s[CR_MAXN + 1];
+    double out[2 * CR_MAXN + 2];
     double amax = 0.0;
     int nout = 0;
     int e;
 
-    if (sigma == NULL || theta == NULL || n_roots == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
+    /* The degree first: it says how much of sigma may be read. */
+    if (degree < 1 || degree > CR_MAXN) {
+        return CODEGEN_ROOTS_ERR_DEGREE;
     }
-    for (int i = 0; i <= DR_DEG; ++i) {
+    if (sigma == NULL || theta == NULL || n_roots == NULL) {
+        return CODEGEN_ROOTS_ERR_NULL_POINTER;
+    }
+    for (int i = 0; i <= degree; ++i) {
         if (!isfinite(sigma[i])) {
-            return DOUGHTY_ERR_NONFINITE;
+            return CODEGEN_ROOTS_ERR_NONFINITE;
         }
         amax = fmax(amax, fabs(sigma[i]));
     }
     if (amax == 0.0) {
-        return DOUGHTY_ERR_ZERO_POLYNOMIAL;
+        return CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL;
     }
 
     /* Power-of-two scaling is exact: results do not depend on the overall magnitude. */
     (void)frexp(amax, &e);
-    for (int i = 0; i <= DR_DEG; ++i) {
+    for (int i = 0; i <= degree; ++i) {
         s[i] = ldexp(sigma[i], -e);
     }
     int lo = 0;
-    int hi = DR_DEG;
-    while (s[lo] == 0.0) {
+    int hi = degree;
+    while (s[lo] == 0.0) {                /* stops: some s[i] != 0 since amax > 0 */
         ++lo;
     }
     while (s[hi] == 0.0) {
@@ -492,12 +506,12 @@ doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
     if (lo > 0) {
         out[nout++] = 0.0;                /* factor tau^lo */
     }
-    if (hi < DR_DEG) {
-        out[nout++] = DR_PI;              /* degree drop: roots at tau = infinity */
+    if (hi < degree) {
+        out[nout++] = CR_PI;              /* degree drop: roots at tau = infinity */
     }
     const int m = hi - lo;
     if (m > 0) {
-        double a[DR_DEG + 1], q[DR_DEG + 1], r[DR_DEG];
+        double a[CR_MAXN + 1], q[CR_MAXN + 1], r[CR_MAXN];
         int ends[2], ends_b[2];
         for (int i = 0; i <= m; ++i) {
             a[i] = s[lo + i];
@@ -533,20 +547,21 @@ doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
             out[n++] = out[i];
         }
     }
-    if (n > 1 && out[0] + 2.0 * DR_PI - out[n - 1] <= tiny) {
+    if (n > 1 && out[0] + 2.0 * CR_PI - out[n - 1] <= tiny) {
         for (int i = 1; i < n; ++i) {
             out[i - 1] = out[i];
         }
         --n;
     }
-    /* Never reached in exact arithmetic (a degree-12 polynomial has at most 12 roots); keeps the
-     * output in bounds should rounding ever make the charts disagree. */
-    if (n > DOUGHTY_MAX_ROOTS) {
-        n = DOUGHTY_MAX_ROOTS;
+    /* Never reached in exact arithmetic (a polynomial of degree n has at most n roots on the
+     * projective line, tau = 0 and tau = infinity included); keeps the output within the
+     * caller's degree values should rounding ever make the charts disagree. */
+    if (n > degree) {
+        n = degree;
     }
     for (int i = 0; i < n; ++i) {
         theta[i] = out[i];
     }
     *n_roots = n;
-    return DOUGHTY_OK;
+    return CODEGEN_ROOTS_OK;
 }

@@ -1,0 +1,51 @@
+/*
+ * codegen_runtime.h -- mechanism-independent runtime shared by the generated libraries.
+ * Hand-written (not generated). Plain C99 + libm; no allocation, no mutable static state, no I/O.
+ */
+#ifndef CODEGEN_RUNTIME_H
+#define CODEGEN_RUNTIME_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifndef CODEGEN_MAX_DEGREE
+#define CODEGEN_MAX_DEGREE 64   /* largest degree the root finder accepts; stack use grows as its square */
+#endif
+
+/* Status of codegen_poly_real_roots. The values 0..3 deliberately equal the generated
+ * libraries' generic status codes (OK, ERR_NULL_POINTER, ERR_NONFINITE, ERR_ZERO_POLYNOMIAL),
+ * so a generated wrapper can pass them on unchanged; only CODEGEN_ROOTS_ERR_DEGREE (a wrong
+ * degree, i.e. a bug in the caller, not bad input data) has no counterpart there. */
+typedef enum codegen_roots_status {
+    CODEGEN_ROOTS_OK = 0,
+    CODEGEN_ROOTS_ERR_NULL_POINTER = 1,
+    CODEGEN_ROOTS_ERR_NONFINITE = 2,
+    CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL = 3,
+    CODEGEN_ROOTS_ERR_DEGREE = 4
+} codegen_roots_status;
+
+/* Real roots of sum_{i=0}^{degree} sigma[i] tau^i as theta = 2 atan(tau) in (-pi, pi], ascending,
+ * each distinct root once whatever its multiplicity. tau = infinity (sigma[degree] == 0, a degree
+ * drop) is reported as theta = pi, tau = 0 (sigma[0] == 0) as theta = 0.
+ *
+ * sigma:   degree + 1 coefficients, lowest first; exactly sigma[0..degree] are read.
+ * degree:  in [1, CODEGEN_MAX_DEGREE]; checked first, before any pointer is used.
+ * theta:   room for degree values; receives *n_roots of them (at most degree).
+ * n_roots: receives the number of roots.
+ *
+ * Checks, in this order: degree (CODEGEN_ROOTS_ERR_DEGREE), NULL pointers
+ * (CODEGEN_ROOTS_ERR_NULL_POINTER), NaN or infinite coefficients (CODEGEN_ROOTS_ERR_NONFINITE),
+ * all coefficients zero (CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL). On any error theta and *n_roots
+ * are left untouched. The result does not depend on the coefficients' overall scale. Reentrant
+ * and thread-safe; stack use is O(CODEGEN_MAX_DEGREE^2) (about 13 KiB for 32). */
+codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, double *theta,
+                                             int *n_roots);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CODEGEN_RUNTIME_H */
