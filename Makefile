@@ -16,7 +16,7 @@ $(PY):
 	$(PY) -m pip install --quiet --upgrade pip
 
 venv: $(VENV)/.installed
-$(VENV)/.installed: pyproject.toml setup.py codegen/build_ext.py $(wildcard generated/*) $(PY)
+$(VENV)/.installed: pyproject.toml setup.py codegen/build_ext.py $(wildcard generated/*/*) $(PY)
 	$(PY) -m pip install --quiet -e '.[test]'
 	touch $@
 
@@ -35,15 +35,20 @@ analyze: venv  ## the paper's example: every equilibrium and its vibration (Tabl
 test: venv check  ## generated/ up to date, then the whole test suite (what CI runs)
 	$(PY) -m pytest
 
-lint:  ## gcc and clang with strict warnings, and cppcheck, over generated/
-	for cc in gcc clang; do for f in generated/*.c; do \
-	  $$cc $(STRICT) -O2 -Igenerated -c $$f -o /dev/null || exit 1; done; done
-	cppcheck --quiet --error-exitcode=1 --enable=warning,style,performance,portability \
-	  --std=c99 --inline-suppr -Igenerated generated/*.c
+LIBS = $(patsubst generated/%/,%,$(filter-out generated/runtime/,$(wildcard generated/*/)))
+
+lint:  ## gcc and clang with strict warnings, and cppcheck, over every library in generated/
+	for cc in gcc clang; do for lib in $(LIBS); do for f in generated/$$lib/*.c generated/runtime/*.c; do \
+	  $$cc $(STRICT) -O2 -Igenerated/$$lib -Igenerated/runtime -c $$f -o /dev/null || exit 1; \
+	done; done; done
+	for lib in $(LIBS); do cppcheck --quiet --error-exitcode=1 \
+	  --enable=warning,style,performance,portability --std=c99 --inline-suppr \
+	  -Igenerated/$$lib -Igenerated/runtime generated/$$lib/*.c generated/runtime/*.c || exit 1; done
 
 sanitize:  ## the C test driver under AddressSanitizer + UBSan, Table 2 + random/hostile sets
 	mkdir -p build
-	$(CC) $(SANITIZE) -Igenerated tests/c/sanitize_driver.c generated/*.c -lm \
+	$(CC) $(SANITIZE) -Igenerated/doughty -Igenerated/runtime tests/c/sanitize_driver.c \
+	  generated/doughty/*.c generated/runtime/*.c -lm \
 	  -o build/sanitize_driver
 	ASAN_OPTIONS=detect_leaks=1 ./build/sanitize_driver 5000
 
@@ -51,4 +56,4 @@ bench: venv  ## time the compiled functions (see benchmarks/)
 	$(PY) benchmarks/run.py
 
 clean:
-	rm -rf build dist *.egg-info codegen/_native.* .pytest_cache
+	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed

@@ -1,8 +1,11 @@
 """The vibration analysis of Table 1 steps 8-10 for one parameter set, from Python.
 
-``analyze(params)`` calls the C entry point once and returns every real root of (45),
-classified as a genuine equilibrium or a root squaring added, with M, B, K, omega_n,
-zeta, eigenvalues, stability and damping at each: the paper's Table 3.
+``analyze(params)`` calls the C entry point of the params' library once and returns every
+real root of its equilibrium polynomial, labelled by what it is (an equilibrium as declared,
+an equilibrium of another assembly mode, or extraneous: a negative length), with M, B, K,
+omega_n, zeta, eigenvalues, stability and damping at each: for the paper's example, its
+Table 3. Roots where the mechanism cannot be assembled, or a square root is zero, are
+listed apart.
 """
 from __future__ import annotations
 
@@ -11,20 +14,19 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import api
-from ._native import ffi, lib
+from .library import Library
 
-STABILITY = {lib.DOUGHTY_STABLE: "stable", lib.DOUGHTY_MARGINAL: "marginal",
-             lib.DOUGHTY_UNSTABLE: "unstable"}
-DAMPING = {lib.DOUGHTY_UNDERDAMPED: "underdamped", lib.DOUGHTY_CRITICALLY_DAMPED: "critical",
-           lib.DOUGHTY_OVERDAMPED: "overdamped", lib.DOUGHTY_UNDAMPED: "undamped",
-           lib.DOUGHTY_NOT_OSCILLATORY: "none"}
+# The C enums' values, in order (templates/analysis.h.j2).
+STABILITY = ("stable", "marginal", "unstable")
+DAMPING = ("underdamped", "critical", "overdamped", "undamped", "none")
+KINDS = ("equilibrium", "other assembly mode", "extraneous")
 
 
 @dataclass(frozen=True)
 class Equilibrium:
     theta: float           # theta_E [rad]
-    genuine: bool          # satisfies (43); else a root squaring added
+    genuine: bool          # an equilibrium of the declared mode (kind == "equilibrium")
+    kind: str              # one of KINDS
     residual: float        # G(theta_E) [N m]
     relative_residual: float  # |G(theta_E)| over the size of its terms
     M: float
@@ -46,7 +48,8 @@ class Analysis:
     params: object
     sigma: tuple[float, ...]
     roots: tuple[Equilibrium, ...]
-    singular: tuple[float, ...] = ()  # angles [rad] of roots where r = 0: (43) undefined
+    singular: tuple[float, ...] = ()  # angles [rad] of roots where a square root is zero
+    unassembled: tuple[float, ...] = ()  # angles [rad] of roots where it cannot be assembled
 
     @property
     def equilibria(self) -> tuple[Equilibrium, ...]:
@@ -64,20 +67,22 @@ class Analysis:
             "params": asdict(self.params),
             "sigma": list(self.sigma),
             "roots": [{
-                "theta_deg": r.theta_deg, "genuine": r.genuine, "residual": r.residual,
+                "theta_deg": r.theta_deg, "genuine": r.genuine, "kind": r.kind,
+                "residual": r.residual,
                 "relative_residual": r.relative_residual, "M": r.M, "B": r.B, "K": r.K,
                 "omega_n": pair(r.omega_n), "zeta": pair(r.zeta),
                 "eigenvalues": [pair(z) for z in r.eigenvalues],
                 "stability": r.stability, "damping": r.damping,
             } for r in self.roots],
             "singular_roots_deg": [math.degrees(t) for t in self.singular],
+            "unassembled_roots_deg": [math.degrees(t) for t in self.unassembled],
         }
 
 
 def _equilibrium(e) -> Equilibrium:
     scale = e.residual_scale
     return Equilibrium(
-        theta=e.theta, genuine=bool(e.genuine), residual=e.residual,
+        theta=e.theta, genuine=bool(e.genuine), kind=KINDS[e.kind], residual=e.residual,
         relative_residual=abs(e.residual) / scale if scale else 0.0,
         M=e.M, B=e.B, K=e.K,
         omega_n=complex(e.omega_n[0], e.omega_n[1]), zeta=complex(e.zeta[0], e.zeta[1]),
@@ -89,28 +94,42 @@ def _equilibrium(e) -> Equilibrium:
 def _from_c(params, result) -> Analysis:
     return Analysis(params, tuple(result.sigma),
                     tuple(_equilibrium(result.roots[i]) for i in range(result.n_roots)),
-                    tuple(result.singular_theta[i] for i in range(result.n_singular)))
+                    tuple(result.singular_theta[i] for i in range(result.n_singular)),
+                    tuple(result.unassembled_theta[i] for i in range(result.n_unassembled)))
 
 
-def analyze(params=None) -> Analysis:
-    """Every real root of (45) for ``params`` (Table 2 by default), classified and linearised."""
-    params = params if params is not None else api.example_params()
-    result = ffi.new("doughty_analysis *")
-    api.check(lib.doughty_analyze(api._c_params(params), result), asdict(params))
+def _library(params) -> Library:
+    library = getattr(type(params), "library", None)
+    if library is None:
+        raise TypeError("analyze takes the Params of a library (Library.example_params())")
+    if not library.has_analysis:
+        raise ValueError(f"{library.PREFIX}: G is not algebraic in cos and sin of the angle, so no "
+                         "polynomial holds its equilibria; their isolation is not built yet")
+    return library
+
+
+def analyze(params) -> Analysis:
+    """Every real root of the polynomial for ``params`` (a Library's Params), classified."""
+    library = _library(params)
+    result = library.ffi.new(f"{library.PREFIX}_analysis *")
+    library.check(getattr(library.lib, f"{library.PREFIX}_analyze")(library._c_params(params),
+                                                                    result), asdict(params))
     return _from_c(params, result)
 
 
-def analyze_batch(table) -> tuple[list[Analysis | None], np.ndarray]:
+def analyze_batch(table, library: Library) -> tuple[list[Analysis | None], np.ndarray]:
     """analyze over a params_array; (analyses, statuses), None where an item failed."""
-    table = np.ascontiguousarray(table, dtype=api.PARAMS_DTYPE)
-    results = ffi.new("doughty_analysis[]", len(table))
+    ffi, P = library.ffi, library.PREFIX
+    table = np.ascontiguousarray(table, dtype=library.PARAMS_DTYPE)
+    results = ffi.new(f"{P}_analysis[]", len(table))
     statuses = np.zeros(len(table), dtype=np.intc)
-    lib.doughty_analyze_batch(len(table), ffi.from_buffer("doughty_params[]", table), results,
-                              ffi.from_buffer("doughty_status[]", statuses,
-                                              require_writable=True))
+    getattr(library.lib, f"{P}_analyze_batch")(
+        len(table), ffi.from_buffer(f"{P}_params[]", table), results,
+        ffi.from_buffer(f"{P}_status[]", statuses, require_writable=True))
     analyses = [
-        _from_c(api.Params(**{n: float(table[n][i]) for n in api.PARAMETER_NAMES}), results[i])
-        if statuses[i] == api.STATUS["OK"] else None for i in range(len(table))]
+        _from_c(library.Params(**{n: float(table[n][i]) for n in library.PARAMETER_NAMES}),
+                results[i])
+        if statuses[i] == library.STATUS["OK"] else None for i in range(len(table))]
     return analyses, statuses
 
 
@@ -127,6 +146,10 @@ def _complex(z: complex, digits: int = 4) -> str:
     return f"{_number(z.real, digits)}{'+' if z.imag >= 0 else '-'}{_number(abs(z.imag), digits)} i"
 
 
+LABELS = {"equilibrium": "genuine", "other assembly mode": "other mode",
+          "extraneous": "extraneous"}
+
+
 def table(analysis: Analysis) -> str:
     """A table like the paper's Table 3, plus what the paper leaves implicit."""
     head = (f"{'theta_E [deg]':>14} {'kind':>10} {'M_EQ':>8} {'B_EQ':>11} {'K_EQ':>11} "
@@ -136,18 +159,23 @@ def table(analysis: Analysis) -> str:
     for r in analysis.roots:
         eig = ", ".join(_complex(z, 4) for z in r.eigenvalues)
         lines.append(
-            f"{r.theta_deg:14.4f} {'genuine' if r.genuine else 'extraneous':>10} {r.M:8.4f} "
+            f"{r.theta_deg:14.4f} {LABELS[r.kind]:>10} {r.M:8.4f} "
             f"{_number(r.B):>11} {_number(r.K):>11} {_complex(r.omega_n):>12} "
             f"{_complex(r.zeta):>13} "
             f"{eig:>36} {r.stability:>9} {r.damping:>11}")
-    n = len(analysis.roots) + len(analysis.singular)
-    g = len(analysis.equilibria)
-    lines.append(f"\n{n} real roots of (45): {g} genuine equilibria, "
-                 f"{len(analysis.roots) - g} extraneous (roots of the squared equation only)"
-                 + (f", {len(analysis.singular)} where r = 0." if analysis.singular else "."))
-    if analysis.singular:
-        angles = ", ".join(f"{math.degrees(t):.4f}" for t in analysis.singular)
-        lines.append(f"Roots where the spring length r is zero, so (43) is undefined: {angles} deg.")
-    lines.append("sigma_0..sigma_12 of (45):")
+    n = len(analysis.roots) + len(analysis.singular) + len(analysis.unassembled)
+    count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
+    lines.append(f"\n{n} real roots of the polynomial: {count['equilibrium']} equilibria, "
+                 f"{count['other assembly mode']} of another assembly mode, "
+                 f"{count['extraneous']} extraneous (a negative length)"
+                 + (f", {len(analysis.singular)} singular" if analysis.singular else "")
+                 + (f", {len(analysis.unassembled)} where it cannot be assembled"
+                    if analysis.unassembled else "") + ".")
+    for title, angles in (("a square root is zero, so G is undefined", analysis.singular),
+                          ("the mechanism cannot be assembled", analysis.unassembled)):
+        if angles:
+            listed = ", ".join(f"{math.degrees(t):.4f}" for t in angles)
+            lines.append(f"Roots where {title}: {listed} deg.")
+    lines.append(f"sigma_0..sigma_{len(analysis.sigma) - 1}:")
     lines += [f"  sigma_{i:<2} = {s: .10e}" for i, s in enumerate(analysis.sigma)]
     return "\n".join(lines)

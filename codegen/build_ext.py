@@ -1,9 +1,11 @@
-"""Layer 5: build the generated C library into a cffi (API mode) extension.
+"""Layer 5: build each generated C library into its own cffi (API mode) extension.
 
-setuptools runs this through ``cffi_modules`` on ``pip install .`` / ``pip install -e .``;
-``python -m codegen.build_ext`` builds in place. The extension compiles the generated
-sources as C99; the strict warning flags are applied to generated/ by the test suite
-(cffi's own wrapper code is not -Wpedantic clean, so it is not held to them here).
+setuptools runs this through ``cffi_modules`` on ``pip install .`` / ``pip install -e .``:
+every folder of generated/ holding a library (NAME/NAME_api.json) becomes the module
+``codegen._native_NAME``, compiled from its sources and, when it finds equilibria, the
+shared runtime. ``build_into`` does the same for a user's library, into any folder.
+The strict warning flags are applied to generated/ by the test suite (cffi's own wrapper
+code is not -Wpedantic clean, so it is not held to them here).
 """
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ from cffi import FFI
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
-PREFIX = "doughty"
+RUNTIME = "runtime"
 COMPILE_FLAGS = ["-std=c99", "-O2"]
 
 
@@ -23,32 +25,58 @@ def _c_string(text: str) -> str:
     return json.dumps(text)  # a JSON string literal is a valid C string literal here
 
 
-def make_builder(generated: Path = GENERATED) -> FFI:
-    spec = (generated / f"{PREFIX}_api.json").read_text()
+def _path(p: Path) -> str:
+    """Relative to the checkout when inside it (setuptools wants relative sources)."""
+    return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
+
+
+def libraries(generated: Path = GENERATED) -> list[str]:
+    """Names of the mechanism libraries in a generated/ folder."""
+    return sorted(p.name for p in generated.iterdir()
+                  if (p / f"{p.name}_api.json").is_file()) if generated.is_dir() else []
+
+
+def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.") -> FFI:
+    folder = generated / name
+    spec = (folder / f"{name}_api.json").read_text()
     ffi = FFI()
-    ffi.cdef((generated / f"{PREFIX}.cdef").read_text())
+    ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
-    sources = sorted(str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
-                     for p in generated.glob("*.c"))
+    sources = sorted(folder.glob("*.c"))
+    if "_poly_real_roots" in (folder / f"{name}.cdef").read_text():
+        sources += sorted((generated / RUNTIME).glob("*.c"))
     ffi.set_source(
-        "codegen._native",
-        f'#include "{PREFIX}.h"\n'
+        f"{package}_native_{name}",
+        f'#include "{name}.h"\n'
         # The wrapper's own metadata: which functions exist and their array sizes.
         f"static const char *codegen_api_spec(void) {{ return {_c_string(spec)}; }}\n",
-        sources=sources,
-        include_dirs=[os.path.relpath(generated, ROOT)],
+        sources=[_path(s) for s in sources],
+        include_dirs=[_path(folder), _path(generated / RUNTIME)],
         libraries=["m"],
         extra_compile_args=COMPILE_FLAGS,
     )
     return ffi
 
 
-ffibuilder = make_builder()
+def build_into(out: Path, name: str) -> Path:
+    """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*"""
+    out = Path(out).resolve()
+    ffi = make_builder(name, out, package="")
+    built = ffi.compile(tmpdir=str(out / "build"), verbose=False)
+    target = out / Path(built).name
+    Path(built).replace(target)
+    return target
 
-if __name__ == "__main__":  # an in-place build for development: codegen/_native.*.so
+
+# One builder per shipped library, named for setup.py's cffi_modules ("...:ffi_NAME").
+BUILDERS = {name: make_builder(name) for name in libraries()}
+globals().update({f"ffi_{name}": builder for name, builder in BUILDERS.items()})
+
+if __name__ == "__main__":  # an in-place build for development: codegen/_native_*.so
     os.chdir(ROOT)
     try:
-        ffibuilder.compile(tmpdir=str(ROOT), verbose=False)
+        for builder in BUILDERS.values():
+            builder.compile(tmpdir=str(ROOT), verbose=False)
     finally:  # distutils leaves objects beside relative sources
-        for obj in GENERATED.glob("*.o"):
+        for obj in GENERATED.glob("*/*.o"):
             obj.unlink()

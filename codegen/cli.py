@@ -7,31 +7,57 @@ import time
 from pathlib import Path
 
 
-def _generate(args) -> int:
+#: The mechanism a command works on when none is named: the paper's example.
+DEFAULT_MECHANISM = "doughty"
+
+
+def _generator():
     try:  # the generator needs sympy, jinja2 and the checkout's templates/; analysis does not
         from . import generate
     except ImportError as error:
-        print(f"error: generate needs the generator's dependencies ({error.name} is missing): "
-              "pip install -e '.[generate]' in a checkout", file=sys.stderr)
-        return 2
+        raise SystemExit(f"error: generate needs the generator's dependencies ({error.name} is "
+                         "missing): pip install -e '.[generate]' in a checkout") from None
     if not generate.TEMPLATES.is_dir():
-        print(f"error: no templates at {generate.TEMPLATES}: run generate from a checkout",
-              file=sys.stderr)
-        return 2
+        raise SystemExit(f"error: no templates at {generate.TEMPLATES}: run generate from a "
+                         "checkout")
+    return generate
 
+
+def _user_library(generate, model: str, out: Path):
+    """Generate and build a user's model into out; its Library."""
+    from .api import load_from
+    from .build_ext import build_into
+    from .model import load
+
+    mechanism = load(model)
+    generate.write_folder(out / generate.RUNTIME, generate.runtime())
+    generate.write_folder(out / mechanism.name, generate.emit(mechanism))
+    build_into(out, mechanism.name)
+    return load_from(out, mechanism.name)
+
+
+def _generate(args) -> int:
+    generate = _generator()
     start = time.perf_counter()
+    if args.model:
+        out = Path(args.out or "build/codegen")
+        library = _user_library(generate, args.model, out)
+        print(f"wrote and built {library.PREFIX} ({library.TITLE}) in {out} "
+              f"in {time.perf_counter() - start:.1f} s")
+        return 0
+    out = Path(args.out) if args.out else generate.GENERATED
+    names = [args.mechanism] if args.mechanism else list(generate.SHIPPED)
     if args.check:
-        diff = generate.stale(Path(args.out))
+        diff = generate.stale(out, names)
         if diff:
             sys.stdout.write(diff)
-            print(f"{args.out} is stale: run `make generate` and commit the result",
-                  file=sys.stderr)
+            print(f"{out} is stale: run `make generate` and commit the result", file=sys.stderr)
             return 1
-        print(f"{args.out} is up to date ({time.perf_counter() - start:.1f} s)")
+        print(f"{out} is up to date ({time.perf_counter() - start:.1f} s)")
         return 0
-    names = generate.write(Path(args.out))
-    print(f"wrote {len(names)} files to {args.out} in {time.perf_counter() - start:.1f} s: "
-          + ", ".join(names))
+    files = generate.write(out, names)
+    print(f"wrote {len(files)} files to {out} in {time.perf_counter() - start:.1f} s: "
+          + ", ".join(files))
     return 0
 
 
@@ -56,11 +82,15 @@ def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
 def _analyze(args) -> int:
     import json
 
-    from . import api
     from .analysis import analyze, table
+    from .api import load
 
     try:
-        params = api.example_params(**_overrides(args.set))
+        if args.model:
+            library = _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
+        else:
+            library = load(args.mechanism or DEFAULT_MECHANISM)
+        params = library.example_params(**_overrides(args.set))
         result = analyze(params)
     except ValueError as error:  # LibraryError included: one line, no traceback
         print(f"error: {error}", file=sys.stderr)
@@ -69,25 +99,35 @@ def _analyze(args) -> int:
         print(json.dumps(result.to_dict(), indent=1))
     else:
         values = ", ".join(f"{k}={v:g}" for k, v in vars(params).items())
-        print(f"Vibration analysis of Doughty's mechanism: {values}\n")
+        print(f"Vibration analysis of {library.TITLE}: {values}\n")
         print(table(result))
     return 0
 
 
-def parser() -> argparse.ArgumentParser:
-    GENERATED = Path(__file__).resolve().parent.parent / "generated"
+def _mechanism_options(verb: argparse.ArgumentParser, out_help: str) -> None:
+    which = verb.add_mutually_exclusive_group()
+    which.add_argument("--mechanism", metavar="NAME",
+                       help="a shipped mechanism: doughty (default), slider_crank, four_bar, "
+                            "torsion_pendulum")
+    which.add_argument("--model", metavar="FILE",
+                       help="a model file of your own (Python, defining build() -> Mechanism)")
+    verb.add_argument("--out", metavar="DIR", help=out_help)
 
+
+def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser(prog="python -m codegen", description=__doc__)
     verbs = top.add_subparsers(dest="verb", required=True)
     gen = verbs.add_parser("generate", help="derive the mechanics and write the C library")
-    gen.add_argument("--out", default=str(GENERATED), help="output folder (default: generated/)")
+    _mechanism_options(gen, "output folder (default: generated/, or build/codegen for --model; "
+                            "with --model the library is also built there)")
     gen.add_argument("--check", action="store_true",
                      help="only compare the folder with what would be written; exit 1 if stale")
     gen.set_defaults(run=_generate)
     ana = verbs.add_parser("analyze", help="every equilibrium and its vibration (Table 3)")
+    _mechanism_options(ana, "with --model: where its library is generated and built "
+                            "(default: build/codegen)")
     ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
-                     help="override a Table 2 parameter (repeatable): H, L, a, m_A, m_B, m_C, "
-                          "k, b, l_ND, F, g")
+                     help="override a parameter of the example (repeatable)")
     ana.add_argument("--json", action="store_true", help="print one JSON object")
     ana.set_defaults(run=_analyze)
     return top

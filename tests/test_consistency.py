@@ -23,7 +23,9 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from codegen import api
+from codegen.api import load
+
+api = load("doughty")
 
 U = 2.0**-53
 HYPOTHESIS = settings(max_examples=50, deadline=None, database=None, derandomize=True)

@@ -28,7 +28,9 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from codegen import api
+from codegen.api import load
+
+api = load("doughty")
 from codegen.analysis import analyze
 
 GRID = 20000           # scan points on the circle (spacing 3.1e-4 rad)

@@ -5,7 +5,8 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 
 from codegen.derivation.algebra import square_roots, tidy
-from codegen.derivation.equilibrium import split_square_root
+from codegen.derivation.elimination import eliminate
+from codegen.derivation.positions import Root
 from codegen.derivation.half_angle import to_tau
 from codegen.emission.printer import RealPrinter
 
@@ -45,13 +46,29 @@ def test_half_angle_rejects_non_polynomials():
         raise AssertionError(f"accepted {bad}")
 
 
-def test_split_square_root_recovers_alpha_beta():
-    R = x**2 + C**2
-    G = (3 * S * (sp.sqrt(R) - y) + C * sp.sqrt(R)) / sp.sqrt(R)
-    radicand, alpha, beta = split_square_root(G)
-    assert sp.simplify(radicand - R) == 0
-    assert sp.simplify(alpha + beta * sp.sqrt(R) - G * sp.sqrt(R)) == 0
-    assert not alpha.has(sp.sqrt(R)) and not beta.has(sp.sqrt(R))
+def test_elimination_is_the_product_over_branches():
+    """Nested roots rho_1 = sqrt(2 + cos), rho_2 = sqrt(1 + x^2 + rho_1): the polynomial equals
+    the numerator's product over the four sign choices, times (1+tau^2)^weight (up to one
+    constant), at every angle."""
+    r1, r2 = sp.symbols("rho_1 rho_2", positive=True)
+    roots = (Root(r1, 2 + C, "assembly", "a"), Root(r2, 1 + x**2 + r1, "length", ""))
+    numerator = r2 * S - x * r1 + C
+    poly = eliminate(numerator, theta, roots, (x,))
+    values = {x: sp.Rational(3, 7)}
+    coeffs = [c.subs(values) for c in poly.explicit()]
+    ratios = []
+    for t in (sp.Rational(1, 5), sp.Rational(-2, 3), sp.Rational(7, 4)):
+        th = 2 * sp.atan(t)
+        product = sp.S.One
+        for s1 in (1, -1):
+            for s2 in (1, -1):
+                rho1 = s1 * sp.sqrt(2 + sp.cos(th))
+                rho2 = s2 * sp.sqrt(1 + values[x]**2 + rho1)
+                product *= (rho2 * sp.sin(th) - values[x] * rho1 + sp.cos(th))
+        value = sum(c * t**i for i, c in enumerate(coeffs))
+        ratios.append(sp.N(value / (product * (1 + t**2) ** poly.weight), 30))
+    assert all(abs(r / ratios[0] - 1) < 1e-20 for r in ratios)
+    assert poly.degree == 2 * poly.weight
 
 
 def test_tidy_cancels_around_square_roots():

@@ -9,7 +9,9 @@ from pathlib import Path
 import numpy as np
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
-from codegen import api
+from codegen.api import load
+
+api = load("doughty")
 from codegen.analysis import analyze, analyze_batch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
@@ -119,17 +121,17 @@ def _random_table(n, seed=7):
 
 def test_batch_analysis_is_bit_identical_to_single_calls_in_any_order_and_thread():
     table = _random_table(400)
-    batch, statuses = analyze_batch(table)
+    batch, statuses = analyze_batch(table, api)
     assert (statuses == 0).all()
     singles = [analyze(api.Params(**{n: float(row[n]) for n in api.PARAMETER_NAMES}))
                for row in table]
     assert [a.to_dict() for a in batch] == [a.to_dict() for a in singles]
     order = np.random.default_rng(1).permutation(len(table))
-    shuffled, _ = analyze_batch(table[order])
+    shuffled, _ = analyze_batch(table[order], api)
     assert [shuffled[i].to_dict() for i in np.argsort(order)] == [a.to_dict() for a in batch]
     chunks = np.array_split(np.arange(len(table)), 8)
     with ThreadPoolExecutor(4) as pool:
-        parts = list(pool.map(lambda idx: analyze_batch(table[idx])[0], chunks))
+        parts = list(pool.map(lambda idx: analyze_batch(table[idx], api)[0], chunks))
     threaded = [a for part in parts for a in part]
     assert [a.to_dict() for a in threaded] == [a.to_dict() for a in batch]
 

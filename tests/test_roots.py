@@ -15,8 +15,10 @@ import sympy
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from codegen import api
-from codegen._native import ffi as _ffi, lib as _lib
+from codegen.api import load
+
+api = load("doughty")
+_ffi, _lib = api.ffi, api.lib
 
 
 OK, ERR_NULL, ERR_NONFINITE, ERR_ZERO = (api.STATUS[k] for k in (

@@ -8,8 +8,10 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import api
-from codegen._native import ffi, lib
+from codegen.api import load
+
+api = load("doughty")
+ffi, lib = api.ffi, api.lib
 from codegen.analysis import analyze
 
 SENTINEL = 12345.678

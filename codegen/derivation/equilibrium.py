@@ -11,7 +11,6 @@ stands alone in G (a torsion spring), no polynomial holds it: ``polynomial`` is 
 """
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import sympy as sp
@@ -82,7 +81,8 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
     """``terms``: G's contributions in the root symbols."""
     residual = sum(terms, sp.S.Zero)
     branches = []
-    for signs in itertools.product((1, -1), repeat=len(roots)):
+    for j in range(2 ** len(roots)):  # branch j: root i negative where bit i of j is set
+        signs = tuple(-1 if j >> i & 1 else 1 for i in range(len(roots)))
         branches.append(Branch(signs, on_branch(residual, roots, signs),
                                sum((sp.Abs(on_branch(t, roots, signs)) for t in terms), sp.S.Zero)))
     declared = (1,) * len(roots)

@@ -183,8 +183,8 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         elif name in polar:
             X, Y = pairs[polar[name]]
             rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-            roots.append(Root(rho, compact(known[X] ** 2 + known[Y] ** 2, theta), "length",
-                              name))
+            # kept a sum of squares: accurate where the length is small (no cancellation)
+            roots.append(Root(rho, known[X] ** 2 + known[Y] ** 2, "length", name))
             result.append(rho)
         else:
             x, y = angles.get(name, (known[pairs[name][0]], known[pairs[name][1]]))

@@ -76,9 +76,14 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
         solution, expr = solution.with_length_roots(solution.substitute(expr.subs(freezer)))
         return expr
 
+    def slope(expr: sp.Expr) -> sp.Expr:
+        """d/dtheta along the motion (``along`` first: it may add a length root)."""
+        expr = along(expr)
+        return tidy(solution.derivative(expr))
+
     def rates(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
         """First and second derivatives along the motion, the first factored."""
-        first = tidy(solution.derivative(along(expr)))
+        first = slope(expr)
         return first, solution.derivative(first)
 
     # The reduced equation's coefficients from the energies, term by term: each body adds
@@ -94,7 +99,7 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
                 e1 += mass * first * second
     for damper in mechanism.dampers:
         e2 += damper.coefficient * rates(damper.length)[0] ** 2
-    terms = tuple(tidy(solution.derivative(along(p))) for p in contributions(mechanism))
+    terms = tuple(slope(p) for p in contributions(mechanism))
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd, solution=solution,
         positions=positions, velocities=S * theta_d, equation=equation,

@@ -43,6 +43,13 @@ class CFunction:
     # A straight-line program the outputs are written in: (symbol, expression) in order.
     definitions: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
 
+    def explicit(self, exprs) -> list[sp.Expr]:
+        """Expressions with the program's symbols written out in the inputs."""
+        values: dict[sp.Symbol, sp.Expr] = {}
+        for symbol, definition in self.definitions:
+            values[symbol] = definition.xreplace(values)
+        return [sp.sympify(e).xreplace(values) for e in exprs]
+
 
 @dataclass(frozen=True)
 class Status:

@@ -145,9 +145,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "singular_state": plan.singular_state,
         "polynomial": plan.has("sigma"),
         "root_kinds": plan.root_kinds,
-        "length_bits": sum(1 << i for i in range(2 ** len(plan.root_kinds))
-                           if any(i >> j & 1 and k == "length"
-                                  for j, k in enumerate(plan.root_kinds))),
+        "length_bits": sum(1 << j for j, k in enumerate(plan.root_kinds) if k == "length"),
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,

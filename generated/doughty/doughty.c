@@ -545,7 +545,7 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
     return DOUGHTY_OK;
 }
 
-/* dependent_state: eq. (30)-(35). Total ops: 51. */
+/* dependent_state: eq. (30)-(35). Total ops: 35. */
 doughty_status doughty_dependent_state(const doughty_params *params, double theta, double theta_d, double coords[DOUGHTY_N_COORDS], double rates[DOUGHTY_N_COORDS])
 {
     double out[10];
@@ -571,26 +571,24 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
         const double tmp1 = L*tmp0;
         const double tmp2 = sin(theta);
         const double tmp3 = L*tmp2;
-        const double tmp4 = (L*L);
-        const double tmp5 = 2*L*a;
-        const double tmp6 = a*tmp0;
-        const double tmp7 = (tmp0*tmp0);
-        const double tmp8 = sqrt((H*H) - 2*H*tmp6 + (a*a) - tmp4*tmp7 + tmp4 + tmp5*tmp7 - tmp5);
-        const double tmp9 = a*tmp2;
-        const double tmp10 = tmp3 - tmp9;
-        const double tmp11 = -tmp6;
-        const double tmp12 = H + tmp11;
-        const double tmp13 = 1/(((tmp10*tmp10) + (tmp12*tmp12)));
+        const double tmp4 = a*tmp0;
+        const double tmp5 = -tmp4;
+        const double tmp6 = H + tmp5;
+        const double tmp7 = a*tmp2;
+        const double tmp8 = tmp3 - tmp7;
+        const double tmp9 = (tmp6*tmp6) + (tmp8*tmp8);
+        const double tmp10 = sqrt(tmp9);
+        const double tmp11 = 1/(tmp9);
         out[0] = tmp1;
         out[1] = tmp3;
-        out[2] = tmp8;
+        out[2] = tmp10;
         out[3] = theta;
-        out[4] = atan2(tmp10, tmp12);
+        out[4] = atan2(tmp8, tmp6);
         out[5] = -theta_d*tmp3;
         out[6] = theta_d*tmp1;
-        out[7] = theta_d*(H*tmp9 + tmp0*tmp2*tmp4 - 2*tmp1*tmp9)/tmp8;
+        out[7] = theta_d*(tmp6*tmp7 + (1.0/2.0)*tmp8*(2*tmp1 - 2*tmp4))/tmp10;
         out[8] = theta_d;
-        out[9] = theta_d*(-tmp10*tmp13*tmp9 + tmp12*tmp13*(tmp1 + tmp11));
+        out[9] = theta_d*(tmp11*tmp6*(tmp1 + tmp5) - tmp11*tmp7*tmp8);
     }
     if (!all_finite(out, 10)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -600,7 +598,7 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
     return DOUGHTY_OK;
 }
 
-/* reduced_coefficients: eq. (36)-(41). Total ops: 45. */
+/* reduced_coefficients: eq. (36)-(41). Total ops: 40. */
 doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED])
 {
     double out[3];
@@ -629,14 +627,13 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
         const double tmp3 = (tmp2*tmp2);
         const double tmp4 = cos(theta);
         const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = tmp0*tmp5;
+        const double tmp6 = (1.0/4.0)*tmp1;
         const double tmp7 = tmp0*tmp4;
         const double tmp8 = tmp2*tmp7;
-        const double tmp9 = H*a;
-        const double tmp10 = 2*L*a;
-        out[0] = m_A*tmp0*tmp3 + m_B*tmp6 + (1.0/4.0)*m_C*tmp6 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1;
+        const double tmp9 = a*tmp4;
+        out[0] = m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (1.0/12.0)*tmp1 + tmp3*tmp6 + tmp5*tmp6;
         out[1] = m_A*tmp8 - m_B*tmp8;
-        out[2] = b*tmp3*((-tmp10*tmp4 + tmp7 + tmp9)*(-tmp10*tmp4 + tmp7 + tmp9))/((H*H) + (a*a) + tmp0 + tmp10*tmp5 - tmp10 - 2*tmp4*tmp9 - tmp6);
+        out[2] = b*tmp3*((H*a - 2*L*tmp9 + tmp7)*(H*a - 2*L*tmp9 + tmp7))/(((H - tmp9)*(H - tmp9)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2)));
     }
     if (!all_finite(out, 3)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -645,7 +642,7 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* angular_acceleration: eq. (36). Total ops: 68. */
+/* angular_acceleration: eq. (36). Total ops: 63. */
 doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd)
 {
     double out[1];
@@ -681,18 +678,15 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
         const double tmp3 = (tmp2*tmp2);
         const double tmp4 = cos(theta);
         const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = tmp0*tmp5;
-        const double tmp7 = L*tmp4;
-        const double tmp8 = g*tmp7;
-        const double tmp9 = tmp0*tmp4;
-        const double tmp10 = tmp2*tmp9;
-        const double tmp11 = H*a;
-        const double tmp12 = 2*a;
-        const double tmp13 = tmp11 - tmp12*tmp7 + tmp9;
-        const double tmp14 = L*tmp12;
-        const double tmp15 = (H*H) + (a*a) + tmp0 - 2*tmp11*tmp4 + tmp14*tmp5 - tmp14 - tmp6;
-        const double tmp16 = sqrt(tmp15);
-        out[0] = (F*L*tmp4 - b*theta_d*(tmp13*tmp13)*tmp3/tmp15 + k*tmp13*tmp2*(l_ND - tmp16)/tmp16 - m_B*tmp8 - 1.0/2.0*m_C*tmp8 - (theta_d*theta_d)*(m_A*tmp10 - m_B*tmp10))/(m_A*tmp0*tmp3 + m_B*tmp6 + (1.0/4.0)*m_C*tmp6 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1);
+        const double tmp6 = (1.0/4.0)*tmp1;
+        const double tmp7 = L*g*tmp4;
+        const double tmp8 = tmp0*tmp4;
+        const double tmp9 = tmp2*tmp8;
+        const double tmp10 = a*tmp4;
+        const double tmp11 = H*a - 2*L*tmp10 + tmp8;
+        const double tmp12 = ((H - tmp10)*(H - tmp10)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
+        const double tmp13 = sqrt(tmp12);
+        out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - 1.0/2.0*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (1.0/12.0)*tmp1 + tmp3*tmp6 + tmp5*tmp6);
     }
     if (!all_finite(out, 1)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -701,7 +695,7 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* equilibrium_residual: eq. (42)-(43). Total ops: 55. */
+/* equilibrium_residual: eq. (42)-(43). Total ops: 49. */
 doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual, double *scale)
 {
     double out[2];
@@ -729,16 +723,14 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
         const double tmp0 = cos(theta);
         const double tmp1 = L*tmp0;
         const double tmp2 = F*tmp1;
-        const double tmp3 = (L*L);
-        const double tmp4 = 2*a;
-        const double tmp5 = L*tmp4;
-        const double tmp6 = H*a;
-        const double tmp7 = (tmp0*tmp0);
-        const double tmp8 = sqrt((H*H) + (a*a) - 2*tmp0*tmp6 - tmp3*tmp7 + tmp3 + tmp5*tmp7 - tmp5);
-        const double tmp9 = k*(l_ND - tmp8)*(tmp0*tmp3 - tmp1*tmp4 + tmp6)*sin(theta);
-        const double tmp10 = g*tmp1;
-        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp9/tmp8;
-        out[1] = fabs(tmp2) + fabs(m_B*tmp10) + (1.0/2.0)*fabs(m_C*tmp10) + fabs(tmp9)/fabs(tmp8);
+        const double tmp3 = a*tmp0;
+        const double tmp4 = sin(theta);
+        const double tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const double tmp6 = 1/(tmp5);
+        const double tmp7 = k*tmp4*(l_ND - tmp5)*(H*a + (L*L)*tmp0 - 2*L*tmp3);
+        const double tmp8 = g*tmp1;
+        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*tmp7;
+        out[1] = tmp6*fabs(tmp7) + fabs(tmp2) + fabs(m_B*tmp8) + (1.0/2.0)*fabs(m_C*tmp8);
     }
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -748,7 +740,7 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* radicands: eq. -. Total ops: 27. */
+/* radicands: eq. -. Total ops: 30. */
 doughty_status doughty_radicands(const doughty_params *params, double theta, double values[DOUGHTY_N_ROOTS], double scales[DOUGHTY_N_ROOTS])
 {
     double out[2];
@@ -767,17 +759,13 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
         const double H = params->H;
         const double L = params->L;
         const double a = params->a;
-        const double tmp0 = (L*L);
-        const double tmp1 = cos(theta);
-        const double tmp2 = (tmp1*tmp1);
-        const double tmp3 = tmp0*tmp2;
-        const double tmp4 = L*a;
-        const double tmp5 = 2*tmp4;
-        const double tmp6 = H*a*tmp1;
-        const double tmp7 = (H*H) + (a*a) + tmp0;
-        const double tmp8 = 2*fabs(tmp4);
-        out[0] = tmp2*tmp5 - tmp3 - tmp5 - 2*tmp6 + tmp7;
-        out[1] = tmp2*tmp8 + tmp3 + tmp7 + tmp8 + 2*fabs(tmp6);
+        const double tmp0 = cos(theta);
+        const double tmp1 = a*tmp0;
+        const double tmp2 = sin(theta);
+        const double tmp3 = (tmp2*tmp2);
+        const double tmp4 = (a*a);
+        out[0] = ((H - tmp1)*(H - tmp1)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
+        out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*fabs(L*a) + 2*fabs(H*tmp1);
     }
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_OVERFLOW;
@@ -787,7 +775,7 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
     return DOUGHTY_OK;
 }
 
-/* equilibrium_branches: eq. (43), squared into (45). Total ops: 51. */
+/* equilibrium_branches: eq. (43), squared into (45). Total ops: 45. */
 doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES])
 {
     double out[2];
@@ -815,16 +803,13 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
         const double tmp0 = cos(theta);
         const double tmp1 = L*tmp0;
         const double tmp2 = F*tmp1;
-        const double tmp3 = (L*L);
-        const double tmp4 = 2*a;
-        const double tmp5 = L*tmp4;
-        const double tmp6 = H*a;
-        const double tmp7 = (tmp0*tmp0);
-        const double tmp8 = sqrt((H*H) + (a*a) - 2*tmp0*tmp6 - tmp3*tmp7 + tmp3 + tmp5*tmp7 - tmp5);
-        const double tmp9 = k*(tmp0*tmp3 - tmp1*tmp4 + tmp6)*sin(theta)/tmp8;
-        const double tmp10 = g*tmp1;
-        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp9*(l_ND - tmp8);
-        out[1] = m_B*tmp10 + (1.0/2.0)*m_C*tmp10 - tmp2 + tmp9*(l_ND + tmp8);
+        const double tmp3 = a*tmp0;
+        const double tmp4 = sin(theta);
+        const double tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const double tmp6 = k*tmp4*(H*a + (L*L)*tmp0 - 2*L*tmp3)/tmp5;
+        const double tmp7 = g*tmp1;
+        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*(l_ND - tmp5);
+        out[1] = m_B*tmp7 + (1.0/2.0)*m_C*tmp7 - tmp2 + tmp6*(l_ND + tmp5);
     }
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -833,7 +818,7 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* sigma: eq. (44)-(45). Total ops: 198. */
+/* sigma: eq. (44)-(45). Total ops: 188. */
 doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
 {
     double out[13];
@@ -855,9 +840,9 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
         const double l_ND = params->l_ND;
         const double F = params->F;
         const double g = params->g;
-        const double w_0 = (H*H) - 2*H*a + (a*a);
-        const double w_1 = 2*(H*H) + 4*(L*L) - 8*L*a + 2*(a*a);
-        const double w_2 = (H*H) + 2*H*a + (a*a);
+        const double w_0 = ((H - a)*(H - a));
+        const double w_1 = 2*(H - a)*(H + a) + ((2*L - 2*a)*(2*L - 2*a));
+        const double w_2 = ((H + a)*(H + a));
         const double w_3 = -F*L + L*g*m_B + (1.0/2.0)*L*g*m_C;
         const double w_4 = 2*k*(H*a + (L*L) - 2*L*a);
         const double w_5 = 2*k*(H*a - (L*L) + 2*L*a);
@@ -898,7 +883,7 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
     return DOUGHTY_OK;
 }
 
-/* linearisation: eq. (46)-(53). Total ops: 100. */
+/* linearisation: eq. (46)-(53). Total ops: 101. */
 doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K)
 {
     double out[3];
@@ -933,25 +918,25 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
         const double tmp5 = cos(theta);
         const double tmp6 = (tmp5*tmp5);
         const double tmp7 = tmp0*tmp6;
-        const double tmp8 = H*a;
-        const double tmp9 = tmp0*tmp5;
-        const double tmp10 = 2*L*a;
-        const double tmp11 = (H*H);
-        const double tmp12 = (a*a);
-        const double tmp13 = tmp5*tmp8;
-        const double tmp14 = tmp10*tmp6;
-        const double tmp15 = tmp0 - tmp10 + tmp11 + tmp12 - 2*tmp13 + tmp14 - tmp7;
-        const double tmp16 = L*tmp2;
-        const double tmp17 = g*tmp16;
-        const double tmp18 = (tmp15*sqrt(tmp15));
-        const double tmp19 = l_ND*tmp3;
-        const double tmp20 = tmp12*tmp19;
-        const double tmp21 = tmp19*tmp6;
-        const double tmp22 = 4*tmp20;
-        const double tmp23 = l_ND*tmp15;
-        out[0] = m_A*tmp4 + m_B*tmp7 + (1.0/4.0)*m_C*tmp7 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1;
-        out[1] = b*tmp3*((-tmp10*tmp5 + tmp8 + tmp9)*(-tmp10*tmp5 + tmp8 + tmp9))/tmp15;
-        out[2] = F*tmp16 + k*(-H*L*tmp22*tmp5 + (L*L*L*L)*tmp21 - 4*(L*L*L)*a*tmp21 - tmp10*tmp15*tmp19 + tmp10*tmp18*tmp3 + tmp11*tmp20 + tmp13*tmp18 - tmp13*tmp23 - tmp14*tmp18 + tmp14*tmp23 - tmp18*tmp4 + tmp18*tmp7 + 2*tmp19*tmp8*tmp9 + tmp22*tmp7 + tmp23*tmp4 - tmp23*tmp7)/tmp18 - m_B*tmp17 - 1.0/2.0*m_C*tmp17;
+        const double tmp8 = (1.0/4.0)*tmp1;
+        const double tmp9 = a*tmp5;
+        const double tmp10 = 2*L;
+        const double tmp11 = L*tmp2;
+        const double tmp12 = ((H - tmp9)*(H - tmp9)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
+        const double tmp13 = g*tmp11;
+        const double tmp14 = (tmp12*sqrt(tmp12));
+        const double tmp15 = (a*a);
+        const double tmp16 = l_ND*tmp3;
+        const double tmp17 = tmp15*tmp16;
+        const double tmp18 = tmp16*tmp6;
+        const double tmp19 = H*tmp9;
+        const double tmp20 = l_ND*tmp4;
+        const double tmp21 = l_ND*tmp12;
+        const double tmp22 = a*tmp10;
+        const double tmp23 = tmp14*tmp22;
+        out[0] = m_A*tmp4 + m_B*tmp7 + (1.0/12.0)*tmp1 + tmp3*tmp8 + tmp6*tmp8;
+        out[1] = b*tmp3*((H*a + tmp0*tmp5 - tmp10*tmp9)*(H*a + tmp0*tmp5 - tmp10*tmp9))/tmp12;
+        out[2] = F*tmp11 + k*((H*H)*tmp17 - 4*H*L*tmp17*tmp5 + (L*L*L*L)*tmp18 - 4*(L*L*L)*a*tmp18 - tmp12*tmp16*tmp22 + tmp14*tmp19 - tmp14*tmp4 + tmp14*tmp7 + 4*tmp15*tmp20*tmp6 + 2*tmp19*tmp20 - tmp19*tmp21 + tmp21*tmp22*tmp6 + tmp21*tmp4 - tmp21*tmp7 + tmp23*tmp3 - tmp23*tmp6)/tmp14 - m_B*tmp13 - 1.0/2.0*m_C*tmp13;
     }
     if (!all_finite(out, 3)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
@@ -962,7 +947,7 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
     return DOUGHTY_OK;
 }
 
-/* vibration: eq. (54)-(55). Total ops: 111. */
+/* vibration: eq. (54)-(55). Total ops: 113. */
 doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
 {
     double out[2];
@@ -999,26 +984,25 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
         const double tmp7 = (tmp6*tmp6);
         const double tmp8 = tmp0*tmp7;
         const double tmp9 = m_B*tmp8;
-        const double tmp10 = tmp1*tmp3;
-        const double tmp11 = m_C*tmp8;
-        const double tmp12 = L*tmp2;
-        const double tmp13 = g*tmp12;
-        const double tmp14 = (H*H);
-        const double tmp15 = (a*a);
-        const double tmp16 = 2*L*a;
-        const double tmp17 = H*a;
-        const double tmp18 = tmp17*tmp6;
-        const double tmp19 = tmp16*tmp7;
-        const double tmp20 = tmp0 + tmp14 + tmp15 - tmp16 - 2*tmp18 + tmp19 - tmp8;
-        const double tmp21 = (tmp20*sqrt(tmp20));
-        const double tmp22 = l_ND*tmp3;
-        const double tmp23 = tmp15*tmp22;
-        const double tmp24 = tmp22*tmp7;
-        const double tmp25 = 4*tmp23;
-        const double tmp26 = tmp0*tmp6;
-        const double tmp27 = l_ND*tmp20;
-        out[0] = (F*tmp12 + k*(-H*L*tmp25*tmp6 + (L*L*L*L)*tmp24 - 4*(L*L*L)*a*tmp24 + tmp14*tmp23 - tmp16*tmp20*tmp22 + tmp16*tmp21*tmp3 + 2*tmp17*tmp22*tmp26 + tmp18*tmp21 - tmp18*tmp27 - tmp19*tmp21 + tmp19*tmp27 - tmp21*tmp4 + tmp21*tmp8 + tmp25*tmp8 + tmp27*tmp4 - tmp27*tmp8)/tmp21 - m_B*tmp13 - 1.0/2.0*m_C*tmp13)/((1.0/12.0)*tmp1 + (1.0/4.0)*tmp10 + (1.0/4.0)*tmp11 + tmp5 + tmp9);
-        out[1] = b*tmp3*((-tmp16*tmp6 + tmp17 + tmp26)*(-tmp16*tmp6 + tmp17 + tmp26))/(tmp20*((1.0/6.0)*tmp1 + (1.0/2.0)*tmp10 + (1.0/2.0)*tmp11 + 2*tmp5 + 2*tmp9));
+        const double tmp10 = (1.0/4.0)*tmp1;
+        const double tmp11 = L*tmp2;
+        const double tmp12 = g*tmp11;
+        const double tmp13 = a*tmp6;
+        const double tmp14 = ((H - tmp13)*(H - tmp13)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
+        const double tmp15 = (tmp14*sqrt(tmp14));
+        const double tmp16 = (a*a);
+        const double tmp17 = l_ND*tmp3;
+        const double tmp18 = tmp16*tmp17;
+        const double tmp19 = tmp17*tmp7;
+        const double tmp20 = H*tmp13;
+        const double tmp21 = l_ND*tmp4;
+        const double tmp22 = l_ND*tmp14;
+        const double tmp23 = 2*L;
+        const double tmp24 = a*tmp23;
+        const double tmp25 = tmp15*tmp24;
+        const double tmp26 = (1.0/2.0)*tmp1;
+        out[0] = (F*tmp11 + k*((H*H)*tmp18 - 4*H*L*tmp18*tmp6 + (L*L*L*L)*tmp19 - 4*(L*L*L)*a*tmp19 - tmp14*tmp17*tmp24 + tmp15*tmp20 - tmp15*tmp4 + tmp15*tmp8 + 4*tmp16*tmp21*tmp7 + 2*tmp20*tmp21 - tmp20*tmp22 + tmp22*tmp24*tmp7 + tmp22*tmp4 - tmp22*tmp8 + tmp25*tmp3 - tmp25*tmp7)/tmp15 - m_B*tmp12 - 1.0/2.0*m_C*tmp12)/((1.0/12.0)*tmp1 + tmp10*tmp3 + tmp10*tmp7 + tmp5 + tmp9);
+        out[1] = b*tmp3*((H*a + tmp0*tmp6 - tmp13*tmp23)*(H*a + tmp0*tmp6 - tmp13*tmp23))/(tmp14*((1.0/6.0)*tmp1 + tmp26*tmp3 + tmp26*tmp7 + 2*tmp5 + 2*tmp9));
     }
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;

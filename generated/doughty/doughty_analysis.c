@@ -32,7 +32,7 @@
 #define MULTIPLE_ROOT_SPREAD 1e-7
 
 /* Branches (bit i set: root i negative) with a negative length among their signs. */
-#define LENGTH_BRANCH_BITS 2u
+#define LENGTH_BRANCH_BITS 1u
 
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E

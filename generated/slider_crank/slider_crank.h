@@ -20,8 +20,8 @@
 extern "C" {
 #endif
 
-#define SLIDER_CRANK_DEGREE 16
-#define SLIDER_CRANK_MAX_ROOTS 16
+#define SLIDER_CRANK_DEGREE 24
+#define SLIDER_CRANK_MAX_ROOTS 24
 #define SLIDER_CRANK_N_BRANCHES 4
 #define SLIDER_CRANK_N_CONSTRAINTS 2
 #define SLIDER_CRANK_N_COORDS 3
@@ -30,7 +30,7 @@ extern "C" {
 #define SLIDER_CRANK_N_POINT_COORDS 4
 #define SLIDER_CRANK_N_REDUCED 3
 #define SLIDER_CRANK_N_ROOTS 2
-#define SLIDER_CRANK_N_SIGMA 17
+#define SLIDER_CRANK_N_SIGMA 25
 
 /* The degree is derived by the generator; the shared root finder must accept it. */
 typedef char slider_crank_degree_fits_root_finder[(SLIDER_CRANK_DEGREE <= CODEGEN_MAX_DEGREE) ? 1 : -1];
@@ -190,7 +190,7 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, do
  */
 slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES]);
 
-/* Coefficients sigma_0..sigma_16 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^8.
+/* Coefficients sigma_0..sigma_24 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^12.
  * out sigma: [as derived]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
@@ -233,7 +233,7 @@ slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_pa
 slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
 slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, slider_crank_status *statuses);
 
-/* Real roots of sum_{i=0}^{16} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
+/* Real roots of sum_{i=0}^{24} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
 slider_crank_status slider_crank_poly_real_roots(const double sigma[SLIDER_CRANK_N_SIGMA],
@@ -284,7 +284,7 @@ typedef struct slider_crank_equilibrium {
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct slider_crank_analysis {
-    double sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_16 */
+    double sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 */
     int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
     slider_crank_equilibrium roots[SLIDER_CRANK_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
