@@ -165,12 +165,14 @@ def table(analysis: Analysis) -> str:
             f"{eig:>36} {r.stability:>9} {r.damping:>11}")
     n = len(analysis.roots) + len(analysis.singular) + len(analysis.unassembled)
     count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
-    lines.append(f"\n{n} real roots of the polynomial: {count['equilibrium']} equilibria, "
-                 f"{count['other assembly mode']} of another assembly mode, "
-                 f"{count['extraneous']} extraneous (a negative length)"
-                 + (f", {len(analysis.singular)} singular" if analysis.singular else "")
-                 + (f", {len(analysis.unassembled)} where it cannot be assembled"
-                    if analysis.unassembled else "") + ".")
+    parts = [f"{count['equilibrium']} equilibria"]
+    parts += [f"{count['other assembly mode']} of another assembly mode"] * bool(
+        count["other assembly mode"])
+    parts += [f"{count['extraneous']} extraneous (a negative length)"] * bool(count["extraneous"])
+    parts += [f"{len(analysis.singular)} singular"] * bool(analysis.singular)
+    parts += [f"{len(analysis.unassembled)} where it cannot be assembled"] * bool(
+        analysis.unassembled)
+    lines.append(f"\n{n} real roots of the polynomial: {', '.join(parts)}.")
     for title, angles in (("a square root is zero, so G is undefined", analysis.singular),
                           ("the mechanism cannot be assembled", analysis.unassembled)):
         if angles:

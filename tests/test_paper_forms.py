@@ -152,14 +152,19 @@ def _comparisons(d, plan):
         "(4), (7): r cos(phi), r sin(phi)": (
             [red.positions[2] * cos(red.positions[4]), red.positions[2] * sin(red.positions[4])],
             [H - a * cos(theta), (L - a) * sin(theta)]),
-        "(37)-(41) e0..e4": (out("reduced_coefficients", "e"), e_paper),
+        "(37)-(39) e0..e2": (out("reduced_coefficients", "e"), e_paper[:3]),
+        # The paper's split of G: the spring's contribution is e3 sin, gravity's and F's e4 cos.
+        "(40)-(41) e3 sin, e4 cos: G's contributions": (
+            [red.solution.explicit(red.static_terms[0]),
+             red.solution.explicit(sum(red.static_terms[1:], sp.S.Zero))],
+            [e_paper[3] * sin(theta), e_paper[4] * cos(theta)]),
         "(36) reduced equation": (red.equation, reduced_paper),
         "(36) angular acceleration": (out("angular_acceleration", "theta_dd"), theta_dd_paper),
         "(42)-(43) equilibrium residual G": (out("equilibrium_residual", "residual"), G_paper),
-        "(43) r G = alpha + beta r (genuine branch)":
-            (out("equilibrium_branches", "genuine"), alpha_paper + beta_paper * r_paper),
-        "(43) beta r - alpha (extraneous branch)":
-            (out("equilibrium_branches", "extraneous"), beta_paper * r_paper - alpha_paper),
+        "(43) G on both branches: (alpha + beta r)/r, (beta r - alpha)/r": (
+            out("equilibrium_branches", "residuals"),
+            [(alpha_paper + beta_paper * r_paper) / r_paper,
+             (beta_paper * r_paper - alpha_paper) / r_paper]),
         "(44)-(45) sigma polynomial": (
             sigma_poly, ((1 + tau**2)**6 * squared_paper).subs(half_angle)),
         "(50) M_EQ": (out("linearisation", "M"), M_paper),
@@ -180,9 +185,11 @@ LABELS = [
     "(12)-(14) point velocities", "(16)-(19) kinetic energy T", "(20) V_G", "(21) V_E",
     "(22) Lagrangian", "(27) A^T lambda", "(28) Q_nc", "(29) V_D",
     "(30)-(31), (34) positions", "(32), (35) rates", "(4), (7): r cos(phi), r sin(phi)",
-    "(37)-(41) e0..e4", "(36) reduced equation", "(36) angular acceleration",
-    "(42)-(43) equilibrium residual G", "(43) r G = alpha + beta r (genuine branch)",
-    "(43) beta r - alpha (extraneous branch)", "(44)-(45) sigma polynomial", "(50) M_EQ",
+    "(37)-(39) e0..e2", "(40)-(41) e3 sin, e4 cos: G's contributions",
+    "(36) reduced equation", "(36) angular acceleration",
+    "(42)-(43) equilibrium residual G",
+    "(43) G on both branches: (alpha + beta r)/r, (beta r - alpha)/r",
+    "(44)-(45) sigma polynomial", "(50) M_EQ",
     "(51) B_EQ", "(52)-(53) K_EQ", "(54) omega_n^2 = K/M", "(55) zeta omega_n = B/(2M)",
     "(50)-(52) derivation's M, B, K",
 ]
@@ -270,8 +277,9 @@ def _numerically_equal(label, derived, paper, random_params, mp_compile, count=2
 def test_a_misprint_is_caught(wrong, comparisons, random_params, mp_compile):
     """Typical misprints of the paper's forms fail both comparisons."""
     if wrong.startswith("e3"):
-        derived = comparisons["(37)-(41) e0..e4"][0][3]
-        paper = k * (r_paper - l_ND) * (H * a + (L**2 - L * a) * cos(theta)) / r_paper
+        derived = comparisons["(40)-(41) e3 sin, e4 cos: G's contributions"][0][0]
+        paper = (k * (r_paper - l_ND) * (H * a + (L**2 - L * a) * cos(theta)) / r_paper
+                 * sin(theta))
     elif wrong.startswith("K_EQ"):
         derived = comparisons["(52)-(53) K_EQ"][0][0]
         paper = ((F * L - g * L * (m_B + m_C / 2)) * sin(theta)

@@ -74,11 +74,13 @@ def test_cli_nonfinite_parameter():
 
 def test_nonfinite_state_and_null_pointers():
     p = _c_params()
-    out = ffi.new("double *", SENTINEL)
-    assert lib.doughty_equilibrium_residual(p, math.nan, out) == api.STATUS["ERR_NONFINITE"]
-    assert out[0] == SENTINEL
-    assert lib.doughty_equilibrium_residual(ffi.NULL, 0.1, out) == api.STATUS["ERR_NULL_POINTER"]
-    assert lib.doughty_equilibrium_residual(p, 0.1, ffi.NULL) == api.STATUS["ERR_NULL_POINTER"]
+    out, scale = ffi.new("double *", SENTINEL), ffi.new("double *", SENTINEL)
+    residual = lib.doughty_equilibrium_residual
+    assert residual(p, math.nan, out, scale) == api.STATUS["ERR_NONFINITE"]
+    assert out[0] == SENTINEL and scale[0] == SENTINEL
+    assert residual(ffi.NULL, 0.1, out, scale) == api.STATUS["ERR_NULL_POINTER"]
+    assert residual(p, 0.1, ffi.NULL, scale) == api.STATUS["ERR_NULL_POINTER"]
+    assert residual(p, 0.1, out, ffi.NULL) == api.STATUS["ERR_NULL_POINTER"]
     assert lib.doughty_analyze(p, ffi.NULL) == api.STATUS["ERR_NULL_POINTER"]
     coords = np.array([0.9, 0.0, math.inf, 0.0, 0.0])
     with pytest.raises(ValueError, match="NaN or infinite"):

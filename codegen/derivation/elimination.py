@@ -3,7 +3,7 @@
 G is a rational function of cos(theta), sin(theta) and the roots rho_1..rho_n of the
 position analysis (rho_i^2 = R_i, where R_i may hold earlier roots). Its numerator N is a
 polynomial in them. Writing N = alpha + beta rho_n (powers of rho_n reduced by
-rho_n^2 = R_n), the product over both signs of rho_n, alpha^2 - beta^2 R_n, no longer holds
+rho_n^2 = R_n), minus the product over both signs of rho_n, beta^2 R_n - alpha^2, no longer holds
 rho_n; repeating for rho_{n-1}, .., rho_1 leaves a polynomial in cos, sin that vanishes
 wherever N vanishes on *some* branch (choice of signs of the roots). The tangent half-angle
 substitution makes it a polynomial in tau = tan(theta/2) (half_angle.py).
@@ -172,7 +172,8 @@ def eliminate(numerator: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...],
     poly = to_root_polynomial(numerator, theta, roots).reduced(radicands).named(program)
     for i in reversed(range(len(roots))):
         alpha, beta = poly.split(i)
-        poly = (alpha * alpha + -(beta * beta * radicands[i])).reduced(radicands).named(program)
+        # beta^2 R - alpha^2, the sign the paper's (45) has: -(alpha + beta rho)(alpha - beta rho)
+        poly = (beta * beta * radicands[i] + -(alpha * alpha)).reduced(radicands).named(program)
     (tau,) = poly.terms.values() or (TauPolynomial((sp.S.Zero,), 0),)
     coeffs = list(tau.coeffs) + [sp.S.Zero] * (2 * tau.weight + 1 - len(tau.coeffs))
     weight = tau.weight

@@ -818,7 +818,7 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* sigma: eq. (44)-(45). Total ops: 188. */
+/* sigma: eq. (44)-(45). Total ops: 180. */
 doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
 {
     double out[13];
@@ -849,19 +849,19 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
         const double w_6 = F*L - L*g*m_B - 1.0/2.0*L*g*m_C;
         const double w_7 = -2*k*l_ND*(H*a + (L*L) - 2*L*a);
         const double w_8 = -2*k*l_ND*(H*a - (L*L) + 2*L*a);
-        const double w_9 = -w_0*(w_3*w_3);
-        const double w_10 = -2*w_0*w_3*w_4;
-        const double w_11 = -w_0*(w_4*w_4) - w_1*(w_3*w_3) + (w_7*w_7);
-        const double w_12 = -2*w_0*w_3*w_5 - 2*w_1*w_3*w_4;
-        const double w_13 = -w_0*(2*w_3*w_6 + 2*w_4*w_5) - w_1*(w_4*w_4) - w_2*(w_3*w_3) + 2*(w_7*w_7) + 2*w_7*w_8;
-        const double w_14 = -2*w_0*w_4*w_6 - 2*w_1*w_3*w_5 - 2*w_2*w_3*w_4;
-        const double w_15 = -w_0*(w_5*w_5) - w_1*(2*w_3*w_6 + 2*w_4*w_5) - w_2*(w_4*w_4) + (w_7*w_7) + 4*w_7*w_8 + (w_8*w_8);
-        const double w_16 = -2*w_0*w_5*w_6 - 2*w_1*w_4*w_6 - 2*w_2*w_3*w_5;
-        const double w_17 = -w_0*(w_6*w_6) - w_1*(w_5*w_5) - w_2*(2*w_3*w_6 + 2*w_4*w_5) + 2*w_7*w_8 + 2*(w_8*w_8);
-        const double w_18 = -2*w_1*w_5*w_6 - 2*w_2*w_4*w_6;
-        const double w_19 = -w_1*(w_6*w_6) - w_2*(w_5*w_5) + (w_8*w_8);
-        const double w_20 = -2*w_2*w_5*w_6;
-        const double w_21 = -w_2*(w_6*w_6);
+        const double w_9 = w_0*(w_3*w_3);
+        const double w_10 = 2*w_0*w_3*w_4;
+        const double w_11 = w_0*(w_4*w_4) + w_1*(w_3*w_3) - (w_7*w_7);
+        const double w_12 = 2*w_0*w_3*w_5 + 2*w_1*w_3*w_4;
+        const double w_13 = w_0*(2*w_3*w_6 + 2*w_4*w_5) + w_1*(w_4*w_4) + w_2*(w_3*w_3) - 2*(w_7*w_7) - 2*w_7*w_8;
+        const double w_14 = 2*w_0*w_4*w_6 + 2*w_1*w_3*w_5 + 2*w_2*w_3*w_4;
+        const double w_15 = w_0*(w_5*w_5) + w_1*(2*w_3*w_6 + 2*w_4*w_5) + w_2*(w_4*w_4) - (w_7*w_7) - 4*w_7*w_8 - (w_8*w_8);
+        const double w_16 = 2*w_0*w_5*w_6 + 2*w_1*w_4*w_6 + 2*w_2*w_3*w_5;
+        const double w_17 = w_0*(w_6*w_6) + w_1*(w_5*w_5) + w_2*(2*w_3*w_6 + 2*w_4*w_5) - 2*w_7*w_8 - 2*(w_8*w_8);
+        const double w_18 = 2*w_1*w_5*w_6 + 2*w_2*w_4*w_6;
+        const double w_19 = w_1*(w_6*w_6) + w_2*(w_5*w_5) - (w_8*w_8);
+        const double w_20 = 2*w_2*w_5*w_6;
+        const double w_21 = w_2*(w_6*w_6);
         out[0] = w_9;
         out[1] = w_10;
         out[2] = w_11;
