@@ -1,5 +1,7 @@
 /* Link the generated library into a program of your own:
- *   cc -std=c99 -Igenerated examples/minimal.c generated/doughty.c generated/doughty_analysis.c generated/doughty_roots.c -lm -o minimal
+ *   cc -std=c99 -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
+ *      generated/doughty/doughty.c generated/doughty/doughty_analysis.c \
+ *      generated/runtime/codegen_roots.c -lm -o minimal
  */
 #include <stdio.h>
 

@@ -100,8 +100,9 @@ static void exercise(const doughty_params *p, rng *r, int item)
     RUN(doughty_dependent_state(p, theta, theta_d, out, out + 5), 10);
     RUN(doughty_reduced_coefficients(p, theta, out), DOUGHTY_N_REDUCED);
     RUN(doughty_angular_acceleration(p, theta, theta_d, out), 1);
-    RUN(doughty_equilibrium_residual(p, theta, out), 1);
-    RUN(doughty_equilibrium_branches(p, theta, out, out + 1), 2);
+    RUN(doughty_equilibrium_residual(p, theta, out, out + 1), 2);
+    RUN(doughty_equilibrium_branches(p, theta, out), DOUGHTY_N_BRANCHES);
+    RUN(doughty_radicands(p, theta, out, out + DOUGHTY_N_ROOTS), 2 * DOUGHTY_N_ROOTS);
     RUN(doughty_linearisation(p, theta, out, out + 1, out + 2), 3);
     RUN(doughty_vibration(p, theta, out, out + 1), 2);
     RUN(doughty_sigma(p, out), DOUGHTY_N_SIGMA);
