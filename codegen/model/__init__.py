@@ -10,7 +10,7 @@ import importlib.util
 from pathlib import Path
 
 from .mechanism import (TIME, Body, Coordinate, Damper, Mechanism, Parameter, PointForce,
-                        Requirement, Spring, Torque, distance)
+                        Requirement, Spring, Torque, distance, parameter)
 
 SHIPPED = ("doughty", "slider_crank", "four_bar", "torsion_pendulum")
 
@@ -30,4 +30,4 @@ def load(name_or_path: str) -> Mechanism:
 
 
 __all__ = ["SHIPPED", "TIME", "Body", "Coordinate", "Damper", "Mechanism", "Parameter",
-           "PointForce", "Requirement", "Spring", "Torque", "distance", "load"]
+           "PointForce", "Requirement", "Spring", "Torque", "distance", "load", "parameter"]

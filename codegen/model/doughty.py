@@ -7,26 +7,23 @@ length and direction. Gravity acts along -Y, a force F pushes slider 2 along +Y.
 """
 import sympy as sp
 
-from .mechanism import (Body, Coordinate, Damper, Mechanism, Parameter, PointForce, Requirement,
+from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
                         Spring)
 
 
-def _param(name: str, unit: str, description: str, value: str) -> Parameter:
-    return Parameter(sp.Symbol(name, real=True), unit, description, value)
-
 
 PARAMETERS = (
-    _param("H", "m", "abscissa of the spring's fixed point O'", "0.18"),
-    _param("L", "m", "length of the bar", "0.9"),
-    _param("a", "m", "distance from B to the spring's attachment P", "0.135"),
-    _param("m_A", "kg", "mass of slider 1", "0.194"),
-    _param("m_B", "kg", "mass of slider 2", "0.143"),
-    _param("m_C", "kg", "mass of the bar", "9.124"),
-    _param("k", "N/m", "spring stiffness", "3500"),
-    _param("b", "N s/m", "damping coefficient", "875"),
-    _param("l_ND", "m", "free length of the spring", "0.15"),
-    _param("F", "N", "force on slider 2 along +Y", "110"),
-    _param("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+    parameter("H", "m", "abscissa of the spring's fixed point O'", "0.18"),
+    parameter("L", "m", "length of the bar", "0.9"),
+    parameter("a", "m", "distance from B to the spring's attachment P", "0.135"),
+    parameter("m_A", "kg", "mass of slider 1", "0.194"),
+    parameter("m_B", "kg", "mass of slider 2", "0.143"),
+    parameter("m_C", "kg", "mass of the bar", "9.124"),
+    parameter("k", "N/m", "spring stiffness", "3500"),
+    parameter("b", "N s/m", "damping coefficient", "875"),
+    parameter("l_ND", "m", "free length of the spring", "0.15"),
+    parameter("F", "N", "force on slider 2 along +Y", "110"),
+    parameter("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
 )
 
 COORDINATES = (

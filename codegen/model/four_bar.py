@@ -7,29 +7,26 @@ S = (x_S, y_S) to B. A torque T acts on the crank; gravity along -Y.
 """
 import sympy as sp
 
-from .mechanism import (Body, Coordinate, Damper, Mechanism, Parameter, Requirement, Spring,
+from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, Requirement, Spring,
                         Torque, distance)
 
 
-def _param(name: str, unit: str, description: str, value: str) -> Parameter:
-    return Parameter(sp.Symbol(name, real=True), unit, description, value)
-
 
 PARAMETERS = (
-    _param("d", "m", "distance between the ground pivots O2 and O4", "0.4"),
-    _param("a_2", "m", "crank length", "0.12"),
-    _param("a_3", "m", "coupler length", "0.35"),
-    _param("a_4", "m", "rocker length", "0.3"),
-    _param("m_2", "kg", "mass of the crank", "0.4"),
-    _param("m_3", "kg", "mass of the coupler", "1.0"),
-    _param("m_4", "kg", "mass of the rocker", "0.8"),
-    _param("k", "N/m", "spring stiffness", "1500"),
-    _param("l_0", "m", "free length of the spring", "0.2"),
-    _param("x_S", "m", "abscissa of the spring's fixed point S", "0.1"),
-    _param("y_S", "m", "ordinate of the spring's fixed point S", "0.45"),
-    _param("b", "N s/m", "damping coefficient of the spring's damper", "30"),
-    _param("T", "N m", "torque on the crank (counter-clockwise positive)", "0"),
-    _param("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+    parameter("d", "m", "distance between the ground pivots O2 and O4", "0.4"),
+    parameter("a_2", "m", "crank length", "0.12"),
+    parameter("a_3", "m", "coupler length", "0.35"),
+    parameter("a_4", "m", "rocker length", "0.3"),
+    parameter("m_2", "kg", "mass of the crank", "0.4"),
+    parameter("m_3", "kg", "mass of the coupler", "1.0"),
+    parameter("m_4", "kg", "mass of the rocker", "0.8"),
+    parameter("k", "N/m", "spring stiffness", "1500"),
+    parameter("l_0", "m", "free length of the spring", "0.2"),
+    parameter("x_S", "m", "abscissa of the spring's fixed point S", "0.1"),
+    parameter("y_S", "m", "ordinate of the spring's fixed point S", "0.45"),
+    parameter("b", "N s/m", "damping coefficient of the spring's damper", "30"),
+    parameter("T", "N m", "torque on the crank (counter-clockwise positive)", "0"),
+    parameter("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
 )
 
 COORDINATES = (

@@ -24,6 +24,11 @@ class Parameter:
     example_value: str  # exact decimal string, so the example is data, not a float
 
 
+def parameter(name: str, unit: str, description: str, value: str) -> Parameter:
+    """A real parameter symbol with its unit, meaning and example value."""
+    return Parameter(sp.Symbol(name, real=True), unit, description, value)
+
+
 @dataclass(frozen=True)
 class Coordinate:
     """A generalised coordinate q_i(t)."""

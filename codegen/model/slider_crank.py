@@ -8,29 +8,26 @@ on the slider along +X, a torque T on the crank. Gravity along -Y.
 """
 import sympy as sp
 
-from .mechanism import (Body, Coordinate, Damper, Mechanism, Parameter, PointForce, Requirement,
+from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
                         Spring, Torque, distance)
 
 
-def _param(name: str, unit: str, description: str, value: str) -> Parameter:
-    return Parameter(sp.Symbol(name, real=True), unit, description, value)
-
 
 PARAMETERS = (
-    _param("R", "m", "crank length", "0.1"),
-    _param("l", "m", "connecting-rod length", "0.3"),
-    _param("e", "m", "offset of the slide (the slider moves on y = e)", "0.02"),
-    _param("m_1", "kg", "mass of the crank", "0.5"),
-    _param("m_2", "kg", "mass of the connecting rod", "1.2"),
-    _param("m_3", "kg", "mass of the slider", "2.0"),
-    _param("k", "N/m", "spring stiffness", "2000"),
-    _param("l_0", "m", "free length of the spring", "0.25"),
-    _param("x_S", "m", "abscissa of the spring's fixed point S", "0.45"),
-    _param("y_S", "m", "ordinate of the spring's fixed point S", "0.2"),
-    _param("b", "N s/m", "damping coefficient on the slide", "40"),
-    _param("F", "N", "force on the slider along +X", "-30"),
-    _param("T", "N m", "torque on the crank (counter-clockwise positive)", "0"),
-    _param("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+    parameter("R", "m", "crank length", "0.1"),
+    parameter("l", "m", "connecting-rod length", "0.3"),
+    parameter("e", "m", "offset of the slide (the slider moves on y = e)", "0.02"),
+    parameter("m_1", "kg", "mass of the crank", "0.5"),
+    parameter("m_2", "kg", "mass of the connecting rod", "1.2"),
+    parameter("m_3", "kg", "mass of the slider", "2.0"),
+    parameter("k", "N/m", "spring stiffness", "2000"),
+    parameter("l_0", "m", "free length of the spring", "0.25"),
+    parameter("x_S", "m", "abscissa of the spring's fixed point S", "0.45"),
+    parameter("y_S", "m", "ordinate of the spring's fixed point S", "0.2"),
+    parameter("b", "N s/m", "damping coefficient on the slide", "40"),
+    parameter("F", "N", "force on the slider along +X", "-30"),
+    parameter("T", "N m", "torque on the crank (counter-clockwise positive)", "0"),
+    parameter("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
 )
 
 COORDINATES = (

@@ -7,23 +7,20 @@ winds, so theta ranges over (theta_0 - pi, theta_0 + pi]. There are no constrain
 """
 import sympy as sp
 
-from .mechanism import (Body, Coordinate, Damper, Mechanism, Parameter, PointForce, Requirement,
+from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
                         Spring)
 
 
-def _param(name: str, unit: str, description: str, value: str) -> Parameter:
-    return Parameter(sp.Symbol(name, real=True), unit, description, value)
-
 
 PARAMETERS = (
-    _param("l", "m", "length of the bar", "1.0"),
-    _param("m", "kg", "mass of the bar", "1.0"),
-    _param("m_t", "kg", "point mass at the tip", "2.0"),
-    _param("k_t", "N m/rad", "torsional spring stiffness", "20"),
-    _param("theta_0", "rad", "free angle of the torsional spring", "1.5707963267948966"),
-    _param("c", "N m s/rad", "torsional damping coefficient", "0.5"),
-    _param("F_x", "N", "horizontal force at the tip along +X", "0"),
-    _param("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+    parameter("l", "m", "length of the bar", "1.0"),
+    parameter("m", "kg", "mass of the bar", "1.0"),
+    parameter("m_t", "kg", "point mass at the tip", "2.0"),
+    parameter("k_t", "N m/rad", "torsional spring stiffness", "20"),
+    parameter("theta_0", "rad", "free angle of the torsional spring", "1.5707963267948966"),
+    parameter("c", "N m s/rad", "torsional damping coefficient", "0.5"),
+    parameter("F_x", "N", "horizontal force at the tip along +X", "0"),
+    parameter("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
 )
 
 COORDINATES = (Coordinate("theta", "rad", "angle of the bar"),)
