@@ -55,9 +55,8 @@ class _Program:
     def __init__(self, parameters: tuple[sp.Symbol, ...], trials: int = 3):
         self.definitions: list[tuple[sp.Symbol, sp.Expr]] = []
         rng = random.Random(20240611)
-        self.points = [{p: sp.Rational(rng.randint(1, 10**6), rng.randint(1, 10**6))
-                        for p in parameters} for _ in range(trials)]
-        self.values: list[dict] = [dict(p) for p in self.points]
+        self.values: list[dict] = [{p: sp.Rational(rng.randint(1, 10**6), rng.randint(1, 10**6))
+                                    for p in parameters} for _ in range(trials)]
 
     def name(self, expr: sp.Expr) -> sp.Expr:
         if expr.is_Number or expr.is_Symbol or (expr.is_Mul and len(expr.args) == 2

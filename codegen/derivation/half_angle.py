@@ -54,11 +54,6 @@ class TauPolynomial:
             result = result * self
         return result
 
-    def padded(self, length: int) -> tuple[sp.Expr, ...]:
-        if len(self.coeffs) > length:
-            raise ValueError(f"degree {len(self.coeffs) - 1} exceeds {length - 1}")
-        return self.coeffs + (sp.S.Zero,) * (length - len(self.coeffs))
-
 
 _ONE_PLUS_TAU2 = TauPolynomial((sp.S.One, sp.S.Zero, sp.S.One), 0)
 

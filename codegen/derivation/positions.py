@@ -162,7 +162,7 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     known = {u: v for u, v in zip(unknowns, values) if v != u}
     roots: list[Root] = []
     angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
-    for k, name in enumerate(_order_unit_pairs(unit_pairs, pairs, known)):
+    for name in _order_unit_pairs(unit_pairs, pairs, known):
         C, S = pairs[name]
         line = _line_of(C, S, name, unit_pairs, pairs, known)
         P, Q, W = _normalised(line, theta)
