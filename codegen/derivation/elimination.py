@@ -14,6 +14,12 @@ named (a straight-line program of intermediates), so each step multiplies short 
 named values. The emitted coefficients are that program, and CSE sees its structure.
 Coefficients that vanish identically (and factors 1 + tau^2, which have no real root) are
 found by exact evaluation at random rational parameters, so the degree is derived.
+
+Clearing G's denominators can leave powers of them in the numerator (a four-bar's
+|O2 A|^2 enters every closed-form position), and each squaring doubles them: factors with no
+equilibrium among their zeros that inflate the degree and, clustered as multiple complex
+roots, make the real roots ill-conditioned. After every stage each denominator factor is
+divided out as often as it divides exactly (again decided at random rationals).
 """
 from __future__ import annotations
 
@@ -36,6 +42,9 @@ class Polynomial:
     definitions: tuple[tuple[sp.Symbol, sp.Expr], ...]  # intermediates, in order
     coefficients: tuple[sp.Expr, ...]                   # sigma_0..sigma_degree
     weight: int
+    #: (factor in cos, sin, power) divided out: the polynomial is the product over branches
+    #: divided by the product of factor**power
+    divided: tuple[tuple[sp.Expr, int], ...] = ()
 
     @property
     def degree(self) -> int:
@@ -72,6 +81,16 @@ class _Program:
     def vanishes(self, expr: sp.Expr) -> bool:
         """Zero at every random point: identically zero (Schwartz-Zippel)."""
         return all(expr.xreplace(v) == 0 for v in self.values)
+
+    def divides(self, divisor: tuple[sp.Expr, ...], coeffs: tuple[sp.Expr, ...]) -> bool:
+        """Whether sum divisor_i tau^i divides sum coeffs_i tau^i at every random point."""
+        tau = sp.Dummy("tau")
+        for v in self.values:
+            d = sp.Poly([c.xreplace(v) for c in reversed(divisor)], tau, domain="QQ")
+            p = sp.Poly([c.xreplace(v) for c in reversed(coeffs)], tau, domain="QQ")
+            if d.degree() < len(divisor) - 1 or not sp.rem(p, d).is_zero:
+                return False
+        return True
 
 
 class RootPolynomial:
@@ -124,6 +143,16 @@ class RootPolynomial:
             lower = m[:i] + (m[i] - 2,) + m[i + 1:]
             result = RootPolynomial(rest, self.n) + RootPolynomial({lower: t}, self.n) * radicands[i]
 
+    def divided(self, divisor: TauPolynomial, program: _Program) -> "RootPolynomial | None":
+        """self / divisor when every coefficient divides exactly, else None."""
+        terms = {m: t.lifted(max(t.weight, divisor.weight)) for m, t in self.terms.items()}
+        if not all(program.divides(divisor.coeffs, t.coeffs) for t in terms.values()):
+            return None
+        inverse = program.name(1 / divisor.coeffs[-1])
+        return RootPolynomial({m: TauPolynomial(_quotient(t.coeffs, divisor.coeffs, inverse,
+                                                          program), t.weight - divisor.weight)
+                               for m, t in terms.items()}, self.n)
+
     def named(self, program: _Program) -> "RootPolynomial":
         return RootPolynomial({m: TauPolynomial(tuple(program.name(c) for c in t.coeffs),
                                                 t.weight)
@@ -163,16 +192,30 @@ def to_root_polynomial(expr: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...])
 
 
 def eliminate(numerator: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...],
-              parameters: tuple[sp.Symbol, ...]) -> Polynomial:
+              parameters: tuple[sp.Symbol, ...], factors: tuple[sp.Expr, ...] = ()) -> Polynomial:
     """The polynomial in tau whose real roots include every zero of ``numerator`` on every
-    branch of the roots."""
+    branch of the roots, with ``factors`` (polynomials in cos, sin: G's denominators, where
+    G has no zero) divided out wherever they divide."""
     program = _Program(parameters)
+    divisors = [(f, to_tau(f, theta)) for f in factors]
+    divisors = [(f, d) for f, d in divisors if len(d.coeffs) > 1]  # no finite root: nothing
+    powers = {f: 0 for f, _ in divisors}
+
+    def without_factors(poly: RootPolynomial) -> RootPolynomial:
+        for f, divisor in divisors:
+            while (quotient := poly.divided(divisor, program)) is not None:
+                poly, powers[f] = quotient, powers[f] + 1
+        return poly
+
     radicands = [to_root_polynomial(r.radicand, theta, roots).named(program) for r in roots]
-    poly = to_root_polynomial(numerator, theta, roots).reduced(radicands).named(program)
+    poly = without_factors(to_root_polynomial(numerator, theta, roots).reduced(radicands)
+                           .named(program))
     for i in reversed(range(len(roots))):
         alpha, beta = poly.split(i)
         # beta^2 R - alpha^2, the sign the paper's (45) has: -(alpha + beta rho)(alpha - beta rho)
-        poly = (beta * beta * radicands[i] + -(alpha * alpha)).reduced(radicands).named(program)
+        powers = {f: 2 * k for f, k in powers.items()}  # a factor taken out is now squared
+        poly = without_factors((beta * beta * radicands[i] + -(alpha * alpha))
+                               .reduced(radicands).named(program))
     (tau,) = poly.terms.values() or (TauPolynomial((sp.S.Zero,), 0),)
     coeffs = list(tau.coeffs) + [sp.S.Zero] * (2 * tau.weight + 1 - len(tau.coeffs))
     weight = tau.weight
@@ -180,7 +223,20 @@ def eliminate(numerator: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...],
     while weight > 0 and _divisible_by_one_plus_tau2(coeffs, program):
         coeffs, weight = _divide_one_plus_tau2(coeffs, program), weight - 1
     coeffs = [sp.S.Zero if program.vanishes(c) else c for c in coeffs]
-    return Polynomial(tuple(program.definitions), tuple(coeffs), weight)
+    return Polynomial(tuple(program.definitions), tuple(coeffs), weight,
+                      tuple((f, k) for f, k in powers.items() if k))
+
+
+def _quotient(coeffs, divisor, inverse, program) -> tuple[sp.Expr, ...]:
+    """Exact division from the top (coefficient vectors, lowest power first): q_k =
+    (p_{k+m} - sum_j d_{m-j} q_{k+j}) / d_m, each named."""
+    m, n = len(divisor) - 1, len(coeffs) - 1
+    q = [sp.S.Zero] * (n - m + 1)
+    for k in range(n - m, -1, -1):
+        rest = sum((divisor[m - j] * q[k + j] for j in range(1, m + 1) if k + j <= n - m),
+                   sp.S.Zero)
+        q[k] = program.name((coeffs[k + m] - rest) * inverse)
+    return tuple(q)
 
 
 def _divisible_by_one_plus_tau2(coeffs, program) -> bool:

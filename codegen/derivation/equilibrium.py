@@ -53,9 +53,10 @@ def on_branch(expr: sp.Expr, roots: tuple[Root, ...], signs: tuple[int, ...]) ->
     return result
 
 
-def common_numerator(terms: tuple[sp.Expr, ...]) -> sp.Expr:
+def common_numerator(terms: tuple[sp.Expr, ...]) -> tuple[sp.Expr, tuple[sp.Expr, ...]]:
     """The numerator of sum(terms) over the least common multiple of their denominators
-    (factored, so a factor shared by several terms is counted once)."""
+    (factored, so a factor shared by several terms is counted once), and the denominator's
+    irreducible factors."""
     parts = [sp.fraction(sp.together(t)) for t in terms]
     needed: dict[sp.Expr, int] = {}
     factored = []
@@ -64,9 +65,11 @@ def common_numerator(terms: tuple[sp.Expr, ...]) -> sp.Expr:
         factored.append(dict(factors))
         for f, e in factors:
             needed[f] = max(needed.get(f, 0), e)
-    return sp.Add(*(num / c * sp.Mul(*(f ** (e - have.get(f, 0)) for f, e in needed.items()))
-                    for (num, den), have in zip(parts, factored)
-                    for c in [sp.factor_list(den)[0]]))
+    numerator = sp.Add(*(num / c * sp.Mul(*(f ** (e - have.get(f, 0))
+                                            for f, e in needed.items()))
+                         for (num, den), have in zip(parts, factored)
+                         for c in [sp.factor_list(den)[0]]))
+    return numerator, tuple(needed)
 
 
 def is_algebraic(expr: sp.Expr, theta: sp.Symbol) -> bool:
@@ -89,7 +92,11 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
     polynomial = None
     if is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
             is_algebraic(r.radicand, theta) for r in roots):
-        polynomial = eliminate(common_numerator(terms), theta, roots, parameters)
+        numerator, denominators = common_numerator(terms)
+        root_symbols = {r.symbol for r in roots}
+        # G is undefined where a denominator vanishes: its factors hold no equilibrium.
+        spurious = tuple(f for f in denominators if f.has(theta) and not f.free_symbols & root_symbols)
+        polynomial = eliminate(numerator, theta, roots, parameters, spurious)
     return Equilibrium(
         residual=on_branch(residual, roots, declared),
         roots=roots, branches=tuple(branches), polynomial=polynomial,

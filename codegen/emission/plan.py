@@ -208,7 +208,7 @@ def build_plan(d: Derivation) -> Plan:
            f"Coefficients sigma_0..sigma_{eq.polynomial.degree} of sum sigma_i tau^i "
            f"(tau = tan(theta/2)), which vanishes wherever G does on some branch: the "
            f"numerator of G with every square root eliminated, times (1+tau^2)^"
-           f"{eq.polynomial.weight}.",
+           f"{eq.polynomial.weight}{_divided(eq.polynomial.divided)}.",
            [], [Output("sigma", eq.polynomial.coefficients, "[as derived]", "N_SIGMA")],
            eq.polynomial.definitions),
     ) if eq.polynomial else ()
@@ -240,3 +240,11 @@ def build_plan(d: Derivation) -> Plan:
         range_centre=str(m.range_centre),
         functions=constrained + general + branched + polynomial + dynamics_at_rest,
     )
+
+
+def _divided(factors) -> str:
+    """The denominator factors divided out of sigma, for its doc comment."""
+    if not factors:
+        return ""
+    return ", divided by " + " * ".join(f"({sp.sstr(f)})^{k}" for f, k in factors) + \
+        " (factors of G's denominator, where G has no zero)"

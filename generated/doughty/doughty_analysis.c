@@ -30,6 +30,13 @@
 /* Roots closer than this [rad] are one multiple root that rounding split in two: the root
  * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (codegen_roots.c). */
 #define MULTIPLE_ROOT_SPREAD 1e-7
+/* The first half-width [rad, relative to max(|theta|, 1)] tried around a root of another branch,
+ * grown fourfold up to BRANCH_RADIUS [rad], and the bisection steps that then reach adjacent
+ * doubles. Squaring out nested roots can cost the polynomial's roots many digits (a
+ * slider-crank's other-mode root comes 5e-4 rad off); the branch value itself is accurate. */
+#define BRACKET_START 1e-13
+#define BRANCH_RADIUS 1e-2
+#define BISECTION_STEPS 64
 
 /* Branches (bit i set: root i negative) with a negative length among their signs. */
 #define LENGTH_BRANCH_BITS 1u
@@ -181,7 +188,7 @@ static doughty_status check_state(const doughty_params *params, double theta, in
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
 static doughty_status branch_kind(const doughty_params *params, double theta,
-                                  doughty_root_kind *kind)
+                                  doughty_root_kind *kind, unsigned *branch)
 {
     double g[DOUGHTY_N_BRANCHES];
     unsigned j, best = 0u;
@@ -194,9 +201,69 @@ static doughty_status branch_kind(const doughty_params *params, double theta,
             best = j;
         }
     }
+    *branch = best;
     *kind = best == 0u ? DOUGHTY_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? DOUGHTY_EXTRANEOUS : DOUGHTY_OTHER_ASSEMBLY;
     return DOUGHTY_OK;
+}
+
+/* G on one branch at theta; 0 if it cannot be evaluated there. */
+static int branch_value(const doughty_params *params, double theta, unsigned branch,
+                        double *value)
+{
+    double g[DOUGHTY_N_BRANCHES];
+    if (doughty_equilibrium_branches(params, theta, g) != DOUGHTY_OK || !(g[branch] == g[branch])) {
+        return 0;
+    }
+    *value = g[branch];
+    return 1;
+}
+
+/* The zero of G on its own branch nearest theta (a root of another assembly mode, or of a
+ * negative length): the polynomial places it only as well as its conditioning allows, and
+ * no derivative of the other branches is emitted. A bracket grows outwards from theta until
+ * the branch changes sign (within radius), then bisection to adjacent doubles. */
+static double refine_on_branch(const doughty_params *params, double theta, unsigned branch,
+                               double radius)
+{
+    double g0, lo = theta, hi = theta, g_lo = 0.0, g_hi = 0.0, step;
+    int i, found = 0;
+    if (!branch_value(params, theta, branch, &g0) || g0 == 0.0) {
+        return theta;
+    }
+    for (step = BRACKET_START * fmax(fabs(theta), 1.0); step <= radius && !found; step *= 4.0) {
+        if (branch_value(params, theta - step, branch, &g_lo) && (g_lo < 0.0) != (g0 < 0.0)) {
+            lo = theta - step;
+            found = 1;
+        } else if (branch_value(params, theta + step, branch, &g_hi)
+                   && (g_hi < 0.0) != (g0 < 0.0)) {
+            hi = theta + step;
+            found = 1;
+        }
+    }
+    if (!found) {
+        return theta;
+    }
+    if (lo == theta) {
+        g_lo = g0;
+    }
+    for (i = 0; i < BISECTION_STEPS; ++i) {
+        const double mid = lo + 0.5 * (hi - lo);
+        double g_mid;
+        if (!(mid > lo && mid < hi) || !branch_value(params, mid, branch, &g_mid)) {
+            break;
+        }
+        if (g_mid == 0.0) {
+            return mid;
+        }
+        if ((g_mid < 0.0) == (g_lo < 0.0)) {
+            lo = mid;
+            g_lo = g_mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo + 0.5 * (hi - lo);
 }
 
 /* M, B, K, G and the size of G's terms at theta, into e. */
@@ -222,12 +289,13 @@ static doughty_status study_root(const doughty_params *params, double theta,
                                  doughty_equilibrium *e, int *assembled)
 {
     doughty_status status;
+    unsigned branch;
     theta = wrap(theta);
     status = check_state(params, theta, assembled);
     if (status != DOUGHTY_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(params, theta, &e->kind);
+    status = branch_kind(params, theta, &e->kind, &branch);
     if (status != DOUGHTY_OK) {
         return status;
     }
@@ -245,7 +313,8 @@ static doughty_status study_root(const doughty_params *params, double theta,
     if (e->genuine) {
         e->kind = DOUGHTY_EQUILIBRIUM;
         e->theta = wrap(e->theta);
-    } else if (e->theta != theta) { /* no genuine twin: report the root itself */
+    } else { /* no genuine twin: the root itself, on its own branch */
+        theta = wrap(refine_on_branch(params, theta, branch, BRANCH_RADIUS));
         status = evaluate_at(params, theta, e);
         if (status != DOUGHTY_OK) {
             return status;

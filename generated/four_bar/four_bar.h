@@ -20,8 +20,8 @@
 extern "C" {
 #endif
 
-#define FOUR_BAR_DEGREE 50
-#define FOUR_BAR_MAX_ROOTS 50
+#define FOUR_BAR_DEGREE 28
+#define FOUR_BAR_MAX_ROOTS 28
 #define FOUR_BAR_N_BRANCHES 4
 #define FOUR_BAR_N_CONSTRAINTS 2
 #define FOUR_BAR_N_COORDS 3
@@ -30,7 +30,7 @@ extern "C" {
 #define FOUR_BAR_N_POINT_COORDS 4
 #define FOUR_BAR_N_REDUCED 3
 #define FOUR_BAR_N_ROOTS 2
-#define FOUR_BAR_N_SIGMA 51
+#define FOUR_BAR_N_SIGMA 29
 
 /* The degree is derived by the generator; the shared root finder must accept it. */
 typedef char four_bar_degree_fits_root_finder[(FOUR_BAR_DEGREE <= CODEGEN_MAX_DEGREE) ? 1 : -1];
@@ -190,7 +190,7 @@ four_bar_status four_bar_radicands(const four_bar_params *params, double theta, 
  */
 four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, double theta, double residuals[FOUR_BAR_N_BRANCHES]);
 
-/* Coefficients sigma_0..sigma_50 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^25.
+/* Coefficients sigma_0..sigma_28 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^14, divided by (a_2**2 - 2*a_2*d*cos(theta) + d**2)^11 (factors of G's denominator, where G has no zero).
  * out sigma: [as derived]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
@@ -233,7 +233,7 @@ four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params
 four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, four_bar_status *statuses);
 
-/* Real roots of sum_{i=0}^{50} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
+/* Real roots of sum_{i=0}^{28} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
 four_bar_status four_bar_poly_real_roots(const double sigma[FOUR_BAR_N_SIGMA],
@@ -284,7 +284,7 @@ typedef struct four_bar_equilibrium {
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct four_bar_analysis {
-    double sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_50 */
+    double sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 */
     int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
     four_bar_equilibrium roots[FOUR_BAR_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
