@@ -85,16 +85,12 @@ def _analyze(args) -> int:
     from .analysis import analyze, table
     from .api import load
 
-    try:
-        if args.model:
-            library = _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
-        else:
-            library = load(args.mechanism or DEFAULT_MECHANISM)
-        params = library.example_params(**_overrides(args.set))
-        result = analyze(params)
-    except ValueError as error:  # LibraryError included: one line, no traceback
-        print(f"error: {error}", file=sys.stderr)
-        return 2
+    if args.model:
+        library = _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
+    else:
+        library = load(args.mechanism or DEFAULT_MECHANISM)
+    params = library.example_params(**_overrides(args.set))
+    result = analyze(params)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1))
     else:
@@ -135,4 +131,8 @@ def parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
-    return args.run(args)
+    try:
+        return args.run(args)
+    except ValueError as error:  # bad input (LibraryError, ModelError included): one line
+        print(f"error: {error}", file=sys.stderr)
+        return 2

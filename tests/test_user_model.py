@@ -242,26 +242,33 @@ def test_generated_c_compiles_standalone_strict(workdir, generated, tmp_path):
 
 # --------------------------------------------------------------------------- bad input
 
-NO_BUILD = "X = 1\n"
-TRACEBACK = ("the CLI lets the exception out with a traceback (exit 1): {} is not caught in "
-             "codegen/cli.py ({})")
-BAD_MODELS = [
-    pytest.param("generate", "missing.py", marks=pytest.mark.xfail(strict=True, reason=TRACEBACK.format(
-        "the ValueError of codegen.model.load", "_generate calls _user_library outside any try"))),
-    pytest.param("generate", "no_build.py", marks=pytest.mark.xfail(strict=True, reason=TRACEBACK.format(
-        "AttributeError (module has no attribute 'build')", "load calls module.build() unchecked"))),
-    pytest.param("analyze", "missing.py"),
-    pytest.param("analyze", "no_build.py", marks=pytest.mark.xfail(strict=True, reason=TRACEBACK.format(
-        "AttributeError (module has no attribute 'build')", "_analyze catches ValueError only"))),
-]
+#: Model files that give no Mechanism -> what the one-line error says after "error: FILE".
+BAD_FILES = {
+    "no_build.py": ("X = 1\n", ": a model file defines build() -> Mechanism"),
+    "not_a_mechanism.py": ("def build():\n    return 42\n",
+                           ": build() returned int, not a Mechanism"),
+    "raises.py": ('import math\n\nraise RuntimeError("no anchor\\nsecond line")\n',
+                  ":3: RuntimeError: no anchor"),
+    "build_raises.py": ("def tip():\n    return 1 / 0\n\n\ndef build():\n    return tip()\n",
+                        ":2: ZeroDivisionError: division by zero"),
+    "syntax.py": ("def build(:\n    pass\n", ":1: SyntaxError: "),
+}
+BAD_MODELS = [(verb, model) for verb in ("generate", "analyze")
+              for model in ("missing.py", *BAD_FILES)]
 
 
 @pytest.mark.parametrize("verb, model", BAD_MODELS)
 def test_bad_model_is_one_line_and_nonzero_exit(workdir, verb, model):
-    (workdir / "no_build.py").write_text(NO_BUILD)
+    for name, (text, _) in BAD_FILES.items():
+        (workdir / name).write_text(text)
     out = codegen(workdir, verb, "--model", model, "--out", "bad")
-    assert out.returncode != 0
+    assert out.returncode == 2, (out.returncode, out.stderr)
     assert "Traceback" not in out.stderr + out.stdout, out.stderr
+    assert out.stdout == ""
     lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error:"), out.stderr
-    assert model in lines[0] or "build" in lines[0], lines[0]
+    assert len(lines) == 1, out.stderr
+    if model in BAD_FILES:
+        assert lines[0].startswith(f"error: {model}{BAD_FILES[model][1]}"), lines[0]
+    else:
+        assert lines[0].startswith(f"error: {model!r} is neither a shipped mechanism"), lines[0]
+    assert not (workdir / "bad").exists()   # nothing generated from a bad model

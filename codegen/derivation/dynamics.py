@@ -82,7 +82,8 @@ def derive_dynamics(mechanism: Mechanism, jacobian: sp.Matrix,
                     multipliers: tuple[sp.Symbol, ...]) -> Dynamics:
     q = mechanism.q
     qdot = q.diff(TIME)
-    T, V_G, V_E = kinetic_energy(mechanism), gravity_potential(mechanism), elastic_potential(mechanism)
+    T = kinetic_energy(mechanism)
+    V_G, V_E = gravity_potential(mechanism), elastic_potential(mechanism)
     lagrangian = T - V_G - V_E
     dL_dqdot = sp.Matrix([lagrangian.diff(v) for v in qdot])
     D = rayleigh_dissipation(mechanism)

@@ -141,7 +141,8 @@ class RootPolynomial:
             rest = dict(result.terms)
             del rest[m]
             lower = m[:i] + (m[i] - 2,) + m[i + 1:]
-            result = RootPolynomial(rest, self.n) + RootPolynomial({lower: t}, self.n) * radicands[i]
+            lowered = RootPolynomial({lower: t}, self.n) * radicands[i]
+            result = RootPolynomial(rest, self.n) + lowered
 
     def divided(self, divisor: TauPolynomial, program: _Program) -> "RootPolynomial | None":
         """self / divisor when every coefficient divides exactly, else None."""

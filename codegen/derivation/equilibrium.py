@@ -95,7 +95,8 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
         numerator, denominators = common_numerator(terms)
         root_symbols = {r.symbol for r in roots}
         # G is undefined where a denominator vanishes: its factors hold no equilibrium.
-        spurious = tuple(f for f in denominators if f.has(theta) and not f.free_symbols & root_symbols)
+        spurious = tuple(f for f in denominators
+                         if f.has(theta) and not f.free_symbols & root_symbols)
         polynomial = eliminate(numerator, theta, roots, parameters, spurious)
     return Equilibrium(
         residual=on_branch(residual, roots, declared),

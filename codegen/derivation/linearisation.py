@@ -5,6 +5,8 @@ With theta = theta_E + theta_p in e0 thetaddot + e1 thetadot^2 + e2 thetadot + G
 first order in theta_p gives M thetaddot_p + B thetadot_p + K theta_p = 0 with
 M = e0(theta_E), B = e2(theta_E) (e1 thetadot^2 is second order) and K = G'(theta_E), the
 slope of the static force, taken along the motion term by term in the roots' symbols.
+The same expressions with the assembly-mode roots' signs flipped are the linearisation of
+the mechanism assembled the other way(s): each assembly mode has its own M, B, K.
 """
 from __future__ import annotations
 
@@ -13,7 +15,18 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import tidy
+from .equilibrium import on_branch
 from .reduction import Reduction
+
+
+@dataclass(frozen=True)
+class Mode:
+    """M, B, K of one assembly mode: ``signs`` of the roots (lengths always positive)."""
+
+    signs: tuple[int, ...]
+    mass: sp.Expr
+    damping: sp.Expr
+    stiffness: sp.Expr
 
 
 @dataclass(frozen=True)
@@ -21,6 +34,9 @@ class Linearisation:
     mass: sp.Expr       # M_EQ, (50)
     damping: sp.Expr    # B_EQ, (51)
     stiffness: sp.Expr  # K_EQ, (52)-(53)
+    #: every assembly mode, the declared one first; mode j flips assembly root i when bit i
+    #: of j is set (counting assembly roots only)
+    modes: tuple[Mode, ...] = ()
 
     @property
     def omega_n_squared(self) -> sp.Expr:
@@ -36,5 +52,20 @@ class Linearisation:
 def derive_linearisation(reduction: Reduction) -> Linearisation:
     solution = reduction.solution
     slope = sum((tidy(solution.derivative(t)) for t in reduction.static_terms), sp.S.Zero)
+    roots = solution.roots
+    e0, _, e2 = reduction.e_in_roots
+    modes = []
+    for signs in mode_signs(tuple(r.kind for r in roots)):
+        def flipped(expr, signs=signs):
+            return on_branch(expr, roots, signs)
+        modes.append(Mode(signs, flipped(e0), flipped(e2), flipped(slope)))
     return Linearisation(mass=reduction.e[0], damping=reduction.e[2],
-                         stiffness=solution.explicit(slope))
+                         stiffness=solution.explicit(slope), modes=tuple(modes))
+
+
+def mode_signs(kinds: tuple[str, ...]) -> list[tuple[int, ...]]:
+    """Root signs of each assembly mode: mode j flips the i-th assembly root when bit i of
+    j is set; lengths stay positive."""
+    assembly = [i for i, k in enumerate(kinds) if k == "assembly"]
+    return [tuple(-1 if i in assembly and j >> assembly.index(i) & 1 else 1
+                  for i in range(len(kinds))) for j in range(2 ** len(assembly))]

@@ -153,7 +153,8 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
             linear[name] = s
     unknowns = list(linear.values()) + [v for p in pairs.values() for v in p]
     for e in eqs:
-        if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & {sym[n] for n in polar}:
+        polar_symbols = {sym[n] for n in polar}
+        if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
             raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
     solution = sp.linsolve(eqs, unknowns) if unknowns else {()}
     if not solution:
@@ -237,7 +238,9 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
             continue
         poly = sp.Poly(circle, C, S)
         lam = poly.coeff_monomial(C**2)
-        if lam == 0 or sp.expand(lam - poly.coeff_monomial(S**2)) != 0 or poly.coeff_monomial(C * S) != 0:
+        is_circle = (lam != 0 and sp.expand(lam - poly.coeff_monomial(S**2)) == 0
+                     and poly.coeff_monomial(C * S) == 0)
+        if not is_circle:
             continue
         line = sp.Poly(sp.expand(circle - lam * (C**2 + S**2 - 1)), C, S)
         if line.total_degree() > 1:

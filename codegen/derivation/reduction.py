@@ -35,6 +35,7 @@ class Reduction:
     velocities: sp.Matrix  # S(theta) thetadot, (32), (35)
     equation: sp.Expr      # the reduced equation of motion, (36), as projected
     e: tuple[sp.Expr, ...]  # e0, e1, e2 of (36)-(39)
+    e_in_roots: tuple[sp.Expr, ...]  # the same in the root symbols (for any branch)
     static_terms: tuple[sp.Expr, ...]  # G's contributions in the root symbols, summing to G
 
     @property
@@ -103,5 +104,6 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd, solution=solution,
         positions=positions, velocities=S * theta_d, equation=equation,
-        e=tuple(solution.explicit(e) for e in (e0, e1, e2)), static_terms=terms,
+        e=tuple(solution.explicit(e) for e in (e0, e1, e2)), e_in_roots=(e0, e1, e2),
+        static_terms=terms,
     )

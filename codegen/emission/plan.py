@@ -42,6 +42,8 @@ class CFunction:
     outputs: tuple[Output, ...]
     # A straight-line program the outputs are written in: (symbol, expression) in order.
     definitions: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
+    # "double", or "double-double" where the expressions cancel more digits than double has
+    arithmetic: str = "double"
 
     def explicit(self, exprs) -> list[sp.Expr]:
         """Expressions with the program's symbols written out in the inputs."""
@@ -127,9 +129,10 @@ def build_plan(d: Derivation) -> Plan:
     def vec(M) -> tuple:
         return tuple(fr(e) for e in M)
 
-    def fn(key: str, summary: str, inputs, outputs, definitions=()) -> CFunction:
+    def fn(key: str, summary: str, inputs, outputs, definitions=(),
+           arithmetic="double") -> CFunction:
         return CFunction(key, summary, m.equations.get(key, ""), tuple(inputs), tuple(outputs),
-                         tuple(definitions))
+                         tuple(definitions), arithmetic)
 
     points = kin.point_positions
     constrained = (
@@ -208,10 +211,21 @@ def build_plan(d: Derivation) -> Plan:
            f"Coefficients sigma_0..sigma_{eq.polynomial.degree} of sum sigma_i tau^i "
            f"(tau = tan(theta/2)), which vanishes wherever G does on some branch: the "
            f"numerator of G with every square root eliminated, times (1+tau^2)^"
-           f"{eq.polynomial.weight}{_divided(eq.polynomial.divided)}.",
+           f"{eq.polynomial.weight}{_divided(eq.polynomial.divided)}. Evaluated in "
+           "double-double arithmetic: squaring out the roots cancels up to ~13 digits.",
            [], [Output("sigma", eq.polynomial.coefficients, "[as derived]", "N_SIGMA")],
-           eq.polynomial.definitions),
+           eq.polynomial.definitions, arithmetic="double-double"),
     ) if eq.polynomial else ()
+    other_modes = (
+        fn("mode_linearisation",
+           "M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly "
+           "root when bit i of j is set; mode 0 is the mechanism as declared.",
+           [theta_e], [Output(name, tuple(getattr(mode, attr) for mode in lin.modes), unit,
+                              "N_MODES")
+                       for name, attr, unit in (("M", "mass", "M_EQ [kg m^2]"),
+                                                ("B", "damping", "B_EQ [N m s]"),
+                                                ("K", "stiffness", "K_EQ [N m]"))]),
+    ) if len(lin.modes) > 1 else ()
     dynamics_at_rest = (
         fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
            [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
@@ -224,7 +238,8 @@ def build_plan(d: Derivation) -> Plan:
     )
     sizes = {"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
              "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
-             "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots}
+             "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
+             "N_MODES": len(lin.modes)}
     if eq.polynomial:
         sizes |= {"DEGREE": eq.polynomial.degree, "N_SIGMA": eq.polynomial.degree + 1,
                   "MAX_ROOTS": eq.polynomial.degree}
@@ -238,7 +253,7 @@ def build_plan(d: Derivation) -> Plan:
         singular_state=m.singular_state,
         root_kinds=tuple(r.kind for r in eq.roots),
         range_centre=str(m.range_centre),
-        functions=constrained + general + branched + polynomial + dynamics_at_rest,
+        functions=constrained + general + branched + polynomial + dynamics_at_rest + other_modes,
     )
 
 

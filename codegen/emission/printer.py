@@ -12,6 +12,7 @@ import sympy as sp
 from sympy.codegen.ast import float32, float64, real
 from sympy.printing.c import C99CodePrinter
 
+from .double_double import Program, assemble
 from .plan import CFunction
 
 _REAL_TYPES = {"double": float64, "float": float32}
@@ -60,6 +61,7 @@ class PrintedBody:
     temporaries: tuple[tuple[str, str], ...]  # (name, C expression)
     assignments: tuple[str, ...]              # C expression of out[i]
     operations: int
+    program: Program | None = None            # double-double: run by the runtime's machine
 
 
 def _temporary_prefix(used: set[sp.Symbol]) -> str:
@@ -106,9 +108,22 @@ def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget
                 unpack.append((sym.name, f"{arg.name}[{i}]" if arg.size else arg.name))
     operations = (sum(sp.count_ops(e) for _, e in replacements)
                   + sum(sp.count_ops(e) for e in reduced))
+    if function.arithmetic == "double-double":
+        return _double_double_body(unpack, replacements, reduced, int(operations))
     return PrintedBody(
         unpack=tuple((n, src) for n, src in unpack if n != src),
         temporaries=tuple((str(s), printer.doprint(e)) for s, e in replacements),
         assignments=tuple(printer.doprint(e) for e in reduced),
         operations=int(operations),
     )
+
+
+def _double_double_body(unpack, replacements, reduced, operations) -> PrintedBody:
+    """The inputs in v[0..], then the program's instructions; out[i] from its slot."""
+    program = assemble([n for n, _ in unpack], [(str(s), e) for s, e in replacements],
+                       reduced)
+    return PrintedBody(
+        unpack=tuple((f"v[{i}]", f"codegen_dd_from({src})")
+                     for i, (_, src) in enumerate(unpack)),
+        temporaries=(), operations=operations, program=program,
+        assignments=tuple(f"codegen_dd_to_double(v[{slot}])" for slot in program.outputs))

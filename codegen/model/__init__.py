@@ -7,12 +7,17 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import traceback
 from pathlib import Path
 
 from .mechanism import (TIME, Body, Coordinate, Damper, Mechanism, Parameter, PointForce,
                         Requirement, Spring, Torque, distance, parameter)
 
 SHIPPED = ("doughty", "slider_crank", "four_bar", "torsion_pendulum")
+
+
+class ModelError(ValueError):
+    """A model file that gives no Mechanism; the message is one line and names the file."""
 
 
 def load(name_or_path: str) -> Mechanism:
@@ -25,9 +30,30 @@ def load(name_or_path: str) -> Mechanism:
                          f"({', '.join(SHIPPED)}) nor a model file (.py)")
     spec = importlib.util.spec_from_file_location(f"codegen_user_model_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.build()
+    try:
+        spec.loader.exec_module(module)
+        build = getattr(module, "build", None)
+        mechanism = build() if callable(build) else None
+    except Exception as error:  # the user's code failed: where and what, no traceback
+        raise ModelError(_failure(path, spec.origin, error)) from None
+    if not callable(build):
+        raise ModelError(f"{path}: a model file defines build() -> Mechanism")
+    if not isinstance(mechanism, Mechanism):
+        raise ModelError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
+    return mechanism
 
 
-__all__ = ["SHIPPED", "TIME", "Body", "Coordinate", "Damper", "Mechanism", "Parameter",
-           "PointForce", "Requirement", "Spring", "Torque", "distance", "load", "parameter"]
+def _failure(path: Path, origin: str, error: Exception) -> str:
+    """'PATH:LINE: Type: message', one line, for an error the model file (run as origin) raised."""
+    lines = [n for frame, n in traceback.walk_tb(error.__traceback__)
+             if frame.f_code.co_filename == origin]
+    if isinstance(error, SyntaxError) and error.filename == origin:
+        lines.append(error.lineno)
+    message = (error.msg if isinstance(error, SyntaxError) else str(error)).strip()
+    where = f"{path}:{lines[-1]}" if lines else str(path)
+    return f"{where}: {type(error).__name__}" + (f": {message.splitlines()[0]}" if message else "")
+
+
+__all__ = ["SHIPPED", "TIME", "Body", "Coordinate", "Damper", "Mechanism", "ModelError",
+           "Parameter", "PointForce", "Requirement", "Spring", "Torque", "distance", "load",
+           "parameter"]

@@ -5,6 +5,7 @@
  * common subexpressions once, then copy the results out only if they are all finite.
  */
 #include "doughty.h"
+#include "codegen_dd.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -818,6 +819,246 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
+/* sigma as 231 double-double instructions over v[31]
+ * (v[0..8]: H, L, a, m_B, m_C, k, l_ND, F, g); codegen_dd_run executes them. */
+static const codegen_dd_instruction sigma_program[231] = {
+    {CODEGEN_DD_SUB, 9, 0, 2},
+    {CODEGEN_DD_SUB, 10, 0, 2},
+    {CODEGEN_DD_MUL, 10, 9, 10}, /* w_0 */
+    {CODEGEN_DD_CONST, 9, 0, 0},
+    {CODEGEN_DD_SUB, 11, 0, 2},
+    {CODEGEN_DD_MUL, 11, 9, 11},
+    {CODEGEN_DD_ADD, 9, 0, 2},
+    {CODEGEN_DD_MUL, 9, 11, 9},
+    {CODEGEN_DD_CONST, 11, 0, 0},
+    {CODEGEN_DD_MUL, 11, 11, 1},
+    {CODEGEN_DD_CONST, 12, 0, 0},
+    {CODEGEN_DD_MUL, 12, 12, 2},
+    {CODEGEN_DD_SUB, 12, 11, 12},
+    {CODEGEN_DD_CONST, 11, 0, 0},
+    {CODEGEN_DD_MUL, 11, 11, 1},
+    {CODEGEN_DD_CONST, 13, 0, 0},
+    {CODEGEN_DD_MUL, 13, 13, 2},
+    {CODEGEN_DD_SUB, 13, 11, 13},
+    {CODEGEN_DD_MUL, 13, 12, 13},
+    {CODEGEN_DD_ADD, 13, 9, 13}, /* w_1 */
+    {CODEGEN_DD_ADD, 9, 0, 2},
+    {CODEGEN_DD_ADD, 12, 0, 2},
+    {CODEGEN_DD_MUL, 12, 9, 12}, /* w_2 */
+    {CODEGEN_DD_MUL, 9, 7, 1},
+    {CODEGEN_DD_NEG, 9, 9, 0},
+    {CODEGEN_DD_MUL, 11, 1, 8},
+    {CODEGEN_DD_MUL, 11, 11, 3},
+    {CODEGEN_DD_ADD, 11, 9, 11},
+    {CODEGEN_DD_CONST, 9, 1, 0},
+    {CODEGEN_DD_MUL, 9, 9, 1},
+    {CODEGEN_DD_MUL, 9, 9, 8},
+    {CODEGEN_DD_MUL, 9, 9, 4},
+    {CODEGEN_DD_ADD, 9, 11, 9}, /* w_3 */
+    {CODEGEN_DD_CONST, 11, 0, 0},
+    {CODEGEN_DD_MUL, 11, 11, 5},
+    {CODEGEN_DD_MUL, 14, 1, 1},
+    {CODEGEN_DD_MUL, 15, 0, 2},
+    {CODEGEN_DD_ADD, 15, 14, 15},
+    {CODEGEN_DD_CONST, 14, 0, 0},
+    {CODEGEN_DD_MUL, 14, 14, 1},
+    {CODEGEN_DD_MUL, 14, 14, 2},
+    {CODEGEN_DD_SUB, 14, 15, 14},
+    {CODEGEN_DD_MUL, 14, 11, 14}, /* w_4 */
+    {CODEGEN_DD_CONST, 11, 0, 0},
+    {CODEGEN_DD_MUL, 11, 11, 5},
+    {CODEGEN_DD_MUL, 15, 1, 1},
+    {CODEGEN_DD_NEG, 15, 15, 0},
+    {CODEGEN_DD_MUL, 16, 0, 2},
+    {CODEGEN_DD_ADD, 16, 15, 16},
+    {CODEGEN_DD_CONST, 15, 0, 0},
+    {CODEGEN_DD_MUL, 15, 15, 1},
+    {CODEGEN_DD_MUL, 15, 15, 2},
+    {CODEGEN_DD_ADD, 15, 16, 15},
+    {CODEGEN_DD_MUL, 15, 11, 15}, /* w_5 */
+    {CODEGEN_DD_MUL, 11, 7, 1},
+    {CODEGEN_DD_MUL, 16, 1, 8},
+    {CODEGEN_DD_MUL, 16, 16, 3},
+    {CODEGEN_DD_SUB, 16, 11, 16},
+    {CODEGEN_DD_CONST, 11, 1, 0},
+    {CODEGEN_DD_MUL, 11, 11, 1},
+    {CODEGEN_DD_MUL, 11, 11, 8},
+    {CODEGEN_DD_MUL, 11, 11, 4},
+    {CODEGEN_DD_SUB, 11, 16, 11}, /* w_6 */
+    {CODEGEN_DD_CONST, 16, 0, 0},
+    {CODEGEN_DD_MUL, 16, 16, 5},
+    {CODEGEN_DD_MUL, 16, 16, 6},
+    {CODEGEN_DD_MUL, 17, 1, 1},
+    {CODEGEN_DD_MUL, 18, 0, 2},
+    {CODEGEN_DD_ADD, 18, 17, 18},
+    {CODEGEN_DD_CONST, 17, 0, 0},
+    {CODEGEN_DD_MUL, 17, 17, 1},
+    {CODEGEN_DD_MUL, 17, 17, 2},
+    {CODEGEN_DD_SUB, 17, 18, 17},
+    {CODEGEN_DD_MUL, 17, 16, 17},
+    {CODEGEN_DD_NEG, 17, 17, 0}, /* w_7 */
+    {CODEGEN_DD_CONST, 16, 0, 0},
+    {CODEGEN_DD_MUL, 16, 16, 5},
+    {CODEGEN_DD_MUL, 16, 16, 6},
+    {CODEGEN_DD_MUL, 18, 1, 1},
+    {CODEGEN_DD_NEG, 18, 18, 0},
+    {CODEGEN_DD_MUL, 19, 0, 2},
+    {CODEGEN_DD_ADD, 19, 18, 19},
+    {CODEGEN_DD_CONST, 18, 0, 0},
+    {CODEGEN_DD_MUL, 18, 18, 1},
+    {CODEGEN_DD_MUL, 18, 18, 2},
+    {CODEGEN_DD_ADD, 18, 19, 18},
+    {CODEGEN_DD_MUL, 18, 16, 18},
+    {CODEGEN_DD_NEG, 18, 18, 0}, /* w_8 */
+    {CODEGEN_DD_MUL, 16, 9, 9},
+    {CODEGEN_DD_MUL, 16, 10, 16}, /* w_9 */
+    {CODEGEN_DD_CONST, 19, 0, 0},
+    {CODEGEN_DD_MUL, 19, 19, 10},
+    {CODEGEN_DD_MUL, 19, 19, 9},
+    {CODEGEN_DD_MUL, 19, 19, 14}, /* w_10 */
+    {CODEGEN_DD_MUL, 20, 17, 17},
+    {CODEGEN_DD_NEG, 20, 20, 0},
+    {CODEGEN_DD_MUL, 21, 14, 14},
+    {CODEGEN_DD_MUL, 21, 10, 21},
+    {CODEGEN_DD_ADD, 21, 20, 21},
+    {CODEGEN_DD_MUL, 20, 9, 9},
+    {CODEGEN_DD_MUL, 20, 13, 20},
+    {CODEGEN_DD_ADD, 20, 21, 20}, /* w_11 */
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 21, 21, 10},
+    {CODEGEN_DD_MUL, 21, 21, 9},
+    {CODEGEN_DD_MUL, 21, 21, 15},
+    {CODEGEN_DD_CONST, 22, 0, 0},
+    {CODEGEN_DD_MUL, 22, 22, 13},
+    {CODEGEN_DD_MUL, 22, 22, 9},
+    {CODEGEN_DD_MUL, 22, 22, 14},
+    {CODEGEN_DD_ADD, 22, 21, 22}, /* w_12 */
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 23, 17, 17},
+    {CODEGEN_DD_MUL, 23, 21, 23},
+    {CODEGEN_DD_NEG, 23, 23, 0},
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 21, 21, 9},
+    {CODEGEN_DD_MUL, 21, 21, 11},
+    {CODEGEN_DD_CONST, 24, 0, 0},
+    {CODEGEN_DD_MUL, 24, 24, 14},
+    {CODEGEN_DD_MUL, 24, 24, 15},
+    {CODEGEN_DD_ADD, 24, 21, 24},
+    {CODEGEN_DD_MUL, 24, 10, 24},
+    {CODEGEN_DD_ADD, 24, 23, 24},
+    {CODEGEN_DD_MUL, 23, 14, 14},
+    {CODEGEN_DD_MUL, 23, 13, 23},
+    {CODEGEN_DD_ADD, 23, 24, 23},
+    {CODEGEN_DD_MUL, 24, 9, 9},
+    {CODEGEN_DD_MUL, 24, 12, 24},
+    {CODEGEN_DD_ADD, 24, 23, 24},
+    {CODEGEN_DD_CONST, 23, 0, 0},
+    {CODEGEN_DD_MUL, 23, 23, 17},
+    {CODEGEN_DD_MUL, 23, 23, 18},
+    {CODEGEN_DD_SUB, 23, 24, 23}, /* w_13 */
+    {CODEGEN_DD_CONST, 24, 0, 0},
+    {CODEGEN_DD_MUL, 24, 24, 10},
+    {CODEGEN_DD_MUL, 24, 24, 14},
+    {CODEGEN_DD_MUL, 24, 24, 11},
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 21, 21, 13},
+    {CODEGEN_DD_MUL, 21, 21, 9},
+    {CODEGEN_DD_MUL, 21, 21, 15},
+    {CODEGEN_DD_ADD, 21, 24, 21},
+    {CODEGEN_DD_CONST, 24, 0, 0},
+    {CODEGEN_DD_MUL, 24, 24, 12},
+    {CODEGEN_DD_MUL, 24, 24, 9},
+    {CODEGEN_DD_MUL, 24, 24, 14},
+    {CODEGEN_DD_ADD, 24, 21, 24}, /* w_14 */
+    {CODEGEN_DD_MUL, 21, 17, 17},
+    {CODEGEN_DD_NEG, 21, 21, 0},
+    {CODEGEN_DD_MUL, 25, 18, 18},
+    {CODEGEN_DD_SUB, 25, 21, 25},
+    {CODEGEN_DD_MUL, 21, 15, 15},
+    {CODEGEN_DD_MUL, 21, 10, 21},
+    {CODEGEN_DD_ADD, 21, 25, 21},
+    {CODEGEN_DD_CONST, 25, 0, 0},
+    {CODEGEN_DD_MUL, 25, 25, 9},
+    {CODEGEN_DD_MUL, 25, 25, 11},
+    {CODEGEN_DD_CONST, 26, 0, 0},
+    {CODEGEN_DD_MUL, 26, 26, 14},
+    {CODEGEN_DD_MUL, 26, 26, 15},
+    {CODEGEN_DD_ADD, 26, 25, 26},
+    {CODEGEN_DD_MUL, 26, 13, 26},
+    {CODEGEN_DD_ADD, 26, 21, 26},
+    {CODEGEN_DD_MUL, 21, 14, 14},
+    {CODEGEN_DD_MUL, 21, 12, 21},
+    {CODEGEN_DD_ADD, 21, 26, 21},
+    {CODEGEN_DD_CONST, 26, 2, 0},
+    {CODEGEN_DD_MUL, 26, 26, 17},
+    {CODEGEN_DD_MUL, 26, 26, 18},
+    {CODEGEN_DD_SUB, 26, 21, 26}, /* w_15 */
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 21, 21, 10},
+    {CODEGEN_DD_MUL, 21, 21, 15},
+    {CODEGEN_DD_MUL, 21, 21, 11},
+    {CODEGEN_DD_CONST, 25, 0, 0},
+    {CODEGEN_DD_MUL, 25, 25, 13},
+    {CODEGEN_DD_MUL, 25, 25, 14},
+    {CODEGEN_DD_MUL, 25, 25, 11},
+    {CODEGEN_DD_ADD, 25, 21, 25},
+    {CODEGEN_DD_CONST, 21, 0, 0},
+    {CODEGEN_DD_MUL, 21, 21, 12},
+    {CODEGEN_DD_MUL, 21, 21, 9},
+    {CODEGEN_DD_MUL, 21, 21, 15},
+    {CODEGEN_DD_ADD, 21, 25, 21}, /* w_16 */
+    {CODEGEN_DD_CONST, 25, 0, 0},
+    {CODEGEN_DD_MUL, 27, 18, 18},
+    {CODEGEN_DD_MUL, 27, 25, 27},
+    {CODEGEN_DD_NEG, 27, 27, 0},
+    {CODEGEN_DD_MUL, 25, 11, 11},
+    {CODEGEN_DD_MUL, 25, 10, 25},
+    {CODEGEN_DD_ADD, 25, 27, 25},
+    {CODEGEN_DD_MUL, 27, 15, 15},
+    {CODEGEN_DD_MUL, 27, 13, 27},
+    {CODEGEN_DD_ADD, 27, 25, 27},
+    {CODEGEN_DD_CONST, 25, 0, 0},
+    {CODEGEN_DD_MUL, 25, 25, 9},
+    {CODEGEN_DD_MUL, 25, 25, 11},
+    {CODEGEN_DD_CONST, 28, 0, 0},
+    {CODEGEN_DD_MUL, 28, 28, 14},
+    {CODEGEN_DD_MUL, 28, 28, 15},
+    {CODEGEN_DD_ADD, 28, 25, 28},
+    {CODEGEN_DD_MUL, 28, 12, 28},
+    {CODEGEN_DD_ADD, 28, 27, 28},
+    {CODEGEN_DD_CONST, 27, 0, 0},
+    {CODEGEN_DD_MUL, 27, 27, 17},
+    {CODEGEN_DD_MUL, 27, 27, 18},
+    {CODEGEN_DD_SUB, 27, 28, 27}, /* w_17 */
+    {CODEGEN_DD_CONST, 28, 0, 0},
+    {CODEGEN_DD_MUL, 28, 28, 13},
+    {CODEGEN_DD_MUL, 28, 28, 15},
+    {CODEGEN_DD_MUL, 28, 28, 11},
+    {CODEGEN_DD_CONST, 25, 0, 0},
+    {CODEGEN_DD_MUL, 25, 25, 12},
+    {CODEGEN_DD_MUL, 25, 25, 14},
+    {CODEGEN_DD_MUL, 25, 25, 11},
+    {CODEGEN_DD_ADD, 25, 28, 25}, /* w_18 */
+    {CODEGEN_DD_MUL, 28, 18, 18},
+    {CODEGEN_DD_NEG, 28, 28, 0},
+    {CODEGEN_DD_MUL, 29, 11, 11},
+    {CODEGEN_DD_MUL, 29, 13, 29},
+    {CODEGEN_DD_ADD, 29, 28, 29},
+    {CODEGEN_DD_MUL, 28, 15, 15},
+    {CODEGEN_DD_MUL, 28, 12, 28},
+    {CODEGEN_DD_ADD, 28, 29, 28}, /* w_19 */
+    {CODEGEN_DD_CONST, 29, 0, 0},
+    {CODEGEN_DD_MUL, 29, 29, 12},
+    {CODEGEN_DD_MUL, 29, 29, 15},
+    {CODEGEN_DD_MUL, 29, 29, 11}, /* w_20 */
+    {CODEGEN_DD_MUL, 30, 11, 11},
+    {CODEGEN_DD_MUL, 30, 12, 30}, /* w_21 */
+};
+
+static const double sigma_constants[3] = {
+    2.0, 0.5, 4.0
+};
+
 /* sigma: eq. (44)-(45). Total ops: 180. */
 doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
 {
@@ -831,50 +1072,30 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
         return status;
     }
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double w_0 = ((H - a)*(H - a));
-        const double w_1 = 2*(H - a)*(H + a) + ((2*L - 2*a)*(2*L - 2*a));
-        const double w_2 = ((H + a)*(H + a));
-        const double w_3 = -F*L + L*g*m_B + (1.0/2.0)*L*g*m_C;
-        const double w_4 = 2*k*(H*a + (L*L) - 2*L*a);
-        const double w_5 = 2*k*(H*a - (L*L) + 2*L*a);
-        const double w_6 = F*L - L*g*m_B - 1.0/2.0*L*g*m_C;
-        const double w_7 = -2*k*l_ND*(H*a + (L*L) - 2*L*a);
-        const double w_8 = -2*k*l_ND*(H*a - (L*L) + 2*L*a);
-        const double w_9 = w_0*(w_3*w_3);
-        const double w_10 = 2*w_0*w_3*w_4;
-        const double w_11 = w_0*(w_4*w_4) + w_1*(w_3*w_3) - (w_7*w_7);
-        const double w_12 = 2*w_0*w_3*w_5 + 2*w_1*w_3*w_4;
-        const double w_13 = w_0*(2*w_3*w_6 + 2*w_4*w_5) + w_1*(w_4*w_4) + w_2*(w_3*w_3) - 2*(w_7*w_7) - 2*w_7*w_8;
-        const double w_14 = 2*w_0*w_4*w_6 + 2*w_1*w_3*w_5 + 2*w_2*w_3*w_4;
-        const double w_15 = w_0*(w_5*w_5) + w_1*(2*w_3*w_6 + 2*w_4*w_5) + w_2*(w_4*w_4) - (w_7*w_7) - 4*w_7*w_8 - (w_8*w_8);
-        const double w_16 = 2*w_0*w_5*w_6 + 2*w_1*w_4*w_6 + 2*w_2*w_3*w_5;
-        const double w_17 = w_0*(w_6*w_6) + w_1*(w_5*w_5) + w_2*(2*w_3*w_6 + 2*w_4*w_5) - 2*w_7*w_8 - 2*(w_8*w_8);
-        const double w_18 = 2*w_1*w_5*w_6 + 2*w_2*w_4*w_6;
-        const double w_19 = w_1*(w_6*w_6) + w_2*(w_5*w_5) - (w_8*w_8);
-        const double w_20 = 2*w_2*w_5*w_6;
-        const double w_21 = w_2*(w_6*w_6);
-        out[0] = w_9;
-        out[1] = w_10;
-        out[2] = w_11;
-        out[3] = w_12;
-        out[4] = w_13;
-        out[5] = w_14;
-        out[6] = w_15;
-        out[7] = w_16;
-        out[8] = w_17;
-        out[9] = w_18;
-        out[10] = w_19;
-        out[11] = w_20;
-        out[12] = w_21;
+        codegen_dd v[31];
+        v[0] = codegen_dd_from(params->H);
+        v[1] = codegen_dd_from(params->L);
+        v[2] = codegen_dd_from(params->a);
+        v[3] = codegen_dd_from(params->m_B);
+        v[4] = codegen_dd_from(params->m_C);
+        v[5] = codegen_dd_from(params->k);
+        v[6] = codegen_dd_from(params->l_ND);
+        v[7] = codegen_dd_from(params->F);
+        v[8] = codegen_dd_from(params->g);
+        codegen_dd_run(sigma_program, 231u, sigma_constants, v);
+        out[0] = codegen_dd_to_double(v[16]);
+        out[1] = codegen_dd_to_double(v[19]);
+        out[2] = codegen_dd_to_double(v[20]);
+        out[3] = codegen_dd_to_double(v[22]);
+        out[4] = codegen_dd_to_double(v[23]);
+        out[5] = codegen_dd_to_double(v[24]);
+        out[6] = codegen_dd_to_double(v[26]);
+        out[7] = codegen_dd_to_double(v[21]);
+        out[8] = codegen_dd_to_double(v[27]);
+        out[9] = codegen_dd_to_double(v[25]);
+        out[10] = codegen_dd_to_double(v[28]);
+        out[11] = codegen_dd_to_double(v[29]);
+        out[12] = codegen_dd_to_double(v[30]);
     }
     if (!all_finite(out, 13)) {
         return DOUGHTY_ERR_OVERFLOW;

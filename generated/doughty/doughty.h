@@ -26,6 +26,7 @@ extern "C" {
 #define DOUGHTY_N_CONSTRAINTS 4
 #define DOUGHTY_N_COORDS 5
 #define DOUGHTY_N_JACOBIAN 20
+#define DOUGHTY_N_MODES 1
 #define DOUGHTY_N_PARAMS 11
 #define DOUGHTY_N_POINT_COORDS 6
 #define DOUGHTY_N_REDUCED 3
@@ -200,7 +201,7 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
  */
 doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES]);
 
-/* Coefficients sigma_0..sigma_12 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^6.
+/* Coefficients sigma_0..sigma_12 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^6. Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * Paper: eq. (44)-(45).
  * out sigma: [as derived]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.

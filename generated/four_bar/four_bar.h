@@ -26,6 +26,7 @@ extern "C" {
 #define FOUR_BAR_N_CONSTRAINTS 2
 #define FOUR_BAR_N_COORDS 3
 #define FOUR_BAR_N_JACOBIAN 6
+#define FOUR_BAR_N_MODES 2
 #define FOUR_BAR_N_PARAMS 14
 #define FOUR_BAR_N_POINT_COORDS 4
 #define FOUR_BAR_N_REDUCED 3
@@ -190,7 +191,7 @@ four_bar_status four_bar_radicands(const four_bar_params *params, double theta, 
  */
 four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, double theta, double residuals[FOUR_BAR_N_BRANCHES]);
 
-/* Coefficients sigma_0..sigma_28 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^14, divided by (a_2**2 - 2*a_2*d*cos(theta) + d**2)^11 (factors of G's denominator, where G has no zero).
+/* Coefficients sigma_0..sigma_28 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^14, divided by (a_2**2 - 2*a_2*d*cos(theta) + d**2)^11 (factors of G's denominator, where G has no zero). Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * out sigma: [as derived]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
@@ -213,6 +214,15 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, double the
  */
 four_bar_status four_bar_vibration(const four_bar_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
 
+/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
+ * in  theta: equilibrium angle theta_E [rad]
+ * out M: M_EQ [kg m^2]
+ * out B: B_EQ [N m s]
+ * out K: K_EQ [N m]
+ * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ */
+four_bar_status four_bar_mode_linearisation(const four_bar_params *params, double theta, double M[FOUR_BAR_N_MODES], double B[FOUR_BAR_N_MODES], double K[FOUR_BAR_N_MODES]);
+
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns FOUR_BAR_OK when every item succeeded, else the first failure. */
@@ -232,6 +242,7 @@ four_bar_status four_bar_equilibrium_branches_batch(size_t count, const four_bar
 four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params, double *sigma, four_bar_status *statuses);
 four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, four_bar_status *statuses);
+four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
 
 /* Real roots of sum_{i=0}^{28} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even

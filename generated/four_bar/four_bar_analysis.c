@@ -41,6 +41,12 @@
 /* Branches (bit i set: root i negative) with a negative length among their signs. */
 #define LENGTH_BRANCH_BITS 2u
 
+/* The assembly mode of each branch (its assembly roots' signs), as mode_linearisation numbers
+ * them. */
+static const unsigned mode_of_branch[FOUR_BAR_N_BRANCHES] = {
+    0u, 1u, 0u, 1u
+};
+
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
@@ -281,6 +287,26 @@ static four_bar_status evaluate_at(const four_bar_params *params, double theta,
     return status;
 }
 
+/* An equilibrium of another assembly mode vibrates as that mode does: its own M, B, K, and
+ * G on its own branch. */
+static four_bar_status evaluate_mode(const four_bar_params *params, double theta,
+                                    unsigned branch, four_bar_equilibrium *e)
+{
+    double m[FOUR_BAR_N_MODES], b[FOUR_BAR_N_MODES], k[FOUR_BAR_N_MODES];
+    const unsigned mode = mode_of_branch[branch];
+    four_bar_status status = four_bar_mode_linearisation(params, theta, m, b, k);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    e->M = m[mode];
+    e->B = b[mode];
+    e->K = k[mode];
+    if (!branch_value(params, theta, branch, &e->residual)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    return residual_scale(params, theta, e->K, &e->residual_scale);
+}
+
 /* One root: classify by the branch it zeroes, polish, then linearise. Where branches vanish
  * together, or a genuine root lies closer than the root finder resolves, G itself decides,
  * relative to the size of its contributions. *assembled = 0 (and nothing else written) where
@@ -316,6 +342,9 @@ static four_bar_status study_root(const four_bar_params *params, double theta,
     } else { /* no genuine twin: the root itself, on its own branch */
         theta = wrap(refine_on_branch(params, theta, branch, BRANCH_RADIUS));
         status = evaluate_at(params, theta, e);
+        if (status == FOUR_BAR_OK && e->kind == FOUR_BAR_OTHER_ASSEMBLY) {
+            status = evaluate_mode(params, theta, branch, e);
+        }
         if (status != FOUR_BAR_OK) {
             return status;
         }

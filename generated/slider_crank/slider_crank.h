@@ -26,6 +26,7 @@ extern "C" {
 #define SLIDER_CRANK_N_CONSTRAINTS 2
 #define SLIDER_CRANK_N_COORDS 3
 #define SLIDER_CRANK_N_JACOBIAN 6
+#define SLIDER_CRANK_N_MODES 2
 #define SLIDER_CRANK_N_PARAMS 14
 #define SLIDER_CRANK_N_POINT_COORDS 4
 #define SLIDER_CRANK_N_REDUCED 3
@@ -190,7 +191,7 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, do
  */
 slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES]);
 
-/* Coefficients sigma_0..sigma_24 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^12.
+/* Coefficients sigma_0..sigma_24 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^12. Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * out sigma: [as derived]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
@@ -213,6 +214,15 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
  */
 slider_crank_status slider_crank_vibration(const slider_crank_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
 
+/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
+ * in  theta: equilibrium angle theta_E [rad]
+ * out M: M_EQ [kg m^2]
+ * out B: B_EQ [N m s]
+ * out K: K_EQ [N m]
+ * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ */
+slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, double theta, double M[SLIDER_CRANK_N_MODES], double B[SLIDER_CRANK_N_MODES], double K[SLIDER_CRANK_N_MODES]);
+
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns SLIDER_CRANK_OK when every item succeeded, else the first failure. */
@@ -232,6 +242,7 @@ slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const 
 slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, double *sigma, slider_crank_status *statuses);
 slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
 slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, slider_crank_status *statuses);
+slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
 
 /* Real roots of sum_{i=0}^{24} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even

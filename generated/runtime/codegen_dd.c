@@ -1,0 +1,103 @@
+/*
+ * codegen_dd.c -- double-double arithmetic (see codegen_dd.h). Hand-written (not generated).
+ */
+#include "codegen_dd.h"
+
+#include <math.h>
+
+codegen_dd codegen_dd_from(double x)
+{
+    codegen_dd r;
+    r.hi = x;
+    r.lo = 0.0;
+    return r;
+}
+
+/* hi + lo = a + b exactly, given |a| >= |b| or a == 0. */
+static codegen_dd quick_two_sum(double a, double b)
+{
+    codegen_dd r;
+    r.hi = a + b;
+    r.lo = b - (r.hi - a);
+    return r;
+}
+
+/* hi + lo = a + b exactly (Knuth). */
+static codegen_dd two_sum(double a, double b)
+{
+    codegen_dd r;
+    double v;
+    r.hi = a + b;
+    v = r.hi - a;
+    r.lo = (a - (r.hi - v)) + (b - v);
+    return r;
+}
+
+codegen_dd codegen_dd_add(codegen_dd a, codegen_dd b)
+{
+    codegen_dd s = two_sum(a.hi, b.hi);
+    const codegen_dd t = two_sum(a.lo, b.lo);
+    s = quick_two_sum(s.hi, s.lo + t.hi);
+    return quick_two_sum(s.hi, s.lo + t.lo);
+}
+
+codegen_dd codegen_dd_neg(codegen_dd a)
+{
+    a.hi = -a.hi;
+    a.lo = -a.lo;
+    return a;
+}
+
+codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
+{
+    return codegen_dd_add(a, codegen_dd_neg(b));
+}
+
+codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
+{
+    const double p = a.hi * b.hi;
+    const double e = fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
+    return quick_two_sum(p, e);
+}
+
+codegen_dd codegen_dd_div(codegen_dd a, codegen_dd b)
+{
+    const double q1 = a.hi / b.hi;
+    const codegen_dd r = codegen_dd_sub(a, codegen_dd_mul(b, codegen_dd_from(q1)));
+    const double q2 = r.hi / b.hi;
+    return quick_two_sum(q1, q2);
+}
+
+double codegen_dd_to_double(codegen_dd a)
+{
+    return a.hi + a.lo;
+}
+
+void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
+                    const double *constants, codegen_dd *v)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        const codegen_dd_instruction op = program[i];
+        switch ((codegen_dd_operation)op.operation) {
+        case CODEGEN_DD_CONST:
+            v[op.destination] = codegen_dd_from(constants[op.left]);
+            break;
+        case CODEGEN_DD_ADD:
+            v[op.destination] = codegen_dd_add(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_DD_SUB:
+            v[op.destination] = codegen_dd_sub(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_DD_MUL:
+            v[op.destination] = codegen_dd_mul(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_DD_DIV:
+            v[op.destination] = codegen_dd_div(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_DD_NEG:
+            v[op.destination] = codegen_dd_neg(v[op.left]);
+            break;
+        }
+    }
+}
