@@ -37,6 +37,6 @@ class StateSymbols:
         return {
             **{f.diff(TIME, 2): s for f, s in zip(functions, self.accels)},
             **{f.diff(TIME): s for f, s in zip(functions, self.rates)},
-            **{f: s for f, s in zip(functions, self.coords)},
+            **mechanism.freezer(),  # the coordinates themselves: the same symbols
         }
 
