@@ -31,12 +31,12 @@
  * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (codegen_roots.c). */
 #define MULTIPLE_ROOT_SPREAD 1e-7
 /* The first half-width [rad, relative to max(|theta|, 1)] tried around a root of another branch,
- * grown fourfold up to BRANCH_RADIUS [rad], and the bisection steps that then reach adjacent
- * doubles. Squaring out nested roots can cost the polynomial's roots many digits (a
+ * grown fourfold up to BRANCH_RADIUS [rad], and at most the steps that then reach adjacent
+ * doubles (bisection would need ~60; the Illinois steps typically take ~10). Squaring out nested roots can cost the polynomial's roots many digits (a
  * slider-crank's other-mode root comes 5e-4 rad off); the branch value itself is accurate. */
 #define BRACKET_START 1e-13
 #define BRANCH_RADIUS 1e-2
-#define BISECTION_STEPS 64
+#define BRACKET_STEPS 64
 
 /* Branches (bit i set: root i negative) with a negative length among their signs. */
 #define LENGTH_BRANCH_BITS 1u
@@ -222,48 +222,53 @@ static int branch_value(const doughty_params *params, double theta, unsigned bra
 /* The zero of G on its own branch nearest theta (a root of another assembly mode, or of a
  * negative length): the polynomial places it only as well as its conditioning allows, and
  * no derivative of the other branches is emitted. A bracket grows outwards from theta until
- * the branch changes sign (within radius), then bisection to adjacent doubles. */
+ * the branch changes sign (within radius), then the Illinois method (regula falsi that
+ * halves a stale end's weight: superlinear, and safe inside the bracket) to adjacent doubles. */
 static double refine_on_branch(const doughty_params *params, double theta, unsigned branch,
                                double radius)
 {
-    double g0, lo = theta, hi = theta, g_lo = 0.0, g_hi = 0.0, step;
-    int i, found = 0;
+    double g0, g, lo = theta, hi = theta, g_lo = 0.0, g_hi = 0.0, step;
+    int i, side = 0, found = 0;
     if (!branch_value(params, theta, branch, &g0) || g0 == 0.0) {
         return theta;
     }
     for (step = BRACKET_START * fmax(fabs(theta), 1.0); step <= radius && !found; step *= 4.0) {
-        if (branch_value(params, theta - step, branch, &g_lo) && (g_lo < 0.0) != (g0 < 0.0)) {
+        if (branch_value(params, theta - step, branch, &g) && (g < 0.0) != (g0 < 0.0)) {
             lo = theta - step;
+            g_lo = g;
+            g_hi = g0;
             found = 1;
-        } else if (branch_value(params, theta + step, branch, &g_hi)
-                   && (g_hi < 0.0) != (g0 < 0.0)) {
+        } else if (branch_value(params, theta + step, branch, &g) && (g < 0.0) != (g0 < 0.0)) {
             hi = theta + step;
+            g_lo = g0;
+            g_hi = g;
             found = 1;
         }
     }
-    if (!found) {
-        return theta;
-    }
-    if (lo == theta) {
-        g_lo = g0;
-    }
-    for (i = 0; i < BISECTION_STEPS; ++i) {
-        const double mid = lo + 0.5 * (hi - lo);
-        double g_mid;
-        if (!(mid > lo && mid < hi) || !branch_value(params, mid, branch, &g_mid)) {
+    for (i = 0; found && i < BRACKET_STEPS; ++i) {
+        double mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+        if (!(mid > lo && mid < hi)) {
+            mid = lo + 0.5 * (hi - lo);
+        }
+        if (!(mid > lo && mid < hi) || !branch_value(params, mid, branch, &g)) {
             break;
         }
-        if (g_mid == 0.0) {
+        if (g == 0.0) {
             return mid;
         }
-        if ((g_mid < 0.0) == (g_lo < 0.0)) {
+        if ((g < 0.0) == (g_lo < 0.0)) {
             lo = mid;
-            g_lo = g_mid;
+            g_lo = g;
+            g_hi *= side < 0 ? 0.5 : 1.0;
+            side = -1;
         } else {
             hi = mid;
+            g_hi = g;
+            g_lo *= side > 0 ? 0.5 : 1.0;
+            side = 1;
         }
     }
-    return lo + 0.5 * (hi - lo);
+    return !found ? theta : fabs(g_lo) < fabs(g_hi) ? lo : hi;
 }
 
 /* M, B, K, G and the size of G's terms at theta, into e. */
