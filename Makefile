@@ -45,12 +45,17 @@ lint:  ## gcc and clang with strict warnings, and cppcheck, over every library i
 	  --enable=warning,style,performance,portability --std=c99 --inline-suppr \
 	  -Igenerated/$$lib -Igenerated/runtime generated/$$lib/*.c generated/runtime/*.c || exit 1; done
 
-sanitize:  ## the C test driver under AddressSanitizer + UBSan, Table 2 + random/hostile sets
+sanitize:  ## C drivers under AddressSanitizer + UBSan: every library (random/hostile sets), Table 2
 	mkdir -p build
 	$(CC) $(SANITIZE) -Igenerated/doughty -Igenerated/runtime tests/c/sanitize_driver.c \
 	  generated/doughty/*.c generated/runtime/*.c -lm \
 	  -o build/sanitize_driver
 	ASAN_OPTIONS=detect_leaks=1 ./build/sanitize_driver 5000
+	for lib in $(LIBS); do \
+	  $(PYTHON) tests/c/make_driver.py generated/$$lib build/driver_$$lib.c && \
+	  $(CC) $(SANITIZE) -Igenerated/$$lib -Igenerated/runtime build/driver_$$lib.c \
+	    generated/$$lib/*.c generated/runtime/*.c -lm -o build/driver_$$lib && \
+	  ASAN_OPTIONS=detect_leaks=1 ./build/driver_$$lib 2000 || exit 1; done
 
 bench: venv  ## time the compiled functions (see benchmarks/)
 	$(PY) benchmarks/run.py

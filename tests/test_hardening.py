@@ -33,6 +33,12 @@ def test_sanitizers_report_nothing():
     _need("gcc")
     out = _make("sanitize")
     assert "parameter sets, 0 failed" in out
+    # every library's generic driver ran (tests/c/make_driver.py) and found nothing
+    libraries = sorted(p.parent.name for p in (ROOT / "generated").glob("*/*_api.json"))
+    assert len(libraries) >= 4
+    for name in libraries:
+        (line,) = [x for x in out.splitlines() if x.startswith(f"{name}: ")]
+        assert line.endswith(", 0 failures") and " 0 calls OK" not in line, line
     assert "runtime error" not in out and "ERROR: AddressSanitizer" not in out
 
 
