@@ -26,6 +26,13 @@ def load(name: str) -> Library:
     return Library(module)
 
 
+def shipped() -> list[str]:
+    """Names of the mechanisms compiled into this installation (no import needed)."""
+    prefix = NATIVE.format("")
+    return sorted({p.name.split(".")[0][len(prefix):] for p in Path(__file__).parent.iterdir()
+                   if p.name.startswith(prefix) and p.suffix in (".so", ".pyd")})
+
+
 @lru_cache(maxsize=None)
 def load_from(folder: str | Path, name: str) -> Library:
     """The Library a user built into ``folder`` (see codegen.build_ext.build_into)."""
@@ -40,4 +47,4 @@ def load_from(folder: str | Path, name: str) -> Library:
     return Library(module)
 
 
-__all__ = ["Function", "Library", "LibraryError", "load", "load_from"]
+__all__ = ["Function", "Library", "LibraryError", "load", "load_from", "shipped"]

@@ -6,6 +6,8 @@ import sys
 import time
 from pathlib import Path
 
+from .api import shipped
+
 
 #: The mechanism a command works on when none is named: the paper's example.
 DEFAULT_MECHANISM = "doughty"
@@ -103,8 +105,8 @@ def _analyze(args) -> int:
 def _mechanism_options(verb: argparse.ArgumentParser, out_help: str) -> None:
     which = verb.add_mutually_exclusive_group()
     which.add_argument("--mechanism", metavar="NAME",
-                       help="a shipped mechanism: doughty (default), slider_crank, four_bar, "
-                            "torsion_pendulum")
+                       help=f"a shipped mechanism: {', '.join(shipped())} "
+                            f"(default {DEFAULT_MECHANISM})")
     which.add_argument("--model", metavar="FILE",
                        help="a model file of your own (Python, defining build() -> Mechanism)")
     verb.add_argument("--out", metavar="DIR", help=out_help)
