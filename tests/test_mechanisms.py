@@ -532,3 +532,23 @@ def test_torsion_pendulum_has_no_polynomial_but_its_vibration():
         m, b, k = lib.linearisation(lib.example_params(), theta)
         assert abs(lib.equilibrium_residual(lib.example_params(), theta).residual) < 1e-12
         assert m > 0 and b == lib.example_params().c
+
+
+@pytest.mark.parametrize("name, changes", [
+    ("slider_crank", dict(R=1e-308, m_2=1e308, m_3=0.0)),   # M = 0 at every root
+    ("doughty", dict(m_A=1e308, b=1e308)),                  # B^2 and M K overflow
+], ids=["no-inertia", "overflow"])
+def test_extreme_accepted_parameters_never_give_nan_behind_ok(name, changes):
+    """Found by the sanitizer driver over random seeds: the analysis returned OK with NaN in
+    zeta or the eigenvalues. Now a root without inertia is singular, and the eigenvalues are
+    computed from B/M and K/M."""
+    lib = _library(name)
+    try:
+        analysis = lib.analyze(lib.example_params(**changes))
+    except ValueError:  # a status naming the problem is an acceptable answer
+        return
+    for r in analysis.roots:
+        values = [r.M, r.B, r.K, r.omega_n.real, r.omega_n.imag, r.zeta.imag,
+                  *(z.real for z in r.eigenvalues), *(z.imag for z in r.eigenvalues)]
+        assert not any(math.isnan(v) for v in values), r
+        assert r.M > 0

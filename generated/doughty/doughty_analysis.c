@@ -107,19 +107,20 @@ static double wrap(double theta)
     return theta <= -pi + PI_SNAP ? pi : theta;
 }
 
-/* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. */
+/* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
+ * M K can overflow where B/M and K/M do not. */
 static void eigenvalues(double m, double b, double k, double re[2], double im[2])
 {
-    const double half_b = 0.5 * b;
-    const double disc = half_b * half_b - m * k;
+    const double half_b = 0.5 * (b / m), k_m = k / m;
+    const double disc = half_b * half_b - k_m;
     if (disc < 0.0) {
-        re[0] = re[1] = -half_b / m;
-        im[0] = sqrt(-disc) / m;
+        re[0] = re[1] = -half_b;
+        im[0] = sqrt(-disc);
         im[1] = -im[0];
     } else {
         const double q = -(half_b + copysign(sqrt(disc), half_b));
-        re[0] = q / m;
-        re[1] = q != 0.0 ? k / q : 0.0;
+        re[0] = q;
+        re[1] = q != 0.0 ? k_m / q : 0.0;
         im[0] = im[1] = 0.0;
     }
 }
@@ -325,8 +326,15 @@ static doughty_status study_root(const doughty_params *params, double theta,
             return status;
         }
     }
+    if (!(e->M > 0.0)) { /* no inertia left at this angle: no vibration to speak of */
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
     frequency(e->M, e->B, e->K, e);
     eigenvalues(e->M, e->B, e->K, e->eigen_re, e->eigen_im);
+    if (isnan(e->omega_n[0] + e->omega_n[1] + e->zeta[1] + e->eigen_re[0] + e->eigen_re[1]
+              + e->eigen_im[0]) || isnan(e->zeta[0])) {
+        return DOUGHTY_ERR_OVERFLOW; /* (zeta may be +inf on purpose: B > 0, K = 0) */
+    }
     classify_motion(e->B, e->K, e);
     return DOUGHTY_OK;
 }
