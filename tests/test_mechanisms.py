@@ -137,7 +137,14 @@ def _angles(name, rng, count):
 
 
 def _plan_cases():
-    return [(n, f.name) for n in NAMES for f in _plan(n).functions]
+    """From the compiled libraries (cheap at collection; the plan is derived in the test,
+    and test_plan_and_library_agree ties the two together)."""
+    return [(n, f) for n in NAMES for f in sorted(_library(n).FUNCTIONS)]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_plan_and_library_agree(name):
+    assert sorted(f.name for f in _plan(name).functions) == sorted(_library(name).FUNCTIONS)
 
 
 def _states(name, rng, table):
@@ -214,7 +221,8 @@ def test_compiled_equals_symbolic(name, function_name, mp_compile, rounding_boun
 # --------------------------------------------------------------------------- (b), (c)
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if _derivation(n).state.multipliers])
+@pytest.mark.parametrize("name", [n for n in NAMES
+                                  if _library(n).SPEC["sizes"]["N_CONSTRAINTS"]])
 def test_dependent_state_closes_the_loops(name, rounding_bound):
     lib, d = _library(name), _derivation(name)
     rng = np.random.default_rng([SEED, 2, NAMES.index(name)])
@@ -416,7 +424,7 @@ def _branch_product(name):
     return sp.lambdify(_symbols(name) + [theta], product, modules="mpmath")
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if _derivation(n).equilibrium.polynomial])
+@pytest.mark.parametrize("name", [n for n in NAMES if _library(n).has_analysis])
 def test_sigma_is_the_product_of_the_branches(name):
     lib = _library(name)
     plan_sigma = _plan(name).function("sigma")
@@ -483,7 +491,7 @@ def _check_equilibria(name, p):
     return analysis
 
 
-ALGEBRAIC = [n for n in NAMES if _derivation(n).equilibrium.polynomial]
+ALGEBRAIC = [n for n in NAMES if _library(n).has_analysis]
 
 
 @pytest.mark.parametrize("name", ALGEBRAIC)

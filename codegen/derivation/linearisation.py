@@ -31,12 +31,24 @@ class Mode:
 
 @dataclass(frozen=True)
 class Linearisation:
-    mass: sp.Expr       # M_EQ, (50)
-    damping: sp.Expr    # B_EQ, (51)
-    stiffness: sp.Expr  # K_EQ, (52)-(53)
     #: every assembly mode, the declared one first; mode j flips assembly root i when bit i
     #: of j is set (counting assembly roots only)
-    modes: tuple[Mode, ...] = ()
+    modes: tuple[Mode, ...]
+
+    @property
+    def mass(self) -> sp.Expr:
+        """M_EQ, (50), of the mechanism as declared."""
+        return self.modes[0].mass
+
+    @property
+    def damping(self) -> sp.Expr:
+        """B_EQ, (51)."""
+        return self.modes[0].damping
+
+    @property
+    def stiffness(self) -> sp.Expr:
+        """K_EQ, (52)-(53)."""
+        return self.modes[0].stiffness
 
     @property
     def omega_n_squared(self) -> sp.Expr:
@@ -54,13 +66,9 @@ def derive_linearisation(reduction: Reduction) -> Linearisation:
     slope = sum((tidy(solution.derivative(t)) for t in reduction.static_terms), sp.S.Zero)
     roots = solution.roots
     e0, _, e2 = reduction.e_in_roots
-    modes = []
-    for signs in mode_signs(tuple(r.kind for r in roots)):
-        def flipped(expr, signs=signs):
-            return on_branch(expr, roots, signs)
-        modes.append(Mode(signs, flipped(e0), flipped(e2), flipped(slope)))
-    return Linearisation(mass=reduction.e[0], damping=reduction.e[2],
-                         stiffness=solution.explicit(slope), modes=tuple(modes))
+    return Linearisation(tuple(
+        Mode(signs, *(on_branch(x, roots, signs) for x in (e0, e2, slope)))
+        for signs in mode_signs(tuple(r.kind for r in roots))))
 
 
 def mode_signs(kinds: tuple[str, ...]) -> list[tuple[int, ...]]:

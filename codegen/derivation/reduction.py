@@ -15,6 +15,7 @@ say how small G must be to count as zero.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import sympy as sp
 
@@ -34,9 +35,13 @@ class Reduction:
     positions: sp.Matrix   # q(theta), (30), (31), (34), roots written out
     velocities: sp.Matrix  # S(theta) thetadot, (32), (35)
     equation: sp.Expr      # the reduced equation of motion, (36), as projected
-    e: tuple[sp.Expr, ...]  # e0, e1, e2 of (36)-(39)
-    e_in_roots: tuple[sp.Expr, ...]  # the same in the root symbols (for any branch)
+    e_in_roots: tuple[sp.Expr, ...]  # e0, e1, e2 of (36)-(39) in the root symbols
     static_terms: tuple[sp.Expr, ...]  # G's contributions in the root symbols, summing to G
+
+    @cached_property
+    def e(self) -> tuple[sp.Expr, ...]:
+        """e0, e1, e2 with the square roots written out (declared branch)."""
+        return tuple(self.solution.explicit(e) for e in self.e_in_roots)
 
     @property
     def static_force(self) -> sp.Expr:
@@ -104,6 +109,5 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd, solution=solution,
         positions=positions, velocities=S * theta_d, equation=equation,
-        e=tuple(solution.explicit(e) for e in (e0, e1, e2)), e_in_roots=(e0, e1, e2),
-        static_terms=terms,
+        e_in_roots=(e0, e1, e2), static_terms=terms,
     )

@@ -67,11 +67,7 @@ class _Assembler:
         return self.emit("CONST", index)
 
     def binary(self, operation, left, right) -> int:
-        a = self.value(left)
-        b = self.value(right)
-        self.release(a, self.named)
-        self.release(b, self.named)
-        return self.emit(operation, a, b)
+        return self._combine(operation, self.value(left), right)
 
     def value(self, expr: sp.Expr) -> int:
         """The slot holding expr (a named slot, or a new scratch slot)."""

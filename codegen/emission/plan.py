@@ -85,6 +85,7 @@ class Plan:
     singular_state: str
     functions: tuple[CFunction, ...]
     root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
+    mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
 
     def function(self, name: str) -> CFunction:
@@ -252,9 +253,18 @@ def build_plan(d: Derivation) -> Plan:
         requirements=m.requirements,
         singular_state=m.singular_state,
         root_kinds=tuple(r.kind for r in eq.roots),
+        mode_of_branch=tuple(_mode_of(branch.signs, lin.modes, eq.roots)
+                             for branch in eq.branches),
         range_centre=str(m.range_centre),
         functions=constrained + general + branched + polynomial + dynamics_at_rest + other_modes,
     )
+
+
+def _mode_of(signs, modes, roots) -> int:
+    """The mode whose assembly roots have the signs a branch gives them."""
+    assembly = [i for i, r in enumerate(roots) if r.kind == "assembly"]
+    return next(k for k, mode in enumerate(modes)
+                if all(mode.signs[i] == signs[i] for i in assembly))
 
 
 def _divided(factors) -> str:

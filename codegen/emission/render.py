@@ -121,12 +121,6 @@ def _has_denominator(expr) -> bool:
     return any(p.exp.is_negative for p in sp.sympify(expr).atoms(sp.Pow)) or expr.has(sp.atan2)
 
 
-def _mode_of_branch(branch: int, kinds: tuple[str, ...]) -> int:
-    """The assembly mode of a branch: its assembly-root bits, packed (lengths dropped)."""
-    assembly = [i for i, k in enumerate(kinds) if k == "assembly"]
-    return sum(1 << k for k, i in enumerate(assembly) if branch >> i & 1)
-
-
 def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
     """File name -> text of every generated file."""
     env = environment(str(template_dir))
@@ -153,8 +147,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "double_double": any(f.arithmetic == "double-double" for f in plan.functions),
         "root_kinds": plan.root_kinds,
         "length_bits": sum(1 << j for j, k in enumerate(plan.root_kinds) if k == "length"),
-        "mode_of_branch": [_mode_of_branch(j, plan.root_kinds)
-                           for j in range(2 ** len(plan.root_kinds))],
+        "mode_of_branch": plan.mode_of_branch,
         "other_modes": plan.has("mode_linearisation"),
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],

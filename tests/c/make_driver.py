@@ -79,7 +79,7 @@ static void check(const char *name, long set, int status, int max_status, const 
 """
 
 
-def _size(arg, sizes) -> int:
+def _size(arg) -> int:
     return arg["size"] or 1
 
 
@@ -101,20 +101,20 @@ def driver(folder: Path) -> str:
         typical = example if example != 0.0 else 1.0
         lines.append(f"        p.{parameter['name']} = value({typical!r}, hostility);")
     for f in spec["functions"]:
-        total = sum(_size(o, sizes) for o in f["outputs"])
+        total = sum(_size(o) for o in f["outputs"])
         lines += ["        {",
                   f"            double out[{total}];",
                   "            int i;"]
         arguments = []
         for arg in f["inputs"]:
             local = f"in_{arg['name']}"
-            lines.append(f"            double {local}[{_size(arg, sizes)}];")
-            lines.append(f"            fill({local}, {_size(arg, sizes)}, hostility);")
+            lines.append(f"            double {local}[{_size(arg)}];")
+            lines.append(f"            fill({local}, {_size(arg)}, hostility);")
             arguments.append(local if arg["size"] else f"{local}[0]")
         offset = 0
         for out in f["outputs"]:
             arguments.append(f"out + {offset}")
-            offset += _size(out, sizes)
+            offset += _size(out)
         lines += [f"            for (i = 0; i < {total}; ++i) {{",
                   "                out[i] = SENTINEL;",
                   "            }",
