@@ -2,8 +2,8 @@
 
 setuptools runs this through ``cffi_modules`` on ``pip install .`` / ``pip install -e .``:
 every folder of generated/ holding a library (NAME/NAME_api.json) becomes the module
-``codegen._native_NAME``, compiled from its sources and, when it finds equilibria, the
-shared runtime. ``build_into`` does the same for a user's library, into any folder.
+``codegen._native_NAME``, compiled from its sources and the shared runtime. ``build_into``
+does the same for a user's library, into any folder.
 The strict warning flags are applied to generated/ by the test suite (cffi's own wrapper
 code is not -Wpedantic clean, so it is not held to them here).
 """
@@ -42,9 +42,7 @@ def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen
     ffi = FFI()
     ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
-    sources = sorted(folder.glob("*.c"))
-    if "_poly_real_roots" in (folder / f"{name}.cdef").read_text():
-        sources += sorted((generated / RUNTIME).glob("*.c"))
+    sources = sorted(folder.glob("*.c")) + sorted((generated / RUNTIME).glob("*.c"))
     ffi.set_source(
         f"{package}_native_{name}",
         f'#include "{name}.h"\n'

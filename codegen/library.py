@@ -71,9 +71,26 @@ class Library:
         return f"<Library {self.PREFIX}: {self.TITLE}>"
 
     @property
-    def has_analysis(self) -> bool:
-        """Whether every equilibrium can be found here (G algebraic: the polynomial exists)."""
+    def has_polynomial(self) -> bool:
+        """Whether G is algebraic, so that the polynomial route exists (isolation always does)."""
         return "sigma" in self.FUNCTIONS
+
+    @property
+    def modes(self) -> int:
+        """The number of assembly modes (the enclosure's mode argument ranges below it)."""
+        return int(self.SPEC["sizes"]["N_MODES"])
+
+    def enclosure(self, params, lo: float, hi: float, mode: int = 0):
+        """Rigorous bounds on G and G' over lo <= theta <= hi [rad] on an assembly mode:
+        ((G_lo, G_hi), (dG_lo, dG_hi), flags); flags or-s 1 (a divisor may vanish), 2 (a
+        square root may reach 0 or the mode may not exist on part of it), 4 (nowhere)."""
+        theta = self.ffi.new("double[2]", [lo, hi])
+        g, dg = self.ffi.new("double[2]"), self.ffi.new("double[2]")
+        flags = self.ffi.new("unsigned *")
+        status = getattr(self.lib, f"{self.PREFIX}_enclosure")(self._c_params(params), mode,
+                                                               theta, g, dg, flags)
+        self.check(status, self._as_mapping(params))
+        return (g[0], g[1]), (dg[0], dg[1]), int(flags[0])
 
     def example_params(self, **overrides: float) -> Any:
         """The model's example parameters, with optional overrides by name."""
@@ -116,14 +133,14 @@ class Library:
     def _as_mapping(params):
         return params if isinstance(params, dict) else asdict(params)
 
-    def analyze(self, params=None):
-        """Every real root of the equilibrium polynomial, classified and linearised."""
+    def analyze(self, params=None, method: str = "auto"):
+        """Every equilibrium, classified and linearised (see codegen.analysis)."""
         from .analysis import analyze
-        return analyze(params if params is not None else self.example_params())
+        return analyze(params if params is not None else self.example_params(), method)
 
-    def analyze_batch(self, table):
+    def analyze_batch(self, table, method: str = "auto"):
         from .analysis import analyze_batch
-        return analyze_batch(table, self)
+        return analyze_batch(table, self, method)
 
 
 @dataclass(frozen=True)

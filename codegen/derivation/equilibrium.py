@@ -39,6 +39,9 @@ class Equilibrium:
     radicands: tuple[sp.Expr, ...]  # of every root on the declared branch, roots written out
     radicand_scales: tuple[sp.Expr, ...]  # sum of |terms| of each radicand
 
+    def branch(self, signs: tuple[int, ...]) -> Branch:
+        return next(b for b in self.branches if b.signs == signs)
+
     @property
     def sigma(self) -> tuple[sp.Expr, ...]:
         return self.polynomial.explicit() if self.polynomial else ()

@@ -72,7 +72,26 @@ GENERIC_STATUSES = (
     Status("ERR_OVERFLOW", 6, "a result is too large to represent"),
     Status("ERR_EVERY_ANGLE", 7, "the equilibrium equation vanishes identically: "
                                  "every angle is an equilibrium"),
+    Status("ERR_ARGUMENT", 8, "an argument is out of range (a mode number, or an interval "
+                              "whose ends are reversed)"),
+    Status("ERR_CAPACITY", 9, "more equilibria or uncertain intervals than the result holds"),
 )
+
+#: Room in an analysis for roots where no polynomial bounds their number, and for the
+#: intervals the certified isolation cannot decide.
+ISOLATION_CAPACITY = 32
+UNCERTAIN_CAPACITY = 16
+
+
+@dataclass(frozen=True)
+class Enclosure:
+    """G and its slope G' on each assembly mode, for their interval extension: what the
+    certified isolation of G's zeros evaluates."""
+
+    theta: sp.Symbol
+    residuals: tuple[sp.Expr, ...]  # G on mode k, roots written out
+    slopes: tuple[sp.Expr, ...]     # dG/dtheta on mode k (K_EQ's expression)
+    equation: str = ""
 
 
 @dataclass(frozen=True)
@@ -87,6 +106,8 @@ class Plan:
     root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
     mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
+    periodic: bool = True              # theta and theta + 2 pi are the same state
+    enclosure: Enclosure | None = None
 
     def function(self, name: str) -> CFunction:
         return next(f for f in self.functions if f.name == name)
@@ -241,9 +262,10 @@ def build_plan(d: Derivation) -> Plan:
              "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
              "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
              "N_MODES": len(lin.modes)}
+    sizes |= {"MAX_ROOTS": eq.polynomial.degree if eq.polynomial else ISOLATION_CAPACITY,
+              "MAX_UNCERTAIN": UNCERTAIN_CAPACITY}
     if eq.polynomial:
-        sizes |= {"DEGREE": eq.polynomial.degree, "N_SIGMA": eq.polynomial.degree + 1,
-                  "MAX_ROOTS": eq.polynomial.degree}
+        sizes |= {"DEGREE": eq.polynomial.degree, "N_SIGMA": eq.polynomial.degree + 1}
     return Plan(
         prefix=m.name,
         title=m.title or m.name,
@@ -256,6 +278,11 @@ def build_plan(d: Derivation) -> Plan:
         mode_of_branch=tuple(_mode_of(branch.signs, lin.modes, eq.roots)
                              for branch in eq.branches),
         range_centre=str(m.range_centre),
+        periodic=m.periodic,
+        enclosure=Enclosure(red.theta,
+                            tuple(eq.branch(mode.signs).residual for mode in lin.modes),
+                            tuple(mode.stiffness for mode in lin.modes),
+                            m.equations.get("equilibrium_residual", "")),
         functions=constrained + general + branched + polynomial + dynamics_at_rest + other_modes,
     )
 

@@ -11,11 +11,13 @@ from functools import lru_cache
 from pathlib import Path
 
 import json
+import re
 
 import jinja2
 import sympy as sp
 
 from .. import __version__
+from .interval import interval_body
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
 
@@ -121,6 +123,32 @@ def _has_denominator(expr) -> bool:
     return any(p.exp.is_negative for p in sp.sympify(expr).atoms(sp.Pow)) or expr.has(sp.atan2)
 
 
+def _enclosure(plan: Plan) -> dict | None:
+    """Each mode's interval program of G and G', and how the modes are labelled."""
+    enclosure = plan.enclosure
+    if enclosure is None:
+        return None
+    names = tuple(p[0] for p in plan.parameters)
+    theta = enclosure.theta.name
+    assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
+    modes = []
+    for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
+        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags")
+        flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
+        code = [t for _, t in body.temporaries] + list(body.outputs)
+        modes.append({"body": body, "label": ", ".join(flipped) or "as declared",
+                      "unused": [name for name in (theta, "iv_flags")
+                                 if not any(re.search(rf"\b{name}\b", c) for c in code)]})
+    return {"theta": theta, "equation": enclosure.equation, "modes": modes}
+
+
+def _range_centre(plan: Plan, printer) -> str:
+    """The centre of the coordinate's range as C, parameters read from params."""
+    centre = sp.sympify(plan.range_centre)
+    return printer.doprint(centre.xreplace(
+        {s: sp.Symbol(f"params->{s.name}") for s in centre.free_symbols}))
+
+
 def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
     """File name -> text of every generated file."""
     env = environment(str(template_dir))
@@ -149,6 +177,11 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "length_bits": sum(1 << j for j, k in enumerate(plan.root_kinds) if k == "length"),
         "mode_of_branch": plan.mode_of_branch,
         "other_modes": plan.has("mode_linearisation"),
+        "branch_of_mode": [plan.mode_of_branch.index(k) if plan.mode_of_branch else 0
+                           for k in range(plan.sizes["N_MODES"])],
+        "enclosure": _enclosure(plan),
+        "periodic": plan.periodic,
+        "range_centre": _range_centre(plan, printer),
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,
@@ -156,8 +189,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
     }
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
                  f"{prefix}.cdef": "library.cdef.j2"}
-    if context["polynomial"]:
-        templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
+    templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)
@@ -174,6 +206,7 @@ def api_spec(plan: Plan) -> str:
         "title": plan.title,
         "root_kinds": list(plan.root_kinds),
         "range_centre": plan.range_centre,
+        "periodic": plan.periodic,
         "version": __version__,
         "parameters": [dict(zip(("name", "unit", "description", "example"), p))
                        for p in plan.parameters],

@@ -69,9 +69,6 @@ def build() -> Mechanism:
             Requirement(l_ND >= 0, "L_ND_NEGATIVE", "l_ND must not be negative"),
             Requirement(sp.And(m_A >= 0, m_B >= 0, m_C >= 0), "MASS_NEGATIVE",
                         "masses m_A, m_B, m_C must not be negative"),
-            # e0 = L^2 (m_A sin^2 + m_B cos^2 + m_C/3) vanishes at some angle unless:
-            Requirement(sp.Or(m_C > 0, sp.And(m_A > 0, m_B > 0)), "MASS_SINGULAR",
-                        "m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia"),
             Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
             Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
         ),

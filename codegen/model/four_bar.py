@@ -74,8 +74,6 @@ def build() -> Mechanism:
             Requirement(l_0 >= 0, "L_0_NEGATIVE", "l_0 must not be negative"),
             Requirement(sp.And(m_2 >= 0, m_3 >= 0, m_4 >= 0), "MASS_NEGATIVE",
                         "masses m_2, m_3, m_4 must not be negative"),
-            Requirement(m_2 + m_3 + m_4 > 0, "MASS_SINGULAR",
-                        "m_2 = m_3 = m_4 = 0 leaves the mechanism without inertia"),
             Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
             Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
         ),

@@ -114,7 +114,11 @@ class Mechanism:
       mode the model describes: an angle of known length fixed by a quadratic (a dyad's
       circle meeting a line or another circle) takes the sign that makes them hold; the
       other sign is the mechanism's other assembly mode.
-    The independent coordinate ranges over (range_centre - pi, range_centre + pi].
+    The independent coordinate ranges over (range_centre - pi, range_centre + pi]; when
+    ``periodic`` (an angle of a closed mechanism), theta and theta + 2 pi are the same state,
+    otherwise (a spring that winds) different ones, and equilibria outside the range are not
+    sought. No inertia is required: statics need none, and an equilibrium where M vanishes
+    is reported with its frequency undefined.
     ``equations`` maps each named result to the paper's equation label, for comments.
     """
 
@@ -135,6 +139,7 @@ class Mechanism:
     assembly_modes: tuple[sp.Expr, ...] = ()
     torques: tuple[Torque, ...] = ()
     range_centre: sp.Expr = sp.S.Zero
+    periodic: bool = True
     title: str = ""
     equations: dict[str, str] = field(default_factory=dict)
 

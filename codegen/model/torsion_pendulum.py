@@ -47,11 +47,11 @@ def build() -> Mechanism:
         gravity=g,
         points={"P": tip},
         range_centre=theta_0,
+        periodic=False,
         requirements=(
             Requirement(l > 0, "L_NOT_POSITIVE", "l must be positive"),
             Requirement(sp.And(m >= 0, m_t >= 0), "MASS_NEGATIVE",
                         "masses m, m_t must not be negative"),
-            Requirement(m + m_t > 0, "MASS_SINGULAR", "m = m_t = 0 leaves the bar without inertia"),
             Requirement(k_t >= 0, "K_T_NEGATIVE", "k_t must not be negative"),
             Requirement(c >= 0, "C_NEGATIVE", "c must not be negative"),
         ),

@@ -6,6 +6,7 @@
  */
 #include "doughty.h"
 #include "codegen_dd.h"
+#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -48,6 +49,10 @@ const char *doughty_status_message(doughty_status status)
         return "a result is too large to represent";
     case DOUGHTY_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
+    case DOUGHTY_ERR_ARGUMENT:
+        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+    case DOUGHTY_ERR_CAPACITY:
+        return "more equilibria or uncertain intervals than the result holds";
     case DOUGHTY_ERR_L_NOT_POSITIVE:
         return "L must be positive";
     case DOUGHTY_ERR_A_OUT_OF_RANGE:
@@ -56,8 +61,6 @@ const char *doughty_status_message(doughty_status status)
         return "l_ND must not be negative";
     case DOUGHTY_ERR_MASS_NEGATIVE:
         return "masses m_A, m_B, m_C must not be negative";
-    case DOUGHTY_ERR_MASS_SINGULAR:
-        return "m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia";
     case DOUGHTY_ERR_K_NEGATIVE:
         return "k must not be negative";
     case DOUGHTY_ERR_B_NEGATIVE:
@@ -99,9 +102,6 @@ doughty_status doughty_check_params(const doughty_params *params)
         }
         if (!((m_A >= 0) && (m_B >= 0) && (m_C >= 0))) {
             return DOUGHTY_ERR_MASS_NEGATIVE;
-        }
-        if (!((m_C > 0) || ((m_A > 0) && (m_B > 0)))) {
-            return DOUGHTY_ERR_MASS_SINGULAR;
         }
         if (!(k >= 0)) {
             return DOUGHTY_ERR_K_NEGATIVE;
@@ -1239,6 +1239,81 @@ doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
     /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
      * out of range) cannot occur: the header checks the degree at compile time. */
     return (doughty_status)codegen_poly_real_roots(sigma, DOUGHTY_DEGREE, theta, n_roots);
+}
+
+/* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared),
+ * enclosed in outward-rounded interval arithmetic. Total ops: 104. */
+static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codegen_iv *iv_g,
+                           codegen_iv *iv_dg, unsigned *iv_flags)
+{
+    const codegen_iv H = codegen_iv_point(params->H);
+    const codegen_iv L = codegen_iv_point(params->L);
+    const codegen_iv a = codegen_iv_point(params->a);
+    const codegen_iv m_B = codegen_iv_point(params->m_B);
+    const codegen_iv m_C = codegen_iv_point(params->m_C);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_ND = codegen_iv_point(params->l_ND);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(L, tmp0);
+    const codegen_iv tmp2 = codegen_iv_sin(theta);
+    const codegen_iv tmp3 = codegen_iv_pow(L, 2);
+    const codegen_iv tmp4 = codegen_iv_mul(a, tmp0);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2.0), L);
+    const codegen_iv tmp6 = codegen_iv_mul(L, tmp2);
+    const codegen_iv tmp7 = codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp4), 2), codegen_iv_pow(codegen_iv_sub(tmp6, codegen_iv_mul(a, tmp2)), 2));
+    const codegen_iv tmp8 = codegen_iv_sqrt(tmp7, iv_flags);
+    const codegen_iv tmp9 = codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 3);
+    const codegen_iv tmp10 = codegen_iv_pow(tmp2, 2);
+    const codegen_iv tmp11 = codegen_iv_mul(l_ND, tmp10);
+    const codegen_iv tmp12 = codegen_iv_mul(codegen_iv_pow(a, 2), tmp11);
+    const codegen_iv tmp13 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp14 = codegen_iv_mul(tmp11, tmp13);
+    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(4.0), tmp12);
+    const codegen_iv tmp16 = codegen_iv_mul(H, tmp4);
+    const codegen_iv tmp17 = codegen_iv_mul(tmp3, tmp7);
+    const codegen_iv tmp18 = codegen_iv_mul(a, tmp5);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp18, tmp7);
+    const codegen_iv tmp20 = codegen_iv_mul(l_ND, tmp13);
+    const codegen_iv tmp21 = codegen_iv_mul(tmp3, tmp9);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp9);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(F, tmp1)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp2), codegen_iv_sub(l_ND, tmp8)), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(H, a), codegen_iv_mul(tmp0, tmp3)), codegen_iv_mul(tmp4, tmp5))), tmp8, iv_flags));
+    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
+}
+
+doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags)
+{
+    codegen_iv iv_g, iv_dg;
+    unsigned iv_flags = 0u;
+    doughty_status status;
+    if (params == NULL || theta == NULL || g == NULL || dg == NULL || flags == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(theta, 2)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    if (mode >= DOUGHTY_N_MODES || !(theta[0] <= theta[1])) {
+        return DOUGHTY_ERR_ARGUMENT;
+    }
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
+        break;
+    default:
+        return DOUGHTY_ERR_ARGUMENT;
+    }
+    g[0] = iv_g.lo;
+    g[1] = iv_g.hi;
+    dg[0] = iv_dg.lo;
+    dg[1] = iv_dg.hi;
+    *flags = iv_flags;
+    return DOUGHTY_OK;
 }
 
 doughty_status doughty_position_constraints_batch(size_t count, const doughty_params *params, const double *coords, double *f, doughty_status *statuses)

@@ -14,6 +14,7 @@
 
 #include <stddef.h>
 
+#include "codegen_interval.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -22,6 +23,7 @@ extern "C" {
 
 #define DOUGHTY_DEGREE 12
 #define DOUGHTY_MAX_ROOTS 12
+#define DOUGHTY_MAX_UNCERTAIN 16
 #define DOUGHTY_N_BRANCHES 2
 #define DOUGHTY_N_CONSTRAINTS 4
 #define DOUGHTY_N_COORDS 5
@@ -46,13 +48,14 @@ typedef enum doughty_status {
     DOUGHTY_ERR_SINGULAR_STATE = 5, /* the spring length r is zero, so its direction is undefined */
     DOUGHTY_ERR_OVERFLOW = 6, /* a result is too large to represent */
     DOUGHTY_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    DOUGHTY_ERR_L_NOT_POSITIVE = 8, /* L must be positive */
-    DOUGHTY_ERR_A_OUT_OF_RANGE = 9, /* a must lie in [0, L] */
-    DOUGHTY_ERR_L_ND_NEGATIVE = 10, /* l_ND must not be negative */
-    DOUGHTY_ERR_MASS_NEGATIVE = 11, /* masses m_A, m_B, m_C must not be negative */
-    DOUGHTY_ERR_MASS_SINGULAR = 12, /* m_C = 0 with m_A = 0 or m_B = 0 leaves the mechanism without inertia */
-    DOUGHTY_ERR_K_NEGATIVE = 13, /* k must not be negative */
-    DOUGHTY_ERR_B_NEGATIVE = 14 /* b must not be negative */
+    DOUGHTY_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    DOUGHTY_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
+    DOUGHTY_ERR_L_NOT_POSITIVE = 10, /* L must be positive */
+    DOUGHTY_ERR_A_OUT_OF_RANGE = 11, /* a must lie in [0, L] */
+    DOUGHTY_ERR_L_ND_NEGATIVE = 12, /* l_ND must not be negative */
+    DOUGHTY_ERR_MASS_NEGATIVE = 13, /* masses m_A, m_B, m_C must not be negative */
+    DOUGHTY_ERR_K_NEGATIVE = 14, /* k must not be negative */
+    DOUGHTY_ERR_B_NEGATIVE = 15 /* b must not be negative */
 } doughty_status;
 
 /* The mechanism's parameters, SI units. */
@@ -247,6 +250,18 @@ doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, d
 doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const double *theta, double *M, double *B, double *K, doughty_status *statuses);
 doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, doughty_status *statuses);
 
+/* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
+ * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
+ * mode j flips the i-th assembly root when bit i of j is set; DOUGHTY_N_MODES in all):
+ * g[0] <= G(theta) <= g[1] and dg[0] <= G'(theta) <= dg[1] for every such theta where the
+ * mechanism exists, in outward-rounded interval arithmetic (codegen_interval.h). *flags
+ * receives CODEGEN_IV_POLE (a divisor may vanish: G may be unbounded), CODEGEN_IV_EDGE (a
+ * square root may reach zero, or the mode may not exist on part of the interval) and
+ * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
+ * Returns DOUGHTY_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
+doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags);
+
 /* Real roots of sum_{i=0}^{12} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
@@ -269,17 +284,21 @@ typedef enum doughty_damping {
     DOUGHTY_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
 } doughty_damping;
 
-/* What a real root of the polynomial is: which branch of the square roots zeroes G there. */
+/* What a root is: which branch of the square roots zeroes G there. */
 typedef enum doughty_root_kind {
     DOUGHTY_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
     DOUGHTY_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
     DOUGHTY_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
 } doughty_root_kind;
 
-/* One real root of the polynomial and the vibration about it, (46)-(55); M, B, K are those of
- * the declared assembly mode at that angle. */
+/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
+ * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
+ * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct doughty_equilibrium {
-    double theta;           /* theta_E [rad] in (-pi, pi] */
+    double theta;           /* theta_E [rad], in the coordinate's range */
+    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     doughty_root_kind kind;
     double residual;        /* G(theta_E) (42) [N m] */
@@ -296,24 +315,52 @@ typedef struct doughty_equilibrium {
     doughty_damping damping;
 } doughty_equilibrium;
 
+/* What the certified isolation could not decide in double precision. */
+typedef enum doughty_uncertainty {
+    DOUGHTY_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
+                             two equilibria closer than double separates, or a near-double
+                             complex pair (none); sign_change = 1 means at least one */
+    DOUGHTY_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
+                             zero length, a limit position): no equilibrium is claimed there */
+} doughty_uncertainty;
+
+typedef struct doughty_interval {
+    double lo, hi;          /* [rad] */
+    doughty_uncertainty kind;
+    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
+    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
+                               G is continuous there */
+} doughty_interval;
+
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct doughty_analysis {
-    double sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 */
-    int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
+    double sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 (polynomial route; 0 after isolation) */
+    int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     doughty_equilibrium roots[DOUGHTY_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     double singular_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     double unassembled_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
+    int n_uncertain;        /* intervals the certified isolation could not decide */
+    doughty_interval uncertain[DOUGHTY_MAX_UNCERTAIN]; /* ascending */
 } doughty_analysis;
 
-/* All real roots of the polynomial, classified and linearised (for the paper's example, its Table 3).
- * Returns DOUGHTY_OK or the first failure (bad parameters);
- * *result is written only on success. */
+/* The polynomial route: every real root of the polynomial, classified by branch, polished,
+ * each equilibrium certified where a small interval around it proves it, and linearised
+ * (for the paper's example, its Table 3). Returns DOUGHTY_OK or the first failure (bad
+ * parameters); *result is written only on success. */
 doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result);
 
-/* doughty_analyze over count parameter sets; statuses[i] for each. */
+/* The isolation route: every zero of G on the coordinate's range, on every assembly mode,
+ * each in an interval that proves it (G changes sign, G' keeps its sign), found by
+ * subdividing the range with interval enclosures of G and G'; what double precision cannot
+ * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
+doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result);
+
+/* doughty_analyze and doughty_isolate over count parameter sets; statuses[i] for each. */
 doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,
+                                  doughty_analysis *results, doughty_status *statuses);
+doughty_status doughty_isolate_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses);
 
 #ifdef __cplusplus

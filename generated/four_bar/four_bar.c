@@ -6,6 +6,7 @@
  */
 #include "four_bar.h"
 #include "codegen_dd.h"
+#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -48,14 +49,16 @@ const char *four_bar_status_message(four_bar_status status)
         return "a result is too large to represent";
     case FOUR_BAR_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
+    case FOUR_BAR_ERR_ARGUMENT:
+        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+    case FOUR_BAR_ERR_CAPACITY:
+        return "more equilibria or uncertain intervals than the result holds";
     case FOUR_BAR_ERR_LENGTH_NOT_POSITIVE:
         return "d, a_2, a_3, a_4 must be positive";
     case FOUR_BAR_ERR_L_0_NEGATIVE:
         return "l_0 must not be negative";
     case FOUR_BAR_ERR_MASS_NEGATIVE:
         return "masses m_2, m_3, m_4 must not be negative";
-    case FOUR_BAR_ERR_MASS_SINGULAR:
-        return "m_2 = m_3 = m_4 = 0 leaves the mechanism without inertia";
     case FOUR_BAR_ERR_K_NEGATIVE:
         return "k must not be negative";
     case FOUR_BAR_ERR_B_NEGATIVE:
@@ -96,9 +99,6 @@ four_bar_status four_bar_check_params(const four_bar_params *params)
         }
         if (!((m_2 >= 0) && (m_3 >= 0) && (m_4 >= 0))) {
             return FOUR_BAR_ERR_MASS_NEGATIVE;
-        }
-        if (!(m_2 + m_3 + m_4 > 0)) {
-            return FOUR_BAR_ERR_MASS_SINGULAR;
         }
         if (!(k >= 0)) {
             return FOUR_BAR_ERR_K_NEGATIVE;
@@ -36867,6 +36867,381 @@ four_bar_status four_bar_poly_real_roots(const double sigma[FOUR_BAR_N_SIGMA],
     /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
      * out of range) cannot occur: the header checks the degree at compile time. */
     return (four_bar_status)codegen_poly_real_roots(sigma, FOUR_BAR_DEGREE, theta, n_roots);
+}
+
+/* G (eq. -) and its slope G' on assembly mode 0 (as declared),
+ * enclosed in outward-rounded interval arithmetic. Total ops: 727. */
+static void enclose_mode_0(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
+                           codegen_iv *iv_dg, unsigned *iv_flags)
+{
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv a_3 = codegen_iv_point(params->a_3);
+    const codegen_iv a_4 = codegen_iv_point(params->a_4);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv m_3 = codegen_iv_point(params->m_3);
+    const codegen_iv m_4 = codegen_iv_point(params->m_4);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_pow(a_2, 2);
+    const codegen_iv tmp2 = codegen_iv_pow(d, 2);
+    const codegen_iv tmp3 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp4 = codegen_iv_mul(d, tmp3);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2.0), tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp1, tmp2), tmp5);
+    const codegen_iv tmp7 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
+    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
+    const codegen_iv tmp9 = codegen_iv_pow(d, 3);
+    const codegen_iv tmp10 = codegen_iv_pow(a_4, 2);
+    const codegen_iv tmp11 = codegen_iv_mul(d, x_S);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp1, tmp10);
+    const codegen_iv tmp13 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp14 = codegen_iv_pow(y_S, 2);
+    const codegen_iv tmp15 = codegen_iv_pow(a_3, 2);
+    const codegen_iv tmp16 = codegen_iv_mul(tmp15, tmp2);
+    const codegen_iv tmp17 = codegen_iv_mul(a_2, tmp9);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp0, tmp17);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp1, tmp11);
+    const codegen_iv tmp20 = codegen_iv_pow(a_2, 3);
+    const codegen_iv tmp21 = codegen_iv_mul(tmp0, tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(d, tmp21);
+    const codegen_iv tmp23 = codegen_iv_mul(tmp21, x_S);
+    const codegen_iv tmp24 = codegen_iv_sin(theta);
+    const codegen_iv tmp25 = codegen_iv_mul(tmp20, tmp24);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp25, y_S);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp3, x_S);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp15, tmp27);
+    const codegen_iv tmp29 = codegen_iv_mul(a_2, tmp24);
+    const codegen_iv tmp30 = codegen_iv_mul(tmp29, y_S);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp15, tmp30);
+    const codegen_iv tmp32 = codegen_iv_mul(tmp2, tmp27);
+    const codegen_iv tmp33 = codegen_iv_mul(tmp15, tmp4);
+    const codegen_iv tmp34 = codegen_iv_mul(tmp10, tmp4);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp10, tmp27);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp10, tmp30);
+    const codegen_iv tmp37 = codegen_iv_mul(tmp13, tmp5);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp14, tmp5);
+    const codegen_iv tmp39 = codegen_iv_mul(tmp2, tmp30);
+    const codegen_iv tmp40 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp41 = codegen_iv_mul(codegen_iv_point(2.0), tmp40);
+    const codegen_iv tmp42 = codegen_iv_mul(d, y_S);
+    const codegen_iv tmp43 = codegen_iv_mul(tmp0, tmp1);
+    const codegen_iv tmp44 = codegen_iv_mul(tmp24, tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(codegen_iv_point(2.0), tmp2);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp1, tmp40);
+    const codegen_iv tmp47 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_3), a_4);
+    const codegen_iv tmp48 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(tmp1, tmp10), tmp15), tmp2), tmp47), tmp5);
+    const codegen_iv tmp49 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp10), tmp15), tmp47), tmp6);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp48, tmp49);
+    const codegen_iv tmp51 = codegen_iv_sqrt(codegen_iv_neg(tmp50), iv_flags);
+    const codegen_iv tmp52 = codegen_iv_mul(d, tmp29);
+    const codegen_iv tmp53 = codegen_iv_mul(tmp51, tmp52);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp3, y_S);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp51, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp29, x_S);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp51, tmp56);
+    const codegen_iv tmp58 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp12, tmp16), tmp18), tmp19), tmp22), tmp23), tmp26), tmp28), tmp31), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp53), tmp55), tmp57), codegen_iv_mul(tmp1, tmp13)), codegen_iv_mul(tmp1, tmp14)), codegen_iv_mul(tmp10, tmp11)), codegen_iv_mul(tmp11, tmp15)), codegen_iv_mul(tmp13, tmp2)), codegen_iv_mul(tmp14, tmp2)), codegen_iv_mul(tmp19, tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp42), tmp44)), codegen_iv_mul(tmp42, tmp51)), codegen_iv_mul(tmp45, tmp46)), codegen_iv_mul(tmp9, x_S));
+    const codegen_iv tmp59 = codegen_iv_sqrt(codegen_iv_mul(tmp58, tmp6), iv_flags);
+    const codegen_iv tmp60 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp59, tmp8));
+    const codegen_iv tmp61 = codegen_iv_mul(k, tmp60);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp61, tmp7);
+    const codegen_iv tmp63 = codegen_iv_mul(codegen_iv_point(2.0), tmp52);
+    const codegen_iv tmp64 = codegen_iv_mul(tmp59, tmp63);
+    const codegen_iv tmp65 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), tmp7);
+    const codegen_iv tmp66 = codegen_iv_pow(a_2, 4);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp0, tmp66);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp51, tmp67);
+    const codegen_iv tmp69 = codegen_iv_pow(d, 4);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp0, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp51, tmp70);
+    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp2), tmp43);
+    const codegen_iv tmp73 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp2, tmp73);
+    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp1), tmp74);
+    const codegen_iv tmp76 = codegen_iv_pow(d, 6);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp24, tmp69);
+    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_point(2.0), tmp15);
+    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2.0), tmp10);
+    const codegen_iv tmp80 = codegen_iv_mul(tmp0, tmp12);
+    const codegen_iv tmp81 = codegen_iv_mul(tmp10, tmp2);
+    const codegen_iv tmp82 = codegen_iv_mul(tmp0, tmp81);
+    const codegen_iv tmp83 = codegen_iv_mul(codegen_iv_pow(a_2, 5), d);
+    const codegen_iv tmp84 = codegen_iv_mul(codegen_iv_point(2.0), tmp24);
+    const codegen_iv tmp85 = codegen_iv_mul(codegen_iv_point(10.0), codegen_iv_pow(d, 5));
+    const codegen_iv tmp86 = codegen_iv_pow(tmp24, 2);
+    const codegen_iv tmp87 = codegen_iv_mul(a_2, tmp40);
+    const codegen_iv tmp88 = codegen_iv_mul(d, tmp78);
+    const codegen_iv tmp89 = codegen_iv_mul(tmp87, tmp88);
+    const codegen_iv tmp90 = codegen_iv_mul(a_2, tmp86);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp88, tmp90);
+    const codegen_iv tmp92 = codegen_iv_mul(codegen_iv_point(4.0), tmp46);
+    const codegen_iv tmp93 = codegen_iv_mul(codegen_iv_point(4.0), tmp40);
+    const codegen_iv tmp94 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp24), tmp76)), codegen_iv_mul(tmp51, tmp80)), codegen_iv_mul(tmp51, tmp82)), codegen_iv_mul(tmp51, tmp89)), codegen_iv_mul(tmp51, tmp91)), codegen_iv_mul(tmp77, tmp78)), codegen_iv_mul(tmp77, tmp79)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp29), tmp85)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp83), tmp84)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp16), tmp84)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp1), tmp24), tmp69)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp24), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp24), tmp92)), codegen_iv_mul(codegen_iv_mul(tmp2, tmp24), tmp50)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp2), tmp24), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp21), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp25), tmp73), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp15), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp15), tmp2), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp1), tmp24), tmp40), tmp69)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp1, tmp24), tmp48), tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp12, tmp2), tmp24), tmp93)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp2), tmp24), tmp40), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp10), tmp40), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp10), tmp51), tmp86)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), a_2), tmp0), tmp10), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), a_2), tmp0), tmp15), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp0), tmp10), tmp20), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp0), tmp15), tmp20), tmp24));
+    const codegen_iv tmp95 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3.0), tmp68)), codegen_iv_mul(codegen_iv_point(3.0), tmp71)), tmp94), codegen_iv_mul(tmp51, tmp72)), codegen_iv_mul(tmp51, tmp75)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), a_2), tmp40), tmp51), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), d), tmp20), tmp40), tmp51));
+    const codegen_iv tmp96 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp51, 1), iv_flags);
+    const codegen_iv tmp97 = codegen_iv_mul(g, tmp96);
+    const codegen_iv tmp98 = codegen_iv_mul(codegen_iv_mul(m_3, tmp95), tmp97);
+    const codegen_iv tmp99 = codegen_iv_mul(tmp43, tmp45);
+    const codegen_iv tmp100 = codegen_iv_mul(codegen_iv_point(4.0), tmp1);
+    const codegen_iv tmp101 = codegen_iv_mul(tmp100, tmp74);
+    const codegen_iv tmp102 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp68), tmp71), tmp94), codegen_iv_mul(tmp101, tmp51)), codegen_iv_mul(tmp51, tmp99)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), a_2), tmp40), tmp51), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), d), tmp20), tmp40), tmp51));
+    const codegen_iv tmp103 = codegen_iv_mul(tmp65, tmp97);
+    const codegen_iv tmp104 = codegen_iv_mul(m_4, tmp103);
+    const codegen_iv tmp105 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp59, 1), iv_flags);
+    const codegen_iv tmp106 = codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp48, tmp63)), codegen_iv_mul(tmp49, tmp63));
+    const codegen_iv tmp107 = codegen_iv_mul(codegen_iv_point(0.5), tmp96);
+    const codegen_iv tmp108 = codegen_iv_mul(tmp106, tmp107);
+    const codegen_iv tmp109 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp42), tmp52), tmp54), tmp56);
+    const codegen_iv tmp110 = codegen_iv_mul(tmp109, tmp6);
+    const codegen_iv tmp111 = codegen_iv_mul(codegen_iv_point(2.0), tmp86);
+    const codegen_iv tmp112 = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(d, tmp25)), codegen_iv_mul(tmp10, tmp54)), codegen_iv_mul(tmp15, tmp56)), codegen_iv_mul(tmp17, tmp24)), codegen_iv_mul(tmp2, tmp54)), codegen_iv_mul(tmp2, tmp56)), codegen_iv_mul(tmp21, y_S)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp30, tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp0), tmp19), tmp24)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp111), tmp42)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp24), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp10), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp13), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp14), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp15), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp0), tmp15), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp10), tmp24), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp1), tmp40), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp0), tmp1), tmp2), tmp24));
+    const codegen_iv tmp113 = codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp108, tmp110), codegen_iv_mul(tmp112, tmp6)), codegen_iv_mul(tmp58, tmp63));
+    const codegen_iv tmp114 = codegen_iv_mul(tmp2, tmp86);
+    const codegen_iv tmp115 = codegen_iv_mul(tmp100, tmp114);
+    const codegen_iv tmp116 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 3), iv_flags);
+    const codegen_iv tmp117 = codegen_iv_mul(k, tmp116);
+    const codegen_iv tmp118 = codegen_iv_mul(codegen_iv_point(8.0), tmp114);
+    const codegen_iv tmp119 = codegen_iv_mul(tmp1, tmp118);
+    const codegen_iv tmp120 = codegen_iv_mul(tmp113, tmp52);
+    const codegen_iv tmp121 = codegen_iv_mul(tmp24, tmp51);
+    const codegen_iv tmp122 = codegen_iv_mul(tmp121, tmp66);
+    const codegen_iv tmp123 = codegen_iv_mul(tmp121, tmp69);
+    const codegen_iv tmp124 = codegen_iv_mul(tmp1, tmp121);
+    const codegen_iv tmp125 = codegen_iv_mul(codegen_iv_point(8.0), tmp121);
+    const codegen_iv tmp126 = codegen_iv_mul(codegen_iv_mul(tmp121, tmp2), tmp46);
+    const codegen_iv tmp127 = codegen_iv_mul(tmp20, tmp9);
+    const codegen_iv tmp128 = codegen_iv_mul(tmp127, tmp86);
+    const codegen_iv tmp129 = codegen_iv_mul(codegen_iv_point(6.0), tmp17);
+    const codegen_iv tmp130 = codegen_iv_mul(tmp129, tmp86);
+    const codegen_iv tmp131 = codegen_iv_mul(d, tmp20);
+    const codegen_iv tmp132 = codegen_iv_mul(tmp131, tmp86);
+    const codegen_iv tmp133 = codegen_iv_mul(tmp16, tmp43);
+    const codegen_iv tmp134 = codegen_iv_mul(tmp131, tmp40);
+    const codegen_iv tmp135 = codegen_iv_mul(tmp129, tmp40);
+    const codegen_iv tmp136 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_mul(codegen_iv_point(12.0), tmp128), codegen_iv_mul(codegen_iv_point(2.0), tmp133)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp0), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), codegen_iv_pow(tmp0, 4)), tmp127)), codegen_iv_mul(tmp10, tmp130)), codegen_iv_mul(tmp10, tmp135)), codegen_iv_mul(tmp100, tmp70)), codegen_iv_mul(tmp111, tmp83)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp114), tmp67)), codegen_iv_mul(tmp118, tmp80)), codegen_iv_mul(tmp12, tmp121)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp12), tmp74)), codegen_iv_mul(tmp121, tmp16)), codegen_iv_mul(tmp121, tmp81)), codegen_iv_mul(tmp124, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp127), tmp40)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), tmp128), tmp40)), codegen_iv_mul(tmp130, tmp15)), codegen_iv_mul(tmp132, tmp78)), codegen_iv_mul(tmp132, tmp79)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp133), tmp86)), codegen_iv_mul(tmp134, tmp78)), codegen_iv_mul(tmp134, tmp79)), codegen_iv_mul(tmp135, tmp15)), codegen_iv_mul(tmp41, tmp83)), codegen_iv_mul(tmp43, tmp50)), codegen_iv_mul(tmp45, tmp67)), codegen_iv_mul(tmp45, tmp80)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp66), tmp74)), codegen_iv_mul(tmp70, tmp78)), codegen_iv_mul(tmp70, tmp79)), codegen_iv_mul(tmp85, tmp87)), codegen_iv_mul(tmp85, tmp90)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp2), tmp50)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp1), tmp69), tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(32.0), tmp1), tmp70), tmp86)), codegen_iv_mul(codegen_iv_mul(tmp100, tmp16), tmp73));
+    const codegen_iv tmp137 = codegen_iv_mul(codegen_iv_point(24.0), tmp121);
+    const codegen_iv tmp138 = codegen_iv_mul(m_3, tmp103);
+    const codegen_iv tmp139 = codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp27), tmp30), codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0)));
+    const codegen_iv tmp140 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_mul(tmp48, tmp49), iv_flags);
+    const codegen_iv tmp141 = codegen_iv_mul(tmp106, tmp96);
+    const codegen_iv tmp142 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp105), tmp60), tmp8);
+    const codegen_iv tmp143 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(d, tmp1), tmp116), tmp24);
+    const codegen_iv tmp144 = codegen_iv_mul(m_4, tmp102);
+    const codegen_iv tmp145 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(2.0), tmp124), tmp80), tmp82), tmp89), tmp91), codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp15), tmp2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp2), tmp24), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp10), tmp40)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp10), tmp86));
+    const codegen_iv tmp146 = codegen_iv_mul(codegen_iv_mul(g, tmp140), tmp65);
+    const codegen_iv tmp147 = codegen_iv_mul(codegen_iv_point(0.5), tmp113);
+    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp102, tmp104)), codegen_iv_mul(tmp62, tmp64)), codegen_iv_mul(tmp65, tmp98)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), a_2), g), m_2), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp105), tmp113), tmp60), tmp8));
+    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp122, tmp123), codegen_iv_mul(codegen_iv_point(12.0), tmp126)), tmp136), codegen_iv_mul(tmp124, tmp45)), codegen_iv_mul(tmp125, tmp18)), codegen_iv_mul(tmp125, tmp22)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp101), tmp145), tmp67), tmp70), tmp99), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), d), tmp20), tmp40)))), codegen_iv_mul(tmp144, tmp146)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp138, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp145), codegen_iv_mul(codegen_iv_point(3.0), tmp67)), codegen_iv_mul(codegen_iv_point(3.0), tmp70)), tmp72), tmp75), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), d), tmp20), tmp40)))), codegen_iv_mul(codegen_iv_mul(m_3, tmp146), tmp95)))), codegen_iv_mul(tmp117, tmp120)), codegen_iv_mul(tmp138, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(3.0), tmp122), codegen_iv_mul(codegen_iv_point(3.0), tmp123)), codegen_iv_mul(codegen_iv_point(36.0), tmp126)), tmp136), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp124), tmp2)), codegen_iv_mul(tmp137, tmp18)), codegen_iv_mul(tmp137, tmp22)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp142), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp108, tmp139), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp112), tmp52)), codegen_iv_mul(tmp5, tmp58)), codegen_iv_mul(tmp6, codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp115), tmp18), tmp22), tmp23), tmp26), tmp28), tmp31), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp53), tmp55), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp19), tmp86)), codegen_iv_mul(tmp19, tmp93)), codegen_iv_mul(tmp2, tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp42), tmp44)))), codegen_iv_mul(codegen_iv_mul(tmp107, tmp110), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp119), codegen_iv_mul(tmp48, tmp5)), codegen_iv_mul(tmp49, tmp5)))), codegen_iv_mul(codegen_iv_mul(tmp109, tmp141), tmp52)))), codegen_iv_mul(tmp143, tmp98)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), m_2), tmp29)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp120), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp147), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp117, tmp64)), codegen_iv_mul(tmp62, tmp63)), codegen_iv_div(codegen_iv_mul(tmp147, tmp62), tmp58, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp105), tmp113), tmp7)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp117), tmp58)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), tmp141), tmp142), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp109, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp106), tmp110), tmp140)))), codegen_iv_mul(codegen_iv_mul(tmp143, tmp144), tmp97)), codegen_iv_mul(codegen_iv_mul(tmp5, tmp59), tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp116, tmp119), tmp59), tmp61));
+}
+
+/* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
+ * enclosed in outward-rounded interval arithmetic. Total ops: 740. */
+static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
+                           codegen_iv *iv_dg, unsigned *iv_flags)
+{
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv a_3 = codegen_iv_point(params->a_3);
+    const codegen_iv a_4 = codegen_iv_point(params->a_4);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv m_3 = codegen_iv_point(params->m_3);
+    const codegen_iv m_4 = codegen_iv_point(params->m_4);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), m_2);
+    const codegen_iv tmp3 = codegen_iv_pow(a_2, 2);
+    const codegen_iv tmp4 = codegen_iv_pow(d, 2);
+    const codegen_iv tmp5 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp6 = codegen_iv_mul(codegen_iv_point(2.0), tmp5);
+    const codegen_iv tmp7 = codegen_iv_sub(codegen_iv_add(tmp3, tmp4), tmp6);
+    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 2), iv_flags);
+    const codegen_iv tmp9 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 1), iv_flags);
+    const codegen_iv tmp10 = codegen_iv_pow(d, 3);
+    const codegen_iv tmp11 = codegen_iv_pow(a_4, 2);
+    const codegen_iv tmp12 = codegen_iv_mul(d, x_S);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp11, tmp3);
+    const codegen_iv tmp14 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp15 = codegen_iv_pow(y_S, 2);
+    const codegen_iv tmp16 = codegen_iv_pow(a_3, 2);
+    const codegen_iv tmp17 = codegen_iv_mul(tmp16, tmp4);
+    const codegen_iv tmp18 = codegen_iv_mul(a_2, tmp10);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp0, tmp18);
+    const codegen_iv tmp20 = codegen_iv_mul(tmp12, tmp3);
+    const codegen_iv tmp21 = codegen_iv_pow(a_2, 3);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp0, tmp21);
+    const codegen_iv tmp23 = codegen_iv_mul(d, tmp22);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp22, x_S);
+    const codegen_iv tmp25 = codegen_iv_sin(theta);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp21, tmp25);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp26, y_S);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp16, tmp28);
+    const codegen_iv tmp30 = codegen_iv_mul(a_2, tmp25);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp30, y_S);
+    const codegen_iv tmp32 = codegen_iv_mul(tmp16, tmp31);
+    const codegen_iv tmp33 = codegen_iv_mul(tmp28, tmp4);
+    const codegen_iv tmp34 = codegen_iv_mul(tmp16, tmp5);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp11, tmp5);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp11, tmp28);
+    const codegen_iv tmp37 = codegen_iv_mul(tmp11, tmp31);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp14, tmp6);
+    const codegen_iv tmp39 = codegen_iv_mul(tmp15, tmp6);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp31, tmp4);
+    const codegen_iv tmp41 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2.0), tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(d, y_S);
+    const codegen_iv tmp44 = codegen_iv_mul(codegen_iv_point(2.0), tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(tmp0, tmp3);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp25, tmp45);
+    const codegen_iv tmp47 = codegen_iv_mul(codegen_iv_point(2.0), tmp4);
+    const codegen_iv tmp48 = codegen_iv_mul(tmp3, tmp41);
+    const codegen_iv tmp49 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_3), a_4);
+    const codegen_iv tmp50 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), tmp16), tmp3), tmp4), tmp49), tmp6);
+    const codegen_iv tmp51 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), tmp16), tmp49), tmp7);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp50, tmp51);
+    const codegen_iv tmp53 = codegen_iv_sqrt(codegen_iv_neg(tmp52), iv_flags);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp30, x_S);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp53, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(d, tmp30);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp53, tmp56);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp53, tmp58);
+    const codegen_iv tmp60 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp13, tmp17), tmp19), tmp20), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp10, x_S)), codegen_iv_mul(tmp11, tmp12)), codegen_iv_mul(tmp12, tmp16)), codegen_iv_mul(tmp14, tmp3)), codegen_iv_mul(tmp14, tmp4)), codegen_iv_mul(tmp15, tmp3)), codegen_iv_mul(tmp15, tmp4)), codegen_iv_mul(tmp20, tmp42)), codegen_iv_mul(tmp43, tmp53)), codegen_iv_mul(tmp44, tmp46)), codegen_iv_mul(tmp47, tmp48));
+    const codegen_iv tmp61 = codegen_iv_sqrt(codegen_iv_mul(tmp60, tmp7), iv_flags);
+    const codegen_iv tmp62 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp61, tmp9));
+    const codegen_iv tmp63 = codegen_iv_mul(codegen_iv_mul(k, tmp62), tmp8);
+    const codegen_iv tmp64 = codegen_iv_mul(codegen_iv_point(2.0), tmp56);
+    const codegen_iv tmp65 = codegen_iv_mul(tmp61, tmp64);
+    const codegen_iv tmp66 = codegen_iv_pow(a_2, 4);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp0, tmp66);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp53, tmp67);
+    const codegen_iv tmp69 = codegen_iv_pow(d, 4);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp0, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp53, tmp70);
+    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_point(4.0), tmp41);
+    const codegen_iv tmp73 = codegen_iv_mul(d, tmp21);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp45, tmp47);
+    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_point(4.0), tmp3);
+    const codegen_iv tmp76 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp4, tmp76);
+    const codegen_iv tmp78 = codegen_iv_mul(tmp75, tmp77);
+    const codegen_iv tmp79 = codegen_iv_pow(d, 6);
+    const codegen_iv tmp80 = codegen_iv_mul(tmp25, tmp69);
+    const codegen_iv tmp81 = codegen_iv_mul(codegen_iv_point(2.0), tmp16);
+    const codegen_iv tmp82 = codegen_iv_mul(codegen_iv_point(2.0), tmp11);
+    const codegen_iv tmp83 = codegen_iv_mul(tmp25, tmp47);
+    const codegen_iv tmp84 = codegen_iv_mul(tmp0, tmp13);
+    const codegen_iv tmp85 = codegen_iv_mul(tmp25, tmp52);
+    const codegen_iv tmp86 = codegen_iv_mul(tmp11, tmp4);
+    const codegen_iv tmp87 = codegen_iv_mul(tmp0, tmp86);
+    const codegen_iv tmp88 = codegen_iv_pow(d, 5);
+    const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(10.0), tmp88);
+    const codegen_iv tmp90 = codegen_iv_pow(a_2, 5);
+    const codegen_iv tmp91 = codegen_iv_mul(d, tmp90);
+    const codegen_iv tmp92 = codegen_iv_mul(codegen_iv_point(2.0), tmp25);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp25, tmp4);
+    const codegen_iv tmp94 = codegen_iv_mul(codegen_iv_point(4.0), tmp48);
+    const codegen_iv tmp95 = codegen_iv_mul(a_2, tmp41);
+    const codegen_iv tmp96 = codegen_iv_mul(d, tmp82);
+    const codegen_iv tmp97 = codegen_iv_pow(tmp25, 2);
+    const codegen_iv tmp98 = codegen_iv_mul(a_2, tmp97);
+    const codegen_iv tmp99 = codegen_iv_mul(d, tmp81);
+    const codegen_iv tmp100 = codegen_iv_mul(tmp95, tmp99);
+    const codegen_iv tmp101 = codegen_iv_mul(tmp98, tmp99);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp23, tmp25);
+    const codegen_iv tmp103 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp19), tmp25);
+    const codegen_iv tmp104 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp100, tmp53), codegen_iv_mul(tmp101, tmp53)), codegen_iv_mul(tmp102, tmp81)), codegen_iv_mul(tmp102, tmp82)), codegen_iv_mul(tmp103, tmp11)), codegen_iv_mul(tmp103, tmp16)), codegen_iv_mul(tmp13, tmp83)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp25), tmp79)), codegen_iv_mul(tmp3, tmp85)), codegen_iv_mul(tmp4, tmp85)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp48), tmp80)), codegen_iv_mul(tmp53, tmp84)), codegen_iv_mul(tmp53, tmp87)), codegen_iv_mul(tmp66, tmp83)), codegen_iv_mul(tmp75, tmp80)), codegen_iv_mul(tmp80, tmp81)), codegen_iv_mul(tmp80, tmp82)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp17), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp30), tmp89)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp91), tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp10), tmp22), tmp25)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp10), tmp26), tmp76)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp72), tmp93)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp25), tmp94)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp3), tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp41), tmp66), tmp93)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp95), tmp96)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp96), tmp98));
+    const codegen_iv tmp105 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp104, tmp68), tmp71), codegen_iv_mul(tmp53, tmp74)), codegen_iv_mul(tmp53, tmp78)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp53), tmp72)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp72), tmp73));
+    const codegen_iv tmp106 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp53, 1), iv_flags);
+    const codegen_iv tmp107 = codegen_iv_mul(g, tmp106);
+    const codegen_iv tmp108 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), tmp8);
+    const codegen_iv tmp109 = codegen_iv_mul(codegen_iv_point(12.0), tmp41);
+    const codegen_iv tmp110 = codegen_iv_mul(tmp4, tmp45);
+    const codegen_iv tmp111 = codegen_iv_mul(codegen_iv_point(6.0), tmp110);
+    const codegen_iv tmp112 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp3), tmp77);
+    const codegen_iv tmp113 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp104, codegen_iv_mul(codegen_iv_point(3.0), tmp68)), codegen_iv_mul(codegen_iv_point(3.0), tmp71)), codegen_iv_mul(tmp111, tmp53)), codegen_iv_mul(tmp112, tmp53)), codegen_iv_mul(codegen_iv_mul(tmp109, tmp18), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp109, tmp53), tmp73));
+    const codegen_iv tmp114 = codegen_iv_mul(codegen_iv_mul(m_3, tmp107), tmp113);
+    const codegen_iv tmp115 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp61, 1), iv_flags);
+    const codegen_iv tmp116 = codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp50, tmp64)), codegen_iv_mul(tmp51, tmp64));
+    const codegen_iv tmp117 = codegen_iv_mul(codegen_iv_point(0.5), tmp106);
+    const codegen_iv tmp118 = codegen_iv_mul(tmp116, tmp117);
+    const codegen_iv tmp119 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp43), tmp54), tmp56), tmp58);
+    const codegen_iv tmp120 = codegen_iv_mul(tmp119, tmp7);
+    const codegen_iv tmp121 = codegen_iv_mul(codegen_iv_point(4.0), tmp25);
+    const codegen_iv tmp122 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(d, tmp26)), codegen_iv_mul(tmp11, tmp54)), codegen_iv_mul(tmp11, tmp56)), codegen_iv_mul(tmp11, tmp58)), codegen_iv_mul(tmp110, tmp121)), codegen_iv_mul(tmp14, tmp64)), codegen_iv_mul(tmp15, tmp64)), codegen_iv_mul(tmp16, tmp54)), codegen_iv_mul(tmp16, tmp56)), codegen_iv_mul(tmp16, tmp58)), codegen_iv_mul(tmp18, tmp25)), codegen_iv_mul(tmp22, y_S)), codegen_iv_mul(tmp26, x_S)), codegen_iv_mul(tmp28, tmp53)), codegen_iv_mul(tmp31, tmp53)), codegen_iv_mul(tmp4, tmp54)), codegen_iv_mul(tmp4, tmp58)), codegen_iv_mul(tmp44, tmp48)), codegen_iv_mul(tmp5, tmp53)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp121), tmp20)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp3), tmp43), tmp97));
+    const codegen_iv tmp123 = codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp120)), codegen_iv_mul(tmp122, tmp7)), codegen_iv_mul(tmp60, tmp64));
+    const codegen_iv tmp124 = codegen_iv_mul(codegen_iv_point(0.5), tmp123);
+    const codegen_iv tmp125 = codegen_iv_mul(tmp62, tmp9);
+    const codegen_iv tmp126 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 3), iv_flags);
+    const codegen_iv tmp127 = codegen_iv_mul(k, tmp126);
+    const codegen_iv tmp128 = codegen_iv_mul(tmp123, tmp56);
+    const codegen_iv tmp129 = codegen_iv_mul(tmp25, tmp53);
+    const codegen_iv tmp130 = codegen_iv_mul(tmp129, tmp66);
+    const codegen_iv tmp131 = codegen_iv_mul(tmp129, tmp69);
+    const codegen_iv tmp132 = codegen_iv_mul(codegen_iv_mul(tmp129, tmp4), tmp48);
+    const codegen_iv tmp133 = codegen_iv_mul(tmp10, tmp21);
+    const codegen_iv tmp134 = codegen_iv_mul(tmp73, tmp97);
+    const codegen_iv tmp135 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp18), tmp97);
+    const codegen_iv tmp136 = codegen_iv_mul(tmp4, tmp97);
+    const codegen_iv tmp137 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp0), tmp79)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), codegen_iv_pow(tmp0, 4)), tmp133)), codegen_iv_mul(tmp109, tmp133)), codegen_iv_mul(tmp11, tmp135)), codegen_iv_mul(tmp129, tmp13)), codegen_iv_mul(tmp129, tmp86)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp13), tmp77)), codegen_iv_mul(tmp134, tmp81)), codegen_iv_mul(tmp134, tmp82)), codegen_iv_mul(tmp135, tmp16)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp136), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp17), tmp45)), codegen_iv_mul(tmp42, tmp91)), codegen_iv_mul(tmp47, tmp84)), codegen_iv_mul(tmp70, tmp81)), codegen_iv_mul(tmp70, tmp82)), codegen_iv_mul(tmp89, tmp95)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10.0), a_2), tmp88), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp90), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp0), tmp3), tmp69)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp4), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp0), tmp4), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), tmp10), tmp21), tmp97)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp75), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16.0), tmp3), tmp69), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(32.0), tmp3), tmp70), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp4), tmp66), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), a_2), tmp10), tmp11), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), a_2), tmp10), tmp16), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp11), tmp21), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), d), tmp16), tmp21), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp3), tmp50), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), tmp10), tmp21), tmp41), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp16, tmp25), tmp3), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp16, tmp25), tmp4), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp0), tmp11), tmp3), tmp4), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp0), tmp16), tmp3), tmp4), tmp97));
+    const codegen_iv tmp138 = codegen_iv_mul(tmp129, tmp47);
+    const codegen_iv tmp139 = codegen_iv_mul(tmp7, codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp28), tmp31), codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0)));
+    const codegen_iv tmp140 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_mul(tmp50, tmp51), iv_flags);
+    const codegen_iv tmp141 = codegen_iv_mul(tmp106, tmp116);
+    const codegen_iv tmp142 = codegen_iv_mul(m_4, tmp105);
+    const codegen_iv tmp143 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(d, tmp126), tmp25), tmp3);
+    const codegen_iv tmp144 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp100, tmp101), tmp138), tmp84), tmp87), codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp25), tmp3), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp11), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), a_2), d), tmp11), tmp97));
+    const codegen_iv tmp145 = codegen_iv_mul(codegen_iv_mul(g, tmp108), tmp140);
+    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp2)), codegen_iv_mul(tmp108, tmp114)), codegen_iv_mul(tmp63, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp115), tmp124), tmp125)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(m_4, tmp105), tmp107), tmp108));
+    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp114, tmp143)), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(m_3, tmp113), tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp111), tmp112), tmp144), codegen_iv_mul(codegen_iv_point(3.0), tmp67)), codegen_iv_mul(codegen_iv_point(3.0), tmp70)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), d), tmp21), tmp41)))))), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp142, tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp144), tmp67), tmp70), tmp74), tmp78), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), d), tmp21), tmp41)))))), codegen_iv_mul(tmp127, tmp128)), codegen_iv_mul(tmp2, tmp30)), codegen_iv_mul(codegen_iv_mul(tmp107, tmp142), tmp143)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp115), tmp123), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp127, tmp65)), codegen_iv_mul(tmp63, tmp64)), codegen_iv_div(codegen_iv_mul(tmp124, tmp63), tmp60, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp115), tmp123), tmp8)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp128), tmp63)), codegen_iv_mul(codegen_iv_mul(tmp6, tmp61), tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), k), tmp115), tmp125), tmp141), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp119, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp116), tmp120), tmp140)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp115), tmp62), tmp9), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp139)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp122), tmp56)), codegen_iv_mul(tmp6, tmp60)), codegen_iv_mul(tmp7, codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp19), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp136, tmp75)), codegen_iv_mul(tmp20, tmp72)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp20), tmp97)), codegen_iv_mul(tmp4, tmp94)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp43), tmp46)))), codegen_iv_mul(codegen_iv_mul(tmp117, tmp120), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp136), tmp3)), codegen_iv_mul(tmp50, tmp6)), codegen_iv_mul(tmp51, tmp6)))), codegen_iv_mul(codegen_iv_mul(tmp119, tmp141), tmp56)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3.0), tmp130)), codegen_iv_mul(codegen_iv_point(3.0), tmp131)), codegen_iv_mul(codegen_iv_point(36.0), tmp132)), tmp137), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp129), tmp3), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp130), tmp131), codegen_iv_mul(codegen_iv_point(12.0), tmp132)), tmp137), codegen_iv_mul(tmp138, tmp3)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), k), tmp126), tmp3), tmp4), tmp60), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), k), tmp126), tmp3), tmp4), tmp61), tmp62), tmp97));
+}
+
+four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags)
+{
+    codegen_iv iv_g, iv_dg;
+    unsigned iv_flags = 0u;
+    four_bar_status status;
+    if (params == NULL || theta == NULL || g == NULL || dg == NULL || flags == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(theta, 2)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    if (mode >= FOUR_BAR_N_MODES || !(theta[0] <= theta[1])) {
+        return FOUR_BAR_ERR_ARGUMENT;
+    }
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
+        break;
+    case 1u:
+        enclose_mode_1(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
+        break;
+    default:
+        return FOUR_BAR_ERR_ARGUMENT;
+    }
+    g[0] = iv_g.lo;
+    g[1] = iv_g.hi;
+    dg[0] = iv_dg.lo;
+    dg[1] = iv_dg.hi;
+    *flags = iv_flags;
+    return FOUR_BAR_OK;
 }
 
 four_bar_status four_bar_position_constraints_batch(size_t count, const four_bar_params *params, const double *coords, double *f, four_bar_status *statuses)

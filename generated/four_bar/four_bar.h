@@ -14,6 +14,7 @@
 
 #include <stddef.h>
 
+#include "codegen_interval.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -22,6 +23,7 @@ extern "C" {
 
 #define FOUR_BAR_DEGREE 28
 #define FOUR_BAR_MAX_ROOTS 28
+#define FOUR_BAR_MAX_UNCERTAIN 16
 #define FOUR_BAR_N_BRANCHES 4
 #define FOUR_BAR_N_CONSTRAINTS 2
 #define FOUR_BAR_N_COORDS 3
@@ -46,12 +48,13 @@ typedef enum four_bar_status {
     FOUR_BAR_ERR_SINGULAR_STATE = 5, /* the coupler and rocker are aligned (a limit position) or the spring length is zero */
     FOUR_BAR_ERR_OVERFLOW = 6, /* a result is too large to represent */
     FOUR_BAR_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 8, /* d, a_2, a_3, a_4 must be positive */
-    FOUR_BAR_ERR_L_0_NEGATIVE = 9, /* l_0 must not be negative */
-    FOUR_BAR_ERR_MASS_NEGATIVE = 10, /* masses m_2, m_3, m_4 must not be negative */
-    FOUR_BAR_ERR_MASS_SINGULAR = 11, /* m_2 = m_3 = m_4 = 0 leaves the mechanism without inertia */
-    FOUR_BAR_ERR_K_NEGATIVE = 12, /* k must not be negative */
-    FOUR_BAR_ERR_B_NEGATIVE = 13 /* b must not be negative */
+    FOUR_BAR_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    FOUR_BAR_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
+    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 10, /* d, a_2, a_3, a_4 must be positive */
+    FOUR_BAR_ERR_L_0_NEGATIVE = 11, /* l_0 must not be negative */
+    FOUR_BAR_ERR_MASS_NEGATIVE = 12, /* masses m_2, m_3, m_4 must not be negative */
+    FOUR_BAR_ERR_K_NEGATIVE = 13, /* k must not be negative */
+    FOUR_BAR_ERR_B_NEGATIVE = 14 /* b must not be negative */
 } four_bar_status;
 
 /* The mechanism's parameters, SI units. */
@@ -244,6 +247,18 @@ four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, four_bar_status *statuses);
 four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
 
+/* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
+ * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
+ * mode j flips the i-th assembly root when bit i of j is set; FOUR_BAR_N_MODES in all):
+ * g[0] <= G(theta) <= g[1] and dg[0] <= G'(theta) <= dg[1] for every such theta where the
+ * mechanism exists, in outward-rounded interval arithmetic (codegen_interval.h). *flags
+ * receives CODEGEN_IV_POLE (a divisor may vanish: G may be unbounded), CODEGEN_IV_EDGE (a
+ * square root may reach zero, or the mode may not exist on part of the interval) and
+ * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
+ * Returns FOUR_BAR_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
+four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags);
+
 /* Real roots of sum_{i=0}^{28} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
@@ -266,17 +281,21 @@ typedef enum four_bar_damping {
     FOUR_BAR_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
 } four_bar_damping;
 
-/* What a real root of the polynomial is: which branch of the square roots zeroes G there. */
+/* What a root is: which branch of the square roots zeroes G there. */
 typedef enum four_bar_root_kind {
     FOUR_BAR_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
     FOUR_BAR_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
     FOUR_BAR_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
 } four_bar_root_kind;
 
-/* One real root of the polynomial and the vibration about it, (46)-(55); M, B, K are those of
- * the declared assembly mode at that angle. */
+/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
+ * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
+ * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct four_bar_equilibrium {
-    double theta;           /* theta_E [rad] in (-pi, pi] */
+    double theta;           /* theta_E [rad], in the coordinate's range */
+    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     four_bar_root_kind kind;
     double residual;        /* G(theta_E) (42) [N m] */
@@ -293,24 +312,52 @@ typedef struct four_bar_equilibrium {
     four_bar_damping damping;
 } four_bar_equilibrium;
 
+/* What the certified isolation could not decide in double precision. */
+typedef enum four_bar_uncertainty {
+    FOUR_BAR_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
+                             two equilibria closer than double separates, or a near-double
+                             complex pair (none); sign_change = 1 means at least one */
+    FOUR_BAR_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
+                             zero length, a limit position): no equilibrium is claimed there */
+} four_bar_uncertainty;
+
+typedef struct four_bar_interval {
+    double lo, hi;          /* [rad] */
+    four_bar_uncertainty kind;
+    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
+    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
+                               G is continuous there */
+} four_bar_interval;
+
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct four_bar_analysis {
-    double sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 */
-    int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
+    double sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 (polynomial route; 0 after isolation) */
+    int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     four_bar_equilibrium roots[FOUR_BAR_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     double singular_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     double unassembled_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
+    int n_uncertain;        /* intervals the certified isolation could not decide */
+    four_bar_interval uncertain[FOUR_BAR_MAX_UNCERTAIN]; /* ascending */
 } four_bar_analysis;
 
-/* All real roots of the polynomial, classified and linearised (for the paper's example, its Table 3).
- * Returns FOUR_BAR_OK or the first failure (bad parameters);
- * *result is written only on success. */
+/* The polynomial route: every real root of the polynomial, classified by branch, polished,
+ * each equilibrium certified where a small interval around it proves it, and linearised
+ * (for the paper's example, its Table 3). Returns FOUR_BAR_OK or the first failure (bad
+ * parameters); *result is written only on success. */
 four_bar_status four_bar_analyze(const four_bar_params *params, four_bar_analysis *result);
 
-/* four_bar_analyze over count parameter sets; statuses[i] for each. */
+/* The isolation route: every zero of G on the coordinate's range, on every assembly mode,
+ * each in an interval that proves it (G changes sign, G' keeps its sign), found by
+ * subdividing the range with interval enclosures of G and G'; what double precision cannot
+ * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
+four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysis *result);
+
+/* four_bar_analyze and four_bar_isolate over count parameter sets; statuses[i] for each. */
 four_bar_status four_bar_analyze_batch(size_t count, const four_bar_params *params,
+                                  four_bar_analysis *results, four_bar_status *statuses);
+four_bar_status four_bar_isolate_batch(size_t count, const four_bar_params *params,
                                   four_bar_analysis *results, four_bar_status *statuses);
 
 #ifdef __cplusplus

@@ -6,6 +6,7 @@
  */
 #include "slider_crank.h"
 #include "codegen_dd.h"
+#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -48,14 +49,16 @@ const char *slider_crank_status_message(slider_crank_status status)
         return "a result is too large to represent";
     case SLIDER_CRANK_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
+    case SLIDER_CRANK_ERR_ARGUMENT:
+        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+    case SLIDER_CRANK_ERR_CAPACITY:
+        return "more equilibria or uncertain intervals than the result holds";
     case SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE:
         return "R and l must be positive";
     case SLIDER_CRANK_ERR_L_0_NEGATIVE:
         return "l_0 must not be negative";
     case SLIDER_CRANK_ERR_MASS_NEGATIVE:
         return "masses m_1, m_2, m_3 must not be negative";
-    case SLIDER_CRANK_ERR_MASS_SINGULAR:
-        return "m_1 = m_2 = m_3 = 0 leaves the mechanism without inertia";
     case SLIDER_CRANK_ERR_K_NEGATIVE:
         return "k must not be negative";
     case SLIDER_CRANK_ERR_B_NEGATIVE:
@@ -94,9 +97,6 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
         }
         if (!((m_1 >= 0) && (m_2 >= 0) && (m_3 >= 0))) {
             return SLIDER_CRANK_ERR_MASS_NEGATIVE;
-        }
-        if (!(m_1 + m_2 + m_3 > 0)) {
-            return SLIDER_CRANK_ERR_MASS_SINGULAR;
         }
         if (!(k >= 0)) {
             return SLIDER_CRANK_ERR_K_NEGATIVE;
@@ -12762,6 +12762,233 @@ slider_crank_status slider_crank_poly_real_roots(const double sigma[SLIDER_CRANK
     /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
      * out of range) cannot occur: the header checks the degree at compile time. */
     return (slider_crank_status)codegen_poly_real_roots(sigma, SLIDER_CRANK_DEGREE, theta, n_roots);
+}
+
+/* G (eq. -) and its slope G' on assembly mode 0 (as declared),
+ * enclosed in outward-rounded interval arithmetic. Total ops: 296. */
+static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
+                           codegen_iv *iv_dg, unsigned *iv_flags)
+{
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv l = codegen_iv_point(params->l);
+    const codegen_iv e = codegen_iv_point(params->e);
+    const codegen_iv m_1 = codegen_iv_point(params->m_1);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(F, R);
+    const codegen_iv tmp2 = codegen_iv_sin(theta);
+    const codegen_iv tmp3 = codegen_iv_mul(R, tmp2);
+    const codegen_iv tmp4 = codegen_iv_sub(codegen_iv_add(e, l), tmp3);
+    const codegen_iv tmp5 = codegen_iv_sub(codegen_iv_sub(e, l), tmp3);
+    const codegen_iv tmp6 = codegen_iv_mul(tmp4, tmp5);
+    const codegen_iv tmp7 = codegen_iv_neg(tmp6);
+    const codegen_iv tmp8 = codegen_iv_sqrt(tmp7, iv_flags);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp2, tmp8);
+    const codegen_iv tmp10 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(codegen_iv_neg(tmp9), codegen_iv_mul(e, tmp0)), codegen_iv_mul(tmp0, tmp3)), tmp8, iv_flags);
+    const codegen_iv tmp11 = codegen_iv_pow(e, 2);
+    const codegen_iv tmp12 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2.0), e);
+    const codegen_iv tmp14 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(2.0), x_S);
+    const codegen_iv tmp16 = codegen_iv_pow(R, 2);
+    const codegen_iv tmp17 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp16, tmp17);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp15, tmp8);
+    const codegen_iv tmp20 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp11, tmp12), tmp18), tmp19), tmp7), codegen_iv_pow(y_S, 2)), codegen_iv_mul(tmp13, y_S)), codegen_iv_mul(tmp14, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp14), tmp8));
+    const codegen_iv tmp21 = codegen_iv_sqrt(tmp20, iv_flags);
+    const codegen_iv tmp22 = codegen_iv_mul(R, k);
+    const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), tmp3);
+    const codegen_iv tmp24 = codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 3);
+    const codegen_iv tmp25 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp24, 1), iv_flags);
+    const codegen_iv tmp26 = codegen_iv_mul(R, tmp17);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp11, tmp26);
+    const codegen_iv tmp28 = codegen_iv_pow(R, 3);
+    const codegen_iv tmp29 = codegen_iv_pow(tmp2, 2);
+    const codegen_iv tmp30 = codegen_iv_mul(codegen_iv_mul(tmp17, tmp28), tmp29);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp13, tmp2);
+    const codegen_iv tmp32 = codegen_iv_mul(tmp18, tmp31);
+    const codegen_iv tmp33 = codegen_iv_mul(e, tmp2);
+    const codegen_iv tmp34 = codegen_iv_mul(tmp33, tmp6);
+    const codegen_iv tmp35 = codegen_iv_mul(R, tmp29);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp35, tmp6);
+    const codegen_iv tmp37 = codegen_iv_mul(tmp0, tmp24);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp26, tmp6);
+    const codegen_iv tmp39 = codegen_iv_pow(codegen_iv_sqrt(tmp20, iv_flags), 3);
+    const codegen_iv tmp40 = codegen_iv_mul(l_0, tmp35);
+    const codegen_iv tmp41 = codegen_iv_mul(l_0, tmp6);
+    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2.0), tmp6);
+    const codegen_iv tmp43 = codegen_iv_mul(codegen_iv_mul(e, tmp0), tmp3);
+    const codegen_iv tmp44 = codegen_iv_mul(l_0, tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(codegen_iv_pow(tmp4, 2), codegen_iv_pow(tmp5, 2));
+    const codegen_iv tmp46 = codegen_iv_mul(tmp11, tmp16);
+    const codegen_iv tmp47 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp48 = codegen_iv_mul(l_0, tmp47);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp46, tmp48);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp28, tmp48);
+    const codegen_iv tmp51 = codegen_iv_mul(l_0, tmp24);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp24, tmp40);
+    const codegen_iv tmp53 = codegen_iv_pow(R, 4);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp29, tmp53);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp48, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(4.0), x_S);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp16, tmp6);
+    const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp29);
+    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_point(6.0), x_S);
+    const codegen_iv tmp60 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp61 = codegen_iv_mul(l_0, tmp8);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp60, tmp61);
+    const codegen_iv tmp63 = codegen_iv_mul(tmp0, tmp45);
+    const codegen_iv tmp64 = codegen_iv_mul(tmp16, tmp58);
+    const codegen_iv tmp65 = codegen_iv_mul(tmp12, tmp61);
+    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(6.0), tmp51);
+    const codegen_iv tmp67 = codegen_iv_mul(codegen_iv_mul(l_0, tmp13), tmp9);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp39, x_S);
+    const codegen_iv tmp69 = codegen_iv_mul(l_0, tmp20);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp47, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp69, x_S);
+    const codegen_iv tmp72 = codegen_iv_mul(tmp28, tmp31);
+    const codegen_iv tmp73 = codegen_iv_mul(tmp39, tmp47);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp20, tmp51);
+    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp43), tmp6);
+    const codegen_iv tmp76 = codegen_iv_mul(tmp0, tmp39);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp24, tmp39);
+    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp29), tmp57);
+    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2.0), tmp77);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp10)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp10, tmp22), codegen_iv_sub(l_0, tmp21)), codegen_iv_sub(codegen_iv_add(tmp14, tmp8), x_S)), tmp21, iv_flags));
+    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp23)), codegen_iv_mul(m_2, tmp23)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp25), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(tmp27, tmp30), tmp32), tmp34), tmp36), tmp37), tmp38))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp22, tmp25), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(tmp12, tmp52), codegen_iv_mul(tmp19, tmp49)), codegen_iv_mul(tmp19, tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp20), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp26), tmp74)), codegen_iv_mul(tmp26, tmp79)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp68)), codegen_iv_mul(tmp27, tmp71)), codegen_iv_mul(tmp30, tmp65)), codegen_iv_mul(tmp30, tmp66)), codegen_iv_mul(tmp30, tmp68)), codegen_iv_mul(tmp30, tmp71)), codegen_iv_mul(tmp32, tmp68)), codegen_iv_mul(tmp32, tmp71)), codegen_iv_mul(tmp33, tmp74)), codegen_iv_mul(tmp33, tmp77)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp34), tmp50)), codegen_iv_mul(tmp34, tmp68)), codegen_iv_mul(tmp34, tmp71)), codegen_iv_mul(tmp35, tmp79)), codegen_iv_mul(tmp36, tmp68)), codegen_iv_mul(tmp36, tmp71)), codegen_iv_mul(tmp37, tmp68)), codegen_iv_mul(tmp37, tmp71)), codegen_iv_mul(tmp38, tmp68)), codegen_iv_mul(tmp38, tmp71)), codegen_iv_mul(tmp39, tmp75)), codegen_iv_mul(tmp40, codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 5))), codegen_iv_mul(tmp42, tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp44), tmp45)), codegen_iv_mul(tmp45, tmp76)), codegen_iv_mul(tmp46, tmp70)), codegen_iv_mul(tmp46, tmp73)), codegen_iv_mul(tmp54, tmp70)), codegen_iv_mul(tmp54, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp55), tmp6)), codegen_iv_mul(tmp57, tmp70)), codegen_iv_mul(tmp57, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp63), tmp64)), codegen_iv_mul(tmp63, tmp69)), codegen_iv_mul(tmp69, tmp75)), codegen_iv_mul(tmp70, tmp72)), codegen_iv_mul(tmp72, tmp73)), codegen_iv_mul(tmp76, tmp78)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp29), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp69), tmp78)), codegen_iv_mul(codegen_iv_mul(tmp11, tmp28), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp18), tmp67)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp42), tmp44)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp27), tmp41)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp40), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp33), tmp66)), codegen_iv_mul(codegen_iv_mul(tmp30, tmp41), tmp59)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp59), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp43, tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp60), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp50), tmp56), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), l_0), tmp18), tmp34), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp0), tmp12), tmp57), tmp58))), tmp39, iv_flags));
+}
+
+/* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
+ * enclosed in outward-rounded interval arithmetic. Total ops: 406. */
+static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
+                           codegen_iv *iv_dg, unsigned *iv_flags)
+{
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv l = codegen_iv_point(params->l);
+    const codegen_iv e = codegen_iv_point(params->e);
+    const codegen_iv m_1 = codegen_iv_point(params->m_1);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_point(0.5), g);
+    const codegen_iv tmp3 = codegen_iv_mul(tmp1, tmp2);
+    const codegen_iv tmp4 = codegen_iv_mul(F, R);
+    const codegen_iv tmp5 = codegen_iv_sin(theta);
+    const codegen_iv tmp6 = codegen_iv_mul(R, tmp5);
+    const codegen_iv tmp7 = codegen_iv_sub(codegen_iv_add(e, l), tmp6);
+    const codegen_iv tmp8 = codegen_iv_sub(codegen_iv_sub(e, l), tmp6);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp7, tmp8);
+    const codegen_iv tmp10 = codegen_iv_neg(tmp9);
+    const codegen_iv tmp11 = codegen_iv_sqrt(tmp10, iv_flags);
+    const codegen_iv tmp12 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp11, tmp5);
+    const codegen_iv tmp14 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(tmp12, tmp13), codegen_iv_mul(tmp0, tmp6)), tmp11, iv_flags);
+    const codegen_iv tmp15 = codegen_iv_pow(e, 2);
+    const codegen_iv tmp16 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp17 = codegen_iv_mul(codegen_iv_point(2.0), e);
+    const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2.0), x_S);
+    const codegen_iv tmp19 = codegen_iv_pow(R, 2);
+    const codegen_iv tmp20 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp21 = codegen_iv_mul(tmp19, tmp20);
+    const codegen_iv tmp22 = codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp10, tmp15), tmp16), tmp21), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp1), tmp11)), codegen_iv_mul(tmp1, tmp18)), codegen_iv_mul(tmp11, tmp18)), codegen_iv_mul(tmp17, y_S));
+    const codegen_iv tmp23 = codegen_iv_sqrt(tmp22, iv_flags);
+    const codegen_iv tmp24 = codegen_iv_mul(R, k);
+    const codegen_iv tmp25 = codegen_iv_mul(tmp2, tmp6);
+    const codegen_iv tmp26 = codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 3);
+    const codegen_iv tmp27 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp26, 1), iv_flags);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp17, tmp5);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp21, tmp28);
+    const codegen_iv tmp30 = codegen_iv_pow(R, 3);
+    const codegen_iv tmp31 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp32 = codegen_iv_mul(e, tmp5);
+    const codegen_iv tmp33 = codegen_iv_mul(tmp32, tmp9);
+    const codegen_iv tmp34 = codegen_iv_mul(R, tmp20);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp34, tmp9);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp0, tmp26);
+    const codegen_iv tmp37 = codegen_iv_pow(codegen_iv_sqrt(tmp22, iv_flags), 3);
+    const codegen_iv tmp38 = codegen_iv_mul(R, tmp31);
+    const codegen_iv tmp39 = codegen_iv_mul(l_0, tmp38);
+    const codegen_iv tmp40 = codegen_iv_pow(tmp7, 2);
+    const codegen_iv tmp41 = codegen_iv_pow(tmp8, 2);
+    const codegen_iv tmp42 = codegen_iv_mul(tmp40, tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(tmp15, tmp19);
+    const codegen_iv tmp44 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp45 = codegen_iv_mul(l_0, tmp44);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp45, tmp9);
+    const codegen_iv tmp47 = codegen_iv_mul(tmp12, tmp6);
+    const codegen_iv tmp48 = codegen_iv_mul(codegen_iv_point(2.0), l_0);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp15, tmp34);
+    const codegen_iv tmp50 = codegen_iv_mul(l_0, tmp26);
+    const codegen_iv tmp51 = codegen_iv_pow(R, 4);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp31, tmp51);
+    const codegen_iv tmp53 = codegen_iv_mul(codegen_iv_point(4.0), x_S);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp19, tmp9);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp31, tmp54);
+    const codegen_iv tmp56 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp57 = codegen_iv_mul(l_0, tmp11);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp56, tmp57);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp16, tmp57);
+    const codegen_iv tmp60 = codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31);
+    const codegen_iv tmp61 = codegen_iv_mul(l_0, tmp22);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp61, x_S);
+    const codegen_iv tmp63 = codegen_iv_mul(tmp37, tmp44);
+    const codegen_iv tmp64 = codegen_iv_mul(tmp44, tmp61);
+    const codegen_iv tmp65 = codegen_iv_mul(tmp37, x_S);
+    const codegen_iv tmp66 = codegen_iv_mul(tmp0, tmp37);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp26, tmp61);
+    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(m_1, tmp3)), codegen_iv_mul(m_2, tmp3)), codegen_iv_mul(tmp14, tmp4)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp14, tmp24), codegen_iv_sub(l_0, tmp23)), codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), x_S), codegen_iv_mul(R, tmp0))), tmp23, iv_flags));
+    *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
+}
+
+slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags)
+{
+    codegen_iv iv_g, iv_dg;
+    unsigned iv_flags = 0u;
+    slider_crank_status status;
+    if (params == NULL || theta == NULL || g == NULL || dg == NULL || flags == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!all_finite(theta, 2)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    if (mode >= SLIDER_CRANK_N_MODES || !(theta[0] <= theta[1])) {
+        return SLIDER_CRANK_ERR_ARGUMENT;
+    }
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
+        break;
+    case 1u:
+        enclose_mode_1(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
+        break;
+    default:
+        return SLIDER_CRANK_ERR_ARGUMENT;
+    }
+    g[0] = iv_g.lo;
+    g[1] = iv_g.hi;
+    dg[0] = iv_dg.lo;
+    dg[1] = iv_dg.hi;
+    *flags = iv_flags;
+    return SLIDER_CRANK_OK;
 }
 
 slider_crank_status slider_crank_position_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, double *f, slider_crank_status *statuses)

@@ -14,6 +14,7 @@
 
 #include <stddef.h>
 
+#include "codegen_interval.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -22,6 +23,7 @@ extern "C" {
 
 #define SLIDER_CRANK_DEGREE 24
 #define SLIDER_CRANK_MAX_ROOTS 24
+#define SLIDER_CRANK_MAX_UNCERTAIN 16
 #define SLIDER_CRANK_N_BRANCHES 4
 #define SLIDER_CRANK_N_CONSTRAINTS 2
 #define SLIDER_CRANK_N_COORDS 3
@@ -46,12 +48,13 @@ typedef enum slider_crank_status {
     SLIDER_CRANK_ERR_SINGULAR_STATE = 5, /* the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero */
     SLIDER_CRANK_ERR_OVERFLOW = 6, /* a result is too large to represent */
     SLIDER_CRANK_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 8, /* R and l must be positive */
-    SLIDER_CRANK_ERR_L_0_NEGATIVE = 9, /* l_0 must not be negative */
-    SLIDER_CRANK_ERR_MASS_NEGATIVE = 10, /* masses m_1, m_2, m_3 must not be negative */
-    SLIDER_CRANK_ERR_MASS_SINGULAR = 11, /* m_1 = m_2 = m_3 = 0 leaves the mechanism without inertia */
-    SLIDER_CRANK_ERR_K_NEGATIVE = 12, /* k must not be negative */
-    SLIDER_CRANK_ERR_B_NEGATIVE = 13 /* b must not be negative */
+    SLIDER_CRANK_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    SLIDER_CRANK_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
+    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 10, /* R and l must be positive */
+    SLIDER_CRANK_ERR_L_0_NEGATIVE = 11, /* l_0 must not be negative */
+    SLIDER_CRANK_ERR_MASS_NEGATIVE = 12, /* masses m_1, m_2, m_3 must not be negative */
+    SLIDER_CRANK_ERR_K_NEGATIVE = 13, /* k must not be negative */
+    SLIDER_CRANK_ERR_B_NEGATIVE = 14 /* b must not be negative */
 } slider_crank_status;
 
 /* The mechanism's parameters, SI units. */
@@ -244,6 +247,18 @@ slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_
 slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, slider_crank_status *statuses);
 slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
 
+/* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
+ * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
+ * mode j flips the i-th assembly root when bit i of j is set; SLIDER_CRANK_N_MODES in all):
+ * g[0] <= G(theta) <= g[1] and dg[0] <= G'(theta) <= dg[1] for every such theta where the
+ * mechanism exists, in outward-rounded interval arithmetic (codegen_interval.h). *flags
+ * receives CODEGEN_IV_POLE (a divisor may vanish: G may be unbounded), CODEGEN_IV_EDGE (a
+ * square root may reach zero, or the mode may not exist on part of the interval) and
+ * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
+ * Returns SLIDER_CRANK_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
+slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags);
+
 /* Real roots of sum_{i=0}^{24} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
@@ -266,17 +281,21 @@ typedef enum slider_crank_damping {
     SLIDER_CRANK_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
 } slider_crank_damping;
 
-/* What a real root of the polynomial is: which branch of the square roots zeroes G there. */
+/* What a root is: which branch of the square roots zeroes G there. */
 typedef enum slider_crank_root_kind {
     SLIDER_CRANK_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
     SLIDER_CRANK_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
     SLIDER_CRANK_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
 } slider_crank_root_kind;
 
-/* One real root of the polynomial and the vibration about it, (46)-(55); M, B, K are those of
- * the declared assembly mode at that angle. */
+/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
+ * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
+ * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct slider_crank_equilibrium {
-    double theta;           /* theta_E [rad] in (-pi, pi] */
+    double theta;           /* theta_E [rad], in the coordinate's range */
+    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     slider_crank_root_kind kind;
     double residual;        /* G(theta_E) (42) [N m] */
@@ -293,24 +312,52 @@ typedef struct slider_crank_equilibrium {
     slider_crank_damping damping;
 } slider_crank_equilibrium;
 
+/* What the certified isolation could not decide in double precision. */
+typedef enum slider_crank_uncertainty {
+    SLIDER_CRANK_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
+                             two equilibria closer than double separates, or a near-double
+                             complex pair (none); sign_change = 1 means at least one */
+    SLIDER_CRANK_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
+                             zero length, a limit position): no equilibrium is claimed there */
+} slider_crank_uncertainty;
+
+typedef struct slider_crank_interval {
+    double lo, hi;          /* [rad] */
+    slider_crank_uncertainty kind;
+    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
+    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
+                               G is continuous there */
+} slider_crank_interval;
+
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct slider_crank_analysis {
-    double sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 */
-    int n_roots;                                    /* regular real roots, <= MAX_ROOTS */
+    double sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 (polynomial route; 0 after isolation) */
+    int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     slider_crank_equilibrium roots[SLIDER_CRANK_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     double singular_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     double unassembled_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
+    int n_uncertain;        /* intervals the certified isolation could not decide */
+    slider_crank_interval uncertain[SLIDER_CRANK_MAX_UNCERTAIN]; /* ascending */
 } slider_crank_analysis;
 
-/* All real roots of the polynomial, classified and linearised (for the paper's example, its Table 3).
- * Returns SLIDER_CRANK_OK or the first failure (bad parameters);
- * *result is written only on success. */
+/* The polynomial route: every real root of the polynomial, classified by branch, polished,
+ * each equilibrium certified where a small interval around it proves it, and linearised
+ * (for the paper's example, its Table 3). Returns SLIDER_CRANK_OK or the first failure (bad
+ * parameters); *result is written only on success. */
 slider_crank_status slider_crank_analyze(const slider_crank_params *params, slider_crank_analysis *result);
 
-/* slider_crank_analyze over count parameter sets; statuses[i] for each. */
+/* The isolation route: every zero of G on the coordinate's range, on every assembly mode,
+ * each in an interval that proves it (G changes sign, G' keeps its sign), found by
+ * subdividing the range with interval enclosures of G and G'; what double precision cannot
+ * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
+slider_crank_status slider_crank_isolate(const slider_crank_params *params, slider_crank_analysis *result);
+
+/* slider_crank_analyze and slider_crank_isolate over count parameter sets; statuses[i] for each. */
 slider_crank_status slider_crank_analyze_batch(size_t count, const slider_crank_params *params,
+                                  slider_crank_analysis *results, slider_crank_status *statuses);
+slider_crank_status slider_crank_isolate_batch(size_t count, const slider_crank_params *params,
                                   slider_crank_analysis *results, slider_crank_status *statuses);
 
 #ifdef __cplusplus

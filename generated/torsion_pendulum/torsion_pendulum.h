@@ -14,10 +14,14 @@
 
 #include <stddef.h>
 
+#include "codegen_interval.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+#define TORSION_PENDULUM_MAX_ROOTS 32
+#define TORSION_PENDULUM_MAX_UNCERTAIN 16
 #define TORSION_PENDULUM_N_BRANCHES 1
 #define TORSION_PENDULUM_N_CONSTRAINTS 0
 #define TORSION_PENDULUM_N_COORDS 1
@@ -38,11 +42,12 @@ typedef enum torsion_pendulum_status {
     TORSION_PENDULUM_ERR_SINGULAR_STATE = 5, /* a denominator of the result vanishes */
     TORSION_PENDULUM_ERR_OVERFLOW = 6, /* a result is too large to represent */
     TORSION_PENDULUM_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 8, /* l must be positive */
-    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 9, /* masses m, m_t must not be negative */
-    TORSION_PENDULUM_ERR_MASS_SINGULAR = 10, /* m = m_t = 0 leaves the bar without inertia */
-    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 11, /* k_t must not be negative */
-    TORSION_PENDULUM_ERR_C_NEGATIVE = 12 /* c must not be negative */
+    TORSION_PENDULUM_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    TORSION_PENDULUM_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
+    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 10, /* l must be positive */
+    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 11, /* masses m, m_t must not be negative */
+    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 12, /* k_t must not be negative */
+    TORSION_PENDULUM_ERR_C_NEGATIVE = 13 /* c must not be negative */
 } torsion_pendulum_status;
 
 /* The mechanism's parameters, SI units. */
@@ -159,6 +164,109 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count
 torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *M, double *B, double *K, torsion_pendulum_status *statuses);
 torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, torsion_pendulum_status *statuses);
 
+/* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
+ * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
+ * mode j flips the i-th assembly root when bit i of j is set; TORSION_PENDULUM_N_MODES in all):
+ * g[0] <= G(theta) <= g[1] and dg[0] <= G'(theta) <= dg[1] for every such theta where the
+ * mechanism exists, in outward-rounded interval arithmetic (codegen_interval.h). *flags
+ * receives CODEGEN_IV_POLE (a divisor may vanish: G may be unbounded), CODEGEN_IV_EDGE (a
+ * square root may reach zero, or the mode may not exist on part of the interval) and
+ * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
+ * Returns TORSION_PENDULUM_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
+torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const double theta[2],
+                                double g[2], double dg[2], unsigned *flags);
+
+/* Stability of an equilibrium from M, B, K (M > 0). */
+typedef enum torsion_pendulum_stability {
+    TORSION_PENDULUM_STABLE = 0,   /* K > 0, B > 0: perturbations decay */
+    TORSION_PENDULUM_MARGINAL = 1, /* K > 0, B = 0 (undamped), or K = 0 */
+    TORSION_PENDULUM_UNSTABLE = 2  /* K < 0: a perturbation grows */
+} torsion_pendulum_stability;
+
+/* Character of the free motion about an equilibrium. */
+typedef enum torsion_pendulum_damping {
+    TORSION_PENDULUM_UNDERDAMPED = 0,       /* 0 < zeta < 1 */
+    TORSION_PENDULUM_CRITICALLY_DAMPED = 1, /* zeta = 1 to rounding */
+    TORSION_PENDULUM_OVERDAMPED = 2,        /* zeta > 1 */
+    TORSION_PENDULUM_UNDAMPED = 3,          /* B = 0, K > 0 */
+    TORSION_PENDULUM_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
+} torsion_pendulum_damping;
+
+/* What a root is: which branch of the square roots zeroes G there. */
+typedef enum torsion_pendulum_root_kind {
+    TORSION_PENDULUM_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
+    TORSION_PENDULUM_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
+    TORSION_PENDULUM_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
+} torsion_pendulum_root_kind;
+
+/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
+ * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
+ * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
+typedef struct torsion_pendulum_equilibrium {
+    double theta;           /* theta_E [rad], in the coordinate's range */
+    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
+    int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
+    torsion_pendulum_root_kind kind;
+    double residual;        /* G(theta_E) (42) [N m] */
+    double residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
+                               has |residual| / residual_scale near machine epsilon */
+    double M;               /* M_EQ [kg m^2] (50) */
+    double B;               /* B_EQ [N m s] (51) */
+    double K;               /* K_EQ [N m] (52) */
+    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    torsion_pendulum_stability stability;
+    torsion_pendulum_damping damping;
+} torsion_pendulum_equilibrium;
+
+/* What the certified isolation could not decide in double precision. */
+typedef enum torsion_pendulum_uncertainty {
+    TORSION_PENDULUM_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
+                             two equilibria closer than double separates, or a near-double
+                             complex pair (none); sign_change = 1 means at least one */
+    TORSION_PENDULUM_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
+                             zero length, a limit position): no equilibrium is claimed there */
+} torsion_pendulum_uncertainty;
+
+typedef struct torsion_pendulum_interval {
+    double lo, hi;          /* [rad] */
+    torsion_pendulum_uncertainty kind;
+    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
+    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
+                               G is continuous there */
+} torsion_pendulum_interval;
+
+/* Everything Table 1 steps 8-10 say about one parameter set. */
+typedef struct torsion_pendulum_analysis {
+    int n_roots;                                    /* regular roots, <= MAX_ROOTS */
+    torsion_pendulum_equilibrium roots[TORSION_PENDULUM_MAX_ROOTS]; /* ascending theta */
+    int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
+    double singular_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
+    int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
+    double unassembled_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
+    int n_uncertain;        /* intervals the certified isolation could not decide */
+    torsion_pendulum_interval uncertain[TORSION_PENDULUM_MAX_UNCERTAIN]; /* ascending */
+} torsion_pendulum_analysis;
+
+/* G is not algebraic in cos and sin of the angle, so no polynomial holds its equilibria:
+ * the same as torsion_pendulum_isolate. */
+torsion_pendulum_status torsion_pendulum_analyze(const torsion_pendulum_params *params, torsion_pendulum_analysis *result);
+
+/* The isolation route: every zero of G on the coordinate's range, on every assembly mode,
+ * each in an interval that proves it (G changes sign, G' keeps its sign), found by
+ * subdividing the range with interval enclosures of G and G'; what double precision cannot
+ * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
+torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result);
+
+/* torsion_pendulum_analyze and torsion_pendulum_isolate over count parameter sets; statuses[i] for each. */
+torsion_pendulum_status torsion_pendulum_analyze_batch(size_t count, const torsion_pendulum_params *params,
+                                  torsion_pendulum_analysis *results, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_isolate_batch(size_t count, const torsion_pendulum_params *params,
+                                  torsion_pendulum_analysis *results, torsion_pendulum_status *statuses);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,433 @@
+/*
+ * codegen_interval.c -- sin and cos of intervals, and certified isolation of zeros
+ * (see codegen_interval.h). Hand-written; plain C99 + libm.
+ */
+#include "codegen_interval.h"
+
+#include <stddef.h>
+
+/* ---- sin, cos ---- */
+
+#define TWO_PI 6.283185307179586
+#define HALF_PI 1.5707963267948966
+
+/* Whether phase + 2 pi k lies in [lo - slack, hi + slack] for some integer k; slack covers
+ * the rounding of phase + 2 pi k and of 2 pi itself at this magnitude. */
+static int holds_phase(codegen_iv a, double phase)
+{
+    const double slack = 8.0 * DBL_EPSILON * (fabs(a.lo) + fabs(a.hi) + 1.0);
+    const double k = ceil((a.lo - slack - phase) / TWO_PI);
+    double j;
+    for (j = k - 1.0; j <= k + 1.0; j += 1.0) {
+        const double x = phase + j * TWO_PI;
+        if (x >= a.lo - slack && x <= a.hi + slack) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* f (sin or cos) over a: its values at the ends, widened by two ulps for libm's error, and
+ * the extremes +-1 where a holds a crest (max_phase) or trough (min_phase). */
+static codegen_iv periodic(codegen_iv a, double (*f)(double), double max_phase,
+                           double min_phase)
+{
+    double at_lo, at_hi, lo, hi;
+    if (!(a.hi - a.lo < 6.0) || !isfinite(a.lo) || !isfinite(a.hi)) {
+        return codegen_iv_make(-1.0, 1.0);
+    }
+    at_lo = f(a.lo);
+    at_hi = f(a.hi);
+    lo = codegen_iv_down(codegen_iv_down(at_lo < at_hi ? at_lo : at_hi));
+    hi = codegen_iv_up(codegen_iv_up(at_lo > at_hi ? at_lo : at_hi));
+    if (holds_phase(a, max_phase)) {
+        hi = 1.0;
+    }
+    if (holds_phase(a, min_phase)) {
+        lo = -1.0;
+    }
+    return codegen_iv_make(lo < -1.0 ? -1.0 : lo, hi > 1.0 ? 1.0 : hi);
+}
+
+codegen_iv codegen_iv_cos(codegen_iv a)
+{
+    return periodic(a, cos, 0.0, TWO_PI / 2.0);
+}
+
+codegen_iv codegen_iv_sin(codegen_iv a)
+{
+    return periodic(a, sin, HALF_PI, -HALF_PI);
+}
+
+/* ---- isolation ---- */
+
+#define SMOOTHNESS_FLAGS (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)
+/* Deeper than the ~60 halvings from any interval of doubles down to RESOLUTION. */
+#define STACK_DEPTH 96
+/* Boxes narrower than this many ulps of their ends are not split further. */
+#define RESOLUTION 16.0
+/* Sign-change refinement steps (Illinois: superlinear; ~10 usually reach rounding). */
+#define REFINE_STEPS 100
+#define UNKNOWN_SIGN 2
+/* Where a box is split: off its centre, so that splits avoid the symmetric angles (0, pi/2,
+ * the range's centre) where zeros often sit exactly. */
+#define SPLIT 0.5078125
+
+typedef struct isolation {
+    codegen_enclosure enclose;
+    const void *context;
+    unsigned mode;
+    codegen_isolated *out;
+    int capacity, count;
+    long boxes;
+    int pending;              /* a run of unresolved boxes waiting to be merged */
+    double pending_lo, pending_hi;
+    unsigned pending_flags;
+} isolation;
+
+typedef struct box {
+    double lo, hi;
+    int sign_lo, sign_hi;     /* G's decided sign at each end, 0 undecided, or UNKNOWN_SIGN */
+} box;
+
+static int enclose(isolation *s, double lo, double hi, codegen_iv *g, codegen_iv *dg,
+                   unsigned *flags)
+{
+    *flags = 0u;
+    if (++s->boxes > CODEGEN_ISOLATE_MAX_BOXES) {
+        return CODEGEN_ISOLATE_BUDGET;
+    }
+    return s->enclose(s->context, s->mode, codegen_iv_make(lo, hi), g, dg, flags);
+}
+
+/* G's sign at theta, if the enclosure decides it (else 0); a point where G is not smooth
+ * or the mechanism may not exist is undecided. */
+static int sign_at(isolation *s, double theta, int *sign, double *value)
+{
+    codegen_iv g = {0.0, 0.0}, dg;
+    unsigned flags;
+    const int status = enclose(s, theta, theta, &g, &dg, &flags);
+    *sign = 0;
+    *value = 0.5 * g.lo + 0.5 * g.hi;
+    if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))) {
+        *sign = g.lo > 0.0 ? 1 : g.hi < 0.0 ? -1 : 0;
+    }
+    return status;
+}
+
+static int known_sign(isolation *s, double theta, int *sign)
+{
+    double value;
+    return *sign != UNKNOWN_SIGN ? 0 : sign_at(s, theta, sign, &value);
+}
+
+static int append(isolation *s, double lo, double hi, double theta, codegen_isolated_kind kind,
+                  int sign_change)
+{
+    codegen_isolated *r;
+    if (s->count >= s->capacity) {
+        return CODEGEN_ISOLATE_FULL;
+    }
+    r = &s->out[s->count++];
+    r->lo = lo;
+    r->hi = hi;
+    r->theta = theta;
+    r->kind = kind;
+    r->sign_change = sign_change;
+    return 0;
+}
+
+/* theta's sign is within rounding: the bracket [*lo, *hi] closes in on it from both sides,
+ * with steps growing eightfold from a few ulps, as far as signs are decided there. */
+static int tighten(isolation *s, double theta, double *lo, double *hi, int sign_lo)
+{
+    double step, value;
+    int sign, status = 0, left = 0, right = 0;
+    for (step = 4.0 * DBL_EPSILON * fmax(fabs(theta), 1.0); status == 0 && !(left && right)
+         && step < *hi - *lo; step *= 8.0) {
+        if (!left && theta - step > *lo) {
+            status = sign_at(s, theta - step, &sign, &value);
+            if (sign == sign_lo) {
+                *lo = theta - step;
+                left = 1;
+            }
+        }
+        if (status == 0 && !right && theta + step < *hi) {
+            status = sign_at(s, theta + step, &sign, &value);
+            if (sign == -sign_lo) {
+                *hi = theta + step;
+                right = 1;
+            }
+        }
+    }
+    return status;
+}
+
+/* [lo, hi] holds one simple zero (G monotone, signs at the ends opposite): narrow it with the
+ * Illinois method, keeping the bracket proven by deciding each new point's sign with the
+ * enclosure, until a point's sign is within rounding (that point is the zero to working
+ * precision) or the bracket reaches adjacent doubles. */
+static int refine(isolation *s, double lo, double hi, int sign_lo)
+{
+    double v_lo, v_hi, theta;
+    int sign, status, i, side = 0;
+    status = sign_at(s, lo, &sign, &v_lo);
+    if (status == 0) {
+        status = sign_at(s, hi, &sign, &v_hi);
+    }
+    theta = 0.5 * lo + 0.5 * hi;
+    for (i = 0; status == 0 && i < REFINE_STEPS; ++i) {
+        double mid = (lo * v_hi - hi * v_lo) / (v_hi - v_lo), value;
+        if (!(mid > lo && mid < hi)) {
+            mid = 0.5 * lo + 0.5 * hi;
+        }
+        if (!(mid > lo && mid < hi)) {
+            theta = fabs(v_lo) < fabs(v_hi) ? lo : hi;
+            break;
+        }
+        status = sign_at(s, mid, &sign, &value);
+        theta = mid;
+        if (status == 0 && sign == 0) {
+            status = tighten(s, mid, &lo, &hi, sign_lo);
+        }
+        if (status != 0 || sign == 0) {
+            break;
+        }
+        if (sign == sign_lo) {
+            lo = mid;
+            v_lo = value;
+            v_hi *= side < 0 ? 0.5 : 1.0;
+            side = -1;
+        } else {
+            hi = mid;
+            v_hi = value;
+            v_lo *= side > 0 ? 0.5 : 1.0;
+            side = 1;
+        }
+    }
+    return status != 0 ? status : append(s, lo, hi, theta, CODEGEN_ISOLATED_ROOT, 1);
+}
+
+static int flush(isolation *s);
+
+/* Decide [lo, hi] as a whole: 1 in *decided if it holds no zero or one certified zero
+ * (then appended), 0 if the enclosures cannot tell. */
+static int decide(isolation *s, box *b, codegen_iv dg, unsigned flags, int *decided)
+{
+    int status;
+    *decided = 0;
+    if ((flags & SMOOTHNESS_FLAGS) || codegen_iv_has_zero(dg)) {
+        return 0;
+    }
+    status = known_sign(s, b->lo, &b->sign_lo);
+    if (status == 0) {
+        status = known_sign(s, b->hi, &b->sign_hi);
+    }
+    if (status != 0 || b->sign_lo == 0 || b->sign_hi == 0) {
+        return status;
+    }
+    *decided = 1;
+    if (b->sign_lo == b->sign_hi) {
+        return 0;
+    }
+    status = flush(s); /* unresolved boxes to the left come first */
+    return status != 0 ? status : refine(s, b->lo, b->hi, b->sign_lo);
+}
+
+/* The pending run of unresolved boxes, merged: certified if the merged interval now
+ * decides (a zero on a split point lands here), else a cluster or a singular interval. */
+static int flush(isolation *s)
+{
+    box b;
+    codegen_iv g, dg;
+    unsigned flags;
+    int status, decided;
+    if (!s->pending) {
+        return 0;
+    }
+    s->pending = 0;
+    b.lo = s->pending_lo;
+    b.hi = s->pending_hi;
+    b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
+    status = enclose(s, b.lo, b.hi, &g, &dg, &flags);
+    if (status == 0) {
+        status = decide(s, &b, dg, flags | s->pending_flags, &decided);
+    }
+    if (status != 0 || decided) {
+        return status;
+    }
+    status = known_sign(s, b.lo, &b.sign_lo);
+    if (status == 0) {
+        status = known_sign(s, b.hi, &b.sign_hi);
+    }
+    return status != 0 ? status
+         : append(s, b.lo, b.hi, 0.5 * b.lo + 0.5 * b.hi,
+                  (flags | s->pending_flags) & SMOOTHNESS_FLAGS ? CODEGEN_ISOLATED_SINGULAR
+                                                                 : CODEGEN_ISOLATED_CLUSTER,
+                  b.sign_lo * b.sign_hi < 0);
+}
+
+static int unresolved(isolation *s, const box *b, unsigned flags)
+{
+    if (s->pending && s->pending_hi == b->lo) {
+        s->pending_hi = b->hi;
+        s->pending_flags |= flags;
+        return 0;
+    }
+    {
+        const int status = flush(s);
+        s->pending = 1;
+        s->pending_lo = b->lo;
+        s->pending_hi = b->hi;
+        s->pending_flags = flags;
+        return status;
+    }
+}
+
+/* Whether b is as narrow as double resolves (absolute for |theta| < 1), or, where G is
+ * smooth, every value the enclosures give (G at both ends and the middle, G' over b) is
+ * within rounding of 0: splitting cannot decide more. A box where G is not smooth is split
+ * down to the resolution (its ends may lie outside the mechanism's domain, its middle not). */
+static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, codegen_iv dg,
+                    unsigned flags, int *result)
+{
+    const double scale = fmax(fmax(fabs(b->lo), fabs(b->hi)), 1.0);
+    int status = 0;
+    *result = b->hi - b->lo <= RESOLUTION * DBL_EPSILON * scale || !(mid > b->lo && mid < b->hi);
+    if (*result || flags || !codegen_iv_has_zero(g_mid) || !codegen_iv_has_zero(dg)) {
+        return 0;
+    }
+    status = known_sign(s, b->lo, &b->sign_lo);
+    if (status == 0) {
+        status = known_sign(s, b->hi, &b->sign_hi);
+    }
+    *result = status == 0 && b->sign_lo == 0 && b->sign_hi == 0;
+    return status;
+}
+
+/* One box of the subdivision: 0 and *split = 1 when its halves must be examined. */
+static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
+{
+    codegen_iv g, dg, g_mid, dg_mid;
+    unsigned flags, mid_flags = 0u;
+    int status, decided, stop;
+    *split = 0;
+    *mid = b->lo + SPLIT * (b->hi - b->lo);
+    *mid_sign = UNKNOWN_SIGN;
+    status = enclose(s, b->lo, b->hi, &g, &dg, &flags);
+    if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) || !codegen_iv_has_zero(g)) {
+        return status; /* no state of the mechanism, or G kept away from 0 */
+    }
+    g_mid = codegen_iv_whole();
+    if (!(flags & SMOOTHNESS_FLAGS)) {
+        /* mean-value form: G(box) lies in G(mid) + G'(box) (box - mid) */
+        status = enclose(s, *mid, *mid, &g_mid, &dg_mid, &mid_flags);
+        if (status != 0) {
+            return status;
+        }
+        if (!mid_flags) {
+            const codegen_iv offset = codegen_iv_make(b->lo - *mid, b->hi - *mid);
+            *mid_sign = g_mid.lo > 0.0 ? 1 : g_mid.hi < 0.0 ? -1 : 0;
+            if (!codegen_iv_has_zero(codegen_iv_add(g_mid, codegen_iv_mul(dg, offset)))) {
+                return 0;
+            }
+        }
+        status = decide(s, b, dg, flags, &decided);
+        if (status != 0 || decided) {
+            return status;
+        }
+    }
+    status = hopeless(s, b, *mid, g_mid, dg, flags, &stop);
+    if (status != 0) {
+        return status;
+    }
+    if (stop) {
+        return unresolved(s, b, flags);
+    }
+    *split = 1;
+    return 0;
+}
+
+int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, double lo,
+                    double hi, codegen_isolated *out, int capacity, int *count)
+{
+    isolation s;
+    box stack[STACK_DEPTH];
+    int top = 0, status = 0;
+    s.enclose = enclose_fn;
+    s.context = context;
+    s.mode = mode;
+    s.out = out;
+    s.capacity = capacity;
+    s.count = 0;
+    s.boxes = 0;
+    s.pending = 0;
+    s.pending_lo = s.pending_hi = 0.0;
+    s.pending_flags = 0u;
+    stack[top].lo = lo;
+    stack[top].hi = hi;
+    stack[top].sign_lo = stack[top].sign_hi = UNKNOWN_SIGN;
+    ++top;
+    while (top > 0 && status == 0) {
+        box b = stack[--top];
+        double mid;
+        int mid_sign, split;
+        status = examine(&s, &b, &mid, &mid_sign, &split);
+        if (status != 0 || !split) {
+            continue;
+        }
+        if (top + 2 > STACK_DEPTH) { /* cannot happen above RESOLUTION; never drop a box */
+            status = unresolved(&s, &b, 0u);
+            continue;
+        }
+        /* the right half below the left, so boxes leave the stack in ascending order */
+        stack[top].lo = mid;
+        stack[top].hi = b.hi;
+        stack[top].sign_lo = mid_sign;
+        stack[top].sign_hi = b.sign_hi;
+        ++top;
+        stack[top].lo = b.lo;
+        stack[top].hi = mid;
+        stack[top].sign_lo = b.sign_lo;
+        stack[top].sign_hi = mid_sign;
+        ++top;
+    }
+    if (status == 0) {
+        status = flush(&s);
+    }
+    *count = s.count;
+    return status;
+}
+
+int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned mode, double lo,
+                    double hi, int *certified)
+{
+    isolation s;
+    box b;
+    codegen_iv g, dg;
+    unsigned flags;
+    codegen_isolated found;
+    int status;
+    s.enclose = enclose_fn;
+    s.context = context;
+    s.mode = mode;
+    s.out = &found;
+    s.capacity = 1;
+    s.count = 0;
+    s.boxes = 0;
+    s.pending = 0;
+    b.lo = lo;
+    b.hi = hi;
+    b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
+    *certified = 0;
+    status = enclose(&s, lo, hi, &g, &dg, &flags);
+    if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))
+        && !codegen_iv_has_zero(dg)) {
+        status = known_sign(&s, lo, &b.sign_lo);
+        if (status == 0) {
+            status = known_sign(&s, hi, &b.sign_hi);
+        }
+        *certified = status == 0 && b.sign_lo * b.sign_hi < 0;
+    }
+    return status;
+}

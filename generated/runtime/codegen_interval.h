@@ -1,0 +1,265 @@
+/*
+ * codegen_interval.h -- interval arithmetic with outward rounding, and certified isolation of
+ * the zeros of a function from enclosures of it and its derivative.
+ * Hand-written (not generated). Plain C99 + libm; no allocation, no mutable static state, no I/O.
+ *
+ * Rounding: every operation is computed in the default rounding mode (to nearest) and its
+ * bounds moved outward past the rounding error: by one unit in the last place (ulp) for
+ * +, -, *, / and sqrt (correctly rounded by IEEE 754), by two for sin and cos (libm's are
+ * within one ulp on glibc, musl and newlib). An enclosure therefore holds every value the
+ * expression takes for any real arguments inside the argument intervals. This needs IEEE
+ * double evaluated in double (FLT_EVAL_METHOD 0: SSE2, AArch64, soft-float ARM; not x87),
+ * round-to-nearest, and no -ffast-math (-ffinite-math-only would drop the infinities that
+ * stand for unbounded enclosures). Contraction into fma is harmless: it can only tighten.
+ */
+#ifndef CODEGEN_INTERVAL_H
+#define CODEGEN_INTERVAL_H
+
+#include <float.h>
+#include <math.h>
+
+#ifdef __FAST_MATH__
+#error "codegen_interval.h: -ffast-math breaks the rounding bounds of the interval arithmetic"
+#endif
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
+#error "codegen_interval.h: needs double evaluated in double (FLT_EVAL_METHOD 0; use -msse2 -mfpmath=sse on x86)"
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The closed interval [lo, hi]; lo may be -HUGE_VAL and hi HUGE_VAL (unbounded). */
+typedef struct codegen_iv {
+    double lo, hi;
+} codegen_iv;
+
+/* What an enclosure met on the way, or-ed together by the operations that notice it. */
+#define CODEGEN_IV_POLE 1u    /* a divisor's enclosure holds 0: the value may be undefined */
+#define CODEGEN_IV_EDGE 2u    /* a radicand's enclosure reaches below 0: a square root may be
+                                 0 inside (a limit position, a length through zero), or the
+                                 mechanism may not exist on part of the interval */
+#define CODEGEN_IV_OUTSIDE 4u /* a radicand is below 0 on the whole interval: no state there */
+
+/* The next double below / above x: a bound on any real that rounds to x. */
+static inline double codegen_iv_down(double x)
+{
+    return x == HUGE_VAL ? DBL_MAX : x - (fabs(x) * 0x1p-52 + 0x1p-1074);
+}
+
+static inline double codegen_iv_up(double x)
+{
+    return x == -HUGE_VAL ? -DBL_MAX : x + (fabs(x) * 0x1p-52 + 0x1p-1074);
+}
+
+static inline codegen_iv codegen_iv_make(double lo, double hi)
+{
+    codegen_iv r;
+    r.lo = lo;
+    r.hi = hi;
+    return r;
+}
+
+static inline codegen_iv codegen_iv_point(double x)
+{
+    return codegen_iv_make(x, x);
+}
+
+static inline int codegen_iv_has_zero(codegen_iv x)
+{
+    return !(x.lo > 0.0 || x.hi < 0.0); /* a NaN bound counts as holding everything */
+}
+
+/* A sum with one operand exactly 0 is exact: no widening (so 0 + 0 stays 0, and a sum of
+ * squares cannot dip below zero). */
+static inline double codegen_iv_sum_down(double a, double b)
+{
+    return a == 0.0 ? b : b == 0.0 ? a : codegen_iv_down(a + b);
+}
+
+static inline double codegen_iv_sum_up(double a, double b)
+{
+    return a == 0.0 ? b : b == 0.0 ? a : codegen_iv_up(a + b);
+}
+
+static inline codegen_iv codegen_iv_add(codegen_iv a, codegen_iv b)
+{
+    return codegen_iv_make(codegen_iv_sum_down(a.lo, b.lo), codegen_iv_sum_up(a.hi, b.hi));
+}
+
+static inline codegen_iv codegen_iv_neg(codegen_iv a)
+{
+    return codegen_iv_make(-a.hi, -a.lo);
+}
+
+static inline codegen_iv codegen_iv_sub(codegen_iv a, codegen_iv b)
+{
+    return codegen_iv_add(a, codegen_iv_neg(b));
+}
+
+/* Bounds on x * y and x / y: exactly 0 when x (or y, for the product) is 0 -- so 0 * infinity
+ * counts as 0, the bounds standing for finite values -- and moved outward otherwise (an
+ * underflow to 0 included). */
+static inline double codegen_iv_mul_down(double x, double y)
+{
+    return x == 0.0 || y == 0.0 ? 0.0 : codegen_iv_down(x * y);
+}
+
+static inline double codegen_iv_mul_up(double x, double y)
+{
+    return x == 0.0 || y == 0.0 ? 0.0 : codegen_iv_up(x * y);
+}
+
+static inline double codegen_iv_div_down(double x, double y)
+{
+    return x == 0.0 ? 0.0 : codegen_iv_down(x / y);
+}
+
+static inline double codegen_iv_div_up(double x, double y)
+{
+    return x == 0.0 ? 0.0 : codegen_iv_up(x / y);
+}
+
+static inline double codegen_iv_min4(double a, double b, double c, double d)
+{
+    const double ab = a < b ? a : b, cd = c < d ? c : d;
+    return ab < cd ? ab : cd;
+}
+
+static inline double codegen_iv_max4(double a, double b, double c, double d)
+{
+    const double ab = a > b ? a : b, cd = c > d ? c : d;
+    return ab > cd ? ab : cd;
+}
+
+static inline codegen_iv codegen_iv_mul(codegen_iv a, codegen_iv b)
+{
+    return codegen_iv_make(
+        codegen_iv_min4(codegen_iv_mul_down(a.lo, b.lo), codegen_iv_mul_down(a.lo, b.hi),
+                        codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_down(a.hi, b.hi)),
+        codegen_iv_max4(codegen_iv_mul_up(a.lo, b.lo), codegen_iv_mul_up(a.lo, b.hi),
+                        codegen_iv_mul_up(a.hi, b.lo), codegen_iv_mul_up(a.hi, b.hi)));
+}
+
+static inline codegen_iv codegen_iv_whole(void)
+{
+    return codegen_iv_make(-HUGE_VAL, HUGE_VAL);
+}
+
+static inline codegen_iv codegen_iv_div(codegen_iv a, codegen_iv b, unsigned *flags)
+{
+    codegen_iv r;
+    if (codegen_iv_has_zero(b)) {
+        *flags |= CODEGEN_IV_POLE;
+        return codegen_iv_whole();
+    }
+    r = codegen_iv_make(
+        codegen_iv_min4(codegen_iv_div_down(a.lo, b.lo), codegen_iv_div_down(a.lo, b.hi),
+                        codegen_iv_div_down(a.hi, b.lo), codegen_iv_div_down(a.hi, b.hi)),
+        codegen_iv_max4(codegen_iv_div_up(a.lo, b.lo), codegen_iv_div_up(a.lo, b.hi),
+                        codegen_iv_div_up(a.hi, b.lo), codegen_iv_div_up(a.hi, b.hi)));
+    return r.lo == r.lo && r.hi == r.hi ? r : codegen_iv_whole(); /* infinity / infinity */
+}
+
+/* x^n of one double, enclosed (n >= 1). */
+static inline codegen_iv codegen_iv_point_pow(double x, int n)
+{
+    codegen_iv base = codegen_iv_point(x), result = codegen_iv_point(1.0);
+    while (n > 0) { /* square-and-multiply: ~log2(n) roundings */
+        if (n & 1) {
+            result = codegen_iv_mul(result, base);
+        }
+        n >>= 1;
+        if (n > 0) {
+            base = codegen_iv_mul(base, base);
+        }
+    }
+    return result;
+}
+
+/* a^n for an integer n >= 1: monotone for odd n, |.|-monotone for even n (so x^2 of an
+ * interval around 0 starts at 0, as x * x would not). */
+static inline codegen_iv codegen_iv_pow(codegen_iv a, int n)
+{
+    const codegen_iv lo = codegen_iv_point_pow(a.lo, n), hi = codegen_iv_point_pow(a.hi, n);
+    if (n % 2 == 1 || a.lo >= 0.0) {
+        return codegen_iv_make(lo.lo, hi.hi);
+    }
+    if (a.hi <= 0.0) {
+        return codegen_iv_make(hi.lo, lo.hi);
+    }
+    return codegen_iv_make(0.0, lo.hi > hi.hi ? lo.hi : hi.hi);
+}
+
+static inline codegen_iv codegen_iv_sqrt(codegen_iv a, unsigned *flags)
+{
+    if (a.hi < 0.0) {
+        *flags |= CODEGEN_IV_OUTSIDE;
+        return codegen_iv_make(0.0, 0.0);
+    }
+    if (!(a.lo > 0.0)) { /* 0 or below (or NaN): the root may be 0 inside */
+        *flags |= CODEGEN_IV_EDGE;
+        return codegen_iv_make(0.0, codegen_iv_up(sqrt(a.hi)));
+    }
+    {
+        const double lo = codegen_iv_down(sqrt(a.lo));
+        return codegen_iv_make(lo > 0.0 ? lo : 0.0, codegen_iv_up(sqrt(a.hi)));
+    }
+}
+
+/* cos over [lo, hi] and sin (as cos(x - pi/2)) are defined in codegen_interval.c. */
+codegen_iv codegen_iv_cos(codegen_iv a);
+codegen_iv codegen_iv_sin(codegen_iv a);
+
+/* ---- Certified isolation of the zeros of G on an interval ---- */
+
+/* Enclosures of G and G' over theta for one assembly mode (or branch) of a mechanism,
+ * and the flags its square roots and divisions raised. Returns 0, or a nonzero status that
+ * codegen_isolate passes on unchanged (bad parameters, say). */
+typedef int (*codegen_enclosure)(const void *context, unsigned mode, codegen_iv theta,
+                                 codegen_iv *g, codegen_iv *dg, unsigned *flags);
+
+typedef enum codegen_isolated_kind {
+    CODEGEN_ISOLATED_ROOT = 0,     /* exactly one zero of G, simple: G changes sign at the
+                                      ends and G' keeps its sign over the interval */
+    CODEGEN_ISOLATED_CLUSTER = 1,  /* G and G' both within rounding of 0 over the interval: a
+                                      double root, a pair closer than double can separate,
+                                      or a near-double pair of complex roots (no zero) */
+    CODEGEN_ISOLATED_SINGULAR = 2  /* G is undefined, or not smooth, somewhere inside (a pole,
+                                      a limit position): no zero is claimed or excluded */
+} codegen_isolated_kind;
+
+typedef struct codegen_isolated {
+    double lo, hi;   /* the interval */
+    double theta;    /* ROOT: the zero to working precision; otherwise the midpoint */
+    codegen_isolated_kind kind;
+    int sign_change; /* G's sign is decided at both ends, and differs: an odd number of
+                        zeros inside if G is continuous there */
+} codegen_isolated;
+
+/* Returned by codegen_isolate besides 0 and the enclosure's own statuses. */
+#define CODEGEN_ISOLATE_FULL (-1)    /* more results than capacity */
+#define CODEGEN_ISOLATE_BUDGET (-2)  /* more than CODEGEN_ISOLATE_MAX_BOXES boxes examined */
+
+#ifndef CODEGEN_ISOLATE_MAX_BOXES
+#define CODEGEN_ISOLATE_MAX_BOXES 200000L
+#endif
+
+/* Every zero of G on [lo, hi], in ascending order, each once: subdivide, discard what the
+ * enclosures of G (natural and mean-value) keep away from 0, certify what is monotone with a
+ * sign change, and report what double precision cannot decide as a CLUSTER or SINGULAR
+ * interval. Nothing is dropped: every zero of G in [lo, hi] lies in some reported interval.
+ * out receives *count entries (at most capacity). Reentrant; stack use ~2 KiB. */
+int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mode, double lo,
+                    double hi, codegen_isolated *out, int capacity, int *count);
+
+/* *certified = 1 if [lo, hi] provably holds exactly one zero of G, a simple one (G changes
+ * sign at the ends, G' keeps its sign between), else 0. Returns 0 or the enclosure's status. */
+int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mode, double lo,
+                    double hi, int *certified);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CODEGEN_INTERVAL_H */
