@@ -216,20 +216,26 @@ LABELS = {"equilibrium": "genuine", "other assembly mode": "other mode",
           "extraneous": "extraneous"}
 
 
+def _cell(x: float, text: str) -> str:
+    """A value, or "-" where it is undefined (no inertia: NaN)."""
+    return text if not (isinstance(x, float) and math.isnan(x)) else "-"
+
+
 def table(analysis: Analysis) -> str:
     """A table like the paper's Table 3, plus what the paper leaves implicit."""
-    head = (f"{'theta_E [deg]':>14} {'kind':>10} {'M_EQ':>8} {'B_EQ':>11} {'K_EQ':>11} "
-            f"{'omega_n':>12} {'zeta':>13} {'eigenvalues [1/s]':>36} {'stability':>9} "
-            f"{'damping':>11}")
+    head = (f"{'theta_E [deg]':>14} {'kind':>10} {'proof':>9} {'M_EQ':>8} {'B_EQ':>11} "
+            f"{'K_EQ':>11} {'omega_n':>12} {'zeta':>13} {'eigenvalues [1/s]':>36} "
+            f"{'stability':>9} {'damping':>11}")
     lines = [head, "-" * len(head)]
     for r in analysis.roots:
         eig = ", ".join(_complex(z, 4) for z in r.eigenvalues)
+        proof = "certified" if r.certified else "-"
         lines.append(
-            f"{r.theta_deg:14.4f} {LABELS[r.kind]:>10} {r.M:8.4f} "
-            f"{_number(r.B):>11} {_number(r.K):>11} {_complex(r.omega_n):>12} "
-            f"{_complex(r.zeta):>13} "
-            f"{eig:>36} {r.stability:>9} {r.damping:>11}")
-    n = len(analysis.roots) + len(analysis.singular) + len(analysis.unassembled)
+            f"{r.theta_deg:14.4f} {LABELS[r.kind]:>10} {proof:>9} {r.M:8.4f} "
+            f"{_number(r.B):>11} {_number(r.K):>11} "
+            f"{_cell(r.omega_n.real, _complex(r.omega_n)):>12} "
+            f"{_cell(r.zeta.real, _complex(r.zeta)):>13} "
+            f"{_cell(r.eigenvalues[0].real, eig):>36} {r.stability:>9} {r.damping:>11}")
     count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
     parts = [f"{count['equilibrium']} equilibria"]
     parts += [f"{count['other assembly mode']} of another assembly mode"] * bool(
@@ -238,12 +244,31 @@ def table(analysis: Analysis) -> str:
     parts += [f"{len(analysis.singular)} singular"] * bool(analysis.singular)
     parts += [f"{len(analysis.unassembled)} where it cannot be assembled"] * bool(
         analysis.unassembled)
-    lines.append(f"\n{n} real roots of the polynomial: {', '.join(parts)}.")
+    parts += [f"{len(analysis.uncertain)} undecided in double precision"] * bool(
+        analysis.uncertain)
+    proven = sum(r.certified for r in analysis.roots)
+    if analysis.method == "polynomial":
+        n = len(analysis.roots) + len(analysis.singular) + len(analysis.unassembled)
+        lines.append(f"\n{n} real roots of the polynomial: {', '.join(parts)}; "
+                     f"{proven} certified by interval enclosures.")
+    else:
+        lines.append(f"\nCertified isolation of the zeros of G: {', '.join(parts)}. Each "
+                     "equilibrium is proven in an interval where G changes sign and G' keeps "
+                     "its sign; none are missed outside the intervals listed.")
     for title, angles in (("a square root is zero, so G is undefined", analysis.singular),
                           ("the mechanism cannot be assembled", analysis.unassembled)):
         if angles:
             listed = ", ".join(f"{math.degrees(t):.4f}" for t in angles)
             lines.append(f"Roots where {title}: {listed} deg.")
-    lines.append(f"sigma_0..sigma_{len(analysis.sigma) - 1}:")
-    lines += [f"  sigma_{i:<2} = {s: .10e}" for i, s in enumerate(analysis.sigma)]
+    for u in analysis.uncertain:
+        what = ("G and G' are within rounding of zero (a fold, a pair closer than double "
+                "separates, or none)" if u.kind == "cluster" else
+                "G is undefined or not smooth (a pole or a limit position): no equilibrium "
+                "is claimed")
+        change = "; G changes sign across it: at least one equilibrium" if u.sign_change else ""
+        lines.append(f"Undecided [{u.lo_deg:.10f}, {u.hi_deg:.10f}] deg (mode {u.mode}): "
+                     f"{what}{change}.")
+    if analysis.sigma:
+        lines.append(f"sigma_0..sigma_{len(analysis.sigma) - 1}:")
+        lines += [f"  sigma_{i:<2} = {s: .10e}" for i, s in enumerate(analysis.sigma)]
     return "\n".join(lines)

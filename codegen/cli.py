@@ -92,7 +92,7 @@ def _analyze(args) -> int:
     else:
         library = load(args.mechanism or DEFAULT_MECHANISM)
     params = library.example_params(**_overrides(args.set))
-    result = analyze(params)
+    result = analyze(params, args.method)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1))
     else:
@@ -127,6 +127,11 @@ def parser() -> argparse.ArgumentParser:
     ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
                      help="override a parameter of the example (repeatable)")
     ana.add_argument("--json", action="store_true", help="print one JSON object")
+    ana.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
+                     help="polynomial: the roots of sigma, classified by branch; isolate: the "
+                          "zeros of G itself, each proven in an interval, with what double "
+                          "precision cannot decide listed as uncertain; auto (default): "
+                          "polynomial where G is algebraic, else isolate")
     ana.set_defaults(run=_analyze)
     return top
 

@@ -489,6 +489,17 @@ def test_nearly_collapsed_spring():
                        "genuine roots")
 
 
+def test_nearly_collapsed_spring_is_settled_by_isolation():
+    """The case above, by the isolation route: G itself has no close genuine/extraneous pairs,
+    and all four equilibria (two 1.5e-4 rad from +-90 deg, and +-90 deg itself) are proven."""
+    p = api.example_params(H=0.0, L=1.0, a=0.99999, m_A=1.0, m_B=1.0, m_C=1.0, k=1.0, b=0.0,
+                           l_ND=0.0078125, F=51.0, g=0.0)
+    result = analyze(p, "isolate")
+    assert all(r.certified for r in result.equilibria) and not result.uncertain
+    assert_same_angles([r.theta for r in result.equilibria], scan(p, +1).roots, 1e-9,
+                       "genuine roots")
+
+
 def test_spring_without_free_length():
     """l_ND = 0: alpha = 0, the twin is G itself and every root of (45) is double and genuine
     (the random test filters this case out as a coincident pair). A residual measured against

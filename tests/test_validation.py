@@ -24,7 +24,6 @@ VIOLATIONS = [
     ({"a": 0.95}, "ERR_A_OUT_OF_RANGE", "a"),
     ({"l_ND": -0.1}, "ERR_L_ND_NEGATIVE", "l_ND"),
     ({"m_B": -1.0}, "ERR_MASS_NEGATIVE", "m_B"),
-    ({"m_C": 0.0, "m_A": 0.0}, "ERR_MASS_SINGULAR", "m_A"),
     ({"k": -1.0}, "ERR_K_NEGATIVE", "k"),
     ({"b": -875.0}, "ERR_B_NEGATIVE", "b"),
 ]
@@ -112,6 +111,24 @@ def test_batch_reports_the_failing_item():
         api.sigma(table)
     values, statuses = api.FUNCTIONS["sigma"].batch(table, raise_on_error=False)
     assert list(statuses) == [0, api.STATUS["ERR_B_NEGATIVE"]]
+
+
+@pytest.mark.parametrize("method", ["polynomial", "isolate"])
+@pytest.mark.parametrize("masses", [dict(m_C=0.0, m_A=0.0), dict(m_C=0.0, m_B=0.0),
+                                    dict(m_A=0.0, m_B=0.0, m_C=0.0)], ids=str)
+def test_statics_need_no_inertia(masses, method):
+    """Issue 9: m_C = 0 with m_A = 0 or m_B = 0 was refused (ERR_MASS_SINGULAR), though the
+    equilibria do not depend on the masses. Now they are found, the same as with inertia, and
+    omega_n, zeta are NaN exactly where M = 0."""
+    with_inertia = analyze(api.example_params(g=0.0), method)
+    without = analyze(api.example_params(g=0.0, **masses), method)
+    assert [r.theta for r in without.equilibria] == pytest.approx(
+        [r.theta for r in with_inertia.equilibria], abs=1e-12)
+    for r in without.equilibria:
+        assert math.isnan(r.omega_n.real) == (r.M == 0.0)
+        assert math.isnan(r.zeta.real) == (r.M == 0.0)
+        assert r.stability == ("unstable" if r.K < 0 else "stable" if r.K > 0 and r.B > 0
+                               else r.stability)
 
 
 @pytest.mark.parametrize("overrides", [

@@ -528,13 +528,13 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN];
     const double pi = 3.14159265358979323846, centre = 0;
     int i, count;
-    int status = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                 DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count);
-    if (status == CODEGEN_ISOLATE_FULL || status == CODEGEN_ISOLATE_BUDGET) {
+    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
+                                         DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count);
+    if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return DOUGHTY_ERR_CAPACITY;
     }
-    if (status != 0) {
-        return (doughty_status)status;
+    if (isolated != 0) {
+        return (doughty_status)isolated;
     }
     if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
@@ -546,6 +546,7 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
         const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             doughty_equilibrium *e = &work->roots[work->n_roots];
+            doughty_status status;
             if (work->n_roots == DOUGHTY_MAX_ROOTS) {
                 return DOUGHTY_ERR_CAPACITY;
             }
@@ -563,7 +564,7 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
                 status = vibrate(e);
             }
             if (status != DOUGHTY_OK) {
-                return (doughty_status)status;
+                return status;
             }
             ++work->n_roots;
         } else {

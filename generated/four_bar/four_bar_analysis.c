@@ -550,13 +550,13 @@ static four_bar_status isolate_mode(const four_bar_params *params, unsigned mode
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN];
     const double pi = 3.14159265358979323846, centre = 0;
     int i, count;
-    int status = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                 FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN, &count);
-    if (status == CODEGEN_ISOLATE_FULL || status == CODEGEN_ISOLATE_BUDGET) {
+    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
+                                         FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN, &count);
+    if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return FOUR_BAR_ERR_CAPACITY;
     }
-    if (status != 0) {
-        return (four_bar_status)status;
+    if (isolated != 0) {
+        return (four_bar_status)isolated;
     }
     if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
@@ -568,6 +568,7 @@ static four_bar_status isolate_mode(const four_bar_params *params, unsigned mode
         const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             four_bar_equilibrium *e = &work->roots[work->n_roots];
+            four_bar_status status;
             if (work->n_roots == FOUR_BAR_MAX_ROOTS) {
                 return FOUR_BAR_ERR_CAPACITY;
             }
@@ -585,7 +586,7 @@ static four_bar_status isolate_mode(const four_bar_params *params, unsigned mode
                 status = vibrate(e);
             }
             if (status != FOUR_BAR_OK) {
-                return (four_bar_status)status;
+                return status;
             }
             ++work->n_roots;
         } else {

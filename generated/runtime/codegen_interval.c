@@ -27,17 +27,16 @@ static int holds_phase(codegen_iv a, double phase)
     return 0;
 }
 
-/* f (sin or cos) over a: its values at the ends, widened by two ulps for libm's error, and
- * the extremes +-1 where a holds a crest (max_phase) or trough (min_phase). */
-static codegen_iv periodic(codegen_iv a, double (*f)(double), double max_phase,
-                           double min_phase)
+/* sin (is_sin) or cos over a: its values at the ends, widened by two ulps for libm's error,
+ * and the extremes +-1 where a holds a crest (max_phase) or trough (min_phase). */
+static codegen_iv periodic(codegen_iv a, int is_sin, double max_phase, double min_phase)
 {
     double at_lo, at_hi, lo, hi;
     if (!(a.hi - a.lo < 6.0) || !isfinite(a.lo) || !isfinite(a.hi)) {
         return codegen_iv_make(-1.0, 1.0);
     }
-    at_lo = f(a.lo);
-    at_hi = f(a.hi);
+    at_lo = is_sin ? sin(a.lo) : cos(a.lo);
+    at_hi = is_sin ? sin(a.hi) : cos(a.hi);
     lo = codegen_iv_down(codegen_iv_down(at_lo < at_hi ? at_lo : at_hi));
     hi = codegen_iv_up(codegen_iv_up(at_lo > at_hi ? at_lo : at_hi));
     if (holds_phase(a, max_phase)) {
@@ -51,12 +50,12 @@ static codegen_iv periodic(codegen_iv a, double (*f)(double), double max_phase,
 
 codegen_iv codegen_iv_cos(codegen_iv a)
 {
-    return periodic(a, cos, 0.0, TWO_PI / 2.0);
+    return periodic(a, 0, 0.0, TWO_PI / 2.0);
 }
 
 codegen_iv codegen_iv_sin(codegen_iv a)
 {
-    return periodic(a, sin, HALF_PI, -HALF_PI);
+    return periodic(a, 1, HALF_PI, -HALF_PI);
 }
 
 /* ---- isolation ---- */
@@ -66,7 +65,7 @@ codegen_iv codegen_iv_sin(codegen_iv a)
 #define STACK_DEPTH 96
 /* Boxes narrower than this many ulps of their ends are not split further. */
 #define RESOLUTION 16.0
-/* Sign-change refinement steps (Illinois: superlinear; ~10 usually reach rounding). */
+/* Refinement steps (safeguarded Newton: ~5 usually reach rounding). */
 #define REFINE_STEPS 100
 #define UNKNOWN_SIGN 2
 /* Where a box is split: off its centre, so that splits avoid the symmetric angles (0, pi/2,
@@ -100,25 +99,32 @@ static int enclose(isolation *s, double lo, double hi, codegen_iv *g, codegen_iv
     return s->enclose(s->context, s->mode, codegen_iv_make(lo, hi), g, dg, flags);
 }
 
-/* G's sign at theta, if the enclosure decides it (else 0); a point where G is not smooth
- * or the mechanism may not exist is undecided. */
-static int sign_at(isolation *s, double theta, int *sign, double *value)
+/* G's sign at theta, if the enclosure decides it (else 0), and G and G' there (midpoints of
+ * their enclosures); a point where G is not smooth or the mechanism may not exist is
+ * undecided. */
+static int probe(isolation *s, double theta, int *sign, double *value, double *slope)
 {
-    codegen_iv g = {0.0, 0.0}, dg;
+    codegen_iv g = {0.0, 0.0}, dg = {0.0, 0.0};
     unsigned flags;
     const int status = enclose(s, theta, theta, &g, &dg, &flags);
     *sign = 0;
     *value = 0.5 * g.lo + 0.5 * g.hi;
+    *slope = 0.5 * dg.lo + 0.5 * dg.hi;
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))) {
         *sign = g.lo > 0.0 ? 1 : g.hi < 0.0 ? -1 : 0;
     }
     return status;
 }
 
+static int sign_at(isolation *s, double theta, int *sign)
+{
+    double value, slope;
+    return probe(s, theta, sign, &value, &slope);
+}
+
 static int known_sign(isolation *s, double theta, int *sign)
 {
-    double value;
-    return *sign != UNKNOWN_SIGN ? 0 : sign_at(s, theta, sign, &value);
+    return *sign != UNKNOWN_SIGN ? 0 : sign_at(s, theta, sign);
 }
 
 static int append(isolation *s, double lo, double hi, double theta, codegen_isolated_kind kind,
@@ -141,19 +147,19 @@ static int append(isolation *s, double lo, double hi, double theta, codegen_isol
  * with steps growing eightfold from a few ulps, as far as signs are decided there. */
 static int tighten(isolation *s, double theta, double *lo, double *hi, int sign_lo)
 {
-    double step, value;
+    double step;
     int sign, status = 0, left = 0, right = 0;
     for (step = 4.0 * DBL_EPSILON * fmax(fabs(theta), 1.0); status == 0 && !(left && right)
          && step < *hi - *lo; step *= 8.0) {
         if (!left && theta - step > *lo) {
-            status = sign_at(s, theta - step, &sign, &value);
+            status = sign_at(s, theta - step, &sign);
             if (sign == sign_lo) {
                 *lo = theta - step;
                 left = 1;
             }
         }
         if (status == 0 && !right && theta + step < *hi) {
-            status = sign_at(s, theta + step, &sign, &value);
+            status = sign_at(s, theta + step, &sign);
             if (sign == -sign_lo) {
                 *hi = theta + step;
                 right = 1;
@@ -163,47 +169,37 @@ static int tighten(isolation *s, double theta, double *lo, double *hi, int sign_
     return status;
 }
 
-/* [lo, hi] holds one simple zero (G monotone, signs at the ends opposite): narrow it with the
- * Illinois method, keeping the bracket proven by deciding each new point's sign with the
- * enclosure, until a point's sign is within rounding (that point is the zero to working
- * precision) or the bracket reaches adjacent doubles. */
+/* [lo, hi] holds one simple zero (G monotone, signs at the ends opposite): narrow it by
+ * Newton's method, each step kept inside the bracket (else a bisection), the bracket kept
+ * proven by deciding each new point's sign with the enclosure, until a point's sign is
+ * within rounding (that point is the zero to working precision; tighten then closes the
+ * bracket around it) or the bracket reaches adjacent doubles. */
 static int refine(isolation *s, double lo, double hi, int sign_lo)
 {
-    double v_lo, v_hi, theta;
-    int sign, status, i, side = 0;
-    status = sign_at(s, lo, &sign, &v_lo);
-    if (status == 0) {
-        status = sign_at(s, hi, &sign, &v_hi);
-    }
-    theta = 0.5 * lo + 0.5 * hi;
-    for (i = 0; status == 0 && i < REFINE_STEPS; ++i) {
-        double mid = (lo * v_hi - hi * v_lo) / (v_hi - v_lo), value;
-        if (!(mid > lo && mid < hi)) {
-            mid = 0.5 * lo + 0.5 * hi;
-        }
-        if (!(mid > lo && mid < hi)) {
-            theta = fabs(v_lo) < fabs(v_hi) ? lo : hi;
-            break;
-        }
-        status = sign_at(s, mid, &sign, &value);
-        theta = mid;
+    double theta = lo + 0.5 * (hi - lo);
+    int sign, status = 0, i;
+    for (i = 0; i < REFINE_STEPS; ++i) {
+        double value, slope, next;
+        status = probe(s, theta, &sign, &value, &slope);
         if (status == 0 && sign == 0) {
-            status = tighten(s, mid, &lo, &hi, sign_lo);
+            status = tighten(s, theta, &lo, &hi, sign_lo);
         }
         if (status != 0 || sign == 0) {
             break;
         }
         if (sign == sign_lo) {
-            lo = mid;
-            v_lo = value;
-            v_hi *= side < 0 ? 0.5 : 1.0;
-            side = -1;
+            lo = theta;
         } else {
-            hi = mid;
-            v_hi = value;
-            v_lo *= side > 0 ? 0.5 : 1.0;
-            side = 1;
+            hi = theta;
         }
+        next = theta - value / slope;
+        if (!(next > lo && next < hi)) {
+            next = lo + 0.5 * (hi - lo);
+        }
+        if (!(next > lo && next < hi)) {
+            break; /* lo and hi are adjacent doubles; theta is one of them */
+        }
+        theta = next;
     }
     return status != 0 ? status : append(s, lo, hi, theta, CODEGEN_ISOLATED_ROOT, 1);
 }
@@ -262,8 +258,8 @@ static int flush(isolation *s)
     }
     return status != 0 ? status
          : append(s, b.lo, b.hi, 0.5 * b.lo + 0.5 * b.hi,
-                  (flags | s->pending_flags) & SMOOTHNESS_FLAGS ? CODEGEN_ISOLATED_SINGULAR
-                                                                 : CODEGEN_ISOLATED_CLUSTER,
+                  ((flags | s->pending_flags) & SMOOTHNESS_FLAGS) != 0u ? CODEGEN_ISOLATED_SINGULAR
+                                                                         : CODEGEN_ISOLATED_CLUSTER,
                   b.sign_lo * b.sign_hi < 0);
 }
 
@@ -348,22 +344,28 @@ static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
     return 0;
 }
 
+static void start(isolation *s, codegen_enclosure enclose_fn, const void *context, unsigned mode,
+                  codegen_isolated *out, int capacity)
+{
+    s->enclose = enclose_fn;
+    s->context = context;
+    s->mode = mode;
+    s->out = out;
+    s->capacity = capacity;
+    s->count = 0;
+    s->boxes = 0;
+    s->pending = 0;
+    s->pending_lo = s->pending_hi = 0.0;
+    s->pending_flags = 0u;
+}
+
 int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, double lo,
                     double hi, codegen_isolated *out, int capacity, int *count)
 {
     isolation s;
     box stack[STACK_DEPTH];
     int top = 0, status = 0;
-    s.enclose = enclose_fn;
-    s.context = context;
-    s.mode = mode;
-    s.out = out;
-    s.capacity = capacity;
-    s.count = 0;
-    s.boxes = 0;
-    s.pending = 0;
-    s.pending_lo = s.pending_hi = 0.0;
-    s.pending_flags = 0u;
+    start(&s, enclose_fn, context, mode, out, capacity);
     stack[top].lo = lo;
     stack[top].hi = hi;
     stack[top].sign_lo = stack[top].sign_hi = UNKNOWN_SIGN;
@@ -403,31 +405,21 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
                     double hi, int *certified)
 {
     isolation s;
-    box b;
+    int sign_lo = UNKNOWN_SIGN, sign_hi = UNKNOWN_SIGN;
     codegen_iv g, dg;
     unsigned flags;
     codegen_isolated found;
     int status;
-    s.enclose = enclose_fn;
-    s.context = context;
-    s.mode = mode;
-    s.out = &found;
-    s.capacity = 1;
-    s.count = 0;
-    s.boxes = 0;
-    s.pending = 0;
-    b.lo = lo;
-    b.hi = hi;
-    b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
+    start(&s, enclose_fn, context, mode, &found, 1);
     *certified = 0;
     status = enclose(&s, lo, hi, &g, &dg, &flags);
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))
         && !codegen_iv_has_zero(dg)) {
-        status = known_sign(&s, lo, &b.sign_lo);
+        status = known_sign(&s, lo, &sign_lo);
         if (status == 0) {
-            status = known_sign(&s, hi, &b.sign_hi);
+            status = known_sign(&s, hi, &sign_hi);
         }
-        *certified = status == 0 && b.sign_lo * b.sign_hi < 0;
+        *certified = status == 0 && sign_lo * sign_hi < 0;
     }
     return status;
 }

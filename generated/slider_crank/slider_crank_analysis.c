@@ -550,13 +550,13 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN];
     const double pi = 3.14159265358979323846, centre = 0;
     int i, count;
-    int status = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                 SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count);
-    if (status == CODEGEN_ISOLATE_FULL || status == CODEGEN_ISOLATE_BUDGET) {
+    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
+                                         SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count);
+    if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return SLIDER_CRANK_ERR_CAPACITY;
     }
-    if (status != 0) {
-        return (slider_crank_status)status;
+    if (isolated != 0) {
+        return (slider_crank_status)isolated;
     }
     if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
@@ -568,6 +568,7 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
         const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             slider_crank_equilibrium *e = &work->roots[work->n_roots];
+            slider_crank_status status;
             if (work->n_roots == SLIDER_CRANK_MAX_ROOTS) {
                 return SLIDER_CRANK_ERR_CAPACITY;
             }
@@ -585,7 +586,7 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
                 status = vibrate(e);
             }
             if (status != SLIDER_CRANK_OK) {
-                return (slider_crank_status)status;
+                return status;
             }
             ++work->n_roots;
         } else {

@@ -183,13 +183,13 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN];
     const double pi = 3.14159265358979323846, centre = params->theta_0;
     int i, count;
-    int status = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                 TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count);
-    if (status == CODEGEN_ISOLATE_FULL || status == CODEGEN_ISOLATE_BUDGET) {
+    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
+                                         TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count);
+    if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return TORSION_PENDULUM_ERR_CAPACITY;
     }
-    if (status != 0) {
-        return (torsion_pendulum_status)status;
+    if (isolated != 0) {
+        return (torsion_pendulum_status)isolated;
     }
     if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
@@ -201,6 +201,7 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
         const double shift = 0.0;
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             torsion_pendulum_equilibrium *e = &work->roots[work->n_roots];
+            torsion_pendulum_status status;
             if (work->n_roots == TORSION_PENDULUM_MAX_ROOTS) {
                 return TORSION_PENDULUM_ERR_CAPACITY;
             }
@@ -218,7 +219,7 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
                 status = vibrate(e);
             }
             if (status != TORSION_PENDULUM_OK) {
-                return (torsion_pendulum_status)status;
+                return status;
             }
             ++work->n_roots;
         } else {

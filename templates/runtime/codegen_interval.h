@@ -132,9 +132,26 @@ static inline double codegen_iv_max4(double a, double b, double c, double d)
     return ab > cd ? ab : cd;
 }
 
+/* By the signs of the factors: two products where neither interval holds 0 inside. */
 static inline codegen_iv codegen_iv_mul(codegen_iv a, codegen_iv b)
 {
-    return codegen_iv_make(
+    if (a.lo >= 0.0) {
+        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.lo), codegen_iv_mul_up(a.hi, b.hi))
+             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.hi))
+             : codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.hi, b.hi));
+    }
+    if (a.hi <= 0.0) {
+        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.lo))
+             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.hi), codegen_iv_mul_up(a.lo, b.lo))
+             : codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.lo, b.lo));
+    }
+    if (b.lo >= 0.0) {
+        return codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.hi));
+    }
+    if (b.hi <= 0.0) {
+        return codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.lo));
+    }
+    return codegen_iv_make( /* both hold 0 inside */
         codegen_iv_min4(codegen_iv_mul_down(a.lo, b.lo), codegen_iv_mul_down(a.lo, b.hi),
                         codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_down(a.hi, b.hi)),
         codegen_iv_max4(codegen_iv_mul_up(a.lo, b.lo), codegen_iv_mul_up(a.lo, b.hi),
