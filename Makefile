@@ -7,7 +7,7 @@ CC       ?= gcc
 STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
 SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
 
-.PHONY: all venv analyze generate check build test lint sanitize bench clean
+.PHONY: all venv analyze generate check build test test-all lint sanitize bench clean
 
 all: generate build test
 
@@ -32,7 +32,10 @@ build: venv  ## rebuild the cffi extension in place after editing generated/
 analyze: venv  ## the paper's example: every equilibrium and its vibration (Table 3)
 	$(PY) -m codegen analyze
 
-test: venv check  ## generated/ up to date, then the whole test suite (what CI runs)
+test: venv check  ## generated/ up to date, then the test suite without the slow property runs
+	$(PY) -m pytest -m "not slow"
+
+test-all: venv check  ## what CI runs: the whole suite, slow property runs included
 	$(PY) -m pytest
 
 LIBS = $(patsubst generated/%/,%,$(filter-out generated/runtime/,$(wildcard generated/*/)))
@@ -55,7 +58,7 @@ sanitize:  ## C drivers under AddressSanitizer + UBSan: every library (random/ho
 	  $(PYTHON) tests/c/make_driver.py generated/$$lib build/driver_$$lib.c && \
 	  $(CC) $(SANITIZE) -Igenerated/$$lib -Igenerated/runtime build/driver_$$lib.c \
 	    generated/$$lib/*.c generated/runtime/*.c -lm -o build/driver_$$lib && \
-	  ASAN_OPTIONS=detect_leaks=1 ./build/driver_$$lib 2000 || exit 1; done
+	  ASAN_OPTIONS=detect_leaks=1 ./build/driver_$$lib 800 || exit 1; done
 
 bench: venv  ## time the compiled functions (see benchmarks/)
 	$(PY) benchmarks/run.py

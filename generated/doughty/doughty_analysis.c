@@ -221,8 +221,6 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
 {
     double w;
     int proven = 0;
-    e->certified = 0;
-    e->theta_lo = e->theta_hi = e->theta;
     for (w = CERTIFY_START * fmax(fabs(e->theta), 1.0); w <= CERTIFY_RADIUS && !proven; w *= 32.0) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);
@@ -422,6 +420,8 @@ static doughty_status study_root(const doughty_params *params, double theta,
             return status;
         }
     }
+    e->certified = 0;
+    e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != DOUGHTY_EXTRANEOUS) {
         status = certify_around(params, mode, e);
         if (status != DOUGHTY_OK) {

@@ -242,8 +242,6 @@ static slider_crank_status certify_around(const slider_crank_params *params, uns
 {
     double w;
     int proven = 0;
-    e->certified = 0;
-    e->theta_lo = e->theta_hi = e->theta;
     for (w = CERTIFY_START * fmax(fabs(e->theta), 1.0); w <= CERTIFY_RADIUS && !proven; w *= 32.0) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);
@@ -444,6 +442,8 @@ static slider_crank_status study_root(const slider_crank_params *params, double 
             return status;
         }
     }
+    e->certified = 0;
+    e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != SLIDER_CRANK_EXTRANEOUS) {
         status = certify_around(params, mode, e);
         if (status != SLIDER_CRANK_OK) {

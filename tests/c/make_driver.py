@@ -1,6 +1,6 @@
 """Writes a C driver for one generated library, from its NAME_api.json, for `make sanitize`.
 
-The driver calls every function of the library (and NAME_analyze when there is one) over
+The driver calls every function of the library (and both analysis routes) over
 random and hostile parameter sets and inputs (NaN, inf, zero, huge, denormal, negative),
 compiled with -fsanitize=address,undefined, and checks the library's contract as it goes:
 a status among the library's codes, every output finite behind OK, every output untouched
@@ -122,20 +122,33 @@ def driver(folder: Path) -> str:
                   f"(int){prefix}_{f['name']}(&p, {', '.join(arguments)}), {max_status}, "
                   f"out, {total});",
                   "        }"]
-    if "DEGREE" in sizes:
+    for entry in ("analyze", "isolate"):  # both routes; analyze is isolate without sigma
         lines += ["        {",
                   f"            {prefix}_analysis analysis;",
-                  f"            const int status = (int){prefix}_analyze(&p, &analysis);",
+                  f"            const int status = (int){prefix}_{entry}(&p, &analysis);",
                   "            int i;",
-                  f"            check(\"{prefix}_analyze\", set, status, {max_status}, "
-                  "&analysis.sigma[0], 0);",
+                  f"            check(\"{prefix}_{entry}\", set, status, {max_status}, NULL, 0);",
                   f"            if (status == 0 && (analysis.n_roots < 0 "
-                  f"|| analysis.n_roots > {sizes['MAX_ROOTS']})) {{",
-                  "                printf(\"analyze (set %ld): %d roots\\n\", set, analysis.n_roots);",
+                  f"|| analysis.n_roots > {sizes['MAX_ROOTS']} || analysis.n_uncertain < 0 "
+                  f"|| analysis.n_uncertain > {sizes['MAX_UNCERTAIN']})) {{",
+                  f"                printf(\"{entry} (set %ld): %d roots, %d uncertain\\n\", set, "
+                  "analysis.n_roots, analysis.n_uncertain);",
                   "                ++failures;",
                   "            }",
                   "            for (i = 0; status == 0 && i < analysis.n_roots; ++i) {",
-                  "                check(\"analysis root\", set, 0, 0, &analysis.roots[i].theta, 1);",
+                  "                const double *r = &analysis.roots[i].theta;",
+                  "                check(\"analysis root\", set, 0, 0, r, 1);",
+                  "                check(\"root interval\", set, 0, 0, &analysis.roots[i].theta_lo, 2);",
+                  "                if (!(analysis.roots[i].theta_lo <= *r && *r <= analysis.roots[i].theta_hi)) {",
+                  "                    printf(\"root %d (set %ld) outside its interval\\n\", i, set);",
+                  "                    ++failures;",
+                  "                }",
+                  "            }",
+                  "            for (i = 0; status == 0 && i < analysis.n_uncertain; ++i) {",
+                  "                if (!(analysis.uncertain[i].lo <= analysis.uncertain[i].hi)) {",
+                  "                    printf(\"uncertain %d (set %ld) reversed\\n\", i, set);",
+                  "                    ++failures;",
+                  "                }",
                   "            }",
                   "        }"]
     lines += ["    }",
