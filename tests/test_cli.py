@@ -48,8 +48,10 @@ def test_table_has_ten_roots_six_genuine(table_run):
     assert sum(m[2] == "genuine" for m in rows) == 6
     angles = [float(m[1]) for m in rows]
     assert angles == sorted(angles)
-    assert ("10 real roots of the polynomial: 6 equilibria, 4 extraneous (a negative length)."
-            in table_run.stdout)
+    assert ("10 real roots of the polynomial: 6 equilibria, 4 extraneous (a negative length); "
+            "6 certified by interval enclosures." in table_run.stdout)
+    assert sum(line.split()[2:3] == ["certified"] for line in table_run.stdout.splitlines()
+               if ROW.match(line)) == 6
     assert len(re.findall(r"^\s*sigma_\d+\s*=", table_run.stdout, re.M)) == 13
 
 
@@ -141,3 +143,26 @@ def test_balanced_force_value_is_e4_zero():
     # Without the spring, gravity and the force balance: G vanishes at every angle.
     G, scale = api.equilibrium_residual(api.example_params(F=BALANCED_F, k=0.0), 0.3)
     assert abs(G) < 1e-12 * scale and math.isfinite(G)
+
+
+def test_isolation_route_from_the_cli_agrees_with_the_polynomial_route(json_run):
+    isolated = run("--method", "isolate", "--json")
+    assert isolated.returncode == 0, isolated.stderr
+    result = json.loads(isolated.stdout)
+    assert result["method"] == "isolate" and result["sigma"] == [] and result["uncertain"] == []
+    assert all(r["certified"] and r["kind"] == "equilibrium" for r in result["roots"])
+    for r in result["roots"]:
+        lo, hi = r["theta_interval_deg"]
+        assert lo <= r["theta_deg"] <= hi
+    polynomial = [r["theta_deg"] for r in json.loads(json_run.stdout)["roots"] if r["genuine"]]
+    assert [r["theta_deg"] for r in result["roots"]] == pytest.approx(polynomial, abs=1e-9)
+
+
+def test_the_torsion_pendulum_is_analysed_by_isolation_and_has_no_polynomial_route():
+    table = run("--mechanism", "torsion_pendulum")
+    assert table.returncode == 0, table.stderr
+    assert "Certified isolation of the zeros of G: 3 equilibria." in table.stdout
+    refused = run("--mechanism", "torsion_pendulum", "--method", "polynomial")
+    assert refused.returncode == 2
+    assert refused.stderr.startswith("error: torsion_pendulum: G is not algebraic")
+    assert len(refused.stderr.strip().splitlines()) == 1

@@ -214,6 +214,19 @@ static void sort_roots(doughty_equilibrium *roots, int count)
 
 /* ==== The polynomial route ==== */
 
+/* DOUGHTY_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
+ * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
+static doughty_status smooth_near(const doughty_params *params, unsigned mode, double theta)
+{
+    const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
+    const double interval[2] = {theta - w, theta + w};
+    double g[2], dg[2];
+    unsigned flags;
+    const doughty_status status = doughty_enclosure(params, mode, interval, g, dg, &flags);
+    return status != DOUGHTY_OK ? status
+         : (flags & CODEGEN_IV_POLE) != 0u ? DOUGHTY_ERR_SINGULAR_STATE : DOUGHTY_OK;
+}
+
 /* Prove a root of the polynomial route: intervals around it, from CERTIFY_START up to
  * CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign on the root's mode. */
 static doughty_status certify_around(const doughty_params *params, unsigned mode,
@@ -424,6 +437,9 @@ static doughty_status study_root(const doughty_params *params, double theta,
     e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != DOUGHTY_EXTRANEOUS) {
         status = certify_around(params, mode, e);
+        if (status == DOUGHTY_OK && !e->certified) {
+            status = smooth_near(params, mode, e->theta);
+        }
         if (status != DOUGHTY_OK) {
             return status;
         }

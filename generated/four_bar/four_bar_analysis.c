@@ -235,6 +235,19 @@ static void sort_roots(four_bar_equilibrium *roots, int count)
 
 /* ==== The polynomial route ==== */
 
+/* FOUR_BAR_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
+ * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
+static four_bar_status smooth_near(const four_bar_params *params, unsigned mode, double theta)
+{
+    const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
+    const double interval[2] = {theta - w, theta + w};
+    double g[2], dg[2];
+    unsigned flags;
+    const four_bar_status status = four_bar_enclosure(params, mode, interval, g, dg, &flags);
+    return status != FOUR_BAR_OK ? status
+         : (flags & CODEGEN_IV_POLE) != 0u ? FOUR_BAR_ERR_SINGULAR_STATE : FOUR_BAR_OK;
+}
+
 /* Prove a root of the polynomial route: intervals around it, from CERTIFY_START up to
  * CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign on the root's mode. */
 static four_bar_status certify_around(const four_bar_params *params, unsigned mode,
@@ -446,6 +459,9 @@ static four_bar_status study_root(const four_bar_params *params, double theta,
     e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != FOUR_BAR_EXTRANEOUS) {
         status = certify_around(params, mode, e);
+        if (status == FOUR_BAR_OK && !e->certified) {
+            status = smooth_near(params, mode, e->theta);
+        }
         if (status != FOUR_BAR_OK) {
             return status;
         }

@@ -235,6 +235,19 @@ static void sort_roots(slider_crank_equilibrium *roots, int count)
 
 /* ==== The polynomial route ==== */
 
+/* SLIDER_CRANK_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
+ * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
+static slider_crank_status smooth_near(const slider_crank_params *params, unsigned mode, double theta)
+{
+    const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
+    const double interval[2] = {theta - w, theta + w};
+    double g[2], dg[2];
+    unsigned flags;
+    const slider_crank_status status = slider_crank_enclosure(params, mode, interval, g, dg, &flags);
+    return status != SLIDER_CRANK_OK ? status
+         : (flags & CODEGEN_IV_POLE) != 0u ? SLIDER_CRANK_ERR_SINGULAR_STATE : SLIDER_CRANK_OK;
+}
+
 /* Prove a root of the polynomial route: intervals around it, from CERTIFY_START up to
  * CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign on the root's mode. */
 static slider_crank_status certify_around(const slider_crank_params *params, unsigned mode,
@@ -446,6 +459,9 @@ static slider_crank_status study_root(const slider_crank_params *params, double 
     e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != SLIDER_CRANK_EXTRANEOUS) {
         status = certify_around(params, mode, e);
+        if (status == SLIDER_CRANK_OK && !e->certified) {
+            status = smooth_near(params, mode, e->theta);
+        }
         if (status != SLIDER_CRANK_OK) {
             return status;
         }
