@@ -110,14 +110,17 @@ static inline double codegen_iv_mul_up(double x, double y)
     return x == 0.0 || y == 0.0 ? 0.0 : codegen_iv_up(x * y);
 }
 
+/* (infinity / infinity is NaN: unbounded in the bound's direction) */
 static inline double codegen_iv_div_down(double x, double y)
 {
-    return x == 0.0 ? 0.0 : codegen_iv_down(x / y);
+    const double q = x / y;
+    return x == 0.0 ? 0.0 : q != q ? -HUGE_VAL : codegen_iv_down(q);
 }
 
 static inline double codegen_iv_div_up(double x, double y)
 {
-    return x == 0.0 ? 0.0 : codegen_iv_up(x / y);
+    const double q = x / y;
+    return x == 0.0 ? 0.0 : q != q ? HUGE_VAL : codegen_iv_up(q);
 }
 
 static inline double codegen_iv_min4(double a, double b, double c, double d)
@@ -132,17 +135,23 @@ static inline double codegen_iv_max4(double a, double b, double c, double d)
     return ab > cd ? ab : cd;
 }
 
+/* Bounds that cannot cross 0 (an underflow widened outward would). */
+static inline double codegen_iv_at_least_0(double x)
+{
+    return x < 0.0 ? 0.0 : x;
+}
+
 /* By the signs of the factors: two products where neither interval holds 0 inside. */
 static inline codegen_iv codegen_iv_mul(codegen_iv a, codegen_iv b)
 {
     if (a.lo >= 0.0) {
-        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.lo), codegen_iv_mul_up(a.hi, b.hi))
+        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.lo, b.lo)), codegen_iv_mul_up(a.hi, b.hi))
              : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.hi))
              : codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.hi, b.hi));
     }
     if (a.hi <= 0.0) {
         return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.lo))
-             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.hi), codegen_iv_mul_up(a.lo, b.lo))
+             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.hi, b.hi)), codegen_iv_mul_up(a.lo, b.lo))
              : codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.lo, b.lo));
     }
     if (b.lo >= 0.0) {
@@ -199,11 +208,14 @@ static inline codegen_iv codegen_iv_point_pow(double x, int n)
 static inline codegen_iv codegen_iv_pow(codegen_iv a, int n)
 {
     const codegen_iv lo = codegen_iv_point_pow(a.lo, n), hi = codegen_iv_point_pow(a.hi, n);
-    if (n % 2 == 1 || a.lo >= 0.0) {
+    if (n % 2 == 1) {
         return codegen_iv_make(lo.lo, hi.hi);
     }
+    if (a.lo >= 0.0) {
+        return codegen_iv_make(codegen_iv_at_least_0(lo.lo), hi.hi);
+    }
     if (a.hi <= 0.0) {
-        return codegen_iv_make(hi.lo, lo.hi);
+        return codegen_iv_make(codegen_iv_at_least_0(hi.lo), lo.hi);
     }
     return codegen_iv_make(0.0, lo.hi > hi.hi ? lo.hi : hi.hi);
 }
@@ -262,7 +274,9 @@ typedef struct codegen_isolated {
 #define CODEGEN_ISOLATE_MAX_BOXES 200000L
 #endif
 
-/* Every zero of G on [lo, hi], in ascending order, each once: subdivide, discard what the
+/* Every zero of G on [lo, hi] (an interval spanning few binades, like a 2 pi range of angles:
+ * boxes are halved, so [0, 1e30] would exhaust the subdivision and come back as one
+ * CLUSTER), in ascending order, each once: subdivide, discard what the
  * enclosures of G (natural and mean-value) keep away from 0, certify what is monotone with a
  * sign change, and report what double precision cannot decide as a CLUSTER or SINGULAR
  * interval. Nothing is dropped: every zero of G in [lo, hi] lies in some reported interval.

@@ -17,9 +17,9 @@ static int holds_phase(codegen_iv a, double phase)
 {
     const double slack = 8.0 * DBL_EPSILON * (fabs(a.lo) + fabs(a.hi) + 1.0);
     const double k = ceil((a.lo - slack - phase) / TWO_PI);
-    double j;
-    for (j = k - 1.0; j <= k + 1.0; j += 1.0) {
-        const double x = phase + j * TWO_PI;
+    int j;
+    for (j = -1; j <= 1; ++j) {
+        const double x = phase + (k + j) * TWO_PI;
         if (x >= a.lo - slack && x <= a.hi + slack) {
             return 1;
         }
@@ -32,7 +32,8 @@ static int holds_phase(codegen_iv a, double phase)
 static codegen_iv periodic(codegen_iv a, int is_sin, double max_phase, double min_phase)
 {
     double at_lo, at_hi, lo, hi;
-    if (!(a.hi - a.lo < 6.0) || !isfinite(a.lo) || !isfinite(a.hi)) {
+    /* beyond 2^50 rad the doubles are too sparse to place a crest: the whole range */
+    if (!(a.hi - a.lo < 6.0) || !(fabs(a.lo) < 0x1p50) || !(fabs(a.hi) < 0x1p50)) {
         return codegen_iv_make(-1.0, 1.0);
     }
     at_lo = is_sin ? sin(a.lo) : cos(a.lo);
@@ -281,16 +282,16 @@ static int unresolved(isolation *s, const box *b, unsigned flags)
 }
 
 /* Whether b is as narrow as double resolves (absolute for |theta| < 1), or, where G is
- * smooth, every value the enclosures give (G at both ends and the middle, G' over b) is
- * within rounding of 0: splitting cannot decide more. A box where G is not smooth is split
+ * smooth, G's sign is within rounding at both ends and the middle: splitting cannot decide
+ * more (a fold, or a zero where G's rounding spreads wide). A box where G is not smooth is split
  * down to the resolution (its ends may lie outside the mechanism's domain, its middle not). */
-static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, codegen_iv dg,
-                    unsigned flags, int *result)
+static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, unsigned flags,
+                    int *result)
 {
     const double scale = fmax(fmax(fabs(b->lo), fabs(b->hi)), 1.0);
     int status = 0;
     *result = b->hi - b->lo <= RESOLUTION * DBL_EPSILON * scale || !(mid > b->lo && mid < b->hi);
-    if (*result || flags || !codegen_iv_has_zero(g_mid) || !codegen_iv_has_zero(dg)) {
+    if (*result || flags || !codegen_iv_has_zero(g_mid)) {
         return 0;
     }
     status = known_sign(s, b->lo, &b->sign_lo);
@@ -301,6 +302,24 @@ static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, codegen_
     return status;
 }
 
+/* Where to split [lo, hi]: off-centre (SPLIT); across many binades at their geometric middle
+ * (or at 0 when the box holds it), so that reaching a zero near 1 from 1e300 takes ~10
+ * splits, not ~1000, and the stack suffices. */
+static double split_point(double lo, double hi)
+{
+    const double wide = 64.0;
+    if (lo < 0.0 && hi > 0.0 && (hi > wide || -lo > wide)) {
+        return 0.0;
+    }
+    if (lo >= 0.0 && hi > wide * fmax(lo, 1.0)) {
+        return sqrt(fmax(lo, 1.0)) * sqrt(hi);
+    }
+    if (hi <= 0.0 && -lo > wide * fmax(-hi, 1.0)) {
+        return -sqrt(fmax(-hi, 1.0)) * sqrt(-lo);
+    }
+    return (1.0 - SPLIT) * lo + SPLIT * hi; /* (hi - lo may overflow) */
+}
+
 /* One box of the subdivision: 0 and *split = 1 when its halves must be examined. */
 static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
 {
@@ -308,7 +327,7 @@ static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
     unsigned flags, mid_flags = 0u;
     int status, decided, stop;
     *split = 0;
-    *mid = b->lo + SPLIT * (b->hi - b->lo);
+    *mid = split_point(b->lo, b->hi);
     *mid_sign = UNKNOWN_SIGN;
     status = enclose(s, b->lo, b->hi, &g, &dg, &flags);
     if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) || !codegen_iv_has_zero(g)) {
@@ -333,7 +352,7 @@ static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
             return status;
         }
     }
-    status = hopeless(s, b, *mid, g_mid, dg, flags, &stop);
+    status = hopeless(s, b, *mid, g_mid, flags, &stop);
     if (status != 0) {
         return status;
     }
