@@ -54,6 +54,9 @@
  * SEAM_TRIES steps of SEAM_STEP [rad] before it, the first where G's sign is decided. */
 #define SEAM_STEP 0.0390625
 #define SEAM_TRIES 16
+/* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
+ * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
+#define SEAM_MARGIN 1e-12
 
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
@@ -505,29 +508,31 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
 /* ==== The isolation route ==== */
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. The
- * circle is cut where G's sign is decided on every mode, so that no zero sits on the seam,
- * to be found at both ends or at neither. */
+ * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
+ * sits on the seam, to be found at both ends or at neither. */
 static doughty_status isolation_range(const doughty_params *params, double *lo, double *hi)
 {
     const double pi = 3.14159265358979323846, centre = 0;
     int k;
     for (k = 0; k < SEAM_TRIES; ++k) {
-        const double cut[2] = {centre + pi - k * SEAM_STEP, centre + pi - k * SEAM_STEP};
+        const double cut = centre + pi - k * SEAM_STEP;
+        const double margin = SEAM_MARGIN * fmax(fabs(cut), 1.0);
+        const double box[2] = {cut - margin, cut + margin};
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < DOUGHTY_N_MODES && decided; ++mode) {
             double g[2], dg[2];
             unsigned flags;
-            const doughty_status status = doughty_enclosure(params, mode, cut, g, dg, &flags);
+            const doughty_status status = doughty_enclosure(params, mode, box, g, dg, &flags);
             if (status != DOUGHTY_OK) {
                 return status;
             }
             decided = (flags & CODEGEN_IV_OUTSIDE) != 0u
                    || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && (g[0] > 0.0 || g[1] < 0.0));
         }
-        if (decided) {
-            *lo = cut[0] - 2.0 * pi;
-            *hi = cut[0];
+        if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
+            *lo = cut - 2.0 * pi - 0.5 * margin;
+            *hi = cut;
             return DOUGHTY_OK;
         }
     }
@@ -560,6 +565,10 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
     (void)centre;
     for (i = 0; i < count; ++i) {
         const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
+        /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
+        const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
+                                                shift == 0.0 ? codegen_iv_point(0.0)
+                                                : codegen_iv_make(0x1.921fb54442d18p+2, 0x1.921fb54442d19p+2));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             doughty_equilibrium *e = &work->roots[work->n_roots];
             doughty_status status;
@@ -575,8 +584,8 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
                 e->kind = mode == 0u ? DOUGHTY_EQUILIBRIUM : DOUGHTY_OTHER_ASSEMBLY;
                 e->genuine = mode == 0u;
                 e->certified = 1;
-                e->theta_lo = found[i].lo + shift;
-                e->theta_hi = found[i].hi + shift;
+                e->theta_lo = moved.lo;
+                e->theta_hi = moved.hi;
                 status = vibrate(e);
             }
             if (status != DOUGHTY_OK) {
@@ -588,8 +597,8 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
             if (work->n_uncertain == DOUGHTY_MAX_UNCERTAIN) {
                 return DOUGHTY_ERR_CAPACITY;
             }
-            u->lo = found[i].lo + shift;
-            u->hi = found[i].hi + shift;
+            u->lo = moved.lo;
+            u->hi = moved.hi;
             u->kind = found[i].kind == CODEGEN_ISOLATED_CLUSTER ? DOUGHTY_CLUSTER : DOUGHTY_SINGULAR;
             u->mode = mode;
             u->sign_change = found[i].sign_change;

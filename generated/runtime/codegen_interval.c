@@ -184,6 +184,10 @@ static int refine(isolation *s, double lo, double hi, int sign_lo)
         status = probe(s, theta, &sign, &value, &slope);
         if (status == 0 && sign == 0) {
             status = tighten(s, theta, &lo, &hi, sign_lo);
+            /* G's rounding hides the sign here, but its midpoint still points at the zero:
+             * one last Newton step, kept inside the proven bracket */
+            next = theta - value / slope;
+            theta = next >= lo && next <= hi ? next : theta;
         }
         if (status != 0 || sign == 0) {
             break;

@@ -54,6 +54,9 @@
  * SEAM_TRIES steps of SEAM_STEP [rad] before it, the first where G's sign is decided. */
 #define SEAM_STEP 0.0390625
 #define SEAM_TRIES 16
+/* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
+ * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
+#define SEAM_MARGIN 1e-12
 
 /* The assembly mode of each branch (its assembly roots' signs), as mode_linearisation numbers
  * them, and the branch of each mode with every length positive. */
@@ -527,29 +530,31 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
 /* ==== The isolation route ==== */
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. The
- * circle is cut where G's sign is decided on every mode, so that no zero sits on the seam,
- * to be found at both ends or at neither. */
+ * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
+ * sits on the seam, to be found at both ends or at neither. */
 static slider_crank_status isolation_range(const slider_crank_params *params, double *lo, double *hi)
 {
     const double pi = 3.14159265358979323846, centre = 0;
     int k;
     for (k = 0; k < SEAM_TRIES; ++k) {
-        const double cut[2] = {centre + pi - k * SEAM_STEP, centre + pi - k * SEAM_STEP};
+        const double cut = centre + pi - k * SEAM_STEP;
+        const double margin = SEAM_MARGIN * fmax(fabs(cut), 1.0);
+        const double box[2] = {cut - margin, cut + margin};
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < SLIDER_CRANK_N_MODES && decided; ++mode) {
             double g[2], dg[2];
             unsigned flags;
-            const slider_crank_status status = slider_crank_enclosure(params, mode, cut, g, dg, &flags);
+            const slider_crank_status status = slider_crank_enclosure(params, mode, box, g, dg, &flags);
             if (status != SLIDER_CRANK_OK) {
                 return status;
             }
             decided = (flags & CODEGEN_IV_OUTSIDE) != 0u
                    || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && (g[0] > 0.0 || g[1] < 0.0));
         }
-        if (decided) {
-            *lo = cut[0] - 2.0 * pi;
-            *hi = cut[0];
+        if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
+            *lo = cut - 2.0 * pi - 0.5 * margin;
+            *hi = cut;
             return SLIDER_CRANK_OK;
         }
     }
@@ -582,6 +587,10 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
     (void)centre;
     for (i = 0; i < count; ++i) {
         const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
+        /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
+        const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
+                                                shift == 0.0 ? codegen_iv_point(0.0)
+                                                : codegen_iv_make(0x1.921fb54442d18p+2, 0x1.921fb54442d19p+2));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             slider_crank_equilibrium *e = &work->roots[work->n_roots];
             slider_crank_status status;
@@ -597,8 +606,8 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
                 e->kind = mode == 0u ? SLIDER_CRANK_EQUILIBRIUM : SLIDER_CRANK_OTHER_ASSEMBLY;
                 e->genuine = mode == 0u;
                 e->certified = 1;
-                e->theta_lo = found[i].lo + shift;
-                e->theta_hi = found[i].hi + shift;
+                e->theta_lo = moved.lo;
+                e->theta_hi = moved.hi;
                 status = vibrate(e);
             }
             if (status != SLIDER_CRANK_OK) {
@@ -610,8 +619,8 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
             if (work->n_uncertain == SLIDER_CRANK_MAX_UNCERTAIN) {
                 return SLIDER_CRANK_ERR_CAPACITY;
             }
-            u->lo = found[i].lo + shift;
-            u->hi = found[i].hi + shift;
+            u->lo = moved.lo;
+            u->hi = moved.hi;
             u->kind = found[i].kind == CODEGEN_ISOLATED_CLUSTER ? SLIDER_CRANK_CLUSTER : SLIDER_CRANK_SINGULAR;
             u->mode = mode;
             u->sign_change = found[i].sign_change;

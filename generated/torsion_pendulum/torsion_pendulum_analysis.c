@@ -199,6 +199,10 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
     (void)centre;
     for (i = 0; i < count; ++i) {
         const double shift = 0.0;
+        /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
+        const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
+                                                shift == 0.0 ? codegen_iv_point(0.0)
+                                                : codegen_iv_make(0x1.921fb54442d18p+2, 0x1.921fb54442d19p+2));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             torsion_pendulum_equilibrium *e = &work->roots[work->n_roots];
             torsion_pendulum_status status;
@@ -214,8 +218,8 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
                 e->kind = mode == 0u ? TORSION_PENDULUM_EQUILIBRIUM : TORSION_PENDULUM_OTHER_ASSEMBLY;
                 e->genuine = mode == 0u;
                 e->certified = 1;
-                e->theta_lo = found[i].lo + shift;
-                e->theta_hi = found[i].hi + shift;
+                e->theta_lo = moved.lo;
+                e->theta_hi = moved.hi;
                 status = vibrate(e);
             }
             if (status != TORSION_PENDULUM_OK) {
@@ -227,8 +231,8 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
             if (work->n_uncertain == TORSION_PENDULUM_MAX_UNCERTAIN) {
                 return TORSION_PENDULUM_ERR_CAPACITY;
             }
-            u->lo = found[i].lo + shift;
-            u->hi = found[i].hi + shift;
+            u->lo = moved.lo;
+            u->hi = moved.hi;
             u->kind = found[i].kind == CODEGEN_ISOLATED_CLUSTER ? TORSION_PENDULUM_CLUSTER : TORSION_PENDULUM_SINGULAR;
             u->mode = mode;
             u->sign_change = found[i].sign_change;
