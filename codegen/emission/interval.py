@@ -29,6 +29,7 @@ class IntervalBody:
     temporaries: tuple[tuple[str, str], ...]  # (name, C expression of type codegen_iv)
     outputs: tuple[str, ...]                  # C expressions of G and G'
     operations: int
+    unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
 
 
 def _double(text: float) -> str:
@@ -53,7 +54,13 @@ def enclose_constant(value: sp.Expr) -> tuple[float, float]:
 
 class _IntervalPrinter:
     def __init__(self, flags: str):
-        self.flags = flags
+        self._flags = flags
+        self.flagged = False  # whether an operation that raises flags was printed
+
+    @property
+    def flags(self) -> str:
+        self.flagged = True
+        return self._flags
 
     def constant(self, value: sp.Expr) -> str:
         lo, hi = enclose_constant(value)
@@ -128,8 +135,9 @@ def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set
         raise ValueError(f"symbols {sorted(unknown)} are neither parameters nor inputs")
     operations = sum(sp.count_ops(e) for _, e in replacements) + sum(
         sp.count_ops(e) for e in reduced)
+    temporaries = tuple((str(s), printer.print(e)) for s, e in replacements)
+    outputs = tuple(printer.print(e) for e in reduced)
     return IntervalBody(
         unpack=tuple(p for p in parameters if p in names),
-        temporaries=tuple((str(s), printer.print(e)) for s, e in replacements),
-        outputs=tuple(printer.print(e) for e in reduced),
-        operations=int(operations))
+        temporaries=temporaries, outputs=outputs, operations=int(operations),
+        unused=tuple(sorted(inputs - names)) + (() if printer.flagged else (flags,)))

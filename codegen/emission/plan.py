@@ -103,11 +103,11 @@ class Plan:
     requirements: tuple                            # model.Requirement
     singular_state: str
     functions: tuple[CFunction, ...]
+    enclosure: Enclosure               # G and G' of every mode, for the certified isolation
     root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
     mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
     periodic: bool = True              # theta and theta + 2 pi are the same state
-    enclosure: Enclosure | None = None
 
     def function(self, name: str) -> CFunction:
         return next(f for f in self.functions if f.name == name)

@@ -11,7 +11,6 @@ from functools import lru_cache
 from pathlib import Path
 
 import json
-import re
 
 import jinja2
 import sympy as sp
@@ -123,11 +122,9 @@ def _has_denominator(expr) -> bool:
     return any(p.exp.is_negative for p in sp.sympify(expr).atoms(sp.Pow)) or expr.has(sp.atan2)
 
 
-def _enclosure(plan: Plan) -> dict | None:
+def _enclosure(plan: Plan) -> dict:
     """Each mode's interval program of G and G', and how the modes are labelled."""
     enclosure = plan.enclosure
-    if enclosure is None:
-        return None
     names = tuple(p[0] for p in plan.parameters)
     theta = enclosure.theta.name
     assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
@@ -135,10 +132,7 @@ def _enclosure(plan: Plan) -> dict | None:
     for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
         body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags")
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
-        code = [t for _, t in body.temporaries] + list(body.outputs)
-        modes.append({"body": body, "label": ", ".join(flipped) or "as declared",
-                      "unused": [name for name in (theta, "iv_flags")
-                                 if not any(re.search(rf"\b{name}\b", c) for c in code)]})
+        modes.append({"body": body, "label": ", ".join(flipped) or "as declared"})
     return {"theta": theta, "equation": enclosure.equation, "modes": modes}
 
 

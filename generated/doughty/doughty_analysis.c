@@ -222,11 +222,10 @@ static void sort_roots(doughty_equilibrium *roots, int count)
 static doughty_status smooth_near(const doughty_params *params, unsigned mode, double theta)
 {
     const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
-    const double interval[2] = {theta - w, theta + w};
-    double g[2], dg[2];
+    codegen_iv g, dg;
     unsigned flags;
-    const doughty_status status = doughty_enclosure(params, mode, interval, g, dg, &flags);
-    return status != DOUGHTY_OK ? status
+    const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    return status != 0 ? (doughty_status)status
          : (flags & CODEGEN_IV_POLE) != 0u ? DOUGHTY_ERR_SINGULAR_STATE : DOUGHTY_OK;
 }
 
@@ -509,26 +508,29 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. The
  * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
- * sits on the seam, to be found at both ends or at neither. */
-static doughty_status isolation_range(const doughty_params *params, double *lo, double *hi)
+ * sits on the seam, to be found at both ends or at neither. Zeros found at or below
+ * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
+static doughty_status isolation_range(const doughty_params *params, double *lo, double *hi,
+                                      double *below)
 {
     const double pi = 3.14159265358979323846, centre = 0;
     int k;
+    *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
         const double cut = centre + pi - k * SEAM_STEP;
         const double margin = SEAM_MARGIN * fmax(fabs(cut), 1.0);
-        const double box[2] = {cut - margin, cut + margin};
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < DOUGHTY_N_MODES && decided; ++mode) {
-            double g[2], dg[2];
+            codegen_iv g, dg;
             unsigned flags;
-            const doughty_status status = doughty_enclosure(params, mode, box, g, dg, &flags);
-            if (status != DOUGHTY_OK) {
-                return status;
+            const int status = enclose(params, mode, codegen_iv_make(cut - margin, cut + margin),
+                                       &g, &dg, &flags);
+            if (status != 0) {
+                return (doughty_status)status;
             }
             decided = (flags & CODEGEN_IV_OUTSIDE) != 0u
-                   || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && (g[0] > 0.0 || g[1] < 0.0));
+                   || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && !codegen_iv_has_zero(g));
         }
         if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
             *lo = cut - 2.0 * pi - 0.5 * margin;
@@ -544,10 +546,10 @@ static doughty_status isolation_range(const doughty_params *params, double *lo, 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static doughty_status isolate_mode(const doughty_params *params, unsigned mode, double lo,
-                                   double hi, doughty_analysis *work)
+                                   double hi, double below, doughty_analysis *work)
 {
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN];
-    const double pi = 3.14159265358979323846, centre = 0;
+    const double two_pi = 6.28318530717958647692;
     int i, count;
     const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
                                          DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count);
@@ -561,10 +563,8 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
         && found[0].hi == hi) {
         return DOUGHTY_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
-    (void)pi;
-    (void)centre;
     for (i = 0; i < count; ++i) {
-        const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
+        const double shift = found[i].theta <= below ? two_pi : 0.0;
         /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
         const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
                                                 shift == 0.0 ? codegen_iv_point(0.0)
@@ -577,6 +577,9 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
             }
             status = linearise(params, mode, found[i].theta + shift, e);
             if (status == DOUGHTY_ERR_SINGULAR_STATE) { /* proven, but K or M undefined */
+                if (work->n_singular == DOUGHTY_MAX_ROOTS) {
+                    return DOUGHTY_ERR_CAPACITY;
+                }
                 work->singular_theta[work->n_singular++] = found[i].theta + shift;
                 continue;
             }
@@ -611,7 +614,7 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
 doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result)
 {
     doughty_analysis work;
-    double lo, hi;
+    double lo, hi, below;
     unsigned mode;
     int i;
     doughty_status status;
@@ -623,9 +626,9 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
         return status;
     }
     memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi);
+    status = isolation_range(params, &lo, &hi, &below);
     for (mode = 0u; mode < DOUGHTY_N_MODES && status == DOUGHTY_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, &work);
+        status = isolate_mode(params, mode, lo, hi, below, &work);
     }
     if (status != DOUGHTY_OK) {
         return status;

@@ -128,6 +128,13 @@ static int known_sign(isolation *s, double theta, int *sign)
     return *sign != UNKNOWN_SIGN ? 0 : sign_at(s, theta, sign);
 }
 
+/* G's sign at both ends of b, each probed only if not yet known. */
+static int end_signs(isolation *s, box *b)
+{
+    const int status = known_sign(s, b->lo, &b->sign_lo);
+    return status != 0 ? status : known_sign(s, b->hi, &b->sign_hi);
+}
+
 static int append(isolation *s, double lo, double hi, double theta, codegen_isolated_kind kind,
                   int sign_change)
 {
@@ -220,10 +227,7 @@ static int decide(isolation *s, box *b, codegen_iv dg, unsigned flags, int *deci
     if ((flags & SMOOTHNESS_FLAGS) || codegen_iv_has_zero(dg)) {
         return 0;
     }
-    status = known_sign(s, b->lo, &b->sign_lo);
-    if (status == 0) {
-        status = known_sign(s, b->hi, &b->sign_hi);
-    }
+    status = end_signs(s, b);
     if (status != 0 || b->sign_lo == 0 || b->sign_hi == 0) {
         return status;
     }
@@ -257,10 +261,7 @@ static int flush(isolation *s)
     if (status != 0 || decided) {
         return status;
     }
-    status = known_sign(s, b.lo, &b.sign_lo);
-    if (status == 0) {
-        status = known_sign(s, b.hi, &b.sign_hi);
-    }
+    status = end_signs(s, &b);
     return status != 0 ? status
          : append(s, b.lo, b.hi, 0.5 * b.lo + 0.5 * b.hi,
                   ((flags | s->pending_flags) & SMOOTHNESS_FLAGS) != 0u ? CODEGEN_ISOLATED_SINGULAR
@@ -298,10 +299,7 @@ static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, unsigned
     if (*result || flags || !codegen_iv_has_zero(g_mid)) {
         return 0;
     }
-    status = known_sign(s, b->lo, &b->sign_lo);
-    if (status == 0) {
-        status = known_sign(s, b->hi, &b->sign_hi);
-    }
+    status = end_signs(s, b);
     *result = status == 0 && b->sign_lo == 0 && b->sign_hi == 0;
     return status;
 }
@@ -428,7 +426,7 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
                     double hi, int *certified)
 {
     isolation s;
-    int sign_lo = UNKNOWN_SIGN, sign_hi = UNKNOWN_SIGN;
+    box b;
     codegen_iv g, dg;
     unsigned flags;
     codegen_isolated found;
@@ -438,11 +436,11 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
     status = enclose(&s, lo, hi, &g, &dg, &flags);
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))
         && !codegen_iv_has_zero(dg)) {
-        status = known_sign(&s, lo, &sign_lo);
-        if (status == 0) {
-            status = known_sign(&s, hi, &sign_hi);
-        }
-        *certified = status == 0 && sign_lo * sign_hi < 0;
+        b.lo = lo;
+        b.hi = hi;
+        b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
+        status = end_signs(&s, &b);
+        *certified = status == 0 && b.sign_lo * b.sign_hi < 0;
     }
     return status;
 }

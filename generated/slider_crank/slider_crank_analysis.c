@@ -243,11 +243,10 @@ static void sort_roots(slider_crank_equilibrium *roots, int count)
 static slider_crank_status smooth_near(const slider_crank_params *params, unsigned mode, double theta)
 {
     const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
-    const double interval[2] = {theta - w, theta + w};
-    double g[2], dg[2];
+    codegen_iv g, dg;
     unsigned flags;
-    const slider_crank_status status = slider_crank_enclosure(params, mode, interval, g, dg, &flags);
-    return status != SLIDER_CRANK_OK ? status
+    const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    return status != 0 ? (slider_crank_status)status
          : (flags & CODEGEN_IV_POLE) != 0u ? SLIDER_CRANK_ERR_SINGULAR_STATE : SLIDER_CRANK_OK;
 }
 
@@ -531,26 +530,29 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. The
  * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
- * sits on the seam, to be found at both ends or at neither. */
-static slider_crank_status isolation_range(const slider_crank_params *params, double *lo, double *hi)
+ * sits on the seam, to be found at both ends or at neither. Zeros found at or below
+ * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
+static slider_crank_status isolation_range(const slider_crank_params *params, double *lo, double *hi,
+                                      double *below)
 {
     const double pi = 3.14159265358979323846, centre = 0;
     int k;
+    *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
         const double cut = centre + pi - k * SEAM_STEP;
         const double margin = SEAM_MARGIN * fmax(fabs(cut), 1.0);
-        const double box[2] = {cut - margin, cut + margin};
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < SLIDER_CRANK_N_MODES && decided; ++mode) {
-            double g[2], dg[2];
+            codegen_iv g, dg;
             unsigned flags;
-            const slider_crank_status status = slider_crank_enclosure(params, mode, box, g, dg, &flags);
-            if (status != SLIDER_CRANK_OK) {
-                return status;
+            const int status = enclose(params, mode, codegen_iv_make(cut - margin, cut + margin),
+                                       &g, &dg, &flags);
+            if (status != 0) {
+                return (slider_crank_status)status;
             }
             decided = (flags & CODEGEN_IV_OUTSIDE) != 0u
-                   || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && (g[0] > 0.0 || g[1] < 0.0));
+                   || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && !codegen_iv_has_zero(g));
         }
         if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
             *lo = cut - 2.0 * pi - 0.5 * margin;
@@ -566,10 +568,10 @@ static slider_crank_status isolation_range(const slider_crank_params *params, do
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static slider_crank_status isolate_mode(const slider_crank_params *params, unsigned mode, double lo,
-                                   double hi, slider_crank_analysis *work)
+                                   double hi, double below, slider_crank_analysis *work)
 {
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN];
-    const double pi = 3.14159265358979323846, centre = 0;
+    const double two_pi = 6.28318530717958647692;
     int i, count;
     const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
                                          SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count);
@@ -583,10 +585,8 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
         && found[0].hi == hi) {
         return SLIDER_CRANK_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
-    (void)pi;
-    (void)centre;
     for (i = 0; i < count; ++i) {
-        const double shift = found[i].theta <= centre - pi ? 2.0 * pi : 0.0;
+        const double shift = found[i].theta <= below ? two_pi : 0.0;
         /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
         const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
                                                 shift == 0.0 ? codegen_iv_point(0.0)
@@ -599,6 +599,9 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
             }
             status = linearise(params, mode, found[i].theta + shift, e);
             if (status == SLIDER_CRANK_ERR_SINGULAR_STATE) { /* proven, but K or M undefined */
+                if (work->n_singular == SLIDER_CRANK_MAX_ROOTS) {
+                    return SLIDER_CRANK_ERR_CAPACITY;
+                }
                 work->singular_theta[work->n_singular++] = found[i].theta + shift;
                 continue;
             }
@@ -633,7 +636,7 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
 slider_crank_status slider_crank_isolate(const slider_crank_params *params, slider_crank_analysis *result)
 {
     slider_crank_analysis work;
-    double lo, hi;
+    double lo, hi, below;
     unsigned mode;
     int i;
     slider_crank_status status;
@@ -645,9 +648,9 @@ slider_crank_status slider_crank_isolate(const slider_crank_params *params, slid
         return status;
     }
     memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi);
+    status = isolation_range(params, &lo, &hi, &below);
     for (mode = 0u; mode < SLIDER_CRANK_N_MODES && status == SLIDER_CRANK_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, &work);
+        status = isolate_mode(params, mode, lo, hi, below, &work);
     }
     if (status != SLIDER_CRANK_OK) {
         return status;

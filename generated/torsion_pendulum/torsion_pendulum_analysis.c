@@ -166,10 +166,13 @@ static void sort_roots(torsion_pendulum_equilibrium *roots, int count)
 
 /* ==== The isolation route ==== */
 
-/* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. */
-static torsion_pendulum_status isolation_range(const torsion_pendulum_params *params, double *lo, double *hi)
+/* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. Zeros found at or below
+ * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
+static torsion_pendulum_status isolation_range(const torsion_pendulum_params *params, double *lo, double *hi,
+                                      double *below)
 {
     const double pi = 3.14159265358979323846, centre = params->theta_0;
+    *below = -HUGE_VAL;
     *lo = centre - pi;
     *hi = centre + pi;
     return TORSION_PENDULUM_OK;
@@ -178,10 +181,10 @@ static torsion_pendulum_status isolation_range(const torsion_pendulum_params *pa
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *params, unsigned mode, double lo,
-                                   double hi, torsion_pendulum_analysis *work)
+                                   double hi, double below, torsion_pendulum_analysis *work)
 {
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN];
-    const double pi = 3.14159265358979323846, centre = params->theta_0;
+    const double two_pi = 6.28318530717958647692;
     int i, count;
     const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
                                          TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count);
@@ -195,10 +198,8 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
         && found[0].hi == hi) {
         return TORSION_PENDULUM_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
-    (void)pi;
-    (void)centre;
     for (i = 0; i < count; ++i) {
-        const double shift = 0.0;
+        const double shift = found[i].theta <= below ? two_pi : 0.0;
         /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
         const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
                                                 shift == 0.0 ? codegen_iv_point(0.0)
@@ -211,6 +212,9 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
             }
             status = linearise(params, mode, found[i].theta + shift, e);
             if (status == TORSION_PENDULUM_ERR_SINGULAR_STATE) { /* proven, but K or M undefined */
+                if (work->n_singular == TORSION_PENDULUM_MAX_ROOTS) {
+                    return TORSION_PENDULUM_ERR_CAPACITY;
+                }
                 work->singular_theta[work->n_singular++] = found[i].theta + shift;
                 continue;
             }
@@ -245,7 +249,7 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
 torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result)
 {
     torsion_pendulum_analysis work;
-    double lo, hi;
+    double lo, hi, below;
     unsigned mode;
     int i;
     torsion_pendulum_status status;
@@ -257,9 +261,9 @@ torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *
         return status;
     }
     memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi);
+    status = isolation_range(params, &lo, &hi, &below);
     for (mode = 0u; mode < TORSION_PENDULUM_N_MODES && status == TORSION_PENDULUM_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, &work);
+        status = isolate_mode(params, mode, lo, hi, below, &work);
     }
     if (status != TORSION_PENDULUM_OK) {
         return status;
