@@ -1,27 +1,85 @@
-"""Layer 7: the command line, ``python -m codegen`` (or ``doughty``)."""
+"""Layer 7: the command line (``mechvib``, or ``python -m codegen`` in a checkout).
+
+Each verb is one function taking the parsed arguments and returning an exit status: 0 on
+success, 1 when a check fails, 2 for bad input. Errors are one line on stderr that names what
+was wrong; no traceback reaches the user.
+"""
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
 import time
 from pathlib import Path
 
+from . import __version__
 from .api import shipped
-
 
 #: The mechanism a command works on when none is named: the paper's example.
 DEFAULT_MECHANISM = "doughty"
 
+DESCRIPTION = """\
+Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
+vibration analysis, and run that analysis: every equilibrium of one degree of freedom, its
+stability, natural frequency and damping ratio. Angles are printed in degrees (the Python
+API works in radians); everything else is SI."""
+
+EXAMPLES = {
+    None: """\
+examples:
+  {prog} analyze                              the paper's example (Table 3)
+  {prog} analyze --set F=0 --set k=1000       the same with two parameters changed
+  {prog} analyze --mechanism four_bar --json  another mechanism, as JSON
+  {prog} list                                 the mechanisms this installation has
+  {prog} sources --copy mylib/                the C sources, to build into a program
+  {prog} generate --model my_model.py         a mechanism of your own, generated and built""",
+    "analyze": """\
+examples:
+  {prog} analyze
+  {prog} analyze --set F=0 --set b=0 --wide
+  {prog} analyze --mechanism torsion_pendulum --json
+  {prog} analyze --method isolate --sigma
+  {prog} analyze --model my_model.py --out build/mine""",
+    "generate": """\
+examples:
+  {prog} generate                             regenerate generated/ (in a checkout)
+  {prog} generate --check                     exit 1 if generated/ is stale
+  {prog} generate --mechanism slider_crank --out /tmp/gen
+  {prog} generate --model my_model.py --out build/mine""",
+    "sources": """\
+examples:
+  {prog} sources                              where the C files of the paper's example are
+  {prog} sources --mechanism four_bar --copy vendor/four_bar
+  cc -std=c99 -Ivendor/four_bar app.c vendor/four_bar/*.c -lm""",
+    "list": """\
+examples:
+  {prog} list""",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: 'PROG: error: MESSAGE (see PROG --help)'."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _prog() -> str:
+    """The name the user typed: the console command, or `python -m codegen`."""
+    name = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else ""
+    return "python -m codegen" if name in ("", "__main__.py", "-c") else name
+
 
 def _generator():
-    try:  # the generator needs sympy, jinja2 and the checkout's templates/; analysis does not
+    try:  # the generator needs sympy and jinja2; analysis does not
         from . import generate
     except ImportError as error:
-        raise SystemExit(f"error: generate needs the generator's dependencies ({error.name} is "
-                         "missing): pip install -e '.[generate]' in a checkout") from None
+        raise ValueError(f"generate needs the generator's dependencies ({error.name} is "
+                         "missing): pip install 'mechvib[generate]'") from None
     if not generate.TEMPLATES.is_dir():
-        raise SystemExit(f"error: no templates at {generate.TEMPLATES}: run generate from a "
-                         "checkout")
+        raise ValueError(f"no templates at {generate.TEMPLATES}: this installation is "
+                         "incomplete")
     return generate
 
 
@@ -81,65 +139,144 @@ def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
     return values
 
 
+def _library(args):
+    from .api import load
+
+    if getattr(args, "model", None):
+        return _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
+    return load(args.mechanism or DEFAULT_MECHANISM)
+
+
 def _analyze(args) -> int:
     import json
 
-    from .analysis import analyze, table
-    from .api import load
+    from .analysis import analyze
+    from .report import paragraph, table
 
-    if args.model:
-        library = _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
-    else:
-        library = load(args.mechanism or DEFAULT_MECHANISM)
+    library = _library(args)
     params = library.example_params(**_overrides(args.set))
     result = analyze(params, args.method)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1))
     else:
         values = ", ".join(f"{k}={v:g}" for k, v in vars(params).items())
-        print(f"Vibration analysis of {library.TITLE}: {values}\n")
-        print(table(result))
+        print(paragraph(f"Vibration analysis of {library.TITLE}: {values}") + "\n")
+        print(table(result, wide=args.wide, sigma=args.sigma))
     return 0
 
 
-def _mechanism_options(verb: argparse.ArgumentParser, out_help: str) -> None:
+def _sources(args) -> int:
+    """Where the C files of a shipped library are, or a copy of them in a folder."""
+    from .resources import generated
+
+    name = args.mechanism or DEFAULT_MECHANISM
+    root = generated()
+    folders = [root / name, root / "runtime"]
+    if not folders[0].is_dir():
+        have = ", ".join(sorted(p.name for p in root.iterdir() if p.is_dir() and
+                                p.name != "runtime")) if root.is_dir() else "none"
+        raise ValueError(f"{name}: no C sources in this installation (it has {have})")
+    files = sorted(f for folder in folders for f in folder.iterdir()
+                   if f.suffix in (".c", ".h"))
+    if not args.copy:
+        for folder in folders:
+            print(folder)
+        return 0
+    out = Path(args.copy)
+    out.mkdir(parents=True, exist_ok=True)
+    for f in files:
+        shutil.copyfile(f, out / f.name)
+    print(f"copied {len(files)} files to {out}: " + ", ".join(f.name for f in files))
+    return 0
+
+
+def _list(args) -> int:
+    from .api import load
+
+    for name in shipped():
+        library = load(name)
+        route = "polynomial" if library.has_polynomial else "isolation"
+        print(f"{name:<18} {library.TITLE} ({len(library.PARAMETER_NAMES)} parameters, "
+              f"{route})")
+    return 0
+
+
+def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None) -> None:
     which = verb.add_mutually_exclusive_group()
     which.add_argument("--mechanism", metavar="NAME",
                        help=f"a shipped mechanism: {', '.join(shipped())} "
                             f"(default {DEFAULT_MECHANISM})")
+    if out_help is None:
+        return
     which.add_argument("--model", metavar="FILE",
                        help="a model file of your own (Python, defining build() -> Mechanism)")
     verb.add_argument("--out", metavar="DIR", help=out_help)
 
 
-def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="python -m codegen", description=__doc__)
-    verbs = top.add_subparsers(dest="verb", required=True)
-    gen = verbs.add_parser("generate", help="derive the mechanics and write the C library")
-    _mechanism_options(gen, "output folder (default: generated/, or build/codegen for --model; "
-                            "with --model the library is also built there)")
-    gen.add_argument("--check", action="store_true",
-                     help="only compare the folder with what would be written; exit 1 if stale")
-    gen.set_defaults(run=_generate)
-    ana = verbs.add_parser("analyze", help="every equilibrium and its vibration (Table 3)")
+def _verb(verbs, name: str, summary: str, prog: str, run) -> argparse.ArgumentParser:
+    verb = verbs.add_parser(name, help=summary, description=summary,
+                            epilog=EXAMPLES[name].format(prog=prog),
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    verb.set_defaults(run=run)
+    return verb
+
+
+def parser(prog: str | None = None) -> argparse.ArgumentParser:
+    prog = prog or _prog()
+    top = _Parser(prog=prog, description=DESCRIPTION, epilog=EXAMPLES[None].format(prog=prog),
+                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    top.add_argument("--version", action="version", version=f"mechvib {__version__}")
+    verbs = top.add_subparsers(dest="verb", metavar="COMMAND", parser_class=_Parser)
+
+    ana = _verb(verbs, "analyze", "every equilibrium and its vibration (the paper's Table 3)",
+                prog, _analyze)
     _mechanism_options(ana, "with --model: where its library is generated and built "
                             "(default: build/codegen)")
     ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
-                     help="override a parameter of the example (repeatable)")
-    ana.add_argument("--json", action="store_true", help="print one JSON object")
+                     help="override a parameter of the example, in SI units (repeatable)")
+    ana.add_argument("--json", action="store_true",
+                     help="print one JSON object (angles in degrees) instead of the table")
+    ana.add_argument("--wide", action="store_true",
+                     help="every column: M_EQ, B_EQ and the eigenvalues too")
+    ana.add_argument("--sigma", action="store_true",
+                     help="also print the polynomial's coefficients sigma_i")
     ana.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
                      help="polynomial: the roots of sigma, classified by branch; isolate: the "
                           "zeros of G itself, each proven in an interval, with what double "
                           "precision cannot decide listed as uncertain; auto (default): "
                           "polynomial where G is algebraic, else isolate")
-    ana.set_defaults(run=_analyze)
+
+    gen = _verb(verbs, "generate", "derive the mechanics and write the C library", prog,
+                _generate)
+    _mechanism_options(gen, "output folder (default: generated/, or build/codegen for --model; "
+                            "with --model the library is also built there)")
+    gen.add_argument("--check", action="store_true",
+                     help="only compare the folder with what would be written; exit 1 if stale")
+
+    src = _verb(verbs, "sources", "print the folders of a library's C sources, or copy them",
+                prog, _sources)
+    _mechanism_options(src, None)
+    src.add_argument("--copy", metavar="DIR",
+                     help="copy the .c and .h files (library and runtime) into DIR")
+
+    _verb(verbs, "list", "the mechanisms this installation has compiled", prog, _list)
     return top
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parser().parse_args(argv)
-    try:
-        return args.run(args)
-    except ValueError as error:  # bad input (LibraryError, ModelError included): one line
-        print(f"error: {error}", file=sys.stderr)
+    top = parser()
+    args = top.parse_args(argv)
+    if args.verb is None:
+        top.print_help(sys.stderr)
         return 2
+    try:
+        status = args.run(args)
+        sys.stdout.flush()
+        return status
+    except ValueError as error:  # bad input (LibraryError, ModelError included): one line
+        print(f"{top.prog}: error: {error}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # the reader left (`| head`): stop quietly, as Unix tools do
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so the interpreter's final flush succeeds
+        return 141  # 128 + SIGPIPE, what a shell reports for a tool killed by the signal

@@ -17,9 +17,14 @@ api = load("doughty")
 from codegen.analysis import analyze
 
 REPO = Path(__file__).resolve().parent.parent
-ROW = re.compile(r"^\s*(-?\d+\.\d{4})\s+(genuine|extraneous)\s")
+ROW = re.compile(r"^\s*(-?\d+\.\d{4})\s+(equilibrium|extraneous)\s")
 ROOT_KEYS = {"theta_deg", "genuine", "M", "B", "K", "omega_n", "zeta"}
 BALANCED_F = (0.143 + 9.124 / 2) * 9.81      # (m_B + m_C/2) g of Table 2: e4 = 0
+
+
+def prose(text: str) -> str:
+    """Output with its line wrapping undone."""
+    return " ".join(text.split())
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -45,19 +50,19 @@ def test_table_has_ten_roots_six_genuine(table_run):
     rows = [ROW.match(line) for line in table_run.stdout.splitlines()]
     rows = [m for m in rows if m]
     assert len(rows) == 10
-    assert sum(m[2] == "genuine" for m in rows) == 6
+    assert sum(m[2] == "equilibrium" for m in rows) == 6
     angles = [float(m[1]) for m in rows]
     assert angles == sorted(angles)
     assert ("10 real roots of the polynomial: 6 equilibria, 4 extraneous (a negative length); "
-            "6 certified by interval enclosures." in table_run.stdout)
+            "6 certified by interval enclosures." in prose(table_run.stdout))
     assert sum(line.split()[2:3] == ["certified"] for line in table_run.stdout.splitlines()
                if ROW.match(line)) == 6
-    assert len(re.findall(r"^\s*sigma_\d+\s*=", table_run.stdout, re.M)) == 13
+    assert not re.findall(r"^\s*sigma_\d+\s*=", table_run.stdout, re.M)  # only with --sigma
 
 
 def test_table_angles_are_the_analysis(table_run):
     rows = [ROW.match(line) for line in table_run.stdout.splitlines()]
-    printed = [(float(m[1]), m[2] == "genuine") for m in rows if m]
+    printed = [(float(m[1]), m[2] == "equilibrium") for m in rows if m]
     ours = [(round(r.theta_deg, 4), r.genuine) for r in analyze(api.example_params()).roots]
     assert printed == ours
 
@@ -161,8 +166,140 @@ def test_isolation_route_from_the_cli_agrees_with_the_polynomial_route(json_run)
 def test_the_torsion_pendulum_is_analysed_by_isolation_and_has_no_polynomial_route():
     table = run("--mechanism", "torsion_pendulum")
     assert table.returncode == 0, table.stderr
-    assert "Certified isolation of the zeros of G: 3 equilibria." in table.stdout
+    assert "Certified isolation of the zeros of G: 3 equilibria." in prose(table.stdout)
     refused = run("--mechanism", "torsion_pendulum", "--method", "polynomial")
     assert refused.returncode == 2
-    assert refused.stderr.startswith("error: torsion_pendulum: G is not algebraic")
+    assert refused.stderr.startswith("python -m codegen: error: torsion_pendulum: G is not "
+                                      "algebraic")
     assert len(refused.stderr.strip().splitlines()) == 1
+
+
+# --------------------------------------------------------------- a well-made Unix tool
+# Each runs the command as a user would: a subprocess, from a folder that is not the checkout.
+
+def cli(*args: str, cwd: Path, command: tuple[str, ...] = (sys.executable, "-m", "codegen"),
+        **kwargs) -> subprocess.CompletedProcess:
+    return subprocess.run([*command, *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=120, **kwargs)
+
+
+def test_help_names_the_command_and_shows_examples(tmp_path):
+    out = cli("--help", cwd=tmp_path)
+    assert out.returncode == 0 and out.stderr == ""
+    assert out.stdout.startswith("usage: python -m codegen ")
+    assert "Layer" not in out.stdout and "examples:" in out.stdout
+    for verb in ("analyze", "generate", "sources", "list"):
+        assert re.search(rf"^\s+{verb}\s+\w", out.stdout, re.M), verb
+        sub = cli(verb, "--help", cwd=tmp_path)
+        assert sub.returncode == 0 and sub.stdout.startswith(f"usage: python -m codegen {verb}")
+        assert f"examples:\n  python -m codegen {verb}" in sub.stdout
+
+
+def test_console_command_has_its_own_name_and_version(tmp_path):
+    import codegen
+
+    command = Path(sys.executable).with_name("mechvib")
+    assert command.is_file(), "the package's console script is not installed"
+    out = cli("--help", cwd=tmp_path, command=(str(command),))
+    assert out.returncode == 0 and out.stdout.startswith("usage: mechvib ")
+    assert "  mechvib analyze" in out.stdout
+    version = cli("--version", cwd=tmp_path, command=(str(command),))
+    assert version.returncode == 0 and version.stdout == f"mechvib {codegen.__version__}\n"
+
+
+def test_bare_command_prints_the_help_and_fails(tmp_path):
+    out = cli(cwd=tmp_path)
+    assert out.returncode == 2 and out.stdout == ""
+    assert out.stderr.startswith("usage: python -m codegen") and "analyze" in out.stderr
+
+
+def test_usage_errors_are_one_line(tmp_path):
+    for args in (("analyze", "--bogus"), ("frobnicate",), ("analyze", "--method", "magic"),
+                 ("analyze", "--set", "F")):
+        out = cli(*args, cwd=tmp_path)
+        assert out.returncode == 2 and out.stdout == ""
+        lines = out.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("python -m codegen"), out.stderr
+        assert "--help" in lines[0]
+
+
+@pytest.mark.parametrize("args", [("analyze",), ("analyze", "--json"), ("analyze", "--wide"),
+                                  ("list",)])
+def test_output_survives_a_closed_pipe(tmp_path, args):
+    """`mechvib analyze | head -1`: the reader leaves early; no traceback, SIGPIPE's status."""
+    process = subprocess.Popen([sys.executable, "-m", "codegen", *args], cwd=tmp_path,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, bufsize=0)
+    process.stdout.read(1)
+    process.stdout.close()
+    stderr = process.stderr.read().decode()
+    process.wait(timeout=120)
+    assert stderr == "", stderr
+    assert process.returncode in (0, 141)   # 0 when the output fitted the pipe before closing
+
+
+@pytest.mark.parametrize("assignment, name", [("F=1e308", "F"), ("k=1e300", "k"),
+                                              ("H=1e200", "H")])
+def test_overflow_is_one_line_naming_the_parameter(tmp_path, assignment, name):
+    out = cli("analyze", "--set", assignment, cwd=tmp_path)
+    assert out.returncode == 2 and out.stdout == ""
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
+    assert re.search(rf"error: {name}\b", lines[0]), lines[0]
+
+
+SHIPPED = ["doughty", "slider_crank", "four_bar", "torsion_pendulum"]
+
+
+@pytest.mark.parametrize("mechanism", SHIPPED)
+def test_table_fits_100_columns_and_wide_shows_everything(tmp_path, mechanism):
+    narrow = cli("analyze", "--mechanism", mechanism, cwd=tmp_path)
+    wide = cli("analyze", "--mechanism", mechanism, "--wide", cwd=tmp_path)
+    assert narrow.returncode == 0 and wide.returncode == 0, narrow.stderr + wide.stderr
+    assert max(map(len, narrow.stdout.splitlines())) <= 100
+    assert "eigenvalues" not in narrow.stdout and "M_EQ" not in narrow.stdout
+    assert "eigenvalues [1/s]" in wide.stdout and "M_EQ" in wide.stdout
+    assert "sigma_0" not in narrow.stdout + wide.stdout
+
+
+def test_extraneous_roots_show_no_physical_quantities(table_run):
+    for line in table_run.stdout.splitlines():
+        if ROW.match(line) and " extraneous " in line:
+            assert line.split()[2:] == ["-"] * 6, line   # proof to damping
+
+
+def test_sigma_option_and_no_negative_zeros(tmp_path):
+    """k = 0 makes the odd sigma_i exact zeros, which used to print as -0.0000000000e+00."""
+    out = cli("analyze", "--set", "k=0", "--sigma", "--wide", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert len(re.findall(r"^\s*sigma_\d+\s*=", out.stdout, re.M)) == 13
+    assert re.search(r"sigma_1\s*=\s+0\.0+e\+00$", out.stdout, re.M)
+    assert not re.search(r"-0\.0+(e[+-]00)?(?![\d])", out.stdout), out.stdout
+    isolated = cli("analyze", "--mechanism", "torsion_pendulum", "--sigma", cwd=tmp_path)
+    assert "No sigma: the isolation route works on G itself." in isolated.stdout
+
+
+def test_list_names_every_shipped_mechanism(tmp_path):
+    out = cli("list", cwd=tmp_path)
+    assert out.returncode == 0
+    assert [line.split()[0] for line in out.stdout.splitlines()] == sorted(SHIPPED)
+
+
+def test_sources_prints_the_folders_and_copies_a_library_that_compiles(tmp_path):
+    out = cli("sources", "--mechanism", "four_bar", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    folders = [Path(line) for line in out.stdout.splitlines()]
+    assert len(folders) == 2 and (folders[0] / "four_bar.h").is_file()
+    assert (folders[1] / "codegen_runtime.h").is_file()
+    copied = cli("sources", "--mechanism", "four_bar", "--copy", "vendor", cwd=tmp_path)
+    assert copied.returncode == 0, copied.stderr
+    sources = sorted((tmp_path / "vendor").glob("*.c"))
+    assert {p.name for p in sources} >= {"four_bar.c", "four_bar_analysis.c"}
+    program = tmp_path / "app.c"
+    program.write_text('#include "four_bar.h"\nint main(void) { four_bar_params p = {0};\n'
+                       '  return four_bar_check_params(&p) == FOUR_BAR_OK; }\n')
+    cc = cli("-std=c99", "-Ivendor", "app.c", *map(str, sources), "-lm", "-o", "app",
+             cwd=tmp_path, command=("gcc",))
+    assert cc.returncode == 0, cc.stderr
+    unknown = cli("sources", "--mechanism", "nonesuch", cwd=tmp_path)
+    assert unknown.returncode == 2 and unknown.stderr.count("\n") == 1
+    assert "nonesuch" in unknown.stderr

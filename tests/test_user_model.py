@@ -242,7 +242,7 @@ def test_generated_c_compiles_standalone_strict(workdir, generated, tmp_path):
 
 # --------------------------------------------------------------------------- bad input
 
-#: Model files that give no Mechanism -> what the one-line error says after "error: FILE".
+#: Model files that give no Mechanism -> what the one-line error says after "PROG: error: FILE".
 BAD_FILES = {
     "no_build.py": ("X = 1\n", ": a model file defines build() -> Mechanism"),
     "not_a_mechanism.py": ("def build():\n    return 42\n",
@@ -253,6 +253,7 @@ BAD_FILES = {
                         ":2: ZeroDivisionError: division by zero"),
     "syntax.py": ("def build(:\n    pass\n", ":1: SyntaxError: "),
 }
+PROG = "python -m codegen"  # the name the CLI gives itself when run as a module
 BAD_MODELS = [(verb, model) for verb in ("generate", "analyze")
               for model in ("missing.py", *BAD_FILES)]
 
@@ -268,7 +269,8 @@ def test_bad_model_is_one_line_and_nonzero_exit(workdir, verb, model):
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1, out.stderr
     if model in BAD_FILES:
-        assert lines[0].startswith(f"error: {model}{BAD_FILES[model][1]}"), lines[0]
+        assert lines[0].startswith(f"{PROG}: error: {model}{BAD_FILES[model][1]}"), lines[0]
     else:
-        assert lines[0].startswith(f"error: {model!r} is neither a shipped mechanism"), lines[0]
+        assert lines[0].startswith(f"{PROG}: error: {model!r} is neither a "
+                                  "shipped mechanism"), lines[0]
     assert not (workdir / "bad").exists()   # nothing generated from a bad model
