@@ -263,8 +263,25 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     return top
 
 
+def foreign_codegen() -> str | None:
+    """The unrelated PyPI distribution `codegen`, when installed beside us: it owns the same
+    import package, so whichever was installed last has overwritten files of the other."""
+    from importlib import metadata
+
+    try:
+        other = metadata.distribution("codegen")
+    except metadata.PackageNotFoundError:
+        return None
+    return f"{other.metadata['Name']} {other.version}"
+
+
 def main(argv: list[str] | None = None) -> int:
     top = parser()
+    other = foreign_codegen()
+    if other:
+        print(f"{top.prog}: warning: the unrelated distribution {other} is installed in this "
+              "environment and shares the import name 'codegen'; use a separate virtual "
+              "environment for mechvib", file=sys.stderr)
     args = top.parse_args(argv)
     if args.verb is None:
         top.print_help(sys.stderr)

@@ -303,3 +303,17 @@ def test_sources_prints_the_folders_and_copies_a_library_that_compiles(tmp_path)
     unknown = cli("sources", "--mechanism", "nonesuch", cwd=tmp_path)
     assert unknown.returncode == 2 and unknown.stderr.count("\n") == 1
     assert "nonesuch" in unknown.stderr
+
+
+def test_the_unrelated_codegen_distribution_is_reported(tmp_path):
+    """PyPI's `codegen` owns the same import package; the CLI says so rather than misbehave."""
+    info = tmp_path / "site" / "codegen-0.57.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: codegen\nVersion: 0.57\n")
+    env = {**os.environ, "PYTHONPATH": str(tmp_path / "site")}
+    out = cli("list", cwd=tmp_path, env=env)
+    assert out.returncode == 0
+    assert out.stderr.startswith("python -m codegen: warning: the unrelated distribution "
+                                 "codegen 0.57 is installed"), out.stderr
+    clean = cli("list", cwd=tmp_path)
+    assert "warning" not in clean.stderr
