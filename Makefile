@@ -1,41 +1,61 @@
-# Every target runs inside the project's virtual environment (.venv), made on demand.
+# Every target that runs Python runs inside the project's virtual environment (.venv), made
+# on demand. `make help` lists the targets: each is described by the `##` comment on its line.
 PYTHON ?= python3
 VENV   ?= .venv
 PY      = $(VENV)/bin/python
+# pyproject.toml's [build-system] requires (tests/test_packaging.py keeps the two equal),
+# installed into .venv so that pip can build without isolation: fast, and offline.
+BUILD_REQUIRES = 'setuptools>=77' 'wheel' 'cffi>=1.16'
+INSTALL = $(PY) -m pip install --quiet --no-build-isolation -e '.[test]'
 
 CC       ?= gcc
 STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
 SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
 
-.PHONY: all venv analyze generate check build test test-all lint sanitize bench clean
+.PHONY: all help venv analyze generate check build test test-all lint sanitize example bench clean
+.DEFAULT_GOAL := all
+# The targets share .venv, generated/ and the in-place extensions: one at a time, even with -j.
+.NOTPARALLEL:
 
-all: generate build test
+all:  ## generate, then rebuild the extensions if generated/ changed, then `make test`
+	$(MAKE) --no-print-directory generate
+	$(MAKE) --no-print-directory test
+
+help:  ## list the targets
+	@awk 'BEGIN {FS = ":.*## "} /^[a-z][a-z-]*:.*## / {printf "  %-9s %s\n", $$1, $$2}' \
+	  $(MAKEFILE_LIST)
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 
-venv: $(VENV)/.installed
-$(VENV)/.installed: pyproject.toml setup.py codegen/build_ext.py $(wildcard generated/*/*) $(PY)
-	$(PY) -m pip install --quiet -e '.[test]'
+$(VENV)/.build-requires: | $(PY)
+	$(PY) -m pip install --quiet $(BUILD_REQUIRES)
 	touch $@
 
-generate: venv  ## regenerate generated/ from the model (byte-for-byte reproducible)
+venv: $(VENV)/.installed  ## make .venv: build requirements, then this package (editable) and its test extras
+$(VENV)/.installed: pyproject.toml setup.py codegen/__init__.py codegen/build_ext.py \
+                    $(wildcard generated/*/*) $(VENV)/.build-requires
+	$(INSTALL)
+	touch $@
+
+generate: venv  ## regenerate generated/ from the models (byte-for-byte reproducible; unchanged files untouched)
 	$(PY) -m codegen generate
 
 check: venv  ## fail if generated/ differs from what the generator emits now
 	$(PY) -m codegen generate --check
 
-build: venv  ## rebuild the cffi extension in place after editing generated/
-	$(PY) -m pip install --quiet --no-build-isolation -e .
+build: $(VENV)/.build-requires  ## rebuild the cffi extensions in place now (`venv` does it when generated/ changed)
+	$(INSTALL)
+	touch $(VENV)/.installed
 
 analyze: venv  ## the paper's example: every equilibrium and its vibration (Table 3)
 	$(PY) -m codegen analyze
 
-test: venv check  ## generated/ up to date, then the test suite without the slow property runs
+test: venv check  ## generated/ up to date, then the test suite without the slow runs
 	$(PY) -m pytest -m "not slow"
 
-test-all: venv check  ## what CI runs: the whole suite, slow property runs included
+test-all: venv check  ## what CI runs: the whole suite, slow runs (property runs, the wheel) included
 	$(PY) -m pytest
 
 LIBS = $(patsubst generated/%/,%,$(filter-out generated/runtime/,$(wildcard generated/*/)))
@@ -60,8 +80,17 @@ sanitize:  ## C drivers under AddressSanitizer + UBSan: every library (random/ho
 	    generated/$$lib/*.c generated/runtime/*.c -lm -o build/driver_$$lib && \
 	  ASAN_OPTIONS=detect_leaks=1 ./build/driver_$$lib 800 || exit 1; done
 
+example: build/minimal  ## compile examples/minimal.c with the doughty library into build/minimal, and run it
+	./build/minimal
+
+build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/runtime/*.[ch])
+	mkdir -p build
+	$(CC) $(STRICT) -O2 -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
+	  generated/doughty/*.c generated/runtime/*.c -lm -o $@
+
 bench: venv  ## time the compiled functions (see benchmarks/)
 	$(PY) benchmarks/run.py
 
-clean:
-	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed
+clean:  ## remove what builds leave (build/, dist/, egg-info, the in-place extensions); the next target reinstalls
+	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed minimal
+	rm -f generated/*/*.o

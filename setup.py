@@ -1,9 +1,55 @@
-# cffi's setuptools hook is only reachable from setup(); everything else is in pyproject.toml.
+# cffi's setuptools hook and the package data below are only reachable from setup();
+# everything else is in pyproject.toml.
 # One extension per library folder in generated/ (see codegen/build_ext.py).
+# The wheel (and a non-editable install) also carries, inside the package, the C library of
+# every shipped mechanism and the templates, where codegen.resources finds them:
+#   generated/NAME/*, generated/runtime/*  ->  codegen/data/generated/...
+#   templates/*.j2, templates/runtime/*    ->  codegen/data/templates/...
+# An editable install reads the checkout's own folders instead and copies nothing.
 from pathlib import Path
 
 from setuptools import setup
+from setuptools.command.build_py import build_py
 
 LIBRARIES = sorted(p.name for p in Path("generated").iterdir()
                    if (p / f"{p.name}_api.json").is_file())
-setup(cffi_modules=[f"codegen/build_ext.py:ffi_{name}" for name in LIBRARIES])
+RUNTIME = "runtime"
+#: What a library folder ships (not the objects a compiler may leave beside the sources).
+SHIPPED_SUFFIXES = (".c", ".h", ".cdef", ".json")
+
+
+def data_files() -> list[tuple[Path, Path]]:
+    """(source, destination inside the package) for every file of codegen/data/."""
+    pairs = []
+    for folder in LIBRARIES + [RUNTIME]:
+        for src in sorted(Path("generated", folder).iterdir()):
+            if src.is_file() and src.suffix in SHIPPED_SUFFIXES:
+                pairs.append((src, Path("data", "generated", folder, src.name)))
+    for src in sorted(Path("templates").glob("*.j2")):
+        pairs.append((src, Path("data", "templates", src.name)))
+    for src in sorted(Path("templates", RUNTIME).iterdir()):
+        if src.is_file():
+            pairs.append((src, Path("data", "templates", RUNTIME, src.name)))
+    return pairs
+
+
+class build_py_with_data(build_py):
+    """build_py, then the generated libraries and the templates into codegen/data/."""
+
+    def run(self):
+        super().run()
+        if not self.editable_mode:
+            for src, dst in data_files():
+                target = Path(self.build_lib, "codegen", dst)
+                self.mkpath(str(target.parent))
+                self.copy_file(str(src), str(target))
+
+    def get_outputs(self, include_bytecode=True):
+        outputs = super().get_outputs(include_bytecode)
+        if self.editable_mode:
+            return outputs
+        return outputs + [str(Path(self.build_lib, "codegen", dst)) for _, dst in data_files()]
+
+
+setup(cffi_modules=[f"codegen/build_ext.py:ffi_{name}" for name in LIBRARIES],
+      cmdclass={"build_py": build_py_with_data})

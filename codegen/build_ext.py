@@ -4,6 +4,9 @@ setuptools runs this through ``cffi_modules`` on ``pip install .`` / ``pip insta
 every folder of generated/ holding a library (NAME/NAME_api.json) becomes the module
 ``codegen._native_NAME``, compiled from its sources and the shared runtime. ``build_into``
 does the same for a user's library, into any folder.
+setuptools executes this file by path (not as part of the package), from the source tree
+(a checkout or an unpacked sdist): it imports nothing of codegen. Imported from an installed
+package it defines no builders (there is no source tree), and ``build_into`` still works.
 The strict warning flags are applied to generated/ by the test suite (cffi's own wrapper
 code is not -Wpedantic clean, so it is not held to them here).
 """
@@ -17,6 +20,8 @@ from cffi import FFI
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
+#: True when this file is in a source tree (setup.py beside codegen/), not installed.
+SOURCE_TREE = (ROOT / "setup.py").is_file()
 RUNTIME = "runtime"
 COMPILE_FLAGS = ["-std=c99", "-O2"]
 
@@ -67,7 +72,7 @@ def build_into(out: Path, name: str) -> Path:
 
 
 # One builder per shipped library, named for setup.py's cffi_modules ("...:ffi_NAME").
-BUILDERS = {name: make_builder(name) for name in libraries()}
+BUILDERS = {name: make_builder(name) for name in libraries()} if SOURCE_TREE else {}
 globals().update({f"ffi_{name}": builder for name, builder in BUILDERS.items()})
 
 if __name__ == "__main__":  # an in-place build for development: codegen/_native_*.so

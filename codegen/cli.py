@@ -105,19 +105,21 @@ def _generate(args) -> int:
         print(f"wrote and built {library.PREFIX} ({library.TITLE}) in {out} "
               f"in {time.perf_counter() - start:.1f} s")
         return 0
-    out = Path(args.out) if args.out else generate.GENERATED
+    out = Path(args.out) if args.out else generate.default_output()
     names = [args.mechanism] if args.mechanism else list(generate.SHIPPED)
+    cache = None if args.no_cache else generate.default_cache()
     if args.check:
-        diff = generate.stale(out, names)
+        diff = generate.stale(out, names, cache=cache)
         if diff:
             sys.stdout.write(diff)
-            print(f"{out} is stale: run `make generate` and commit the result", file=sys.stderr)
+            print(f"{out} is stale: regenerate it (`make generate` in a checkout) and commit "
+                  "the result", file=sys.stderr)
             return 1
         print(f"{out} is up to date ({time.perf_counter() - start:.1f} s)")
         return 0
-    files = generate.write(out, names)
-    print(f"wrote {len(files)} files to {out} in {time.perf_counter() - start:.1f} s: "
-          + ", ".join(files))
+    files = generate.write(out, names, cache=cache)
+    changed = ": " + ", ".join(files) if files else " (every file was already up to date)"
+    print(f"wrote {len(files)} files to {out} in {time.perf_counter() - start:.1f} s{changed}")
     return 0
 
 
@@ -248,10 +250,14 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
 
     gen = _verb(verbs, "generate", "derive the mechanics and write the C library", prog,
                 _generate)
-    _mechanism_options(gen, "output folder (default: generated/, or build/codegen for --model; "
-                            "with --model the library is also built there)")
+    _mechanism_options(gen, "output folder (default: the checkout's generated/, or ./generated "
+                            "when installed; build/codegen for --model, where the library is "
+                            "also built)")
     gen.add_argument("--check", action="store_true",
                      help="only compare the folder with what would be written; exit 1 if stale")
+    gen.add_argument("--no-cache", action="store_true",
+                     help="derive every mechanism again, even where nothing it is made from "
+                          "changed since the last run in this checkout (build/generate-cache)")
 
     src = _verb(verbs, "sources", "print the folders of a library's C sources, or copy them",
                 prog, _sources)

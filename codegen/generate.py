@@ -2,29 +2,83 @@
 
 Each mechanism's library goes to its own folder (generated/NAME/); the hand-written runtime
 (templates/runtime/) is copied once, unchanged, to generated/runtime/, shared by all.
+
+The templates are the checkout's templates/, or the copy inside an installed package
+(codegen.resources). The default output folder, ``GENERATED``, is the checkout's generated/ in
+a checkout, else ./generated of the current directory: an installed package never writes
+into its own folder.
 """
 from __future__ import annotations
 
 import difflib
+import hashlib
+import json
+import sys
 import warnings
 from pathlib import Path
 
 import sympy
 
+from . import resources
 from .derivation import derive
 from .emission.plan import build_plan
 from .emission.render import render
 from .model import SHIPPED, Mechanism, load
 
-ROOT = Path(__file__).resolve().parent.parent
-TEMPLATES = ROOT / "templates"
-GENERATED = ROOT / "generated"
+TEMPLATES = resources.templates()
 RUNTIME = "runtime"
 BUILD_BYPRODUCTS = (".o",)  # objects a compiler may leave beside the sources
 
 #: The SymPy release the committed generated/ was produced and tested with (pyproject pins it);
 #: common-subexpression elimination and printing may differ between releases.
 TESTED_SYMPY = "1.14.0"
+
+
+def default_output() -> Path:
+    """Where generate writes unless told: the checkout's generated/, or ./generated (the
+    current directory's, at the time of the call) when the package is installed."""
+    return resources.generated() if resources.in_checkout() else Path.cwd() / "generated"
+
+
+def __getattr__(name: str):
+    # GENERATED is computed on access, so that ./generated follows the current directory.
+    if name == "GENERATED":
+        return default_output()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def default_cache() -> Path | None:
+    """Where the command line keeps what it derived (a checkout's build/), None installed."""
+    return resources.ROOT / "build" / "generate-cache" if resources.in_checkout() else None
+
+
+def fingerprint(name: str, templates: Path = TEMPLATES) -> str:
+    """A digest of everything a shipped mechanism's files are made from: every source file of
+    the package (its model included), the templates, and the SymPy, Jinja2 and Python
+    versions. Equal digests give byte-identical files, so a cached result can stand in."""
+    import jinja2
+
+    digest = hashlib.sha256(f"{name} {sympy.__version__} {jinja2.__version__} "
+                            f"{sys.version_info[:2]}".encode())
+    sources = sorted(resources.PACKAGE.rglob("*.py")) + sorted(
+        p for p in templates.rglob("*") if p.is_file())
+    for path in sources:
+        digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def _emit_shipped(name: str, templates: Path, cache: Path | None) -> dict[str, str]:
+    """emit(load(name)), or its files from the cache when nothing they are made from changed."""
+    entry = cache / f"{name}-{fingerprint(name, templates)}.json" if cache else None
+    if entry is not None and entry.is_file():
+        return json.loads(entry.read_text())
+    files = emit(load(name), templates)
+    if entry is not None:
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        for old in entry.parent.glob(f"{name}-*.json"):
+            old.unlink()
+        entry.write_text(json.dumps(files))
+    return files
 
 
 def _present(out: Path) -> set[str]:
@@ -46,37 +100,47 @@ def runtime(templates: Path = TEMPLATES) -> dict[str, str]:
     return {p.name: p.read_text() for p in sorted((templates / RUNTIME).iterdir()) if p.is_file()}
 
 
-def emit_all(names=SHIPPED, templates: Path = TEMPLATES) -> dict[str, dict[str, str]]:
-    """Folder -> its files, for the runtime and every named mechanism."""
+def emit_all(names=SHIPPED, templates: Path = TEMPLATES, cache: Path | None = None
+             ) -> dict[str, dict[str, str]]:
+    """Folder -> its files, for the runtime and every named (shipped) mechanism; with a cache
+    folder, a mechanism is derived again only when its fingerprint changed."""
     folders = {RUNTIME: runtime(templates)}
     for name in names:
-        mechanism = load(name)
-        folders[mechanism.name] = emit(mechanism, templates)
+        folders[name] = _emit_shipped(name, templates, cache)
     return folders
 
 
 def write_folder(out: Path, files: dict[str, str]) -> list[str]:
-    """Write files into out (only those that changed), removing stale ones."""
+    """Write files into out, removing stale ones; the names written (unchanged files are left
+    alone, so their times do not trigger rebuilds)."""
     out.mkdir(parents=True, exist_ok=True)
     for stale_file in _present(out) - set(files):
         (out / stale_file).unlink()
+    written = []
     for name, text in files.items():
         path = out / name
         if not path.is_file() or path.read_text() != text:
             path.write_text(text)
-    return sorted(files)
+            written.append(name)
+    return sorted(written)
 
 
-def write(out: Path = GENERATED, names=SHIPPED, templates: Path = TEMPLATES) -> list[str]:
-    folders = emit_all(names, templates)
+def write(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
+          cache: Path | None = None) -> list[str]:
+    """Write the runtime and every named mechanism into out (default: default_output());
+    the files that changed, as FOLDER/NAME."""
+    out = default_output() if out is None else Path(out)
+    folders = emit_all(names, templates, cache)
     return [f"{folder}/{name}" for folder, files in folders.items()
             for name in write_folder(out / folder, files)]
 
 
-def stale(out: Path = GENERATED, names=SHIPPED, templates: Path = TEMPLATES) -> str:
+def stale(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
+          cache: Path | None = None) -> str:
     """A unified diff of committed files against what the generator emits now ('' if none)."""
+    out = default_output() if out is None else Path(out)
     diff = []
-    folders = emit_all(names, templates)
+    folders = emit_all(names, templates, cache)
     present = {p.name for p in out.iterdir() if p.is_dir()} if out.is_dir() else set()
     for folder in sorted(set(folders) | present):
         files = folders.get(folder, {})

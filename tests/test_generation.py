@@ -29,7 +29,7 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 def _generate_with_seed(seed: str, out: Path) -> dict[str, bytes]:
     env = {**os.environ, "PYTHONHASHSEED": seed}
-    subprocess.run([sys.executable, "-m", "codegen", "generate", "--out", str(out)],
+    subprocess.run([sys.executable, "-m", "codegen", "generate", "--no-cache", "--out", str(out)],
                    check=True, env=env, cwd=ROOT, capture_output=True)
     return _files(out)
 
@@ -152,3 +152,27 @@ def test_pinned_sympy_is_the_one_installed():
 
     assert sympy.__version__ == generate.TESTED_SYMPY
     assert f"sympy=={generate.TESTED_SYMPY}" in (ROOT / "pyproject.toml").read_text()
+
+
+def test_the_command_lines_cache_stands_in_only_for_unchanged_inputs(tmp_path, monkeypatch):
+    """`make generate`/`make check` reuse a mechanism's files when its fingerprint (package
+    sources, templates, versions) is unchanged; any change derives it again."""
+    name = "torsion_pendulum"
+    first = generate.emit_all([name], cache=tmp_path / "cache")
+    assert first == generate.emit_all([name])            # the cache holds what emit gives
+    entries = list((tmp_path / "cache").glob(f"{name}-*.json"))
+    assert len(entries) == 1
+
+    def no_derivation(*args, **kwargs):
+        raise AssertionError("derived although the cache holds this fingerprint")
+
+    monkeypatch.setattr(generate, "emit", no_derivation)
+    assert generate.emit_all([name], cache=tmp_path / "cache") == first
+    templates = tmp_path / "templates"
+    shutil.copytree(generate.TEMPLATES, templates)
+    assert generate.fingerprint(name, templates) == generate.fingerprint(name)
+    with open(templates / "library.c.j2", "a") as f:
+        f.write("{# a changed template #}\n")
+    assert generate.fingerprint(name, templates) != generate.fingerprint(name)
+    with pytest.raises(AssertionError, match="derived although"):
+        generate.emit_all([name], templates, cache=tmp_path / "cache")

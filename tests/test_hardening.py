@@ -1,7 +1,8 @@
 """Memory safety and warnings: the sanitizer driver and the linters, run as tests.
 
-Locally a missing tool skips its test; in CI (CI=true) a missing tool fails, because
-.ci/run installs them.
+Locally a missing tool skips its test; in CI (the environment variable CI set, as .ci/run
+does) a missing tool fails, because .ci/run installs them. Either way the message names the
+missing tools and the command that installs them.
 """
 from __future__ import annotations
 
@@ -15,11 +16,27 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _need(tool: str) -> None:
-    if shutil.which(tool) is None:
-        if os.environ.get("CI"):
-            pytest.fail(f"{tool} is not installed; .ci/run should have installed it")
-        pytest.skip(f"{tool} not installed")
+def _in_ci() -> bool:
+    """CI is set (to anything but an explicit no: '', 0, false, no)."""
+    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
+
+
+def missing_tools_message(missing: list[str]) -> str:
+    """What is missing and how to install it (Debian/Ubuntu package names = tool names)."""
+    return (f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed: "
+            f"install with `apt-get install {' '.join(missing)}` (Debian/Ubuntu; .ci/run does "
+            f"this in CI)")
+
+
+def _need(*tools: str) -> None:
+    """Fail (in CI) or skip (locally) unless every tool is on PATH."""
+    missing = [tool for tool in tools if shutil.which(tool) is None]
+    if not missing:
+        return
+    message = missing_tools_message(missing)
+    if _in_ci():
+        pytest.fail(f"{message} [CI is set, so this fails instead of skipping]", pytrace=False)
+    pytest.skip(message)
 
 
 def _make(target: str) -> str:
@@ -43,7 +60,30 @@ def test_sanitizers_report_nothing():
 
 
 def test_gcc_clang_and_cppcheck_are_clean():
-    for tool in ("gcc", "clang", "cppcheck"):
-        _need(tool)
+    _need("gcc", "clang", "cppcheck")
     out = _make("lint")
     assert "warning" not in out.lower().replace("-w", "").replace("--enable=warning", "")
+
+
+@pytest.mark.parametrize("ci", [None, "1", "true", "0", "false"])
+def test_a_missing_tool_fails_in_ci_and_skips_otherwise(monkeypatch, ci):
+    """The message names the missing tools and their install command; CI=1 (what .ci/run
+    exports) fails, no CI (or CI=0/false) skips."""
+    present = {"gcc"}
+    monkeypatch.setattr(shutil, "which", lambda tool: f"/usr/bin/{tool}" if tool in present
+                        else None)
+    if ci is None:
+        monkeypatch.delenv("CI", raising=False)
+    else:
+        monkeypatch.setenv("CI", ci)
+    expected = (pytest.fail.Exception if ci in ("1", "true") else pytest.skip.Exception)
+    with pytest.raises(expected) as raised:
+        _need("gcc", "clang", "cppcheck")
+    message = str(raised.value)
+    assert "clang, cppcheck are not installed" in message
+    assert "`apt-get install clang cppcheck`" in message
+    _need("gcc")  # present: neither fails nor skips
+
+
+def test_ci_script_sets_ci():
+    assert "export CI=1" in (ROOT / ".ci" / "run").read_text()
