@@ -15,16 +15,26 @@ two routes:
 
 ``"auto"`` (the default) takes the polynomial route where there is one. Every equilibrium
 carries M, B, K, omega_n, zeta, eigenvalues, stability and damping (omega_n and zeta are NaN
-where M = 0: statics need no inertia). Angles are radians here, degrees on the command line.
+where M = 0: statics need no inertia).
+
+Units: angles are radians in every field here (``theta``, ``theta_lo``, ``lo``, ...), each
+with a ``..._deg`` property in degrees; ``Analysis.to_dict()`` (the JSON the command line
+prints) gives degrees under ``_deg`` names. Everything else is SI, for a mechanism whose
+independent coordinate is an angle: G [N m], M [kg m^2], B [N m s], K [N m] (per rad),
+omega_n [rad/s], eigenvalues [1/s], zeta dimensionless.
+
+Analyses pickle (their params are rebuilt from their library's origin), so
+``multiprocessing.get_context("spawn").Pool().map(analyze, sets)`` works.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from typing import Any, Literal
 
 import numpy as np
 
-from .library import Library
+from .library import Library, ParameterSet
 
 # The C enums' values, in order (templates/analysis.h.j2).
 STABILITY = ("stable", "marginal", "unstable")
@@ -33,37 +43,57 @@ KINDS = ("equilibrium", "other assembly mode", "extraneous")
 UNCERTAINTIES = ("cluster", "singular")
 METHODS = ("auto", "polynomial", "isolate")
 
+#: A route's name, as ``analyze`` takes it.
+Method = Literal["auto", "polynomial", "isolate"]
+
 
 @dataclass(frozen=True)
 class Equilibrium:
+    """One real root of the equilibrium equation: where it is, what it is, and its
+    linearised vibration. Angles in radians (``theta_deg``, ``theta_lo_deg``,
+    ``theta_hi_deg`` in degrees); M, B, K and omega_n as for an angle coordinate."""
+
     theta: float           # theta_E [rad]
     theta_lo: float        # an interval [rad] holding theta_E; when certified, G has exactly
-    theta_hi: float        #   one zero in it (G changes sign, G' keeps its sign)
+    theta_hi: float        #   one zero in it (G changes sign, G' keeps its sign) [rad]
     certified: bool        # proven to exist, in [theta_lo, theta_hi]
     genuine: bool          # an equilibrium of the declared mode (kind == "equilibrium")
     kind: str              # one of KINDS
     residual: float        # G(theta_E) [N m]
-    relative_residual: float  # |G(theta_E)| over the size of its terms
-    M: float
-    B: float
-    K: float
-    omega_n: complex
-    zeta: complex
-    eigenvalues: tuple[complex, complex]
-    stability: str
-    damping: str
+    relative_residual: float  # |G(theta_E)| over the size of its terms [1]
+    M: float               # M_EQ, the inertia at theta_E [kg m^2]
+    B: float               # B_EQ, the damping [N m s]
+    K: float               # K_EQ = G'(theta_E), the stiffness [N m] (per rad)
+    omega_n: complex       # natural frequency sqrt(K/M) [rad/s]; imaginary where K < 0,
+                           #   NaN where M = 0
+    zeta: complex          # damping ratio B/(2 M omega_n) [1]; NaN where M = 0
+    eigenvalues: tuple[complex, complex]  # roots of M s^2 + B s + K [1/s]
+    stability: str         # one of STABILITY
+    damping: str           # one of DAMPING
 
     @property
     def theta_deg(self) -> float:
+        """theta_E [deg]."""
         return math.degrees(self.theta)
+
+    @property
+    def theta_lo_deg(self) -> float:
+        """The lower end of the interval holding theta_E [deg]."""
+        return math.degrees(self.theta_lo)
+
+    @property
+    def theta_hi_deg(self) -> float:
+        """The upper end of the interval holding theta_E [deg]."""
+        return math.degrees(self.theta_hi)
 
 
 @dataclass(frozen=True)
 class Uncertain:
-    """An interval the certified isolation could not decide in double precision."""
+    """An interval the certified isolation could not decide in double precision. Ends in
+    radians (``lo_deg``, ``hi_deg`` in degrees)."""
 
-    lo: float              # [rad]
-    hi: float
+    lo: float              # lower end [rad]
+    hi: float              # upper end [rad]
     kind: str              # "cluster": G and G' within rounding of 0 (a fold, a pair too close
                            # to separate, or a near-double complex pair: none); "singular":
                            # G undefined or not smooth inside (a pole, a limit position)
@@ -72,29 +102,51 @@ class Uncertain:
 
     @property
     def lo_deg(self) -> float:
+        """The lower end [deg]."""
         return math.degrees(self.lo)
 
     @property
     def hi_deg(self) -> float:
+        """The upper end [deg]."""
         return math.degrees(self.hi)
 
 
 @dataclass(frozen=True)
 class Analysis:
-    params: object
+    """Every equilibrium of one parameter set, by one route. Angles in radians (the
+    ``_deg`` properties and ``to_dict`` give degrees)."""
+
+    params: ParameterSet               # the parameter set analysed (SI units)
     sigma: tuple[float, ...]           # the polynomial route's sigma_i; () after isolation
-    roots: tuple[Equilibrium, ...]
+    roots: tuple[Equilibrium, ...]     # every classified root, by angle
     singular: tuple[float, ...] = ()  # angles [rad] of roots where a square root is zero
     unassembled: tuple[float, ...] = ()  # angles [rad] of roots where it cannot be assembled
-    uncertain: tuple[Uncertain, ...] = ()
+    uncertain: tuple[Uncertain, ...] = ()  # what the isolation route could not decide
     method: str = "polynomial"        # the route taken: "polynomial" or "isolate"
 
     @property
     def equilibria(self) -> tuple[Equilibrium, ...]:
+        """The genuine equilibria (of the declared assembly mode)."""
         return tuple(r for r in self.roots if r.genuine)
 
-    def to_dict(self) -> dict:
-        """JSON-ready; an infinite zeta (K = 0 with B > 0) becomes null, never Infinity."""
+    @property
+    def singular_deg(self) -> tuple[float, ...]:
+        """``singular`` [deg]."""
+        return tuple(math.degrees(t) for t in self.singular)
+
+    @property
+    def unassembled_deg(self) -> tuple[float, ...]:
+        """``unassembled`` [deg]."""
+        return tuple(math.degrees(t) for t in self.unassembled)
+
+    @property
+    def library(self) -> Library:
+        """The library the parameter set belongs to."""
+        return type(self.params).library
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready, angles in degrees (keys ending in _deg), everything else SI; an
+        infinite zeta (K = 0 with B > 0) becomes null, never Infinity."""
         def finite(x: float) -> float | None:
             return x if math.isfinite(x) else None
 
@@ -108,22 +160,22 @@ class Analysis:
             "roots": [{
                 "theta_deg": r.theta_deg, "genuine": r.genuine, "kind": r.kind,
                 "certified": r.certified,
-                "theta_interval_deg": [math.degrees(r.theta_lo), math.degrees(r.theta_hi)],
+                "theta_interval_deg": [r.theta_lo_deg, r.theta_hi_deg],
                 "residual": r.residual,
                 "relative_residual": r.relative_residual, "M": r.M, "B": r.B, "K": r.K,
                 "omega_n": pair(r.omega_n), "zeta": pair(r.zeta),
                 "eigenvalues": [pair(z) for z in r.eigenvalues],
                 "stability": r.stability, "damping": r.damping,
             } for r in self.roots],
-            "singular_roots_deg": [math.degrees(t) for t in self.singular],
-            "unassembled_roots_deg": [math.degrees(t) for t in self.unassembled],
+            "singular_roots_deg": list(self.singular_deg),
+            "unassembled_roots_deg": list(self.unassembled_deg),
             "uncertain": [{"interval_deg": [u.lo_deg, u.hi_deg], "kind": u.kind,
                            "mode": u.mode, "sign_change": u.sign_change}
                           for u in self.uncertain],
         }
 
 
-def _equilibrium(e) -> Equilibrium:
+def _equilibrium(e: Any) -> Equilibrium:
     scale = e.residual_scale
     return Equilibrium(
         theta=e.theta, theta_lo=e.theta_lo, theta_hi=e.theta_hi, certified=bool(e.certified),
@@ -131,12 +183,12 @@ def _equilibrium(e) -> Equilibrium:
         relative_residual=abs(e.residual) / scale if scale else 0.0,
         M=e.M, B=e.B, K=e.K,
         omega_n=complex(e.omega_n[0], e.omega_n[1]), zeta=complex(e.zeta[0], e.zeta[1]),
-        eigenvalues=tuple(complex(e.eigen_re[i], e.eigen_im[i]) for i in range(2)),
+        eigenvalues=(complex(e.eigen_re[0], e.eigen_im[0]), complex(e.eigen_re[1], e.eigen_im[1])),
         stability=STABILITY[e.stability], damping=DAMPING[e.damping],
     )
 
 
-def _from_c(params, result, method: str) -> Analysis:
+def _from_c(params: ParameterSet, result: Any, method: str) -> Analysis:
     return Analysis(params, tuple(result.sigma) if method == "polynomial" else (),
                     tuple(_equilibrium(result.roots[i]) for i in range(result.n_roots)),
                     tuple(result.singular_theta[i] for i in range(result.n_singular)),
@@ -147,15 +199,16 @@ def _from_c(params, result, method: str) -> Analysis:
                     method)
 
 
-def _library(params) -> Library:
+def _library(params: ParameterSet) -> Library:
     library = getattr(type(params), "library", None)
     if library is None:
         raise TypeError("analyze takes the Params of a library (Library.example_params())")
     return library
 
 
-def route(library: Library, method: str = "auto") -> str:
-    """The route a method name takes for this library: "polynomial" or "isolate"."""
+def route(library: Library, method: Method = "auto") -> Literal["polynomial", "isolate"]:
+    """The route a method name takes for this library: "polynomial" or "isolate". Raises
+    ValueError for an unknown method, or "polynomial" where G is not algebraic."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, not {method!r}")
     if method == "auto":
@@ -166,24 +219,37 @@ def route(library: Library, method: str = "auto") -> str:
     return method
 
 
-def _entry(library: Library, method: str, batch: bool = False):
+def _entry(library: Library, method: str, batch: bool = False) -> Any:
     name = {"polynomial": "analyze", "isolate": "isolate"}[method]
     return getattr(library.lib, f"{library.PREFIX}_{name}{'_batch' if batch else ''}")
 
 
-def analyze(params, method: str = "auto") -> Analysis:
-    """Every equilibrium for ``params`` (a Library's Params), by the route ``method`` names
-    ("auto", "polynomial" or "isolate"), classified and linearised."""
+def analyze(params: ParameterSet, method: Method = "auto") -> Analysis:
+    """Every equilibrium for ``params`` (a Library's Params, SI units), by the route
+    ``method`` names ("auto", "polynomial" or "isolate"), classified and linearised; angles
+    in radians.
+
+    Raises LibraryError (a ValueError) naming the parameter(s) responsible and their values,
+    e.g. "F: a result is too large to represent (F=1e+308)"; ValueError for an unknown or
+    unavailable method; TypeError if params is not a library's Params.
+    """
     library = _library(params)
     taken = route(library, method)
-    result = library.ffi.new(f"{library.PREFIX}_analysis *")
-    library.check(_entry(library, taken)(library._c_params(params), result), asdict(params))
+    entry, analysis_type = _entry(library, taken), f"{library.PREFIX}_analysis *"
+    result = library.ffi.new(analysis_type)
+
+    def rerun(values: Any) -> int:
+        return entry(library._c_params(values), library.ffi.new(analysis_type))
+
+    library.check(entry(library._c_params(params), result), params, rerun=rerun)
     return _from_c(params, result, taken)
 
 
-def analyze_batch(table, library: Library, method: str = "auto"
+def analyze_batch(table: np.ndarray, library: Library, method: Method = "auto"
                   ) -> tuple[list[Analysis | None], np.ndarray]:
-    """analyze over a params_array; (analyses, statuses), None where an item failed."""
+    """analyze over a params_array (numpy structured array of parameter sets, SI units), in
+    one C call: (analyses, statuses), None where an item failed; statuses holds the C status
+    of each item (0: OK; ``library.error(status, params)`` explains one)."""
     ffi, P = library.ffi, library.PREFIX
     taken = route(library, method)
     table = np.ascontiguousarray(table, dtype=library.PARAMS_DTYPE)

@@ -191,9 +191,12 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
 
 
 def api_spec(plan: Plan) -> str:
-    """What the Python wrapper needs to call every function, as JSON."""
+    """What the Python wrapper needs to call and document every function, as JSON: each
+    input and output with its size and its description (units in brackets, as in the
+    plan). Keys sorted, so the text depends only on the plan."""
     def arg(x):
-        return {"name": x.name, "size": plan.sizes[x.size] if x.size else None}
+        return {"name": x.name, "size": plan.sizes[x.size] if x.size else None,
+                "description": x.description}
 
     spec = {
         "prefix": plan.prefix,
