@@ -14,8 +14,9 @@ import os
 from functools import lru_cache
 from pathlib import Path
 
-from .library import (Argument, Function, Library, LibraryError, LibraryFunction, ParameterSet,
-                      ParamsLike)
+from .errors import LibraryError
+from .functions import Argument, Function, LibraryFunction
+from .library import Library, ParameterSet, ParamsLike
 
 NATIVE = "_native_{}"
 

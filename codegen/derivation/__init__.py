@@ -4,6 +4,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
+from sympy.core import random as sympy_random
+
 from ..model import Mechanism
 from .dynamics import Dynamics, derive_dynamics
 from .equilibrium import Equilibrium, derive_equilibrium
@@ -30,8 +32,15 @@ class Derivation:
         return expr.subs(self.freezer)
 
 
+#: SymPy's multivariate factorisation (Wang's algorithm) draws random evaluation points; an
+#: unlucky draw made one derivation take over ten minutes instead of seconds. Seeding SymPy's
+#: generator at the start of each derivation makes its time as reproducible as its output.
+RANDOM_SEED = 20261123
+
+
 @lru_cache(maxsize=None)
 def derive(mechanism: Mechanism) -> Derivation:
+    sympy_random.seed(RANDOM_SEED)
     state = StateSymbols.of(mechanism)
     freezer = state.freezer(mechanism)
     kinematics = derive_kinematics(mechanism)                          # steps 3-6
