@@ -219,7 +219,8 @@ def route(library: Library, method: Method = "auto") -> Literal["polynomial", "i
     return method
 
 
-def _entry(library: Library, method: str, batch: bool = False) -> Any:
+def entry(library: Library, method: str, batch: bool = False) -> Any:
+    """The C entry point of a route ("polynomial" or "isolate"), or its batch form."""
     name = {"polynomial": "analyze", "isolate": "isolate"}[method]
     return getattr(library.lib, f"{library.PREFIX}_{name}{'_batch' if batch else ''}")
 
@@ -235,13 +236,13 @@ def analyze(params: ParameterSet, method: Method = "auto") -> Analysis:
     """
     library = _library(params)
     taken = route(library, method)
-    entry, analysis_type = _entry(library, taken), f"{library.PREFIX}_analysis *"
+    c_entry, analysis_type = entry(library, taken), f"{library.PREFIX}_analysis *"
     result = library.ffi.new(analysis_type)
 
     def rerun(values: Any) -> int:
-        return entry(library._c_params(values), library.ffi.new(analysis_type))
+        return c_entry(library._c_params(values), library.ffi.new(analysis_type))
 
-    library.check(entry(library._c_params(params), result), params, rerun=rerun)
+    library.check(c_entry(library._c_params(params), result), params, rerun=rerun)
     return _from_c(params, result, taken)
 
 
@@ -255,7 +256,7 @@ def analyze_batch(table: np.ndarray, library: Library, method: Method = "auto"
     table = np.ascontiguousarray(table, dtype=library.PARAMS_DTYPE)
     results = ffi.new(f"{P}_analysis[]", len(table))
     statuses = np.zeros(len(table), dtype=np.intc)
-    _entry(library, taken, batch=True)(
+    entry(library, taken, batch=True)(
         len(table), ffi.from_buffer(f"{P}_params[]", table), results,
         ffi.from_buffer(f"{P}_status[]", statuses, require_writable=True))
     analyses = [

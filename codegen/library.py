@@ -278,6 +278,13 @@ class Library:
         item failed (its status says why): see ``codegen.analysis.analyze_batch``."""
         return analysis.analyze_batch(table, self, method)
 
+    def analyze_table(self, table: np.ndarray, method: analysis.Method = "auto",
+                      workers: int = 1) -> Any:
+        """``analyze`` over a ``params_array`` as numpy arrays, one row per root, no Python
+        object per set, on ``workers`` threads: see ``codegen.batch.analyze_table``."""
+        from .batch import analyze_table  # batch builds on this module
+        return analyze_table(table, self, method, workers)
+
 
 def _origin_of(module: ModuleType) -> Origin | None:
     name = module.__name__
