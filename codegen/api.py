@@ -23,8 +23,8 @@ NATIVE = "_native_{}"
 
 @lru_cache(maxsize=None)
 def load(name: str) -> Library:
-    """The Library of a shipped mechanism, e.g. ``load("doughty")``. Raises ValueError if
-    this installation has no compiled library of that name (see ``shipped()``)."""
+    """The Library of a shipped mechanism, by one of the names ``shipped()`` lists. Raises
+    ValueError if this installation has no compiled library of that name."""
     try:
         module = importlib.import_module(f"{__package__}.{NATIVE.format(name)}")
     except ModuleNotFoundError:

@@ -70,7 +70,7 @@ def _analysis_dtype(library: Library) -> np.dtype:
     return _numpy_type(ffi, ffi.typeof(f"{library.PREFIX}_analysis"))
 
 
-#: Sets analysed per C call: the C results of a block (2.3 kB a set for doughty) are read into
+#: Sets analysed per C call: the C results of a block (a few kB a set) are read into
 #: rows and the buffer reused, so memory follows the number of roots, not of sets.
 BLOCK = 1024
 

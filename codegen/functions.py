@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, Protocol, cast
 import numpy as np
 
 if TYPE_CHECKING:
-    from .library import Library, Origin, ParamsLike, Rerun
+    from .library import Library, ParamsLike, Rerun
 
 #: A scalar input or output: a float, or an array of them for a batch.
 Scalar = float | np.ndarray
@@ -40,7 +40,6 @@ class Argument(namedtuple("Argument", ["name", "size"])):
         return self
 
 
-
 class LibraryFunction(Protocol):
     """What ``Library.FUNCTIONS`` holds: a Python function calling one C function, with its
     batch twin and its description. ``help()`` and ``inspect.signature`` show its
@@ -59,24 +58,14 @@ class LibraryFunction(Protocol):
     def __call__(self, params: Any, *inputs: Any, **named: Any) -> Any: ...
 
 
-def _result_of(origin: Origin, function: str, values: tuple[Any, ...]) -> tuple[Any, ...]:
-    from .library import library_of  # the library module imports this one
-
-    return _result_of_library(library_of(origin), function, values)
-
-
-def _result_of_library(library: Library, function: str, values: tuple[Any, ...]
-                       ) -> tuple[Any, ...]:
+def _result_of(library: Library, function: str, values: tuple[Any, ...]) -> tuple[Any, ...]:
     result_type = library.FUNCTIONS[function].result_type
     assert result_type is not None, f"{function} has one output, no result type"
     return cast(tuple[Any, ...], result_type(*values))
 
 
 def _reduce_result(self: Any) -> tuple[Any, ...]:
-    library = self._library
-    if library.origin is None:  # copy and deepcopy still work; pickle says why it cannot
-        return (_result_of_library, (library, self._function, tuple(self)))
-    return (_result_of, (library.origin, self._function, tuple(self)))
+    return (_result_of, (self._library, self._function, tuple(self)))
 
 
 def _python_name(name: str) -> str:

@@ -4,9 +4,9 @@ Each mechanism's library goes to its own folder (generated/NAME/); the hand-writ
 (templates/runtime/) is copied once, unchanged, to generated/runtime/, shared by all.
 
 The templates are the checkout's templates/, or the copy inside an installed package
-(codegen.resources). The default output folder, ``GENERATED``, is the checkout's generated/ in
-a checkout, else ./generated of the current directory: an installed package never writes
-into its own folder.
+(codegen.resources). The default output folder, ``default_output()``, is the checkout's
+generated/ in a checkout, else ./generated of the current directory: an installed package
+never writes into its own folder.
 """
 from __future__ import annotations
 
@@ -38,13 +38,6 @@ def default_output() -> Path:
     """Where generate writes unless told: the checkout's generated/, or ./generated (the
     current directory's, at the time of the call) when the package is installed."""
     return resources.generated() if resources.in_checkout() else Path.cwd() / "generated"
-
-
-def __getattr__(name: str):
-    # GENERATED is computed on access, so that ./generated follows the current directory.
-    if name == "GENERATED":
-        return default_output()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def default_cache() -> Path | None:

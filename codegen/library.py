@@ -108,7 +108,14 @@ class Library:
         return f"<Library {self.PREFIX}: {self.TITLE}>"
 
     def __reduce__(self) -> tuple[Any, ...]:
+        # What refers to a library (its Params, results) pickles it along: by its origin.
         return (library_of, (self._require_origin(),))
+
+    def __copy__(self) -> Library:
+        return self   # one handle on a compiled module, with no state of its own to copy
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Library:
+        return self
 
     def _require_origin(self) -> Origin:
         if self.origin is None:
@@ -302,20 +309,13 @@ def library_of(origin: Origin) -> Library:
     raise ValueError(f"unknown library origin {origin!r}")
 
 
-def _params_of(origin: Origin, values: dict[str, float]) -> ParameterSet:
-    return library_of(origin).Params(**values)
+def _params_of(library: Library, values: dict[str, float]) -> ParameterSet:
+    return library.Params(**values)
 
 
 def _reduce_params(self: ParameterSet) -> tuple[Any, ...]:
     library = type(self).library
-    values = dict(zip(library.PARAMETER_NAMES, library._fields(self)))
-    if library.origin is None:  # copy and deepcopy still work; pickle says why it cannot
-        return (_params_of_library, (library, values))
-    return (_params_of, (library.origin, values))
-
-
-def _params_of_library(library: Library, values: dict[str, float]) -> ParameterSet:
-    return library.Params(**values)
+    return (_params_of, (library, dict(zip(library.PARAMETER_NAMES, library._fields(self)))))
 
 
 def _params_class(library: Library) -> type:

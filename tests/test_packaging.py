@@ -293,13 +293,13 @@ def test_generate_default_output(monkeypatch, tmp_path):
     from codegen import generate
 
     assert generate.TEMPLATES == TEMPLATES
-    assert generate.GENERATED == GENERATED == generate.default_output()
+    assert generate.default_output() == GENERATED
     monkeypatch.setattr(resources, "in_checkout", lambda: False)
     monkeypatch.chdir(tmp_path)
-    assert generate.GENERATED == tmp_path / "generated" == generate.default_output()
+    assert generate.default_output() == tmp_path / "generated"
     (tmp_path / "elsewhere").mkdir()
     monkeypatch.chdir(tmp_path / "elsewhere")
-    assert generate.GENERATED == tmp_path / "elsewhere" / "generated"
+    assert generate.default_output() == tmp_path / "elsewhere" / "generated"
 
 
 # --------------------------------------------------------------------------- sdist and wheel
