@@ -13,6 +13,8 @@ from __future__ import annotations
 import functools
 import math
 import os
+import shutil
+import subprocess
 import zlib
 from dataclasses import dataclass
 
@@ -36,6 +38,8 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 SEED = 20_240_611
 #: Unit roundoff of IEEE double precision.
 UNIT_ROUNDOFF = 2.0**-53
+#: AddressSanitizer + UBSan, aborting on the first report.
+SANITIZE = ("-std=c99", "-g", "-O1", "-fsanitize=address,undefined", "-fno-sanitize-recover=all")
 
 TABLE2 = api.example_params()
 
@@ -374,3 +378,25 @@ class RoundingBound:
 @pytest.fixture(scope="session")
 def rounding_bound():
     return RoundingBound
+
+
+@dataclass(frozen=True)
+class Sanitizer:
+    cc: str
+    flags: tuple[str, ...] = SANITIZE
+
+
+@pytest.fixture
+def sanitizer(tmp_path) -> Sanitizer:
+    """A C compiler that links SANITIZE programs (a probe is built), with those flags; skips
+    where none does."""
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    probe = tmp_path / "probe.c"
+    probe.write_text("int main(void) { return 0; }\n")
+    r = subprocess.run([cc, *SANITIZE, str(probe), "-o", str(tmp_path / "probe")],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f"{cc} cannot link AddressSanitizer/UBSan: {r.stderr.strip()[:200]}")
+    return Sanitizer(cc)

@@ -31,8 +31,6 @@ RUNTIME_SRC = RUNTIME / "codegen_interval.c"
 DRIVER_SRC = ROOT / "tests" / "c" / "interval_driver.c"
 STRICT = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
           "-Werror"]
-SANITIZE = ["-std=c99", "-g", "-O1", "-fsanitize=address,undefined",
-            "-fno-sanitize-recover=all"]
 SEED = 20_240_611
 
 POLE, EDGE, OUTSIDE = 1, 2, 4                          # CODEGEN_IV_* flags
@@ -1103,22 +1101,13 @@ def _sanitizer_script():
     return lines
 
 
-def test_sanitized_driver(tmp_path, drv):
+def test_sanitized_driver(tmp_path, drv, sanitizer):
     """The driver under AddressSanitizer + UBSan (results in heap blocks of exactly capacity
     entries, NULL at 0) over arithmetic on hostile intervals, and isolation at and beyond
     capacity, with failing enclosures, out of budget, over huge intervals: clean, and the same
     output bit for bit as the -O2 build."""
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    probe = tmp_path / "probe.c"
-    probe.write_text("int main(void) { return 0; }\n")
-    r = subprocess.run([cc, *SANITIZE, str(probe), "-o", str(tmp_path / "probe")],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        pytest.skip(f"{cc} cannot link AddressSanitizer/UBSan: {r.stderr.strip()[:200]}")
     exe = _compile(tmp_path, "interval_driver_san",
-                   SANITIZE + ["-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
+                   [*sanitizer.flags, "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
                                "-Werror"])
     # leak checking is off only because LeakSanitizer cannot run under some tracers
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=0", UBSAN_OPTIONS="print_stacktrace=1")

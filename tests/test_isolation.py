@@ -39,15 +39,15 @@ from codegen.api import load
 
 try:
     import reference_mechanisms as rm
+    import sampling
 except ImportError:  # pytest's importlib mode: the tests folder is not on the path
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import reference_mechanisms as rm
+    import sampling
 
 SEED = 20_240_611
 TWO_PI = 2 * math.pi
 ALGEBRAIC = ("doughty", "slider_crank", "four_bar")
-#: Example parameters that are zero, drawn from +-spread instead of scaled.
-SPREAD = {"slider_crank": {"T": 5.0}, "four_bar": {"T": 5.0}, "torsion_pendulum": {"F_x": 20.0}}
 #: Kinds of the roots that are zeros of G (of the declared mode / the other one).
 ZERO_KINDS = {"equilibrium": 0, "other assembly mode": 1}
 #: xfail of a property test is strict under the deterministic hypothesis profile (the same
@@ -68,15 +68,10 @@ def _dict(p) -> dict:
 
 
 def _near_example(name, rng, sd=0.25):
-    """The example with every parameter scaled by a factor around 1 (zeros drawn)."""
+    """The example with every parameter scaled by a factor around 1 (zeros drawn); Doughty's
+    a kept within [0, L]."""
     lib = _lib(name)
-    example = lib.example_params()
-    values = {}
-    for n in lib.PARAMETER_NAMES:
-        v = getattr(example, n)
-        spread = SPREAD.get(name, {}).get(n)
-        values[n] = (float(rng.uniform(-spread, spread)) if v == 0 and spread
-                     else v * math.exp(rng.normal(0.0, sd)))
+    values = sampling.near_example(lib, rng, sd)
     if name == "doughty":
         values["a"] = min(values["a"], values["L"])
     return lib.Params(**values)

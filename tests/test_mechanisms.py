@@ -22,7 +22,7 @@ import functools
 import math
 import os
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import mpmath
 import numpy as np
@@ -40,9 +40,11 @@ from codegen.model import load as load_model
 
 try:
     import reference_mechanisms as rm
+    import sampling
 except ImportError:  # pytest's importlib mode: the tests folder is not on the path
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import reference_mechanisms as rm
+    import sampling
 
 U = 2.0**-53
 SEED = 20_240_611
@@ -54,14 +56,13 @@ class Spec:
 
     damping: tuple[str, ...]             # parameters that dissipate
     loads: tuple[str, ...]               # applied forces and torques
-    spread: dict = field(default_factory=dict)  # scale of parameters whose example is 0
 
 
 SPECS = {
     "doughty": Spec(damping=("b",), loads=("F",)),
-    "slider_crank": Spec(damping=("b",), loads=("F", "T"), spread={"T": 5.0}),
-    "four_bar": Spec(damping=("b",), loads=("T",), spread={"T": 5.0}),
-    "torsion_pendulum": Spec(damping=("c",), loads=("F_x",), spread={"F_x": 20.0}),
+    "slider_crank": Spec(damping=("b",), loads=("F", "T")),
+    "four_bar": Spec(damping=("b",), loads=("T",)),
+    "torsion_pendulum": Spec(damping=("c",), loads=("F_x",)),
 }
 NAMES = list(SHIPPED)
 
@@ -92,14 +93,7 @@ def _symbols(name):
 def _near_example(name, rng, sd=0.1):
     """The example with every parameter scaled by a factor around 1 (zeros drawn)."""
     lib = _library(name)
-    example = lib.example_params()
-    values = {}
-    for n in lib.PARAMETER_NAMES:
-        v = getattr(example, n)
-        spread = SPECS[name].spread.get(n)
-        values[n] = (float(rng.uniform(-spread, spread)) if v == 0 and spread
-                     else v * math.exp(rng.normal(0.0, sd)))
-    return lib.Params(**values)
+    return lib.Params(**sampling.near_example(lib, rng, sd))
 
 
 def _random_sets(name, rng, count):

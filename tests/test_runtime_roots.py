@@ -441,22 +441,12 @@ def test_reads_exactly_degree_plus_one_coefficients(rt, degree):
         assert list(th[n[0]:degree + pad]) == [7.0] * (degree + pad - n[0])
 
 
-def test_sanitized_driver(tmp_path):
+def test_sanitized_driver(tmp_path, sanitizer):
     """tests/c/roots_driver.c under AddressSanitizer + UBSan: every degree 1..CODEGEN_MAX_DEGREE
     with heap blocks of exactly degree + 1 coefficients and degree roots."""
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    flags = ["-std=c99", "-g", "-O1", "-fsanitize=address,undefined",
-             "-fno-sanitize-recover=all"]
-    probe = tmp_path / "probe.c"
-    probe.write_text("int main(void) { return 0; }\n")
-    r = subprocess.run([cc, *flags, str(probe), "-o", str(tmp_path / "probe")],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        pytest.skip(f"{cc} cannot link AddressSanitizer/UBSan: {r.stderr.strip()[:200]}")
     exe = tmp_path / "roots_driver"
-    subprocess.run([cc, *flags, f"-I{TEMPLATES}", str(DRIVER_SRC), str(RUNTIME_SRC), "-lm",
+    subprocess.run([sanitizer.cc, *sanitizer.flags, f"-I{TEMPLATES}", str(DRIVER_SRC),
+                    str(RUNTIME_SRC), "-lm",
                     "-o", str(exe)], check=True, capture_output=True, text=True)
     # The runtime allocates nothing, and the driver frees what it allocates; leak checking is
     # off only because LeakSanitizer cannot run under some tracers/containers.
