@@ -434,7 +434,7 @@ def test_installed_package_finds_its_copies(installed):
     where = installed.python_json(
         "import json, codegen, codegen.generate as g, codegen.resources as r; "
         "print(json.dumps([codegen.__file__, r.in_checkout(), str(r.generated()), "
-        "str(r.templates()), str(g.GENERATED), str(g.TEMPLATES)]))")
+        "str(r.templates()), str(g.default_output()), str(g.TEMPLATES)]))")
     package = Path(where[0]).parent
     assert package.is_relative_to(installed.venv), f"codegen imported from {package}"
     assert where[1:] == [False, str(package / "data" / "generated"),
