@@ -229,13 +229,21 @@ static doughty_status smooth_near(const doughty_params *params, unsigned mode, d
          : (flags & CODEGEN_IV_POLE) != 0u ? DOUGHTY_ERR_SINGULAR_STATE : DOUGHTY_OK;
 }
 
-/* Prove a root of the polynomial route: intervals around it, from CERTIFY_START up to
- * CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign on the root's mode. */
+/* Prove a root of the polynomial route: by the interval Newton test around it (two
+ * enclosures, for a root polished to rounding); failing that, intervals around it from
+ * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
+ * on the root's mode. */
 static doughty_status certify_around(const doughty_params *params, unsigned mode,
                                      doughty_equilibrium *e)
 {
     double w;
     int proven = 0;
+    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
+                                              &e->theta_hi, &proven);
+    if (newton != 0 || proven) {
+        e->certified = proven;
+        return (doughty_status)newton;
+    }
     for (w = CERTIFY_START * fmax(fabs(e->theta), 1.0); w <= CERTIFY_RADIUS && !proven; w *= 32.0) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);

@@ -250,13 +250,21 @@ static four_bar_status smooth_near(const four_bar_params *params, unsigned mode,
          : (flags & CODEGEN_IV_POLE) != 0u ? FOUR_BAR_ERR_SINGULAR_STATE : FOUR_BAR_OK;
 }
 
-/* Prove a root of the polynomial route: intervals around it, from CERTIFY_START up to
- * CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign on the root's mode. */
+/* Prove a root of the polynomial route: by the interval Newton test around it (two
+ * enclosures, for a root polished to rounding); failing that, intervals around it from
+ * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
+ * on the root's mode. */
 static four_bar_status certify_around(const four_bar_params *params, unsigned mode,
                                      four_bar_equilibrium *e)
 {
     double w;
     int proven = 0;
+    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
+                                              &e->theta_hi, &proven);
+    if (newton != 0 || proven) {
+        e->certified = proven;
+        return (four_bar_status)newton;
+    }
     for (w = CERTIFY_START * fmax(fabs(e->theta), 1.0); w <= CERTIFY_RADIUS && !proven; w *= 32.0) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);

@@ -444,3 +444,44 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
     }
     return status;
 }
+
+/* Moore's interval Newton test. With 0 outside G'(X) on X = [m - w, m + w], every zero x of G
+ * in X satisfies x = m - G(m) / G'(xi) for some xi in X, so it lies in N = m - G([m]) / G'(X);
+ * and N inside X proves that X holds exactly one zero. The width comes from the Newton step's
+ * own bound, |G([m])| / |G'([m])|, doubled for the spread of G' over X, plus a few ulps of m,
+ * and is tried once more sixteen times wider: two enclosures a try, where guessing widths
+ * for codegen_certify costs three each. */
+int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, unsigned mode,
+                           double m, double *lo, double *hi, int *certified)
+{
+    codegen_iv g_m, dg_m, x, g_x, dg_x, n;
+    unsigned flags = 0u;
+    double w;
+    int attempt, status;
+    *certified = 0;
+    status = enclose_fn(context, mode, codegen_iv_point(m), &g_m, &dg_m, &flags);
+    if (status != 0 || (flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE)) != 0u
+        || codegen_iv_has_zero(dg_m)) {
+        return status;
+    }
+    w = 2.0 * fmax(fabs(g_m.lo), fabs(g_m.hi)) / fmin(fabs(dg_m.lo), fabs(dg_m.hi))
+        + 8.0 * DBL_EPSILON * fmax(fabs(m), 1.0);
+    for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= 16.0) {
+        x = codegen_iv_make(m - w, m + w);
+        flags = 0u;
+        status = enclose_fn(context, mode, x, &g_x, &dg_x, &flags);
+        if (status != 0) {
+            return status;
+        }
+        if ((flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE)) != 0u || codegen_iv_has_zero(dg_x)) {
+            continue;
+        }
+        n = codegen_iv_sub(codegen_iv_point(m), codegen_iv_div(g_m, dg_x, &flags));
+        if (n.lo > x.lo && n.hi < x.hi) {
+            *certified = 1;
+            *lo = x.lo;
+            *hi = x.hi;
+        }
+    }
+    return 0;
+}

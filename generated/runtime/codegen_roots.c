@@ -152,45 +152,30 @@ static void eval3(const double *f, const double *df, const double *d2f, int n, d
     mag[2] = m2;
 }
 
-/* f(x) = sum a[i] x^i by the second-order Horner scheme: f = E(x^2) + x O(x^2), the even and
- * odd parts by Horner's rule in y = x^2, two independent recurrences of half the length. With
- * *mag = sum |a_i||x|^i, the result is within gamma_{3n/2+2} mag <= gamma_{4n} mag of f(x)
- * (the Horner bound, Higham, Accuracy and Stability of Numerical Algorithms, 5.1, applied to
- * each part, plus the rounding of y and of the final product and sum). */
-static inline double horner_eo(const double *a, int n, double x, double y, double ax,
-                               double *mag)
+/* f(x) and f'(x) (df: f's derivative, degree n - 1 >= 0) by Horner's rule, two independent
+ * recurrences in one loop; each value is within gamma_{2n} <= 4 n eps times its magnitude sum
+ * (below) of the truth (Higham, Accuracy and Stability of Numerical Algorithms, 5.1). A value
+ * beyond PLAIN_OK's margin has a certain sign and a small relative error. */
+#define PLAIN_OK(v, n, mag) (fabs(v) > 4.0 * (double)(n) * DBL_EPSILON * (mag))
+static inline double horner_fd(const double *a, const double *df, int n, double x, double *dv)
 {
-    int i = n - (n % 2);                                /* highest even index */
-    int k = n - 1 + (n % 2);                            /* highest odd index (-1 if none) */
-    double e = a[i], me = fabs(a[i]);
-    double o = 0.0, mo = 0.0;
-    if (k > 0) {
-        o = a[k];
-        mo = fabs(a[k]);
+    double s = a[n], d = df[n - 1];
+    for (int i = n - 1; i >= 1; --i) {
+        s = s * x + a[i];
+        d = d * x + df[i - 1];
     }
-    for (i -= 2, k -= 2; i >= 0; i -= 2, k -= 2) {
-        e = e * y + a[i];
-        me = me * y + fabs(a[i]);
-        if (k >= 1) {
-            o = o * y + a[k];
-            mo = mo * y + fabs(a[k]);
-        }
-    }
-    *mag = me + ax * mo;
-    return e + x * o;
+    *dv = d;
+    return s * x + a[0];
 }
 
-/* f(x) and f'(x) (df: f's derivative, degree n - 1 >= 0) by horner_eo, with their sums
- * *mag and *dmag. A value that exceeds PLAIN_OK's margin (gamma_{4n} mag) has a certain sign
- * and a small relative error. */
-#define PLAIN_OK(v, n, mag) (fabs(v) > 4.0 * (double)(n) * DBL_EPSILON * (mag))
-static double horner2(const double *a, const double *df, int n, double x, double *mag,
-                      double *dv, double *dmag)
+/* sum |a_i| r^i: the magnitude sum at |x| = r, and a bound on it wherever |x| <= r. */
+static inline double magnitude(const double *a, int n, double r)
 {
-    const double y = x * x;
-    const double ax = fabs(x);
-    *dv = horner_eo(df, n - 1, x, y, ax, dmag);
-    return horner_eo(a, n, x, y, ax, mag);
+    double m = fabs(a[n]);
+    for (int i = n - 1; i >= 0; --i) {
+        m = m * r + fabs(a[i]);
+    }
+    return m;
 }
 
 /* f, f' and f'' as eval3 takes them, by plain Horner's rule, with the sums mag as eval3 gives
@@ -236,10 +221,15 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
 {
     double x = 0.5 * (lo + hi);
     double dx = hi - lo;
-    double mag, dv, dmag;
+    double dv;
+    /* The magnitude sum anywhere in the bracket is at most its value at the farther end: one
+     * bound for every iteration; the sum at x itself is formed only where that bound is too
+     * coarse to certify the sign. */
+    const double bound = magnitude(f, n, fmax(fabs(lo), fabs(hi)));
     for (int it = 0;; ++it) {
-        double v = horner2(f, df, n, x, &mag, &dv, &dmag);
-        if (!PLAIN_OK(v, n, mag)) {
+        double v = horner_fd(f, df, n, x, &dv);
+        if (!PLAIN_OK(v, n, bound) && !PLAIN_OK(v, n, magnitude(f, n, fabs(x)))) {
+            double mag;
             v = eval(f, n, x, &mag);
         }
         if (v == 0.0) {
@@ -252,7 +242,7 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
             hi = x;
         }
         if (it == CR_MAXIT) {
-            break;                        /* x, mag, dv: the last point evaluated */
+            break;                        /* x, dv: the last point evaluated */
         }
         const double dxold = dx;
         if (dv != 0.0) {
@@ -277,11 +267,13 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
             break;
         }
     }
-    /* mag, dv: from the last evaluation, at most a step below the resolution of x away. */
+    /* dv: from the last evaluation, at most a step below the resolution of x away. */
+    double dmag = magnitude(df, n - 1, fabs(x));
     if (!PLAIN_OK(dv, n - 1, dmag)) {
         dv = eval(df, n - 1, x, &dmag);
     }
     dv = fabs(dv);
+    const double mag = magnitude(f, n, fabs(x));
     *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
     return x;
 }

@@ -289,6 +289,13 @@ int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mod
 int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mode, double lo,
                     double hi, int *certified);
 
+/* *certified = 1 if an interval [*lo, *hi] around m, a few times the distance a Newton step
+ * from m can move, provably holds exactly one zero of G, a simple one (as codegen_certify
+ * says it), proven by the interval Newton test; else 0 and *lo, *hi untouched. For m within
+ * rounding of a simple zero, as polishing leaves it. Returns 0 or the enclosure's status. */
+int codegen_certify_newton(codegen_enclosure enclose, const void *context, unsigned mode,
+                           double m, double *lo, double *hi, int *certified);
+
 #ifdef __cplusplus
 }
 #endif
