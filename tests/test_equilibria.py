@@ -585,3 +585,24 @@ def test_underdamped_period_and_envelope_are_the_eigenvalue():
     extrema = crossings(lambda t: x(t)[1], 1e-3, 2.0)
     rate, _ = np.polyfit(extrema, np.log(np.abs(x(extrema)[0])), 1)
     assert rate == pytest.approx(sigma, rel=1e-6)      # measured: 1.5e-9
+
+
+def test_an_extraneous_root_beside_a_genuine_one_is_kept():
+    """Two roots of sigma 1.8e-6 rad apart, one genuine and one extraneous (found by the
+    property run): polishing the extraneous one on G reaches the genuine one, which the
+    polynomial also found by itself. Merging the two lost the extraneous root; it is now
+    studied again on its own branch and kept, each root labelled by the branch that vanishes
+    there, and the equilibria are the isolation route's."""
+    lib = load("doughty")
+    p = lib.example_params(H=0.25, L=2.0, a=0.75, m_A=1.0, m_B=1.0, m_C=0.0, k=11135.0,
+                           b=0.0, l_ND=0.25, F=0.125, g=0.0)
+    roots = lib.analyze(p, "polynomial").roots
+    genuine = [r.theta for r in roots if r.genuine]
+    assert genuine == pytest.approx([r.theta for r in lib.analyze(p, "isolate").roots],
+                                    abs=1e-12)
+    for g in (-1.7594, 1.7594):
+        near = [r for r in roots if abs(r.theta - g) < 1e-4]
+        assert sorted(r.kind for r in near) == ["equilibrium", "extraneous"], near
+        twin = next(r for r in near if r.kind == "extraneous")
+        declared, negative_length = lib.equilibrium_branches(p, twin.theta)
+        assert abs(negative_length) < 1e-9 * abs(declared), twin

@@ -1073,6 +1073,42 @@ def test_certify(drv):
         assert o[0] == p[3] and o[1] == 0 and o[2] == p[4] + 1, (p, o)
 
 
+def newton_many(drv, problems):
+    """problems: (m, function[, fail_status, fail_after]) -> (status, certified, calls, bad,
+    lo, hi); enclosures may be asked anywhere in m +- 8."""
+    lines = []
+    for p in problems:
+        m, fn = p[:2]
+        fail_status, fail_after = p[2:4] if len(p) > 2 else (0, 0)
+        lines.append(f"newton 5 {h(m - 8.0)} {h(m + 8.0)} {fail_status} {fail_after} {fn}")
+    return [tuple(int(x) for x in t[:4]) + tuple(f(x) for x in t[4:]) for t in drv(lines)]
+
+
+def test_certify_newton(drv):
+    """The interval Newton test proves a simple zero from a point within rounding of it (or
+    near it), in an interval a few ulps wide that holds the zero, with two enclosures a try;
+    it proves nothing at a double zero, a close pair, a pole or a domain edge at the point,
+    beside a double zero without a real one, or where the enclosure fails (whose status it
+    passes on)."""
+    near = [(0.3, poly(0.3)), (0.3 + 2e-16, poly(0.3, 2.0)), (-1.0, poly(-1.0, 1.0)),
+            (math.asin(0.9), sin_fn(0.9)), (0.5, sqrt_fn(0.25, 0.5)), (1e-9, poly(0.0)),
+            (0.3 + 1e-9, poly(0.3))]
+    for (m, fn), (status, certified, calls, bad, lo, hi) in zip(near, newton_many(drv, near)):
+        assert (status, certified, bad) == (0, 1, 0), (m, fn)
+        assert calls <= 5 and lo < hi and hi - lo < 1e-6, (m, fn, lo, hi)
+    zeros = [0.3, 0.3, -1.0, math.asin(0.9), 0.5, 0.0, 0.3]
+    for (lo, hi), z in zip([r[4:] for r in newton_many(drv, near)], zeros):
+        assert lo <= z <= hi
+    no = [(0.3, poly((0.3, 2))), (0.3, poly(0.3 - 1e-13, 0.3 + 1e-13)), (1.5, sin_fn(1.0)),
+          (0.3, pole(0.0, 0.3)), (0.25, sqrt_fn(0.25, 0.0)), (0.3, "zero"),
+          (0.3, flagged(EDGE, 0.3, 0.3, poly(0.3))), (0.3, flagged(OUTSIDE, 0.0, 1.0, poly(0.3)))]
+    for p, o in zip(no, newton_many(drv, no)):
+        assert o[:2] == (0, 0) and o[3] == 0 and math.isnan(o[4]), (p, o)
+    fails = [(0.3, poly(0.3), 9, 0), (0.3, poly(0.3), -4, 1)]
+    for p, o in zip(fails, newton_many(drv, fails)):
+        assert o[0] == p[2] and o[1] == 0 and o[2] == p[3] + 1, (p, o)
+
+
 # ---------------------------------------------------------------------------- 4. sanitizers
 
 def _sanitizer_script():
@@ -1098,6 +1134,8 @@ def _sanitizer_script():
     lines += isolate_lines(problems)
     lines += [f"certify 0 {h(lo)} {h(hi)} 0 0 {fn}" for lo, hi, fn in
               [(0.2, 0.4, poly(0.3)), (0.0, 1.0, pole(0.0, 0.5)), (-1.0, 0.0, sqrt_fn(0.25, 0.5))]]
+    lines += [f"newton 0 {h(m - 1)} {h(m + 1)} 0 0 {fn}" for m, fn in
+              [(0.3, poly(0.3)), (0.3, poly((0.3, 2))), (0.3, pole(0.0, 0.3))]]
     return lines
 
 

@@ -105,8 +105,10 @@ def test_genuine_roots_satisfy_43_and_extraneous_ones_fail_it(p):
         if r.genuine:
             assert r.relative_residual <= 1e-12, r
         else:
-            # (43) fails, relative to the size of its own terms; the other branch holds
-            assert r.relative_residual >= 1e-6, r
+            # (43) fails, relative to the size of its own terms, far beyond rounding (an
+            # extraneous root 2e-6 rad from a genuine one fails it by ~1e-6); the other
+            # branch holds
+            assert r.relative_residual >= 1e-9, r
             assert abs(extraneous) < abs(genuine), r
 
 

@@ -152,8 +152,10 @@ def build_plan(d: Derivation) -> Plan:
         return tuple(fr(e) for e in M)
 
     def fn(key: str, summary: str, inputs, outputs, definitions=(),
-           arithmetic="double") -> CFunction:
-        return CFunction(key, summary, m.equations.get(key, ""), tuple(inputs), tuple(outputs),
+           arithmetic="double", parts=()) -> CFunction:
+        """A function; one fused from others (parts) implements their equations."""
+        equation = ", ".join(e for e in (m.equations.get(k, "") for k in parts or (key,)) if e)
+        return CFunction(key, summary, equation, tuple(inputs), tuple(outputs),
                          tuple(definitions), arithmetic)
 
     points = kin.point_positions
@@ -258,6 +260,27 @@ def build_plan(d: Derivation) -> Plan:
            [theta_e], [Output("omega_n_squared", (lin.omega_n_squared,), "[rad^2/s^2]"),
                        Output("zeta_omega_n", (lin.zeta_omega_n,), "[1/s]")]),
     )
+    # One CSE over everything the analysis evaluates at a root, so that it pays for the
+    # trigonometry, the square roots and their shared terms once per angle.
+    fused = (
+        fn("equilibrium_state",
+           "Everything the analysis evaluates at one angle, in one pass: G and the size of "
+           "its terms (as equilibrium_residual), M, B, K (as linearisation)"
+           + (", G on every branch (as equilibrium_branches) and the radicands with their "
+              "scales (as radicands)" if n_roots else "") + ".",
+           [theta_e],
+           [Output("residual", (eq.residual,), "G [N m]"),
+            Output("scale", (eq.branches[0].scale,), "[N m]"),
+            Output("M", (lin.mass,), "M_EQ [kg m^2]"),
+            Output("B", (lin.damping,), "B_EQ [N m s]"),
+            Output("K", (lin.stiffness,), "K_EQ [N m]")]
+           + ([Output("branch_residuals", tuple(b.residual for b in eq.branches), "[N m]",
+                      "N_BRANCHES"),
+               Output("radicands", tuple(eq.radicands), "[unit^2]", "N_ROOTS"),
+               Output("radicand_scales", tuple(eq.radicand_scales), "[unit^2]", "N_ROOTS")]
+              if n_roots else []),
+           parts=("equilibrium_residual", "linearisation", "equilibrium_branches", "radicands")),
+    )
     sizes = {"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
              "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
              "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
@@ -283,7 +306,8 @@ def build_plan(d: Derivation) -> Plan:
                             tuple(eq.branch(mode.signs).residual for mode in lin.modes),
                             tuple(mode.stiffness for mode in lin.modes),
                             m.equations.get("equilibrium_residual", "")),
-        functions=constrained + general + branched + polynomial + dynamics_at_rest + other_modes,
+        functions=(constrained + general + branched + polynomial + dynamics_at_rest + other_modes
+                   + fused),
     )
 
 

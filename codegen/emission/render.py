@@ -49,27 +49,44 @@ class RenderedFunction:
     batch_signature: str
     batch_arrays: tuple[tuple[str, str], ...]
     batch_call: tuple[str, ...]
+    kernel_signature: str
     body: PrintedBody
     n_out: int
+    offsets: tuple[tuple[str, int], ...]  # where each output starts in the kernel's out[]
+    failure: str                          # the status of a result that is not finite
     pointer_checks: tuple[str, ...]
     finite_checks: tuple[str, ...]
     copies: tuple[str, ...]
     may_be_singular: bool
 
 
-def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = False) -> str:
+def _arguments(f: CFunction, prefix: str, ctype: str,
+               arrays_as_pointers: bool = False) -> tuple[list[str], list[str]]:
+    """C parameter declarations: params and the inputs, and the outputs."""
     P = prefix.upper()
 
     def array(name, size):
         return f"*{name}" if arrays_as_pointers else f"{name}[{P}_{size}]"
 
-    args = [f"const {prefix}_params *params"]
-    for arg in f.inputs:
-        args.append(f"const {ctype} {array(arg.name, arg.size)}" if arg.size
-                    else f"{ctype} {arg.name}")
-    for out in f.outputs:
-        args.append(f"{ctype} {array(out.name, out.size)}" if out.size else f"{ctype} *{out.name}")
-    return f"{prefix}_status {prefix}_{f.name}({', '.join(args)})"
+    inputs = [f"const {prefix}_params *params"]
+    inputs += [f"const {ctype} {array(a.name, a.size)}" if a.size else f"{ctype} {a.name}"
+               for a in f.inputs]
+    outputs = [f"{ctype} {array(o.name, o.size)}" if o.size else f"{ctype} *{o.name}"
+               for o in f.outputs]
+    return inputs, outputs
+
+
+def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = False) -> str:
+    inputs, outputs = _arguments(f, prefix, ctype, arrays_as_pointers)
+    return f"{prefix}_status {prefix}_{f.name}({', '.join(inputs + outputs)})"
+
+
+def kernel_signature(f: CFunction, prefix: str, ctype: str) -> str:
+    """The unchecked kernel: the inputs as the public function takes them, the outputs
+    together in one array."""
+    inputs, _ = _arguments(f, prefix, ctype)
+    n_out = sum(len(o.exprs) for o in f.outputs)
+    return f"void {prefix}_{f.name}_kernel({', '.join(inputs)}, {ctype} out[{n_out}])"
 
 
 def batch_signature(f: CFunction, prefix: str, ctype: str) -> str:
@@ -92,28 +109,33 @@ def _batch_call(f: CFunction, P: str) -> tuple[str, ...]:
 
 def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
     P = plan.prefix.upper()
-    copies, offset = [], 0
+    copies, offsets, offset = [], [], 0
     for out in f.outputs:
         n = len(out.exprs)
         copies.append(f"copy_out({out.name}, out + {offset}, {n});" if out.size
                       else f"*{out.name} = out[{offset}];")
+        offsets.append((out.name, offset))
         offset += n
+    may_be_singular = any(_has_denominator(e) for o in f.outputs for e in o.exprs)
     return RenderedFunction(
         name=f.name, summary=f.summary, equation=f.equation, inputs=f.inputs,
         outputs=f.outputs,
         signature=signature(f, plan.prefix, target.ctype),
         pointer_signature=signature(f, plan.prefix, target.ctype, arrays_as_pointers=True),
         batch_signature=batch_signature(f, plan.prefix, target.ctype),
+        kernel_signature=kernel_signature(f, plan.prefix, target.ctype),
         batch_arrays=tuple((x.name, x.size) for x in f.inputs + f.outputs),
         batch_call=_batch_call(f, P),
         body=print_body(f, tuple(p[0] for p in plan.parameters), target),
         n_out=offset,
+        offsets=tuple(offsets),
+        failure=f"{P}_ERR_{'SINGULAR_STATE' if may_be_singular else 'OVERFLOW'}",
         pointer_checks=tuple(a.name for a in f.inputs if a.size)
         + tuple(o.name for o in f.outputs),
         finite_checks=tuple(f"{a.name}, {P}_{a.size}" if a.size else f"&{a.name}, 1"
                             for a in f.inputs),
         copies=tuple(copies),
-        may_be_singular=any(_has_denominator(e) for o in f.outputs for e in o.exprs),
+        may_be_singular=may_be_singular,
     )
 
 
@@ -155,9 +177,11 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         for r in plan.requirements
     ]
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
+    functions = [_rendered(f, plan, target) for f in plan.functions]
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
+        "kernels_header": f"{prefix}_kernels.h",
         "title": f"Vibration analysis of {plan.title}.",
         "sizes": sorted(plan.sizes.items()),
         "sizes_map": plan.sizes,
@@ -179,11 +203,14 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,
-        "functions": [_rendered(f, plan, target) for f in plan.functions],
+        "functions": functions,
+        "state": next({"size": f.n_out, "offsets": f.offsets} for f in functions
+                      if f.name == "equilibrium_state"),
     }
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
                  f"{prefix}.cdef": "library.cdef.j2"}
     templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
+    templates[f"{prefix}_kernels.h"] = "kernels.h.j2"
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)

@@ -5,8 +5,8 @@
  * common subexpressions once, then copy the results out only if they are all finite.
  */
 #include "doughty.h"
+#include "doughty_kernels.h"
 #include "codegen_dd.h"
-#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -113,21 +113,13 @@ doughty_status doughty_check_params(const doughty_params *params)
     return DOUGHTY_OK;
 }
 
-/* position_constraints: eq. (4)-(7). Total ops: 20. */
-doughty_status doughty_position_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double f[DOUGHTY_N_CONSTRAINTS])
+/* position_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (4)-(7). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 20. */
+void doughty_position_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[4])
 {
-    double out[4];
-    doughty_status status;
-    if (coords == NULL || f == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
-    if (!all_finite(coords, DOUGHTY_N_COORDS)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)coords;
     {
         const double H = params->H;
         const double L = params->L;
@@ -147,19 +139,14 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
         out[2] = -H + p + r*tmp1 - tmp0*tmp4;
         out[3] = tmp2*tmp4 - tmp3;
     }
-    if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    copy_out(f, out + 0, 4);
-    return DOUGHTY_OK;
 }
 
-/* constraint_jacobian: eq. (25). Total ops: 16. */
-doughty_status doughty_constraint_jacobian(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double A[DOUGHTY_N_JACOBIAN])
+/* position_constraints: eq. (4)-(7). */
+doughty_status doughty_position_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double f[DOUGHTY_N_CONSTRAINTS])
 {
-    double out[20];
+    double out[4];
     doughty_status status;
-    if (coords == NULL || A == NULL) {
+    if (coords == NULL || f == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -169,6 +156,21 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
     if (!all_finite(coords, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    doughty_position_constraints_kernel(params, coords, out);
+    if (!all_finite(out, 4)) {
+        return DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(f, out + 0, 4);
+    return DOUGHTY_OK;
+}
+
+/* constraint_jacobian without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (25). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 16. */
+void doughty_constraint_jacobian_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[20])
+{
+    (void)params;
+    (void)coords;
     {
         const double L = params->L;
         const double a = params->a;
@@ -204,19 +206,14 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
         out[18] = tmp5*tmp7;
         out[19] = tmp6;
     }
-    if (!all_finite(out, 20)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    copy_out(A, out + 0, 20);
-    return DOUGHTY_OK;
 }
 
-/* velocity_constraints: eq. (8)-(11). Total ops: 27. */
-doughty_status doughty_velocity_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double f_d[DOUGHTY_N_CONSTRAINTS])
+/* constraint_jacobian: eq. (25). */
+doughty_status doughty_constraint_jacobian(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double A[DOUGHTY_N_JACOBIAN])
 {
-    double out[4];
+    double out[20];
     doughty_status status;
-    if (coords == NULL || rates == NULL || f_d == NULL) {
+    if (coords == NULL || A == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -226,9 +223,22 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
     if (!all_finite(coords, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(rates, DOUGHTY_N_COORDS)) {
-        return DOUGHTY_ERR_NONFINITE;
+    doughty_constraint_jacobian_kernel(params, coords, out);
+    if (!all_finite(out, 20)) {
+        return DOUGHTY_ERR_OVERFLOW;
     }
+    copy_out(A, out + 0, 20);
+    return DOUGHTY_OK;
+}
+
+/* velocity_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (8)-(11). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 27. */
+void doughty_velocity_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double L = params->L;
         const double a = params->a;
@@ -254,19 +264,14 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
         out[2] = p_d + r_d*tmp0 + theta_d*tmp1*tmp8 - tmp5;
         out[3] = theta_d*tmp6*tmp8 - tmp7;
     }
-    if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    copy_out(f_d, out + 0, 4);
-    return DOUGHTY_OK;
 }
 
-/* acceleration_constraints: eq. Table 1 step 5 (d/dt of (8)-(11)). Total ops: 54. */
-doughty_status doughty_acceleration_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double f_dd[DOUGHTY_N_CONSTRAINTS])
+/* velocity_constraints: eq. (8)-(11). */
+doughty_status doughty_velocity_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double f_d[DOUGHTY_N_CONSTRAINTS])
 {
     double out[4];
     doughty_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
+    if (coords == NULL || rates == NULL || f_d == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -279,9 +284,23 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
     if (!all_finite(rates, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(accels, DOUGHTY_N_COORDS)) {
-        return DOUGHTY_ERR_NONFINITE;
+    doughty_velocity_constraints_kernel(params, coords, rates, out);
+    if (!all_finite(out, 4)) {
+        return DOUGHTY_ERR_OVERFLOW;
     }
+    copy_out(f_d, out + 0, 4);
+    return DOUGHTY_OK;
+}
+
+/* acceleration_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. Table 1 step 5 (d/dt of (8)-(11)). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 54. */
+void doughty_acceleration_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
     {
         const double L = params->L;
         const double a = params->a;
@@ -316,19 +335,14 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
         out[2] = p_dd + r_dd*tmp0 + theta_dd*tmp1*tmp13 - tmp11 + tmp14*tmp7 - tmp3 - tmp5;
         out[3] = theta_dd*tmp13*tmp7 - tmp1*tmp14 - tmp12;
     }
-    if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    copy_out(f_dd, out + 0, 4);
-    return DOUGHTY_OK;
 }
 
-/* point_kinematics: eq. (12)-(14). Total ops: 9. */
-doughty_status doughty_point_kinematics(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double positions[DOUGHTY_N_POINT_COORDS], double velocities[DOUGHTY_N_POINT_COORDS])
+/* acceleration_constraints: eq. Table 1 step 5 (d/dt of (8)-(11)). */
+doughty_status doughty_acceleration_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double f_dd[DOUGHTY_N_CONSTRAINTS])
 {
-    double out[12];
+    double out[4];
     doughty_status status;
-    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
+    if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -341,6 +355,25 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
     if (!all_finite(rates, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    if (!all_finite(accels, DOUGHTY_N_COORDS)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_acceleration_constraints_kernel(params, coords, rates, accels, out);
+    if (!all_finite(out, 4)) {
+        return DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(f_dd, out + 0, 4);
+    return DOUGHTY_OK;
+}
+
+/* point_kinematics without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (12)-(14). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 9. */
+void doughty_point_kinematics_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[12])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double L = params->L;
         const double p = coords[0];
@@ -365,20 +398,14 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
         out[10] = p_d + theta_d*tmp2;
         out[11] = theta_d*tmp1;
     }
-    if (!all_finite(out, 12)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    copy_out(positions, out + 0, 6);
-    copy_out(velocities, out + 6, 6);
-    return DOUGHTY_OK;
 }
 
-/* energies: eq. (16)-(22). Total ops: 39. */
-doughty_status doughty_energies(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+/* point_kinematics: eq. (12)-(14). */
+doughty_status doughty_point_kinematics(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double positions[DOUGHTY_N_POINT_COORDS], double velocities[DOUGHTY_N_POINT_COORDS])
 {
-    double out[4];
+    double out[12];
     doughty_status status;
-    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
+    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -391,6 +418,23 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
     if (!all_finite(rates, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    doughty_point_kinematics_kernel(params, coords, rates, out);
+    if (!all_finite(out, 12)) {
+        return DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(positions, out + 0, 6);
+    copy_out(velocities, out + 6, 6);
+    return DOUGHTY_OK;
+}
+
+/* energies without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (16)-(22). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 39. */
+void doughty_energies_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double L = params->L;
         const double m_A = params->m_A;
@@ -417,22 +461,14 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
         out[2] = tmp6;
         out[3] = tmp3 - tmp4 - tmp5 - tmp6;
     }
-    if (!all_finite(out, 4)) {
-        return DOUGHTY_ERR_OVERFLOW;
-    }
-    *T = out[0];
-    *V_G = out[1];
-    *V_E = out[2];
-    *lagrangian = out[3];
-    return DOUGHTY_OK;
 }
 
-/* lagrange_terms: eq. (15), (23)-(29). Total ops: 105. */
-doughty_status doughty_lagrange_terms(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double dt_dL_dqdot[DOUGHTY_N_COORDS], double dL_dq[DOUGHTY_N_COORDS], double constraint_forces[DOUGHTY_N_COORDS], double dissipative_forces[DOUGHTY_N_COORDS], double applied_forces[DOUGHTY_N_COORDS], double residual[DOUGHTY_N_COORDS])
+/* energies: eq. (16)-(22). */
+doughty_status doughty_energies(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
 {
-    double out[30];
+    double out[4];
     doughty_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -445,12 +481,27 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
     if (!all_finite(rates, DOUGHTY_N_COORDS)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(accels, DOUGHTY_N_COORDS)) {
-        return DOUGHTY_ERR_NONFINITE;
+    doughty_energies_kernel(params, coords, rates, out);
+    if (!all_finite(out, 4)) {
+        return DOUGHTY_ERR_OVERFLOW;
     }
-    if (!all_finite(multipliers, DOUGHTY_N_CONSTRAINTS)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
+    *T = out[0];
+    *V_G = out[1];
+    *V_E = out[2];
+    *lagrangian = out[3];
+    return DOUGHTY_OK;
+}
+
+/* lagrange_terms without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (15), (23)-(29). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 105. */
+void doughty_lagrange_terms_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double out[30])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
+    (void)multipliers;
     {
         const double L = params->L;
         const double a = params->a;
@@ -534,6 +585,33 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
         out[28] = lambda_3*tmp0*tmp23 + lambda_4*tmp23*tmp4 + tmp14 + tmp17 - tmp21 - tmp22;
         out[29] = tmp26;
     }
+}
+
+/* lagrange_terms: eq. (15), (23)-(29). */
+doughty_status doughty_lagrange_terms(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double dt_dL_dqdot[DOUGHTY_N_COORDS], double dL_dq[DOUGHTY_N_COORDS], double constraint_forces[DOUGHTY_N_COORDS], double dissipative_forces[DOUGHTY_N_COORDS], double applied_forces[DOUGHTY_N_COORDS], double residual[DOUGHTY_N_COORDS])
+{
+    double out[30];
+    doughty_status status;
+    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(coords, DOUGHTY_N_COORDS)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    if (!all_finite(rates, DOUGHTY_N_COORDS)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    if (!all_finite(accels, DOUGHTY_N_COORDS)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    if (!all_finite(multipliers, DOUGHTY_N_CONSTRAINTS)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_lagrange_terms_kernel(params, coords, rates, accels, multipliers, out);
     if (!all_finite(out, 30)) {
         return DOUGHTY_ERR_OVERFLOW;
     }
@@ -546,24 +624,14 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
     return DOUGHTY_OK;
 }
 
-/* dependent_state: eq. (30)-(35). Total ops: 35. */
-doughty_status doughty_dependent_state(const doughty_params *params, double theta, double theta_d, double coords[DOUGHTY_N_COORDS], double rates[DOUGHTY_N_COORDS])
+/* dependent_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (30)-(35). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 35. */
+void doughty_dependent_state_kernel(const doughty_params *params, double theta, double theta_d, double out[10])
 {
-    double out[10];
-    doughty_status status;
-    if (coords == NULL || rates == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
-    if (!all_finite(&theta_d, 1)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double H = params->H;
         const double L = params->L;
@@ -591,20 +659,14 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
         out[8] = theta_d;
         out[9] = theta_d*(tmp11*tmp6*(tmp1 + tmp5) - tmp11*tmp7*tmp8);
     }
-    if (!all_finite(out, 10)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
-    }
-    copy_out(coords, out + 0, 5);
-    copy_out(rates, out + 5, 5);
-    return DOUGHTY_OK;
 }
 
-/* reduced_coefficients: eq. (36)-(41). Total ops: 40. */
-doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED])
+/* dependent_state: eq. (30)-(35). */
+doughty_status doughty_dependent_state(const doughty_params *params, double theta, double theta_d, double coords[DOUGHTY_N_COORDS], double rates[DOUGHTY_N_COORDS])
 {
-    double out[3];
+    double out[10];
     doughty_status status;
-    if (e == NULL) {
+    if (coords == NULL || rates == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -614,6 +676,25 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
     if (!all_finite(&theta, 1)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_dependent_state_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 10)) {
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    copy_out(coords, out + 0, 5);
+    copy_out(rates, out + 5, 5);
+    return DOUGHTY_OK;
+}
+
+/* reduced_coefficients without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (36)-(41). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 40. */
+void doughty_reduced_coefficients_kernel(const doughty_params *params, double theta, double out[3])
+{
+    (void)params;
+    (void)theta;
     {
         const double H = params->H;
         const double L = params->L;
@@ -636,19 +717,14 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
         out[1] = m_A*tmp8 - m_B*tmp8;
         out[2] = b*tmp3*((H*a - 2*L*tmp9 + tmp7)*(H*a - 2*L*tmp9 + tmp7))/(((H - tmp9)*(H - tmp9)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2)));
     }
-    if (!all_finite(out, 3)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
-    }
-    copy_out(e, out + 0, 3);
-    return DOUGHTY_OK;
 }
 
-/* angular_acceleration: eq. (36). Total ops: 63. */
-doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd)
+/* reduced_coefficients: eq. (36)-(41). */
+doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED])
 {
-    double out[1];
+    double out[3];
     doughty_status status;
-    if (theta_dd == NULL) {
+    if (e == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -658,9 +734,22 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
     if (!all_finite(&theta, 1)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
-        return DOUGHTY_ERR_NONFINITE;
+    doughty_reduced_coefficients_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return DOUGHTY_ERR_SINGULAR_STATE;
     }
+    copy_out(e, out + 0, 3);
+    return DOUGHTY_OK;
+}
+
+/* angular_acceleration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (36). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 63. */
+void doughty_angular_acceleration_kernel(const doughty_params *params, double theta, double theta_d, double out[1])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double H = params->H;
         const double L = params->L;
@@ -689,19 +778,14 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
         const double tmp13 = sqrt(tmp12);
         out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - 1.0/2.0*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (1.0/12.0)*tmp1 + tmp3*tmp6 + tmp5*tmp6);
     }
-    if (!all_finite(out, 1)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
-    }
-    *theta_dd = out[0];
-    return DOUGHTY_OK;
 }
 
-/* equilibrium_residual: eq. (42)-(43). Total ops: 49. */
-doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual, double *scale)
+/* angular_acceleration: eq. (36). */
+doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd)
 {
-    double out[2];
+    double out[1];
     doughty_status status;
-    if (residual == NULL || scale == NULL) {
+    if (theta_dd == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -711,6 +795,24 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
     if (!all_finite(&theta, 1)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_angular_acceleration_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 1)) {
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    *theta_dd = out[0];
+    return DOUGHTY_OK;
+}
+
+/* equilibrium_residual without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (42)-(43). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 49. */
+void doughty_equilibrium_residual_kernel(const doughty_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double H = params->H;
         const double L = params->L;
@@ -733,6 +835,24 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
         out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*tmp7;
         out[1] = tmp6*fabs(tmp7) + fabs(tmp2) + fabs(m_B*tmp8) + (1.0/2.0)*fabs(m_C*tmp8);
     }
+}
+
+/* equilibrium_residual: eq. (42)-(43). */
+doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual, double *scale)
+{
+    double out[2];
+    doughty_status status;
+    if (residual == NULL || scale == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_equilibrium_residual_kernel(params, theta, out);
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
     }
@@ -741,7 +861,28 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
     return DOUGHTY_OK;
 }
 
-/* radicands: eq. -. Total ops: 30. */
+/* radicands without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 30. */
+void doughty_radicands_kernel(const doughty_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
+    {
+        const double H = params->H;
+        const double L = params->L;
+        const double a = params->a;
+        const double tmp0 = cos(theta);
+        const double tmp1 = a*tmp0;
+        const double tmp2 = sin(theta);
+        const double tmp3 = (tmp2*tmp2);
+        const double tmp4 = (a*a);
+        out[0] = ((H - tmp1)*(H - tmp1)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
+        out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*fabs(L*a) + 2*fabs(H*tmp1);
+    }
+}
+
+/* radicands: eq. -. */
 doughty_status doughty_radicands(const doughty_params *params, double theta, double values[DOUGHTY_N_ROOTS], double scales[DOUGHTY_N_ROOTS])
 {
     double out[2];
@@ -756,18 +897,7 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
     if (!all_finite(&theta, 1)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double tmp0 = cos(theta);
-        const double tmp1 = a*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = (a*a);
-        out[0] = ((H - tmp1)*(H - tmp1)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
-        out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*fabs(L*a) + 2*fabs(H*tmp1);
-    }
+    doughty_radicands_kernel(params, theta, out);
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_OVERFLOW;
     }
@@ -776,21 +906,13 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
     return DOUGHTY_OK;
 }
 
-/* equilibrium_branches: eq. (43), squared into (45). Total ops: 45. */
-doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES])
+/* equilibrium_branches without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (43), squared into (45). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 45. */
+void doughty_equilibrium_branches_kernel(const doughty_params *params, double theta, double out[2])
 {
-    double out[2];
-    doughty_status status;
-    if (residuals == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
     {
         const double H = params->H;
         const double L = params->L;
@@ -812,6 +934,24 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, double
         out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*(l_ND - tmp5);
         out[1] = m_B*tmp7 + (1.0/2.0)*m_C*tmp7 - tmp2 + tmp6*(l_ND + tmp5);
     }
+}
+
+/* equilibrium_branches: eq. (43), squared into (45). */
+doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES])
+{
+    double out[2];
+    doughty_status status;
+    if (residuals == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_equilibrium_branches_kernel(params, theta, out);
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
     }
@@ -1059,18 +1199,12 @@ static const double sigma_constants[3] = {
     2.0, 0.5, 4.0
 };
 
-/* sigma: eq. (44)-(45). Total ops: 180. */
-doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
+/* sigma without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 180. */
+void doughty_sigma_kernel(const doughty_params *params, double out[13])
 {
-    double out[13];
-    doughty_status status;
-    if (sigma == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
+    (void)params;
     {
         codegen_dd v[31];
         v[0] = codegen_dd_from(params->H);
@@ -1097,6 +1231,21 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
         out[11] = codegen_dd_to_double(v[29]);
         out[12] = codegen_dd_to_double(v[30]);
     }
+}
+
+/* sigma: eq. (44)-(45). */
+doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
+{
+    double out[13];
+    doughty_status status;
+    if (sigma == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    doughty_sigma_kernel(params, out);
     if (!all_finite(out, 13)) {
         return DOUGHTY_ERR_OVERFLOW;
     }
@@ -1104,21 +1253,13 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
     return DOUGHTY_OK;
 }
 
-/* linearisation: eq. (46)-(53). Total ops: 101. */
-doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K)
+/* linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (46)-(53). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 101. */
+void doughty_linearisation_kernel(const doughty_params *params, double theta, double out[3])
 {
-    double out[3];
-    doughty_status status;
-    if (M == NULL || B == NULL || K == NULL) {
-        return DOUGHTY_ERR_NULL_POINTER;
-    }
-    status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return DOUGHTY_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
     {
         const double H = params->H;
         const double L = params->L;
@@ -1159,21 +1300,14 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
         out[1] = b*tmp3*((H*a + tmp0*tmp5 - tmp10*tmp9)*(H*a + tmp0*tmp5 - tmp10*tmp9))/tmp12;
         out[2] = F*tmp11 + k*((H*H)*tmp17 - 4*H*L*tmp17*tmp5 + (L*L*L*L)*tmp18 - 4*(L*L*L)*a*tmp18 - tmp12*tmp16*tmp22 + tmp14*tmp19 - tmp14*tmp4 + tmp14*tmp7 + 4*tmp15*tmp20*tmp6 + 2*tmp19*tmp20 - tmp19*tmp21 + tmp21*tmp22*tmp6 + tmp21*tmp4 - tmp21*tmp7 + tmp23*tmp3 - tmp23*tmp6)/tmp14 - m_B*tmp13 - 1.0/2.0*m_C*tmp13;
     }
-    if (!all_finite(out, 3)) {
-        return DOUGHTY_ERR_SINGULAR_STATE;
-    }
-    *M = out[0];
-    *B = out[1];
-    *K = out[2];
-    return DOUGHTY_OK;
 }
 
-/* vibration: eq. (54)-(55). Total ops: 113. */
-doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+/* linearisation: eq. (46)-(53). */
+doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K)
 {
-    double out[2];
+    double out[3];
     doughty_status status;
-    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+    if (M == NULL || B == NULL || K == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
@@ -1183,6 +1317,23 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
     if (!all_finite(&theta, 1)) {
         return DOUGHTY_ERR_NONFINITE;
     }
+    doughty_linearisation_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    *M = out[0];
+    *B = out[1];
+    *K = out[2];
+    return DOUGHTY_OK;
+}
+
+/* vibration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (54)-(55). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 113. */
+void doughty_vibration_kernel(const doughty_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double H = params->H;
         const double L = params->L;
@@ -1225,11 +1376,128 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
         out[0] = (F*tmp11 + k*((H*H)*tmp18 - 4*H*L*tmp18*tmp6 + (L*L*L*L)*tmp19 - 4*(L*L*L)*a*tmp19 - tmp14*tmp17*tmp24 + tmp15*tmp20 - tmp15*tmp4 + tmp15*tmp8 + 4*tmp16*tmp21*tmp7 + 2*tmp20*tmp21 - tmp20*tmp22 + tmp22*tmp24*tmp7 + tmp22*tmp4 - tmp22*tmp8 + tmp25*tmp3 - tmp25*tmp7)/tmp15 - m_B*tmp12 - 1.0/2.0*m_C*tmp12)/((1.0/12.0)*tmp1 + tmp10*tmp3 + tmp10*tmp7 + tmp5 + tmp9);
         out[1] = b*tmp3*((H*a + tmp0*tmp6 - tmp13*tmp23)*(H*a + tmp0*tmp6 - tmp13*tmp23))/(tmp14*((1.0/6.0)*tmp1 + tmp26*tmp3 + tmp26*tmp7 + 2*tmp5 + 2*tmp9));
     }
+}
+
+/* vibration: eq. (54)-(55). */
+doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+{
+    double out[2];
+    doughty_status status;
+    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_vibration_kernel(params, theta, out);
     if (!all_finite(out, 2)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
     }
     *omega_n_squared = out[0];
     *zeta_omega_n = out[1];
+    return DOUGHTY_OK;
+}
+
+/* equilibrium_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (42)-(43), (46)-(53), (43), squared into (45). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 151. */
+void doughty_equilibrium_state_kernel(const doughty_params *params, double theta, double out[9])
+{
+    (void)params;
+    (void)theta;
+    {
+        const double H = params->H;
+        const double L = params->L;
+        const double a = params->a;
+        const double m_A = params->m_A;
+        const double m_B = params->m_B;
+        const double m_C = params->m_C;
+        const double k = params->k;
+        const double b = params->b;
+        const double l_ND = params->l_ND;
+        const double F = params->F;
+        const double g = params->g;
+        const double tmp0 = cos(theta);
+        const double tmp1 = L*tmp0;
+        const double tmp2 = F*tmp1;
+        const double tmp3 = a*tmp0;
+        const double tmp4 = sin(theta);
+        const double tmp5 = L*tmp4;
+        const double tmp6 = ((H - tmp3)*(H - tmp3)) + ((-a*tmp4 + tmp5)*(-a*tmp4 + tmp5));
+        const double tmp7 = sqrt(tmp6);
+        const double tmp8 = 1/(tmp7);
+        const double tmp9 = (L*L);
+        const double tmp10 = H*a - 2*L*tmp3 + tmp0*tmp9;
+        const double tmp11 = k*tmp10*tmp4;
+        const double tmp12 = tmp11*(l_ND - tmp7);
+        const double tmp13 = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp12*tmp8 - tmp2;
+        const double tmp14 = g*tmp1;
+        const double tmp15 = m_B*tmp14;
+        const double tmp16 = m_C*tmp14;
+        const double tmp17 = m_C*tmp9;
+        const double tmp18 = (tmp4*tmp4);
+        const double tmp19 = tmp18*tmp9;
+        const double tmp20 = (tmp0*tmp0);
+        const double tmp21 = tmp20*tmp9;
+        const double tmp22 = g*tmp5;
+        const double tmp23 = (tmp6*sqrt(tmp6));
+        const double tmp24 = (H*H);
+        const double tmp25 = (a*a);
+        const double tmp26 = tmp18*tmp25;
+        const double tmp27 = l_ND*tmp26;
+        const double tmp28 = l_ND*tmp18*tmp20;
+        const double tmp29 = H*tmp3;
+        const double tmp30 = l_ND*tmp19;
+        const double tmp31 = tmp20*tmp25;
+        const double tmp32 = l_ND*tmp6;
+        const double tmp33 = 2*tmp18;
+        const double tmp34 = L*a;
+        const double tmp35 = tmp32*tmp34;
+        const double tmp36 = 2*tmp20;
+        const double tmp37 = tmp23*tmp34;
+        out[0] = tmp13;
+        out[1] = tmp8*fabs(tmp12) + fabs(tmp15) + (1.0/2.0)*fabs(tmp16) + fabs(tmp2);
+        out[2] = m_A*tmp19 + m_B*tmp21 + (1.0/4.0)*m_C*tmp19 + (1.0/4.0)*tmp17*tmp20 + (1.0/12.0)*tmp17;
+        out[3] = b*(tmp10*tmp10)*tmp18/tmp6;
+        out[4] = F*tmp5 + k*(-4*H*tmp1*tmp27 + (L*L*L*L)*tmp28 - 4*(L*L*L)*a*tmp28 - tmp19*tmp23 + tmp19*tmp32 + tmp21*tmp23 - tmp21*tmp32 + tmp23*tmp29 + tmp24*tmp27 + 2*tmp29*tmp30 - tmp29*tmp32 + 4*tmp30*tmp31 - tmp33*tmp35 + tmp33*tmp37 + tmp35*tmp36 - tmp36*tmp37)/tmp23 - m_B*tmp22 - 1.0/2.0*m_C*tmp22;
+        out[5] = tmp13;
+        out[6] = tmp11*tmp8*(l_ND + tmp7) + tmp15 + (1.0/2.0)*tmp16 - tmp2;
+        out[7] = tmp6;
+        out[8] = tmp19 + tmp24 + tmp26 + tmp31 + tmp33*fabs(tmp34) + 2*fabs(tmp29);
+    }
+}
+
+/* equilibrium_state: eq. (42)-(43), (46)-(53), (43), squared into (45). */
+doughty_status doughty_equilibrium_state(const doughty_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[DOUGHTY_N_BRANCHES], double radicands[DOUGHTY_N_ROOTS], double radicand_scales[DOUGHTY_N_ROOTS])
+{
+    double out[9];
+    doughty_status status;
+    if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return DOUGHTY_ERR_NONFINITE;
+    }
+    doughty_equilibrium_state_kernel(params, theta, out);
+    if (!all_finite(out, 9)) {
+        return DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    *M = out[2];
+    *B = out[3];
+    *K = out[4];
+    copy_out(branch_residuals, out + 5, 2);
+    copy_out(radicands, out + 7, 1);
+    copy_out(radicand_scales, out + 8, 1);
     return DOUGHTY_OK;
 }
 
@@ -1282,6 +1550,20 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
 }
 
+doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    *flags = 0u;
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, theta, g, dg, flags);
+        return DOUGHTY_OK;
+    default:
+        return DOUGHTY_ERR_ARGUMENT;
+    }
+}
+
 doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const double theta[2],
                                 double g[2], double dg[2], unsigned *flags)
 {
@@ -1301,12 +1583,10 @@ doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, co
     if (mode >= DOUGHTY_N_MODES || !(theta[0] <= theta[1])) {
         return DOUGHTY_ERR_ARGUMENT;
     }
-    switch (mode) {
-    case 0u:
-        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    default:
-        return DOUGHTY_ERR_ARGUMENT;
+    status = doughty_enclosure_kernel(params, mode, codegen_iv_make(theta[0], theta[1]), &iv_g,
+                                     &iv_dg, &iv_flags);
+    if (status != DOUGHTY_OK) {
+        return status;
     }
     g[0] = iv_g.lo;
     g[1] = iv_g.hi;
@@ -1565,6 +1845,22 @@ doughty_status doughty_vibration_batch(size_t count, const doughty_params *param
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = doughty_vibration(&params[i], theta[i], &omega_n_squared[i], &zeta_omega_n[i]);
+        if (first == DOUGHTY_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, doughty_status *statuses)
+{
+    size_t i;
+    doughty_status first = DOUGHTY_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = doughty_equilibrium_state(&params[i], theta[i], &residual[i], &scale[i], &M[i], &B[i], &K[i], &branch_residuals[i * DOUGHTY_N_BRANCHES], &radicands[i * DOUGHTY_N_ROOTS], &radicand_scales[i * DOUGHTY_N_ROOTS]);
         if (first == DOUGHTY_OK) {
             first = statuses[i];
         }

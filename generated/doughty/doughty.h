@@ -230,6 +230,21 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
  */
 doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
 
+/* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
+ * Paper: eq. (42)-(43), (46)-(53), (43), squared into (45).
+ * in  theta: equilibrium angle theta_E [rad]
+ * out residual: G [N m]
+ * out scale: [N m]
+ * out M: M_EQ [kg m^2]
+ * out B: B_EQ [N m s]
+ * out K: K_EQ [N m]
+ * out branch_residuals: [N m]
+ * out radicands: [unit^2]
+ * out radicand_scales: [unit^2]
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
+ */
+doughty_status doughty_equilibrium_state(const doughty_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[DOUGHTY_N_BRANCHES], double radicands[DOUGHTY_N_ROOTS], double radicand_scales[DOUGHTY_N_ROOTS]);
+
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns DOUGHTY_OK when every item succeeded, else the first failure. */
@@ -249,6 +264,7 @@ doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_pa
 doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, double *sigma, doughty_status *statuses);
 doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const double *theta, double *M, double *B, double *K, doughty_status *statuses);
 doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, doughty_status *statuses);
+doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, doughty_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;

@@ -10,7 +10,7 @@
  * enclosures of G and G' (codegen_interval.c), and the vibration at each.
  */
 #include "doughty.h"
-#include "codegen_interval.h"
+#include "doughty_kernels.h"
 
 #include <float.h>
 #include <math.h>
@@ -58,25 +58,60 @@
  * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
 #define SEAM_MARGIN 1e-12
 
+/* The inputs were validated once, at the entry points below; inside, the unchecked kernels
+ * (doughty_kernels.h) evaluate, and each group of results fails as the public function
+ * computing them would (a value not finite). Everything needed at one angle comes from one
+ * call of the fused kernel (doughty_equilibrium_state): one pass over G, its scale, M, B,
+ * K, G on every branch and the radicands. */
+#define STATE_SIZE 9
+#define AT_RESIDUAL 0
+#define AT_SCALE 1
+#define AT_M 2
+#define AT_B 3
+#define AT_K 4
+#define AT_BRANCH_RESIDUALS 5
+#define AT_RADICANDS 7
+#define AT_RADICAND_SCALES 8
+
+static doughty_status finite_or(const double *values, int count, doughty_status failure)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        if (!isfinite(values[i])) {
+            return failure;
+        }
+    }
+    return DOUGHTY_OK;
+}
+
+static void state_at(const doughty_params *params, double theta, double at[STATE_SIZE])
+{
+    doughty_equilibrium_state_kernel(params, theta, at);
+}
+
+/* G and the size of its terms, as doughty_equilibrium_residual returns them. */
+static doughty_status residual_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_RESIDUAL, 2, DOUGHTY_EQUILIBRIUM_RESIDUAL_FAILURE);
+}
+
+/* M, B, K, as doughty_linearisation returns them. */
+static doughty_status linearisation_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_M, 3, DOUGHTY_LINEARISATION_FAILURE);
+}
+
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
-static doughty_status residual_scale(const doughty_params *params, double theta, double k,
+static doughty_status residual_scale(const double at[STATE_SIZE], double theta, double k,
                                      double *scale)
 {
-    double residual, size;
-    const doughty_status status = doughty_equilibrium_residual(params, theta, &residual, &size);
+    const doughty_status status = residual_of(at);
     if (status == DOUGHTY_OK) {
-        *scale = size + fabs(k) * fmax(fabs(theta), 1.0);
+        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), 1.0);
     }
     return status;
-}
-
-/* G alone (the residual's scale is not needed). */
-static doughty_status residual_at(const doughty_params *params, double theta, double *residual)
-{
-    double size;
-    return doughty_equilibrium_residual(params, theta, residual, &size);
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
@@ -156,12 +191,15 @@ static doughty_status vibrate(doughty_equilibrium *e)
     return DOUGHTY_OK;
 }
 
-/* G on one branch at theta; 0 if it cannot be evaluated there. */
+/* G on one branch at theta; 0 if it cannot be evaluated there. The branches' own kernel: the
+ * search along one branch needs nothing else. */
 static int branch_value(const doughty_params *params, double theta, unsigned branch,
                         double *value)
 {
     double g[DOUGHTY_N_BRANCHES];
-    if (doughty_equilibrium_branches(params, theta, g) != DOUGHTY_OK || !(g[branch] == g[branch])) {
+    doughty_equilibrium_branches_kernel(params, theta, g);
+    if (finite_or(g, DOUGHTY_N_BRANCHES, DOUGHTY_ERR_SINGULAR_STATE) != DOUGHTY_OK
+        || !(g[branch] == g[branch])) {
         return 0;
     }
     *value = g[branch];
@@ -173,15 +211,21 @@ static doughty_status linearise(const doughty_params *params, unsigned mode, dou
                                 doughty_equilibrium *e)
 {
     doughty_status status;
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
     (void)mode;
     {
-        status = doughty_linearisation(params, theta, &e->M, &e->B, &e->K);
+        status = linearisation_of(at);
         if (status == DOUGHTY_OK) {
-            status = residual_at(params, theta, &e->residual);
+            status = residual_of(at);
         }
+        e->M = at[AT_M];
+        e->B = at[AT_B];
+        e->K = at[AT_K];
+        e->residual = at[AT_RESIDUAL];
     }
     if (status == DOUGHTY_OK) {
-        status = residual_scale(params, theta, e->K, &e->residual_scale);
+        status = residual_scale(at, theta, e->K, &e->residual_scale);
     }
     e->theta = theta;
     return status;
@@ -191,15 +235,8 @@ static doughty_status linearise(const doughty_params *params, unsigned mode, dou
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    const double interval[2] = {theta.lo, theta.hi};
-    double g_bounds[2], dg_bounds[2];
-    const doughty_status status = doughty_enclosure((const doughty_params *)context, mode, interval,
-                                                 g_bounds, dg_bounds, flags);
-    if (status == DOUGHTY_OK) {
-        *g = codegen_iv_make(g_bounds[0], g_bounds[1]);
-        *dg = codegen_iv_make(dg_bounds[0], dg_bounds[1]);
-    }
-    return (int)status;
+    return (int)doughty_enclosure_kernel((const doughty_params *)context, mode, theta, g, dg,
+                                        flags);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -266,26 +303,31 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
 static double polish(const doughty_params *params, double theta, double radius)
 {
     const double start = theta;
-    double residual, m, b, k;
+    double at[STATE_SIZE], next_at[STATE_SIZE];
     int i;
-    if (residual_at(params, theta, &residual) != DOUGHTY_OK) {
+    state_at(params, theta, at);
+    if (residual_of(at) != DOUGHTY_OK) {
         return theta;
     }
-    for (i = 0; i < NEWTON_STEPS && residual != 0.0; ++i) {
-        double next, next_residual, scale;
-        if (doughty_linearisation(params, theta, &m, &b, &k) != DOUGHTY_OK || k == 0.0
-            || residual_scale(params, theta, k, &scale) != DOUGHTY_OK
-            || fabs(residual) <= GENUINE_RESIDUAL * scale) {
+    for (i = 0; i < NEWTON_STEPS && at[AT_RESIDUAL] != 0.0; ++i) {
+        double next, scale;
+        const double k = at[AT_K];
+        if (linearisation_of(at) != DOUGHTY_OK || k == 0.0
+            || residual_scale(at, theta, k, &scale) != DOUGHTY_OK
+            || fabs(at[AT_RESIDUAL]) <= GENUINE_RESIDUAL * scale) {
             break;
         }
-        next = theta - residual / k;
-        if (!(fabs(next - start) <= radius)
-            || residual_at(params, next, &next_residual) != DOUGHTY_OK
-            || !(fabs(next_residual) < fabs(residual))) {
+        next = theta - at[AT_RESIDUAL] / k;
+        if (!(fabs(next - start) <= radius)) {
+            break;
+        }
+        state_at(params, next, next_at);
+        if (residual_of(next_at) != DOUGHTY_OK
+            || !(fabs(next_at[AT_RESIDUAL]) < fabs(at[AT_RESIDUAL]))) {
             break;
         }
         theta = next;
-        residual = next_residual;
+        memcpy(at, next_at, sizeof at);
     }
     return theta;
 }
@@ -308,12 +350,12 @@ static double wrap(double theta)
  * working precision (relative to the size of its radicand's terms: a limit position, or a
  * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
  * zero (the mechanism cannot be put together at theta). */
-static doughty_status check_state(const doughty_params *params, double theta, int *assembled)
+static doughty_status check_state(const double at[STATE_SIZE], int *assembled)
 {
-    double values[DOUGHTY_N_ROOTS], scales[DOUGHTY_N_ROOTS];
+    const double *values = at + AT_RADICANDS, *scales = at + AT_RADICAND_SCALES;
     const double tolerance = 64.0 * DBL_EPSILON * 64.0 * DBL_EPSILON;
     int i;
-    const doughty_status status = doughty_radicands(params, theta, values, scales);
+    const doughty_status status = finite_or(values, 2 * DOUGHTY_N_ROOTS, DOUGHTY_RADICANDS_FAILURE);
     *assembled = 1;
     if (status != DOUGHTY_OK) {
         return status;
@@ -331,12 +373,12 @@ static doughty_status check_state(const doughty_params *params, double theta, in
 
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
-static doughty_status branch_kind(const doughty_params *params, double theta,
-                                  doughty_root_kind *kind, unsigned *branch)
+static doughty_status branch_kind(const double at[STATE_SIZE], doughty_root_kind *kind,
+                                  unsigned *branch)
 {
-    double g[DOUGHTY_N_BRANCHES];
+    const double *g = at + AT_BRANCH_RESIDUALS;
     unsigned j, best = 0u;
-    const doughty_status status = doughty_equilibrium_branches(params, theta, g);
+    const doughty_status status = finite_or(g, DOUGHTY_N_BRANCHES, DOUGHTY_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != DOUGHTY_OK) {
         return status;
     }
@@ -404,26 +446,32 @@ static double refine_on_branch(const doughty_params *params, double theta, unsig
 }
 
 /* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
- * together, or a genuine root lies closer than the root finder resolves, G itself decides,
- * relative to the size of its contributions. *assembled = 0 (and nothing else written) where
- * the mechanism cannot be assembled. */
-static doughty_status study_root(const doughty_params *params, double theta,
-                                 doughty_equilibrium *e, int *assembled)
+ * together, or (twin_search) a genuine root lies closer than the root finder resolves, G itself
+ * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
+ * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
+ * mechanism cannot be assembled. */
+static doughty_status study_root(const doughty_params *params, double theta, int twin_search,
+                                 doughty_equilibrium *e, int *assembled, int *twinned)
 {
     doughty_status status;
     unsigned branch, mode = 0u;
+    int declared;
+    double at[STATE_SIZE];
+    *twinned = 0;
     theta = wrap(theta);
-    status = check_state(params, theta, assembled);
+    state_at(params, theta, at);
+    status = check_state(at, assembled);
     if (status != DOUGHTY_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(params, theta, &e->kind, &branch);
+    status = branch_kind(at, &e->kind, &branch);
     if (status != DOUGHTY_OK) {
         return status;
     }
-    e->genuine = e->kind == DOUGHTY_EQUILIBRIUM;
-    status = linearise(params, 0u, polish(params, theta, e->genuine ? POLISH_RADIUS : TWIN_RADIUS),
-                       e);
+    declared = e->kind == DOUGHTY_EQUILIBRIUM;
+    e->genuine = declared;
+    status = linearise(params, 0u, polish(params, theta, declared ? POLISH_RADIUS
+                                                      : twin_search ? TWIN_RADIUS : 0.0), e);
     if (status != DOUGHTY_OK) {
         return status;
     }
@@ -433,6 +481,7 @@ static doughty_status study_root(const doughty_params *params, double theta,
         return DOUGHTY_ERR_SINGULAR_STATE;
     }
     e->genuine = e->genuine || fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
+    *twinned = e->genuine && !declared;
     if (e->genuine) {
         e->kind = DOUGHTY_EQUILIBRIUM;
         e->theta = wrap(e->theta);
@@ -474,11 +523,35 @@ static int merge_split_roots(doughty_equilibrium *roots, int count)
     return kept;
 }
 
+/* A root the branches put on another branch, that polishing turned into a genuine twin which
+ * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
+ * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
+ * studied again without the twin search (kept as it was should that fail). */
+static void restore_twins(const doughty_params *params, doughty_equilibrium *roots, int count,
+                          const double *source, int *twinned)
+{
+    int i, j;
+    for (i = 0; i < count; ++i) {
+        for (j = 0; twinned[i] && j < count; ++j) {
+            if (j != i && !twinned[j] && roots[j].genuine
+                && fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
+                doughty_equilibrium own;
+                int assembled, again;
+                if (study_root(params, source[i], 0, &own, &assembled, &again) == DOUGHTY_OK
+                    && assembled && !again) {
+                    roots[i] = own;
+                }
+                twinned[i] = 0;
+            }
+        }
+    }
+}
+
 static doughty_status analyze_polynomial(const doughty_params *params, doughty_analysis *result)
 {
     doughty_analysis work;
-    double theta[DOUGHTY_MAX_ROOTS];
-    int i, count;
+    double theta[DOUGHTY_MAX_ROOTS], source[DOUGHTY_MAX_ROOTS];
+    int i, count, twinned[DOUGHTY_MAX_ROOTS];
     doughty_status status;
     memset(&work, 0, sizeof work);
     status = doughty_sigma(params, work.sigma);
@@ -493,7 +566,9 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        status = study_root(params, theta[i], &work.roots[work.n_roots], &assembled);
+        source[work.n_roots] = theta[i];
+        status = study_root(params, theta[i], 1, &work.roots[work.n_roots], &assembled,
+                            &twinned[work.n_roots]);
         if (status == DOUGHTY_ERR_SINGULAR_STATE) {
             work.singular_theta[work.n_singular++] = theta[i];
         } else if (status != DOUGHTY_OK) {
@@ -504,6 +579,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
             ++work.n_roots;
         }
     }
+    restore_twins(params, work.roots, work.n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work.roots, work.n_roots);
     work.n_roots = merge_split_roots(work.roots, work.n_roots);

@@ -5,8 +5,8 @@
  * common subexpressions once, then copy the results out only if they are all finite.
  */
 #include "four_bar.h"
+#include "four_bar_kernels.h"
 #include "codegen_dd.h"
-#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -110,7 +110,27 @@ four_bar_status four_bar_check_params(const four_bar_params *params)
     return FOUR_BAR_OK;
 }
 
-/* position_constraints: eq. -. Total ops: 17. */
+/* position_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 17. */
+void four_bar_position_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double out[2])
+{
+    (void)params;
+    (void)coords;
+    {
+        const double d = params->d;
+        const double a_2 = params->a_2;
+        const double a_3 = params->a_3;
+        const double a_4 = params->a_4;
+        const double theta = coords[0];
+        const double phi_3 = coords[1];
+        const double phi_4 = coords[2];
+        out[0] = a_2*cos(theta) + a_3*cos(phi_3) - a_4*cos(phi_4) - d;
+        out[1] = a_2*sin(theta) + a_3*sin(phi_3) - a_4*sin(phi_4);
+    }
+}
+
+/* position_constraints: eq. -. */
 four_bar_status four_bar_position_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double f[FOUR_BAR_N_CONSTRAINTS])
 {
     double out[2];
@@ -125,17 +145,7 @@ four_bar_status four_bar_position_constraints(const four_bar_params *params, con
     if (!all_finite(coords, FOUR_BAR_N_COORDS)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    {
-        const double d = params->d;
-        const double a_2 = params->a_2;
-        const double a_3 = params->a_3;
-        const double a_4 = params->a_4;
-        const double theta = coords[0];
-        const double phi_3 = coords[1];
-        const double phi_4 = coords[2];
-        out[0] = a_2*cos(theta) + a_3*cos(phi_3) - a_4*cos(phi_4) - d;
-        out[1] = a_2*sin(theta) + a_3*sin(phi_3) - a_4*sin(phi_4);
-    }
+    four_bar_position_constraints_kernel(params, coords, out);
     if (!all_finite(out, 2)) {
         return FOUR_BAR_ERR_OVERFLOW;
     }
@@ -143,21 +153,13 @@ four_bar_status four_bar_position_constraints(const four_bar_params *params, con
     return FOUR_BAR_OK;
 }
 
-/* constraint_jacobian: eq. -. Total ops: 15. */
-four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double A[FOUR_BAR_N_JACOBIAN])
+/* constraint_jacobian without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 15. */
+void four_bar_constraint_jacobian_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double out[6])
 {
-    double out[6];
-    four_bar_status status;
-    if (coords == NULL || A == NULL) {
-        return FOUR_BAR_ERR_NULL_POINTER;
-    }
-    status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
-    if (!all_finite(coords, FOUR_BAR_N_COORDS)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)coords;
     {
         const double a_2 = params->a_2;
         const double a_3 = params->a_3;
@@ -172,6 +174,24 @@ four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, cons
         out[4] = a_3*cos(phi_3);
         out[5] = -a_4*cos(phi_4);
     }
+}
+
+/* constraint_jacobian: eq. -. */
+four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double A[FOUR_BAR_N_JACOBIAN])
+{
+    double out[6];
+    four_bar_status status;
+    if (coords == NULL || A == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(coords, FOUR_BAR_N_COORDS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_constraint_jacobian_kernel(params, coords, out);
     if (!all_finite(out, 6)) {
         return FOUR_BAR_ERR_OVERFLOW;
     }
@@ -179,7 +199,32 @@ four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, cons
     return FOUR_BAR_OK;
 }
 
-/* velocity_constraints: eq. -. Total ops: 20. */
+/* velocity_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 20. */
+void four_bar_velocity_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[2])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    {
+        const double a_2 = params->a_2;
+        const double a_3 = params->a_3;
+        const double a_4 = params->a_4;
+        const double theta = coords[0];
+        const double phi_3 = coords[1];
+        const double phi_4 = coords[2];
+        const double theta_d = rates[0];
+        const double phi_3_d = rates[1];
+        const double phi_4_d = rates[2];
+        const double tmp0 = a_2*theta_d;
+        const double tmp1 = a_3*phi_3_d;
+        out[0] = a_4*phi_4_d*sin(phi_4) - tmp0*sin(theta) - tmp1*sin(phi_3);
+        out[1] = -a_4*phi_4_d*cos(phi_4) + tmp0*cos(theta) + tmp1*cos(phi_3);
+    }
+}
+
+/* velocity_constraints: eq. -. */
 four_bar_status four_bar_velocity_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double f_d[FOUR_BAR_N_CONSTRAINTS])
 {
     double out[2];
@@ -197,21 +242,7 @@ four_bar_status four_bar_velocity_constraints(const four_bar_params *params, con
     if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    {
-        const double a_2 = params->a_2;
-        const double a_3 = params->a_3;
-        const double a_4 = params->a_4;
-        const double theta = coords[0];
-        const double phi_3 = coords[1];
-        const double phi_4 = coords[2];
-        const double theta_d = rates[0];
-        const double phi_3_d = rates[1];
-        const double phi_4_d = rates[2];
-        const double tmp0 = a_2*theta_d;
-        const double tmp1 = a_3*phi_3_d;
-        out[0] = a_4*phi_4_d*sin(phi_4) - tmp0*sin(theta) - tmp1*sin(phi_3);
-        out[1] = -a_4*phi_4_d*cos(phi_4) + tmp0*cos(theta) + tmp1*cos(phi_3);
-    }
+    four_bar_velocity_constraints_kernel(params, coords, rates, out);
     if (!all_finite(out, 2)) {
         return FOUR_BAR_ERR_OVERFLOW;
     }
@@ -219,27 +250,15 @@ four_bar_status four_bar_velocity_constraints(const four_bar_params *params, con
     return FOUR_BAR_OK;
 }
 
-/* acceleration_constraints: eq. -. Total ops: 41. */
-four_bar_status four_bar_acceleration_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], double f_dd[FOUR_BAR_N_CONSTRAINTS])
+/* acceleration_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 41. */
+void four_bar_acceleration_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], double out[2])
 {
-    double out[2];
-    four_bar_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
-        return FOUR_BAR_ERR_NULL_POINTER;
-    }
-    status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
-    if (!all_finite(coords, FOUR_BAR_N_COORDS)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
-    if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
-    if (!all_finite(accels, FOUR_BAR_N_COORDS)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
     {
         const double a_2 = params->a_2;
         const double a_3 = params->a_3;
@@ -265,19 +284,14 @@ four_bar_status four_bar_acceleration_constraints(const four_bar_params *params,
         out[0] = -a_2*theta_dd*tmp0 - a_3*phi_3_dd*tmp1 + a_4*phi_4_dd*tmp2 + a_4*tmp7*tmp8 - tmp3*tmp4 - tmp5*tmp6;
         out[1] = a_2*theta_dd*tmp3 + a_3*phi_3_dd*tmp5 - a_4*phi_4_dd*tmp7 + a_4*tmp2*tmp8 - tmp0*tmp4 - tmp1*tmp6;
     }
-    if (!all_finite(out, 2)) {
-        return FOUR_BAR_ERR_OVERFLOW;
-    }
-    copy_out(f_dd, out + 0, 2);
-    return FOUR_BAR_OK;
 }
 
-/* point_kinematics: eq. -. Total ops: 15. */
-four_bar_status four_bar_point_kinematics(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double positions[FOUR_BAR_N_POINT_COORDS], double velocities[FOUR_BAR_N_POINT_COORDS])
+/* acceleration_constraints: eq. -. */
+four_bar_status four_bar_acceleration_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], double f_dd[FOUR_BAR_N_CONSTRAINTS])
 {
-    double out[8];
+    double out[2];
     four_bar_status status;
-    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
+    if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -290,6 +304,25 @@ four_bar_status four_bar_point_kinematics(const four_bar_params *params, const d
     if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    if (!all_finite(accels, FOUR_BAR_N_COORDS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_acceleration_constraints_kernel(params, coords, rates, accels, out);
+    if (!all_finite(out, 2)) {
+        return FOUR_BAR_ERR_OVERFLOW;
+    }
+    copy_out(f_dd, out + 0, 2);
+    return FOUR_BAR_OK;
+}
+
+/* point_kinematics without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 15. */
+void four_bar_point_kinematics_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[8])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -311,20 +344,14 @@ four_bar_status four_bar_point_kinematics(const four_bar_params *params, const d
         out[6] = -phi_4_d*tmp3;
         out[7] = phi_4_d*tmp2;
     }
-    if (!all_finite(out, 8)) {
-        return FOUR_BAR_ERR_OVERFLOW;
-    }
-    copy_out(positions, out + 0, 4);
-    copy_out(velocities, out + 4, 4);
-    return FOUR_BAR_OK;
 }
 
-/* energies: eq. -. Total ops: 85. */
-four_bar_status four_bar_energies(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+/* point_kinematics: eq. -. */
+four_bar_status four_bar_point_kinematics(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double positions[FOUR_BAR_N_POINT_COORDS], double velocities[FOUR_BAR_N_POINT_COORDS])
 {
-    double out[4];
+    double out[8];
     four_bar_status status;
-    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
+    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -337,6 +364,23 @@ four_bar_status four_bar_energies(const four_bar_params *params, const double co
     if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    four_bar_point_kinematics_kernel(params, coords, rates, out);
+    if (!all_finite(out, 8)) {
+        return FOUR_BAR_ERR_OVERFLOW;
+    }
+    copy_out(positions, out + 0, 4);
+    copy_out(velocities, out + 4, 4);
+    return FOUR_BAR_OK;
+}
+
+/* energies without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 85. */
+void four_bar_energies_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -380,22 +424,14 @@ four_bar_status four_bar_energies(const four_bar_params *params, const double co
         out[2] = tmp19;
         out[3] = tmp15 - tmp16 - tmp17 - tmp18 - tmp19;
     }
-    if (!all_finite(out, 4)) {
-        return FOUR_BAR_ERR_OVERFLOW;
-    }
-    *T = out[0];
-    *V_G = out[1];
-    *V_E = out[2];
-    *lagrangian = out[3];
-    return FOUR_BAR_OK;
 }
 
-/* lagrange_terms: eq. -. Total ops: 163. */
-four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], const double multipliers[FOUR_BAR_N_CONSTRAINTS], double dt_dL_dqdot[FOUR_BAR_N_COORDS], double dL_dq[FOUR_BAR_N_COORDS], double constraint_forces[FOUR_BAR_N_COORDS], double dissipative_forces[FOUR_BAR_N_COORDS], double applied_forces[FOUR_BAR_N_COORDS], double residual[FOUR_BAR_N_COORDS])
+/* energies: eq. -. */
+four_bar_status four_bar_energies(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
 {
-    double out[18];
+    double out[4];
     four_bar_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -408,12 +444,27 @@ four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const dou
     if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    if (!all_finite(accels, FOUR_BAR_N_COORDS)) {
-        return FOUR_BAR_ERR_NONFINITE;
+    four_bar_energies_kernel(params, coords, rates, out);
+    if (!all_finite(out, 4)) {
+        return FOUR_BAR_ERR_OVERFLOW;
     }
-    if (!all_finite(multipliers, FOUR_BAR_N_CONSTRAINTS)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
+    *T = out[0];
+    *V_G = out[1];
+    *V_E = out[2];
+    *lagrangian = out[3];
+    return FOUR_BAR_OK;
+}
+
+/* lagrange_terms without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 163. */
+void four_bar_lagrange_terms_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], const double multipliers[FOUR_BAR_N_CONSTRAINTS], double out[18])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
+    (void)multipliers;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -503,6 +554,33 @@ four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const dou
         out[16] = a_3*lambda_2*tmp42 + tmp24 - tmp41;
         out[17] = tmp29 + tmp39 + tmp43 + tmp44;
     }
+}
+
+/* lagrange_terms: eq. -. */
+four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], const double multipliers[FOUR_BAR_N_CONSTRAINTS], double dt_dL_dqdot[FOUR_BAR_N_COORDS], double dL_dq[FOUR_BAR_N_COORDS], double constraint_forces[FOUR_BAR_N_COORDS], double dissipative_forces[FOUR_BAR_N_COORDS], double applied_forces[FOUR_BAR_N_COORDS], double residual[FOUR_BAR_N_COORDS])
+{
+    double out[18];
+    four_bar_status status;
+    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(coords, FOUR_BAR_N_COORDS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    if (!all_finite(rates, FOUR_BAR_N_COORDS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    if (!all_finite(accels, FOUR_BAR_N_COORDS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    if (!all_finite(multipliers, FOUR_BAR_N_CONSTRAINTS)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_lagrange_terms_kernel(params, coords, rates, accels, multipliers, out);
     if (!all_finite(out, 18)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -515,24 +593,14 @@ four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const dou
     return FOUR_BAR_OK;
 }
 
-/* dependent_state: eq. -. Total ops: 186. */
-four_bar_status four_bar_dependent_state(const four_bar_params *params, double theta, double theta_d, double coords[FOUR_BAR_N_COORDS], double rates[FOUR_BAR_N_COORDS])
+/* dependent_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 186. */
+void four_bar_dependent_state_kernel(const four_bar_params *params, double theta, double theta_d, double out[6])
 {
-    double out[6];
-    four_bar_status status;
-    if (coords == NULL || rates == NULL) {
-        return FOUR_BAR_ERR_NULL_POINTER;
-    }
-    status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
-    if (!all_finite(&theta_d, 1)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -600,20 +668,14 @@ four_bar_status four_bar_dependent_state(const four_bar_params *params, double t
         out[4] = theta_d*(-tmp24*tmp45*((1.0/2.0)*tmp0*tmp22*(-tmp15*tmp48*tmp7 + 3*tmp17 + tmp19 - tmp31*tmp52) - tmp0*tmp32*tmp47) + tmp33*tmp45*((1.0/2.0)*tmp0*tmp22*(a_2*tmp14*tmp15 + a_2*tmp14*tmp49*tmp50*tmp51*tmp7 + a_2*tmp2*tmp7 - d*tmp14*tmp52 + 2*d*tmp29*tmp5 - tmp26 - tmp27 - tmp28 - tmp30*tmp53) - tmp21*tmp47));
         out[5] = theta_d*(tmp38*tmp54*(2*a_2*a_4*tmp14*tmp7 - 4*a_4*tmp37*tmp46 + tmp36 - tmp41*tmp52) + tmp42*tmp54*(a_4*tmp48*tmp53 - tmp14*tmp40*tmp52 - tmp35*tmp8 + tmp41));
     }
-    if (!all_finite(out, 6)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    copy_out(coords, out + 0, 3);
-    copy_out(rates, out + 3, 3);
-    return FOUR_BAR_OK;
 }
 
-/* reduced_coefficients: eq. -. Total ops: 1205. */
-four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, double theta, double e[FOUR_BAR_N_REDUCED])
+/* dependent_state: eq. -. */
+four_bar_status four_bar_dependent_state(const four_bar_params *params, double theta, double theta_d, double coords[FOUR_BAR_N_COORDS], double rates[FOUR_BAR_N_COORDS])
 {
-    double out[3];
+    double out[6];
     four_bar_status status;
-    if (e == NULL) {
+    if (coords == NULL || rates == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -623,6 +685,25 @@ four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, dou
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_dependent_state_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 6)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    copy_out(coords, out + 0, 3);
+    copy_out(rates, out + 3, 3);
+    return FOUR_BAR_OK;
+}
+
+/* reduced_coefficients without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 1205. */
+void four_bar_reduced_coefficients_kernel(const four_bar_params *params, double theta, double out[3])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -926,19 +1007,14 @@ four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, dou
         out[1] = (1.0/12.0)*m_3*tmp205*tmp7*(tmp161*(-tmp12*tmp203 + tmp140*tmp273*tmp274 + tmp170*tmp188*tmp276 + tmp186*tmp191*tmp268*tmp279 - tmp188*tmp198*tmp277 - tmp272*tmp276*tmp278 + tmp273*tmp277 - tmp274*tmp280) + tmp161*(tmp133*tmp193*tmp262 + tmp161*((1.0/4.0)*tmp140*tmp177*tmp178*tmp186*tmp271*tmp281 - tmp280*tmp282) - tmp195*((1.0/2.0)*a_2*tmp163*tmp164*tmp5 - tmp179*tmp279) + tmp201*((1.0/2.0)*a_2*tmp163*tmp164*tmp2 - tmp140*tmp180) + tmp204*tmp259 - tmp269*tmp276 - tmp270*tmp282 + tmp275*tmp282) + tmp170*tmp193*tmp262 - tmp181*tmp262 - tmp192*tmp260*tmp261 - tmp195*(-tmp157*tmp170*tmp179 + tmp177*tmp206*tmp265 - tmp177*tmp264 + tmp193*(tmp175 + tmp197 + tmp263)) + tmp199*tmp261 + tmp201*(-tmp184*tmp264 + tmp193*(tmp183 + tmp266) - tmp260*tmp267 + tmp265*tmp268) + tmp204*tmp246 - tmp270*tmp274 + tmp274*tmp275) + (1.0/12.0)*m_4*tmp162*tmp8*(tmp139*tmp243 + tmp148*(12*a_4*tmp166 + tmp152) + tmp154*(-tmp138 - tmp151*tmp245 - tmp244) + tmp156*tmp246 + tmp161*(tmp242*tmp254 + tmp250*tmp255 + tmp250*tmp256 + tmp252 + tmp257) + tmp161*(tmp139*tmp254 + tmp156*tmp259 + tmp161*(tmp255*tmp258 + tmp256*tmp258) + tmp247*tmp258 + tmp251*tmp258 - tmp252 + tmp257) + tmp242*tmp243 + tmp247*tmp250 + tmp250*tmp251) - tmp125*tmp232*(tmp125*tmp207 + tmp161*(-tmp125*tmp228 - tmp222*(12*a_2*tmp22*tmp6 + 12*d*tmp27*tmp6 - tmp105 - tmp241 - 3*tmp49 - tmp5*tmp94 - 3*tmp52)) - tmp222*(tmp239 - 24*tmp24 - 24*tmp29*tmp5 + 36*tmp30*tmp6*tmp90 + tmp84 + tmp96)) - tmp130*tmp229*(tmp130*tmp207 + tmp161*(-tmp130*tmp228 - tmp222*(4*a_2*tmp22*tmp6 + 4*d*tmp27*tmp6 - tmp128 - tmp223*tmp5 - tmp241 - tmp49 - tmp52)) - tmp222*(-tmp216*tmp29 + tmp239 - 8*tmp24 + tmp69 + tmp93)) - tmp229*tmp85*(tmp161*(-tmp222*(tmp2*tmp223 + tmp2*tmp33 - 4*tmp225 - tmp226*tmp25 + tmp227 + tmp64 + tmp66) - tmp228*tmp85) + tmp207*tmp85 - tmp222*(tmp102*tmp37 - tmp103*tmp209 + tmp129 + tmp208*tmp37 + tmp220)) - tmp232*tmp97*(tmp161*(-tmp222*(tmp2*tmp92 - 12*tmp225 - tmp226*tmp89 + tmp227 + 3*tmp64 + 3*tmp66 + tmp95) - tmp228*tmp97) + tmp207*tmp97 - tmp222*(tmp102*tmp230 - tmp103*tmp231*tmp90 + tmp109 + tmp208*tmp230 + tmp220));
         out[2] = b*(((1.0/2.0)*tmp164*(tmp157*tmp286 + tmp16*tmp161*(-d*y_S + tmp12*y_S - tmp133*x_S + tmp149) + tmp16*(2*a_2*d*tmp2*tmp283 + 2*a_2*d*tmp2*tmp284 + a_2*d*tmp2*tmp7 + a_2*d*tmp2*tmp8 + a_2*d*tmp20*tmp5 + a_2*tmp2*tmp8*x_S + a_2*tmp5*tmp7*y_S + 2*d*tmp0*tmp6*y_S + 4*tmp0*tmp11*tmp2*tmp5 - tmp133*tmp22 - tmp134*y_S - tmp165*x_S - tmp167*x_S - tmp171*y_S - tmp172*y_S - tmp174*y_S - tmp196*y_S + tmp2*tmp27*x_S - tmp21*x_S - tmp215*tmp285 - tmp226))/tmp287 - tmp267*tmp287)*((1.0/2.0)*tmp164*(tmp157*tmp286 + tmp16*tmp161*(-d*y_S + tmp12*y_S - tmp133*x_S + tmp149) + tmp16*(2*a_2*d*tmp2*tmp283 + 2*a_2*d*tmp2*tmp284 + a_2*d*tmp2*tmp7 + a_2*d*tmp2*tmp8 + a_2*d*tmp20*tmp5 + a_2*tmp2*tmp8*x_S + a_2*tmp5*tmp7*y_S + 2*d*tmp0*tmp6*y_S + 4*tmp0*tmp11*tmp2*tmp5 - tmp133*tmp22 - tmp134*y_S - tmp165*x_S - tmp167*x_S - tmp171*y_S - tmp172*y_S - tmp174*y_S - tmp196*y_S + tmp2*tmp27*x_S - tmp21*x_S - tmp215*tmp285 - tmp226))/tmp287 - tmp267*tmp287));
     }
-    if (!all_finite(out, 3)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    copy_out(e, out + 0, 3);
-    return FOUR_BAR_OK;
 }
 
-/* angular_acceleration: eq. -. Total ops: 1229. */
-four_bar_status four_bar_angular_acceleration(const four_bar_params *params, double theta, double theta_d, double *theta_dd)
+/* reduced_coefficients: eq. -. */
+four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, double theta, double e[FOUR_BAR_N_REDUCED])
 {
-    double out[1];
+    double out[3];
     four_bar_status status;
-    if (theta_dd == NULL) {
+    if (e == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -948,9 +1024,22 @@ four_bar_status four_bar_angular_acceleration(const four_bar_params *params, dou
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
-        return FOUR_BAR_ERR_NONFINITE;
+    four_bar_reduced_coefficients_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
     }
+    copy_out(e, out + 0, 3);
+    return FOUR_BAR_OK;
+}
+
+/* angular_acceleration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 1229. */
+void four_bar_angular_acceleration_kernel(const four_bar_params *params, double theta, double theta_d, double out[1])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -1262,19 +1351,14 @@ four_bar_status four_bar_angular_acceleration(const four_bar_params *params, dou
         const double tmp293 = tmp282*tmp292;
         out[0] = (T - b*theta_d*(((1.0/2.0)*tmp164*tmp222*tmp225 - tmp214)*((1.0/2.0)*tmp164*tmp222*tmp225 - tmp214)) - 1.0/2.0*g*m_2*tmp12 + g*tmp219 + g*tmp221 - (theta_d*theta_d)*((1.0/12.0)*m_3*tmp205*tmp7*(tmp161*(-tmp12*tmp203 + tmp140*tmp284*tmp285 + tmp170*tmp188*tmp287 + tmp186*tmp191*tmp279*tmp290 - tmp188*tmp198*tmp288 - tmp283*tmp287*tmp289 + tmp284*tmp288 - tmp285*tmp291) + tmp161*(tmp133*tmp193*tmp274 + tmp161*((1.0/4.0)*tmp140*tmp177*tmp178*tmp186*tmp282*tmp292 - tmp291*tmp293) - tmp195*((1.0/2.0)*a_2*tmp163*tmp164*tmp5 - tmp179*tmp290) + tmp201*((1.0/2.0)*a_2*tmp163*tmp164*tmp2 - tmp140*tmp180) + tmp204*tmp271 - tmp280*tmp287 - tmp281*tmp293 + tmp286*tmp293) + tmp170*tmp193*tmp274 - tmp181*tmp274 - tmp192*tmp272*tmp273 - tmp195*(-tmp157*tmp170*tmp179 + tmp177*tmp226*tmp277 - tmp177*tmp276 + tmp193*(tmp175 + tmp197 + tmp275)) + tmp199*tmp273 + tmp201*(-tmp184*tmp276 + tmp193*(tmp183 + tmp278) - tmp213*tmp272 + tmp277*tmp279) + tmp204*tmp258 - tmp281*tmp285 + tmp285*tmp286) + (1.0/12.0)*m_4*tmp162*tmp8*(tmp139*tmp255 + tmp148*(12*a_4*tmp166 + tmp152) + tmp154*(-tmp138 - tmp151*tmp257 - tmp256) + tmp156*tmp258 + tmp161*(tmp254*tmp266 + tmp262*tmp267 + tmp262*tmp268 + tmp264 + tmp269) + tmp161*(tmp139*tmp266 + tmp156*tmp271 + tmp161*(tmp267*tmp270 + tmp268*tmp270) + tmp259*tmp270 + tmp263*tmp270 - tmp264 + tmp269) + tmp254*tmp255 + tmp259*tmp262 + tmp262*tmp263) - tmp218*tmp97*(tmp161*(-tmp217*(tmp2*tmp92 - tmp223*tmp89 - 12*tmp240 + tmp241 + 3*tmp64 + 3*tmp66 + tmp95) - tmp242*tmp97) - tmp217*(tmp102*tmp243 - tmp103*tmp244*tmp90 + tmp109 + tmp228*tmp243 + tmp239) + tmp227*tmp97) - tmp219*(tmp125*tmp227 + tmp161*(-tmp125*tmp242 - tmp217*(12*a_2*tmp22*tmp6 + 12*d*tmp27*tmp6 - tmp105 - tmp253 - 3*tmp49 - tmp5*tmp94 - 3*tmp52)) - tmp217*(-24*tmp24 + tmp251 - 24*tmp29*tmp5 + 36*tmp30*tmp6*tmp90 + tmp84 + tmp96)) - tmp220*tmp85*(tmp161*(-tmp217*(tmp2*tmp210 + tmp2*tmp33 - tmp223*tmp25 - 4*tmp240 + tmp241 + tmp64 + tmp66) - tmp242*tmp85) - tmp217*(tmp102*tmp37 - tmp103*tmp229 + tmp129 + tmp228*tmp37 + tmp239) + tmp227*tmp85) - tmp221*(tmp130*tmp227 + tmp161*(-tmp130*tmp242 - tmp217*(4*a_2*tmp22*tmp6 + 4*d*tmp27*tmp6 - tmp128 - tmp210*tmp5 - tmp253 - tmp49 - tmp52)) - tmp217*(-tmp235*tmp29 - 8*tmp24 + tmp251 + tmp69 + tmp93))) - tmp192*tmp215*tmp222*tmp225 + tmp214*tmp215)/((1.0/12.0)*m_3*(tmp205*tmp205)*tmp7 + (1.0/12.0)*m_4*(tmp162*tmp162)*tmp8 + (1.0/12.0)*tmp1 - (tmp125*tmp125)*tmp98 - (tmp130*tmp130)*tmp88 + tmp3*tmp4 + tmp4*tmp6 - (tmp85*tmp85)*tmp88 - (tmp97*tmp97)*tmp98);
     }
-    if (!all_finite(out, 1)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    *theta_dd = out[0];
-    return FOUR_BAR_OK;
 }
 
-/* equilibrium_residual: eq. -. Total ops: 450. */
-four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, double theta, double *residual, double *scale)
+/* angular_acceleration: eq. -. */
+four_bar_status four_bar_angular_acceleration(const four_bar_params *params, double theta, double theta_d, double *theta_dd)
 {
-    double out[2];
+    double out[1];
     four_bar_status status;
-    if (residual == NULL || scale == NULL) {
+    if (theta_dd == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -1284,6 +1368,24 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, dou
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_angular_acceleration_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 1)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    *theta_dd = out[0];
+    return FOUR_BAR_OK;
+}
+
+/* equilibrium_residual without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 450. */
+void four_bar_equilibrium_residual_kernel(const four_bar_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -1394,20 +1496,14 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, dou
         out[0] = -T + (1.0/2.0)*a_2*g*m_2*tmp0 - tmp56*tmp58*(12*a_2*tmp15*tmp20*tmp21 + 12*d*tmp15*tmp21*tmp22 - 12*tmp15*tmp26 - 3*tmp17 - 3*tmp19 - 6*tmp24 - tmp53) - tmp58*tmp60*(4*a_2*tmp15*tmp20*tmp21 + 4*d*tmp15*tmp21*tmp22 - tmp15*tmp59 - tmp17 - tmp19 - 2*tmp24 - tmp53) - tmp77;
         out[1] = tmp91*fabs(tmp56*(tmp26*tmp92 + 3*tmp81 + 3*tmp82 - tmp83*tmp92 - tmp85*tmp92 + 6*tmp86 + tmp90)) + tmp91*fabs(tmp60*(tmp59*tmp79 + tmp81 + tmp82 - tmp83*tmp84 - tmp84*tmp85 + 2*tmp86 + tmp90)) + fabs(T) + fabs(tmp77) + (1.0/2.0)*fabs(g*m_2*tmp7);
     }
-    if (!all_finite(out, 2)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    *residual = out[0];
-    *scale = out[1];
-    return FOUR_BAR_OK;
 }
 
-/* radicands: eq. -. Total ops: 341. */
-four_bar_status four_bar_radicands(const four_bar_params *params, double theta, double values[FOUR_BAR_N_ROOTS], double scales[FOUR_BAR_N_ROOTS])
+/* equilibrium_residual: eq. -. */
+four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, double theta, double *residual, double *scale)
 {
-    double out[4];
+    double out[2];
     four_bar_status status;
-    if (values == NULL || scales == NULL) {
+    if (residual == NULL || scale == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -1417,6 +1513,22 @@ four_bar_status four_bar_radicands(const four_bar_params *params, double theta, 
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    four_bar_equilibrium_residual_kernel(params, theta, out);
+    if (!all_finite(out, 2)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    return FOUR_BAR_OK;
+}
+
+/* radicands without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 341. */
+void four_bar_radicands_kernel(const four_bar_params *params, double theta, double out[4])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -1514,20 +1626,14 @@ four_bar_status four_bar_radicands(const four_bar_params *params, double theta, 
         out[2] = (a_3*a_3*a_3*a_3) + (a_4*a_4*a_4*a_4) + tmp0*tmp43 + tmp0*tmp44 + tmp1*tmp44 + 2*tmp18 + tmp32 + tmp39 + tmp4*tmp43 + tmp4*tmp54 + tmp40 + tmp41 + tmp42 + tmp45*tmp50 + tmp47;
         out[3] = tmp0*tmp40 + tmp1*tmp39 + tmp13*tmp4 + 3*tmp13*tmp50 + tmp13*tmp55 + tmp14*tmp39 + tmp14*tmp40 + tmp15*tmp62 + tmp15*tmp72 + tmp15*tmp74 + tmp16*tmp39 + tmp16*tmp40 + tmp17*tmp62 + tmp17*tmp72 + tmp17*tmp74 + tmp18*tmp29*tmp30 + tmp18*tmp3 + 3*tmp18*tmp53 + tmp18*tmp59 + tmp18*tmp60 + tmp18*tmp66 + tmp19*tmp54 + tmp20*tmp54 + tmp29*tmp40*tmp45 + 4*tmp29*tmp56 + tmp29*tmp79*tmp84 + tmp32*tmp33*fabs(tmp25*tmp5) + tmp32*tmp66 + tmp4*tmp45*tmp51*fabs(tmp26*tmp5) + tmp40*tmp59 + tmp40*tmp60 + tmp41*tmp69 + tmp41*tmp77 + tmp42*tmp46 + tmp42*tmp69 + tmp42*tmp77 + tmp46*tmp68 + tmp49*tmp63 + tmp50*tmp61 + tmp52*tmp58 + tmp53*tmp67 + tmp55*tmp61 + tmp56 + tmp57*tmp58 + tmp57*tmp75*tmp78 + tmp59*tmp67 + tmp60*tmp67 + tmp63*tmp64 + tmp63*tmp65 + tmp64*tmp70 + tmp64*tmp71 + tmp64*tmp73 + tmp65*tmp70 + tmp65*tmp71 + tmp65*tmp73 + tmp65*tmp78 + tmp66*tmp67 + tmp68*tmp69 + tmp73*tmp76 + tmp76*tmp78 + tmp79*tmp80 + 3*tmp81*fabs(tmp36) + tmp81*fabs(tmp38) + tmp82*fabs(y_S) + tmp82*fabs(a_2*tmp25) + tmp83*fabs(tmp35) + tmp83*fabs(tmp37) + tmp83*fabs(tmp5*y_S) + tmp84*fabs(tmp37*tmp6);
     }
-    if (!all_finite(out, 4)) {
-        return FOUR_BAR_ERR_OVERFLOW;
-    }
-    copy_out(values, out + 0, 2);
-    copy_out(scales, out + 2, 2);
-    return FOUR_BAR_OK;
 }
 
-/* equilibrium_branches: eq. -. Total ops: 492. */
-four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, double theta, double residuals[FOUR_BAR_N_BRANCHES])
+/* radicands: eq. -. */
+four_bar_status four_bar_radicands(const four_bar_params *params, double theta, double values[FOUR_BAR_N_ROOTS], double scales[FOUR_BAR_N_ROOTS])
 {
     double out[4];
     four_bar_status status;
-    if (residuals == NULL) {
+    if (values == NULL || scales == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -1537,6 +1643,22 @@ four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, dou
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    four_bar_radicands_kernel(params, theta, out);
+    if (!all_finite(out, 4)) {
+        return FOUR_BAR_ERR_OVERFLOW;
+    }
+    copy_out(values, out + 0, 2);
+    copy_out(scales, out + 2, 2);
+    return FOUR_BAR_OK;
+}
+
+/* equilibrium_branches without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 492. */
+void four_bar_equilibrium_branches_kernel(const four_bar_params *params, double theta, double out[4])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -1681,6 +1803,24 @@ four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, dou
         out[2] = 2*a_2*d*k*tmp123*tmp17*tmp48*tmp68 - k*tmp115*tmp123*tmp49*tmp67 - tmp110;
         out[3] = -tmp116*tmp124 + tmp117*tmp124 + tmp122;
     }
+}
+
+/* equilibrium_branches: eq. -. */
+four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, double theta, double residuals[FOUR_BAR_N_BRANCHES])
+{
+    double out[4];
+    four_bar_status status;
+    if (residuals == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_equilibrium_branches_kernel(params, theta, out);
     if (!all_finite(out, 4)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -35881,18 +36021,12 @@ static const double sigma_constants[16] = {
     2.0, 4.0, 6.0, 3.0, 0.5, 12.0, 1.5, 0.25, 30.0, 18.0, 10.0, 8.0, 20.0, 24.0, 40.0, 1.0
 };
 
-/* sigma: eq. -. Total ops: 27075. */
-four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_BAR_N_SIGMA])
+/* sigma without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 27075. */
+void four_bar_sigma_kernel(const four_bar_params *params, double out[29])
 {
-    double out[29];
-    four_bar_status status;
-    if (sigma == NULL) {
-        return FOUR_BAR_ERR_NULL_POINTER;
-    }
-    status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
+    (void)params;
     {
         codegen_dd v[388];
         v[0] = codegen_dd_from(params->d);
@@ -35939,6 +36073,21 @@ four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_
         out[27] = codegen_dd_to_double(v[333]);
         out[28] = codegen_dd_to_double(v[331]);
     }
+}
+
+/* sigma: eq. -. */
+four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_BAR_N_SIGMA])
+{
+    double out[29];
+    four_bar_status status;
+    if (sigma == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    four_bar_sigma_kernel(params, out);
     if (!all_finite(out, 29)) {
         return FOUR_BAR_ERR_OVERFLOW;
     }
@@ -35946,21 +36095,13 @@ four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_
     return FOUR_BAR_OK;
 }
 
-/* linearisation: eq. -. Total ops: 935. */
-four_bar_status four_bar_linearisation(const four_bar_params *params, double theta, double *M, double *B, double *K)
+/* linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 935. */
+void four_bar_linearisation_kernel(const four_bar_params *params, double theta, double out[3])
 {
-    double out[3];
-    four_bar_status status;
-    if (M == NULL || B == NULL || K == NULL) {
-        return FOUR_BAR_ERR_NULL_POINTER;
-    }
-    status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return FOUR_BAR_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -36194,21 +36335,14 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, double the
         out[1] = b*(((1.0/2.0)*tmp132*tmp178*tmp182 - tmp144*tmp177)*((1.0/2.0)*tmp132*tmp178*tmp182 - tmp144*tmp177));
         out[2] = -1.0/2.0*g*m_2*tmp113 + tmp105*tmp205*tmp210 + tmp108*tmp203*tmp210 - tmp123*tmp182*tmp186 - tmp123*tmp188*tmp214 - tmp13*tmp176*tmp188 + tmp130*(-tmp105*tmp213*tmp85 - tmp206*(12*a_2*tmp21*tmp6 + 12*d*tmp24*tmp6 - tmp212 - 3*tmp42 - 3*tmp46 - tmp90 - tmp94)) + tmp130*(-tmp108*tmp213*tmp78 - tmp204*(4*a_2*tmp21*tmp6 + 4*d*tmp24*tmp6 - tmp106 - tmp107 - tmp212 - tmp42 - tmp46)) + (1.0/4.0)*tmp132*tmp208*tmp209*(tmp126*tmp179 + (1.0/2.0)*tmp127*tmp180*tmp77 + tmp207) + tmp146*tmp209*(tmp123*tmp179*tmp208 + tmp124*tmp181 + tmp129*tmp180*(-tmp13*tmp14 - tmp13*tmp17 - tmp189) + tmp13*tmp175 + tmp130*tmp207 + tmp15*(-8*tmp109*tmp134*y_S - tmp157 - tmp158*tmp28 + tmp158*tmp56 - tmp159 + tmp160 + tmp161 - tmp162 - tmp163 - tmp164 + tmp165 + tmp166 + tmp167 + tmp168 + tmp169 + tmp170 + tmp171 - tmp172 - tmp173 + tmp174 - tmp184 + tmp28*tmp92)) + tmp175*tmp184*tmp186 + tmp176*tmp185*tmp189*tmp190 - tmp204*(tmp200 - 8*tmp27 + tmp64 - 8*tmp80 + tmp83) - tmp206*(tmp200 - 24*tmp27 + 36*tmp31*tmp6 + tmp75 - 24*tmp80 + tmp84) + (1.0/2.0)*tmp214*((1.0/2.0)*k*tmp144*tmp178*tmp182 - tmp126*tmp188 - tmp177*tmp186 - 1.0/2.0*tmp182*tmp188/tmp175);
     }
-    if (!all_finite(out, 3)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    *M = out[0];
-    *B = out[1];
-    *K = out[2];
-    return FOUR_BAR_OK;
 }
 
-/* vibration: eq. -. Total ops: 958. */
-four_bar_status four_bar_vibration(const four_bar_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+/* linearisation: eq. -. */
+four_bar_status four_bar_linearisation(const four_bar_params *params, double theta, double *M, double *B, double *K)
 {
-    double out[2];
+    double out[3];
     four_bar_status status;
-    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+    if (M == NULL || B == NULL || K == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -36218,6 +36352,23 @@ four_bar_status four_bar_vibration(const four_bar_params *params, double theta, 
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    four_bar_linearisation_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    *M = out[0];
+    *B = out[1];
+    *K = out[2];
+    return FOUR_BAR_OK;
+}
+
+/* vibration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 958. */
+void four_bar_vibration_kernel(const four_bar_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -36461,20 +36612,14 @@ four_bar_status four_bar_vibration(const four_bar_params *params, double theta, 
         out[0] = (-1.0/2.0*g*m_2*tmp118 + tmp108*tmp210*tmp216 + tmp112*tmp208*tmp216 - tmp128*tmp186*tmp195 - tmp128*tmp189*tmp220 - tmp13*tmp187*tmp189 + tmp135*(-tmp108*tmp219*tmp88 - tmp211*(12*a_2*tmp21*tmp6 + 12*d*tmp24*tmp6 - tmp218 - 3*tmp42 - 3*tmp46 - tmp93 - tmp97)) + tmp135*(-tmp112*tmp219*tmp80 - tmp209*(4*a_2*tmp21*tmp6 + 4*d*tmp24*tmp6 - tmp110 - tmp111 - tmp218 - tmp42 - tmp46)) + (1.0/4.0)*tmp138*tmp213*tmp215*(tmp131*tmp192 + (1.0/2.0)*tmp132*tmp193*tmp79 + tmp212) + tmp152*tmp215*(tmp128*tmp192*tmp213 + tmp129*tmp194 + tmp13*tmp182 + tmp134*tmp193*(-tmp13*tmp14 - tmp13*tmp17 - tmp190) + tmp135*tmp212 + tmp15*(-8*tmp114*tmp140*y_S - tmp164 - tmp165*tmp28 + tmp165*tmp56 - tmp166 + tmp167 + tmp168 - tmp169 - tmp170 - tmp171 + tmp172 + tmp173 + tmp174 + tmp175 + tmp176 + tmp177 + tmp178 - tmp179 - tmp180 + tmp181 - tmp184 + tmp28*tmp95)) + tmp182*tmp184*tmp186 + tmp185*tmp187*tmp190*tmp191 - tmp209*(tmp205 - 8*tmp27 + tmp64 - 8*tmp82 + tmp85) - tmp211*(tmp205 - 24*tmp27 + 36*tmp31*tmp6 + tmp75 - 24*tmp82 + tmp86) + (1.0/2.0)*tmp220*((1.0/2.0)*k*tmp150*tmp195*tmp214 - tmp131*tmp189 - tmp186*tmp221 - 1.0/2.0*tmp189*tmp195/tmp182))/((1.0/12.0)*tmp1 - tmp109*tmp89 - tmp113*tmp81 + (1.0/12.0)*tmp136 + (1.0/12.0)*tmp161 + tmp3*tmp4 + tmp4*tmp6 - tmp76*tmp81 - tmp87*tmp89);
         out[1] = b*(((1.0/2.0)*tmp138*tmp195*tmp214 - tmp150*tmp221)*((1.0/2.0)*tmp138*tmp195*tmp214 - tmp150*tmp221))/((1.0/6.0)*tmp1 - tmp109*tmp225 - tmp113*tmp224 + (1.0/6.0)*tmp136 + (1.0/6.0)*tmp161 + tmp222*tmp3 + tmp222*tmp6 - tmp224*tmp76 - tmp225*tmp87);
     }
-    if (!all_finite(out, 2)) {
-        return FOUR_BAR_ERR_SINGULAR_STATE;
-    }
-    *omega_n_squared = out[0];
-    *zeta_omega_n = out[1];
-    return FOUR_BAR_OK;
 }
 
-/* mode_linearisation: eq. -. Total ops: 1331. */
-four_bar_status four_bar_mode_linearisation(const four_bar_params *params, double theta, double M[FOUR_BAR_N_MODES], double B[FOUR_BAR_N_MODES], double K[FOUR_BAR_N_MODES])
+/* vibration: eq. -. */
+four_bar_status four_bar_vibration(const four_bar_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
 {
-    double out[6];
+    double out[2];
     four_bar_status status;
-    if (M == NULL || B == NULL || K == NULL) {
+    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
@@ -36484,6 +36629,22 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, doubl
     if (!all_finite(&theta, 1)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
+    four_bar_vibration_kernel(params, theta, out);
+    if (!all_finite(out, 2)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    *omega_n_squared = out[0];
+    *zeta_omega_n = out[1];
+    return FOUR_BAR_OK;
+}
+
+/* mode_linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 1331. */
+void four_bar_mode_linearisation_kernel(const four_bar_params *params, double theta, double out[6])
+{
+    (void)params;
+    (void)theta;
     {
         const double d = params->d;
         const double a_2 = params->a_2;
@@ -36852,12 +37013,449 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, doubl
         out[4] = k*tmp319*tmp47*(tmp250*tmp5 + tmp267*tmp80 + tmp337 + tmp338 + tmp339 + tmp6*(tmp269 + tmp340)) + tmp188*tmp324 + tmp199*tmp325 + tmp250*tmp277*tmp279 - tmp268*tmp285 - tmp275 + tmp279*tmp281*tmp284 - tmp280*tmp335*tmp336 - tmp281*tmp283 - tmp315*(tmp191 + tmp214 + tmp309 + tmp311) - tmp318*(tmp107 + tmp213 + tmp309 + tmp316) + tmp319*tmp322 + (1.0/2.0)*tmp335*((1.0/2.0)*k*tmp253*tmp268*tmp44 - tmp251*tmp341 - tmp280*tmp342 - tmp268*tmp280*tmp343/tmp250) + tmp67*(-tmp188*tmp332 - tmp318*(-tmp329 - tmp330)) + tmp67*(-tmp199*tmp334 - tmp315*(-tmp329 - tmp333));
         out[5] = (1.0/4.0)*a_2*g*m_3*tmp44*tmp65*(-tmp216 - tmp316 - tmp345 - tmp87) + (1.0/4.0)*a_2*g*m_4*tmp44*tmp65*(-tmp225 - tmp311 - tmp345 - tmp93) + 4*k*tmp1*tmp2*tmp270*tmp278*tmp57 + 8*k*tmp1*tmp2*tmp271*tmp278*tmp344*tmp57 + (1.0/2.0)*k*tmp272*tmp344*tmp7*(tmp270*tmp5 + tmp273*tmp80 - tmp337 - tmp338 - tmp339 + tmp6*(tmp231 + tmp340)) - tmp224*tmp324 - tmp226*tmp325 - tmp271*tmp283*tmp344 - tmp272*tmp274*tmp336*tmp344 + (1.0/2.0)*tmp272*tmp274*((1.0/2.0)*k*tmp272*tmp274*tmp44 - tmp271*tmp341 - tmp342*tmp344 - tmp274*tmp343*tmp344/tmp270) - tmp272*tmp322*tmp344 - tmp274*tmp285 - tmp275 - tmp67*((1.0/4.0)*a_2*g*m_3*tmp44*tmp65*(-tmp330 - tmp346) - tmp224*tmp332) - tmp67*((1.0/4.0)*a_2*g*m_4*tmp44*tmp65*(-tmp333 - tmp346) - tmp226*tmp334);
     }
+}
+
+/* mode_linearisation: eq. -. */
+four_bar_status four_bar_mode_linearisation(const four_bar_params *params, double theta, double M[FOUR_BAR_N_MODES], double B[FOUR_BAR_N_MODES], double K[FOUR_BAR_N_MODES])
+{
+    double out[6];
+    four_bar_status status;
+    if (M == NULL || B == NULL || K == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_mode_linearisation_kernel(params, theta, out);
     if (!all_finite(out, 6)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
     copy_out(M, out + 0, 2);
     copy_out(B, out + 2, 2);
     copy_out(K, out + 4, 2);
+    return FOUR_BAR_OK;
+}
+
+/* equilibrium_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 1314. */
+void four_bar_equilibrium_state_kernel(const four_bar_params *params, double theta, double out[13])
+{
+    (void)params;
+    (void)theta;
+    {
+        const double d = params->d;
+        const double a_2 = params->a_2;
+        const double a_3 = params->a_3;
+        const double a_4 = params->a_4;
+        const double m_2 = params->m_2;
+        const double m_3 = params->m_3;
+        const double m_4 = params->m_4;
+        const double k = params->k;
+        const double l_0 = params->l_0;
+        const double x_S = params->x_S;
+        const double y_S = params->y_S;
+        const double b = params->b;
+        const double T = params->T;
+        const double g = params->g;
+        const double tmp0 = (a_2*a_2);
+        const double tmp1 = (d*d);
+        const double tmp2 = cos(theta);
+        const double tmp3 = a_2*tmp2;
+        const double tmp4 = d*tmp3;
+        const double tmp5 = 2*tmp4;
+        const double tmp6 = tmp0 + tmp1 - tmp5;
+        const double tmp7 = (a_3*a_3);
+        const double tmp8 = (a_4*a_4);
+        const double tmp9 = 2*a_4;
+        const double tmp10 = a_3*tmp9;
+        const double tmp11 = -tmp0 - tmp1 + tmp10 + tmp5 + tmp7 + tmp8;
+        const double tmp12 = -tmp11;
+        const double tmp13 = tmp6 - tmp7;
+        const double tmp14 = tmp10 + tmp13 - tmp8;
+        const double tmp15 = tmp12*tmp14;
+        const double tmp16 = -tmp15;
+        const double tmp17 = sqrt(tmp16);
+        const double tmp18 = d*y_S;
+        const double tmp19 = tmp17*tmp18;
+        const double tmp20 = d*tmp17;
+        const double tmp21 = sin(theta);
+        const double tmp22 = a_2*tmp21;
+        const double tmp23 = tmp20*tmp22;
+        const double tmp24 = tmp3*y_S;
+        const double tmp25 = tmp17*tmp24;
+        const double tmp26 = tmp21*x_S;
+        const double tmp27 = a_2*tmp26;
+        const double tmp28 = tmp17*tmp27;
+        const double tmp29 = tmp0*tmp8;
+        const double tmp30 = (x_S*x_S);
+        const double tmp31 = tmp0*tmp30;
+        const double tmp32 = (y_S*y_S);
+        const double tmp33 = tmp0*tmp32;
+        const double tmp34 = tmp1*tmp7;
+        const double tmp35 = tmp1*tmp30;
+        const double tmp36 = tmp1*tmp32;
+        const double tmp37 = (d*d*d);
+        const double tmp38 = tmp3*tmp37;
+        const double tmp39 = d*tmp8;
+        const double tmp40 = (a_2*a_2*a_2);
+        const double tmp41 = tmp2*tmp40;
+        const double tmp42 = d*tmp41;
+        const double tmp43 = d*tmp0;
+        const double tmp44 = tmp43*x_S;
+        const double tmp45 = d*tmp7;
+        const double tmp46 = tmp41*x_S;
+        const double tmp47 = tmp21*tmp40;
+        const double tmp48 = tmp47*y_S;
+        const double tmp49 = (tmp2*tmp2);
+        const double tmp50 = 2*tmp1;
+        const double tmp51 = tmp0*tmp50;
+        const double tmp52 = tmp3*tmp7;
+        const double tmp53 = tmp52*x_S;
+        const double tmp54 = tmp1*tmp3;
+        const double tmp55 = tmp54*x_S;
+        const double tmp56 = tmp21*y_S;
+        const double tmp57 = a_2*tmp56;
+        const double tmp58 = tmp57*tmp7;
+        const double tmp59 = tmp3*tmp45;
+        const double tmp60 = tmp3*tmp39;
+        const double tmp61 = tmp3*tmp8;
+        const double tmp62 = tmp61*x_S;
+        const double tmp63 = tmp57*tmp8;
+        const double tmp64 = tmp1*tmp57;
+        const double tmp65 = tmp30*tmp5;
+        const double tmp66 = tmp32*tmp5;
+        const double tmp67 = 2*tmp49;
+        const double tmp68 = 2*tmp0;
+        const double tmp69 = tmp2*tmp21;
+        const double tmp70 = tmp18*tmp69;
+        const double tmp71 = tmp29 + tmp31 + tmp33 + tmp34 + tmp35 + tmp36 - tmp37*x_S + tmp38 + tmp39*x_S + tmp42 + tmp44*tmp67 - tmp44 - tmp45*x_S - tmp46 - tmp48 - tmp49*tmp51 + tmp53 + tmp55 + tmp58 - tmp59 - tmp60 - tmp62 - tmp63 - tmp64 - tmp65 - tmp66 + tmp68*tmp70;
+        const double tmp72 = -tmp19 + tmp23 + tmp25 - tmp28 + tmp71;
+        const double tmp73 = tmp6*tmp72;
+        const double tmp74 = sqrt(tmp73);
+        const double tmp75 = d*tmp21;
+        const double tmp76 = a_2*tmp75;
+        const double tmp77 = 2*tmp76;
+        const double tmp78 = tmp74*tmp77;
+        const double tmp79 = 1/(tmp6);
+        const double tmp80 = tmp74*tmp79;
+        const double tmp81 = -l_0 + tmp80;
+        const double tmp82 = 1/(tmp6*tmp6);
+        const double tmp83 = k*tmp82;
+        const double tmp84 = tmp81*tmp83;
+        const double tmp85 = 1/(tmp74);
+        const double tmp86 = -tmp12*tmp77 - tmp14*tmp77;
+        const double tmp87 = 1/(tmp17);
+        const double tmp88 = (1.0/2.0)*tmp87;
+        const double tmp89 = tmp86*tmp88;
+        const double tmp90 = -tmp18 + tmp24 - tmp27 + tmp76;
+        const double tmp91 = tmp6*tmp90;
+        const double tmp92 = tmp89*tmp91;
+        const double tmp93 = tmp22*tmp37;
+        const double tmp94 = d*tmp47;
+        const double tmp95 = tmp41*y_S;
+        const double tmp96 = tmp27*tmp7;
+        const double tmp97 = tmp1*tmp27;
+        const double tmp98 = tmp24*tmp8;
+        const double tmp99 = tmp1*tmp24;
+        const double tmp100 = (tmp21*tmp21);
+        const double tmp101 = 2*tmp100;
+        const double tmp102 = tmp0*tmp101*tmp18;
+        const double tmp103 = tmp2*x_S;
+        const double tmp104 = 4*tmp43;
+        const double tmp105 = tmp103*tmp104*tmp21;
+        const double tmp106 = tmp17*tmp3;
+        const double tmp107 = tmp106*x_S + tmp17*tmp57 - tmp20*tmp3;
+        const double tmp108 = 2*a_2*d*tmp21*tmp30 + 2*a_2*d*tmp21*tmp32 + a_2*d*tmp21*tmp7 + a_2*d*tmp21*tmp8 + a_2*tmp2*tmp7*y_S + a_2*tmp21*tmp8*x_S + 2*d*tmp0*tmp49*y_S + 4*tmp0*tmp1*tmp2*tmp21 - tmp102 - tmp105 - tmp107 + tmp21*tmp40*x_S - tmp93 - tmp94 - tmp95 - tmp96 - tmp97 - tmp98 - tmp99;
+        const double tmp109 = tmp108*tmp6 + tmp72*tmp77 + tmp92;
+        const double tmp110 = -1.0/2.0*k*tmp109*tmp79*tmp81*tmp85 + tmp78*tmp84;
+        const double tmp111 = (1.0/4.0)*tmp82;
+        const double tmp112 = a_2*g;
+        const double tmp113 = tmp111*tmp112;
+        const double tmp114 = tmp113*tmp87;
+        const double tmp115 = (a_2*a_2*a_2*a_2);
+        const double tmp116 = tmp115*tmp2;
+        const double tmp117 = tmp116*tmp17;
+        const double tmp118 = (d*d*d*d);
+        const double tmp119 = tmp118*tmp2;
+        const double tmp120 = tmp119*tmp17;
+        const double tmp121 = 12*tmp49;
+        const double tmp122 = a_2*tmp37;
+        const double tmp123 = tmp121*tmp122;
+        const double tmp124 = tmp20*tmp40;
+        const double tmp125 = 6*tmp2;
+        const double tmp126 = tmp0*tmp17;
+        const double tmp127 = tmp1*tmp126;
+        const double tmp128 = (tmp2*tmp2*tmp2);
+        const double tmp129 = 12*tmp128;
+        const double tmp130 = tmp2*tmp29;
+        const double tmp131 = tmp1*tmp8;
+        const double tmp132 = tmp131*tmp2;
+        const double tmp133 = tmp0*tmp7;
+        const double tmp134 = tmp133*tmp2;
+        const double tmp135 = tmp2*tmp34;
+        const double tmp136 = 2*tmp8;
+        const double tmp137 = a_2*tmp49;
+        const double tmp138 = tmp137*tmp20;
+        const double tmp139 = 2*tmp7;
+        const double tmp140 = a_2*tmp101;
+        const double tmp141 = -a_2*tmp100*tmp136*tmp20 + tmp130*tmp17 + tmp132*tmp17 - tmp134*tmp17 - tmp135*tmp17 - tmp136*tmp138 + tmp138*tmp139 + tmp140*tmp20*tmp7;
+        const double tmp142 = 3*tmp117 + 3*tmp120 - tmp121*tmp124 - tmp123*tmp17 + tmp125*tmp127 + tmp127*tmp129 + tmp141;
+        const double tmp143 = tmp15*tmp21;
+        const double tmp144 = tmp1*tmp143;
+        const double tmp145 = 2*pow(d, 6);
+        const double tmp146 = tmp145*tmp21;
+        const double tmp147 = tmp118*tmp21;
+        const double tmp148 = 4*tmp0;
+        const double tmp149 = tmp147*tmp148;
+        const double tmp150 = tmp115*tmp21;
+        const double tmp151 = tmp150*tmp50;
+        const double tmp152 = tmp118*tmp7;
+        const double tmp153 = 2*tmp21;
+        const double tmp154 = tmp152*tmp153;
+        const double tmp155 = tmp136*tmp147;
+        const double tmp156 = 16*tmp0;
+        const double tmp157 = tmp147*tmp156*tmp49;
+        const double tmp158 = tmp1*tmp49;
+        const double tmp159 = 8*tmp150*tmp158;
+        const double tmp160 = pow(a_2, 5);
+        const double tmp161 = d*tmp2;
+        const double tmp162 = tmp153*tmp160*tmp161;
+        const double tmp163 = 2*tmp34;
+        const double tmp164 = tmp0*tmp163;
+        const double tmp165 = tmp164*tmp21;
+        const double tmp166 = 2*tmp29;
+        const double tmp167 = tmp1*tmp166*tmp21;
+        const double tmp168 = 8*tmp128;
+        const double tmp169 = tmp168*tmp37*tmp47;
+        const double tmp170 = pow(d, 5);
+        const double tmp171 = 10*tmp170*tmp21*tmp3;
+        const double tmp172 = 12*tmp37;
+        const double tmp173 = tmp2*tmp47;
+        const double tmp174 = tmp172*tmp173;
+        const double tmp175 = tmp21*tmp38;
+        const double tmp176 = 6*tmp175*tmp7;
+        const double tmp177 = 6*tmp8;
+        const double tmp178 = tmp175*tmp177;
+        const double tmp179 = 2*tmp173;
+        const double tmp180 = tmp179*tmp45;
+        const double tmp181 = tmp179*tmp39;
+        const double tmp182 = tmp0*tmp34;
+        const double tmp183 = 4*tmp49;
+        const double tmp184 = tmp183*tmp21;
+        const double tmp185 = tmp182*tmp184;
+        const double tmp186 = tmp1*tmp29;
+        const double tmp187 = tmp184*tmp186;
+        const double tmp188 = -tmp146 - tmp149 - tmp151 + tmp154 + tmp155 - tmp157 - tmp159 + tmp162 + tmp165 + tmp167 + tmp169 + tmp171 + tmp174 - tmp176 - tmp178 - tmp180 - tmp181 + tmp185 + tmp187;
+        const double tmp189 = -tmp0*tmp12*tmp14*tmp21 + tmp144 + tmp188;
+        const double tmp190 = -tmp142 - tmp189;
+        const double tmp191 = m_3*tmp190;
+        const double tmp192 = 4*tmp37;
+        const double tmp193 = tmp137*tmp192;
+        const double tmp194 = tmp2*tmp51;
+        const double tmp195 = 4*tmp1;
+        const double tmp196 = tmp117 + tmp120 - tmp124*tmp183 + tmp126*tmp128*tmp195 + tmp141 - tmp17*tmp193 + tmp17*tmp194;
+        const double tmp197 = -tmp189 - tmp196;
+        const double tmp198 = m_4*tmp114;
+        const double tmp199 = T - 1.0/2.0*a_2*g*m_2*tmp2 + tmp114*tmp191 + tmp197*tmp198;
+        const double tmp200 = -tmp110 - tmp199;
+        const double tmp201 = g*m_2;
+        const double tmp202 = tmp201*tmp3;
+        const double tmp203 = tmp11*tmp14;
+        const double tmp204 = sqrt(tmp203);
+        const double tmp205 = tmp116*tmp204;
+        const double tmp206 = tmp119*tmp204;
+        const double tmp207 = d*tmp40;
+        const double tmp208 = tmp1*tmp148;
+        const double tmp209 = tmp128*tmp208;
+        const double tmp210 = tmp203*tmp21;
+        const double tmp211 = 2*tmp137;
+        const double tmp212 = tmp211*tmp45;
+        const double tmp213 = tmp140*tmp45;
+        const double tmp214 = tmp0*tmp210 - tmp1*tmp210 + tmp130*tmp204 + tmp132*tmp204 - tmp134*tmp204 - tmp135*tmp204 - tmp140*tmp204*tmp39 + tmp188 - tmp204*tmp211*tmp39 + tmp204*tmp212 + tmp204*tmp213;
+        const double tmp215 = tmp112*tmp82;
+        const double tmp216 = (1.0/4.0)/fabs(tmp204);
+        const double tmp217 = tmp0*tmp1;
+        const double tmp218 = tmp125*tmp217;
+        const double tmp219 = tmp129*tmp217;
+        const double tmp220 = m_2*tmp0;
+        const double tmp221 = (1.0/4.0)*tmp220;
+        const double tmp222 = tmp17*tmp21;
+        const double tmp223 = tmp222*tmp38;
+        const double tmp224 = tmp173*tmp20;
+        const double tmp225 = tmp208*tmp49;
+        const double tmp226 = a_2*tmp170;
+        const double tmp227 = tmp100*tmp40;
+        const double tmp228 = tmp222*tmp34;
+        const double tmp229 = tmp15*tmp2;
+        const double tmp230 = tmp1*tmp229;
+        const double tmp231 = tmp131*tmp222;
+        const double tmp232 = 8*tmp100;
+        const double tmp233 = tmp0*tmp119;
+        const double tmp234 = tmp1*tmp116;
+        const double tmp235 = tmp122*tmp7;
+        const double tmp236 = tmp100*tmp122;
+        const double tmp237 = tmp227*tmp37*tmp49;
+        const double tmp238 = d*tmp15;
+        const double tmp239 = tmp100*tmp130*tmp195 + tmp100*tmp135*tmp148 + tmp101*tmp226 - tmp101*tmp235 - tmp136*tmp236 - tmp140*tmp238 + tmp192*tmp227 - tmp211*tmp238 + tmp228 + tmp230 - tmp231 - tmp232*tmp233 - tmp232*tmp234 + 8*tmp237;
+        const double tmp240 = tmp115*tmp222;
+        const double tmp241 = tmp118*tmp222;
+        const double tmp242 = tmp222*tmp51 + tmp240 + tmp241;
+        const double tmp243 = d*tmp160;
+        const double tmp244 = tmp101*tmp243;
+        const double tmp245 = tmp222*tmp29;
+        const double tmp246 = tmp0*tmp229;
+        const double tmp247 = -tmp133*tmp222;
+        const double tmp248 = tmp101*tmp40;
+        const double tmp249 = -tmp248*tmp45;
+        const double tmp250 = -tmp248*tmp39;
+        const double tmp251 = tmp244 + tmp245 + tmp246 + tmp247 + tmp249 + tmp250;
+        const double tmp252 = 1/(tmp12*tmp14);
+        const double tmp253 = (1.0/16.0)*tmp0*tmp252/(tmp6*tmp6*tmp6*tmp6);
+        const double tmp254 = m_4*tmp253;
+        const double tmp255 = tmp217*tmp222;
+        const double tmp256 = tmp121*tmp255 + tmp244 + tmp245 + tmp246 + tmp247 + tmp249 + tmp250;
+        const double tmp257 = 3*tmp240 + 3*tmp241 + 6*tmp255;
+        const double tmp258 = m_3*tmp253;
+        const double tmp259 = -tmp13 - tmp8;
+        const double tmp260 = tmp259*tmp9;
+        const double tmp261 = tmp17*tmp22;
+        const double tmp262 = tmp261*tmp9;
+        const double tmp263 = d - tmp3;
+        const double tmp264 = tmp263*tmp9;
+        const double tmp265 = tmp259*tmp264 + tmp262;
+        const double tmp266 = tmp22*tmp260;
+        const double tmp267 = -2*a_4*tmp17*tmp263 + tmp266;
+        const double tmp268 = 1/(((tmp265*tmp265) + (tmp267*tmp267)));
+        const double tmp269 = tmp265*tmp268;
+        const double tmp270 = 4*tmp76;
+        const double tmp271 = tmp267*tmp268;
+        const double tmp272 = 1/(a_3);
+        const double tmp273 = tmp1*tmp22;
+        const double tmp274 = tmp106 + tmp22*tmp7 - tmp22*tmp8 + tmp47;
+        const double tmp275 = 2*tmp43;
+        const double tmp276 = tmp261 + tmp275*tmp49 + tmp37 - tmp39 - tmp41 + tmp43 + tmp45 - tmp52 - 3*tmp54 + tmp61;
+        const double tmp277 = tmp272*tmp76*tmp82;
+        const double tmp278 = (1.0/2.0)*tmp79;
+        const double tmp279 = tmp272*tmp278;
+        const double tmp280 = 1/(tmp7);
+        const double tmp281 = tmp111*tmp280;
+        const double tmp282 = 2*d*tmp0*tmp2*tmp21 + d*tmp17 - tmp273 - tmp274;
+        const double tmp283 = 1/(((tmp276*tmp276)*tmp281 + tmp281*(tmp282*tmp282)));
+        const double tmp284 = tmp282*tmp283;
+        const double tmp285 = tmp100*tmp208;
+        const double tmp286 = 1/(tmp6*tmp6*tmp6);
+        const double tmp287 = k*tmp286;
+        const double tmp288 = tmp217*tmp232;
+        const double tmp289 = k*tmp81;
+        const double tmp290 = tmp37*tmp40;
+        const double tmp291 = 10*tmp226;
+        const double tmp292 = 6*tmp235;
+        const double tmp293 = 4*tmp128;
+        const double tmp294 = tmp40*tmp67;
+        const double tmp295 = tmp0*tmp135*tmp232 + tmp1*tmp115*tmp168 + tmp1*tmp130*tmp232 - 32*tmp100*tmp233 - 16*tmp100*tmp234 + tmp100*tmp291 - tmp100*tmp292 + tmp116*tmp50 + tmp118*tmp128*tmp156 - tmp119*tmp136 - tmp119*tmp139 + tmp119*tmp148 - tmp121*tmp290 + tmp122*tmp177*tmp49 - tmp130*tmp50 - tmp135*tmp68 + tmp145*tmp2 + tmp172*tmp227 - tmp177*tmp236 - tmp182*tmp293 - tmp186*tmp293 - 8*(tmp2*tmp2*tmp2*tmp2)*tmp290 - tmp228 - tmp230 + tmp231 + 24*tmp237 - tmp243*tmp67 - tmp291*tmp49 + tmp292*tmp49 + tmp294*tmp39 + tmp294*tmp45;
+        const double tmp296 = m_3*tmp114;
+        const double tmp297 = tmp3*x_S;
+        const double tmp298 = tmp6*(a_2*d*tmp2 - tmp297 - tmp57);
+        const double tmp299 = tmp86*tmp87;
+        const double tmp300 = tmp289*tmp85;
+        const double tmp301 = g*tmp21*tmp286*tmp43*tmp87;
+        const double tmp302 = m_4*tmp197;
+        const double tmp303 = -2*a_2*d*tmp100*tmp8 - 2*a_2*d*tmp49*tmp8 - tmp0*tmp2*tmp7 - 2*tmp1*tmp17*tmp21 - tmp1*tmp2*tmp7 + tmp130 + tmp132 + tmp212 + tmp213 + tmp222*tmp68;
+        const double tmp304 = tmp113*tmp252;
+        const double tmp305 = tmp109*tmp85;
+        const double tmp306 = -tmp23 - tmp25 + tmp28;
+        const double tmp307 = tmp19 + tmp306 + tmp71;
+        const double tmp308 = sqrt(tmp307*tmp6);
+        const double tmp309 = tmp308*tmp79;
+        const double tmp310 = -l_0 + tmp309;
+        const double tmp311 = k*tmp278*(tmp307*tmp77 + tmp6*(-tmp102 - tmp105 + tmp107 + tmp18*tmp49*tmp68 + tmp208*tmp69 + tmp22*tmp39 + tmp22*tmp45 + tmp24*tmp7 + tmp27*tmp8 + tmp30*tmp77 + tmp32*tmp77 + tmp47*x_S - tmp93 - tmp94 - tmp95 - tmp96 - tmp97 - tmp98 - tmp99) - tmp92)/tmp308;
+        const double tmp312 = tmp308*tmp77*tmp83;
+        const double tmp313 = tmp0*tmp143 - tmp144 + tmp146 + tmp149 + tmp151 - tmp154 - tmp155 + tmp157 + tmp159 - tmp162 - tmp165 - tmp167 - tmp169 - tmp171 - tmp174 + tmp176 + tmp178 + tmp180 + tmp181 - tmp185 - tmp187;
+        const double tmp314 = -T + tmp198*(tmp196 + tmp313) + (1.0/2.0)*tmp202 + tmp296*(tmp142 + tmp313);
+        const double tmp315 = -l_0 - tmp80;
+        const double tmp316 = -l_0 - tmp309;
+        const double tmp317 = 2*tmp133;
+        const double tmp318 = 4*fabs(tmp4);
+        const double tmp319 = fabs(a_2);
+        const double tmp320 = fabs(tmp161);
+        const double tmp321 = tmp319*tmp320;
+        const double tmp322 = fabs(d);
+        const double tmp323 = fabs(tmp3);
+        const double tmp324 = tmp322*tmp323;
+        const double tmp325 = fabs(d*x_S);
+        const double tmp326 = tmp115*tmp325;
+        const double tmp327 = fabs(x_S);
+        const double tmp328 = tmp118*tmp322;
+        const double tmp329 = fabs(tmp57);
+        const double tmp330 = 3*fabs(tmp297);
+        const double tmp331 = tmp115*tmp319;
+        const double tmp332 = fabs(tmp103);
+        const double tmp333 = fabs(tmp56);
+        const double tmp334 = tmp322*tmp327;
+        const double tmp335 = 4*tmp115;
+        const double tmp336 = fabs(tmp70);
+        const double tmp337 = tmp133*tmp319;
+        const double tmp338 = tmp29*tmp319;
+        const double tmp339 = tmp1*tmp183;
+        const double tmp340 = tmp319*tmp51;
+        const double tmp341 = 4*tmp321;
+        const double tmp342 = 4*tmp324;
+        const double tmp343 = fabs(tmp2);
+        const double tmp344 = tmp322*tmp343;
+        const double tmp345 = tmp325*tmp49;
+        const double tmp346 = tmp225*tmp319;
+        const double tmp347 = tmp126*fabs(tmp18);
+        const double tmp348 = tmp1*tmp17;
+        const double tmp349 = tmp322*tmp348;
+        const double tmp350 = tmp126*tmp319;
+        out[0] = tmp200;
+        out[1] = tmp216*fabs(m_3*tmp215*(-tmp121*tmp204*tmp207 - tmp123*tmp204 + tmp204*tmp218 + tmp204*tmp219 + 3*tmp205 + 3*tmp206 + tmp214)) + tmp216*fabs(m_4*tmp215*(-tmp183*tmp204*tmp207 - tmp193*tmp204 + tmp194*tmp204 + tmp204*tmp209 + tmp205 + tmp206 + tmp214)) + fabs(T) + fabs(tmp110) + (1.0/2.0)*fabs(tmp202);
+        out[2] = (1.0/12.0)*m_3*tmp7*((tmp276*tmp279*tmp283*((1.0/2.0)*tmp272*tmp79*(a_2*tmp17*tmp21 + a_2*tmp2*tmp8 + 2*d*tmp0*tmp49 - tmp100*tmp275 - tmp41 - tmp52 - tmp54) - tmp277*tmp282) - tmp279*tmp284*((1.0/2.0)*tmp272*tmp79*(-tmp104*tmp69 + 3*tmp273 + tmp274) - tmp276*tmp277) + tmp89*(-tmp22*tmp281*tmp284 + (1.0/4.0)*tmp263*tmp276*tmp280*tmp283*tmp82))*(tmp276*tmp279*tmp283*((1.0/2.0)*tmp272*tmp79*(a_2*tmp17*tmp21 + a_2*tmp2*tmp8 + 2*d*tmp0*tmp49 - tmp100*tmp275 - tmp41 - tmp52 - tmp54) - tmp277*tmp282) - tmp279*tmp284*((1.0/2.0)*tmp272*tmp79*(-tmp104*tmp69 + 3*tmp273 + tmp274) - tmp276*tmp277) + tmp89*(-tmp22*tmp281*tmp284 + (1.0/4.0)*tmp263*tmp276*tmp280*tmp283*tmp82))) + (1.0/12.0)*m_4*tmp8*((tmp269*(a_4*tmp100*tmp104 - tmp260*tmp3 + tmp262) + tmp271*(-a_4*tmp263*tmp270 + tmp106*tmp9 + tmp266) + tmp89*(tmp22*tmp271*tmp9 + tmp264*tmp269))*(tmp269*(a_4*tmp100*tmp104 - tmp260*tmp3 + tmp262) + tmp271*(-a_4*tmp263*tmp270 + tmp106*tmp9 + tmp266) + tmp89*(tmp22*tmp271*tmp9 + tmp264*tmp269))) + tmp100*tmp221 - (tmp190*tmp190)*tmp258 - (tmp197*tmp197)*tmp254 + (1.0/12.0)*tmp220 + tmp221*tmp49 - tmp254*((tmp222*tmp225 - 4*tmp223 - 4*tmp224 + tmp239 + tmp242 + tmp251)*(tmp222*tmp225 - 4*tmp223 - 4*tmp224 + tmp239 + tmp242 + tmp251)) - tmp258*((-12*tmp223 - 12*tmp224 + tmp239 + tmp256 + tmp257)*(-12*tmp223 - 12*tmp224 + tmp239 + tmp256 + tmp257));
+        out[3] = b*(((1.0/2.0)*tmp109*tmp79*tmp85 - tmp78*tmp82)*((1.0/2.0)*tmp109*tmp79*tmp85 - tmp78*tmp82));
+        out[4] = -tmp109*tmp287*tmp76 + tmp191*tmp301 - tmp198*(-8*tmp223 - 8*tmp224 + tmp242 + tmp256 + tmp295) - 1.0/2.0*tmp201*tmp22 + tmp278*tmp300*(tmp108*tmp270 + tmp298*tmp89 + tmp299*tmp76*tmp90 + tmp5*tmp72 + tmp6*(-8*tmp0*tmp70 + 4*tmp100*tmp44 - tmp183*tmp44 + tmp225 - tmp285 + tmp306 - tmp38 - tmp42 + tmp46 + tmp48 - tmp53 - tmp55 - tmp58 + tmp59 + tmp60 + tmp62 + tmp63 + tmp64 + tmp65 + tmp66) + tmp88*tmp91*(-tmp12*tmp5 - tmp14*tmp5 - tmp288)) + tmp285*tmp287*tmp72 + tmp286*tmp288*tmp289*tmp74 - tmp296*(-24*tmp223 - 24*tmp224 + tmp251 + 36*tmp255*tmp49 + tmp257 + tmp295) + (1.0/4.0)*tmp299*tmp300*tmp79*((1.0/2.0)*tmp252*tmp86*tmp91 + tmp298 + tmp77*tmp90) + tmp301*tmp302 - tmp305*tmp76*tmp84 + (1.0/2.0)*tmp305*((1.0/2.0)*k*tmp109*tmp82*tmp85 - 1.0/2.0*tmp109*tmp84/tmp72 - tmp287*tmp78 - tmp77*tmp84) - tmp5*tmp74*tmp84 + tmp89*(-tmp191*tmp304 - tmp296*(12*a_2*tmp37*tmp49 + 12*d*tmp40*tmp49 - 3*tmp116 - 3*tmp119 - tmp218 - tmp219 - tmp303)) + tmp89*(-tmp198*(4*a_2*tmp37*tmp49 + 4*d*tmp40*tmp49 - tmp116 - tmp119 - tmp194 - tmp209 - tmp303) - tmp302*tmp304);
+        out[5] = tmp200;
+        out[6] = tmp310*tmp311 - tmp310*tmp312 + tmp314;
+        out[7] = 2*a_2*d*k*tmp21*tmp315*tmp74*tmp82 - k*tmp278*tmp305*tmp315 - tmp199;
+        out[8] = -tmp311*tmp316 + tmp312*tmp316 + tmp314;
+        out[9] = tmp16;
+        out[10] = tmp73;
+        out[11] = (a_3*a_3*a_3*a_3) + (a_4*a_4*a_4*a_4) + tmp115 + tmp118 + 2*tmp131 + tmp136*tmp7 + tmp148*tmp321 + tmp163 + tmp166 + tmp195*tmp324 + tmp225 + tmp317 + tmp318*tmp7 + tmp318*tmp8 + tmp51;
+        out[12] = tmp115*tmp30 + tmp115*tmp32 + tmp115*tmp8 + tmp118*tmp148*tmp49 + tmp118*tmp30 + tmp118*tmp32 + tmp118*tmp329 + tmp118*tmp330 + 2*tmp126*fabs(tmp161*tmp26) + tmp131*tmp324 + tmp131*tmp329 + tmp131*tmp330 + tmp131*tmp334 + tmp133*tmp321 + tmp133*tmp325 + tmp152 + tmp158*tmp166 + tmp158*tmp335 + tmp164*tmp49 + tmp166*tmp336 + tmp166*tmp345 + tmp17*tmp51*fabs(tmp69) + tmp182 + tmp183*tmp326 + tmp186 + tmp208*tmp322*fabs(tmp2*tmp56) + 3*tmp29*tmp321 + tmp29*tmp325 + tmp31*tmp339 + tmp31*tmp341 + tmp31*tmp50 + tmp317*tmp336 + tmp317*tmp345 + tmp320*tmp331 + tmp323*tmp328 + 3*tmp324*tmp34 + tmp326 + tmp327*tmp328 + tmp327*tmp343*tmp346 + tmp329*tmp34 + tmp33*tmp339 + tmp33*tmp341 + tmp33*tmp50 + tmp330*tmp34 + tmp331*tmp332 + tmp331*tmp333 + tmp332*tmp337 + tmp332*tmp338 + tmp332*tmp340 + tmp333*tmp337 + tmp333*tmp338 + tmp333*tmp340 + tmp333*tmp346 + tmp334*tmp34 + tmp334*tmp51 + tmp335*tmp336 + tmp340*tmp344 + tmp342*tmp35 + tmp342*tmp36 + tmp344*tmp346 + tmp347*tmp67 + tmp347 + 3*tmp348*fabs(tmp24) + tmp348*fabs(tmp27) + tmp349*fabs(tmp22) + tmp349*fabs(y_S) + tmp350*fabs(tmp26) + tmp350*fabs(tmp75) + tmp350*fabs(tmp2*y_S);
+    }
+}
+
+/* equilibrium_state: eq. -. */
+four_bar_status four_bar_equilibrium_state(const four_bar_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[FOUR_BAR_N_BRANCHES], double radicands[FOUR_BAR_N_ROOTS], double radicand_scales[FOUR_BAR_N_ROOTS])
+{
+    double out[13];
+    four_bar_status status;
+    if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_equilibrium_state_kernel(params, theta, out);
+    if (!all_finite(out, 13)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    *M = out[2];
+    *B = out[3];
+    *K = out[4];
+    copy_out(branch_residuals, out + 5, 4);
+    copy_out(radicands, out + 9, 2);
+    copy_out(radicand_scales, out + 11, 2);
     return FOUR_BAR_OK;
 }
 
@@ -37207,6 +37805,23 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, code
     *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp114, tmp143)), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(m_3, tmp113), tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp111), tmp112), tmp144), codegen_iv_mul(codegen_iv_point(3.0), tmp67)), codegen_iv_mul(codegen_iv_point(3.0), tmp70)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12.0), d), tmp21), tmp41)))))), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp142, tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp144), tmp67), tmp70), tmp74), tmp78), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), d), tmp21), tmp41)))))), codegen_iv_mul(tmp127, tmp128)), codegen_iv_mul(tmp2, tmp30)), codegen_iv_mul(codegen_iv_mul(tmp107, tmp142), tmp143)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp115), tmp123), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp127, tmp65)), codegen_iv_mul(tmp63, tmp64)), codegen_iv_div(codegen_iv_mul(tmp124, tmp63), tmp60, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp115), tmp123), tmp8)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp128), tmp63)), codegen_iv_mul(codegen_iv_mul(tmp6, tmp61), tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), k), tmp115), tmp125), tmp141), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp119, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), tmp116), tmp120), tmp140)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), k), tmp115), tmp62), tmp9), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp139)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp122), tmp56)), codegen_iv_mul(tmp6, tmp60)), codegen_iv_mul(tmp7, codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp19), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp136, tmp75)), codegen_iv_mul(tmp20, tmp72)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp20), tmp97)), codegen_iv_mul(tmp4, tmp94)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp43), tmp46)))), codegen_iv_mul(codegen_iv_mul(tmp117, tmp120), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), tmp136), tmp3)), codegen_iv_mul(tmp50, tmp6)), codegen_iv_mul(tmp51, tmp6)))), codegen_iv_mul(codegen_iv_mul(tmp119, tmp141), tmp56)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3.0), tmp130)), codegen_iv_mul(codegen_iv_point(3.0), tmp131)), codegen_iv_mul(codegen_iv_point(36.0), tmp132)), tmp137), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp129), tmp3), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24.0), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.25), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp130), tmp131), codegen_iv_mul(codegen_iv_point(12.0), tmp132)), tmp137), codegen_iv_mul(tmp138, tmp3)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), k), tmp126), tmp3), tmp4), tmp60), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), k), tmp126), tmp3), tmp4), tmp61), tmp62), tmp97));
 }
 
+four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    *flags = 0u;
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, theta, g, dg, flags);
+        return FOUR_BAR_OK;
+    case 1u:
+        enclose_mode_1(params, theta, g, dg, flags);
+        return FOUR_BAR_OK;
+    default:
+        return FOUR_BAR_ERR_ARGUMENT;
+    }
+}
+
 four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const double theta[2],
                                 double g[2], double dg[2], unsigned *flags)
 {
@@ -37226,15 +37841,10 @@ four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode,
     if (mode >= FOUR_BAR_N_MODES || !(theta[0] <= theta[1])) {
         return FOUR_BAR_ERR_ARGUMENT;
     }
-    switch (mode) {
-    case 0u:
-        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    case 1u:
-        enclose_mode_1(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    default:
-        return FOUR_BAR_ERR_ARGUMENT;
+    status = four_bar_enclosure_kernel(params, mode, codegen_iv_make(theta[0], theta[1]), &iv_g,
+                                     &iv_dg, &iv_flags);
+    if (status != FOUR_BAR_OK) {
+        return status;
     }
     g[0] = iv_g.lo;
     g[1] = iv_g.hi;
@@ -37509,6 +38119,22 @@ four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_p
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = four_bar_mode_linearisation(&params[i], theta[i], &M[i * FOUR_BAR_N_MODES], &B[i * FOUR_BAR_N_MODES], &K[i * FOUR_BAR_N_MODES]);
+        if (first == FOUR_BAR_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, four_bar_status *statuses)
+{
+    size_t i;
+    four_bar_status first = FOUR_BAR_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = four_bar_equilibrium_state(&params[i], theta[i], &residual[i], &scale[i], &M[i], &B[i], &K[i], &branch_residuals[i * FOUR_BAR_N_BRANCHES], &radicands[i * FOUR_BAR_N_ROOTS], &radicand_scales[i * FOUR_BAR_N_ROOTS]);
         if (first == FOUR_BAR_OK) {
             first = statuses[i];
         }

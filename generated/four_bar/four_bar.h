@@ -226,6 +226,20 @@ four_bar_status four_bar_vibration(const four_bar_params *params, double theta, 
  */
 four_bar_status four_bar_mode_linearisation(const four_bar_params *params, double theta, double M[FOUR_BAR_N_MODES], double B[FOUR_BAR_N_MODES], double K[FOUR_BAR_N_MODES]);
 
+/* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
+ * in  theta: equilibrium angle theta_E [rad]
+ * out residual: G [N m]
+ * out scale: [N m]
+ * out M: M_EQ [kg m^2]
+ * out B: B_EQ [N m s]
+ * out K: K_EQ [N m]
+ * out branch_residuals: [N m]
+ * out radicands: [unit^2]
+ * out radicand_scales: [unit^2]
+ * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ */
+four_bar_status four_bar_equilibrium_state(const four_bar_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[FOUR_BAR_N_BRANCHES], double radicands[FOUR_BAR_N_ROOTS], double radicand_scales[FOUR_BAR_N_ROOTS]);
+
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns FOUR_BAR_OK when every item succeeded, else the first failure. */
@@ -246,6 +260,7 @@ four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params
 four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, four_bar_status *statuses);
 four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
+four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, four_bar_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;

@@ -5,8 +5,8 @@
  * common subexpressions once, then copy the results out only if they are all finite.
  */
 #include "slider_crank.h"
+#include "slider_crank_kernels.h"
 #include "codegen_dd.h"
-#include "codegen_interval.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -108,7 +108,26 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
     return SLIDER_CRANK_OK;
 }
 
-/* position_constraints: eq. -. Total ops: 12. */
+/* position_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 12. */
+void slider_crank_position_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[2])
+{
+    (void)params;
+    (void)coords;
+    {
+        const double R = params->R;
+        const double l = params->l;
+        const double e = params->e;
+        const double theta = coords[0];
+        const double psi = coords[1];
+        const double x = coords[2];
+        out[0] = R*cos(theta) + l*cos(psi) - x;
+        out[1] = R*sin(theta) - e + l*sin(psi);
+    }
+}
+
+/* position_constraints: eq. -. */
 slider_crank_status slider_crank_position_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double f[SLIDER_CRANK_N_CONSTRAINTS])
 {
     double out[2];
@@ -123,16 +142,7 @@ slider_crank_status slider_crank_position_constraints(const slider_crank_params 
     if (!all_finite(coords, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double x = coords[2];
-        out[0] = R*cos(theta) + l*cos(psi) - x;
-        out[1] = R*sin(theta) - e + l*sin(psi);
-    }
+    slider_crank_position_constraints_kernel(params, coords, out);
     if (!all_finite(out, 2)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -140,7 +150,28 @@ slider_crank_status slider_crank_position_constraints(const slider_crank_params 
     return SLIDER_CRANK_OK;
 }
 
-/* constraint_jacobian: eq. -. Total ops: 11. */
+/* constraint_jacobian without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 11. */
+void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[6])
+{
+    (void)params;
+    (void)coords;
+    {
+        const double R = params->R;
+        const double l = params->l;
+        const double theta = coords[0];
+        const double psi = coords[1];
+        out[0] = -R*sin(theta);
+        out[1] = -l*sin(psi);
+        out[2] = -1;
+        out[3] = R*cos(theta);
+        out[4] = l*cos(psi);
+        out[5] = 0;
+    }
+}
+
+/* constraint_jacobian: eq. -. */
 slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double A[SLIDER_CRANK_N_JACOBIAN])
 {
     double out[6];
@@ -155,18 +186,7 @@ slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *
     if (!all_finite(coords, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        out[0] = -R*sin(theta);
-        out[1] = -l*sin(psi);
-        out[2] = -1;
-        out[3] = R*cos(theta);
-        out[4] = l*cos(psi);
-        out[5] = 0;
-    }
+    slider_crank_constraint_jacobian_kernel(params, coords, out);
     if (!all_finite(out, 6)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -174,7 +194,30 @@ slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *
     return SLIDER_CRANK_OK;
 }
 
-/* velocity_constraints: eq. -. Total ops: 14. */
+/* velocity_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 14. */
+void slider_crank_velocity_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[2])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    {
+        const double R = params->R;
+        const double l = params->l;
+        const double theta = coords[0];
+        const double psi = coords[1];
+        const double theta_d = rates[0];
+        const double psi_d = rates[1];
+        const double x_d = rates[2];
+        const double tmp0 = R*theta_d;
+        const double tmp1 = l*psi_d;
+        out[0] = -tmp0*sin(theta) - tmp1*sin(psi) - x_d;
+        out[1] = tmp0*cos(theta) + tmp1*cos(psi);
+    }
+}
+
+/* velocity_constraints: eq. -. */
 slider_crank_status slider_crank_velocity_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double f_d[SLIDER_CRANK_N_CONSTRAINTS])
 {
     double out[2];
@@ -192,19 +235,7 @@ slider_crank_status slider_crank_velocity_constraints(const slider_crank_params 
     if (!all_finite(rates, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double theta_d = rates[0];
-        const double psi_d = rates[1];
-        const double x_d = rates[2];
-        const double tmp0 = R*theta_d;
-        const double tmp1 = l*psi_d;
-        out[0] = -tmp0*sin(theta) - tmp1*sin(psi) - x_d;
-        out[1] = tmp0*cos(theta) + tmp1*cos(psi);
-    }
+    slider_crank_velocity_constraints_kernel(params, coords, rates, out);
     if (!all_finite(out, 2)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -212,7 +243,37 @@ slider_crank_status slider_crank_velocity_constraints(const slider_crank_params 
     return SLIDER_CRANK_OK;
 }
 
-/* acceleration_constraints: eq. -. Total ops: 28. */
+/* acceleration_constraints without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 28. */
+void slider_crank_acceleration_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double out[2])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
+    {
+        const double R = params->R;
+        const double l = params->l;
+        const double theta = coords[0];
+        const double psi = coords[1];
+        const double theta_d = rates[0];
+        const double psi_d = rates[1];
+        const double theta_dd = accels[0];
+        const double psi_dd = accels[1];
+        const double x_dd = accels[2];
+        const double tmp0 = sin(theta);
+        const double tmp1 = sin(psi);
+        const double tmp2 = cos(theta);
+        const double tmp3 = R*(theta_d*theta_d);
+        const double tmp4 = cos(psi);
+        const double tmp5 = l*(psi_d*psi_d);
+        out[0] = -R*theta_dd*tmp0 - l*psi_dd*tmp1 - tmp2*tmp3 - tmp4*tmp5 - x_dd;
+        out[1] = R*theta_dd*tmp2 + l*psi_dd*tmp4 - tmp0*tmp3 - tmp1*tmp5;
+    }
+}
+
+/* acceleration_constraints: eq. -. */
 slider_crank_status slider_crank_acceleration_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double f_dd[SLIDER_CRANK_N_CONSTRAINTS])
 {
     double out[2];
@@ -233,25 +294,7 @@ slider_crank_status slider_crank_acceleration_constraints(const slider_crank_par
     if (!all_finite(accels, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double theta_d = rates[0];
-        const double psi_d = rates[1];
-        const double theta_dd = accels[0];
-        const double psi_dd = accels[1];
-        const double x_dd = accels[2];
-        const double tmp0 = sin(theta);
-        const double tmp1 = sin(psi);
-        const double tmp2 = cos(theta);
-        const double tmp3 = R*(theta_d*theta_d);
-        const double tmp4 = cos(psi);
-        const double tmp5 = l*(psi_d*psi_d);
-        out[0] = -R*theta_dd*tmp0 - l*psi_dd*tmp1 - tmp2*tmp3 - tmp4*tmp5 - x_dd;
-        out[1] = R*theta_dd*tmp2 + l*psi_dd*tmp4 - tmp0*tmp3 - tmp1*tmp5;
-    }
+    slider_crank_acceleration_constraints_kernel(params, coords, rates, accels, out);
     if (!all_finite(out, 2)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -259,24 +302,14 @@ slider_crank_status slider_crank_acceleration_constraints(const slider_crank_par
     return SLIDER_CRANK_OK;
 }
 
-/* point_kinematics: eq. -. Total ops: 7. */
-slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double positions[SLIDER_CRANK_N_POINT_COORDS], double velocities[SLIDER_CRANK_N_POINT_COORDS])
+/* point_kinematics without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 7. */
+void slider_crank_point_kinematics_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[8])
 {
-    double out[8];
-    slider_crank_status status;
-    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
-        return SLIDER_CRANK_ERR_NULL_POINTER;
-    }
-    status = slider_crank_check_params(params);
-    if (status != SLIDER_CRANK_OK) {
-        return status;
-    }
-    if (!all_finite(coords, SLIDER_CRANK_N_COORDS)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
-    if (!all_finite(rates, SLIDER_CRANK_N_COORDS)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double R = params->R;
         const double e = params->e;
@@ -295,20 +328,14 @@ slider_crank_status slider_crank_point_kinematics(const slider_crank_params *par
         out[6] = x_d;
         out[7] = 0;
     }
-    if (!all_finite(out, 8)) {
-        return SLIDER_CRANK_ERR_OVERFLOW;
-    }
-    copy_out(positions, out + 0, 4);
-    copy_out(velocities, out + 4, 4);
-    return SLIDER_CRANK_OK;
 }
 
-/* energies: eq. -. Total ops: 61. */
-slider_crank_status slider_crank_energies(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+/* point_kinematics: eq. -. */
+slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double positions[SLIDER_CRANK_N_POINT_COORDS], double velocities[SLIDER_CRANK_N_POINT_COORDS])
 {
-    double out[4];
+    double out[8];
     slider_crank_status status;
-    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
+    if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -321,6 +348,23 @@ slider_crank_status slider_crank_energies(const slider_crank_params *params, con
     if (!all_finite(rates, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    slider_crank_point_kinematics_kernel(params, coords, rates, out);
+    if (!all_finite(out, 8)) {
+        return SLIDER_CRANK_ERR_OVERFLOW;
+    }
+    copy_out(positions, out + 0, 4);
+    copy_out(velocities, out + 4, 4);
+    return SLIDER_CRANK_OK;
+}
+
+/* energies without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 61. */
+void slider_crank_energies_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double R = params->R;
         const double l = params->l;
@@ -355,22 +399,14 @@ slider_crank_status slider_crank_energies(const slider_crank_params *params, con
         out[2] = tmp11;
         out[3] = -tmp10 - tmp11 + tmp7 - tmp8 - tmp9;
     }
-    if (!all_finite(out, 4)) {
-        return SLIDER_CRANK_ERR_OVERFLOW;
-    }
-    *T = out[0];
-    *V_G = out[1];
-    *V_E = out[2];
-    *lagrangian = out[3];
-    return SLIDER_CRANK_OK;
 }
 
-/* lagrange_terms: eq. -. Total ops: 99. */
-slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double dt_dL_dqdot[SLIDER_CRANK_N_COORDS], double dL_dq[SLIDER_CRANK_N_COORDS], double constraint_forces[SLIDER_CRANK_N_COORDS], double dissipative_forces[SLIDER_CRANK_N_COORDS], double applied_forces[SLIDER_CRANK_N_COORDS], double residual[SLIDER_CRANK_N_COORDS])
+/* energies: eq. -. */
+slider_crank_status slider_crank_energies(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
 {
-    double out[18];
+    double out[4];
     slider_crank_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -383,12 +419,27 @@ slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *param
     if (!all_finite(rates, SLIDER_CRANK_N_COORDS)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    if (!all_finite(accels, SLIDER_CRANK_N_COORDS)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
+    slider_crank_energies_kernel(params, coords, rates, out);
+    if (!all_finite(out, 4)) {
+        return SLIDER_CRANK_ERR_OVERFLOW;
     }
-    if (!all_finite(multipliers, SLIDER_CRANK_N_CONSTRAINTS)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
+    *T = out[0];
+    *V_G = out[1];
+    *V_E = out[2];
+    *lagrangian = out[3];
+    return SLIDER_CRANK_OK;
+}
+
+/* lagrange_terms without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 99. */
+void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double out[18])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
+    (void)multipliers;
     {
         const double R = params->R;
         const double l = params->l;
@@ -461,6 +512,33 @@ slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *param
         out[16] = l*lambda_2*tmp25 + tmp16 - tmp24;
         out[17] = -F + tmp17 + tmp22 + tmp26 + tmp27;
     }
+}
+
+/* lagrange_terms: eq. -. */
+slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double dt_dL_dqdot[SLIDER_CRANK_N_COORDS], double dL_dq[SLIDER_CRANK_N_COORDS], double constraint_forces[SLIDER_CRANK_N_COORDS], double dissipative_forces[SLIDER_CRANK_N_COORDS], double applied_forces[SLIDER_CRANK_N_COORDS], double residual[SLIDER_CRANK_N_COORDS])
+{
+    double out[18];
+    slider_crank_status status;
+    if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!all_finite(coords, SLIDER_CRANK_N_COORDS)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    if (!all_finite(rates, SLIDER_CRANK_N_COORDS)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    if (!all_finite(accels, SLIDER_CRANK_N_COORDS)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    if (!all_finite(multipliers, SLIDER_CRANK_N_CONSTRAINTS)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_lagrange_terms_kernel(params, coords, rates, accels, multipliers, out);
     if (!all_finite(out, 18)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -473,24 +551,14 @@ slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *param
     return SLIDER_CRANK_OK;
 }
 
-/* dependent_state: eq. -. Total ops: 47. */
-slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, double theta, double theta_d, double coords[SLIDER_CRANK_N_COORDS], double rates[SLIDER_CRANK_N_COORDS])
+/* dependent_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 47. */
+void slider_crank_dependent_state_kernel(const slider_crank_params *params, double theta, double theta_d, double out[6])
 {
-    double out[6];
-    slider_crank_status status;
-    if (coords == NULL || rates == NULL) {
-        return SLIDER_CRANK_ERR_NULL_POINTER;
-    }
-    status = slider_crank_check_params(params);
-    if (status != SLIDER_CRANK_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
-    if (!all_finite(&theta_d, 1)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double R = params->R;
         const double l = params->l;
@@ -516,20 +584,14 @@ slider_crank_status slider_crank_dependent_state(const slider_crank_params *para
         out[4] = theta_d*(tmp10*tmp11*tmp13*tmp2*tmp6*tmp8*tmp9 - tmp6*tmp7*tmp8*tmp9);
         out[5] = theta_d*(-tmp0 - tmp10*tmp11*tmp13*tmp6);
     }
-    if (!all_finite(out, 6)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    copy_out(coords, out + 0, 3);
-    copy_out(rates, out + 3, 3);
-    return SLIDER_CRANK_OK;
 }
 
-/* reduced_coefficients: eq. -. Total ops: 110. */
-slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, double theta, double e[SLIDER_CRANK_N_REDUCED])
+/* dependent_state: eq. -. */
+slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, double theta, double theta_d, double coords[SLIDER_CRANK_N_COORDS], double rates[SLIDER_CRANK_N_COORDS])
 {
-    double out[3];
+    double out[6];
     slider_crank_status status;
-    if (e == NULL) {
+    if (coords == NULL || rates == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -539,6 +601,25 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_dependent_state_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 6)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    copy_out(coords, out + 0, 3);
+    copy_out(rates, out + 3, 3);
+    return SLIDER_CRANK_OK;
+}
+
+/* reduced_coefficients without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 110. */
+void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params, double theta, double out[3])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -582,19 +663,14 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
         out[1] = (1.0/2.0)*R*m_2*tmp18*tmp21*((1.0/2.0)*tmp25*(-2*tmp26 - tmp27) + tmp30*((1.0/2.0)*tmp18*tmp29 + tmp28)) + R*m_3*tmp19*tmp21*(tmp25*(-tmp26 - tmp27) + tmp30*(tmp19*tmp29 + tmp28)) - tmp13*tmp25*tmp5*(tmp22 + tmp23*tmp24/(tmp14*sqrt(tmp14))) - tmp2*tmp5*tmp7;
         out[2] = -b*tmp20;
     }
-    if (!all_finite(out, 3)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    copy_out(e, out + 0, 3);
-    return SLIDER_CRANK_OK;
 }
 
-/* angular_acceleration: eq. -. Total ops: 153. */
-slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, double theta, double theta_d, double *theta_dd)
+/* reduced_coefficients: eq. -. */
+slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, double theta, double e[SLIDER_CRANK_N_REDUCED])
 {
-    double out[1];
+    double out[3];
     slider_crank_status status;
-    if (theta_dd == NULL) {
+    if (e == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -604,9 +680,22 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
+    slider_crank_reduced_coefficients_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
+    copy_out(e, out + 0, 3);
+    return SLIDER_CRANK_OK;
+}
+
+/* angular_acceleration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 153. */
+void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, double theta, double theta_d, double out[1])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double R = params->R;
         const double l = params->l;
@@ -661,19 +750,14 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
         const double tmp36 = tmp24*tmp32;
         out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((1.0/2.0)*R*m_2*tmp17*tmp24*((1.0/2.0)*tmp25*(-tmp29 - tmp33) + tmp36*((1.0/2.0)*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
     }
-    if (!all_finite(out, 1)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    *theta_dd = out[0];
-    return SLIDER_CRANK_OK;
 }
 
-/* equilibrium_residual: eq. -. Total ops: 101. */
-slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, double theta, double *residual, double *scale)
+/* angular_acceleration: eq. -. */
+slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, double theta, double theta_d, double *theta_dd)
 {
-    double out[2];
+    double out[1];
     slider_crank_status status;
-    if (residual == NULL || scale == NULL) {
+    if (theta_dd == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -683,6 +767,24 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_angular_acceleration_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 1)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    *theta_dd = out[0];
+    return SLIDER_CRANK_OK;
+}
+
+/* equilibrium_residual without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 101. */
+void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -722,20 +824,14 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
         out[0] = (1.0/2.0)*R*g*m_1*tmp0 + (1.0/2.0)*R*g*m_2*tmp0 - T - tmp1*tmp9 - tmp16*tmp9*(l_0 - tmp14)*(tmp15 + tmp7)/tmp14;
         out[1] = tmp20*fabs(tmp1*tmp21) + tmp20*fabs(tmp16*tmp21*(l_0 - tmp22)*(tmp15 + tmp19))/fabs(tmp22) + fabs(T) + (1.0/2.0)*fabs(m_1*tmp17) + (1.0/2.0)*fabs(m_2*tmp17);
     }
-    if (!all_finite(out, 2)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    *residual = out[0];
-    *scale = out[1];
-    return SLIDER_CRANK_OK;
 }
 
-/* radicands: eq. -. Total ops: 54. */
-slider_crank_status slider_crank_radicands(const slider_crank_params *params, double theta, double values[SLIDER_CRANK_N_ROOTS], double scales[SLIDER_CRANK_N_ROOTS])
+/* equilibrium_residual: eq. -. */
+slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, double theta, double *residual, double *scale)
 {
-    double out[4];
+    double out[2];
     slider_crank_status status;
-    if (values == NULL || scales == NULL) {
+    if (residual == NULL || scale == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -745,6 +841,22 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, do
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    slider_crank_equilibrium_residual_kernel(params, theta, out);
+    if (!all_finite(out, 2)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    return SLIDER_CRANK_OK;
+}
+
+/* radicands without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 54. */
+void slider_crank_radicands_kernel(const slider_crank_params *params, double theta, double out[4])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -767,20 +879,14 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, do
         out[2] = (l*l) + (tmp0*tmp0)*tmp9 + tmp8 + 2*fabs(e*tmp1);
         out[3] = tmp10 + tmp4*fabs(tmp6) + tmp4*fabs(x_S) + 2*fabs(tmp3) + 2*fabs(tmp7);
     }
-    if (!all_finite(out, 4)) {
-        return SLIDER_CRANK_ERR_OVERFLOW;
-    }
-    copy_out(values, out + 0, 2);
-    copy_out(scales, out + 2, 2);
-    return SLIDER_CRANK_OK;
 }
 
-/* equilibrium_branches: eq. -. Total ops: 94. */
-slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES])
+/* radicands: eq. -. */
+slider_crank_status slider_crank_radicands(const slider_crank_params *params, double theta, double values[SLIDER_CRANK_N_ROOTS], double scales[SLIDER_CRANK_N_ROOTS])
 {
     double out[4];
     slider_crank_status status;
-    if (residuals == NULL) {
+    if (values == NULL || scales == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -790,6 +896,22 @@ slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params 
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    slider_crank_radicands_kernel(params, theta, out);
+    if (!all_finite(out, 4)) {
+        return SLIDER_CRANK_ERR_OVERFLOW;
+    }
+    copy_out(values, out + 0, 2);
+    copy_out(scales, out + 2, 2);
+    return SLIDER_CRANK_OK;
+}
+
+/* equilibrium_branches without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 94. */
+void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params, double theta, double out[4])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -833,6 +955,24 @@ slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params 
         out[2] = -tmp10 + tmp18*(l_0 + tmp16) + tmp23;
         out[3] = -tmp21*(l_0 + tmp19) + tmp24;
     }
+}
+
+/* equilibrium_branches: eq. -. */
+slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES])
+{
+    double out[4];
+    slider_crank_status status;
+    if (residuals == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_equilibrium_branches_kernel(params, theta, out);
     if (!all_finite(out, 4)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -12284,18 +12424,12 @@ static const double sigma_constants[3] = {
     2.0, 4.0, 0.5
 };
 
-/* sigma: eq. -. Total ops: 8850. */
-slider_crank_status slider_crank_sigma(const slider_crank_params *params, double sigma[SLIDER_CRANK_N_SIGMA])
+/* sigma without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 8850. */
+void slider_crank_sigma_kernel(const slider_crank_params *params, double out[25])
 {
-    double out[25];
-    slider_crank_status status;
-    if (sigma == NULL) {
-        return SLIDER_CRANK_ERR_NULL_POINTER;
-    }
-    status = slider_crank_check_params(params);
-    if (status != SLIDER_CRANK_OK) {
-        return status;
-    }
+    (void)params;
     {
         codegen_dd v[193];
         v[0] = codegen_dd_from(params->R);
@@ -12337,6 +12471,21 @@ slider_crank_status slider_crank_sigma(const slider_crank_params *params, double
         out[23] = codegen_dd_to_double(v[98]);
         out[24] = codegen_dd_to_double(v[101]);
     }
+}
+
+/* sigma: eq. -. */
+slider_crank_status slider_crank_sigma(const slider_crank_params *params, double sigma[SLIDER_CRANK_N_SIGMA])
+{
+    double out[25];
+    slider_crank_status status;
+    if (sigma == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    slider_crank_sigma_kernel(params, out);
     if (!all_finite(out, 25)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -12344,21 +12493,13 @@ slider_crank_status slider_crank_sigma(const slider_crank_params *params, double
     return SLIDER_CRANK_OK;
 }
 
-/* linearisation: eq. -. Total ops: 305. */
-slider_crank_status slider_crank_linearisation(const slider_crank_params *params, double theta, double *M, double *B, double *K)
+/* linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 305. */
+void slider_crank_linearisation_kernel(const slider_crank_params *params, double theta, double out[3])
 {
-    double out[3];
-    slider_crank_status status;
-    if (M == NULL || B == NULL || K == NULL) {
-        return SLIDER_CRANK_ERR_NULL_POINTER;
-    }
-    status = slider_crank_check_params(params);
-    if (status != SLIDER_CRANK_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return SLIDER_CRANK_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -12460,21 +12601,14 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
         out[1] = -b*tmp19;
         out[2] = F*tmp36*(tmp23 + tmp25 - tmp28 - tmp30 + tmp32 + tmp34 - tmp35) + k*tmp36*(pow(R, 5)*tmp3*tmp65 + e*tmp15*tmp53*tmp59 - 8*l_0*tmp30*tmp6*x_S - 4*tmp12*tmp58 + (tmp13*tmp13*sqrt(tmp13))*tmp43 + tmp21*tmp24*tmp65 + 2*tmp22*tmp77 - tmp22*tmp82 + tmp23*tmp38*tmp44 + tmp23*tmp54 + tmp23*tmp68 + tmp23*tmp71 - tmp23*tmp74 + tmp25*tmp44*tmp62 + tmp25*tmp68 + tmp25*tmp69 + tmp25*tmp71 - tmp25*tmp74 - tmp28*tmp71 + tmp28*tmp74 - tmp29*tmp6*tmp69 + tmp29*tmp77 - tmp29*tmp80 + 6*tmp30*tmp53 - tmp30*tmp71 + tmp30*tmp74 + tmp31*tmp82 + tmp32*tmp71 - tmp32*tmp74 - tmp34*tmp62*tmp67 + tmp34*tmp71 - tmp34*tmp74 - tmp35*tmp71 + tmp35*tmp74 - 2*tmp37*tmp4*tmp60*tmp61 + tmp37*tmp45*tmp47 + tmp37*tmp55 - tmp37*tmp6*tmp70 - tmp38*tmp43*tmp48 + tmp4*tmp72*tmp81 - tmp40*tmp52 - tmp40*tmp58 - 2*tmp41*tmp55 + tmp42*tmp78 - tmp45*tmp52 + tmp46*tmp54*tmp59 - 2*tmp47*tmp48 - tmp48*tmp79 + tmp49*tmp73 - tmp49*tmp76 - tmp56*tmp63*tmp70 + tmp57*tmp73 - tmp57*tmp76 - tmp60*tmp73 + tmp60*tmp76 + 4*tmp66*tmp67 + tmp66*tmp72 - tmp72*tmp78 - tmp73*tmp75 + tmp75*tmp76 - tmp79*tmp81)/tmp42 - m_1*tmp20 - m_2*tmp20;
     }
-    if (!all_finite(out, 3)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    *M = out[0];
-    *B = out[1];
-    *K = out[2];
-    return SLIDER_CRANK_OK;
 }
 
-/* vibration: eq. -. Total ops: 321. */
-slider_crank_status slider_crank_vibration(const slider_crank_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+/* linearisation: eq. -. */
+slider_crank_status slider_crank_linearisation(const slider_crank_params *params, double theta, double *M, double *B, double *K)
 {
-    double out[2];
+    double out[3];
     slider_crank_status status;
-    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+    if (M == NULL || B == NULL || K == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -12484,6 +12618,23 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, do
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    slider_crank_linearisation_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    *M = out[0];
+    *B = out[1];
+    *K = out[2];
+    return SLIDER_CRANK_OK;
+}
+
+/* vibration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 321. */
+void slider_crank_vibration_kernel(const slider_crank_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -12589,20 +12740,14 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, do
         out[0] = (F*tmp40*(tmp27 + tmp29 - tmp32 - tmp34 + tmp36 + tmp38 - tmp39) + k*tmp40*(pow(R, 5)*tmp3*tmp69 + e*tmp17*tmp57*tmp63 - 8*l_0*tmp34*tmp7*x_S - 4*tmp14*tmp62 + (tmp15*tmp15*sqrt(tmp15))*tmp47 + tmp25*tmp28*tmp69 + 2*tmp26*tmp81 - tmp26*tmp86 + tmp27*tmp42*tmp48 + tmp27*tmp58 + tmp27*tmp72 + tmp27*tmp75 - tmp27*tmp78 + tmp29*tmp48*tmp66 + tmp29*tmp72 + tmp29*tmp73 + tmp29*tmp75 - tmp29*tmp78 - tmp32*tmp75 + tmp32*tmp78 - tmp33*tmp7*tmp73 + tmp33*tmp81 - tmp33*tmp84 + 6*tmp34*tmp57 - tmp34*tmp75 + tmp34*tmp78 + tmp35*tmp86 + tmp36*tmp75 - tmp36*tmp78 - tmp38*tmp66*tmp71 + tmp38*tmp75 - tmp38*tmp78 - tmp39*tmp75 + tmp39*tmp78 + tmp41*tmp49*tmp51 - 2*tmp41*tmp5*tmp64*tmp65 + tmp41*tmp59 - tmp41*tmp7*tmp74 - tmp42*tmp47*tmp52 - tmp44*tmp56 - tmp44*tmp62 - 2*tmp45*tmp59 + tmp46*tmp82 - tmp49*tmp56 + tmp5*tmp76*tmp85 + tmp50*tmp58*tmp63 - 2*tmp51*tmp52 - tmp52*tmp83 + tmp53*tmp77 - tmp53*tmp80 - tmp60*tmp67*tmp74 + tmp61*tmp77 - tmp61*tmp80 - tmp64*tmp77 + tmp64*tmp80 + 4*tmp70*tmp71 + tmp70*tmp76 - tmp76*tmp82 - tmp77*tmp79 + tmp79*tmp80 - tmp83*tmp85)/tmp46 - m_1*tmp24 - m_2*tmp24)/(m_1*tmp8 + m_2*tmp8 + (1.0/12.0)*tmp1 - 1.0/12.0*tmp13 - 1.0/4.0*tmp21 - tmp23 + (1.0/4.0)*tmp4);
         out[1] = -b*tmp22/(m_1*tmp87 + m_2*tmp87 + (1.0/6.0)*tmp1 - 1.0/6.0*tmp13 - 1.0/2.0*tmp21 - 2*tmp23 + (1.0/2.0)*tmp4);
     }
-    if (!all_finite(out, 2)) {
-        return SLIDER_CRANK_ERR_SINGULAR_STATE;
-    }
-    *omega_n_squared = out[0];
-    *zeta_omega_n = out[1];
-    return SLIDER_CRANK_OK;
 }
 
-/* mode_linearisation: eq. -. Total ops: 529. */
-slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, double theta, double M[SLIDER_CRANK_N_MODES], double B[SLIDER_CRANK_N_MODES], double K[SLIDER_CRANK_N_MODES])
+/* vibration: eq. -. */
+slider_crank_status slider_crank_vibration(const slider_crank_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
 {
-    double out[6];
+    double out[2];
     slider_crank_status status;
-    if (M == NULL || B == NULL || K == NULL) {
+    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
@@ -12612,6 +12757,22 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
     if (!all_finite(&theta, 1)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
+    slider_crank_vibration_kernel(params, theta, out);
+    if (!all_finite(out, 2)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    *omega_n_squared = out[0];
+    *zeta_omega_n = out[1];
+    return SLIDER_CRANK_OK;
+}
+
+/* mode_linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 529. */
+void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, double theta, double out[6])
+{
+    (void)params;
+    (void)theta;
     {
         const double R = params->R;
         const double l = params->l;
@@ -12747,12 +12908,218 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
         out[4] = tmp106*(l_0*tmp52*tmp85*tmp89 + 4*l_0*tmp72*tmp87 + tmp105 - tmp32*tmp68 + tmp33*tmp48*tmp92 + tmp33*tmp69 - tmp33*tmp77 + tmp34*tmp40*tmp58*tmp95 + tmp35*tmp69 - tmp35*tmp77 - tmp38*tmp69 + tmp38*tmp77 - tmp40*tmp69 + tmp40*tmp77 + tmp41*tmp68 + tmp42*tmp69 - tmp42*tmp77 - tmp45*tmp69 + tmp45*tmp77 - tmp54*tmp67*tmp74 + tmp55*tmp56 - tmp55*tmp57 + tmp55*tmp93 - tmp56*tmp70 + tmp57*tmp70 - tmp59*tmp60 - tmp59*tmp62 + tmp59*tmp73 + tmp59*tmp76 + tmp60*tmp71 + tmp62*tmp71 - tmp63*tmp66 - tmp63*tmp82 + tmp70*tmp72 + tmp70*tmp75 - tmp70*tmp93 + tmp70*tmp94 - tmp71*tmp73 - tmp71*tmp76 - tmp80 - tmp83 - tmp86 - tmp90 - tmp91 + tmp92*tmp96*x_S - tmp97)/tmp55 - tmp29 - tmp30 + tmp47*(tmp33 + tmp35 - tmp38 - tmp40 + tmp42 + tmp44 - tmp45);
         out[5] = -tmp106*(2*R*e*l_0*tmp0*tmp2*tmp3*tmp52*tmp8 + 3*R*e*tmp0*tmp108*tmp2*tmp3*tmp8 + R*l_0*tmp107*tmp19*tmp2*tmp3*x_S + 2*R*l_0*tmp107*tmp22*tmp43 + 2*R*l_0*tmp19*tmp2*tmp3*tmp31*x_S + R*tmp108*tmp19*tmp31*x_S + 2*R*tmp108*tmp19*tmp43 + R*tmp108*tmp2*tmp22*tmp3*x_S + 2*e*l_0*tmp0*tmp107*tmp12*tmp19*x_S + e*l_0*tmp0*tmp107*tmp2*tmp3*x_S + 6*e*l_0*tmp0*tmp2*tmp3*tmp34*tmp58 + 2*e*tmp0*tmp108*tmp34*tmp58 + e*tmp0*tmp108*tmp43 + 3*l_0*tmp107*tmp12*tmp2*tmp22*tmp3*tmp8 + l_0*tmp107*tmp12*tmp31*tmp58 + l_0*tmp107*tmp22*tmp58*tmp61 + l_0*tmp107*tmp43*tmp8*x_S + l_0*tmp107*tmp64*tmp65*tmp8 + 4*l_0*tmp12*tmp22*tmp64*tmp65*tmp8 + 6*l_0*tmp19*tmp2*tmp22*tmp3*tmp34*x_S - tmp105 + tmp108*tmp12*tmp2*tmp3*tmp58 + tmp108*tmp19*tmp22*tmp34*x_S - tmp108*tmp41*tmp67 - tmp108*tmp56 - tmp108*tmp72 - tmp108*tmp94 - tmp109*tmp60 - tmp109*tmp62 - tmp110*tmp57 - tmp110*tmp75 - tmp110*tmp93 - tmp111*tmp33 - tmp111*tmp35 - tmp111*tmp42 - tmp112*tmp38 - tmp112*tmp40 - tmp112*tmp45 - tmp113*tmp73 - tmp113*tmp76 - tmp80 - tmp83 - tmp86 - tmp90 - tmp91 - tmp97)/tmp108 - tmp29 - tmp30 - tmp47*(R*tmp19*tmp31 + R*tmp2*tmp22*tmp3 + tmp19*tmp22*tmp34 - tmp38 - tmp40 - tmp44 - tmp45);
     }
+}
+
+/* mode_linearisation: eq. -. */
+slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, double theta, double M[SLIDER_CRANK_N_MODES], double B[SLIDER_CRANK_N_MODES], double K[SLIDER_CRANK_N_MODES])
+{
+    double out[6];
+    slider_crank_status status;
+    if (M == NULL || B == NULL || K == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_mode_linearisation_kernel(params, theta, out);
     if (!all_finite(out, 6)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
     copy_out(M, out + 0, 2);
     copy_out(B, out + 2, 2);
     copy_out(K, out + 4, 2);
+    return SLIDER_CRANK_OK;
+}
+
+/* equilibrium_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 420. */
+void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, double theta, double out[13])
+{
+    (void)params;
+    (void)theta;
+    {
+        const double R = params->R;
+        const double l = params->l;
+        const double e = params->e;
+        const double m_1 = params->m_1;
+        const double m_2 = params->m_2;
+        const double m_3 = params->m_3;
+        const double k = params->k;
+        const double l_0 = params->l_0;
+        const double x_S = params->x_S;
+        const double y_S = params->y_S;
+        const double b = params->b;
+        const double F = params->F;
+        const double T = params->T;
+        const double g = params->g;
+        const double tmp0 = cos(theta);
+        const double tmp1 = sin(theta);
+        const double tmp2 = R*tmp1;
+        const double tmp3 = e + l - tmp2;
+        const double tmp4 = -e + l + tmp2;
+        const double tmp5 = -tmp4;
+        const double tmp6 = tmp3*tmp5;
+        const double tmp7 = -tmp6;
+        const double tmp8 = sqrt(tmp7);
+        const double tmp9 = tmp1*tmp8;
+        const double tmp10 = e*tmp0;
+        const double tmp11 = tmp0*tmp2;
+        const double tmp12 = -tmp10 + tmp11;
+        const double tmp13 = -tmp12 - tmp9;
+        const double tmp14 = 1/(tmp8);
+        const double tmp15 = F*R;
+        const double tmp16 = tmp14*tmp15;
+        const double tmp17 = tmp13*tmp16;
+        const double tmp18 = 2*x_S;
+        const double tmp19 = tmp18*tmp8;
+        const double tmp20 = R*tmp0;
+        const double tmp21 = 2*tmp8;
+        const double tmp22 = tmp20*tmp21;
+        const double tmp23 = (e*e);
+        const double tmp24 = (x_S*x_S);
+        const double tmp25 = (y_S*y_S);
+        const double tmp26 = (R*R);
+        const double tmp27 = (tmp0*tmp0);
+        const double tmp28 = tmp26*tmp27;
+        const double tmp29 = tmp23 + tmp24 + tmp25 + tmp28 + tmp7;
+        const double tmp30 = e*y_S;
+        const double tmp31 = -tmp18*tmp20 - 2*tmp30;
+        const double tmp32 = tmp29 + tmp31;
+        const double tmp33 = -tmp19 + tmp22 + tmp32;
+        const double tmp34 = sqrt(tmp33);
+        const double tmp35 = tmp20 - x_S;
+        const double tmp36 = R*k;
+        const double tmp37 = tmp14*tmp36;
+        const double tmp38 = tmp13*tmp37*(tmp35 + tmp8)/tmp34;
+        const double tmp39 = (1.0/2.0)*R*g*m_1*tmp0 + (1.0/2.0)*R*g*m_2*tmp0 - T - tmp17 - tmp38*(l_0 - tmp34);
+        const double tmp40 = g*tmp20;
+        const double tmp41 = m_1*tmp40;
+        const double tmp42 = m_2*tmp40;
+        const double tmp43 = tmp3*tmp4;
+        const double tmp44 = sqrt(tmp43);
+        const double tmp45 = 1/(fabs(tmp44));
+        const double tmp46 = tmp1*tmp44 + tmp12;
+        const double tmp47 = sqrt(-tmp18*tmp44 + 2*tmp20*tmp44 + tmp23 + tmp24 + tmp25 + tmp28 + tmp31 + tmp43);
+        const double tmp48 = (tmp1*tmp1);
+        const double tmp49 = tmp26*tmp48;
+        const double tmp50 = (1.0/4.0)*m_1;
+        const double tmp51 = (1.0/4.0)*m_2;
+        const double tmp52 = (l*l);
+        const double tmp53 = 1/(tmp3*tmp5);
+        const double tmp54 = 2*tmp9;
+        const double tmp55 = tmp26*tmp53;
+        const double tmp56 = (tmp13*tmp13)*tmp55;
+        const double tmp57 = (1.0/2.0)*g*tmp2;
+        const double tmp58 = (tmp7*sqrt(tmp7));
+        const double tmp59 = 1/(tmp58);
+        const double tmp60 = R*tmp27;
+        const double tmp61 = tmp23*tmp60;
+        const double tmp62 = (R*R*R);
+        const double tmp63 = tmp27*tmp48*tmp62;
+        const double tmp64 = e*tmp1;
+        const double tmp65 = 2*tmp64;
+        const double tmp66 = tmp6*tmp64;
+        const double tmp67 = R*tmp48;
+        const double tmp68 = tmp6*tmp67;
+        const double tmp69 = tmp0*tmp58;
+        const double tmp70 = tmp6*tmp60;
+        const double tmp71 = (tmp33*sqrt(tmp33));
+        const double tmp72 = l_0*tmp67;
+        const double tmp73 = l_0*tmp6;
+        const double tmp74 = tmp10*tmp2;
+        const double tmp75 = l_0*tmp74;
+        const double tmp76 = 2*tmp6;
+        const double tmp77 = tmp24*tmp76;
+        const double tmp78 = (tmp3*tmp3)*(tmp5*tmp5);
+        const double tmp79 = tmp23*tmp26;
+        const double tmp80 = (tmp0*tmp0*tmp0);
+        const double tmp81 = l_0*tmp80;
+        const double tmp82 = tmp79*tmp81;
+        const double tmp83 = tmp62*tmp81;
+        const double tmp84 = l_0*tmp58;
+        const double tmp85 = tmp58*tmp72;
+        const double tmp86 = (R*R*R*R);
+        const double tmp87 = tmp48*tmp86;
+        const double tmp88 = tmp81*tmp87;
+        const double tmp89 = 4*x_S;
+        const double tmp90 = l_0*tmp49;
+        const double tmp91 = 6*x_S;
+        const double tmp92 = (tmp0*tmp0*tmp0*tmp0);
+        const double tmp93 = l_0*tmp8;
+        const double tmp94 = tmp92*tmp93;
+        const double tmp95 = tmp0*tmp78;
+        const double tmp96 = tmp24*tmp93;
+        const double tmp97 = 6*tmp84;
+        const double tmp98 = tmp28*tmp64;
+        const double tmp99 = e*l_0*tmp54;
+        const double tmp100 = tmp71*x_S;
+        const double tmp101 = l_0*tmp33;
+        const double tmp102 = tmp101*tmp80;
+        const double tmp103 = tmp101*x_S;
+        const double tmp104 = tmp62*tmp65;
+        const double tmp105 = tmp71*tmp80;
+        const double tmp106 = tmp18*tmp98;
+        const double tmp107 = tmp33*tmp84;
+        const double tmp108 = 3*tmp6;
+        const double tmp109 = tmp108*tmp74;
+        const double tmp110 = tmp0*tmp71;
+        const double tmp111 = tmp26*tmp6;
+        const double tmp112 = tmp58*tmp71;
+        const double tmp113 = tmp108*tmp49;
+        const double tmp114 = 2*tmp112;
+        const double tmp115 = sqrt(tmp19 - tmp22 + tmp32);
+        const double tmp116 = tmp10 - tmp11 + tmp9;
+        const double tmp117 = tmp116*tmp37*(R*tmp0 - tmp8 - x_S)/tmp115;
+        const double tmp118 = -T + (1.0/2.0)*tmp41 + (1.0/2.0)*tmp42;
+        const double tmp119 = tmp116*tmp16 + tmp118;
+        out[0] = tmp39;
+        out[1] = tmp45*fabs(tmp15*tmp46) + tmp45*fabs(tmp36*tmp46*(l_0 - tmp47)*(tmp35 + tmp44))/fabs(tmp47) + fabs(T) + (1.0/2.0)*fabs(tmp41) + (1.0/2.0)*fabs(tmp42);
+        out[2] = (1.0/12.0)*m_1*tmp26 - 1.0/12.0*m_2*tmp28*tmp52*tmp53 - m_3*tmp56 + tmp28*tmp50 + tmp28*tmp51 + tmp49*tmp50 - tmp51*tmp55*((-tmp12 - tmp54)*(-tmp12 - tmp54));
+        out[3] = -b*tmp56;
+        out[4] = -m_1*tmp57 - m_2*tmp57 + tmp15*tmp59*(-tmp28*tmp65 + tmp61 + tmp63 - tmp66 + tmp68 + tmp69 - tmp70) + tmp36*tmp59*(pow(R, 5)*tmp48*tmp94 + e*tmp83*tmp89*tmp9 - 8*l_0*tmp28*tmp66*x_S + tmp0*tmp101*tmp113 - tmp0*tmp77*tmp90 + tmp100*tmp61 + tmp100*tmp63 - tmp100*tmp66 + tmp100*tmp68 + tmp100*tmp69 - tmp100*tmp70 + tmp101*tmp106 - tmp101*tmp109 + tmp101*tmp95 - tmp102*tmp104 - tmp102*tmp111 + tmp102*tmp79 + tmp102*tmp87 - tmp103*tmp61 - tmp103*tmp63 + tmp103*tmp66 - tmp103*tmp68 - tmp103*tmp69 + tmp103*tmp70 + tmp104*tmp105 + tmp105*tmp111 - tmp105*tmp79 - tmp105*tmp87 - tmp106*tmp71 + 2*tmp107*tmp60 + tmp107*tmp64 + tmp109*tmp71 - tmp110*tmp113 - tmp110*tmp78 - tmp112*tmp64 - tmp114*tmp60 + tmp114*tmp67 + tmp18*tmp61*tmp73 - tmp18*tmp72*tmp78 - tmp19*tmp82 - tmp19*tmp88 + tmp23*tmp62*tmp94 - tmp24*tmp28*tmp99 + tmp24*tmp85 - 2*tmp33*tmp85 - 4*tmp6*tmp88 + tmp61*tmp84 + tmp61*tmp96 + tmp63*tmp73*tmp91 + tmp63*tmp96 + tmp63*tmp97 + 6*tmp66*tmp83 - tmp69*tmp90*tmp91 + (tmp7*tmp7*sqrt(tmp7))*tmp72 + tmp74*tmp84*tmp89 + tmp75*tmp77 - 2*tmp75*tmp78 - tmp76*tmp82 - tmp86*tmp92*tmp99 + 4*tmp90*tmp95 - tmp97*tmp98)/tmp71;
+        out[5] = tmp39;
+        out[6] = tmp117*(l_0 - tmp115) + tmp119;
+        out[7] = tmp118 - tmp17 + tmp38*(l_0 + tmp34);
+        out[8] = -tmp117*(l_0 + tmp115) + tmp119;
+        out[9] = tmp7;
+        out[10] = tmp33;
+        out[11] = tmp23 + tmp49 + tmp52 + 2*fabs(e*tmp2);
+        out[12] = tmp21*fabs(tmp20) + tmp21*fabs(x_S) + tmp29 + 2*fabs(tmp30) + 2*fabs(tmp20*x_S);
+    }
+}
+
+/* equilibrium_state: eq. -. */
+slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[SLIDER_CRANK_N_BRANCHES], double radicands[SLIDER_CRANK_N_ROOTS], double radicand_scales[SLIDER_CRANK_N_ROOTS])
+{
+    double out[13];
+    slider_crank_status status;
+    if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_equilibrium_state_kernel(params, theta, out);
+    if (!all_finite(out, 13)) {
+        return SLIDER_CRANK_ERR_SINGULAR_STATE;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    *M = out[2];
+    *B = out[3];
+    *K = out[4];
+    copy_out(branch_residuals, out + 5, 4);
+    copy_out(radicands, out + 9, 2);
+    copy_out(radicand_scales, out + 11, 2);
     return SLIDER_CRANK_OK;
 }
 
@@ -12954,6 +13321,23 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
 }
 
+slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    *flags = 0u;
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, theta, g, dg, flags);
+        return SLIDER_CRANK_OK;
+    case 1u:
+        enclose_mode_1(params, theta, g, dg, flags);
+        return SLIDER_CRANK_OK;
+    default:
+        return SLIDER_CRANK_ERR_ARGUMENT;
+    }
+}
+
 slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const double theta[2],
                                 double g[2], double dg[2], unsigned *flags)
 {
@@ -12973,15 +13357,10 @@ slider_crank_status slider_crank_enclosure(const slider_crank_params *params, un
     if (mode >= SLIDER_CRANK_N_MODES || !(theta[0] <= theta[1])) {
         return SLIDER_CRANK_ERR_ARGUMENT;
     }
-    switch (mode) {
-    case 0u:
-        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    case 1u:
-        enclose_mode_1(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    default:
-        return SLIDER_CRANK_ERR_ARGUMENT;
+    status = slider_crank_enclosure_kernel(params, mode, codegen_iv_make(theta[0], theta[1]), &iv_g,
+                                     &iv_dg, &iv_flags);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
     }
     g[0] = iv_g.lo;
     g[1] = iv_g.hi;
@@ -13256,6 +13635,22 @@ slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const sl
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = slider_crank_mode_linearisation(&params[i], theta[i], &M[i * SLIDER_CRANK_N_MODES], &B[i * SLIDER_CRANK_N_MODES], &K[i * SLIDER_CRANK_N_MODES]);
+        if (first == SLIDER_CRANK_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, slider_crank_status *statuses)
+{
+    size_t i;
+    slider_crank_status first = SLIDER_CRANK_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = slider_crank_equilibrium_state(&params[i], theta[i], &residual[i], &scale[i], &M[i], &B[i], &K[i], &branch_residuals[i * SLIDER_CRANK_N_BRANCHES], &radicands[i * SLIDER_CRANK_N_ROOTS], &radicand_scales[i * SLIDER_CRANK_N_ROOTS]);
         if (first == SLIDER_CRANK_OK) {
             first = statuses[i];
         }

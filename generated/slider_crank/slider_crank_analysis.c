@@ -10,7 +10,7 @@
  * enclosures of G and G' (codegen_interval.c), and the vibration at each.
  */
 #include "slider_crank.h"
-#include "codegen_interval.h"
+#include "slider_crank_kernels.h"
 
 #include <float.h>
 #include <math.h>
@@ -67,25 +67,60 @@ static const unsigned branch_of_mode[SLIDER_CRANK_N_MODES] = {
     0u, 1u
 };
 
+/* The inputs were validated once, at the entry points below; inside, the unchecked kernels
+ * (slider_crank_kernels.h) evaluate, and each group of results fails as the public function
+ * computing them would (a value not finite). Everything needed at one angle comes from one
+ * call of the fused kernel (slider_crank_equilibrium_state): one pass over G, its scale, M, B,
+ * K, G on every branch and the radicands. */
+#define STATE_SIZE 13
+#define AT_RESIDUAL 0
+#define AT_SCALE 1
+#define AT_M 2
+#define AT_B 3
+#define AT_K 4
+#define AT_BRANCH_RESIDUALS 5
+#define AT_RADICANDS 9
+#define AT_RADICAND_SCALES 11
+
+static slider_crank_status finite_or(const double *values, int count, slider_crank_status failure)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        if (!isfinite(values[i])) {
+            return failure;
+        }
+    }
+    return SLIDER_CRANK_OK;
+}
+
+static void state_at(const slider_crank_params *params, double theta, double at[STATE_SIZE])
+{
+    slider_crank_equilibrium_state_kernel(params, theta, at);
+}
+
+/* G and the size of its terms, as slider_crank_equilibrium_residual returns them. */
+static slider_crank_status residual_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_RESIDUAL, 2, SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_FAILURE);
+}
+
+/* M, B, K, as slider_crank_linearisation returns them. */
+static slider_crank_status linearisation_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_M, 3, SLIDER_CRANK_LINEARISATION_FAILURE);
+}
+
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
-static slider_crank_status residual_scale(const slider_crank_params *params, double theta, double k,
+static slider_crank_status residual_scale(const double at[STATE_SIZE], double theta, double k,
                                      double *scale)
 {
-    double residual, size;
-    const slider_crank_status status = slider_crank_equilibrium_residual(params, theta, &residual, &size);
+    const slider_crank_status status = residual_of(at);
     if (status == SLIDER_CRANK_OK) {
-        *scale = size + fabs(k) * fmax(fabs(theta), 1.0);
+        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), 1.0);
     }
     return status;
-}
-
-/* G alone (the residual's scale is not needed). */
-static slider_crank_status residual_at(const slider_crank_params *params, double theta, double *residual)
-{
-    double size;
-    return slider_crank_equilibrium_residual(params, theta, residual, &size);
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
@@ -165,12 +200,15 @@ static slider_crank_status vibrate(slider_crank_equilibrium *e)
     return SLIDER_CRANK_OK;
 }
 
-/* G on one branch at theta; 0 if it cannot be evaluated there. */
+/* G on one branch at theta; 0 if it cannot be evaluated there. The branches' own kernel: the
+ * search along one branch needs nothing else. */
 static int branch_value(const slider_crank_params *params, double theta, unsigned branch,
                         double *value)
 {
     double g[SLIDER_CRANK_N_BRANCHES];
-    if (slider_crank_equilibrium_branches(params, theta, g) != SLIDER_CRANK_OK || !(g[branch] == g[branch])) {
+    slider_crank_equilibrium_branches_kernel(params, theta, g);
+    if (finite_or(g, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_ERR_SINGULAR_STATE) != SLIDER_CRANK_OK
+        || !(g[branch] == g[branch])) {
         return 0;
     }
     *value = g[branch];
@@ -182,27 +220,37 @@ static slider_crank_status linearise(const slider_crank_params *params, unsigned
                                 slider_crank_equilibrium *e)
 {
     slider_crank_status status;
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
     if (mode != 0u) {
-        double m[SLIDER_CRANK_N_MODES], b[SLIDER_CRANK_N_MODES], k[SLIDER_CRANK_N_MODES];
-        status = slider_crank_mode_linearisation(params, theta, m, b, k);
+        double modes[3 * SLIDER_CRANK_N_MODES];
+        const double branch = at[AT_BRANCH_RESIDUALS + branch_of_mode[mode]];
+        slider_crank_mode_linearisation_kernel(params, theta, modes);
+        status = finite_or(modes, 3 * SLIDER_CRANK_N_MODES, SLIDER_CRANK_MODE_LINEARISATION_FAILURE);
         if (status != SLIDER_CRANK_OK) {
             return status;
         }
-        e->M = m[mode];
-        e->B = b[mode];
-        e->K = k[mode];
-        if (!branch_value(params, theta, branch_of_mode[mode], &e->residual)) {
+        e->M = modes[SLIDER_CRANK_MODE_LINEARISATION_M + mode];
+        e->B = modes[SLIDER_CRANK_MODE_LINEARISATION_B + mode];
+        e->K = modes[SLIDER_CRANK_MODE_LINEARISATION_K + mode];
+        if (finite_or(at + AT_BRANCH_RESIDUALS, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_ERR_SINGULAR_STATE)
+            != SLIDER_CRANK_OK || !(branch == branch)) {
             return SLIDER_CRANK_ERR_SINGULAR_STATE;
         }
+        e->residual = branch;
     } else
     {
-        status = slider_crank_linearisation(params, theta, &e->M, &e->B, &e->K);
+        status = linearisation_of(at);
         if (status == SLIDER_CRANK_OK) {
-            status = residual_at(params, theta, &e->residual);
+            status = residual_of(at);
         }
+        e->M = at[AT_M];
+        e->B = at[AT_B];
+        e->K = at[AT_K];
+        e->residual = at[AT_RESIDUAL];
     }
     if (status == SLIDER_CRANK_OK) {
-        status = residual_scale(params, theta, e->K, &e->residual_scale);
+        status = residual_scale(at, theta, e->K, &e->residual_scale);
     }
     e->theta = theta;
     return status;
@@ -212,15 +260,8 @@ static slider_crank_status linearise(const slider_crank_params *params, unsigned
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    const double interval[2] = {theta.lo, theta.hi};
-    double g_bounds[2], dg_bounds[2];
-    const slider_crank_status status = slider_crank_enclosure((const slider_crank_params *)context, mode, interval,
-                                                 g_bounds, dg_bounds, flags);
-    if (status == SLIDER_CRANK_OK) {
-        *g = codegen_iv_make(g_bounds[0], g_bounds[1]);
-        *dg = codegen_iv_make(dg_bounds[0], dg_bounds[1]);
-    }
-    return (int)status;
+    return (int)slider_crank_enclosure_kernel((const slider_crank_params *)context, mode, theta, g, dg,
+                                        flags);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -287,26 +328,31 @@ static slider_crank_status certify_around(const slider_crank_params *params, uns
 static double polish(const slider_crank_params *params, double theta, double radius)
 {
     const double start = theta;
-    double residual, m, b, k;
+    double at[STATE_SIZE], next_at[STATE_SIZE];
     int i;
-    if (residual_at(params, theta, &residual) != SLIDER_CRANK_OK) {
+    state_at(params, theta, at);
+    if (residual_of(at) != SLIDER_CRANK_OK) {
         return theta;
     }
-    for (i = 0; i < NEWTON_STEPS && residual != 0.0; ++i) {
-        double next, next_residual, scale;
-        if (slider_crank_linearisation(params, theta, &m, &b, &k) != SLIDER_CRANK_OK || k == 0.0
-            || residual_scale(params, theta, k, &scale) != SLIDER_CRANK_OK
-            || fabs(residual) <= GENUINE_RESIDUAL * scale) {
+    for (i = 0; i < NEWTON_STEPS && at[AT_RESIDUAL] != 0.0; ++i) {
+        double next, scale;
+        const double k = at[AT_K];
+        if (linearisation_of(at) != SLIDER_CRANK_OK || k == 0.0
+            || residual_scale(at, theta, k, &scale) != SLIDER_CRANK_OK
+            || fabs(at[AT_RESIDUAL]) <= GENUINE_RESIDUAL * scale) {
             break;
         }
-        next = theta - residual / k;
-        if (!(fabs(next - start) <= radius)
-            || residual_at(params, next, &next_residual) != SLIDER_CRANK_OK
-            || !(fabs(next_residual) < fabs(residual))) {
+        next = theta - at[AT_RESIDUAL] / k;
+        if (!(fabs(next - start) <= radius)) {
+            break;
+        }
+        state_at(params, next, next_at);
+        if (residual_of(next_at) != SLIDER_CRANK_OK
+            || !(fabs(next_at[AT_RESIDUAL]) < fabs(at[AT_RESIDUAL]))) {
             break;
         }
         theta = next;
-        residual = next_residual;
+        memcpy(at, next_at, sizeof at);
     }
     return theta;
 }
@@ -329,12 +375,12 @@ static double wrap(double theta)
  * working precision (relative to the size of its radicand's terms: a limit position, or a
  * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
  * zero (the mechanism cannot be put together at theta). */
-static slider_crank_status check_state(const slider_crank_params *params, double theta, int *assembled)
+static slider_crank_status check_state(const double at[STATE_SIZE], int *assembled)
 {
-    double values[SLIDER_CRANK_N_ROOTS], scales[SLIDER_CRANK_N_ROOTS];
+    const double *values = at + AT_RADICANDS, *scales = at + AT_RADICAND_SCALES;
     const double tolerance = 64.0 * DBL_EPSILON * 64.0 * DBL_EPSILON;
     int i;
-    const slider_crank_status status = slider_crank_radicands(params, theta, values, scales);
+    const slider_crank_status status = finite_or(values, 2 * SLIDER_CRANK_N_ROOTS, SLIDER_CRANK_RADICANDS_FAILURE);
     *assembled = 1;
     if (status != SLIDER_CRANK_OK) {
         return status;
@@ -352,12 +398,12 @@ static slider_crank_status check_state(const slider_crank_params *params, double
 
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
-static slider_crank_status branch_kind(const slider_crank_params *params, double theta,
-                                  slider_crank_root_kind *kind, unsigned *branch)
+static slider_crank_status branch_kind(const double at[STATE_SIZE], slider_crank_root_kind *kind,
+                                  unsigned *branch)
 {
-    double g[SLIDER_CRANK_N_BRANCHES];
+    const double *g = at + AT_BRANCH_RESIDUALS;
     unsigned j, best = 0u;
-    const slider_crank_status status = slider_crank_equilibrium_branches(params, theta, g);
+    const slider_crank_status status = finite_or(g, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
@@ -425,26 +471,32 @@ static double refine_on_branch(const slider_crank_params *params, double theta, 
 }
 
 /* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
- * together, or a genuine root lies closer than the root finder resolves, G itself decides,
- * relative to the size of its contributions. *assembled = 0 (and nothing else written) where
- * the mechanism cannot be assembled. */
-static slider_crank_status study_root(const slider_crank_params *params, double theta,
-                                 slider_crank_equilibrium *e, int *assembled)
+ * together, or (twin_search) a genuine root lies closer than the root finder resolves, G itself
+ * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
+ * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
+ * mechanism cannot be assembled. */
+static slider_crank_status study_root(const slider_crank_params *params, double theta, int twin_search,
+                                 slider_crank_equilibrium *e, int *assembled, int *twinned)
 {
     slider_crank_status status;
     unsigned branch, mode = 0u;
+    int declared;
+    double at[STATE_SIZE];
+    *twinned = 0;
     theta = wrap(theta);
-    status = check_state(params, theta, assembled);
+    state_at(params, theta, at);
+    status = check_state(at, assembled);
     if (status != SLIDER_CRANK_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(params, theta, &e->kind, &branch);
+    status = branch_kind(at, &e->kind, &branch);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    e->genuine = e->kind == SLIDER_CRANK_EQUILIBRIUM;
-    status = linearise(params, 0u, polish(params, theta, e->genuine ? POLISH_RADIUS : TWIN_RADIUS),
-                       e);
+    declared = e->kind == SLIDER_CRANK_EQUILIBRIUM;
+    e->genuine = declared;
+    status = linearise(params, 0u, polish(params, theta, declared ? POLISH_RADIUS
+                                                      : twin_search ? TWIN_RADIUS : 0.0), e);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
@@ -454,6 +506,7 @@ static slider_crank_status study_root(const slider_crank_params *params, double 
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
     e->genuine = e->genuine || fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
+    *twinned = e->genuine && !declared;
     if (e->genuine) {
         e->kind = SLIDER_CRANK_EQUILIBRIUM;
         e->theta = wrap(e->theta);
@@ -496,11 +549,35 @@ static int merge_split_roots(slider_crank_equilibrium *roots, int count)
     return kept;
 }
 
+/* A root the branches put on another branch, that polishing turned into a genuine twin which
+ * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
+ * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
+ * studied again without the twin search (kept as it was should that fail). */
+static void restore_twins(const slider_crank_params *params, slider_crank_equilibrium *roots, int count,
+                          const double *source, int *twinned)
+{
+    int i, j;
+    for (i = 0; i < count; ++i) {
+        for (j = 0; twinned[i] && j < count; ++j) {
+            if (j != i && !twinned[j] && roots[j].genuine
+                && fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
+                slider_crank_equilibrium own;
+                int assembled, again;
+                if (study_root(params, source[i], 0, &own, &assembled, &again) == SLIDER_CRANK_OK
+                    && assembled && !again) {
+                    roots[i] = own;
+                }
+                twinned[i] = 0;
+            }
+        }
+    }
+}
+
 static slider_crank_status analyze_polynomial(const slider_crank_params *params, slider_crank_analysis *result)
 {
     slider_crank_analysis work;
-    double theta[SLIDER_CRANK_MAX_ROOTS];
-    int i, count;
+    double theta[SLIDER_CRANK_MAX_ROOTS], source[SLIDER_CRANK_MAX_ROOTS];
+    int i, count, twinned[SLIDER_CRANK_MAX_ROOTS];
     slider_crank_status status;
     memset(&work, 0, sizeof work);
     status = slider_crank_sigma(params, work.sigma);
@@ -515,7 +592,9 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        status = study_root(params, theta[i], &work.roots[work.n_roots], &assembled);
+        source[work.n_roots] = theta[i];
+        status = study_root(params, theta[i], 1, &work.roots[work.n_roots], &assembled,
+                            &twinned[work.n_roots]);
         if (status == SLIDER_CRANK_ERR_SINGULAR_STATE) {
             work.singular_theta[work.n_singular++] = theta[i];
         } else if (status != SLIDER_CRANK_OK) {
@@ -526,6 +605,7 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
             ++work.n_roots;
         }
     }
+    restore_twins(params, work.roots, work.n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work.roots, work.n_roots);
     work.n_roots = merge_split_roots(work.roots, work.n_roots);

@@ -5,7 +5,7 @@
  * common subexpressions once, then copy the results out only if they are all finite.
  */
 #include "torsion_pendulum.h"
-#include "codegen_interval.h"
+#include "torsion_pendulum_kernels.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -99,7 +99,28 @@ torsion_pendulum_status torsion_pendulum_check_params(const torsion_pendulum_par
     return TORSION_PENDULUM_OK;
 }
 
-/* point_kinematics: eq. -. Total ops: 7. */
+/* point_kinematics without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 7. */
+void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    {
+        const double l = params->l;
+        const double theta = coords[0];
+        const double theta_d = rates[0];
+        const double tmp0 = l*cos(theta);
+        const double tmp1 = l*sin(theta);
+        out[0] = tmp0;
+        out[1] = tmp1;
+        out[2] = -theta_d*tmp1;
+        out[3] = theta_d*tmp0;
+    }
+}
+
+/* point_kinematics: eq. -. */
 torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double positions[TORSION_PENDULUM_N_POINT_COORDS], double velocities[TORSION_PENDULUM_N_POINT_COORDS])
 {
     double out[4];
@@ -117,17 +138,7 @@ torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum
     if (!all_finite(rates, TORSION_PENDULUM_N_COORDS)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    {
-        const double l = params->l;
-        const double theta = coords[0];
-        const double theta_d = rates[0];
-        const double tmp0 = l*cos(theta);
-        const double tmp1 = l*sin(theta);
-        out[0] = tmp0;
-        out[1] = tmp1;
-        out[2] = -theta_d*tmp1;
-        out[3] = theta_d*tmp0;
-    }
+    torsion_pendulum_point_kinematics_kernel(params, coords, rates, out);
     if (!all_finite(out, 4)) {
         return TORSION_PENDULUM_ERR_OVERFLOW;
     }
@@ -136,24 +147,14 @@ torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum
     return TORSION_PENDULUM_OK;
 }
 
-/* energies: eq. -. Total ops: 41. */
-torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+/* energies without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 41. */
+void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4])
 {
-    double out[4];
-    torsion_pendulum_status status;
-    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
-        return TORSION_PENDULUM_ERR_NULL_POINTER;
-    }
-    status = torsion_pendulum_check_params(params);
-    if (status != TORSION_PENDULUM_OK) {
-        return status;
-    }
-    if (!all_finite(coords, TORSION_PENDULUM_N_COORDS)) {
-        return TORSION_PENDULUM_ERR_NONFINITE;
-    }
-    if (!all_finite(rates, TORSION_PENDULUM_N_COORDS)) {
-        return TORSION_PENDULUM_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)coords;
+    (void)rates;
     {
         const double l = params->l;
         const double m = params->m;
@@ -180,22 +181,14 @@ torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params 
         out[2] = tmp11;
         out[3] = (1.0/24.0)*m*tmp0*tmp1 + (1.0/2.0)*m*tmp7 + (1.0/2.0)*m_t*tmp6 - tmp10 - tmp11;
     }
-    if (!all_finite(out, 4)) {
-        return TORSION_PENDULUM_ERR_OVERFLOW;
-    }
-    *T = out[0];
-    *V_G = out[1];
-    *V_E = out[2];
-    *lagrangian = out[3];
-    return TORSION_PENDULUM_OK;
 }
 
-/* lagrange_terms: eq. -. Total ops: 41. */
-torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], double dL_dq[TORSION_PENDULUM_N_COORDS], double constraint_forces[TORSION_PENDULUM_N_COORDS], double dissipative_forces[TORSION_PENDULUM_N_COORDS], double applied_forces[TORSION_PENDULUM_N_COORDS], double residual[TORSION_PENDULUM_N_COORDS])
+/* energies: eq. -. */
+torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
 {
-    double out[6];
+    double out[4];
     torsion_pendulum_status status;
-    if (coords == NULL || rates == NULL || accels == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+    if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
@@ -208,9 +201,26 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_p
     if (!all_finite(rates, TORSION_PENDULUM_N_COORDS)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    if (!all_finite(accels, TORSION_PENDULUM_N_COORDS)) {
-        return TORSION_PENDULUM_ERR_NONFINITE;
+    torsion_pendulum_energies_kernel(params, coords, rates, out);
+    if (!all_finite(out, 4)) {
+        return TORSION_PENDULUM_ERR_OVERFLOW;
     }
+    *T = out[0];
+    *V_G = out[1];
+    *V_E = out[2];
+    *lagrangian = out[3];
+    return TORSION_PENDULUM_OK;
+}
+
+/* lagrange_terms without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 41. */
+void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double out[6])
+{
+    (void)params;
+    (void)coords;
+    (void)rates;
+    (void)accels;
     {
         const double l = params->l;
         const double m = params->m;
@@ -243,6 +253,30 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_p
         out[4] = -tmp12;
         out[5] = tmp10 + tmp11 + tmp12 + tmp8;
     }
+}
+
+/* lagrange_terms: eq. -. */
+torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], double dL_dq[TORSION_PENDULUM_N_COORDS], double constraint_forces[TORSION_PENDULUM_N_COORDS], double dissipative_forces[TORSION_PENDULUM_N_COORDS], double applied_forces[TORSION_PENDULUM_N_COORDS], double residual[TORSION_PENDULUM_N_COORDS])
+{
+    double out[6];
+    torsion_pendulum_status status;
+    if (coords == NULL || rates == NULL || accels == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
+        return TORSION_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = torsion_pendulum_check_params(params);
+    if (status != TORSION_PENDULUM_OK) {
+        return status;
+    }
+    if (!all_finite(coords, TORSION_PENDULUM_N_COORDS)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    if (!all_finite(rates, TORSION_PENDULUM_N_COORDS)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    if (!all_finite(accels, TORSION_PENDULUM_N_COORDS)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    torsion_pendulum_lagrange_terms_kernel(params, coords, rates, accels, out);
     if (!all_finite(out, 6)) {
         return TORSION_PENDULUM_ERR_OVERFLOW;
     }
@@ -255,7 +289,21 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_p
     return TORSION_PENDULUM_OK;
 }
 
-/* dependent_state: eq. -. Total ops: 0. */
+/* dependent_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 0. */
+void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[2])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
+    {
+        out[0] = theta;
+        out[1] = theta_d;
+    }
+}
+
+/* dependent_state: eq. -. */
 torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_params *params, double theta, double theta_d, double coords[TORSION_PENDULUM_N_COORDS], double rates[TORSION_PENDULUM_N_COORDS])
 {
     double out[2];
@@ -273,10 +321,7 @@ torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_
     if (!all_finite(&theta_d, 1)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    {
-        out[0] = theta;
-        out[1] = theta_d;
-    }
+    torsion_pendulum_dependent_state_kernel(params, theta, theta_d, out);
     if (!all_finite(out, 2)) {
         return TORSION_PENDULUM_ERR_OVERFLOW;
     }
@@ -285,21 +330,13 @@ torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_
     return TORSION_PENDULUM_OK;
 }
 
-/* reduced_coefficients: eq. -. Total ops: 17. */
-torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, double theta, double e[TORSION_PENDULUM_N_REDUCED])
+/* reduced_coefficients without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 17. */
+void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params *params, double theta, double out[3])
 {
-    double out[3];
-    torsion_pendulum_status status;
-    if (e == NULL) {
-        return TORSION_PENDULUM_ERR_NULL_POINTER;
-    }
-    status = torsion_pendulum_check_params(params);
-    if (status != TORSION_PENDULUM_OK) {
-        return status;
-    }
-    if (!all_finite(&theta, 1)) {
-        return TORSION_PENDULUM_ERR_NONFINITE;
-    }
+    (void)params;
+    (void)theta;
     {
         const double l = params->l;
         const double m = params->m;
@@ -315,19 +352,14 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pend
         out[1] = 0;
         out[2] = c;
     }
-    if (!all_finite(out, 3)) {
-        return TORSION_PENDULUM_ERR_OVERFLOW;
-    }
-    copy_out(e, out + 0, 3);
-    return TORSION_PENDULUM_OK;
 }
 
-/* angular_acceleration: eq. -. Total ops: 33. */
-torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, double theta, double theta_d, double *theta_dd)
+/* reduced_coefficients: eq. -. */
+torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, double theta, double e[TORSION_PENDULUM_N_REDUCED])
 {
-    double out[1];
+    double out[3];
     torsion_pendulum_status status;
-    if (theta_dd == NULL) {
+    if (e == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
@@ -337,9 +369,22 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
     if (!all_finite(&theta, 1)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
-        return TORSION_PENDULUM_ERR_NONFINITE;
+    torsion_pendulum_reduced_coefficients_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return TORSION_PENDULUM_ERR_OVERFLOW;
     }
+    copy_out(e, out + 0, 3);
+    return TORSION_PENDULUM_OK;
+}
+
+/* angular_acceleration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 33. */
+void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[1])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
     {
         const double l = params->l;
         const double m = params->m;
@@ -360,19 +405,14 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
         const double tmp8 = (1.0/4.0)*tmp4;
         out[0] = (-F_x*l*tmp0 - c*theta_d - k_t*(theta - theta_0) - 1.0/2.0*m*tmp2 - m_t*tmp2)/((1.0/12.0)*tmp4 + tmp5*tmp6 + tmp5*tmp8 + tmp6*tmp7 + tmp7*tmp8);
     }
-    if (!all_finite(out, 1)) {
-        return TORSION_PENDULUM_ERR_SINGULAR_STATE;
-    }
-    *theta_dd = out[0];
-    return TORSION_PENDULUM_OK;
 }
 
-/* equilibrium_residual: eq. -. Total ops: 22. */
-torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, double theta, double *residual, double *scale)
+/* angular_acceleration: eq. -. */
+torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, double theta, double theta_d, double *theta_dd)
 {
-    double out[2];
+    double out[1];
     torsion_pendulum_status status;
-    if (residual == NULL || scale == NULL) {
+    if (theta_dd == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
@@ -382,6 +422,24 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pend
     if (!all_finite(&theta, 1)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
+    if (!all_finite(&theta_d, 1)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    torsion_pendulum_angular_acceleration_kernel(params, theta, theta_d, out);
+    if (!all_finite(out, 1)) {
+        return TORSION_PENDULUM_ERR_SINGULAR_STATE;
+    }
+    *theta_dd = out[0];
+    return TORSION_PENDULUM_OK;
+}
+
+/* equilibrium_residual without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 22. */
+void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double l = params->l;
         const double m = params->m;
@@ -398,20 +456,14 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pend
         out[0] = tmp0 + tmp2 + tmp3 + (1.0/2.0)*tmp4;
         out[1] = fabs(tmp0) + fabs(tmp2) + fabs(tmp3) + (1.0/2.0)*fabs(tmp4);
     }
-    if (!all_finite(out, 2)) {
-        return TORSION_PENDULUM_ERR_OVERFLOW;
-    }
-    *residual = out[0];
-    *scale = out[1];
-    return TORSION_PENDULUM_OK;
 }
 
-/* linearisation: eq. -. Total ops: 27. */
-torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, double theta, double *M, double *B, double *K)
+/* equilibrium_residual: eq. -. */
+torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, double theta, double *residual, double *scale)
 {
-    double out[3];
+    double out[2];
     torsion_pendulum_status status;
-    if (M == NULL || B == NULL || K == NULL) {
+    if (residual == NULL || scale == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
@@ -421,6 +473,22 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
     if (!all_finite(&theta, 1)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
+    torsion_pendulum_equilibrium_residual_kernel(params, theta, out);
+    if (!all_finite(out, 2)) {
+        return TORSION_PENDULUM_ERR_OVERFLOW;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    return TORSION_PENDULUM_OK;
+}
+
+/* linearisation without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 27. */
+void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params, double theta, double out[3])
+{
+    (void)params;
+    (void)theta;
     {
         const double l = params->l;
         const double m = params->m;
@@ -442,21 +510,14 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
         out[1] = c;
         out[2] = F_x*l*tmp5 + k_t - 1.0/2.0*m*tmp8 - m_t*tmp8;
     }
-    if (!all_finite(out, 3)) {
-        return TORSION_PENDULUM_ERR_OVERFLOW;
-    }
-    *M = out[0];
-    *B = out[1];
-    *K = out[2];
-    return TORSION_PENDULUM_OK;
 }
 
-/* vibration: eq. -. Total ops: 39. */
-torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+/* linearisation: eq. -. */
+torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, double theta, double *M, double *B, double *K)
 {
-    double out[2];
+    double out[3];
     torsion_pendulum_status status;
-    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+    if (M == NULL || B == NULL || K == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
@@ -466,6 +527,23 @@ torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params
     if (!all_finite(&theta, 1)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
+    torsion_pendulum_linearisation_kernel(params, theta, out);
+    if (!all_finite(out, 3)) {
+        return TORSION_PENDULUM_ERR_OVERFLOW;
+    }
+    *M = out[0];
+    *B = out[1];
+    *K = out[2];
+    return TORSION_PENDULUM_OK;
+}
+
+/* vibration without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 39. */
+void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, double theta, double out[2])
+{
+    (void)params;
+    (void)theta;
     {
         const double l = params->l;
         const double m = params->m;
@@ -489,11 +567,96 @@ torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params
         out[0] = (F_x*l*tmp0 + k_t - 1.0/2.0*m*tmp2 - m_t*tmp2)/(tmp10*tmp5 + tmp10*tmp8 + (1.0/12.0)*tmp4 + tmp7 + tmp9);
         out[1] = c/(tmp11*tmp5 + tmp11*tmp8 + (1.0/6.0)*tmp4 + 2*tmp7 + 2*tmp9);
     }
+}
+
+/* vibration: eq. -. */
+torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+{
+    double out[2];
+    torsion_pendulum_status status;
+    if (omega_n_squared == NULL || zeta_omega_n == NULL) {
+        return TORSION_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = torsion_pendulum_check_params(params);
+    if (status != TORSION_PENDULUM_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    torsion_pendulum_vibration_kernel(params, theta, out);
     if (!all_finite(out, 2)) {
         return TORSION_PENDULUM_ERR_SINGULAR_STATE;
     }
     *omega_n_squared = out[0];
     *zeta_omega_n = out[1];
+    return TORSION_PENDULUM_OK;
+}
+
+/* equilibrium_state without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 45. */
+void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *params, double theta, double out[5])
+{
+    (void)params;
+    (void)theta;
+    {
+        const double l = params->l;
+        const double m = params->m;
+        const double m_t = params->m_t;
+        const double k_t = params->k_t;
+        const double theta_0 = params->theta_0;
+        const double c = params->c;
+        const double F_x = params->F_x;
+        const double g = params->g;
+        const double tmp0 = sin(theta);
+        const double tmp1 = F_x*l;
+        const double tmp2 = tmp0*tmp1;
+        const double tmp3 = cos(theta);
+        const double tmp4 = g*l;
+        const double tmp5 = tmp3*tmp4;
+        const double tmp6 = m_t*tmp5;
+        const double tmp7 = k_t*(theta - theta_0);
+        const double tmp8 = m*tmp5;
+        const double tmp9 = (l*l);
+        const double tmp10 = m*tmp9;
+        const double tmp11 = (tmp0*tmp0);
+        const double tmp12 = m_t*tmp9;
+        const double tmp13 = (tmp3*tmp3);
+        const double tmp14 = (1.0/4.0)*tmp10;
+        const double tmp15 = tmp0*tmp4;
+        out[0] = tmp2 + tmp6 + tmp7 + (1.0/2.0)*tmp8;
+        out[1] = fabs(tmp2) + fabs(tmp6) + fabs(tmp7) + (1.0/2.0)*fabs(tmp8);
+        out[2] = (1.0/12.0)*tmp10 + tmp11*tmp12 + tmp11*tmp14 + tmp12*tmp13 + tmp13*tmp14;
+        out[3] = c;
+        out[4] = k_t - 1.0/2.0*m*tmp15 - m_t*tmp15 + tmp1*tmp3;
+    }
+}
+
+/* equilibrium_state: eq. -. */
+torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K)
+{
+    double out[5];
+    torsion_pendulum_status status;
+    if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL) {
+        return TORSION_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = torsion_pendulum_check_params(params);
+    if (status != TORSION_PENDULUM_OK) {
+        return status;
+    }
+    if (!all_finite(&theta, 1)) {
+        return TORSION_PENDULUM_ERR_NONFINITE;
+    }
+    torsion_pendulum_equilibrium_state_kernel(params, theta, out);
+    if (!all_finite(out, 5)) {
+        return TORSION_PENDULUM_ERR_OVERFLOW;
+    }
+    *residual = out[0];
+    *scale = out[1];
+    *M = out[2];
+    *B = out[3];
+    *K = out[4];
     return TORSION_PENDULUM_OK;
 }
 
@@ -520,6 +683,20 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(k_t, codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp0, tmp5)), codegen_iv_mul(tmp1, tmp2));
 }
 
+torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    *flags = 0u;
+    switch (mode) {
+    case 0u:
+        enclose_mode_0(params, theta, g, dg, flags);
+        return TORSION_PENDULUM_OK;
+    default:
+        return TORSION_PENDULUM_ERR_ARGUMENT;
+    }
+}
+
 torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const double theta[2],
                                 double g[2], double dg[2], unsigned *flags)
 {
@@ -539,12 +716,10 @@ torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params
     if (mode >= TORSION_PENDULUM_N_MODES || !(theta[0] <= theta[1])) {
         return TORSION_PENDULUM_ERR_ARGUMENT;
     }
-    switch (mode) {
-    case 0u:
-        enclose_mode_0(params, codegen_iv_make(theta[0], theta[1]), &iv_g, &iv_dg, &iv_flags);
-        break;
-    default:
-        return TORSION_PENDULUM_ERR_ARGUMENT;
+    status = torsion_pendulum_enclosure_kernel(params, mode, codegen_iv_make(theta[0], theta[1]), &iv_g,
+                                     &iv_dg, &iv_flags);
+    if (status != TORSION_PENDULUM_OK) {
+        return status;
     }
     g[0] = iv_g.lo;
     g[1] = iv_g.hi;
@@ -691,6 +866,22 @@ torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const tor
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = torsion_pendulum_vibration(&params[i], theta[i], &omega_n_squared[i], &zeta_omega_n[i]);
+        if (first == TORSION_PENDULUM_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, torsion_pendulum_status *statuses)
+{
+    size_t i;
+    torsion_pendulum_status first = TORSION_PENDULUM_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL) {
+        return TORSION_PENDULUM_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = torsion_pendulum_equilibrium_state(&params[i], theta[i], &residual[i], &scale[i], &M[i], &B[i], &K[i]);
         if (first == TORSION_PENDULUM_OK) {
             first = statuses[i];
         }

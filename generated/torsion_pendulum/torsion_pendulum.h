@@ -151,6 +151,17 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
  */
 torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
 
+/* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation).
+ * in  theta: equilibrium angle theta_E [rad]
+ * out residual: G [N m]
+ * out scale: [N m]
+ * out M: M_EQ [kg m^2]
+ * out B: B_EQ [N m s]
+ * out K: K_EQ [N m]
+ * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K);
+
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns TORSION_PENDULUM_OK when every item succeeded, else the first failure. */
@@ -163,6 +174,7 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count
 torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, torsion_pendulum_status *statuses);
 torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *M, double *B, double *K, torsion_pendulum_status *statuses);
 torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, torsion_pendulum_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;

@@ -6,7 +6,7 @@
  * enclosures of G and G' (codegen_interval.c), and the vibration at each.
  */
 #include "torsion_pendulum.h"
-#include "codegen_interval.h"
+#include "torsion_pendulum_kernels.h"
 
 #include <float.h>
 #include <math.h>
@@ -19,25 +19,57 @@
 #define CERTIFY_START 2.5e-13
 #define CERTIFY_RADIUS 1e-6
 
+/* The inputs were validated once, at the entry points below; inside, the unchecked kernels
+ * (torsion_pendulum_kernels.h) evaluate, and each group of results fails as the public function
+ * computing them would (a value not finite). Everything needed at one angle comes from one
+ * call of the fused kernel (torsion_pendulum_equilibrium_state): one pass over G, its scale, M, B,
+ * K. */
+#define STATE_SIZE 5
+#define AT_RESIDUAL 0
+#define AT_SCALE 1
+#define AT_M 2
+#define AT_B 3
+#define AT_K 4
+
+static torsion_pendulum_status finite_or(const double *values, int count, torsion_pendulum_status failure)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        if (!isfinite(values[i])) {
+            return failure;
+        }
+    }
+    return TORSION_PENDULUM_OK;
+}
+
+static void state_at(const torsion_pendulum_params *params, double theta, double at[STATE_SIZE])
+{
+    torsion_pendulum_equilibrium_state_kernel(params, theta, at);
+}
+
+/* G and the size of its terms, as torsion_pendulum_equilibrium_residual returns them. */
+static torsion_pendulum_status residual_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_RESIDUAL, 2, TORSION_PENDULUM_EQUILIBRIUM_RESIDUAL_FAILURE);
+}
+
+/* M, B, K, as torsion_pendulum_linearisation returns them. */
+static torsion_pendulum_status linearisation_of(const double at[STATE_SIZE])
+{
+    return finite_or(at + AT_M, 3, TORSION_PENDULUM_LINEARISATION_FAILURE);
+}
+
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
-static torsion_pendulum_status residual_scale(const torsion_pendulum_params *params, double theta, double k,
+static torsion_pendulum_status residual_scale(const double at[STATE_SIZE], double theta, double k,
                                      double *scale)
 {
-    double residual, size;
-    const torsion_pendulum_status status = torsion_pendulum_equilibrium_residual(params, theta, &residual, &size);
+    const torsion_pendulum_status status = residual_of(at);
     if (status == TORSION_PENDULUM_OK) {
-        *scale = size + fabs(k) * fmax(fabs(theta), 1.0);
+        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), 1.0);
     }
     return status;
-}
-
-/* G alone (the residual's scale is not needed). */
-static torsion_pendulum_status residual_at(const torsion_pendulum_params *params, double theta, double *residual)
-{
-    double size;
-    return torsion_pendulum_equilibrium_residual(params, theta, residual, &size);
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
@@ -122,15 +154,21 @@ static torsion_pendulum_status linearise(const torsion_pendulum_params *params, 
                                 torsion_pendulum_equilibrium *e)
 {
     torsion_pendulum_status status;
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
     (void)mode;
     {
-        status = torsion_pendulum_linearisation(params, theta, &e->M, &e->B, &e->K);
+        status = linearisation_of(at);
         if (status == TORSION_PENDULUM_OK) {
-            status = residual_at(params, theta, &e->residual);
+            status = residual_of(at);
         }
+        e->M = at[AT_M];
+        e->B = at[AT_B];
+        e->K = at[AT_K];
+        e->residual = at[AT_RESIDUAL];
     }
     if (status == TORSION_PENDULUM_OK) {
-        status = residual_scale(params, theta, e->K, &e->residual_scale);
+        status = residual_scale(at, theta, e->K, &e->residual_scale);
     }
     e->theta = theta;
     return status;
@@ -140,15 +178,8 @@ static torsion_pendulum_status linearise(const torsion_pendulum_params *params, 
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    const double interval[2] = {theta.lo, theta.hi};
-    double g_bounds[2], dg_bounds[2];
-    const torsion_pendulum_status status = torsion_pendulum_enclosure((const torsion_pendulum_params *)context, mode, interval,
-                                                 g_bounds, dg_bounds, flags);
-    if (status == TORSION_PENDULUM_OK) {
-        *g = codegen_iv_make(g_bounds[0], g_bounds[1]);
-        *dg = codegen_iv_make(dg_bounds[0], dg_bounds[1]);
-    }
-    return (int)status;
+    return (int)torsion_pendulum_enclosure_kernel((const torsion_pendulum_params *)context, mode, theta, g, dg,
+                                        flags);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */

@@ -454,7 +454,7 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
 int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, unsigned mode,
                            double m, double *lo, double *hi, int *certified)
 {
-    codegen_iv g_m, dg_m, x, g_x, dg_x, n;
+    codegen_iv g_m, dg_m;
     unsigned flags = 0u;
     double w;
     int attempt, status;
@@ -467,7 +467,8 @@ int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, un
     w = 2.0 * fmax(fabs(g_m.lo), fabs(g_m.hi)) / fmin(fabs(dg_m.lo), fabs(dg_m.hi))
         + 8.0 * DBL_EPSILON * fmax(fabs(m), 1.0);
     for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= 16.0) {
-        x = codegen_iv_make(m - w, m + w);
+        const codegen_iv x = codegen_iv_make(m - w, m + w);
+        codegen_iv g_x, dg_x, n;
         flags = 0u;
         status = enclose_fn(context, mode, x, &g_x, &dg_x, &flags);
         if (status != 0) {

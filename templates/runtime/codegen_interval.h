@@ -187,13 +187,16 @@ static inline codegen_iv codegen_iv_div(codegen_iv a, codegen_iv b, unsigned *fl
     return r.lo == r.lo && r.hi == r.hi ? r : codegen_iv_whole(); /* infinity / infinity */
 }
 
-/* x^n of one double, enclosed (n >= 1). */
+/* x^n of one double, enclosed (n >= 1): square-and-multiply, ~log2(n) roundings, the first
+ * factor taken as it is (no product with 1). */
 static inline codegen_iv codegen_iv_point_pow(double x, int n)
 {
-    codegen_iv base = codegen_iv_point(x), result = codegen_iv_point(1.0);
-    while (n > 0) { /* square-and-multiply: ~log2(n) roundings */
+    codegen_iv base = codegen_iv_point(x), result = base;
+    int started = 0;
+    while (n > 0) {
         if (n & 1) {
-            result = codegen_iv_mul(result, base);
+            result = started ? codegen_iv_mul(result, base) : base;
+            started = 1;
         }
         n >>= 1;
         if (n > 0) {
@@ -207,7 +210,8 @@ static inline codegen_iv codegen_iv_point_pow(double x, int n)
  * interval around 0 starts at 0, as x * x would not). */
 static inline codegen_iv codegen_iv_pow(codegen_iv a, int n)
 {
-    const codegen_iv lo = codegen_iv_point_pow(a.lo, n), hi = codegen_iv_point_pow(a.hi, n);
+    const codegen_iv lo = codegen_iv_point_pow(a.lo, n);
+    const codegen_iv hi = a.hi == a.lo ? lo : codegen_iv_point_pow(a.hi, n);
     if (n % 2 == 1) {
         return codegen_iv_make(lo.lo, hi.hi);
     }

@@ -13,6 +13,9 @@
  *       -> status count calls bad {lo hi theta kind sign_change} * count
  *   certify MODE LO HI FAIL_STATUS FAIL_AFTER FUNCTION
  *       -> status certified calls bad
+ *   newton MODE LO HI FAIL_STATUS FAIL_AFTER FUNCTION   (the interval Newton test around
+ *       m = (LO + HI) / 2; [LO, HI] only bounds where enclosures may be asked)
+ *       -> status certified calls bad lo hi   (lo, hi: the proven interval, NaN if none)
  * FUNCTION is one of
  *   poly C K R1 M1 .. RK MK   G = (t - R1)^M1 ... (t - RK)^MK + C, G' by the product rule
  *   pole C P                  G = C + 1 / (t - P)
@@ -286,6 +289,21 @@ static int run_certify(void)
     return 1;
 }
 
+static int run_newton(void)
+{
+    function f;
+    counters count;
+    int certified = -1, status;
+    double lo = NAN, hi = NAN;
+    if (!read_problem(&f, &count, NULL)) {
+        return 0;
+    }
+    status = codegen_certify_newton(enclosure, &f, f.mode, 0.5 * f.lo + 0.5 * f.hi, &lo, &hi,
+                                    &certified);
+    printf("%d %d %ld %ld %a %a\n", status, certified, count.calls, count.bad, lo, hi);
+    return 1;
+}
+
 static int run_operation(const char *op)
 {
     codegen_iv a, b, r;
@@ -343,6 +361,8 @@ int main(void)
             ok = run_isolate();
         } else if (strcmp(op, "certify") == 0) {
             ok = run_certify();
+        } else if (strcmp(op, "newton") == 0) {
+            ok = run_newton();
         } else {
             ok = run_operation(op);
         }
