@@ -33,7 +33,8 @@ examples:
   {prog} analyze --mechanism four_bar --json  another mechanism, as JSON
   {prog} list                                 the mechanisms this installation has
   {prog} sources --copy mylib/                the C sources, to build into a program
-  {prog} generate --model my_model.py         a mechanism of your own, generated and built""",
+  {prog} generate --model my_model.py         a mechanism of your own, generated and built
+  {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets""",
     "analyze": """\
 examples:
   {prog} analyze
@@ -55,6 +56,18 @@ examples:
     "list": """\
 examples:
   {prog} list""",
+    "sweep": """\
+examples:
+  {prog} sweep --vary F=0:200:101 --vary k=1000:3000:5 --out grid.csv
+  {prog} sweep --sample 1000000 --vary F=0:200 --vary k=1000:3000 --seed 1 --out s.parquet
+  {prog} sweep --vary F=0:200:201 --set b=0 --all-roots --workers 2 --out roots.csv
+  {prog} sweep --sample 10000000 --vary F=0:200 --scheduler tcp://HOST:8786 --out big.parquet
+
+--vary NAME=START:STOP:COUNT makes a grid axis of COUNT values from START to STOP (both
+included); with --sample N, --vary NAME=LO:HI draws each set's NAME uniformly in [LO, HI).
+The other parameters are the example's, or --set's. The file has one row per equilibrium
+(per root with --all-roots), with the set's index, parameters and status; a set that fails
+or has none has one row with an empty theta. Angles in radians there, the rest SI.""",
 }
 
 
@@ -130,15 +143,17 @@ def _assignment(text: str) -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
+def _number(name: str, text: str) -> float:
+    """A number; a ValueError names the parameter (reported as one line)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{name}: {text!r} is not a number") from None
+
+
 def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
     """Values as numbers; a ValueError names the parameter (reported as one line)."""
-    values = {}
-    for name, value in pairs:
-        try:
-            values[name] = float(value)
-        except ValueError:
-            raise ValueError(f"{name}: {value!r} is not a number") from None
-    return values
+    return {name: _number(name, value) for name, value in pairs}
 
 
 def _library(args):
@@ -203,6 +218,116 @@ def _list(args) -> int:
     return 0
 
 
+def _grid_axis(name: str, spec: str):
+    """START:STOP:COUNT as COUNT values from START to STOP, both included."""
+    import numpy as np
+
+    parts = spec.split(":")
+    if len(parts) != 3:
+        raise ValueError(f"--vary {name}={spec}: a grid axis is NAME=START:STOP:COUNT (NAME=LO:HI "
+                         "is for --sample)")
+    count = parts[2].strip()
+    if not count.isdigit() or int(count) < 1:
+        raise ValueError(f"--vary {name}={spec}: COUNT must be a positive integer")
+    return np.linspace(_number(name, parts[0]), _number(name, parts[1]), int(count))
+
+
+def _sample_range(name: str, spec: str) -> tuple[float, float]:
+    """LO:HI as a pair of numbers."""
+    parts = spec.split(":")
+    if len(parts) != 2:
+        raise ValueError(f"--vary {name}={spec}: with --sample, a range is NAME=LO:HI")
+    return _number(name, parts[0]), _number(name, parts[1])
+
+
+def _sweep_sets(library, args):
+    """The parameter sets --vary, --sample, --seed and --set describe (a params_array)."""
+    from . import sweep
+
+    base, names = _overrides(args.set), [name for name, _ in args.vary]
+    for name in names:
+        if names.count(name) > 1 or name in base:
+            raise ValueError(f"{name}: given more than once (--vary, --set)")
+    if args.sample is None:
+        if args.seed is not None:
+            raise ValueError("--seed is for --sample")
+        return sweep.grid(library, {n: _grid_axis(n, spec) for n, spec in args.vary}, base)
+    ranges = {name: _sample_range(name, spec) for name, spec in args.vary}
+    return sweep.sample(library, args.sample, ranges, base, args.seed)
+
+
+def _dask_client(address: str | None):
+    """A context holding a dask.distributed Client of the scheduler at address (None: no
+    address, no client)."""
+    from contextlib import nullcontext
+
+    if address is None:
+        return nullcontext(None)
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--scheduler needs dask.distributed: pip install 'mechvib[dask]'"
+                         ) from None
+    try:
+        return Client(address)
+    except OSError as error:   # a refused or timed-out connection
+        raise ValueError(f"--scheduler {address}: {error}") from None
+
+
+def _sweep(args) -> int:
+    """Analyse every set, writing the rows as they come; a summary on stdout."""
+    from . import sweep
+
+    library = _library(args)
+    sets = _sweep_sets(library, args)
+    roots = "all" if args.all_roots else "equilibria"
+    start, tally = time.perf_counter(), _Tally(library)
+    with _dask_client(args.scheduler) as client, sweep.Writer(args.out) as writer, \
+            sweep.ProgressBar() as bar:
+        for piece in sweep.stream(library, sets, method=args.method, workers=args.workers,
+                                  chunk=args.chunk, client=client, progress=bar, roots=roots):
+            writer.write(piece)
+            tally.add(piece)
+    where = (f"on the Dask cluster at {args.scheduler}" if args.scheduler else
+             f"on {args.workers or os.cpu_count() or 1} threads")
+    print(tally.summary(len(sets), time.perf_counter() - start, where, args.out))
+    return 0
+
+
+class _Tally:
+    """What the summary of a sweep counts, piece by piece."""
+
+    def __init__(self, library) -> None:
+        from .analysis import KINDS, STABILITY
+
+        self.library, self.rows, self.equilibria, self.stable = library, 0, 0, 0
+        self.failed: dict[int, int] = {}
+        self._equilibrium, self._stable = KINDS.index("equilibrium"), STABILITY.index("stable")
+
+    def add(self, piece) -> None:
+        import numpy as np
+
+        self.rows += len(piece)
+        genuine = piece["kind"] == self._equilibrium
+        self.equilibria += int(np.count_nonzero(genuine))
+        self.stable += int(np.count_nonzero(genuine & (piece["stability"] == self._stable)))
+        for status, count in zip(*np.unique(piece["status"][piece["status"] != 0],
+                                            return_counts=True)):
+            self.failed[int(status)] = self.failed.get(int(status), 0) + int(count)
+
+    def summary(self, sets: int, seconds: float, where: str, out: str) -> str:
+        from .report import paragraph
+
+        names = {v: k for k, v in self.library.STATUS.items()}
+        failed = sum(self.failed.values())
+        why = ", ".join(f"{names.get(s, s)}: {n:,}" for s, n in sorted(self.failed.items()))
+        return paragraph(
+            f"Swept {sets:,} parameter sets of {self.library.TITLE} in {seconds:.1f} s "
+            f"{where} ({sets / max(seconds, 1e-9):,.0f} sets/s). {failed:,} sets failed"
+            + (f" ({why})" if failed else "") + f"; {self.equilibria:,} equilibria found, "
+            f"{self.stable:,} of them stable. Wrote {self.rows:,} rows to {out}.")
+
+
 def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None) -> None:
     which = verb.add_mutually_exclusive_group()
     which.add_argument("--mechanism", metavar="NAME",
@@ -213,6 +338,21 @@ def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None) -> N
     which.add_argument("--model", metavar="FILE",
                        help="a model file of your own (Python, defining build() -> Mechanism)")
     verb.add_argument("--out", metavar="DIR", help=out_help)
+
+
+def _method_option(verb: argparse.ArgumentParser) -> None:
+    verb.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
+                      help="polynomial: the roots of sigma, classified by branch; isolate: the "
+                           "zeros of G itself, each proven in an interval, with what double "
+                           "precision cannot decide listed as uncertain; auto (default): "
+                           "polynomial where G is algebraic, else isolate")
+
+
+def _positive(text: str) -> int:
+    """An argparse type: a positive integer."""
+    if not text.strip().isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return int(text)
 
 
 def _verb(verbs, name: str, summary: str, prog: str, run) -> argparse.ArgumentParser:
@@ -242,11 +382,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                      help="every column: M_EQ, B_EQ and the eigenvalues too")
     ana.add_argument("--sigma", action="store_true",
                      help="also print the polynomial's coefficients sigma_i")
-    ana.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
-                     help="polynomial: the roots of sigma, classified by branch; isolate: the "
-                          "zeros of G itself, each proven in an interval, with what double "
-                          "precision cannot decide listed as uncertain; auto (default): "
-                          "polynomial where G is algebraic, else isolate")
+    _method_option(ana)
 
     gen = _verb(verbs, "generate", "derive the mechanics and write the C library", prog,
                 _generate)
@@ -266,6 +402,36 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                      help="copy the .c and .h files (library and runtime) into DIR")
 
     _verb(verbs, "list", "the mechanisms this installation has compiled", prog, _list)
+
+    swp = _verb(verbs, "sweep", "analyse a grid or a random sample of parameter sets into a "
+                "CSV or Parquet table", prog, _sweep)
+    _mechanism_options(swp, None)
+    swp.add_argument("--vary", action="append", type=_assignment, required=True,
+                     metavar="NAME=START:STOP:COUNT",
+                     help="a grid axis, COUNT values from START to STOP inclusive; with "
+                          "--sample, NAME=LO:HI, a uniform range (repeatable)")
+    swp.add_argument("--sample", type=_positive, metavar="N",
+                     help="N random sets instead of a grid")
+    swp.add_argument("--seed", type=int, help="the random seed of --sample")
+    swp.add_argument("--set", action="append", type=_assignment, default=[],
+                     metavar="NAME=VALUE",
+                     help="a parameter held fixed at VALUE instead of the example's, in SI "
+                          "units (repeatable)")
+    swp.add_argument("--out", required=True, metavar="FILE",
+                     help="the table to write: FILE.csv or FILE.parquet (Parquet needs "
+                          "pyarrow: pip install 'mechvib[sweep]')")
+    _method_option(swp)
+    swp.add_argument("--all-roots", action="store_true",
+                     help="a row per classified root (other assembly modes and extraneous "
+                          "roots too), not only per equilibrium")
+    swp.add_argument("--workers", type=_positive, metavar="N",
+                     help="threads (default: every CPU; with --scheduler, per task: 1)")
+    swp.add_argument("--chunk", type=_positive, default=65536, metavar="N",
+                     help="sets per chunk: per task on Dask, per progress step (default 65536)")
+    swp.add_argument("--scheduler", metavar="ADDRESS",
+                     help="run one task per chunk on this dask.distributed scheduler (e.g. "
+                          "tcp://host:8786; pip install 'mechvib[dask]'; its workers need "
+                          "mechvib installed)")
     return top
 
 

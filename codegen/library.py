@@ -292,6 +292,13 @@ class Library:
         from .batch import analyze_table  # batch builds on this module
         return analyze_table(table, self, method, workers)
 
+    def sweep(self, sets: Any, **options: Any) -> np.ndarray:
+        """Every set of ``sets`` (a params_array, e.g. ``codegen.sweep.grid`` or ``sample``)
+        analysed into one table, a row per equilibrium, locally on threads or on Dask:
+        ``codegen.sweep.sweep(self, sets, **options)`` (see it for the options)."""
+        from .sweep import sweep  # sweep builds on this module
+        return sweep(self, sets, **options)
+
 
 def _origin_of(module: ModuleType) -> Origin | None:
     name = module.__name__

@@ -25,6 +25,7 @@ import codegen
 import codegen.analysis
 import codegen.api
 import codegen.library
+import codegen.sweep
 from codegen.analysis import Analysis, Equilibrium, Uncertain, analyze
 from codegen.api import LibraryError, load, load_from, shipped
 
@@ -147,7 +148,7 @@ def test_library_methods_are_documented_with_units():
     assert "params_array" in inspect.getdoc(lib.analyze_batch)
 
 
-PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api)
+PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api, codegen.sweep)
 
 
 def _public_callables():

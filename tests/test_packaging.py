@@ -237,7 +237,9 @@ def test_project_metadata():
     assert "urls" not in project  # no public home page
     extras = project["optional-dependencies"]
     assert extras["plot"] == ["matplotlib>=3.7"]
-    assert extras["dask"] == ["dask[distributed]>=2023.1"]
+    assert extras["sweep"] == ["pyarrow>=14"]
+    assert extras["dask"] == ["dask[distributed]>=2023.1", "pyarrow>=14"]
+    assert set(extras["dask"]) <= set(extras["test"])   # CI runs the Dask and Parquet sweeps
     assert {"sympy==1.14.0", "jinja2>=3.1"} <= set(extras["generate"]) & set(extras["test"])
     license_text = (ROOT / "LICENSE").read_text()
     assert license_text.startswith("BSD 3-Clause License")
