@@ -88,8 +88,9 @@ build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/
 	$(CC) $(STRICT) -O2 -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
 	  generated/doughty/*.c generated/runtime/*.c -lm -o $@
 
-bench: venv  ## time the compiled functions (see benchmarks/)
-	$(PY) benchmarks/run.py
+# BENCH_ARGS=--quick: a smoke run of ~40 s (the derivations dominate); `--help` lists the sizes.
+bench: venv  ## the library side by side with naive SymPy C and numpy: writes benchmarks/results.md and .json (~1-2 min)
+	$(PY) benchmarks/run.py $(BENCH_ARGS)
 
 clean:  ## remove what builds leave (build/, dist/, egg-info, the in-place extensions); the next target reinstalls
 	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed minimal

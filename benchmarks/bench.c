@@ -1,11 +1,57 @@
-/* Times the generated library: ns per call of the main entry points, -O2, one core.
- * Built and run by benchmarks/run.py (`make bench`). Inputs vary per call so the compiler
- * cannot hoist the work; a checksum is printed so it cannot drop it. */
+/* Side-by-side timing driver for one generated library; no mechanism is named here.
+ *
+ * benchmarks/run.py (`make bench`) compiles it once per shipped mechanism, with
+ *   -DPREFIX=doughty -DPREFIX_UPPER=DOUGHTY -DBENCH_HEADER='"doughty.h"'
+ *   -DTHETADDOT=doughty_angular_acceleration -DHAS_POLYNOMIAL=1
+ * and links it with the library and with naive.c, which the runner writes: SymPy's ccode
+ * (after sympy.cse) of the same thetaddot and sigma_i the library computes, as
+ * naive_thetaddot() and naive_sigma(). Both sides loop over the same inputs, read from
+ * files the runner writes:
+ *
+ *   bench PARAMS N_SETS STATES N_STATES REPEATS MIN_SECONDS OUT
+ *
+ * PARAMS holds N_SETS parameter structs (raw doubles, the C struct's layout), STATES
+ * N_STATES (theta, theta_d) pairs (state i uses set i % N_SETS). The timings go to stdout
+ * as one JSON object (each the median of REPEATS samples, every sample at least
+ * MIN_SECONDS long); OUT receives the library's sigma of every set and its count of real
+ * roots, for numpy.roots to be compared on the very same coefficients. */
 #define _POSIX_C_SOURCE 199309L
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
-#include "doughty.h"
+#include BENCH_HEADER
+
+#define CAT_(a, b) a##b
+#define CAT(a, b) CAT_(a, b)
+#define LIB(name) CAT(PREFIX, name)         /* LIB(_analyze): doughty_analyze */
+#define SIZE(name) CAT(PREFIX_UPPER, name)  /* SIZE(_N_SIGMA): DOUGHTY_N_SIGMA */
+#define MAX_REPEATS 64
+
+typedef LIB(_params) params_t;
+typedef LIB(_analysis) analysis_t;
+
+/* naive.c, written by the runner */
+double naive_thetaddot(const params_t *p, double theta, double theta_d);
+#if HAS_POLYNOMIAL
+void naive_sigma(const params_t *p, double *sigma);
+#define N_SIGMA SIZE(_N_SIGMA)
+#endif
+
+typedef struct bench_data {
+    size_t n_sets, n_states;
+    const params_t *params;
+    const double *states;  /* theta, theta_d pairs */
+    double *sigma;         /* n_sets x N_SIGMA, the library's (filled before the roots run) */
+    analysis_t *analysis;  /* one result, reused */
+    int repeats;           /* samples per timing */
+    double min_seconds;    /* shortest sample */
+} bench_data;
+
+/* One pass over every input; returns a checksum so that the work cannot be dropped. */
+typedef double (*pass_fn)(const bench_data *d);
 
 static double now(void)
 {
@@ -14,39 +60,221 @@ static double now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-#define TIME(label, calls, body)                                                        \
-    do {                                                                                \
-        long i_;                                                                        \
-        double start_ = now(), ns_;                                                     \
-        for (i_ = 0; i_ < (calls); ++i_) {                                              \
-            const double x_ = 0.001 * (double)(i_ % 1000);                              \
-            (void)x_;                                                                   \
-            body;                                                                       \
-        }                                                                               \
-        ns_ = (now() - start_) * 1e9 / (double)(calls);                                 \
-        printf("%-28s %10.1f ns/call\n", label, ns_);                                   \
-    } while (0)
-
-int main(void)
+static int compare(const void *a, const void *b)
 {
-    doughty_params p = {0.18, 0.9, 0.135, 0.194, 0.143, 9.124, 3500.0, 875.0, 0.15, 110.0, 9.81};
-    double sigma[DOUGHTY_N_SIGMA], e[DOUGHTY_N_REDUCED], m, b, k, g, scale;
-    double roots[DOUGHTY_MAX_ROOTS];
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *x, int n)
+{
+    qsort(x, (size_t)n, sizeof *x, compare);
+    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+static double checksum = 0.0;
+
+/* Median over d->repeats samples of ns per item. A first pass warms the caches and sizes
+ * the samples: each runs whole passes for at least d->min_seconds, so short kernels are
+ * not timed at the clock's resolution. */
+static double ns_per_item(pass_fn pass, const bench_data *d, size_t items)
+{
+    double samples[MAX_REPEATS], start = now();
+    long passes, k;
+    int r;
+    checksum += pass(d);
+    passes = (long)ceil(d->min_seconds / fmax(now() - start, 1e-9));
+    if (passes < 1) passes = 1;
+    for (r = 0; r < d->repeats; ++r) {
+        start = now();
+        for (k = 0; k < passes; ++k) checksum += pass(d);
+        samples[r] = (now() - start) * 1e9 / ((double)passes * (double)items);
+    }
+    return median(samples, d->repeats);
+}
+
+static double pass_analyze(const bench_data *d)
+{
     double sum = 0.0;
-    int n;
-    doughty_analysis analysis;
-    TIME("doughty_check_params", 2000000, (p.F = 110.0 + x_, sum += doughty_check_params(&p)));
-    TIME("doughty_sigma", 2000000, (p.F = 110.0 + x_, doughty_sigma(&p, sigma), sum += sigma[3]));
-    TIME("doughty_reduced_coefficients", 2000000,
-         (doughty_reduced_coefficients(&p, x_, e), sum += e[DOUGHTY_N_REDUCED - 1]));
-    TIME("doughty_equilibrium_residual", 2000000,
-         (doughty_equilibrium_residual(&p, x_, &g, &scale), sum += g + scale));
-    TIME("doughty_linearisation", 2000000, (doughty_linearisation(&p, x_, &m, &b, &k), sum += k));
-    TIME("doughty_poly_real_roots", 20000,
-         (p.F = 110.0 + x_, doughty_sigma(&p, sigma), doughty_poly_real_roots(sigma, roots, &n),
-          sum += roots[0]));
-    TIME("doughty_analyze", 20000,
-         (p.F = 110.0 + x_, doughty_analyze(&p, &analysis), sum += analysis.roots[0].K));
-    printf("checksum %g\n", sum);
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i)
+        if (LIB(_analyze)(&d->params[i], d->analysis) == 0) sum += d->analysis->n_roots;
+    return sum;
+}
+
+static double pass_isolate(const bench_data *d)
+{
+    double sum = 0.0;
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i)
+        if (LIB(_isolate)(&d->params[i], d->analysis) == 0) sum += d->analysis->n_roots;
+    return sum;
+}
+
+static double pass_thetaddot_library(const bench_data *d)
+{
+    double sum = 0.0, out = 0.0;
+    size_t i;
+    for (i = 0; i < d->n_states; ++i) {
+        THETADDOT(&d->params[i % d->n_sets], d->states[2 * i], d->states[2 * i + 1], &out);
+        sum += out;
+    }
+    return sum;
+}
+
+static double pass_thetaddot_naive(const bench_data *d)
+{
+    double sum = 0.0;
+    size_t i;
+    for (i = 0; i < d->n_states; ++i)
+        sum += naive_thetaddot(&d->params[i % d->n_sets], d->states[2 * i], d->states[2 * i + 1]);
+    return sum;
+}
+
+/* max |naive - library| / |library| over the states where the library succeeds */
+static double thetaddot_difference(const bench_data *d)
+{
+    double worst = 0.0, out, naive;
+    size_t i;
+    for (i = 0; i < d->n_states; ++i) {
+        const params_t *p = &d->params[i % d->n_sets];
+        if (THETADDOT(p, d->states[2 * i], d->states[2 * i + 1], &out) != 0 || out == 0.0)
+            continue;
+        naive = naive_thetaddot(p, d->states[2 * i], d->states[2 * i + 1]);
+        worst = fmax(worst, isfinite(naive) ? fabs(naive - out) / fabs(out) : INFINITY);
+    }
+    return worst;
+}
+
+#if HAS_POLYNOMIAL
+static double pass_sigma_library(const bench_data *d)
+{
+    double sum = 0.0, sigma[N_SIGMA];
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i) {
+        LIB(_sigma)(&d->params[i], sigma);
+        sum += sigma[N_SIGMA / 2];
+    }
+    return sum;
+}
+
+static double pass_sigma_naive(const bench_data *d)
+{
+    double sum = 0.0, sigma[N_SIGMA];
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i) {
+        naive_sigma(&d->params[i], sigma);
+        sum += sigma[N_SIGMA / 2];
+    }
+    return sum;
+}
+
+/* max_i |naive_i - library_i| / max_i |library_i|: the coefficients span many orders of
+ * magnitude and cancel in the low ones, so each is measured against the largest. */
+static double sigma_difference(const bench_data *d)
+{
+    double worst = 0.0, library[N_SIGMA], naive[N_SIGMA], size, diff;
+    size_t i;
+    int j;
+    for (i = 0; i < d->n_sets; ++i) {
+        if (LIB(_sigma)(&d->params[i], library) != 0) continue;
+        naive_sigma(&d->params[i], naive);
+        size = diff = 0.0;
+        for (j = 0; j < N_SIGMA; ++j) {
+            size = fmax(size, fabs(library[j]));
+            diff = fmax(diff, isfinite(naive[j]) ? fabs(naive[j] - library[j]) : INFINITY);
+        }
+        if (size > 0.0) worst = fmax(worst, diff / size);
+    }
+    return worst;
+}
+
+static double pass_roots(const bench_data *d)
+{
+    double sum = 0.0, theta[SIZE(_MAX_ROOTS)];
+    int n = 0;
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i)
+        if (LIB(_poly_real_roots)(&d->sigma[i * N_SIGMA], theta, &n) == 0) sum += n;
+    return sum;
+}
+
+/* The library's sigma of every set (NaN where it fails), then its count of real roots of
+ * each (-1 where the root finder fails), as doubles. */
+static int write_roots(bench_data *d, const char *path)
+{
+    double theta[SIZE(_MAX_ROOTS)], count;
+    int n = 0;
+    size_t i;
+    FILE *out = fopen(path, "wb");
+    if (out == NULL) return 1;
+    for (i = 0; i < d->n_sets; ++i)
+        if (LIB(_sigma)(&d->params[i], &d->sigma[i * N_SIGMA]) != 0)
+            d->sigma[i * N_SIGMA] = NAN;
+    fwrite(d->sigma, sizeof(double), d->n_sets * N_SIGMA, out);
+    for (i = 0; i < d->n_sets; ++i) {
+        count = LIB(_poly_real_roots)(&d->sigma[i * N_SIGMA], theta, &n) == 0 ? n : -1;
+        fwrite(&count, sizeof count, 1, out);
+    }
+    return fclose(out) != 0;
+}
+#endif
+
+/* A JSON member; a non-finite value is null (JSON has no NaN). */
+static void member(const char *name, double value, int last)
+{
+    if (isfinite(value)) printf("  \"%s\": %.17g%s\n", name, value, last ? "" : ",");
+    else printf("  \"%s\": null%s\n", name, last ? "" : ",");
+}
+
+static void *read_file(const char *path, size_t size)
+{
+    void *data = malloc(size);
+    FILE *in = fopen(path, "rb");
+    if (data == NULL || in == NULL || fread(data, 1, size, in) != size) {
+        fprintf(stderr, "bench: cannot read %zu bytes from %s\n", size, path);
+        exit(2);
+    }
+    fclose(in);
+    return data;
+}
+
+int main(int argc, char **argv)
+{
+    bench_data d;
+    if (argc != 8) {
+        fprintf(stderr, "usage: %s PARAMS N_SETS STATES N_STATES REPEATS MIN_SECONDS OUT\n",
+                argv[0]);
+        return 2;
+    }
+    d.n_sets = (size_t)strtoul(argv[2], NULL, 10);
+    d.n_states = (size_t)strtoul(argv[4], NULL, 10);
+    d.repeats = atoi(argv[5]);
+    d.min_seconds = atof(argv[6]);
+    if (d.n_sets == 0 || d.n_states == 0 || d.repeats < 1 || d.repeats > MAX_REPEATS) {
+        fprintf(stderr, "bench: need N_SETS, N_STATES > 0 and 1 <= REPEATS <= %d\n", MAX_REPEATS);
+        return 2;
+    }
+    d.params = read_file(argv[1], d.n_sets * sizeof(params_t));
+    d.states = read_file(argv[3], d.n_states * 2 * sizeof(double));
+    d.analysis = malloc(sizeof *d.analysis);
+    d.sigma = NULL;
+    if (d.analysis == NULL) return 2;
+    printf("{\n");
+    member("analyze_ns", ns_per_item(pass_analyze, &d, d.n_sets), 0);
+    member("isolate_ns", ns_per_item(pass_isolate, &d, d.n_sets), 0);
+    member("thetaddot_library_ns", ns_per_item(pass_thetaddot_library, &d, d.n_states), 0);
+    member("thetaddot_naive_ns", ns_per_item(pass_thetaddot_naive, &d, d.n_states), 0);
+    member("thetaddot_max_rel_diff", thetaddot_difference(&d), 0);
+#if HAS_POLYNOMIAL
+    d.sigma = malloc(d.n_sets * N_SIGMA * sizeof(double));
+    if (d.sigma == NULL || write_roots(&d, argv[7]) != 0) return 2;
+    member("sigma_library_ns", ns_per_item(pass_sigma_library, &d, d.n_sets), 0);
+    member("sigma_naive_ns", ns_per_item(pass_sigma_naive, &d, d.n_sets), 0);
+    member("sigma_max_rel_diff", sigma_difference(&d), 0);
+    member("roots_ns", ns_per_item(pass_roots, &d, d.n_sets), 0);
+#endif
+    member("checksum", checksum, 1);
+    printf("}\n");
     return 0;
 }

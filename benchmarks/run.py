@@ -1,77 +1,253 @@
-"""`make bench`: time the C library (compiled -O2) and the Python batch path."""
+"""`make bench`: the library side by side with what a SymPy and numpy user would write.
+
+For every shipped mechanism, over parameter sets drawn within +-5 % of its example (fixed
+seed), medians of several repeats:
+
+1. the whole analysis per set: the C API (benchmarks/bench.c), the Python batch API
+   (``analyze_table``, one and two threads) and a numpy pipeline built from the derivation
+   (benchmarks/pipeline.py);
+2. thetaddot and sigma per call against SymPy's ccode of the same expressions;
+3. the root finder against numpy.roots, and the real roots each finds;
+4. the genuine equilibria of the library and of the pipeline against 40 digits;
+5. the wall time of deriving everything afresh (``python -m codegen generate --no-cache
+   --check``, which writes nothing);
+6. the machine, its load, the compiler, the date and the commit.
+
+Writes results.md and results.json (into benchmarks/, or --out) and prints the tables.
+``--quick`` is a smoke run of a few seconds per mechanism (the derivations dominate).
+"""
 from __future__ import annotations
 
+import argparse
+import json
 import math
+import os
+import statistics
 import subprocess
+import sys
 import tempfile
 import time
+import zlib
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-GENERATED = ROOT / "generated"
-LIBRARY = "doughty"  # bench.c times the paper's example
+import accuracy
+import driver
+import pipeline
+import report
+from codegen.api import load, shipped
+from codegen.library import Library
+from symbolic import Symbolic, mpmath_function, naive_c, symbolic
+
+HERE = Path(__file__).resolve().parent
+SEED = 20_261_123
+SPREAD = 0.05          # parameters within +-5 % of the example
+MAX_RATE = 10.0        # |theta_d| of the thetaddot inputs [rad/s]
+GENERATE = ("-m", "codegen", "generate", "--no-cache", "--check")
 
 
-def c_benchmark() -> None:
-    with tempfile.TemporaryDirectory() as tmp:
-        exe = Path(tmp) / "bench"
-        folders = [GENERATED / LIBRARY, GENERATED / "runtime"]
-        sources = [str(c) for folder in folders for c in sorted(folder.glob("*.c"))]
-        subprocess.run(["gcc", "-std=c99", "-O2", *(f"-I{f}" for f in folders),
-                        str(ROOT / "benchmarks" / "bench.c"), *sources, "-lm", "-o", str(exe)],
-                       check=True)
-        print(subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout)
+@dataclass(frozen=True)
+class Sizes:
+    """How much each measurement does."""
+
+    sets: int            # parameter sets per mechanism (sections 1-3)
+    repeats: int         # samples per timing; the median is reported
+    states: int          # (theta, theta_d) inputs of thetaddot (section 2)
+    accuracy_sets: int   # sets checked against 40 digits (section 4)
+    min_seconds: float   # shortest C timing sample
+    generate: bool       # time the command line's fresh derivation (section 5)
 
 
-def python_benchmark() -> None:
-    from codegen.api import load
+FULL = Sizes(sets=200, repeats=5, states=1000, accuracy_sets=50, min_seconds=0.02,
+             generate=True)
+QUICK = Sizes(sets=12, repeats=3, states=100, accuracy_sets=3, min_seconds=0.002,
+              generate=False)
 
-    lib = load(LIBRARY)
-    n = 100_000
-    table = lib.params_array([lib.example_params()] * n)
-    theta = np.linspace(-3, 3, n)
+
+@dataclass
+class Mechanism:
+    """One shipped mechanism with everything measured on it."""
+
+    name: str
+    library: Library
+    symbols: Symbolic
+    pipeline: pipeline.Pipeline | None
+    build: driver.Build
+    thetaddot: str       # the C name of the library's thetaddot function
+    table: np.ndarray    # the parameter sets, a params_array
+    states: np.ndarray   # (theta, theta_d) rows; state i uses set i % len(table)
+
+
+def progress(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def rng_for(name: str) -> np.random.Generator:
+    """A generator per mechanism: the same draws whichever mechanisms run, in any order."""
+    return np.random.default_rng([SEED, zlib.crc32(name.encode())])
+
+
+def parameter_sets(library: Library, count: int, rng: np.random.Generator) -> np.ndarray:
+    """``count`` sets, every parameter of the example scaled by a factor in 1 +- SPREAD."""
+    table = library.params_array([library.example_params()] * count)
+    for field in library.PARAMETER_NAMES:
+        table[field] *= rng.uniform(1 - SPREAD, 1 + SPREAD, count)
+    return table
+
+
+def states(library: Library, table: np.ndarray, count: int, rng: np.random.Generator
+           ) -> np.ndarray:
+    """``count`` (theta, theta_d) rows, theta anywhere in the coordinate's range (a turn
+    around its centre, which may be a parameter of the set the state uses)."""
+    centre = library.SPEC["range_centre"]
+    sets = np.arange(count) % len(table)
+    middle = table[centre][sets] if centre in library.PARAMETER_NAMES else float(centre)
+    theta = middle + rng.uniform(-math.pi, math.pi, count)
+    return np.column_stack([theta, rng.uniform(-MAX_RATE, MAX_RATE, count)])
+
+
+def median_seconds(work: Callable[[], object], repeats: int) -> float:
+    """The median wall time of ``work`` over ``repeats`` runs, after one warm-up run."""
+    work()
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        work()
+        samples.append(time.perf_counter() - start)
+    return statistics.median(samples)
+
+
+def prepare(name: str, sizes: Sizes, folder: Path) -> Mechanism:
+    """Derive a mechanism, draw its inputs and start compiling its driver."""
+    library = load(name)
+    progress(f"{name}: deriving")
+    symbols = symbolic(name, library.PARAMETER_NAMES)
+    thetaddot = driver.thetaddot_name(library, str(symbols.theta_dd))
+    progress(f"{name}: printing naive C and lambdifying")
+    build = driver.start_build(library, naive_c(library.PREFIX, symbols), thetaddot,
+                               folder / name)
+    rng = rng_for(name)
+    table = parameter_sets(library, sizes.sets, rng)
+    return Mechanism(name, library, symbols, pipeline.build(symbols), build, thetaddot, table,
+                     states(library, table, sizes.states, rng))
+
+
+def measure(m: Mechanism, sizes: Sizes) -> dict[str, Any]:
+    """Sections 1-4 for one mechanism."""
+    progress(f"{m.name}: C driver")
+    c = driver.run(m.build.wait(), m.library, m.table, m.states, sizes.repeats, sizes.min_seconds)
+    progress(f"{m.name}: Python and numpy")
+    columns = pipeline.columns(m.table, m.library.PARAMETER_NAMES)
+    found = pipeline.analyze(m.pipeline, columns) if m.pipeline else None
+    analysed = m.library.analyze_table(m.table)
+    result = {"derive_seconds": m.symbols.derive_seconds,
+              "analysis": analysis_timings(m, c, analysed, columns, sizes),
+              "kernels": kernels(m, c),
+              "roots": roots(m, c, sizes) if c.sigma is not None else None,
+              "accuracy": None}
+    if found is not None:
+        progress(f"{m.name}: 40-digit references")
+        count = min(sizes.accuracy_sets, len(m.table))
+        G = mpmath_function((m.symbols.theta, *m.symbols.parameters), m.symbols.residual)
+        result["accuracy"] = accuracy.compare(G, m.table[:count], m.library.PARAMETER_NAMES,
+                                              analysed.equilibria, found)
+    return result
+
+
+def analysis_timings(m: Mechanism, c: driver.CResults, analysed: Any,
+                     columns: list[np.ndarray], sizes: Sizes) -> dict[str, Any]:
+    """Section 1: us per set of the C API, the Python batch API and the numpy pipeline."""
+    n = len(m.table)
+
+    def per_set(work: Callable[[], object]) -> float:
+        return median_seconds(work, sizes.repeats) / n * 1e6
+
+    python = {w: per_set(lambda w=w: m.library.analyze_table(m.table, workers=w)) for w in (1, 2)}
+    c_us = c.timings["analyze_ns"] / 1e3
+    numpy_us = per_set(lambda: pipeline.analyze(m.pipeline, columns)) if m.pipeline else None
+    return {"sets": n, "ok_sets": int((analysed.statuses == 0).sum()), "route": analysed.method,
+            "c_analyze_us": c_us, "c_isolate_us": c.timings["isolate_ns"] / 1e3,
+            "python_w1_us": python[1], "python_w2_us": python[2],
+            "w2_over_w1_throughput": python[1] / python[2],
+            "numpy_us": numpy_us, "numpy_over_c": report.ratio(numpy_us, c_us),
+            "numpy_over_python": report.ratio(numpy_us, python[1])}
+
+
+def kernels(m: Mechanism, c: driver.CResults) -> dict[str, Any]:
+    """Section 2: ns per call of thetaddot and sigma, library and naive."""
+    t = c.timings
+    keys = ("thetaddot_library_ns", "thetaddot_naive_ns", "thetaddot_max_rel_diff",
+            "sigma_library_ns", "sigma_naive_ns", "sigma_max_rel_diff")
+    return {"thetaddot": m.thetaddot,
+            **{k: t.get(k) for k in keys}}
+
+
+def roots(m: Mechanism, c: driver.CResults, sizes: Sizes) -> dict[str, Any]:
+    """Section 3: the root finder against numpy.roots on the library's sigma vectors."""
+    good = np.isfinite(c.sigma).all(axis=1) & (c.counts >= 0)
+    sigma, counts = c.sigma[good], c.counts[good]
+    numpy_us = median_seconds(lambda: pipeline.numpy_roots_counts(sigma), sizes.repeats) \
+        / max(len(sigma), 1) * 1e6
+    theirs = pipeline.numpy_roots_counts(sigma)
+    return {"degree": sigma.shape[1] - 1, "polynomials": int(len(sigma)),
+            "c_us": c.timings["roots_ns"] / 1e3, "numpy_us": numpy_us,
+            "c_real_roots": int(counts.sum()), "numpy_real_roots": int(theirs.sum()),
+            "disagreements": int((counts != theirs).sum())}
+
+
+def time_generate(enabled: bool) -> dict[str, Any]:
+    """Section 5: one fresh derivation of every mechanism by the command line (no writes)."""
+    command = ".venv/bin/python " + " ".join(GENERATE)
+    if not enabled:
+        return {"command": command, "cli": None}
+    progress("timing " + command)
     start = time.perf_counter()
-    lib.linearisation(table, theta)
-    print(f"python batch linearisation: {n} items in {time.perf_counter() - start:.3f} s")
-    table["F"] = np.linspace(50, 150, n)
-    start = time.perf_counter()
-    lib.analyze_batch(table[:10_000])
-    print(f"python batch analyze:       10000 items in {time.perf_counter() - start:.3f} s")
+    done = subprocess.run([sys.executable, *GENERATE], cwd=driver.ROOT, capture_output=True)
+    return {"command": command,
+            "cli": {"seconds": time.perf_counter() - start, "exit": done.returncode}}
 
 
-def routes_benchmark(count: int = 200, repeats: int = 3) -> None:
-    """Per parameter set, the C cost of each analysis route of every shipped mechanism, over
-    sets within 5 % of its example (the C batch entry points through cffi: no Python objects)."""
-    from codegen.api import load, shipped
-
-    rng = np.random.default_rng(20_261_123)
-    print(f"analysis routes, C per parameter set ({count} sets within 5 % of the example, "
-          f"best of {repeats}):")
-    for name in shipped():
-        lib = load(name)
-        table = lib.params_array([lib.example_params()] * count)
-        for field in lib.PARAMETER_NAMES:
-            table[field] *= rng.uniform(0.95, 1.05, count)
-        results = lib.ffi.new(f"{lib.PREFIX}_analysis[]", count)
-        statuses = np.zeros(count, dtype=np.intc)
-        routes = ("analyze", "isolate") if lib.has_polynomial else ("isolate",)
-        for route in routes:
-            entry = getattr(lib.lib, f"{lib.PREFIX}_{route}_batch")
-            best = math.inf
-            for _ in range(repeats):
-                start = time.perf_counter()
-                entry(count, lib.ffi.from_buffer(f"{lib.PREFIX}_params[]", table), results,
-                      lib.ffi.from_buffer(f"{lib.PREFIX}_status[]", statuses,
-                                          require_writable=True))
-                best = min(best, time.perf_counter() - start)
-            label = "polynomial" if route == "analyze" else "isolation"
-            ok = int((statuses == 0).sum())
-            print(f"  {name:<17} {label:<10} {best / count * 1e6:9.1f} us/set  ({ok}/{count} OK)")
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a smoke run: small sizes, "
+                        "no command-line generation timing")
+    parser.add_argument("--sets", type=int, help="parameter sets per mechanism")
+    parser.add_argument("--repeats", type=int, help="samples per timing (the median is kept)")
+    parser.add_argument("--mechanism", action="append", choices=shipped(),
+                        help="only these (repeatable; default every shipped mechanism)")
+    parser.add_argument("--out", type=Path, default=HERE,
+                        help="folder for results.md and results.json (default benchmarks/)")
+    args = parser.parse_args(argv)
+    sizes = QUICK if args.quick else FULL
+    sizes = Sizes(**{**asdict(sizes), **{k: getattr(args, k) for k in ("sets", "repeats")
+                                        if getattr(args, k) is not None}})
+    load_before = os.getloadavg()
+    with tempfile.TemporaryDirectory(prefix="mechvib-bench-") as tmp:
+        mechanisms = [prepare(name, sizes, Path(tmp)) for name in args.mechanism or shipped()]
+        for m in mechanisms:  # every compilation done before anything is timed
+            m.build.wait()
+        results = {m.name: measure(m, sizes) for m in mechanisms}
+    generate = time_generate(sizes.generate)
+    info = {**report.machine(driver.ROOT, driver.compiler_version()),
+            "cflags": " ".join(driver.CFLAGS), "load_before": load_before,
+            "stale_extensions": [m.name for m in mechanisms if driver.stale_extension(m.library)],
+            "load_after": os.getloadavg()}
+    config = {**asdict(sizes), "seed": SEED, "spread": SPREAD,
+              "genuine_tolerance": pipeline.GENUINE, "real_tolerance": pipeline.REAL,
+              "note": " (--quick: a smoke run, not for quoting)" if args.quick else ""}
+    text = report.markdown(results, generate, info, config)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "results.md").write_text(text)
+    (args.out / "results.json").write_text(json.dumps(
+        {"config": config, "machine": info, "generate": generate, "mechanisms": results},
+        indent=2) + "\n")
+    print(text)
+    return 0
 
 
 if __name__ == "__main__":
-    c_benchmark()
-    python_benchmark()
-    routes_benchmark()
+    sys.exit(main())

@@ -1,0 +1,208 @@
+"""The results of `make bench` as Markdown tables (benchmarks/results.md), and the machine."""
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import subprocess
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy
+import sympy
+
+NA = "n/a"
+
+
+def machine(root: Path, compiler: str) -> dict[str, Any]:
+    """Where and when the benchmark ran (the load is added by the runner, before and after)."""
+    return {
+        "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
+        "cpu": _cpu_model(), "cores": os.cpu_count(), "compiler": compiler,
+        "python": platform.python_version(), "numpy": numpy.__version__,
+        "sympy": sympy.__version__, "commit": _commit(root),
+    }
+
+
+def _cpu_model() -> str:
+    try:
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        return platform.processor() or "unknown"
+    return next((line.split(":", 1)[1].strip() for line in lines
+                 if line.startswith("model name")), "unknown")
+
+
+def _commit(root: Path) -> str:
+    def git(*args: str) -> str:
+        return subprocess.run(["git", *args], cwd=root, capture_output=True, text=True
+                              ).stdout.strip()
+
+    head = git("rev-parse", "--short=12", "HEAD") or "unknown"
+    return head + (" (with uncommitted changes)" if git("status", "--porcelain") else "")
+
+
+def num(x: float | None) -> str:
+    """A measurement to about three significant digits, without exponents where avoidable."""
+    if x is None:
+        return NA
+    if x >= 100:
+        return f"{x:,.0f}".replace(",", " ")
+    return f"{x:.1f}" if x >= 10 else f"{x:#.3g}"
+
+
+def sci(x: float | None) -> str:
+    return NA if x is None else f"{x:.1e}"
+
+
+def ratio(a: float | None, b: float | None) -> float | None:
+    return None if a is None or b is None or b == 0 else a / b
+
+
+def table(headers: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows])
+
+
+def analysis_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 1, the headline: the whole analysis per parameter set."""
+    rows = []
+    for name, r in results.items():
+        a = r["analysis"]
+        rows.append([f"`{name}`", str(a["sets"]), num(a["c_analyze_us"]), num(a["c_isolate_us"]),
+                     num(a["python_w1_us"]), num(a["python_w2_us"]),
+                     num(a["w2_over_w1_throughput"]),
+                     num(a["numpy_us"]) if a["numpy_us"] is not None else "n/a (no polynomial)",
+                     num(a["numpy_over_c"]), num(a["numpy_over_python"])])
+    return table(["mechanism", "sets", "C `_analyze` [us/set]", "C `_isolate` [us/set]",
+                  "Python workers=1 [us/set]", "Python workers=2 [us/set]",
+                  "workers=2 / workers=1 throughput", "numpy pipeline [us/set]",
+                  "numpy / C", "numpy / Python workers=1"], rows)
+
+
+def kernels_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 2: thetaddot and sigma, the library against SymPy's ccode."""
+    rows = []
+    for name, r in results.items():
+        k = r["kernels"]
+        rows.append([f"`{name}`", f"`{k['thetaddot']}`", num(k["thetaddot_library_ns"]),
+                     num(k["thetaddot_naive_ns"]),
+                     num(ratio(k["thetaddot_naive_ns"], k["thetaddot_library_ns"])),
+                     sci(k["thetaddot_max_rel_diff"]), num(k["sigma_library_ns"]),
+                     num(k["sigma_naive_ns"]),
+                     num(ratio(k["sigma_naive_ns"], k["sigma_library_ns"])),
+                     sci(k["sigma_max_rel_diff"])])
+    return table(["mechanism", "thetaddot function", "thetaddot library [ns]",
+                  "thetaddot naive [ns]", "naive / library", "max rel. difference",
+                  "sigma library [ns]", "sigma naive [ns]", "naive / library",
+                  "max difference / max abs(sigma_i)"], rows)
+
+
+def roots_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 3: the library's root finder against numpy.roots."""
+    rows = []
+    for name, r in results.items():
+        x = r["roots"]
+        if x is None:
+            rows.append([f"`{name}`"] + ["n/a (no polynomial)"] + [NA] * 7)
+            continue
+        rows.append([f"`{name}`", str(x["degree"]), str(x["polynomials"]), num(x["c_us"]),
+                     num(x["numpy_us"]), num(ratio(x["numpy_us"], x["c_us"])),
+                     str(x["c_real_roots"]), str(x["numpy_real_roots"]), str(x["disagreements"])])
+    return table(["mechanism", "degree", "polynomials", "C `_poly_real_roots` [us]",
+                  "numpy.roots [us]", "numpy / C", "real roots (C)", "real roots (numpy)",
+                  "polynomials whose counts differ"], rows)
+
+
+def accuracy_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 4: genuine equilibria against 40 digits."""
+    rows = []
+    for name, r in results.items():
+        x = r["accuracy"]
+        if x is None:
+            rows.append([f"`{name}`"] + ["n/a (no polynomial)"] + [NA] * 7)
+            continue
+        rows.append([f"`{name}`", str(x["sets"]), str(x["library_equilibria"]),
+                     sci(x["library_max_rel_error"]), str(x["reference_failures"]),
+                     str(x["numpy_equilibria"]), sci(x["numpy_max_rel_error"]),
+                     str(x["numpy_missed"]), str(x["numpy_extra"])])
+    return table(["mechanism", "sets", "equilibria (library)", "max rel. error (library)",
+                  "findroot failures", "equilibria (numpy)", "max rel. error (numpy)",
+                  "missed by numpy", "extra in numpy"], rows)
+
+
+def generate_table(generate: dict[str, Any], results: dict[str, dict[str, Any]]) -> str:
+    """Section 5: the command line's fresh derivation, and derive() per mechanism."""
+    cli = generate["cli"]
+    command = f"`{generate['command']}`"
+    if cli is None:
+        rows = [[command, "all", "skipped (--quick)"]]
+    else:
+        state = {0: "generated/ current", 1: "generated/ stale"}.get(cli["exit"],
+                                                                    f"exit {cli['exit']}")
+        rows = [[command, "all", f"{cli['seconds']:.1f} ({state})"]]
+    rows += [["`derive()` in the benchmark's process", f"`{name}`",
+              f"{r['derive_seconds']:.1f}"] for name, r in results.items()]
+    return table(["what", "mechanism", "wall time [s]"], rows)
+
+
+def machine_table(info: dict[str, Any]) -> str:
+    load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
+    rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
+            ["cores", str(info["cores"])], ["load (1/5/15 min: before, after)", load],
+            ["compiler", f"{info['compiler']}, `{info['cflags']}`"],
+            ["Python extensions built from generated/ as it is",
+             "yes" if not info["stale_extensions"] else
+             "no: " + ", ".join(info["stale_extensions"]) + " (run `make build`)"],
+            ["Python, numpy, SymPy", f"{info['python']}, {info['numpy']}, {info['sympy']}"]]
+    return table(["", "value"], rows)
+
+
+#: (title, what it measures) of each section, in order; results.md has one of each.
+SECTIONS = (
+    ("1. Whole analysis per parameter set",
+     "Each mechanism's example with every parameter drawn within +-5 % (fixed seed). C: "
+     "`PREFIX_analyze` (and `PREFIX_isolate`, the isolation route) in a loop in "
+     "benchmarks/bench.c. Python: `lib.analyze_table(table, workers=N)` (the route `auto` "
+     "takes). numpy: the pipeline of benchmarks/pipeline.py (lambdified sigma_i, batched "
+     "companion-matrix eigvals, G lambdified to keep the genuine roots, M, B, K, omega_n, "
+     "zeta lambdified; genuine where abs(G) <= {genuine_tolerance:g} of the sum of its "
+     "contributions' magnitudes, a threshold set in numpy's favour), which neither "
+     "polishes, nor certifies, nor labels other assembly modes. Throughput ratio > 1: two "
+     "threads do more."),
+    ("2. thetaddot and sigma per call against naive SymPy C",
+     "The library's functions against `sympy.ccode` of the same expressions after "
+     "`sympy.cse` (double precision; the library computes sigma in double-double), "
+     "compiled with the same flags and called in the same driver over the same inputs "
+     "(states at random angles and rates). naive / library > 1: the library is faster."),
+    ("3. Root finder against numpy.roots",
+     "`PREFIX_poly_real_roots` and `numpy.roots` (one call per polynomial, a root counted "
+     "real when abs(imag) <= 1e-8 abs(root)) on the same sigma vectors (the library's)."),
+    ("4. Accuracy of the genuine equilibria",
+     "Each equilibrium of the declared mode against `mpmath.findroot` on G (lambdified "
+     "from the derivation, 40 digits) started at the library's root: max abs(theta - "
+     "theta_ref) / abs(theta_ref). The numpy pipeline's genuine roots are matched to the "
+     "references within 1e-4 rad."),
+    ("5. Generation time",
+     "The command line deriving every shipped mechanism afresh and comparing with "
+     "generated/ without writing (start-up included), and the cold `derive()` of each "
+     "mechanism inside the benchmark."),
+    ("6. Machine", ""),
+)
+
+
+def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
+             info: dict[str, Any], config: dict[str, Any]) -> str:
+    """The whole of results.md."""
+    tables = (analysis_table(results), kernels_table(results), roots_table(results),
+              accuracy_table(results), generate_table(generate, results), machine_table(info))
+    head = ("# `make bench` results\n\n"
+            "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
+            f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "
+            f"repeats, C compiled with `{info['cflags']}`, load {info['load_before'][0]:.2f} "
+            f"before and {info['load_after'][0]:.2f} after (1 min){config['note']}.\n")
+    body = ["\n\n".join(part for part in (f"## {title}", text.format(**config), t) if part)
+            + "\n"
+            for (title, text), t in zip(SECTIONS, tables)]
+    return "\n".join([head, *body])

@@ -1,0 +1,42 @@
+"""`make bench` in its quick mode: it runs, and its results file has every section with one
+line per shipped mechanism. Nothing here times anything: the figures are not checked."""
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from codegen.api import shipped
+
+RUNNER = Path(__file__).resolve().parent.parent / "benchmarks" / "run.py"
+SECTIONS = 6
+
+
+def _sections(text: str) -> dict[int, str]:
+    """The body of each numbered '## N. title' section of results.md."""
+    parts = re.split(r"^## (\d+)\. ", text, flags=re.MULTILINE)
+    return {int(number): body for number, body in zip(parts[1::2], parts[2::2])}
+
+
+@pytest.mark.slow  # the quick run still derives all four mechanisms: ~40 s
+def test_quick_run_writes_every_section_with_every_mechanism(tmp_path):
+    done = subprocess.run([sys.executable, str(RUNNER), "--quick", "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    text = (tmp_path / "results.md").read_text()
+    assert done.stdout.strip() == text.strip()  # the runner prints the tables it writes
+    sections = _sections(text)
+    assert sorted(sections) == list(range(1, SECTIONS + 1))
+    for number in range(1, SECTIONS):
+        rows = [line for line in sections[number].splitlines() if line.startswith("| ")]
+        for name in shipped():
+            assert sum(f"`{name}`" in row for row in rows) == 1, (number, name)
+    assert "load" in sections[SECTIONS] and "-O2" in sections[SECTIONS]
+    results = json.loads((tmp_path / "results.json").read_text())
+    assert set(results["mechanisms"]) == set(shipped())
+    for measured in results["mechanisms"].values():
+        assert {"analysis", "kernels", "roots", "accuracy"} <= set(measured)
