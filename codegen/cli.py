@@ -403,6 +403,8 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
 
     _verb(verbs, "list", "the mechanisms this installation has compiled", prog, _list)
 
+    from .sweep import CHUNK
+
     swp = _verb(verbs, "sweep", "analyse a grid or a random sample of parameter sets into a "
                 "CSV or Parquet table", prog, _sweep)
     _mechanism_options(swp, None)
@@ -426,8 +428,8 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                           "roots too), not only per equilibrium")
     swp.add_argument("--workers", type=_positive, metavar="N",
                      help="threads (default: every CPU; with --scheduler, per task: 1)")
-    swp.add_argument("--chunk", type=_positive, default=65536, metavar="N",
-                     help="sets per chunk: per task on Dask, per progress step (default 65536)")
+    swp.add_argument("--chunk", type=_positive, default=CHUNK, metavar="N",
+                     help=f"sets per chunk: per task on Dask, per progress step (default {CHUNK})")
     swp.add_argument("--scheduler", metavar="ADDRESS",
                      help="run one task per chunk on this dask.distributed scheduler (e.g. "
                           "tcp://host:8786; pip install 'mechvib[dask]'; its workers need "

@@ -177,7 +177,6 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         for r in plan.requirements
     ]
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
-    functions = [_rendered(f, plan, target) for f in plan.functions]
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
@@ -203,9 +202,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,
-        "functions": functions,
-        "state": next({"size": f.n_out, "offsets": f.offsets} for f in functions
-                      if f.name == "equilibrium_state"),
+        "functions": [_rendered(f, plan, target) for f in plan.functions],
     }
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
                  f"{prefix}.cdef": "library.cdef.j2"}

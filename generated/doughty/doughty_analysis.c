@@ -73,15 +73,20 @@
 #define AT_RADICANDS 7
 #define AT_RADICAND_SCALES 8
 
-static doughty_status finite_or(const double *values, int count, doughty_status failure)
+static int all_finite(const double *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
         if (!isfinite(values[i])) {
-            return failure;
+            return 0;
         }
     }
-    return DOUGHTY_OK;
+    return 1;
+}
+
+static doughty_status finite_or(const double *values, int count, doughty_status failure)
+{
+    return all_finite(values, count) ? DOUGHTY_OK : failure;
 }
 
 static void state_at(const doughty_params *params, double theta, double at[STATE_SIZE])
@@ -198,21 +203,20 @@ static int branch_value(const doughty_params *params, double theta, unsigned bra
 {
     double g[DOUGHTY_N_BRANCHES];
     doughty_equilibrium_branches_kernel(params, theta, g);
-    if (finite_or(g, DOUGHTY_N_BRANCHES, DOUGHTY_ERR_SINGULAR_STATE) != DOUGHTY_OK
-        || !(g[branch] == g[branch])) {
+    if (!all_finite(g, DOUGHTY_N_BRANCHES) || !(g[branch] == g[branch])) {
         return 0;
     }
     *value = g[branch];
     return 1;
 }
 
-/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e. */
-static doughty_status linearise(const doughty_params *params, unsigned mode, double theta,
-                                doughty_equilibrium *e)
+/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
+ * at: the state at theta. */
+static doughty_status linearise_at(const doughty_params *params, unsigned mode, double theta,
+                                   const double at[STATE_SIZE], doughty_equilibrium *e)
 {
     doughty_status status;
-    double at[STATE_SIZE];
-    state_at(params, theta, at);
+    (void)params;
     (void)mode;
     {
         status = linearisation_of(at);
@@ -229,6 +233,14 @@ static doughty_status linearise(const doughty_params *params, unsigned mode, dou
     }
     e->theta = theta;
     return status;
+}
+
+static doughty_status linearise(const doughty_params *params, unsigned mode, double theta,
+                                doughty_equilibrium *e)
+{
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
+    return linearise_at(params, mode, theta, at, e);
 }
 
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
@@ -299,13 +311,13 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. A root already zero to working precision is left where it
- * is (theta = pi stays pi). */
-static double polish(const doughty_params *params, double theta, double radius)
+ * is (theta = pi stays pi). at: the state at theta on entry, at the result on return. */
+static double polish(const doughty_params *params, double theta, double radius,
+                     double at[STATE_SIZE])
 {
     const double start = theta;
-    double at[STATE_SIZE], next_at[STATE_SIZE];
+    double next_at[STATE_SIZE];
     int i;
-    state_at(params, theta, at);
     if (residual_of(at) != DOUGHTY_OK) {
         return theta;
     }
@@ -327,7 +339,7 @@ static double polish(const doughty_params *params, double theta, double radius)
             break;
         }
         theta = next;
-        memcpy(at, next_at, sizeof at);
+        memcpy(at, next_at, sizeof next_at);
     }
     return theta;
 }
@@ -456,7 +468,7 @@ static doughty_status study_root(const doughty_params *params, double theta, int
     doughty_status status;
     unsigned branch, mode = 0u;
     int declared;
-    double at[STATE_SIZE];
+    double at[STATE_SIZE], polished;
     *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
@@ -470,8 +482,9 @@ static doughty_status study_root(const doughty_params *params, double theta, int
     }
     declared = e->kind == DOUGHTY_EQUILIBRIUM;
     e->genuine = declared;
-    status = linearise(params, 0u, polish(params, theta, declared ? POLISH_RADIUS
-                                                      : twin_search ? TWIN_RADIUS : 0.0), e);
+    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0.0,
+                      at);
+    status = linearise_at(params, 0u, polished, at, e);
     if (status != DOUGHTY_OK) {
         return status;
     }

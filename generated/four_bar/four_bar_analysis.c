@@ -82,15 +82,20 @@ static const unsigned branch_of_mode[FOUR_BAR_N_MODES] = {
 #define AT_RADICANDS 9
 #define AT_RADICAND_SCALES 11
 
-static four_bar_status finite_or(const double *values, int count, four_bar_status failure)
+static int all_finite(const double *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
         if (!isfinite(values[i])) {
-            return failure;
+            return 0;
         }
     }
-    return FOUR_BAR_OK;
+    return 1;
+}
+
+static four_bar_status finite_or(const double *values, int count, four_bar_status failure)
+{
+    return all_finite(values, count) ? FOUR_BAR_OK : failure;
 }
 
 static void state_at(const four_bar_params *params, double theta, double at[STATE_SIZE])
@@ -207,21 +212,19 @@ static int branch_value(const four_bar_params *params, double theta, unsigned br
 {
     double g[FOUR_BAR_N_BRANCHES];
     four_bar_equilibrium_branches_kernel(params, theta, g);
-    if (finite_or(g, FOUR_BAR_N_BRANCHES, FOUR_BAR_ERR_SINGULAR_STATE) != FOUR_BAR_OK
-        || !(g[branch] == g[branch])) {
+    if (!all_finite(g, FOUR_BAR_N_BRANCHES) || !(g[branch] == g[branch])) {
         return 0;
     }
     *value = g[branch];
     return 1;
 }
 
-/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e. */
-static four_bar_status linearise(const four_bar_params *params, unsigned mode, double theta,
-                                four_bar_equilibrium *e)
+/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
+ * at: the state at theta. */
+static four_bar_status linearise_at(const four_bar_params *params, unsigned mode, double theta,
+                                   const double at[STATE_SIZE], four_bar_equilibrium *e)
 {
     four_bar_status status;
-    double at[STATE_SIZE];
-    state_at(params, theta, at);
     if (mode != 0u) {
         double modes[3 * FOUR_BAR_N_MODES];
         const double branch = at[AT_BRANCH_RESIDUALS + branch_of_mode[mode]];
@@ -233,8 +236,7 @@ static four_bar_status linearise(const four_bar_params *params, unsigned mode, d
         e->M = modes[FOUR_BAR_MODE_LINEARISATION_M + mode];
         e->B = modes[FOUR_BAR_MODE_LINEARISATION_B + mode];
         e->K = modes[FOUR_BAR_MODE_LINEARISATION_K + mode];
-        if (finite_or(at + AT_BRANCH_RESIDUALS, FOUR_BAR_N_BRANCHES, FOUR_BAR_ERR_SINGULAR_STATE)
-            != FOUR_BAR_OK || !(branch == branch)) {
+        if (!all_finite(at + AT_BRANCH_RESIDUALS, FOUR_BAR_N_BRANCHES) || !(branch == branch)) {
             return FOUR_BAR_ERR_SINGULAR_STATE;
         }
         e->residual = branch;
@@ -254,6 +256,14 @@ static four_bar_status linearise(const four_bar_params *params, unsigned mode, d
     }
     e->theta = theta;
     return status;
+}
+
+static four_bar_status linearise(const four_bar_params *params, unsigned mode, double theta,
+                                four_bar_equilibrium *e)
+{
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
+    return linearise_at(params, mode, theta, at, e);
 }
 
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
@@ -324,13 +334,13 @@ static four_bar_status certify_around(const four_bar_params *params, unsigned mo
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. A root already zero to working precision is left where it
- * is (theta = pi stays pi). */
-static double polish(const four_bar_params *params, double theta, double radius)
+ * is (theta = pi stays pi). at: the state at theta on entry, at the result on return. */
+static double polish(const four_bar_params *params, double theta, double radius,
+                     double at[STATE_SIZE])
 {
     const double start = theta;
-    double at[STATE_SIZE], next_at[STATE_SIZE];
+    double next_at[STATE_SIZE];
     int i;
-    state_at(params, theta, at);
     if (residual_of(at) != FOUR_BAR_OK) {
         return theta;
     }
@@ -352,7 +362,7 @@ static double polish(const four_bar_params *params, double theta, double radius)
             break;
         }
         theta = next;
-        memcpy(at, next_at, sizeof at);
+        memcpy(at, next_at, sizeof next_at);
     }
     return theta;
 }
@@ -481,7 +491,7 @@ static four_bar_status study_root(const four_bar_params *params, double theta, i
     four_bar_status status;
     unsigned branch, mode = 0u;
     int declared;
-    double at[STATE_SIZE];
+    double at[STATE_SIZE], polished;
     *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
@@ -495,8 +505,9 @@ static four_bar_status study_root(const four_bar_params *params, double theta, i
     }
     declared = e->kind == FOUR_BAR_EQUILIBRIUM;
     e->genuine = declared;
-    status = linearise(params, 0u, polish(params, theta, declared ? POLISH_RADIUS
-                                                      : twin_search ? TWIN_RADIUS : 0.0), e);
+    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0.0,
+                      at);
+    status = linearise_at(params, 0u, polished, at, e);
     if (status != FOUR_BAR_OK) {
         return status;
     }

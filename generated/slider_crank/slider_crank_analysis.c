@@ -82,15 +82,20 @@ static const unsigned branch_of_mode[SLIDER_CRANK_N_MODES] = {
 #define AT_RADICANDS 9
 #define AT_RADICAND_SCALES 11
 
-static slider_crank_status finite_or(const double *values, int count, slider_crank_status failure)
+static int all_finite(const double *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
         if (!isfinite(values[i])) {
-            return failure;
+            return 0;
         }
     }
-    return SLIDER_CRANK_OK;
+    return 1;
+}
+
+static slider_crank_status finite_or(const double *values, int count, slider_crank_status failure)
+{
+    return all_finite(values, count) ? SLIDER_CRANK_OK : failure;
 }
 
 static void state_at(const slider_crank_params *params, double theta, double at[STATE_SIZE])
@@ -207,21 +212,19 @@ static int branch_value(const slider_crank_params *params, double theta, unsigne
 {
     double g[SLIDER_CRANK_N_BRANCHES];
     slider_crank_equilibrium_branches_kernel(params, theta, g);
-    if (finite_or(g, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_ERR_SINGULAR_STATE) != SLIDER_CRANK_OK
-        || !(g[branch] == g[branch])) {
+    if (!all_finite(g, SLIDER_CRANK_N_BRANCHES) || !(g[branch] == g[branch])) {
         return 0;
     }
     *value = g[branch];
     return 1;
 }
 
-/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e. */
-static slider_crank_status linearise(const slider_crank_params *params, unsigned mode, double theta,
-                                slider_crank_equilibrium *e)
+/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
+ * at: the state at theta. */
+static slider_crank_status linearise_at(const slider_crank_params *params, unsigned mode, double theta,
+                                   const double at[STATE_SIZE], slider_crank_equilibrium *e)
 {
     slider_crank_status status;
-    double at[STATE_SIZE];
-    state_at(params, theta, at);
     if (mode != 0u) {
         double modes[3 * SLIDER_CRANK_N_MODES];
         const double branch = at[AT_BRANCH_RESIDUALS + branch_of_mode[mode]];
@@ -233,8 +236,7 @@ static slider_crank_status linearise(const slider_crank_params *params, unsigned
         e->M = modes[SLIDER_CRANK_MODE_LINEARISATION_M + mode];
         e->B = modes[SLIDER_CRANK_MODE_LINEARISATION_B + mode];
         e->K = modes[SLIDER_CRANK_MODE_LINEARISATION_K + mode];
-        if (finite_or(at + AT_BRANCH_RESIDUALS, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_ERR_SINGULAR_STATE)
-            != SLIDER_CRANK_OK || !(branch == branch)) {
+        if (!all_finite(at + AT_BRANCH_RESIDUALS, SLIDER_CRANK_N_BRANCHES) || !(branch == branch)) {
             return SLIDER_CRANK_ERR_SINGULAR_STATE;
         }
         e->residual = branch;
@@ -254,6 +256,14 @@ static slider_crank_status linearise(const slider_crank_params *params, unsigned
     }
     e->theta = theta;
     return status;
+}
+
+static slider_crank_status linearise(const slider_crank_params *params, unsigned mode, double theta,
+                                slider_crank_equilibrium *e)
+{
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
+    return linearise_at(params, mode, theta, at, e);
 }
 
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
@@ -324,13 +334,13 @@ static slider_crank_status certify_around(const slider_crank_params *params, uns
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. A root already zero to working precision is left where it
- * is (theta = pi stays pi). */
-static double polish(const slider_crank_params *params, double theta, double radius)
+ * is (theta = pi stays pi). at: the state at theta on entry, at the result on return. */
+static double polish(const slider_crank_params *params, double theta, double radius,
+                     double at[STATE_SIZE])
 {
     const double start = theta;
-    double at[STATE_SIZE], next_at[STATE_SIZE];
+    double next_at[STATE_SIZE];
     int i;
-    state_at(params, theta, at);
     if (residual_of(at) != SLIDER_CRANK_OK) {
         return theta;
     }
@@ -352,7 +362,7 @@ static double polish(const slider_crank_params *params, double theta, double rad
             break;
         }
         theta = next;
-        memcpy(at, next_at, sizeof at);
+        memcpy(at, next_at, sizeof next_at);
     }
     return theta;
 }
@@ -481,7 +491,7 @@ static slider_crank_status study_root(const slider_crank_params *params, double 
     slider_crank_status status;
     unsigned branch, mode = 0u;
     int declared;
-    double at[STATE_SIZE];
+    double at[STATE_SIZE], polished;
     *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
@@ -495,8 +505,9 @@ static slider_crank_status study_root(const slider_crank_params *params, double 
     }
     declared = e->kind == SLIDER_CRANK_EQUILIBRIUM;
     e->genuine = declared;
-    status = linearise(params, 0u, polish(params, theta, declared ? POLISH_RADIUS
-                                                      : twin_search ? TWIN_RADIUS : 0.0), e);
+    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0.0,
+                      at);
+    status = linearise_at(params, 0u, polished, at, e);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }

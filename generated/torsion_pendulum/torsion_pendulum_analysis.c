@@ -31,15 +31,20 @@
 #define AT_B 3
 #define AT_K 4
 
-static torsion_pendulum_status finite_or(const double *values, int count, torsion_pendulum_status failure)
+static int all_finite(const double *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
         if (!isfinite(values[i])) {
-            return failure;
+            return 0;
         }
     }
-    return TORSION_PENDULUM_OK;
+    return 1;
+}
+
+static torsion_pendulum_status finite_or(const double *values, int count, torsion_pendulum_status failure)
+{
+    return all_finite(values, count) ? TORSION_PENDULUM_OK : failure;
 }
 
 static void state_at(const torsion_pendulum_params *params, double theta, double at[STATE_SIZE])
@@ -149,13 +154,13 @@ static torsion_pendulum_status vibrate(torsion_pendulum_equilibrium *e)
     return TORSION_PENDULUM_OK;
 }
 
-/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e. */
-static torsion_pendulum_status linearise(const torsion_pendulum_params *params, unsigned mode, double theta,
-                                torsion_pendulum_equilibrium *e)
+/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
+ * at: the state at theta. */
+static torsion_pendulum_status linearise_at(const torsion_pendulum_params *params, unsigned mode, double theta,
+                                   const double at[STATE_SIZE], torsion_pendulum_equilibrium *e)
 {
     torsion_pendulum_status status;
-    double at[STATE_SIZE];
-    state_at(params, theta, at);
+    (void)params;
     (void)mode;
     {
         status = linearisation_of(at);
@@ -172,6 +177,14 @@ static torsion_pendulum_status linearise(const torsion_pendulum_params *params, 
     }
     e->theta = theta;
     return status;
+}
+
+static torsion_pendulum_status linearise(const torsion_pendulum_params *params, unsigned mode, double theta,
+                                torsion_pendulum_equilibrium *e)
+{
+    double at[STATE_SIZE];
+    state_at(params, theta, at);
+    return linearise_at(params, mode, theta, at, e);
 }
 
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
