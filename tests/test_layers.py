@@ -77,13 +77,18 @@ def test_tidy_cancels_around_square_roots():
     assert S not in tidy(expr).atoms(sp.sin) and square_roots(tidy(expr)) == [x**2 + 1]
 
 
-def test_printer_double_and_float():
-    e = sp.sin(x) * y**2 + sp.sqrt(x) ** 3 + sp.Rational(1, 3) + 1 / y**2
-    double = RealPrinter("double").doprint(e)
-    single = RealPrinter("float").doprint(e)
-    assert "sin(x)" in double and "pow(" not in double and "(y*y)" in double
-    assert "sinf(x)" in single and "sqrtf(x)" in single and "1.0F/3.0F" in single
-    assert "sin(" not in single.replace("sinf(", "")
+def test_printer_writes_literals_of_the_library_type():
+    """codegen_real is float or double when the C is compiled: literals must take that type
+    (a double literal would promote a float expression), functions keep their plain names
+    for <tgmath.h>, and numbers too large for float go through CODEGEN_R."""
+    e = sp.sin(x) * y**2 + sp.sqrt(x) ** 3 + sp.Rational(1, 3) + 1 / y**2 + sp.pi * x
+    text = RealPrinter().doprint(e)
+    assert "sin(x)" in text and "(y*y)" in text and "((codegen_real)1/3)" in text
+    assert "M_PI" not in text and "CODEGEN_R(3.14159265358979323846" in text
+    assert RealPrinter().doprint(x**7) == "pow(x, CODEGEN_R(7.0))"
+    assert RealPrinter().doprint(2**30 * x) == "CODEGEN_R(1073741824.0)*x"
+    assert RealPrinter().doprint(sp.Max(x, 1)) == "fmax(CODEGEN_R(1.0), x)"
+    assert "1.0/" not in text and "F" not in text.replace("CODEGEN_R", "")
 
 
 def test_printer_parenthesises_logic():

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 import sympy as sp
 
 OPERATIONS = ("CONST", "ADD", "SUB", "MUL", "DIV", "NEG")
+#: Integers below this are exact in float (and double).
+EXACT_BITS = 2**24
 
 
 @dataclass(frozen=True)
@@ -61,8 +63,17 @@ class _Assembler:
         return target
 
     def constant(self, value: sp.Rational) -> int:
-        if value.q & (value.q - 1) or abs(value.p) >= 2**53:  # not exact in double
-            return self.binary("DIV", sp.Integer(value.p), sp.Integer(value.q))
+        """A constant from numbers exact in float as well as double (24 bits), so that one
+        table serves both builds."""
+        p, q = int(value.p), int(value.q)
+        if q & (q - 1):  # not dyadic: a quotient
+            return self.binary("DIV", sp.Integer(p), sp.Integer(q))
+        odd = abs(p) >> ((abs(p) & -abs(p)).bit_length() - 1) if p else 0
+        if odd >= EXACT_BITS:  # high * 2^24 + low, each exact
+            high, low = divmod(abs(p), EXACT_BITS)
+            sign = 1 if p > 0 else -1
+            return self.binary("ADD", sp.Rational(sign * high * EXACT_BITS, q),
+                               sp.Rational(sign * low, q))
         index = self.constants.setdefault(float(value), len(self.constants))
         return self.emit("CONST", index)
 

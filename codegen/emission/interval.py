@@ -2,9 +2,10 @@
 (templates/runtime/codegen_interval.h), for the certified isolation of G's zeros.
 
 Each expression becomes nested calls (codegen_iv_add(a, codegen_iv_mul(b, c))) after one
-common-subexpression pass, so every value has exactly one enclosure. Constants that double
-cannot hold (1/3, pi) are enclosed between the doubles just below and above them, computed
-exactly here; square roots and divisions report, through ``flags``, where a radicand may
+common-subexpression pass, so every value has exactly one enclosure. Constants that the real
+type cannot hold (1/3, pi) are enclosed between the numbers of that type just below and
+above them, computed exactly here for double and for float (``CODEGEN_BOUND`` picks one when
+the library is compiled); square roots and divisions report, through ``flags``, where a radicand may
 reach below zero or a divisor hold zero.
 """
 from __future__ import annotations
@@ -13,6 +14,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+import numpy as np
 import sympy as sp
 
 from .printer import _temporary_prefix
@@ -32,24 +34,44 @@ class IntervalBody:
     unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
 
 
-def _double(text: float) -> str:
-    return repr(text) if math.isfinite(text) else ("HUGE_VAL" if text > 0 else "-HUGE_VAL")
-
-
-def enclose_constant(value: sp.Expr) -> tuple[float, float]:
-    """The tightest doubles (lo, hi) around an exact number (lo == hi when it is a double)."""
+def _exact(value: sp.Expr) -> tuple[Fraction, int]:
+    """The number as a fraction, and how many steps outward its own error needs (an
+    irrational one is a 40-digit value, ~1e-40 off: one step)."""
     if value.is_Rational:
-        exact, margin = Fraction(int(value.p), int(value.q)), 0
-    else:  # a 40-digit value, then one more double outward for its own error (~1e-40)
-        exact, margin = Fraction(str(sp.N(value, _CONSTANT_DIGITS))), 1
-    nearest = float(exact)
-    if Fraction(nearest) == exact and not margin:
-        return nearest, nearest
-    lo = nearest if Fraction(nearest) < exact else math.nextafter(nearest, -math.inf)
-    hi = nearest if Fraction(nearest) > exact else math.nextafter(nearest, math.inf)
+        return Fraction(int(value.p), int(value.q)), 0
+    return Fraction(str(sp.N(value, _CONSTANT_DIGITS))), 1
+
+
+def _enclose(exact: Fraction, margin: int, kind: type) -> tuple[float, float]:
+    """The tightest numbers of ``kind`` (float or numpy.float32) around exact, then margin
+    steps further out; lo == hi when exact is one of them."""
+    nearest = kind(float(exact))  # rounds twice for float32: corrected below
+    lo = hi = nearest
+    while Fraction(float(lo)) > exact:
+        lo = np.nextafter(lo, kind(-math.inf))
+    while Fraction(float(hi)) < exact:
+        hi = np.nextafter(hi, kind(math.inf))
     for _ in range(margin):
-        lo, hi = math.nextafter(lo, -math.inf), math.nextafter(hi, math.inf)
-    return lo, hi
+        lo, hi = np.nextafter(lo, kind(-math.inf)), np.nextafter(hi, kind(math.inf))
+    return float(lo), float(hi)
+
+
+def enclose_constant(value: sp.Expr, kind: type = float) -> tuple[float, float]:
+    """The tightest doubles (or, with kind=numpy.float32, floats) (lo, hi) around an exact
+    number (lo == hi when it is one of them)."""
+    return _enclose(*_exact(value), kind)
+
+
+def _point(x: float) -> str:
+    """A number exact in both types, as a literal of the library's type."""
+    return str(int(x)) if x.is_integer() and abs(x) < 2**24 else f"CODEGEN_R({x!r})"
+
+
+def _literal(x: float) -> str:
+    """A bound as C text for CODEGEN_BOUND (which appends F to the float one)."""
+    if math.isinf(x):
+        return "CODEGEN_HUGE" if x > 0 else "-CODEGEN_HUGE"
+    return x.hex()
 
 
 class _IntervalPrinter:
@@ -64,9 +86,11 @@ class _IntervalPrinter:
 
     def constant(self, value: sp.Expr) -> str:
         lo, hi = enclose_constant(value)
-        if lo == hi:
-            return f"codegen_iv_point({_double(lo)})"
-        return f"codegen_iv_make({lo.hex()}, {hi.hex()})"
+        flo, fhi = enclose_constant(value, np.float32)
+        if lo == hi == flo == fhi:  # exact in both types
+            return f"codegen_iv_point({_point(lo)})"
+        return (f"codegen_iv_make(CODEGEN_BOUND({_literal(lo)}, {_literal(flo)}), "
+                f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)}))")
 
     def print(self, expr: sp.Expr) -> str:
         if expr.is_Symbol:

@@ -1,29 +1,66 @@
 """Layer 4a: expressions to C statements, through SymPy's C99 printer after one
 common-subexpression pass over all outputs of a function.
 
-The real type is a setting: ``CTarget("float")`` prints sinf/sqrtf and F-suffixed
-literals from the very same expressions, so a float build computes in float.
+The C computes in ``codegen_real`` (codegen_real.h): double, or float when the library is
+compiled with -DCODEGEN_FLOAT. So the printer writes literals that take the library's type:
+an integer as it is (exact in float below 2^24), a rational as ``(codegen_real)p/q`` (one
+rounding in the library's type), any other number through ``CODEGEN_R``. Functions keep
+their plain names; the generated sources include <tgmath.h>, which picks sinf or sin by the
+argument's type.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import sympy as sp
-from sympy.codegen.ast import float32, float64, real
 from sympy.printing.c import C99CodePrinter
 
 from .double_double import Program, assemble
 from .plan import CFunction
 
-_REAL_TYPES = {"double": float64, "float": float32}
+#: The real type's name in the C sources (codegen_real.h), and in the cffi declarations,
+#: whose extension modules always build the double library.
+C_REAL, CFFI_REAL = "codegen_real", "double"
+#: Integers up to this size are exact in float as well as in double.
+EXACT_INTEGER = 2**24
 
 
 class RealPrinter(C99CodePrinter):
-    """C99 printer with small integer and half-integer powers as products and sqrt."""
+    """C99 printer for ``codegen_real`` with small integer and half-integer powers as
+    products and sqrt."""
 
-    def __init__(self, ctype: str = "double"):
-        super().__init__({"type_aliases": {real: _REAL_TYPES[ctype]}})
-        self.ctype = ctype
+    def _print_Integer(self, expr):
+        if abs(int(expr)) < EXACT_INTEGER:
+            return str(int(expr))
+        return f"CODEGEN_R({int(expr)}.0)"
+
+    def _print_Rational(self, expr):
+        p, q = int(expr.p), int(expr.q)
+        if abs(p) < EXACT_INTEGER and q < EXACT_INTEGER:
+            return f"((codegen_real){p}/{q})"
+        return f"(CODEGEN_R({p}.0)/CODEGEN_R({q}.0))"
+
+    def _print_Float(self, expr):
+        return f"CODEGEN_R({super()._print_Float(expr)})"
+
+    def _print_NumberSymbol(self, expr):  # pi, E: M_PI would be a double
+        return f"CODEGEN_R({sp.N(expr, 36)})"
+
+    def _print_Max(self, expr):
+        return self._real_call("fmax", expr)
+
+    def _print_Min(self, expr):
+        return self._real_call("fmin", expr)
+
+    def _real_call(self, name, expr):
+        """name(a, name(b, ...)) with numbers as literals of the library's type: <tgmath.h>
+        would call the double function for an integer argument."""
+        args = [f"CODEGEN_R({float(a)!r})" if a.is_number else self._print(a)
+                for a in expr.args]
+        text = args[-1]
+        for arg in reversed(args[:-1]):
+            text = f"{name}({arg}, {text})"
+        return text
 
     def _print_And(self, expr):
         return " && ".join(f"({self._print(a)})" for a in expr.args)
@@ -40,17 +77,20 @@ class RealPrinter(C99CodePrinter):
             product = "*".join(factors)
             if exp > 0:
                 return product if len(factors) == 1 else f"({product})"
-            return f"{self._print(sp.S.One)}/({product})"
+            return f"1/({product})"
+        if exp.is_Integer:  # pow(x, 5) would call the double pow through <tgmath.h>
+            b = self._print(base)
+            return f"pow({b}, CODEGEN_R({int(exp)}.0))"
         return super()._print_Pow(expr)
 
 
 @dataclass(frozen=True)
 class CTarget:
-    ctype: str = "double"
+    ctype: str = C_REAL
 
     @property
     def printer(self) -> RealPrinter:
-        return RealPrinter(self.ctype)
+        return RealPrinter()
 
 
 @dataclass(frozen=True)

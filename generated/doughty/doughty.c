@@ -9,9 +9,10 @@
 #include "codegen_dd.h"
 
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
-static int all_finite(const double *values, int count)
+static int all_finite(const codegen_real *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -22,7 +23,7 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static void copy_out(double *destination, const double *source, int count)
+static void copy_out(codegen_real *destination, const codegen_real *source, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -75,7 +76,7 @@ doughty_status doughty_check_params(const doughty_params *params)
         return DOUGHTY_ERR_NULL_POINTER;
     }
     {
-        const double values[DOUGHTY_N_PARAMS] = {
+        const codegen_real values[DOUGHTY_N_PARAMS] = {
             params->H, params->L, params->a, params->m_A, params->m_B, params->m_C, params->k, params->b, params->l_ND, params->F, params->g
         };
         if (!all_finite(values, DOUGHTY_N_PARAMS)) {
@@ -83,14 +84,14 @@ doughty_status doughty_check_params(const doughty_params *params)
         }
     }
     {
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
         if (!(L > 0)) {
             return DOUGHTY_ERR_L_NOT_POSITIVE;
         }
@@ -116,24 +117,24 @@ doughty_status doughty_check_params(const doughty_params *params)
 /* position_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (4)-(7). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 20. */
-void doughty_position_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[4])
+void doughty_position_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double p = coords[0];
-        const double q = coords[1];
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double phi = coords[4];
-        const double tmp0 = cos(theta);
-        const double tmp1 = cos(phi);
-        const double tmp2 = sin(theta);
-        const double tmp3 = r*sin(phi);
-        const double tmp4 = L - a;
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real p = coords[0];
+        const codegen_real q = coords[1];
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real phi = coords[4];
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = cos(phi);
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = r*sin(phi);
+        const codegen_real tmp4 = L - a;
         out[0] = -H + a*tmp0 + r*tmp1;
         out[1] = -a*tmp2 + q - tmp3;
         out[2] = -H + p + r*tmp1 - tmp0*tmp4;
@@ -142,9 +143,9 @@ void doughty_position_constraints_kernel(const doughty_params *params, const dou
 }
 
 /* position_constraints: eq. (4)-(7). */
-doughty_status doughty_position_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double f[DOUGHTY_N_CONSTRAINTS])
+doughty_status doughty_position_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real f[DOUGHTY_N_CONSTRAINTS])
 {
-    double out[4];
+    codegen_real out[4];
     doughty_status status;
     if (coords == NULL || f == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -167,24 +168,24 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
 /* constraint_jacobian without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (25). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 16. */
-void doughty_constraint_jacobian_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[20])
+void doughty_constraint_jacobian_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real out[20])
 {
     (void)params;
     (void)coords;
     {
-        const double L = params->L;
-        const double a = params->a;
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double phi = coords[4];
-        const double tmp0 = cos(phi);
-        const double tmp1 = sin(theta);
-        const double tmp2 = sin(phi);
-        const double tmp3 = -r*tmp2;
-        const double tmp4 = -tmp2;
-        const double tmp5 = cos(theta);
-        const double tmp6 = -r*tmp0;
-        const double tmp7 = L - a;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real phi = coords[4];
+        const codegen_real tmp0 = cos(phi);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = sin(phi);
+        const codegen_real tmp3 = -r*tmp2;
+        const codegen_real tmp4 = -tmp2;
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = -r*tmp0;
+        const codegen_real tmp7 = L - a;
         out[0] = 0;
         out[1] = 0;
         out[2] = tmp0;
@@ -209,9 +210,9 @@ void doughty_constraint_jacobian_kernel(const doughty_params *params, const doub
 }
 
 /* constraint_jacobian: eq. (25). */
-doughty_status doughty_constraint_jacobian(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double A[DOUGHTY_N_JACOBIAN])
+doughty_status doughty_constraint_jacobian(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real A[DOUGHTY_N_JACOBIAN])
 {
-    double out[20];
+    codegen_real out[20];
     doughty_status status;
     if (coords == NULL || A == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -234,31 +235,31 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
 /* velocity_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (8)-(11). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 27. */
-void doughty_velocity_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4])
+void doughty_velocity_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double L = params->L;
-        const double a = params->a;
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double phi = coords[4];
-        const double p_d = rates[0];
-        const double q_d = rates[1];
-        const double r_d = rates[2];
-        const double theta_d = rates[3];
-        const double phi_d = rates[4];
-        const double tmp0 = cos(phi);
-        const double tmp1 = sin(theta);
-        const double tmp2 = a*theta_d;
-        const double tmp3 = sin(phi);
-        const double tmp4 = phi_d*r;
-        const double tmp5 = tmp3*tmp4;
-        const double tmp6 = cos(theta);
-        const double tmp7 = r_d*tmp3 + tmp0*tmp4;
-        const double tmp8 = L - a;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real phi = coords[4];
+        const codegen_real p_d = rates[0];
+        const codegen_real q_d = rates[1];
+        const codegen_real r_d = rates[2];
+        const codegen_real theta_d = rates[3];
+        const codegen_real phi_d = rates[4];
+        const codegen_real tmp0 = cos(phi);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = a*theta_d;
+        const codegen_real tmp3 = sin(phi);
+        const codegen_real tmp4 = phi_d*r;
+        const codegen_real tmp5 = tmp3*tmp4;
+        const codegen_real tmp6 = cos(theta);
+        const codegen_real tmp7 = r_d*tmp3 + tmp0*tmp4;
+        const codegen_real tmp8 = L - a;
         out[0] = r_d*tmp0 - tmp1*tmp2 - tmp5;
         out[1] = q_d - tmp2*tmp6 - tmp7;
         out[2] = p_d + r_d*tmp0 + theta_d*tmp1*tmp8 - tmp5;
@@ -267,9 +268,9 @@ void doughty_velocity_constraints_kernel(const doughty_params *params, const dou
 }
 
 /* velocity_constraints: eq. (8)-(11). */
-doughty_status doughty_velocity_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double f_d[DOUGHTY_N_CONSTRAINTS])
+doughty_status doughty_velocity_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real f_d[DOUGHTY_N_CONSTRAINTS])
 {
-    double out[4];
+    codegen_real out[4];
     doughty_status status;
     if (coords == NULL || rates == NULL || f_d == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -295,41 +296,41 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
 /* acceleration_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. Table 1 step 5 (d/dt of (8)-(11)). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 54. */
-void doughty_acceleration_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double out[4])
+void doughty_acceleration_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     (void)accels;
     {
-        const double L = params->L;
-        const double a = params->a;
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double phi = coords[4];
-        const double r_d = rates[2];
-        const double theta_d = rates[3];
-        const double phi_d = rates[4];
-        const double p_dd = accels[0];
-        const double q_dd = accels[1];
-        const double r_dd = accels[2];
-        const double theta_dd = accels[3];
-        const double phi_dd = accels[4];
-        const double tmp0 = cos(phi);
-        const double tmp1 = sin(theta);
-        const double tmp2 = sin(phi);
-        const double tmp3 = phi_dd*r*tmp2;
-        const double tmp4 = 2*phi_d*r_d;
-        const double tmp5 = tmp2*tmp4;
-        const double tmp6 = (theta_d*theta_d);
-        const double tmp7 = cos(theta);
-        const double tmp8 = a*tmp7;
-        const double tmp9 = (phi_d*phi_d);
-        const double tmp10 = r*tmp0;
-        const double tmp11 = tmp10*tmp9;
-        const double tmp12 = phi_dd*tmp10 - r*tmp2*tmp9 + r_dd*tmp2 + tmp0*tmp4;
-        const double tmp13 = L - a;
-        const double tmp14 = tmp13*tmp6;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real phi = coords[4];
+        const codegen_real r_d = rates[2];
+        const codegen_real theta_d = rates[3];
+        const codegen_real phi_d = rates[4];
+        const codegen_real p_dd = accels[0];
+        const codegen_real q_dd = accels[1];
+        const codegen_real r_dd = accels[2];
+        const codegen_real theta_dd = accels[3];
+        const codegen_real phi_dd = accels[4];
+        const codegen_real tmp0 = cos(phi);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = sin(phi);
+        const codegen_real tmp3 = phi_dd*r*tmp2;
+        const codegen_real tmp4 = 2*phi_d*r_d;
+        const codegen_real tmp5 = tmp2*tmp4;
+        const codegen_real tmp6 = (theta_d*theta_d);
+        const codegen_real tmp7 = cos(theta);
+        const codegen_real tmp8 = a*tmp7;
+        const codegen_real tmp9 = (phi_d*phi_d);
+        const codegen_real tmp10 = r*tmp0;
+        const codegen_real tmp11 = tmp10*tmp9;
+        const codegen_real tmp12 = phi_dd*tmp10 - r*tmp2*tmp9 + r_dd*tmp2 + tmp0*tmp4;
+        const codegen_real tmp13 = L - a;
+        const codegen_real tmp14 = tmp13*tmp6;
         out[0] = -a*theta_dd*tmp1 + r_dd*tmp0 - tmp11 - tmp3 - tmp5 - tmp6*tmp8;
         out[1] = a*tmp1*tmp6 + q_dd - theta_dd*tmp8 - tmp12;
         out[2] = p_dd + r_dd*tmp0 + theta_dd*tmp1*tmp13 - tmp11 + tmp14*tmp7 - tmp3 - tmp5;
@@ -338,9 +339,9 @@ void doughty_acceleration_constraints_kernel(const doughty_params *params, const
 }
 
 /* acceleration_constraints: eq. Table 1 step 5 (d/dt of (8)-(11)). */
-doughty_status doughty_acceleration_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double f_dd[DOUGHTY_N_CONSTRAINTS])
+doughty_status doughty_acceleration_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], codegen_real f_dd[DOUGHTY_N_CONSTRAINTS])
 {
-    double out[4];
+    codegen_real out[4];
     doughty_status status;
     if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -369,22 +370,22 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
 /* point_kinematics without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (12)-(14). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 9. */
-void doughty_point_kinematics_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[12])
+void doughty_point_kinematics_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[12])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double L = params->L;
-        const double p = coords[0];
-        const double q = coords[1];
-        const double theta = coords[3];
-        const double p_d = rates[0];
-        const double q_d = rates[1];
-        const double theta_d = rates[3];
-        const double tmp0 = (1.0/2.0)*L;
-        const double tmp1 = tmp0*cos(theta);
-        const double tmp2 = tmp0*sin(theta);
+        const codegen_real L = params->L;
+        const codegen_real p = coords[0];
+        const codegen_real q = coords[1];
+        const codegen_real theta = coords[3];
+        const codegen_real p_d = rates[0];
+        const codegen_real q_d = rates[1];
+        const codegen_real theta_d = rates[3];
+        const codegen_real tmp0 = (((codegen_real)1/2))*L;
+        const codegen_real tmp1 = tmp0*cos(theta);
+        const codegen_real tmp2 = tmp0*sin(theta);
         out[0] = p;
         out[1] = 0;
         out[2] = 0;
@@ -401,9 +402,9 @@ void doughty_point_kinematics_kernel(const doughty_params *params, const double 
 }
 
 /* point_kinematics: eq. (12)-(14). */
-doughty_status doughty_point_kinematics(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double positions[DOUGHTY_N_POINT_COORDS], double velocities[DOUGHTY_N_POINT_COORDS])
+doughty_status doughty_point_kinematics(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real positions[DOUGHTY_N_POINT_COORDS], codegen_real velocities[DOUGHTY_N_POINT_COORDS])
 {
-    double out[12];
+    codegen_real out[12];
     doughty_status status;
     if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -430,32 +431,32 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
 /* energies without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (16)-(22). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 39. */
-void doughty_energies_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4])
+void doughty_energies_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double L = params->L;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double l_ND = params->l_ND;
-        const double g = params->g;
-        const double q = coords[1];
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double p_d = rates[0];
-        const double q_d = rates[1];
-        const double theta_d = rates[3];
-        const double tmp0 = (L*L)*(theta_d*theta_d);
-        const double tmp1 = L*sin(theta);
-        const double tmp2 = (1.0/2.0)*m_C;
-        const double tmp3 = (1.0/2.0)*m_A*(p_d*p_d) + (1.0/2.0)*m_B*(q_d*q_d) + (1.0/24.0)*m_C*tmp0 + tmp2*((1.0/4.0)*tmp0*(cos(theta)*cos(theta)) + ((p_d + (1.0/2.0)*theta_d*tmp1)*(p_d + (1.0/2.0)*theta_d*tmp1)));
-        const double tmp4 = g*m_B*q;
-        const double tmp5 = g*tmp1*tmp2;
-        const double tmp6 = (1.0/2.0)*k*((-l_ND + r)*(-l_ND + r));
+        const codegen_real L = params->L;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real g = params->g;
+        const codegen_real q = coords[1];
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real p_d = rates[0];
+        const codegen_real q_d = rates[1];
+        const codegen_real theta_d = rates[3];
+        const codegen_real tmp0 = (L*L)*(theta_d*theta_d);
+        const codegen_real tmp1 = L*sin(theta);
+        const codegen_real tmp2 = (((codegen_real)1/2))*m_C;
+        const codegen_real tmp3 = (((codegen_real)1/2))*m_A*(p_d*p_d) + (((codegen_real)1/2))*m_B*(q_d*q_d) + (((codegen_real)1/24))*m_C*tmp0 + tmp2*((((codegen_real)1/4))*tmp0*(cos(theta)*cos(theta)) + ((p_d + (((codegen_real)1/2))*theta_d*tmp1)*(p_d + (((codegen_real)1/2))*theta_d*tmp1)));
+        const codegen_real tmp4 = g*m_B*q;
+        const codegen_real tmp5 = g*tmp1*tmp2;
+        const codegen_real tmp6 = (((codegen_real)1/2))*k*((-l_ND + r)*(-l_ND + r));
         out[0] = tmp3;
         out[1] = tmp4 + tmp5;
         out[2] = tmp6;
@@ -464,9 +465,9 @@ void doughty_energies_kernel(const doughty_params *params, const double coords[D
 }
 
 /* energies: eq. (16)-(22). */
-doughty_status doughty_energies(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+doughty_status doughty_energies(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian)
 {
-    double out[4];
+    codegen_real out[4];
     doughty_status status;
     if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -495,7 +496,7 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
 /* lagrange_terms without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (15), (23)-(29). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 105. */
-void doughty_lagrange_terms_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double out[30])
+void doughty_lagrange_terms_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], const codegen_real multipliers[DOUGHTY_N_CONSTRAINTS], codegen_real out[30])
 {
     (void)params;
     (void)coords;
@@ -503,57 +504,57 @@ void doughty_lagrange_terms_kernel(const doughty_params *params, const double co
     (void)accels;
     (void)multipliers;
     {
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double r = coords[2];
-        const double theta = coords[3];
-        const double phi = coords[4];
-        const double p_d = rates[0];
-        const double r_d = rates[2];
-        const double theta_d = rates[3];
-        const double p_dd = accels[0];
-        const double q_dd = accels[1];
-        const double theta_dd = accels[3];
-        const double lambda_1 = multipliers[0];
-        const double lambda_2 = multipliers[1];
-        const double lambda_3 = multipliers[2];
-        const double lambda_4 = multipliers[3];
-        const double tmp0 = sin(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = theta_dd*tmp1;
-        const double tmp3 = (theta_d*theta_d);
-        const double tmp4 = cos(theta);
-        const double tmp5 = L*tmp4;
-        const double tmp6 = tmp3*tmp5;
-        const double tmp7 = (1.0/2.0)*m_C;
-        const double tmp8 = m_A*p_dd + tmp7*(2*p_dd + tmp2 + tmp6);
-        const double tmp9 = m_B*q_dd;
-        const double tmp10 = (L*L);
-        const double tmp11 = theta_dd*tmp10;
-        const double tmp12 = tmp0*tmp10*tmp3*tmp4;
-        const double tmp13 = p_d + (1.0/2.0)*theta_d*tmp1;
-        const double tmp14 = (1.0/12.0)*m_C*tmp11 + tmp7*(theta_d*tmp13*tmp5 + tmp1*(p_dd + (1.0/2.0)*tmp2 + (1.0/2.0)*tmp6) + (1.0/2.0)*tmp11*(tmp4*tmp4) - tmp12);
-        const double tmp15 = g*m_B;
-        const double tmp16 = (1.0/2.0)*k*(-2*l_ND + 2*r);
-        const double tmp17 = g*tmp5*tmp7 - tmp7*(L*theta_d*tmp13*tmp4 - 1.0/2.0*tmp12);
-        const double tmp18 = cos(phi);
-        const double tmp19 = sin(phi);
-        const double tmp20 = lambda_1*tmp18 - lambda_2*tmp19 + lambda_3*tmp18 - lambda_4*tmp19;
-        const double tmp21 = a*lambda_1*tmp0;
-        const double tmp22 = a*lambda_2*tmp4;
-        const double tmp23 = L - a;
-        const double tmp24 = r*tmp19;
-        const double tmp25 = r*tmp18;
-        const double tmp26 = -lambda_1*tmp24 - lambda_2*tmp25 - lambda_3*tmp24 - lambda_4*tmp25;
-        const double tmp27 = b*r_d;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real r = coords[2];
+        const codegen_real theta = coords[3];
+        const codegen_real phi = coords[4];
+        const codegen_real p_d = rates[0];
+        const codegen_real r_d = rates[2];
+        const codegen_real theta_d = rates[3];
+        const codegen_real p_dd = accels[0];
+        const codegen_real q_dd = accels[1];
+        const codegen_real theta_dd = accels[3];
+        const codegen_real lambda_1 = multipliers[0];
+        const codegen_real lambda_2 = multipliers[1];
+        const codegen_real lambda_3 = multipliers[2];
+        const codegen_real lambda_4 = multipliers[3];
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = L*tmp0;
+        const codegen_real tmp2 = theta_dd*tmp1;
+        const codegen_real tmp3 = (theta_d*theta_d);
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = L*tmp4;
+        const codegen_real tmp6 = tmp3*tmp5;
+        const codegen_real tmp7 = (((codegen_real)1/2))*m_C;
+        const codegen_real tmp8 = m_A*p_dd + tmp7*(2*p_dd + tmp2 + tmp6);
+        const codegen_real tmp9 = m_B*q_dd;
+        const codegen_real tmp10 = (L*L);
+        const codegen_real tmp11 = theta_dd*tmp10;
+        const codegen_real tmp12 = tmp0*tmp10*tmp3*tmp4;
+        const codegen_real tmp13 = p_d + (((codegen_real)1/2))*theta_d*tmp1;
+        const codegen_real tmp14 = (((codegen_real)1/12))*m_C*tmp11 + tmp7*(theta_d*tmp13*tmp5 + tmp1*(p_dd + (((codegen_real)1/2))*tmp2 + (((codegen_real)1/2))*tmp6) + (((codegen_real)1/2))*tmp11*(tmp4*tmp4) - tmp12);
+        const codegen_real tmp15 = g*m_B;
+        const codegen_real tmp16 = (((codegen_real)1/2))*k*(-2*l_ND + 2*r);
+        const codegen_real tmp17 = g*tmp5*tmp7 - tmp7*(L*theta_d*tmp13*tmp4 - ((codegen_real)1/2)*tmp12);
+        const codegen_real tmp18 = cos(phi);
+        const codegen_real tmp19 = sin(phi);
+        const codegen_real tmp20 = lambda_1*tmp18 - lambda_2*tmp19 + lambda_3*tmp18 - lambda_4*tmp19;
+        const codegen_real tmp21 = a*lambda_1*tmp0;
+        const codegen_real tmp22 = a*lambda_2*tmp4;
+        const codegen_real tmp23 = L - a;
+        const codegen_real tmp24 = r*tmp19;
+        const codegen_real tmp25 = r*tmp18;
+        const codegen_real tmp26 = -lambda_1*tmp24 - lambda_2*tmp25 - lambda_3*tmp24 - lambda_4*tmp25;
+        const codegen_real tmp27 = b*r_d;
         out[0] = tmp8;
         out[1] = tmp9;
         out[2] = 0;
@@ -588,9 +589,9 @@ void doughty_lagrange_terms_kernel(const doughty_params *params, const double co
 }
 
 /* lagrange_terms: eq. (15), (23)-(29). */
-doughty_status doughty_lagrange_terms(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double dt_dL_dqdot[DOUGHTY_N_COORDS], double dL_dq[DOUGHTY_N_COORDS], double constraint_forces[DOUGHTY_N_COORDS], double dissipative_forces[DOUGHTY_N_COORDS], double applied_forces[DOUGHTY_N_COORDS], double residual[DOUGHTY_N_COORDS])
+doughty_status doughty_lagrange_terms(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], const codegen_real multipliers[DOUGHTY_N_CONSTRAINTS], codegen_real dt_dL_dqdot[DOUGHTY_N_COORDS], codegen_real dL_dq[DOUGHTY_N_COORDS], codegen_real constraint_forces[DOUGHTY_N_COORDS], codegen_real dissipative_forces[DOUGHTY_N_COORDS], codegen_real applied_forces[DOUGHTY_N_COORDS], codegen_real residual[DOUGHTY_N_COORDS])
 {
-    double out[30];
+    codegen_real out[30];
     doughty_status status;
     if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -627,27 +628,27 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
 /* dependent_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (30)-(35). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 35. */
-void doughty_dependent_state_kernel(const doughty_params *params, double theta, double theta_d, double out[10])
+void doughty_dependent_state_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[10])
 {
     (void)params;
     (void)theta;
     (void)theta_d;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double tmp0 = cos(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = L*tmp2;
-        const double tmp4 = a*tmp0;
-        const double tmp5 = -tmp4;
-        const double tmp6 = H + tmp5;
-        const double tmp7 = a*tmp2;
-        const double tmp8 = tmp3 - tmp7;
-        const double tmp9 = (tmp6*tmp6) + (tmp8*tmp8);
-        const double tmp10 = sqrt(tmp9);
-        const double tmp11 = 1/(tmp9);
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = L*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = L*tmp2;
+        const codegen_real tmp4 = a*tmp0;
+        const codegen_real tmp5 = -tmp4;
+        const codegen_real tmp6 = H + tmp5;
+        const codegen_real tmp7 = a*tmp2;
+        const codegen_real tmp8 = tmp3 - tmp7;
+        const codegen_real tmp9 = (tmp6*tmp6) + (tmp8*tmp8);
+        const codegen_real tmp10 = sqrt(tmp9);
+        const codegen_real tmp11 = 1/(tmp9);
         out[0] = tmp1;
         out[1] = tmp3;
         out[2] = tmp10;
@@ -655,16 +656,16 @@ void doughty_dependent_state_kernel(const doughty_params *params, double theta, 
         out[4] = atan2(tmp8, tmp6);
         out[5] = -theta_d*tmp3;
         out[6] = theta_d*tmp1;
-        out[7] = theta_d*(tmp6*tmp7 + (1.0/2.0)*tmp8*(2*tmp1 - 2*tmp4))/tmp10;
+        out[7] = theta_d*(tmp6*tmp7 + (((codegen_real)1/2))*tmp8*(2*tmp1 - 2*tmp4))/tmp10;
         out[8] = theta_d;
         out[9] = theta_d*(tmp11*tmp6*(tmp1 + tmp5) - tmp11*tmp7*tmp8);
     }
 }
 
 /* dependent_state: eq. (30)-(35). */
-doughty_status doughty_dependent_state(const doughty_params *params, double theta, double theta_d, double coords[DOUGHTY_N_COORDS], double rates[DOUGHTY_N_COORDS])
+doughty_status doughty_dependent_state(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[DOUGHTY_N_COORDS], codegen_real rates[DOUGHTY_N_COORDS])
 {
-    double out[10];
+    codegen_real out[10];
     doughty_status status;
     if (coords == NULL || rates == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -691,38 +692,38 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
 /* reduced_coefficients without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (36)-(41). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 40. */
-void doughty_reduced_coefficients_kernel(const doughty_params *params, double theta, double out[3])
+void doughty_reduced_coefficients_kernel(const doughty_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double b = params->b;
-        const double tmp0 = (L*L);
-        const double tmp1 = m_C*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = (1.0/4.0)*tmp1;
-        const double tmp7 = tmp0*tmp4;
-        const double tmp8 = tmp2*tmp7;
-        const double tmp9 = a*tmp4;
-        out[0] = m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (1.0/12.0)*tmp1 + tmp3*tmp6 + tmp5*tmp6;
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real b = params->b;
+        const codegen_real tmp0 = (L*L);
+        const codegen_real tmp1 = m_C*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp7 = tmp0*tmp4;
+        const codegen_real tmp8 = tmp2*tmp7;
+        const codegen_real tmp9 = a*tmp4;
+        out[0] = m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (((codegen_real)1/12))*tmp1 + tmp3*tmp6 + tmp5*tmp6;
         out[1] = m_A*tmp8 - m_B*tmp8;
         out[2] = b*tmp3*((H*a - 2*L*tmp9 + tmp7)*(H*a - 2*L*tmp9 + tmp7))/(((H - tmp9)*(H - tmp9)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2)));
     }
 }
 
 /* reduced_coefficients: eq. (36)-(41). */
-doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED])
+doughty_status doughty_reduced_coefficients(const doughty_params *params, codegen_real theta, codegen_real e[DOUGHTY_N_REDUCED])
 {
-    double out[3];
+    codegen_real out[3];
     doughty_status status;
     if (e == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -745,45 +746,45 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (36). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 63. */
-void doughty_angular_acceleration_kernel(const doughty_params *params, double theta, double theta_d, double out[1])
+void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
 {
     (void)params;
     (void)theta;
     (void)theta_d;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = (L*L);
-        const double tmp1 = m_C*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = (1.0/4.0)*tmp1;
-        const double tmp7 = L*g*tmp4;
-        const double tmp8 = tmp0*tmp4;
-        const double tmp9 = tmp2*tmp8;
-        const double tmp10 = a*tmp4;
-        const double tmp11 = H*a - 2*L*tmp10 + tmp8;
-        const double tmp12 = ((H - tmp10)*(H - tmp10)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
-        const double tmp13 = sqrt(tmp12);
-        out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - 1.0/2.0*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (1.0/12.0)*tmp1 + tmp3*tmp6 + tmp5*tmp6);
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (L*L);
+        const codegen_real tmp1 = m_C*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp7 = L*g*tmp4;
+        const codegen_real tmp8 = tmp0*tmp4;
+        const codegen_real tmp9 = tmp2*tmp8;
+        const codegen_real tmp10 = a*tmp4;
+        const codegen_real tmp11 = H*a - 2*L*tmp10 + tmp8;
+        const codegen_real tmp12 = ((H - tmp10)*(H - tmp10)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
+        const codegen_real tmp13 = sqrt(tmp12);
+        out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - ((codegen_real)1/2)*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (((codegen_real)1/12))*tmp1 + tmp3*tmp6 + tmp5*tmp6);
     }
 }
 
 /* angular_acceleration: eq. (36). */
-doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd)
+doughty_status doughty_angular_acceleration(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd)
 {
-    double out[1];
+    codegen_real out[1];
     doughty_status status;
     if (theta_dd == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -809,38 +810,38 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
 /* equilibrium_residual without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (42)-(43). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 49. */
-void doughty_equilibrium_residual_kernel(const doughty_params *params, double theta, double out[2])
+void doughty_equilibrium_residual_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = F*tmp1;
-        const double tmp3 = a*tmp0;
-        const double tmp4 = sin(theta);
-        const double tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
-        const double tmp6 = 1/(tmp5);
-        const double tmp7 = k*tmp4*(l_ND - tmp5)*(H*a + (L*L)*tmp0 - 2*L*tmp3);
-        const double tmp8 = g*tmp1;
-        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*tmp7;
-        out[1] = tmp6*fabs(tmp7) + fabs(tmp2) + fabs(m_B*tmp8) + (1.0/2.0)*fabs(m_C*tmp8);
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = L*tmp0;
+        const codegen_real tmp2 = F*tmp1;
+        const codegen_real tmp3 = a*tmp0;
+        const codegen_real tmp4 = sin(theta);
+        const codegen_real tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const codegen_real tmp6 = 1/(tmp5);
+        const codegen_real tmp7 = k*tmp4*(l_ND - tmp5)*(H*a + (L*L)*tmp0 - 2*L*tmp3);
+        const codegen_real tmp8 = g*tmp1;
+        out[0] = L*g*m_B*tmp0 + (((codegen_real)1/2))*L*g*m_C*tmp0 - tmp2 - tmp6*tmp7;
+        out[1] = tmp6*fabs(tmp7) + fabs(tmp2) + fabs(m_B*tmp8) + (((codegen_real)1/2))*fabs(m_C*tmp8);
     }
 }
 
 /* equilibrium_residual: eq. (42)-(43). */
-doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual, double *scale)
+doughty_status doughty_equilibrium_residual(const doughty_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale)
 {
-    double out[2];
+    codegen_real out[2];
     doughty_status status;
     if (residual == NULL || scale == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -864,28 +865,28 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
 /* radicands without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 30. */
-void doughty_radicands_kernel(const doughty_params *params, double theta, double out[2])
+void doughty_radicands_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double tmp0 = cos(theta);
-        const double tmp1 = a*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = (a*a);
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = a*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = (a*a);
         out[0] = ((H - tmp1)*(H - tmp1)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
         out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*fabs(L*a) + 2*fabs(H*tmp1);
     }
 }
 
 /* radicands: eq. -. */
-doughty_status doughty_radicands(const doughty_params *params, double theta, double values[DOUGHTY_N_ROOTS], double scales[DOUGHTY_N_ROOTS])
+doughty_status doughty_radicands(const doughty_params *params, codegen_real theta, codegen_real values[DOUGHTY_N_ROOTS], codegen_real scales[DOUGHTY_N_ROOTS])
 {
-    double out[2];
+    codegen_real out[2];
     doughty_status status;
     if (values == NULL || scales == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -909,37 +910,37 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
 /* equilibrium_branches without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (43), squared into (45). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 45. */
-void doughty_equilibrium_branches_kernel(const doughty_params *params, double theta, double out[2])
+void doughty_equilibrium_branches_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = F*tmp1;
-        const double tmp3 = a*tmp0;
-        const double tmp4 = sin(theta);
-        const double tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
-        const double tmp6 = k*tmp4*(H*a + (L*L)*tmp0 - 2*L*tmp3)/tmp5;
-        const double tmp7 = g*tmp1;
-        out[0] = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp2 - tmp6*(l_ND - tmp5);
-        out[1] = m_B*tmp7 + (1.0/2.0)*m_C*tmp7 - tmp2 + tmp6*(l_ND + tmp5);
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = L*tmp0;
+        const codegen_real tmp2 = F*tmp1;
+        const codegen_real tmp3 = a*tmp0;
+        const codegen_real tmp4 = sin(theta);
+        const codegen_real tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const codegen_real tmp6 = k*tmp4*(H*a + (L*L)*tmp0 - 2*L*tmp3)/tmp5;
+        const codegen_real tmp7 = g*tmp1;
+        out[0] = L*g*m_B*tmp0 + (((codegen_real)1/2))*L*g*m_C*tmp0 - tmp2 - tmp6*(l_ND - tmp5);
+        out[1] = m_B*tmp7 + (((codegen_real)1/2))*m_C*tmp7 - tmp2 + tmp6*(l_ND + tmp5);
     }
 }
 
 /* equilibrium_branches: eq. (43), squared into (45). */
-doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES])
+doughty_status doughty_equilibrium_branches(const doughty_params *params, codegen_real theta, codegen_real residuals[DOUGHTY_N_BRANCHES])
 {
-    double out[2];
+    codegen_real out[2];
     doughty_status status;
     if (residuals == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -1195,14 +1196,14 @@ static const codegen_dd_instruction sigma_program[231] = {
     {CODEGEN_DD_MUL, 30, 12, 30}, /* w_21 */
 };
 
-static const double sigma_constants[3] = {
+static const codegen_real sigma_constants[3] = {
     2.0, 0.5, 4.0
 };
 
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 180. */
-void doughty_sigma_kernel(const doughty_params *params, double out[13])
+void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13])
 {
     (void)params;
     {
@@ -1234,9 +1235,9 @@ void doughty_sigma_kernel(const doughty_params *params, double out[13])
 }
 
 /* sigma: eq. (44)-(45). */
-doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA])
+doughty_status doughty_sigma(const doughty_params *params, codegen_real sigma[DOUGHTY_N_SIGMA])
 {
-    double out[13];
+    codegen_real out[13];
     doughty_status status;
     if (sigma == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -1256,56 +1257,56 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
 /* linearisation without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (46)-(53). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 101. */
-void doughty_linearisation_kernel(const doughty_params *params, double theta, double out[3])
+void doughty_linearisation_kernel(const doughty_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = (L*L);
-        const double tmp1 = m_C*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = tmp0*tmp3;
-        const double tmp5 = cos(theta);
-        const double tmp6 = (tmp5*tmp5);
-        const double tmp7 = tmp0*tmp6;
-        const double tmp8 = (1.0/4.0)*tmp1;
-        const double tmp9 = a*tmp5;
-        const double tmp10 = 2*L;
-        const double tmp11 = L*tmp2;
-        const double tmp12 = ((H - tmp9)*(H - tmp9)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
-        const double tmp13 = g*tmp11;
-        const double tmp14 = (tmp12*sqrt(tmp12));
-        const double tmp15 = (a*a);
-        const double tmp16 = l_ND*tmp3;
-        const double tmp17 = tmp15*tmp16;
-        const double tmp18 = tmp16*tmp6;
-        const double tmp19 = H*tmp9;
-        const double tmp20 = l_ND*tmp4;
-        const double tmp21 = l_ND*tmp12;
-        const double tmp22 = a*tmp10;
-        const double tmp23 = tmp14*tmp22;
-        out[0] = m_A*tmp4 + m_B*tmp7 + (1.0/12.0)*tmp1 + tmp3*tmp8 + tmp6*tmp8;
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (L*L);
+        const codegen_real tmp1 = m_C*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = tmp0*tmp3;
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = (tmp5*tmp5);
+        const codegen_real tmp7 = tmp0*tmp6;
+        const codegen_real tmp8 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp9 = a*tmp5;
+        const codegen_real tmp10 = 2*L;
+        const codegen_real tmp11 = L*tmp2;
+        const codegen_real tmp12 = ((H - tmp9)*(H - tmp9)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
+        const codegen_real tmp13 = g*tmp11;
+        const codegen_real tmp14 = (tmp12*sqrt(tmp12));
+        const codegen_real tmp15 = (a*a);
+        const codegen_real tmp16 = l_ND*tmp3;
+        const codegen_real tmp17 = tmp15*tmp16;
+        const codegen_real tmp18 = tmp16*tmp6;
+        const codegen_real tmp19 = H*tmp9;
+        const codegen_real tmp20 = l_ND*tmp4;
+        const codegen_real tmp21 = l_ND*tmp12;
+        const codegen_real tmp22 = a*tmp10;
+        const codegen_real tmp23 = tmp14*tmp22;
+        out[0] = m_A*tmp4 + m_B*tmp7 + (((codegen_real)1/12))*tmp1 + tmp3*tmp8 + tmp6*tmp8;
         out[1] = b*tmp3*((H*a + tmp0*tmp5 - tmp10*tmp9)*(H*a + tmp0*tmp5 - tmp10*tmp9))/tmp12;
-        out[2] = F*tmp11 + k*((H*H)*tmp17 - 4*H*L*tmp17*tmp5 + (L*L*L*L)*tmp18 - 4*(L*L*L)*a*tmp18 - tmp12*tmp16*tmp22 + tmp14*tmp19 - tmp14*tmp4 + tmp14*tmp7 + 4*tmp15*tmp20*tmp6 + 2*tmp19*tmp20 - tmp19*tmp21 + tmp21*tmp22*tmp6 + tmp21*tmp4 - tmp21*tmp7 + tmp23*tmp3 - tmp23*tmp6)/tmp14 - m_B*tmp13 - 1.0/2.0*m_C*tmp13;
+        out[2] = F*tmp11 + k*((H*H)*tmp17 - 4*H*L*tmp17*tmp5 + (L*L*L*L)*tmp18 - 4*(L*L*L)*a*tmp18 - tmp12*tmp16*tmp22 + tmp14*tmp19 - tmp14*tmp4 + tmp14*tmp7 + 4*tmp15*tmp20*tmp6 + 2*tmp19*tmp20 - tmp19*tmp21 + tmp21*tmp22*tmp6 + tmp21*tmp4 - tmp21*tmp7 + tmp23*tmp3 - tmp23*tmp6)/tmp14 - m_B*tmp13 - ((codegen_real)1/2)*m_C*tmp13;
     }
 }
 
 /* linearisation: eq. (46)-(53). */
-doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K)
+doughty_status doughty_linearisation(const doughty_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K)
 {
-    double out[3];
+    codegen_real out[3];
     doughty_status status;
     if (M == NULL || B == NULL || K == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -1330,58 +1331,58 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
 /* vibration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (54)-(55). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 113. */
-void doughty_vibration_kernel(const doughty_params *params, double theta, double out[2])
+void doughty_vibration_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = (L*L);
-        const double tmp1 = m_C*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = tmp0*tmp3;
-        const double tmp5 = m_A*tmp4;
-        const double tmp6 = cos(theta);
-        const double tmp7 = (tmp6*tmp6);
-        const double tmp8 = tmp0*tmp7;
-        const double tmp9 = m_B*tmp8;
-        const double tmp10 = (1.0/4.0)*tmp1;
-        const double tmp11 = L*tmp2;
-        const double tmp12 = g*tmp11;
-        const double tmp13 = a*tmp6;
-        const double tmp14 = ((H - tmp13)*(H - tmp13)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
-        const double tmp15 = (tmp14*sqrt(tmp14));
-        const double tmp16 = (a*a);
-        const double tmp17 = l_ND*tmp3;
-        const double tmp18 = tmp16*tmp17;
-        const double tmp19 = tmp17*tmp7;
-        const double tmp20 = H*tmp13;
-        const double tmp21 = l_ND*tmp4;
-        const double tmp22 = l_ND*tmp14;
-        const double tmp23 = 2*L;
-        const double tmp24 = a*tmp23;
-        const double tmp25 = tmp15*tmp24;
-        const double tmp26 = (1.0/2.0)*tmp1;
-        out[0] = (F*tmp11 + k*((H*H)*tmp18 - 4*H*L*tmp18*tmp6 + (L*L*L*L)*tmp19 - 4*(L*L*L)*a*tmp19 - tmp14*tmp17*tmp24 + tmp15*tmp20 - tmp15*tmp4 + tmp15*tmp8 + 4*tmp16*tmp21*tmp7 + 2*tmp20*tmp21 - tmp20*tmp22 + tmp22*tmp24*tmp7 + tmp22*tmp4 - tmp22*tmp8 + tmp25*tmp3 - tmp25*tmp7)/tmp15 - m_B*tmp12 - 1.0/2.0*m_C*tmp12)/((1.0/12.0)*tmp1 + tmp10*tmp3 + tmp10*tmp7 + tmp5 + tmp9);
-        out[1] = b*tmp3*((H*a + tmp0*tmp6 - tmp13*tmp23)*(H*a + tmp0*tmp6 - tmp13*tmp23))/(tmp14*((1.0/6.0)*tmp1 + tmp26*tmp3 + tmp26*tmp7 + 2*tmp5 + 2*tmp9));
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (L*L);
+        const codegen_real tmp1 = m_C*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = tmp0*tmp3;
+        const codegen_real tmp5 = m_A*tmp4;
+        const codegen_real tmp6 = cos(theta);
+        const codegen_real tmp7 = (tmp6*tmp6);
+        const codegen_real tmp8 = tmp0*tmp7;
+        const codegen_real tmp9 = m_B*tmp8;
+        const codegen_real tmp10 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp11 = L*tmp2;
+        const codegen_real tmp12 = g*tmp11;
+        const codegen_real tmp13 = a*tmp6;
+        const codegen_real tmp14 = ((H - tmp13)*(H - tmp13)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
+        const codegen_real tmp15 = (tmp14*sqrt(tmp14));
+        const codegen_real tmp16 = (a*a);
+        const codegen_real tmp17 = l_ND*tmp3;
+        const codegen_real tmp18 = tmp16*tmp17;
+        const codegen_real tmp19 = tmp17*tmp7;
+        const codegen_real tmp20 = H*tmp13;
+        const codegen_real tmp21 = l_ND*tmp4;
+        const codegen_real tmp22 = l_ND*tmp14;
+        const codegen_real tmp23 = 2*L;
+        const codegen_real tmp24 = a*tmp23;
+        const codegen_real tmp25 = tmp15*tmp24;
+        const codegen_real tmp26 = (((codegen_real)1/2))*tmp1;
+        out[0] = (F*tmp11 + k*((H*H)*tmp18 - 4*H*L*tmp18*tmp6 + (L*L*L*L)*tmp19 - 4*(L*L*L)*a*tmp19 - tmp14*tmp17*tmp24 + tmp15*tmp20 - tmp15*tmp4 + tmp15*tmp8 + 4*tmp16*tmp21*tmp7 + 2*tmp20*tmp21 - tmp20*tmp22 + tmp22*tmp24*tmp7 + tmp22*tmp4 - tmp22*tmp8 + tmp25*tmp3 - tmp25*tmp7)/tmp15 - m_B*tmp12 - ((codegen_real)1/2)*m_C*tmp12)/((((codegen_real)1/12))*tmp1 + tmp10*tmp3 + tmp10*tmp7 + tmp5 + tmp9);
+        out[1] = b*tmp3*((H*a + tmp0*tmp6 - tmp13*tmp23)*(H*a + tmp0*tmp6 - tmp13*tmp23))/(tmp14*((((codegen_real)1/6))*tmp1 + tmp26*tmp3 + tmp26*tmp7 + 2*tmp5 + 2*tmp9));
     }
 }
 
 /* vibration: eq. (54)-(55). */
-doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+doughty_status doughty_vibration(const doughty_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n)
 {
-    double out[2];
+    codegen_real out[2];
     doughty_status status;
     if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -1405,76 +1406,76 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
 /* equilibrium_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (42)-(43), (46)-(53), (43), squared into (45). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 151. */
-void doughty_equilibrium_state_kernel(const doughty_params *params, double theta, double out[9])
+void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real theta, codegen_real out[9])
 {
     (void)params;
     (void)theta;
     {
-        const double H = params->H;
-        const double L = params->L;
-        const double a = params->a;
-        const double m_A = params->m_A;
-        const double m_B = params->m_B;
-        const double m_C = params->m_C;
-        const double k = params->k;
-        const double b = params->b;
-        const double l_ND = params->l_ND;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = L*tmp0;
-        const double tmp2 = F*tmp1;
-        const double tmp3 = a*tmp0;
-        const double tmp4 = sin(theta);
-        const double tmp5 = L*tmp4;
-        const double tmp6 = ((H - tmp3)*(H - tmp3)) + ((-a*tmp4 + tmp5)*(-a*tmp4 + tmp5));
-        const double tmp7 = sqrt(tmp6);
-        const double tmp8 = 1/(tmp7);
-        const double tmp9 = (L*L);
-        const double tmp10 = H*a - 2*L*tmp3 + tmp0*tmp9;
-        const double tmp11 = k*tmp10*tmp4;
-        const double tmp12 = tmp11*(l_ND - tmp7);
-        const double tmp13 = L*g*m_B*tmp0 + (1.0/2.0)*L*g*m_C*tmp0 - tmp12*tmp8 - tmp2;
-        const double tmp14 = g*tmp1;
-        const double tmp15 = m_B*tmp14;
-        const double tmp16 = m_C*tmp14;
-        const double tmp17 = m_C*tmp9;
-        const double tmp18 = (tmp4*tmp4);
-        const double tmp19 = tmp18*tmp9;
-        const double tmp20 = (tmp0*tmp0);
-        const double tmp21 = tmp20*tmp9;
-        const double tmp22 = g*tmp5;
-        const double tmp23 = (tmp6*sqrt(tmp6));
-        const double tmp24 = (H*H);
-        const double tmp25 = (a*a);
-        const double tmp26 = tmp18*tmp25;
-        const double tmp27 = l_ND*tmp26;
-        const double tmp28 = l_ND*tmp18*tmp20;
-        const double tmp29 = H*tmp3;
-        const double tmp30 = l_ND*tmp19;
-        const double tmp31 = tmp20*tmp25;
-        const double tmp32 = l_ND*tmp6;
-        const double tmp33 = 2*tmp18;
-        const double tmp34 = L*a;
-        const double tmp35 = tmp32*tmp34;
-        const double tmp36 = 2*tmp20;
-        const double tmp37 = tmp23*tmp34;
+        const codegen_real H = params->H;
+        const codegen_real L = params->L;
+        const codegen_real a = params->a;
+        const codegen_real m_A = params->m_A;
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real k = params->k;
+        const codegen_real b = params->b;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = L*tmp0;
+        const codegen_real tmp2 = F*tmp1;
+        const codegen_real tmp3 = a*tmp0;
+        const codegen_real tmp4 = sin(theta);
+        const codegen_real tmp5 = L*tmp4;
+        const codegen_real tmp6 = ((H - tmp3)*(H - tmp3)) + ((-a*tmp4 + tmp5)*(-a*tmp4 + tmp5));
+        const codegen_real tmp7 = sqrt(tmp6);
+        const codegen_real tmp8 = 1/(tmp7);
+        const codegen_real tmp9 = (L*L);
+        const codegen_real tmp10 = H*a - 2*L*tmp3 + tmp0*tmp9;
+        const codegen_real tmp11 = k*tmp10*tmp4;
+        const codegen_real tmp12 = tmp11*(l_ND - tmp7);
+        const codegen_real tmp13 = L*g*m_B*tmp0 + (((codegen_real)1/2))*L*g*m_C*tmp0 - tmp12*tmp8 - tmp2;
+        const codegen_real tmp14 = g*tmp1;
+        const codegen_real tmp15 = m_B*tmp14;
+        const codegen_real tmp16 = m_C*tmp14;
+        const codegen_real tmp17 = m_C*tmp9;
+        const codegen_real tmp18 = (tmp4*tmp4);
+        const codegen_real tmp19 = tmp18*tmp9;
+        const codegen_real tmp20 = (tmp0*tmp0);
+        const codegen_real tmp21 = tmp20*tmp9;
+        const codegen_real tmp22 = g*tmp5;
+        const codegen_real tmp23 = (tmp6*sqrt(tmp6));
+        const codegen_real tmp24 = (H*H);
+        const codegen_real tmp25 = (a*a);
+        const codegen_real tmp26 = tmp18*tmp25;
+        const codegen_real tmp27 = l_ND*tmp26;
+        const codegen_real tmp28 = l_ND*tmp18*tmp20;
+        const codegen_real tmp29 = H*tmp3;
+        const codegen_real tmp30 = l_ND*tmp19;
+        const codegen_real tmp31 = tmp20*tmp25;
+        const codegen_real tmp32 = l_ND*tmp6;
+        const codegen_real tmp33 = 2*tmp18;
+        const codegen_real tmp34 = L*a;
+        const codegen_real tmp35 = tmp32*tmp34;
+        const codegen_real tmp36 = 2*tmp20;
+        const codegen_real tmp37 = tmp23*tmp34;
         out[0] = tmp13;
-        out[1] = tmp8*fabs(tmp12) + fabs(tmp15) + (1.0/2.0)*fabs(tmp16) + fabs(tmp2);
-        out[2] = m_A*tmp19 + m_B*tmp21 + (1.0/4.0)*m_C*tmp19 + (1.0/4.0)*tmp17*tmp20 + (1.0/12.0)*tmp17;
+        out[1] = tmp8*fabs(tmp12) + fabs(tmp15) + (((codegen_real)1/2))*fabs(tmp16) + fabs(tmp2);
+        out[2] = m_A*tmp19 + m_B*tmp21 + (((codegen_real)1/4))*m_C*tmp19 + (((codegen_real)1/4))*tmp17*tmp20 + (((codegen_real)1/12))*tmp17;
         out[3] = b*(tmp10*tmp10)*tmp18/tmp6;
-        out[4] = F*tmp5 + k*(-4*H*tmp1*tmp27 + (L*L*L*L)*tmp28 - 4*(L*L*L)*a*tmp28 - tmp19*tmp23 + tmp19*tmp32 + tmp21*tmp23 - tmp21*tmp32 + tmp23*tmp29 + tmp24*tmp27 + 2*tmp29*tmp30 - tmp29*tmp32 + 4*tmp30*tmp31 - tmp33*tmp35 + tmp33*tmp37 + tmp35*tmp36 - tmp36*tmp37)/tmp23 - m_B*tmp22 - 1.0/2.0*m_C*tmp22;
+        out[4] = F*tmp5 + k*(-4*H*tmp1*tmp27 + (L*L*L*L)*tmp28 - 4*(L*L*L)*a*tmp28 - tmp19*tmp23 + tmp19*tmp32 + tmp21*tmp23 - tmp21*tmp32 + tmp23*tmp29 + tmp24*tmp27 + 2*tmp29*tmp30 - tmp29*tmp32 + 4*tmp30*tmp31 - tmp33*tmp35 + tmp33*tmp37 + tmp35*tmp36 - tmp36*tmp37)/tmp23 - m_B*tmp22 - ((codegen_real)1/2)*m_C*tmp22;
         out[5] = tmp13;
-        out[6] = tmp11*tmp8*(l_ND + tmp7) + tmp15 + (1.0/2.0)*tmp16 - tmp2;
+        out[6] = tmp11*tmp8*(l_ND + tmp7) + tmp15 + (((codegen_real)1/2))*tmp16 - tmp2;
         out[7] = tmp6;
         out[8] = tmp19 + tmp24 + tmp26 + tmp31 + tmp33*fabs(tmp34) + 2*fabs(tmp29);
     }
 }
 
 /* equilibrium_state: eq. (42)-(43), (46)-(53), (43), squared into (45). */
-doughty_status doughty_equilibrium_state(const doughty_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[DOUGHTY_N_BRANCHES], double radicands[DOUGHTY_N_ROOTS], double radicand_scales[DOUGHTY_N_ROOTS])
+doughty_status doughty_equilibrium_state(const doughty_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real branch_residuals[DOUGHTY_N_BRANCHES], codegen_real radicands[DOUGHTY_N_ROOTS], codegen_real radicand_scales[DOUGHTY_N_ROOTS])
 {
-    double out[9];
+    codegen_real out[9];
     doughty_status status;
     if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
@@ -1501,8 +1502,8 @@ doughty_status doughty_equilibrium_state(const doughty_params *params, double th
     return DOUGHTY_OK;
 }
 
-doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
-                                       double theta[DOUGHTY_MAX_ROOTS], int *n_roots)
+doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA],
+                                       codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots)
 {
     /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
      * out of range) cannot occur: the header checks the degree at compile time. */
@@ -1528,7 +1529,7 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     const codegen_iv tmp2 = codegen_iv_sin(theta);
     const codegen_iv tmp3 = codegen_iv_pow(L, 2);
     const codegen_iv tmp4 = codegen_iv_mul(a, tmp0);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2.0), L);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), L);
     const codegen_iv tmp6 = codegen_iv_mul(L, tmp2);
     const codegen_iv tmp7 = codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp4), 2), codegen_iv_pow(codegen_iv_sub(tmp6, codegen_iv_mul(a, tmp2)), 2));
     const codegen_iv tmp8 = codegen_iv_sqrt(tmp7, iv_flags);
@@ -1538,7 +1539,7 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     const codegen_iv tmp12 = codegen_iv_mul(codegen_iv_pow(a, 2), tmp11);
     const codegen_iv tmp13 = codegen_iv_pow(tmp0, 2);
     const codegen_iv tmp14 = codegen_iv_mul(tmp11, tmp13);
-    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(4.0), tmp12);
+    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(4), tmp12);
     const codegen_iv tmp16 = codegen_iv_mul(H, tmp4);
     const codegen_iv tmp17 = codegen_iv_mul(tmp3, tmp7);
     const codegen_iv tmp18 = codegen_iv_mul(a, tmp5);
@@ -1546,8 +1547,8 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     const codegen_iv tmp20 = codegen_iv_mul(l_ND, tmp13);
     const codegen_iv tmp21 = codegen_iv_mul(tmp3, tmp9);
     const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp9);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(F, tmp1)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp2), codegen_iv_sub(l_ND, tmp8)), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(H, a), codegen_iv_mul(tmp0, tmp3)), codegen_iv_mul(tmp4, tmp5))), tmp8, iv_flags));
-    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(F, tmp1)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp2), codegen_iv_sub(l_ND, tmp8)), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(H, a), codegen_iv_mul(tmp0, tmp3)), codegen_iv_mul(tmp4, tmp5))), tmp8, iv_flags));
+    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
 }
 
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
@@ -1564,8 +1565,8 @@ doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned m
     }
 }
 
-doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags)
+doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags)
 {
     codegen_iv iv_g, iv_dg;
     unsigned iv_flags = 0u;
@@ -1596,7 +1597,7 @@ doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, co
     return DOUGHTY_OK;
 }
 
-doughty_status doughty_position_constraints_batch(size_t count, const doughty_params *params, const double *coords, double *f, doughty_status *statuses)
+doughty_status doughty_position_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, codegen_real *f, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1612,7 +1613,7 @@ doughty_status doughty_position_constraints_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_constraint_jacobian_batch(size_t count, const doughty_params *params, const double *coords, double *A, doughty_status *statuses)
+doughty_status doughty_constraint_jacobian_batch(size_t count, const doughty_params *params, const codegen_real *coords, codegen_real *A, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1628,7 +1629,7 @@ doughty_status doughty_constraint_jacobian_batch(size_t count, const doughty_par
     return first;
 }
 
-doughty_status doughty_velocity_constraints_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *f_d, doughty_status *statuses)
+doughty_status doughty_velocity_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *f_d, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1644,7 +1645,7 @@ doughty_status doughty_velocity_constraints_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_acceleration_constraints_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, const double *accels, double *f_dd, doughty_status *statuses)
+doughty_status doughty_acceleration_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *f_dd, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1660,7 +1661,7 @@ doughty_status doughty_acceleration_constraints_batch(size_t count, const dought
     return first;
 }
 
-doughty_status doughty_point_kinematics_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *positions, double *velocities, doughty_status *statuses)
+doughty_status doughty_point_kinematics_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1676,7 +1677,7 @@ doughty_status doughty_point_kinematics_batch(size_t count, const doughty_params
     return first;
 }
 
-doughty_status doughty_energies_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, doughty_status *statuses)
+doughty_status doughty_energies_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1692,7 +1693,7 @@ doughty_status doughty_energies_batch(size_t count, const doughty_params *params
     return first;
 }
 
-doughty_status doughty_lagrange_terms_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, const double *accels, const double *multipliers, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, doughty_status *statuses)
+doughty_status doughty_lagrange_terms_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, const codegen_real *multipliers, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1708,7 +1709,7 @@ doughty_status doughty_lagrange_terms_batch(size_t count, const doughty_params *
     return first;
 }
 
-doughty_status doughty_dependent_state_batch(size_t count, const doughty_params *params, const double *theta, const double *theta_d, double *coords, double *rates, doughty_status *statuses)
+doughty_status doughty_dependent_state_batch(size_t count, const doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1724,7 +1725,7 @@ doughty_status doughty_dependent_state_batch(size_t count, const doughty_params 
     return first;
 }
 
-doughty_status doughty_reduced_coefficients_batch(size_t count, const doughty_params *params, const double *theta, double *e, doughty_status *statuses)
+doughty_status doughty_reduced_coefficients_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *e, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1740,7 +1741,7 @@ doughty_status doughty_reduced_coefficients_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_angular_acceleration_batch(size_t count, const doughty_params *params, const double *theta, const double *theta_d, double *theta_dd, doughty_status *statuses)
+doughty_status doughty_angular_acceleration_batch(size_t count, const doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1756,7 +1757,7 @@ doughty_status doughty_angular_acceleration_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, doughty_status *statuses)
+doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1772,7 +1773,7 @@ doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_radicands_batch(size_t count, const doughty_params *params, const double *theta, double *values, double *scales, doughty_status *statuses)
+doughty_status doughty_radicands_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1788,7 +1789,7 @@ doughty_status doughty_radicands_batch(size_t count, const doughty_params *param
     return first;
 }
 
-doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_params *params, const double *theta, double *residuals, doughty_status *statuses)
+doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residuals, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1804,7 +1805,7 @@ doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_pa
     return first;
 }
 
-doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, double *sigma, doughty_status *statuses)
+doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, codegen_real *sigma, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1820,7 +1821,7 @@ doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, d
     return first;
 }
 
-doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const double *theta, double *M, double *B, double *K, doughty_status *statuses)
+doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1836,7 +1837,7 @@ doughty_status doughty_linearisation_batch(size_t count, const doughty_params *p
     return first;
 }
 
-doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, doughty_status *statuses)
+doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;
@@ -1852,7 +1853,7 @@ doughty_status doughty_vibration_batch(size_t count, const doughty_params *param
     return first;
 }
 
-doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, doughty_status *statuses)
+doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, doughty_status *statuses)
 {
     size_t i;
     doughty_status first = DOUGHTY_OK;

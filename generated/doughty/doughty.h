@@ -60,17 +60,17 @@ typedef enum doughty_status {
 
 /* The mechanism's parameters, SI units. */
 typedef struct doughty_params {
-    double H; /* [m] abscissa of the spring's fixed point O' */
-    double L; /* [m] length of the bar */
-    double a; /* [m] distance from B to the spring's attachment P */
-    double m_A; /* [kg] mass of slider 1 */
-    double m_B; /* [kg] mass of slider 2 */
-    double m_C; /* [kg] mass of the bar */
-    double k; /* [N/m] spring stiffness */
-    double b; /* [N s/m] damping coefficient */
-    double l_ND; /* [m] free length of the spring */
-    double F; /* [N] force on slider 2 along +Y */
-    double g; /* [m/s^2] gravitational acceleration (along -Y) */
+    codegen_real H; /* [m] abscissa of the spring's fixed point O' */
+    codegen_real L; /* [m] length of the bar */
+    codegen_real a; /* [m] distance from B to the spring's attachment P */
+    codegen_real m_A; /* [kg] mass of slider 1 */
+    codegen_real m_B; /* [kg] mass of slider 2 */
+    codegen_real m_C; /* [kg] mass of the bar */
+    codegen_real k; /* [N/m] spring stiffness */
+    codegen_real b; /* [N s/m] damping coefficient */
+    codegen_real l_ND; /* [m] free length of the spring */
+    codegen_real F; /* [N] force on slider 2 along +Y */
+    codegen_real g; /* [m/s^2] gravitational acceleration (along -Y) */
 } doughty_params;
 
 /* A constant string describing a status code (never NULL). */
@@ -85,7 +85,7 @@ doughty_status doughty_check_params(const doughty_params *params);
  * out f: constraint values [m]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_position_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double f[DOUGHTY_N_CONSTRAINTS]);
+doughty_status doughty_position_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real f[DOUGHTY_N_CONSTRAINTS]);
 
 /* Velocity-constraint matrix A = df/dq, so that A qdot = 0.
  * Paper: eq. (25).
@@ -93,7 +93,7 @@ doughty_status doughty_position_constraints(const doughty_params *params, const 
  * out A: row-major 4x5; column j has the unit m per unit of q_j
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_constraint_jacobian(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double A[DOUGHTY_N_JACOBIAN]);
+doughty_status doughty_constraint_jacobian(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real A[DOUGHTY_N_JACOBIAN]);
 
 /* Velocity constraints A(q) qdot = 0.
  * Paper: eq. (8)-(11).
@@ -102,7 +102,7 @@ doughty_status doughty_constraint_jacobian(const doughty_params *params, const d
  * out f_d: values [m/s]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_velocity_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double f_d[DOUGHTY_N_CONSTRAINTS]);
+doughty_status doughty_velocity_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real f_d[DOUGHTY_N_CONSTRAINTS]);
 
 /* Acceleration constraints A qddot + Adot qdot = 0.
  * Paper: eq. Table 1 step 5 (d/dt of (8)-(11)).
@@ -112,7 +112,7 @@ doughty_status doughty_velocity_constraints(const doughty_params *params, const 
  * out f_dd: values [m/s^2]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_acceleration_constraints(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double f_dd[DOUGHTY_N_CONSTRAINTS]);
+doughty_status doughty_acceleration_constraints(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], codegen_real f_dd[DOUGHTY_N_CONSTRAINTS]);
 
 /* Positions and velocities of the points A, B, C (x, y for each).
  * Paper: eq. (12)-(14).
@@ -122,7 +122,7 @@ doughty_status doughty_acceleration_constraints(const doughty_params *params, co
  * out velocities: vx, vy of each point [m/s]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_point_kinematics(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double positions[DOUGHTY_N_POINT_COORDS], double velocities[DOUGHTY_N_POINT_COORDS]);
+doughty_status doughty_point_kinematics(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real positions[DOUGHTY_N_POINT_COORDS], codegen_real velocities[DOUGHTY_N_POINT_COORDS]);
 
 /* Kinetic and potential energies and the Lagrangian L = T - V_G - V_E.
  * Paper: eq. (16)-(22).
@@ -134,7 +134,7 @@ doughty_status doughty_point_kinematics(const doughty_params *params, const doub
  * out lagrangian: Lagrangian [J]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_energies(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian);
+doughty_status doughty_energies(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian);
 
 /* Terms of Lagrange's equations with multipliers, one entry per coordinate; residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.
  * Paper: eq. (15), (23)-(29).
@@ -150,7 +150,7 @@ doughty_status doughty_energies(const doughty_params *params, const double coord
  * out residual: left minus right side of (15)
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_lagrange_terms(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double dt_dL_dqdot[DOUGHTY_N_COORDS], double dL_dq[DOUGHTY_N_COORDS], double constraint_forces[DOUGHTY_N_COORDS], double dissipative_forces[DOUGHTY_N_COORDS], double applied_forces[DOUGHTY_N_COORDS], double residual[DOUGHTY_N_COORDS]);
+doughty_status doughty_lagrange_terms(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], const codegen_real multipliers[DOUGHTY_N_CONSTRAINTS], codegen_real dt_dL_dqdot[DOUGHTY_N_COORDS], codegen_real dL_dq[DOUGHTY_N_COORDS], codegen_real constraint_forces[DOUGHTY_N_COORDS], codegen_real dissipative_forces[DOUGHTY_N_COORDS], codegen_real applied_forces[DOUGHTY_N_COORDS], codegen_real residual[DOUGHTY_N_COORDS]);
 
 /* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
  * Paper: eq. (30)-(35).
@@ -160,7 +160,7 @@ doughty_status doughty_lagrange_terms(const doughty_params *params, const double
  * out rates: their rates [unit/s]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_dependent_state(const doughty_params *params, double theta, double theta_d, double coords[DOUGHTY_N_COORDS], double rates[DOUGHTY_N_COORDS]);
+doughty_status doughty_dependent_state(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[DOUGHTY_N_COORDS], codegen_real rates[DOUGHTY_N_COORDS]);
 
 /* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
  * Paper: eq. (36)-(41).
@@ -168,7 +168,7 @@ doughty_status doughty_dependent_state(const doughty_params *params, double thet
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_reduced_coefficients(const doughty_params *params, double theta, double e[DOUGHTY_N_REDUCED]);
+doughty_status doughty_reduced_coefficients(const doughty_params *params, codegen_real theta, codegen_real e[DOUGHTY_N_REDUCED]);
 
 /* thetaddot from the reduced equation of motion.
  * Paper: eq. (36).
@@ -177,7 +177,7 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, double
  * out theta_dd: [rad/s^2]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_angular_acceleration(const doughty_params *params, double theta, double theta_d, double *theta_dd);
+doughty_status doughty_angular_acceleration(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
 /* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
  * Paper: eq. (42)-(43).
@@ -186,7 +186,7 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, double
  * out scale: [N m]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_equilibrium_residual(const doughty_params *params, double theta, double *residual, double *scale);
+doughty_status doughty_equilibrium_residual(const doughty_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
 /* The radicands under the square roots of the position analysis (length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
  * in  theta: independent coordinate theta [rad]
@@ -194,7 +194,7 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, double
  * out scales: [unit^2]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_radicands(const doughty_params *params, double theta, double values[DOUGHTY_N_ROOTS], double scales[DOUGHTY_N_ROOTS]);
+doughty_status doughty_radicands(const doughty_params *params, codegen_real theta, codegen_real values[DOUGHTY_N_ROOTS], codegen_real scales[DOUGHTY_N_ROOTS]);
 
 /* G on each of the 2 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch.
  * Paper: eq. (43), squared into (45).
@@ -202,14 +202,14 @@ doughty_status doughty_radicands(const doughty_params *params, double theta, dou
  * out residuals: [N m]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_equilibrium_branches(const doughty_params *params, double theta, double residuals[DOUGHTY_N_BRANCHES]);
+doughty_status doughty_equilibrium_branches(const doughty_params *params, codegen_real theta, codegen_real residuals[DOUGHTY_N_BRANCHES]);
 
 /* Coefficients sigma_0..sigma_12 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^6. Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * Paper: eq. (44)-(45).
  * out sigma: [as derived]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
  */
-doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_N_SIGMA]);
+doughty_status doughty_sigma(const doughty_params *params, codegen_real sigma[DOUGHTY_N_SIGMA]);
 
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * Paper: eq. (46)-(53).
@@ -219,7 +219,7 @@ doughty_status doughty_sigma(const doughty_params *params, double sigma[DOUGHTY_
  * out K: K_EQ [N m]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_linearisation(const doughty_params *params, double theta, double *M, double *B, double *K);
+doughty_status doughty_linearisation(const doughty_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
 /* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
  * Paper: eq. (54)-(55).
@@ -228,7 +228,7 @@ doughty_status doughty_linearisation(const doughty_params *params, double theta,
  * out zeta_omega_n: [1/s]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_vibration(const doughty_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
+doughty_status doughty_vibration(const doughty_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
  * Paper: eq. (42)-(43), (46)-(53), (43), squared into (45).
@@ -243,28 +243,28 @@ doughty_status doughty_vibration(const doughty_params *params, double theta, dou
  * out radicand_scales: [unit^2]
  * Returns DOUGHTY_OK; DOUGHTY_ERR_SINGULAR_STATE where the spring length r is zero, so its direction is undefined.
  */
-doughty_status doughty_equilibrium_state(const doughty_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[DOUGHTY_N_BRANCHES], double radicands[DOUGHTY_N_ROOTS], double radicand_scales[DOUGHTY_N_ROOTS]);
+doughty_status doughty_equilibrium_state(const doughty_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real branch_residuals[DOUGHTY_N_BRANCHES], codegen_real radicands[DOUGHTY_N_ROOTS], codegen_real radicand_scales[DOUGHTY_N_ROOTS]);
 
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns DOUGHTY_OK when every item succeeded, else the first failure. */
-doughty_status doughty_position_constraints_batch(size_t count, const doughty_params *params, const double *coords, double *f, doughty_status *statuses);
-doughty_status doughty_constraint_jacobian_batch(size_t count, const doughty_params *params, const double *coords, double *A, doughty_status *statuses);
-doughty_status doughty_velocity_constraints_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *f_d, doughty_status *statuses);
-doughty_status doughty_acceleration_constraints_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, const double *accels, double *f_dd, doughty_status *statuses);
-doughty_status doughty_point_kinematics_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *positions, double *velocities, doughty_status *statuses);
-doughty_status doughty_energies_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, doughty_status *statuses);
-doughty_status doughty_lagrange_terms_batch(size_t count, const doughty_params *params, const double *coords, const double *rates, const double *accels, const double *multipliers, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, doughty_status *statuses);
-doughty_status doughty_dependent_state_batch(size_t count, const doughty_params *params, const double *theta, const double *theta_d, double *coords, double *rates, doughty_status *statuses);
-doughty_status doughty_reduced_coefficients_batch(size_t count, const doughty_params *params, const double *theta, double *e, doughty_status *statuses);
-doughty_status doughty_angular_acceleration_batch(size_t count, const doughty_params *params, const double *theta, const double *theta_d, double *theta_dd, doughty_status *statuses);
-doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, doughty_status *statuses);
-doughty_status doughty_radicands_batch(size_t count, const doughty_params *params, const double *theta, double *values, double *scales, doughty_status *statuses);
-doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_params *params, const double *theta, double *residuals, doughty_status *statuses);
-doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, double *sigma, doughty_status *statuses);
-doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const double *theta, double *M, double *B, double *K, doughty_status *statuses);
-doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, doughty_status *statuses);
-doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, doughty_status *statuses);
+doughty_status doughty_position_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, codegen_real *f, doughty_status *statuses);
+doughty_status doughty_constraint_jacobian_batch(size_t count, const doughty_params *params, const codegen_real *coords, codegen_real *A, doughty_status *statuses);
+doughty_status doughty_velocity_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *f_d, doughty_status *statuses);
+doughty_status doughty_acceleration_constraints_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *f_dd, doughty_status *statuses);
+doughty_status doughty_point_kinematics_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, doughty_status *statuses);
+doughty_status doughty_energies_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, doughty_status *statuses);
+doughty_status doughty_lagrange_terms_batch(size_t count, const doughty_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, const codegen_real *multipliers, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, doughty_status *statuses);
+doughty_status doughty_dependent_state_batch(size_t count, const doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, doughty_status *statuses);
+doughty_status doughty_reduced_coefficients_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *e, doughty_status *statuses);
+doughty_status doughty_angular_acceleration_batch(size_t count, const doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, doughty_status *statuses);
+doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, doughty_status *statuses);
+doughty_status doughty_radicands_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, doughty_status *statuses);
+doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residuals, doughty_status *statuses);
+doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, codegen_real *sigma, doughty_status *statuses);
+doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, doughty_status *statuses);
+doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, doughty_status *statuses);
+doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, doughty_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
@@ -275,14 +275,14 @@ doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_param
  * square root may reach zero, or the mode may not exist on part of the interval) and
  * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
  * Returns DOUGHTY_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
-doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags);
+doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags);
 
 /* Real roots of sum_{i=0}^{12} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
-doughty_status doughty_poly_real_roots(const double sigma[DOUGHTY_N_SIGMA],
-                                       double theta[DOUGHTY_MAX_ROOTS], int *n_roots);
+doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA],
+                                       codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots);
 
 /* Stability of an equilibrium from M, B, K (M > 0). */
 typedef enum doughty_stability {
@@ -311,22 +311,22 @@ typedef enum doughty_root_kind {
  * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
  * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct doughty_equilibrium {
-    double theta;           /* theta_E [rad], in the coordinate's range */
-    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
+    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
     int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     doughty_root_kind kind;
-    double residual;        /* G(theta_E) (42) [N m] */
-    double residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
+    codegen_real residual;        /* G(theta_E) (42) [N m] */
+    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
                                has |residual| / residual_scale near machine epsilon */
-    double M;               /* M_EQ [kg m^2] (50) */
-    double B;               /* B_EQ [N m s] (51) */
-    double K;               /* K_EQ [N m] (52) */
-    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    codegen_real M;               /* M_EQ [kg m^2] (50) */
+    codegen_real B;               /* B_EQ [N m s] (51) */
+    codegen_real K;               /* K_EQ [N m] (52) */
+    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
     doughty_stability stability;
     doughty_damping damping;
 } doughty_equilibrium;
@@ -341,7 +341,7 @@ typedef enum doughty_uncertainty {
 } doughty_uncertainty;
 
 typedef struct doughty_interval {
-    double lo, hi;          /* [rad] */
+    codegen_real lo, hi;          /* [rad] */
     doughty_uncertainty kind;
     unsigned mode;          /* the assembly mode it was found on (0: as declared) */
     int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
@@ -350,13 +350,13 @@ typedef struct doughty_interval {
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct doughty_analysis {
-    double sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 (polynomial route; 0 after isolation) */
+    codegen_real sigma[DOUGHTY_N_SIGMA];             /* sigma_0..sigma_12 (polynomial route; 0 after isolation) */
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     doughty_equilibrium roots[DOUGHTY_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
-    double singular_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real singular_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
-    double unassembled_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real unassembled_theta[DOUGHTY_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
     doughty_interval uncertain[DOUGHTY_MAX_UNCERTAIN]; /* ascending */
 } doughty_analysis;

@@ -14,32 +14,42 @@
 
 #include <float.h>
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 #include <string.h>
 
 #define NEWTON_STEPS 8
 /* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
  * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
-#define POLISH_RADIUS 1e-3
+#define POLISH_RADIUS CODEGEN_R(1e-3)
 /* How far a root the branches call extraneous is searched for a genuine twin [rad]: the root
  * finder reports roots closer than ~2e-5 (in its chart units) as one. */
-#define TWIN_RADIUS 2e-5
+#define TWIN_RADIUS CODEGEN_R(2e-5)
+/* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
+ * polynomial's roots stay on their own branches: no search for a genuine twin of a root
+ * the branches call extraneous, and close roots merge only with roots of their own kind. */
+#ifdef CODEGEN_FLOAT
+#define EQUILIBRIA_BY_ISOLATION 1
+#else
+#define EQUILIBRIA_BY_ISOLATION 0
+#endif
 /* |G| within this many rounding units of the size of its terms is zero to working precision */
-#define GENUINE_RESIDUAL (32.0 * DBL_EPSILON)
-/* Angles this close to -pi [rad] are pi (see wrap); 1e-10 rad is invisible in any table. */
-#define PI_SNAP 1e-10
+#define GENUINE_RESIDUAL (CODEGEN_R(32.0) * CODEGEN_EPSILON)
+/* Angles this close to -pi [rad] are pi (see wrap): ~1e-10 rad in double, invisible in any
+ * table, and a few ulps of pi in float. */
+#define PI_SNAP (CODEGEN_SQRT_EPSILON / 128)
 /* A root the branches call genuine whose |G| stays above this relative size after Newton is
  * the jump of G across r = 0, not an equilibrium (a regular root polishes to ~eps). */
-#define SINGULAR_RESIDUAL 1e-8
+#define SINGULAR_RESIDUAL CODEGEN_SQRT_EPSILON
 /* Roots closer than this [rad] are one multiple root that rounding split in two: the root
  * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (codegen_roots.c). */
-#define MULTIPLE_ROOT_SPREAD 1e-7
+#define MULTIPLE_ROOT_SPREAD (8 * CODEGEN_SQRT_EPSILON)
 /* The first half-width [rad, relative to max(|theta|, 1)] tried around a root of another branch,
  * grown fourfold up to BRANCH_RADIUS [rad], and at most the steps that then reach adjacent
  * doubles (bisection would need ~60; the Illinois steps typically take ~10). Squaring out nested roots can cost the polynomial's roots many digits (a
  * slider-crank's other-mode root comes 5e-4 rad off); the branch value itself is accurate. */
-#define BRACKET_START 1e-13
-#define BRANCH_RADIUS 1e-2
+#define BRACKET_START (512 * CODEGEN_EPSILON)
+#define BRANCH_RADIUS CODEGEN_R(1e-2)
 #define BRACKET_STEPS 64
 
 /* Branches (bit i set: root i negative) with a negative length among their signs. */
@@ -48,15 +58,15 @@
 /* The first half-width [rad, relative to max(|theta|, 1)] of the intervals that try to prove
  * an equilibrium of the polynomial route, grown 32-fold up to CERTIFY_RADIUS [rad]: a root
  * polished to rounding is proven by the first or second. */
-#define CERTIFY_START 2.5e-13
-#define CERTIFY_RADIUS 1e-6
+#define CERTIFY_START (1024 * CODEGEN_EPSILON)
+#define CERTIFY_RADIUS (64 * CODEGEN_SQRT_EPSILON)
 /* Where the circle of a periodic coordinate may be cut for isolation: its far end, or up to
  * SEAM_TRIES steps of SEAM_STEP [rad] before it, the first where G's sign is decided. */
-#define SEAM_STEP 0.0390625
+#define SEAM_STEP CODEGEN_R(0.0390625)
 #define SEAM_TRIES 16
 /* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
  * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
-#define SEAM_MARGIN 1e-12
+#define SEAM_MARGIN (4096 * CODEGEN_EPSILON)
 
 /* The inputs were validated once, at the entry points below; inside, the unchecked kernels
  * (doughty_kernels.h) evaluate, and each group of results fails as the public function
@@ -73,7 +83,7 @@
 #define AT_RADICANDS 7
 #define AT_RADICAND_SCALES 8
 
-static int all_finite(const double *values, int count)
+static int all_finite(const codegen_real *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -84,24 +94,24 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static doughty_status finite_or(const double *values, int count, doughty_status failure)
+static doughty_status finite_or(const codegen_real *values, int count, doughty_status failure)
 {
     return all_finite(values, count) ? DOUGHTY_OK : failure;
 }
 
-static void state_at(const doughty_params *params, double theta, double at[STATE_SIZE])
+static void state_at(const doughty_params *params, codegen_real theta, codegen_real at[STATE_SIZE])
 {
     doughty_equilibrium_state_kernel(params, theta, at);
 }
 
 /* G and the size of its terms, as doughty_equilibrium_residual returns them. */
-static doughty_status residual_of(const double at[STATE_SIZE])
+static doughty_status residual_of(const codegen_real at[STATE_SIZE])
 {
     return finite_or(at + AT_RESIDUAL, 2, DOUGHTY_EQUILIBRIUM_RESIDUAL_FAILURE);
 }
 
 /* M, B, K, as doughty_linearisation returns them. */
-static doughty_status linearisation_of(const double at[STATE_SIZE])
+static doughty_status linearisation_of(const codegen_real at[STATE_SIZE])
 {
     return finite_or(at + AT_M, 3, DOUGHTY_LINEARISATION_FAILURE);
 }
@@ -109,67 +119,67 @@ static doughty_status linearisation_of(const double at[STATE_SIZE])
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
-static doughty_status residual_scale(const double at[STATE_SIZE], double theta, double k,
-                                     double *scale)
+static doughty_status residual_scale(const codegen_real at[STATE_SIZE], codegen_real theta, codegen_real k,
+                                     codegen_real *scale)
 {
     const doughty_status status = residual_of(at);
     if (status == DOUGHTY_OK) {
-        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), 1.0);
+        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), (codegen_real)1);
     }
     return status;
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
  * M K can overflow where B/M and K/M do not. */
-static void eigenvalues(double m, double b, double k, double re[2], double im[2])
+static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_real re[2], codegen_real im[2])
 {
-    const double half_b = 0.5 * (b / m), k_m = k / m;
-    const double disc = half_b * half_b - k_m;
-    if (disc < 0.0) {
+    const codegen_real half_b = CODEGEN_R(0.5) * (b / m), k_m = k / m;
+    const codegen_real disc = half_b * half_b - k_m;
+    if (disc < 0) {
         re[0] = re[1] = -half_b;
         im[0] = sqrt(-disc);
         im[1] = -im[0];
     } else {
-        const double q = -(half_b + copysign(sqrt(disc), half_b));
+        const codegen_real q = -(half_b + copysign(sqrt(disc), half_b));
         re[0] = q;
-        re[1] = q != 0.0 ? k_m / q : 0.0;
-        im[0] = im[1] = 0.0;
+        re[1] = q != 0 ? k_m / q : 0;
+        im[0] = im[1] = 0;
     }
 }
 
 /* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
-static void frequency(double m, double b, double k, doughty_equilibrium *e)
+static void frequency(codegen_real m, codegen_real b, codegen_real k, doughty_equilibrium *e)
 {
-    const double w = sqrt(fabs(k) / m);
-    e->omega_n[0] = k >= 0.0 ? w : 0.0;
-    e->omega_n[1] = k >= 0.0 ? 0.0 : w;
-    e->zeta[0] = e->zeta[1] = 0.0;
-    if (w == 0.0) {
-        e->zeta[0] = b > 0.0 ? HUGE_VAL : 0.0;
-    } else if (k >= 0.0) {
-        e->zeta[0] = b / (2.0 * m * w);
+    const codegen_real w = sqrt(fabs(k) / m);
+    e->omega_n[0] = k >= 0 ? w : 0;
+    e->omega_n[1] = k >= 0 ? 0 : w;
+    e->zeta[0] = e->zeta[1] = 0;
+    if (w == 0) {
+        e->zeta[0] = b > 0 ? CODEGEN_HUGE : 0;
+    } else if (k >= 0) {
+        e->zeta[0] = b / (CODEGEN_R(2.0) * m * w);
     } else {
-        e->zeta[1] = -b / (2.0 * m * w); /* 1/i = -i */
+        e->zeta[1] = -b / (CODEGEN_R(2.0) * m * w); /* 1/i = -i */
     }
 }
 
-static void classify_motion(double b, double k, doughty_equilibrium *e)
+static void classify_motion(codegen_real b, codegen_real k, doughty_equilibrium *e)
 {
-    if (k < 0.0) {
+    if (k < 0) {
         e->stability = DOUGHTY_UNSTABLE;
-    } else if (k > 0.0 && b > 0.0) {
+    } else if (k > 0 && b > 0) {
         e->stability = DOUGHTY_STABLE;
     } else {
         e->stability = DOUGHTY_MARGINAL;
     }
-    if (k <= 0.0) {
+    if (k <= 0) {
         e->damping = DOUGHTY_NOT_OSCILLATORY;
-    } else if (b == 0.0) {
+    } else if (b == 0) {
         e->damping = DOUGHTY_UNDAMPED;
-    } else if (fabs(e->zeta[0] - 1.0) <= 8.0 * DBL_EPSILON) {
+    } else if (fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
         e->damping = DOUGHTY_CRITICALLY_DAMPED;
     } else {
-        e->damping = e->zeta[0] < 1.0 ? DOUGHTY_UNDERDAMPED : DOUGHTY_OVERDAMPED;
+        e->damping = e->zeta[0] < 1 ? DOUGHTY_UNDERDAMPED : DOUGHTY_OVERDAMPED;
     }
 }
 
@@ -178,11 +188,11 @@ static void classify_motion(double b, double k, doughty_equilibrium *e)
  * still say whether a perturbation grows. */
 static doughty_status vibrate(doughty_equilibrium *e)
 {
-    if (!(e->M > 0.0)) {
-        e->omega_n[0] = e->omega_n[1] = e->zeta[0] = e->zeta[1] = NAN;
-        e->eigen_re[0] = e->eigen_re[1] = e->eigen_im[0] = e->eigen_im[1] = NAN;
-        e->stability = e->K < 0.0 ? DOUGHTY_UNSTABLE
-                     : e->K > 0.0 && e->B > 0.0 ? DOUGHTY_STABLE : DOUGHTY_MARGINAL;
+    if (!(e->M > 0)) {
+        e->omega_n[0] = e->omega_n[1] = e->zeta[0] = e->zeta[1] = CODEGEN_NAN;
+        e->eigen_re[0] = e->eigen_re[1] = e->eigen_im[0] = e->eigen_im[1] = CODEGEN_NAN;
+        e->stability = e->K < 0 ? DOUGHTY_UNSTABLE
+                     : e->K > 0 && e->B > 0 ? DOUGHTY_STABLE : DOUGHTY_MARGINAL;
         e->damping = DOUGHTY_NOT_OSCILLATORY;
         return DOUGHTY_OK;
     }
@@ -198,10 +208,10 @@ static doughty_status vibrate(doughty_equilibrium *e)
 
 /* G on one branch at theta; 0 if it cannot be evaluated there. The branches' own kernel: the
  * search along one branch needs nothing else. */
-static int branch_value(const doughty_params *params, double theta, unsigned branch,
-                        double *value)
+static int branch_value(const doughty_params *params, codegen_real theta, unsigned branch,
+                        codegen_real *value)
 {
-    double g[DOUGHTY_N_BRANCHES];
+    codegen_real g[DOUGHTY_N_BRANCHES];
     doughty_equilibrium_branches_kernel(params, theta, g);
     if (!all_finite(g, DOUGHTY_N_BRANCHES) || !(g[branch] == g[branch])) {
         return 0;
@@ -212,8 +222,8 @@ static int branch_value(const doughty_params *params, double theta, unsigned bra
 
 /* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
  * at: the state at theta. */
-static doughty_status linearise_at(const doughty_params *params, unsigned mode, double theta,
-                                   const double at[STATE_SIZE], doughty_equilibrium *e)
+static doughty_status linearise_at(const doughty_params *params, unsigned mode, codegen_real theta,
+                                   const codegen_real at[STATE_SIZE], doughty_equilibrium *e)
 {
     doughty_status status;
     (void)params;
@@ -235,10 +245,10 @@ static doughty_status linearise_at(const doughty_params *params, unsigned mode, 
     return status;
 }
 
-static doughty_status linearise(const doughty_params *params, unsigned mode, double theta,
+static doughty_status linearise(const doughty_params *params, unsigned mode, codegen_real theta,
                                 doughty_equilibrium *e)
 {
-    double at[STATE_SIZE];
+    codegen_real at[STATE_SIZE];
     state_at(params, theta, at);
     return linearise_at(params, mode, theta, at, e);
 }
@@ -268,9 +278,9 @@ static void sort_roots(doughty_equilibrium *roots, int count)
 
 /* DOUGHTY_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
  * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
-static doughty_status smooth_near(const doughty_params *params, unsigned mode, double theta)
+static doughty_status smooth_near(const doughty_params *params, unsigned mode, codegen_real theta)
 {
-    const double w = CERTIFY_START * fmax(fabs(theta), 1.0);
+    const codegen_real w = CERTIFY_START * fmax(fabs(theta), (codegen_real)1);
     codegen_iv g, dg;
     unsigned flags;
     const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
@@ -285,7 +295,7 @@ static doughty_status smooth_near(const doughty_params *params, unsigned mode, d
 static doughty_status certify_around(const doughty_params *params, unsigned mode,
                                      doughty_equilibrium *e)
 {
-    double w;
+    codegen_real w;
     int proven = 0;
     const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
                                               &e->theta_hi, &proven);
@@ -293,7 +303,7 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
         e->certified = proven;
         return (doughty_status)newton;
     }
-    for (w = CERTIFY_START * fmax(fabs(e->theta), 1.0); w <= CERTIFY_RADIUS && !proven; w *= 32.0) {
+    for (w = CERTIFY_START * fmax(fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);
         if (status != 0) {
@@ -312,19 +322,19 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. A root already zero to working precision is left where it
  * is (theta = pi stays pi). at: the state at theta on entry, at the result on return. */
-static double polish(const doughty_params *params, double theta, double radius,
-                     double at[STATE_SIZE])
+static codegen_real polish(const doughty_params *params, codegen_real theta, codegen_real radius,
+                     codegen_real at[STATE_SIZE])
 {
-    const double start = theta;
-    double next_at[STATE_SIZE];
+    const codegen_real start = theta;
+    codegen_real next_at[STATE_SIZE];
     int i;
     if (residual_of(at) != DOUGHTY_OK) {
         return theta;
     }
-    for (i = 0; i < NEWTON_STEPS && at[AT_RESIDUAL] != 0.0; ++i) {
-        double next, scale;
-        const double k = at[AT_K];
-        if (linearisation_of(at) != DOUGHTY_OK || k == 0.0
+    for (i = 0; i < NEWTON_STEPS && at[AT_RESIDUAL] != 0; ++i) {
+        codegen_real next, scale;
+        const codegen_real k = at[AT_K];
+        if (linearisation_of(at) != DOUGHTY_OK || k == 0
             || residual_scale(at, theta, k, &scale) != DOUGHTY_OK
             || fabs(at[AT_RESIDUAL]) <= GENUINE_RESIDUAL * scale) {
             break;
@@ -347,13 +357,13 @@ static double polish(const doughty_params *params, double theta, double radius,
 /* Wrap into (-pi, pi]. An angle within PI_SNAP of -pi is the root at tau = infinity seen from
  * the negative side (a leading coefficient that is a rounding residue puts it ~1e-13 off):
  * it is reported as pi, where (-pi, pi] puts that root. */
-static double wrap(double theta)
+static codegen_real wrap(codegen_real theta)
 {
-    const double pi = 3.14159265358979323846;
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846);
     if (theta > pi) {
-        theta -= 2.0 * pi;
+        theta -= CODEGEN_R(2.0) * pi;
     } else if (theta <= -pi) {
-        theta += 2.0 * pi;
+        theta += CODEGEN_R(2.0) * pi;
     }
     return theta <= -pi + PI_SNAP ? pi : theta;
 }
@@ -362,10 +372,10 @@ static double wrap(double theta)
  * working precision (relative to the size of its radicand's terms: a limit position, or a
  * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
  * zero (the mechanism cannot be put together at theta). */
-static doughty_status check_state(const double at[STATE_SIZE], int *assembled)
+static doughty_status check_state(const codegen_real at[STATE_SIZE], int *assembled)
 {
-    const double *values = at + AT_RADICANDS, *scales = at + AT_RADICAND_SCALES;
-    const double tolerance = 64.0 * DBL_EPSILON * 64.0 * DBL_EPSILON;
+    const codegen_real *values = at + AT_RADICANDS, *scales = at + AT_RADICAND_SCALES;
+    const codegen_real tolerance = CODEGEN_R(64.0) * CODEGEN_EPSILON * CODEGEN_R(64.0) * CODEGEN_EPSILON;
     int i;
     const doughty_status status = finite_or(values, 2 * DOUGHTY_N_ROOTS, DOUGHTY_RADICANDS_FAILURE);
     *assembled = 1;
@@ -376,7 +386,7 @@ static doughty_status check_state(const double at[STATE_SIZE], int *assembled)
         if (fabs(values[i]) <= tolerance * scales[i]) {
             return DOUGHTY_ERR_SINGULAR_STATE;
         }
-        if (values[i] < 0.0) {
+        if (values[i] < 0) {
             *assembled = 0;
         }
     }
@@ -385,10 +395,10 @@ static doughty_status check_state(const double at[STATE_SIZE], int *assembled)
 
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
-static doughty_status branch_kind(const double at[STATE_SIZE], doughty_root_kind *kind,
+static doughty_status branch_kind(const codegen_real at[STATE_SIZE], doughty_root_kind *kind,
                                   unsigned *branch)
 {
-    const double *g = at + AT_BRANCH_RESIDUALS;
+    const codegen_real *g = at + AT_BRANCH_RESIDUALS;
     unsigned j, best = 0u;
     const doughty_status status = finite_or(g, DOUGHTY_N_BRANCHES, DOUGHTY_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != DOUGHTY_OK) {
@@ -410,21 +420,21 @@ static doughty_status branch_kind(const double at[STATE_SIZE], doughty_root_kind
  * no derivative of the other branches is emitted. A bracket grows outwards from theta until
  * the branch changes sign (within radius), then the Illinois method (regula falsi that
  * halves a stale end's weight: superlinear, and safe inside the bracket) to adjacent doubles. */
-static double refine_on_branch(const doughty_params *params, double theta, unsigned branch,
-                               double radius)
+static codegen_real refine_on_branch(const doughty_params *params, codegen_real theta, unsigned branch,
+                               codegen_real radius)
 {
-    double g0, g, lo = theta, hi = theta, g_lo = 0.0, g_hi = 0.0, step;
+    codegen_real g0, g, lo = theta, hi = theta, g_lo = 0, g_hi = 0, step;
     int i, side = 0, found = 0;
-    if (!branch_value(params, theta, branch, &g0) || g0 == 0.0) {
+    if (!branch_value(params, theta, branch, &g0) || g0 == 0) {
         return theta;
     }
-    for (step = BRACKET_START * fmax(fabs(theta), 1.0); step <= radius && !found; step *= 4.0) {
-        if (branch_value(params, theta - step, branch, &g) && (g < 0.0) != (g0 < 0.0)) {
+    for (step = BRACKET_START * fmax(fabs(theta), (codegen_real)1); step <= radius && !found; step *= CODEGEN_R(4.0)) {
+        if (branch_value(params, theta - step, branch, &g) && (g < 0) != (g0 < 0)) {
             lo = theta - step;
             g_lo = g;
             g_hi = g0;
             found = 1;
-        } else if (branch_value(params, theta + step, branch, &g) && (g < 0.0) != (g0 < 0.0)) {
+        } else if (branch_value(params, theta + step, branch, &g) && (g < 0) != (g0 < 0)) {
             hi = theta + step;
             g_lo = g0;
             g_hi = g;
@@ -432,25 +442,25 @@ static double refine_on_branch(const doughty_params *params, double theta, unsig
         }
     }
     for (i = 0; found && i < BRACKET_STEPS; ++i) {
-        double mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+        codegen_real mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
         if (!(mid > lo && mid < hi)) {
-            mid = lo + 0.5 * (hi - lo);
+            mid = lo + CODEGEN_R(0.5) * (hi - lo);
         }
         if (!(mid > lo && mid < hi) || !branch_value(params, mid, branch, &g)) {
             break;
         }
-        if (g == 0.0) {
+        if (g == 0) {
             return mid;
         }
-        if ((g < 0.0) == (g_lo < 0.0)) {
+        if ((g < 0) == (g_lo < 0)) {
             lo = mid;
             g_lo = g;
-            g_hi *= side < 0 ? 0.5 : 1.0;
+            g_hi *= side < 0 ? CODEGEN_R(0.5) : 1;
             side = -1;
         } else {
             hi = mid;
             g_hi = g;
-            g_lo *= side > 0 ? 0.5 : 1.0;
+            g_lo *= side > 0 ? CODEGEN_R(0.5) : 1;
             side = 1;
         }
     }
@@ -462,13 +472,13 @@ static double refine_on_branch(const doughty_params *params, double theta, unsig
  * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
  * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
  * mechanism cannot be assembled. */
-static doughty_status study_root(const doughty_params *params, double theta, int twin_search,
+static doughty_status study_root(const doughty_params *params, codegen_real theta, int twin_search,
                                  doughty_equilibrium *e, int *assembled, int *twinned)
 {
     doughty_status status;
     unsigned branch, mode = 0u;
     int declared;
-    double at[STATE_SIZE], polished;
+    codegen_real at[STATE_SIZE], polished;
     *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
@@ -482,7 +492,7 @@ static doughty_status study_root(const doughty_params *params, double theta, int
     }
     declared = e->kind == DOUGHTY_EQUILIBRIUM;
     e->genuine = declared;
-    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0.0,
+    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0,
                       at);
     status = linearise_at(params, 0u, polished, at, e);
     if (status != DOUGHTY_OK) {
@@ -525,7 +535,8 @@ static int merge_split_roots(doughty_equilibrium *roots, int count)
 {
     int i, kept = 0;
     for (i = 0; i < count; ++i) {
-        if (kept > 0 && roots[i].theta - roots[kept - 1].theta <= MULTIPLE_ROOT_SPREAD) {
+        if (kept > 0 && roots[i].theta - roots[kept - 1].theta <= MULTIPLE_ROOT_SPREAD
+            && (!EQUILIBRIA_BY_ISOLATION || roots[i].kind == roots[kept - 1].kind)) {
             if (roots[i].genuine && !roots[kept - 1].genuine) {
                 roots[kept - 1] = roots[i];
             }
@@ -541,7 +552,7 @@ static int merge_split_roots(doughty_equilibrium *roots, int count)
  * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
  * studied again without the twin search (kept as it was should that fail). */
 static void restore_twins(const doughty_params *params, doughty_equilibrium *roots, int count,
-                          const double *source, int *twinned)
+                          const codegen_real *source, int *twinned)
 {
     int i, j;
     for (i = 0; i < count; ++i) {
@@ -563,7 +574,7 @@ static void restore_twins(const doughty_params *params, doughty_equilibrium *roo
 static doughty_status analyze_polynomial(const doughty_params *params, doughty_analysis *result)
 {
     doughty_analysis work;
-    double theta[DOUGHTY_MAX_ROOTS], source[DOUGHTY_MAX_ROOTS];
+    codegen_real theta[DOUGHTY_MAX_ROOTS], source[DOUGHTY_MAX_ROOTS];
     int i, count, twinned[DOUGHTY_MAX_ROOTS];
     doughty_status status;
     memset(&work, 0, sizeof work);
@@ -580,7 +591,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
     for (i = 0; i < count; ++i) {
         int assembled;
         source[work.n_roots] = theta[i];
-        status = study_root(params, theta[i], 1, &work.roots[work.n_roots], &assembled,
+        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work.roots[work.n_roots], &assembled,
                             &twinned[work.n_roots]);
         if (status == DOUGHTY_ERR_SINGULAR_STATE) {
             work.singular_theta[work.n_singular++] = theta[i];
@@ -607,15 +618,15 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
  * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
  * sits on the seam, to be found at both ends or at neither. Zeros found at or below
  * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
-static doughty_status isolation_range(const doughty_params *params, double *lo, double *hi,
-                                      double *below)
+static doughty_status isolation_range(const doughty_params *params, codegen_real *lo, codegen_real *hi,
+                                      codegen_real *below)
 {
-    const double pi = 3.14159265358979323846, centre = 0;
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = 0;
     int k;
     *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
-        const double cut = centre + pi - k * SEAM_STEP;
-        const double margin = SEAM_MARGIN * fmax(fabs(cut), 1.0);
+        const codegen_real cut = centre + pi - (codegen_real)k * SEAM_STEP;
+        const codegen_real margin = SEAM_MARGIN * fmax(fabs(cut), (codegen_real)1);
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < DOUGHTY_N_MODES && decided; ++mode) {
@@ -630,7 +641,7 @@ static doughty_status isolation_range(const doughty_params *params, double *lo, 
                    || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && !codegen_iv_has_zero(g));
         }
         if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
-            *lo = cut - 2.0 * pi - 0.5 * margin;
+            *lo = cut - CODEGEN_R(2.0) * pi - CODEGEN_R(0.5) * margin;
             *hi = cut;
             return DOUGHTY_OK;
         }
@@ -642,11 +653,11 @@ static doughty_status isolation_range(const doughty_params *params, double *lo, 
 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
-static doughty_status isolate_mode(const doughty_params *params, unsigned mode, double lo,
-                                   double hi, double below, doughty_analysis *work)
+static doughty_status isolate_mode(const doughty_params *params, unsigned mode, codegen_real lo,
+                                   codegen_real hi, codegen_real below, doughty_analysis *work)
 {
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN];
-    const double two_pi = 6.28318530717958647692;
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
     const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
                                          DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count);
@@ -661,11 +672,12 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
         return DOUGHTY_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
     for (i = 0; i < count; ++i) {
-        const double shift = found[i].theta <= below ? two_pi : 0.0;
+        const codegen_real shift = found[i].theta <= below ? two_pi : 0;
         /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
         const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
-                                                shift == 0.0 ? codegen_iv_point(0.0)
-                                                : codegen_iv_make(0x1.921fb54442d18p+2, 0x1.921fb54442d19p+2));
+                                                shift == 0 ? codegen_iv_point(0)
+                                                : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
+                                                                  CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             doughty_equilibrium *e = &work->roots[work->n_roots];
             doughty_status status;
@@ -711,7 +723,7 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
 doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result)
 {
     doughty_analysis work;
-    double lo, hi, below;
+    codegen_real lo, hi, below;
     unsigned mode;
     int i;
     doughty_status status;
@@ -743,6 +755,39 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
     return DOUGHTY_OK;
 }
 
+#if EQUILIBRIA_BY_ISOLATION
+/* In float, sigma's coefficients carry 24 bits: close pairs of the polynomial's roots (Table
+ * 2's, 5e-4 rad apart) can merge into one root or vanish as a complex pair, so its roots
+ * cannot vouch that no equilibrium is missing. The equilibria come instead from the certified
+ * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
+ * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
+ * angles where the mechanism is singular or cannot be assembled. */
+static doughty_status complete_by_isolation(const doughty_params *params,
+                                            const doughty_analysis *polynomial,
+                                            doughty_analysis *result)
+{
+    int i;
+    const doughty_status status = doughty_isolate(params, result);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    for (i = 0; i < polynomial->n_roots && result->n_roots < DOUGHTY_MAX_ROOTS; ++i) {
+        if (polynomial->roots[i].kind == DOUGHTY_EXTRANEOUS) {
+            result->roots[result->n_roots++] = polynomial->roots[i];
+        }
+    }
+    sort_roots(result->roots, result->n_roots);
+    memcpy(result->sigma, polynomial->sigma, sizeof result->sigma);
+    result->n_unassembled = polynomial->n_unassembled;
+    memcpy(result->unassembled_theta, polynomial->unassembled_theta,
+           sizeof result->unassembled_theta);
+    for (i = 0; i < polynomial->n_singular && result->n_singular < DOUGHTY_MAX_ROOTS; ++i) {
+        result->singular_theta[result->n_singular++] = polynomial->singular_theta[i];
+    }
+    return DOUGHTY_OK;
+}
+#endif
+
 doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result)
 {
     doughty_status status;
@@ -750,7 +795,17 @@ doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *r
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
+#if EQUILIBRIA_BY_ISOLATION
+    {
+        doughty_analysis polynomial;
+        if (status == DOUGHTY_OK) {
+            status = analyze_polynomial(params, &polynomial);
+        }
+        return status != DOUGHTY_OK ? status : complete_by_isolation(params, &polynomial, result);
+    }
+#else
     return status != DOUGHTY_OK ? status : analyze_polynomial(params, result);
+#endif
 }
 
 doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,

@@ -13,38 +13,38 @@
 #include "codegen_interval.h"
 
 /* position_constraints's outputs into out[4], in order: f[DOUGHTY_N_CONSTRAINTS]. */
-void doughty_position_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[4]);
+void doughty_position_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real out[4]);
 #define DOUGHTY_POSITION_CONSTRAINTS_F 0
 /* A failure of position_constraints (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_POSITION_CONSTRAINTS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* constraint_jacobian's outputs into out[20], in order: A[DOUGHTY_N_JACOBIAN]. */
-void doughty_constraint_jacobian_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], double out[20]);
+void doughty_constraint_jacobian_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], codegen_real out[20]);
 #define DOUGHTY_CONSTRAINT_JACOBIAN_A 0
 /* A failure of constraint_jacobian (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_CONSTRAINT_JACOBIAN_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* velocity_constraints's outputs into out[4], in order: f_d[DOUGHTY_N_CONSTRAINTS]. */
-void doughty_velocity_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4]);
+void doughty_velocity_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[4]);
 #define DOUGHTY_VELOCITY_CONSTRAINTS_F_D 0
 /* A failure of velocity_constraints (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_VELOCITY_CONSTRAINTS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* acceleration_constraints's outputs into out[4], in order: f_dd[DOUGHTY_N_CONSTRAINTS]. */
-void doughty_acceleration_constraints_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], double out[4]);
+void doughty_acceleration_constraints_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], codegen_real out[4]);
 #define DOUGHTY_ACCELERATION_CONSTRAINTS_F_DD 0
 /* A failure of acceleration_constraints (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_ACCELERATION_CONSTRAINTS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* point_kinematics's outputs into out[12], in order: positions[DOUGHTY_N_POINT_COORDS], velocities[DOUGHTY_N_POINT_COORDS]. */
-void doughty_point_kinematics_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[12]);
+void doughty_point_kinematics_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[12]);
 #define DOUGHTY_POINT_KINEMATICS_POSITIONS 0
 #define DOUGHTY_POINT_KINEMATICS_VELOCITIES 6
 /* A failure of point_kinematics (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_POINT_KINEMATICS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* energies's outputs into out[4], in order: T, V_G, V_E, lagrangian. */
-void doughty_energies_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], double out[4]);
+void doughty_energies_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], codegen_real out[4]);
 #define DOUGHTY_ENERGIES_T 0
 #define DOUGHTY_ENERGIES_V_G 1
 #define DOUGHTY_ENERGIES_V_E 2
@@ -53,7 +53,7 @@ void doughty_energies_kernel(const doughty_params *params, const double coords[D
 #define DOUGHTY_ENERGIES_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* lagrange_terms's outputs into out[30], in order: dt_dL_dqdot[DOUGHTY_N_COORDS], dL_dq[DOUGHTY_N_COORDS], constraint_forces[DOUGHTY_N_COORDS], dissipative_forces[DOUGHTY_N_COORDS], applied_forces[DOUGHTY_N_COORDS], residual[DOUGHTY_N_COORDS]. */
-void doughty_lagrange_terms_kernel(const doughty_params *params, const double coords[DOUGHTY_N_COORDS], const double rates[DOUGHTY_N_COORDS], const double accels[DOUGHTY_N_COORDS], const double multipliers[DOUGHTY_N_CONSTRAINTS], double out[30]);
+void doughty_lagrange_terms_kernel(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], const codegen_real multipliers[DOUGHTY_N_CONSTRAINTS], codegen_real out[30]);
 #define DOUGHTY_LAGRANGE_TERMS_DT_DL_DQDOT 0
 #define DOUGHTY_LAGRANGE_TERMS_DL_DQ 5
 #define DOUGHTY_LAGRANGE_TERMS_CONSTRAINT_FORCES 10
@@ -64,52 +64,52 @@ void doughty_lagrange_terms_kernel(const doughty_params *params, const double co
 #define DOUGHTY_LAGRANGE_TERMS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* dependent_state's outputs into out[10], in order: coords[DOUGHTY_N_COORDS], rates[DOUGHTY_N_COORDS]. */
-void doughty_dependent_state_kernel(const doughty_params *params, double theta, double theta_d, double out[10]);
+void doughty_dependent_state_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[10]);
 #define DOUGHTY_DEPENDENT_STATE_COORDS 0
 #define DOUGHTY_DEPENDENT_STATE_RATES 5
 /* A failure of dependent_state (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_DEPENDENT_STATE_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* reduced_coefficients's outputs into out[3], in order: e[DOUGHTY_N_REDUCED]. */
-void doughty_reduced_coefficients_kernel(const doughty_params *params, double theta, double out[3]);
+void doughty_reduced_coefficients_kernel(const doughty_params *params, codegen_real theta, codegen_real out[3]);
 #define DOUGHTY_REDUCED_COEFFICIENTS_E 0
 /* A failure of reduced_coefficients (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_REDUCED_COEFFICIENTS_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void doughty_angular_acceleration_kernel(const doughty_params *params, double theta, double theta_d, double out[1]);
+void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
 #define DOUGHTY_ANGULAR_ACCELERATION_THETA_DD 0
 /* A failure of angular_acceleration (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_ANGULAR_ACCELERATION_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* equilibrium_residual's outputs into out[2], in order: residual, scale. */
-void doughty_equilibrium_residual_kernel(const doughty_params *params, double theta, double out[2]);
+void doughty_equilibrium_residual_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2]);
 #define DOUGHTY_EQUILIBRIUM_RESIDUAL_RESIDUAL 0
 #define DOUGHTY_EQUILIBRIUM_RESIDUAL_SCALE 1
 /* A failure of equilibrium_residual (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_EQUILIBRIUM_RESIDUAL_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* radicands's outputs into out[2], in order: values[DOUGHTY_N_ROOTS], scales[DOUGHTY_N_ROOTS]. */
-void doughty_radicands_kernel(const doughty_params *params, double theta, double out[2]);
+void doughty_radicands_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2]);
 #define DOUGHTY_RADICANDS_VALUES 0
 #define DOUGHTY_RADICANDS_SCALES 1
 /* A failure of radicands (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_RADICANDS_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* equilibrium_branches's outputs into out[2], in order: residuals[DOUGHTY_N_BRANCHES]. */
-void doughty_equilibrium_branches_kernel(const doughty_params *params, double theta, double out[2]);
+void doughty_equilibrium_branches_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2]);
 #define DOUGHTY_EQUILIBRIUM_BRANCHES_RESIDUALS 0
 /* A failure of equilibrium_branches (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_EQUILIBRIUM_BRANCHES_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* sigma's outputs into out[13], in order: sigma[DOUGHTY_N_SIGMA]. */
-void doughty_sigma_kernel(const doughty_params *params, double out[13]);
+void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13]);
 #define DOUGHTY_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_SIGMA_FAILURE DOUGHTY_ERR_OVERFLOW
 
 /* linearisation's outputs into out[3], in order: M, B, K. */
-void doughty_linearisation_kernel(const doughty_params *params, double theta, double out[3]);
+void doughty_linearisation_kernel(const doughty_params *params, codegen_real theta, codegen_real out[3]);
 #define DOUGHTY_LINEARISATION_M 0
 #define DOUGHTY_LINEARISATION_B 1
 #define DOUGHTY_LINEARISATION_K 2
@@ -117,14 +117,14 @@ void doughty_linearisation_kernel(const doughty_params *params, double theta, do
 #define DOUGHTY_LINEARISATION_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* vibration's outputs into out[2], in order: omega_n_squared, zeta_omega_n. */
-void doughty_vibration_kernel(const doughty_params *params, double theta, double out[2]);
+void doughty_vibration_kernel(const doughty_params *params, codegen_real theta, codegen_real out[2]);
 #define DOUGHTY_VIBRATION_OMEGA_N_SQUARED 0
 #define DOUGHTY_VIBRATION_ZETA_OMEGA_N 1
 /* A failure of vibration (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_VIBRATION_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* equilibrium_state's outputs into out[9], in order: residual, scale, M, B, K, branch_residuals[DOUGHTY_N_BRANCHES], radicands[DOUGHTY_N_ROOTS], radicand_scales[DOUGHTY_N_ROOTS]. */
-void doughty_equilibrium_state_kernel(const doughty_params *params, double theta, double out[9]);
+void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real theta, codegen_real out[9]);
 #define DOUGHTY_EQUILIBRIUM_STATE_RESIDUAL 0
 #define DOUGHTY_EQUILIBRIUM_STATE_SCALE 1
 #define DOUGHTY_EQUILIBRIUM_STATE_M 2

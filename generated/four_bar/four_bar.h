@@ -59,20 +59,20 @@ typedef enum four_bar_status {
 
 /* The mechanism's parameters, SI units. */
 typedef struct four_bar_params {
-    double d; /* [m] distance between the ground pivots O2 and O4 */
-    double a_2; /* [m] crank length */
-    double a_3; /* [m] coupler length */
-    double a_4; /* [m] rocker length */
-    double m_2; /* [kg] mass of the crank */
-    double m_3; /* [kg] mass of the coupler */
-    double m_4; /* [kg] mass of the rocker */
-    double k; /* [N/m] spring stiffness */
-    double l_0; /* [m] free length of the spring */
-    double x_S; /* [m] abscissa of the spring's fixed point S */
-    double y_S; /* [m] ordinate of the spring's fixed point S */
-    double b; /* [N s/m] damping coefficient of the spring's damper */
-    double T; /* [N m] torque on the crank (counter-clockwise positive) */
-    double g; /* [m/s^2] gravitational acceleration (along -Y) */
+    codegen_real d; /* [m] distance between the ground pivots O2 and O4 */
+    codegen_real a_2; /* [m] crank length */
+    codegen_real a_3; /* [m] coupler length */
+    codegen_real a_4; /* [m] rocker length */
+    codegen_real m_2; /* [kg] mass of the crank */
+    codegen_real m_3; /* [kg] mass of the coupler */
+    codegen_real m_4; /* [kg] mass of the rocker */
+    codegen_real k; /* [N/m] spring stiffness */
+    codegen_real l_0; /* [m] free length of the spring */
+    codegen_real x_S; /* [m] abscissa of the spring's fixed point S */
+    codegen_real y_S; /* [m] ordinate of the spring's fixed point S */
+    codegen_real b; /* [N s/m] damping coefficient of the spring's damper */
+    codegen_real T; /* [N m] torque on the crank (counter-clockwise positive) */
+    codegen_real g; /* [m/s^2] gravitational acceleration (along -Y) */
 } four_bar_params;
 
 /* A constant string describing a status code (never NULL). */
@@ -86,14 +86,14 @@ four_bar_status four_bar_check_params(const four_bar_params *params);
  * out f: constraint values [m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_position_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double f[FOUR_BAR_N_CONSTRAINTS]);
+four_bar_status four_bar_position_constraints(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], codegen_real f[FOUR_BAR_N_CONSTRAINTS]);
 
 /* Velocity-constraint matrix A = df/dq, so that A qdot = 0.
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
  * out A: row-major 2x3; column j has the unit m per unit of q_j
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double A[FOUR_BAR_N_JACOBIAN]);
+four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], codegen_real A[FOUR_BAR_N_JACOBIAN]);
 
 /* Velocity constraints A(q) qdot = 0.
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
@@ -101,7 +101,7 @@ four_bar_status four_bar_constraint_jacobian(const four_bar_params *params, cons
  * out f_d: values [m/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_velocity_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double f_d[FOUR_BAR_N_CONSTRAINTS]);
+four_bar_status four_bar_velocity_constraints(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real f_d[FOUR_BAR_N_CONSTRAINTS]);
 
 /* Acceleration constraints A qddot + Adot qdot = 0.
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
@@ -110,7 +110,7 @@ four_bar_status four_bar_velocity_constraints(const four_bar_params *params, con
  * out f_dd: values [m/s^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_acceleration_constraints(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], double f_dd[FOUR_BAR_N_CONSTRAINTS]);
+four_bar_status four_bar_acceleration_constraints(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], const codegen_real accels[FOUR_BAR_N_COORDS], codegen_real f_dd[FOUR_BAR_N_CONSTRAINTS]);
 
 /* Positions and velocities of the points A, B (x, y for each).
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
@@ -119,7 +119,7 @@ four_bar_status four_bar_acceleration_constraints(const four_bar_params *params,
  * out velocities: vx, vy of each point [m/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_point_kinematics(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double positions[FOUR_BAR_N_POINT_COORDS], double velocities[FOUR_BAR_N_POINT_COORDS]);
+four_bar_status four_bar_point_kinematics(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real positions[FOUR_BAR_N_POINT_COORDS], codegen_real velocities[FOUR_BAR_N_POINT_COORDS]);
 
 /* Kinetic and potential energies and the Lagrangian L = T - V_G - V_E.
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
@@ -130,7 +130,7 @@ four_bar_status four_bar_point_kinematics(const four_bar_params *params, const d
  * out lagrangian: Lagrangian [J]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_energies(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian);
+four_bar_status four_bar_energies(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian);
 
 /* Terms of Lagrange's equations with multipliers, one entry per coordinate; residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.
  * in  coords: generalised coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
@@ -145,7 +145,7 @@ four_bar_status four_bar_energies(const four_bar_params *params, const double co
  * out residual: left minus right side of (15)
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], const double multipliers[FOUR_BAR_N_CONSTRAINTS], double dt_dL_dqdot[FOUR_BAR_N_COORDS], double dL_dq[FOUR_BAR_N_COORDS], double constraint_forces[FOUR_BAR_N_COORDS], double dissipative_forces[FOUR_BAR_N_COORDS], double applied_forces[FOUR_BAR_N_COORDS], double residual[FOUR_BAR_N_COORDS]);
+four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], const codegen_real accels[FOUR_BAR_N_COORDS], const codegen_real multipliers[FOUR_BAR_N_CONSTRAINTS], codegen_real dt_dL_dqdot[FOUR_BAR_N_COORDS], codegen_real dL_dq[FOUR_BAR_N_COORDS], codegen_real constraint_forces[FOUR_BAR_N_COORDS], codegen_real dissipative_forces[FOUR_BAR_N_COORDS], codegen_real applied_forces[FOUR_BAR_N_COORDS], codegen_real residual[FOUR_BAR_N_COORDS]);
 
 /* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
  * in  theta: independent coordinate theta [rad]
@@ -154,14 +154,14 @@ four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const dou
  * out rates: their rates [unit/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_dependent_state(const four_bar_params *params, double theta, double theta_d, double coords[FOUR_BAR_N_COORDS], double rates[FOUR_BAR_N_COORDS]);
+four_bar_status four_bar_dependent_state(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[FOUR_BAR_N_COORDS], codegen_real rates[FOUR_BAR_N_COORDS]);
 
 /* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
  * in  theta: independent coordinate theta [rad]
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, double theta, double e[FOUR_BAR_N_REDUCED]);
+four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, codegen_real theta, codegen_real e[FOUR_BAR_N_REDUCED]);
 
 /* thetaddot from the reduced equation of motion.
  * in  theta: independent coordinate theta [rad]
@@ -169,7 +169,7 @@ four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, dou
  * out theta_dd: [rad/s^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_angular_acceleration(const four_bar_params *params, double theta, double theta_d, double *theta_dd);
+four_bar_status four_bar_angular_acceleration(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
 /* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
  * in  theta: independent coordinate theta [rad]
@@ -177,7 +177,7 @@ four_bar_status four_bar_angular_acceleration(const four_bar_params *params, dou
  * out scale: [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, double theta, double *residual, double *scale);
+four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
 /* The radicands under the square roots of the position analysis (assembly, length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
  * in  theta: independent coordinate theta [rad]
@@ -185,20 +185,20 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, dou
  * out scales: [unit^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_radicands(const four_bar_params *params, double theta, double values[FOUR_BAR_N_ROOTS], double scales[FOUR_BAR_N_ROOTS]);
+four_bar_status four_bar_radicands(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_ROOTS], codegen_real scales[FOUR_BAR_N_ROOTS]);
 
 /* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch.
  * in  theta: independent coordinate theta [rad]
  * out residuals: [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, double theta, double residuals[FOUR_BAR_N_BRANCHES]);
+four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, codegen_real theta, codegen_real residuals[FOUR_BAR_N_BRANCHES]);
 
 /* Coefficients sigma_0..sigma_28 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^14, divided by (a_2**2 - 2*a_2*d*cos(theta) + d**2)^11 (factors of G's denominator, where G has no zero). Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * out sigma: [as derived]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
  */
-four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_BAR_N_SIGMA]);
+four_bar_status four_bar_sigma(const four_bar_params *params, codegen_real sigma[FOUR_BAR_N_SIGMA]);
 
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * in  theta: equilibrium angle theta_E [rad]
@@ -207,7 +207,7 @@ four_bar_status four_bar_sigma(const four_bar_params *params, double sigma[FOUR_
  * out K: K_EQ [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_linearisation(const four_bar_params *params, double theta, double *M, double *B, double *K);
+four_bar_status four_bar_linearisation(const four_bar_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
 /* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
  * in  theta: equilibrium angle theta_E [rad]
@@ -215,7 +215,7 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, double the
  * out zeta_omega_n: [1/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_vibration(const four_bar_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
+four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
 /* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
  * in  theta: equilibrium angle theta_E [rad]
@@ -224,7 +224,7 @@ four_bar_status four_bar_vibration(const four_bar_params *params, double theta, 
  * out K: K_EQ [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_mode_linearisation(const four_bar_params *params, double theta, double M[FOUR_BAR_N_MODES], double B[FOUR_BAR_N_MODES], double K[FOUR_BAR_N_MODES]);
+four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codegen_real theta, codegen_real M[FOUR_BAR_N_MODES], codegen_real B[FOUR_BAR_N_MODES], codegen_real K[FOUR_BAR_N_MODES]);
 
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
  * in  theta: equilibrium angle theta_E [rad]
@@ -238,29 +238,29 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, doubl
  * out radicand_scales: [unit^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
  */
-four_bar_status four_bar_equilibrium_state(const four_bar_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[FOUR_BAR_N_BRANCHES], double radicands[FOUR_BAR_N_ROOTS], double radicand_scales[FOUR_BAR_N_ROOTS]);
+four_bar_status four_bar_equilibrium_state(const four_bar_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real branch_residuals[FOUR_BAR_N_BRANCHES], codegen_real radicands[FOUR_BAR_N_ROOTS], codegen_real radicand_scales[FOUR_BAR_N_ROOTS]);
 
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns FOUR_BAR_OK when every item succeeded, else the first failure. */
-four_bar_status four_bar_position_constraints_batch(size_t count, const four_bar_params *params, const double *coords, double *f, four_bar_status *statuses);
-four_bar_status four_bar_constraint_jacobian_batch(size_t count, const four_bar_params *params, const double *coords, double *A, four_bar_status *statuses);
-four_bar_status four_bar_velocity_constraints_batch(size_t count, const four_bar_params *params, const double *coords, const double *rates, double *f_d, four_bar_status *statuses);
-four_bar_status four_bar_acceleration_constraints_batch(size_t count, const four_bar_params *params, const double *coords, const double *rates, const double *accels, double *f_dd, four_bar_status *statuses);
-four_bar_status four_bar_point_kinematics_batch(size_t count, const four_bar_params *params, const double *coords, const double *rates, double *positions, double *velocities, four_bar_status *statuses);
-four_bar_status four_bar_energies_batch(size_t count, const four_bar_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, four_bar_status *statuses);
-four_bar_status four_bar_lagrange_terms_batch(size_t count, const four_bar_params *params, const double *coords, const double *rates, const double *accels, const double *multipliers, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, four_bar_status *statuses);
-four_bar_status four_bar_dependent_state_batch(size_t count, const four_bar_params *params, const double *theta, const double *theta_d, double *coords, double *rates, four_bar_status *statuses);
-four_bar_status four_bar_reduced_coefficients_batch(size_t count, const four_bar_params *params, const double *theta, double *e, four_bar_status *statuses);
-four_bar_status four_bar_angular_acceleration_batch(size_t count, const four_bar_params *params, const double *theta, const double *theta_d, double *theta_dd, four_bar_status *statuses);
-four_bar_status four_bar_equilibrium_residual_batch(size_t count, const four_bar_params *params, const double *theta, double *residual, double *scale, four_bar_status *statuses);
-four_bar_status four_bar_radicands_batch(size_t count, const four_bar_params *params, const double *theta, double *values, double *scales, four_bar_status *statuses);
-four_bar_status four_bar_equilibrium_branches_batch(size_t count, const four_bar_params *params, const double *theta, double *residuals, four_bar_status *statuses);
-four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params, double *sigma, four_bar_status *statuses);
-four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
-four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, four_bar_status *statuses);
-four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const double *theta, double *M, double *B, double *K, four_bar_status *statuses);
-four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, four_bar_status *statuses);
+four_bar_status four_bar_position_constraints_batch(size_t count, const four_bar_params *params, const codegen_real *coords, codegen_real *f, four_bar_status *statuses);
+four_bar_status four_bar_constraint_jacobian_batch(size_t count, const four_bar_params *params, const codegen_real *coords, codegen_real *A, four_bar_status *statuses);
+four_bar_status four_bar_velocity_constraints_batch(size_t count, const four_bar_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *f_d, four_bar_status *statuses);
+four_bar_status four_bar_acceleration_constraints_batch(size_t count, const four_bar_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *f_dd, four_bar_status *statuses);
+four_bar_status four_bar_point_kinematics_batch(size_t count, const four_bar_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, four_bar_status *statuses);
+four_bar_status four_bar_energies_batch(size_t count, const four_bar_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, four_bar_status *statuses);
+four_bar_status four_bar_lagrange_terms_batch(size_t count, const four_bar_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, const codegen_real *multipliers, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, four_bar_status *statuses);
+four_bar_status four_bar_dependent_state_batch(size_t count, const four_bar_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, four_bar_status *statuses);
+four_bar_status four_bar_reduced_coefficients_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *e, four_bar_status *statuses);
+four_bar_status four_bar_angular_acceleration_batch(size_t count, const four_bar_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, four_bar_status *statuses);
+four_bar_status four_bar_equilibrium_residual_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, four_bar_status *statuses);
+four_bar_status four_bar_radicands_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, four_bar_status *statuses);
+four_bar_status four_bar_equilibrium_branches_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *residuals, four_bar_status *statuses);
+four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params, codegen_real *sigma, four_bar_status *statuses);
+four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);
+four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, four_bar_status *statuses);
+four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);
+four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, four_bar_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
@@ -271,14 +271,14 @@ four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_pa
  * square root may reach zero, or the mode may not exist on part of the interval) and
  * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
  * Returns FOUR_BAR_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
-four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags);
+four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags);
 
 /* Real roots of sum_{i=0}^{28} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
-four_bar_status four_bar_poly_real_roots(const double sigma[FOUR_BAR_N_SIGMA],
-                                       double theta[FOUR_BAR_MAX_ROOTS], int *n_roots);
+four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIGMA],
+                                       codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots);
 
 /* Stability of an equilibrium from M, B, K (M > 0). */
 typedef enum four_bar_stability {
@@ -307,22 +307,22 @@ typedef enum four_bar_root_kind {
  * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
  * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct four_bar_equilibrium {
-    double theta;           /* theta_E [rad], in the coordinate's range */
-    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
+    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
     int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     four_bar_root_kind kind;
-    double residual;        /* G(theta_E) (42) [N m] */
-    double residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
+    codegen_real residual;        /* G(theta_E) (42) [N m] */
+    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
                                has |residual| / residual_scale near machine epsilon */
-    double M;               /* M_EQ [kg m^2] (50) */
-    double B;               /* B_EQ [N m s] (51) */
-    double K;               /* K_EQ [N m] (52) */
-    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    codegen_real M;               /* M_EQ [kg m^2] (50) */
+    codegen_real B;               /* B_EQ [N m s] (51) */
+    codegen_real K;               /* K_EQ [N m] (52) */
+    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
     four_bar_stability stability;
     four_bar_damping damping;
 } four_bar_equilibrium;
@@ -337,7 +337,7 @@ typedef enum four_bar_uncertainty {
 } four_bar_uncertainty;
 
 typedef struct four_bar_interval {
-    double lo, hi;          /* [rad] */
+    codegen_real lo, hi;          /* [rad] */
     four_bar_uncertainty kind;
     unsigned mode;          /* the assembly mode it was found on (0: as declared) */
     int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
@@ -346,13 +346,13 @@ typedef struct four_bar_interval {
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct four_bar_analysis {
-    double sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 (polynomial route; 0 after isolation) */
+    codegen_real sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 (polynomial route; 0 after isolation) */
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     four_bar_equilibrium roots[FOUR_BAR_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
-    double singular_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real singular_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
-    double unassembled_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real unassembled_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
     four_bar_interval uncertain[FOUR_BAR_MAX_UNCERTAIN]; /* ascending */
 } four_bar_analysis;

@@ -13,38 +13,38 @@
 #include "codegen_interval.h"
 
 /* position_constraints's outputs into out[2], in order: f[FOUR_BAR_N_CONSTRAINTS]. */
-void four_bar_position_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double out[2]);
+void four_bar_position_constraints_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], codegen_real out[2]);
 #define FOUR_BAR_POSITION_CONSTRAINTS_F 0
 /* A failure of position_constraints (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_POSITION_CONSTRAINTS_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* constraint_jacobian's outputs into out[6], in order: A[FOUR_BAR_N_JACOBIAN]. */
-void four_bar_constraint_jacobian_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], double out[6]);
+void four_bar_constraint_jacobian_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], codegen_real out[6]);
 #define FOUR_BAR_CONSTRAINT_JACOBIAN_A 0
 /* A failure of constraint_jacobian (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_CONSTRAINT_JACOBIAN_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* velocity_constraints's outputs into out[2], in order: f_d[FOUR_BAR_N_CONSTRAINTS]. */
-void four_bar_velocity_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[2]);
+void four_bar_velocity_constraints_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real out[2]);
 #define FOUR_BAR_VELOCITY_CONSTRAINTS_F_D 0
 /* A failure of velocity_constraints (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_VELOCITY_CONSTRAINTS_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* acceleration_constraints's outputs into out[2], in order: f_dd[FOUR_BAR_N_CONSTRAINTS]. */
-void four_bar_acceleration_constraints_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], double out[2]);
+void four_bar_acceleration_constraints_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], const codegen_real accels[FOUR_BAR_N_COORDS], codegen_real out[2]);
 #define FOUR_BAR_ACCELERATION_CONSTRAINTS_F_DD 0
 /* A failure of acceleration_constraints (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_ACCELERATION_CONSTRAINTS_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* point_kinematics's outputs into out[8], in order: positions[FOUR_BAR_N_POINT_COORDS], velocities[FOUR_BAR_N_POINT_COORDS]. */
-void four_bar_point_kinematics_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[8]);
+void four_bar_point_kinematics_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real out[8]);
 #define FOUR_BAR_POINT_KINEMATICS_POSITIONS 0
 #define FOUR_BAR_POINT_KINEMATICS_VELOCITIES 4
 /* A failure of point_kinematics (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_POINT_KINEMATICS_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* energies's outputs into out[4], in order: T, V_G, V_E, lagrangian. */
-void four_bar_energies_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], double out[4]);
+void four_bar_energies_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], codegen_real out[4]);
 #define FOUR_BAR_ENERGIES_T 0
 #define FOUR_BAR_ENERGIES_V_G 1
 #define FOUR_BAR_ENERGIES_V_E 2
@@ -53,7 +53,7 @@ void four_bar_energies_kernel(const four_bar_params *params, const double coords
 #define FOUR_BAR_ENERGIES_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* lagrange_terms's outputs into out[18], in order: dt_dL_dqdot[FOUR_BAR_N_COORDS], dL_dq[FOUR_BAR_N_COORDS], constraint_forces[FOUR_BAR_N_COORDS], dissipative_forces[FOUR_BAR_N_COORDS], applied_forces[FOUR_BAR_N_COORDS], residual[FOUR_BAR_N_COORDS]. */
-void four_bar_lagrange_terms_kernel(const four_bar_params *params, const double coords[FOUR_BAR_N_COORDS], const double rates[FOUR_BAR_N_COORDS], const double accels[FOUR_BAR_N_COORDS], const double multipliers[FOUR_BAR_N_CONSTRAINTS], double out[18]);
+void four_bar_lagrange_terms_kernel(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], const codegen_real accels[FOUR_BAR_N_COORDS], const codegen_real multipliers[FOUR_BAR_N_CONSTRAINTS], codegen_real out[18]);
 #define FOUR_BAR_LAGRANGE_TERMS_DT_DL_DQDOT 0
 #define FOUR_BAR_LAGRANGE_TERMS_DL_DQ 3
 #define FOUR_BAR_LAGRANGE_TERMS_CONSTRAINT_FORCES 6
@@ -64,52 +64,52 @@ void four_bar_lagrange_terms_kernel(const four_bar_params *params, const double 
 #define FOUR_BAR_LAGRANGE_TERMS_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* dependent_state's outputs into out[6], in order: coords[FOUR_BAR_N_COORDS], rates[FOUR_BAR_N_COORDS]. */
-void four_bar_dependent_state_kernel(const four_bar_params *params, double theta, double theta_d, double out[6]);
+void four_bar_dependent_state_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[6]);
 #define FOUR_BAR_DEPENDENT_STATE_COORDS 0
 #define FOUR_BAR_DEPENDENT_STATE_RATES 3
 /* A failure of dependent_state (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_DEPENDENT_STATE_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* reduced_coefficients's outputs into out[3], in order: e[FOUR_BAR_N_REDUCED]. */
-void four_bar_reduced_coefficients_kernel(const four_bar_params *params, double theta, double out[3]);
+void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[3]);
 #define FOUR_BAR_REDUCED_COEFFICIENTS_E 0
 /* A failure of reduced_coefficients (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_REDUCED_COEFFICIENTS_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void four_bar_angular_acceleration_kernel(const four_bar_params *params, double theta, double theta_d, double out[1]);
+void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
 #define FOUR_BAR_ANGULAR_ACCELERATION_THETA_DD 0
 /* A failure of angular_acceleration (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_ANGULAR_ACCELERATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* equilibrium_residual's outputs into out[2], in order: residual, scale. */
-void four_bar_equilibrium_residual_kernel(const four_bar_params *params, double theta, double out[2]);
+void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[2]);
 #define FOUR_BAR_EQUILIBRIUM_RESIDUAL_RESIDUAL 0
 #define FOUR_BAR_EQUILIBRIUM_RESIDUAL_SCALE 1
 /* A failure of equilibrium_residual (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_EQUILIBRIUM_RESIDUAL_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* radicands's outputs into out[4], in order: values[FOUR_BAR_N_ROOTS], scales[FOUR_BAR_N_ROOTS]. */
-void four_bar_radicands_kernel(const four_bar_params *params, double theta, double out[4]);
+void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[4]);
 #define FOUR_BAR_RADICANDS_VALUES 0
 #define FOUR_BAR_RADICANDS_SCALES 2
 /* A failure of radicands (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_RADICANDS_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* equilibrium_branches's outputs into out[4], in order: residuals[FOUR_BAR_N_BRANCHES]. */
-void four_bar_equilibrium_branches_kernel(const four_bar_params *params, double theta, double out[4]);
+void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[4]);
 #define FOUR_BAR_EQUILIBRIUM_BRANCHES_RESIDUALS 0
 /* A failure of equilibrium_branches (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_EQUILIBRIUM_BRANCHES_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* sigma's outputs into out[29], in order: sigma[FOUR_BAR_N_SIGMA]. */
-void four_bar_sigma_kernel(const four_bar_params *params, double out[29]);
+void four_bar_sigma_kernel(const four_bar_params *params, codegen_real out[29]);
 #define FOUR_BAR_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_SIGMA_FAILURE FOUR_BAR_ERR_OVERFLOW
 
 /* linearisation's outputs into out[3], in order: M, B, K. */
-void four_bar_linearisation_kernel(const four_bar_params *params, double theta, double out[3]);
+void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[3]);
 #define FOUR_BAR_LINEARISATION_M 0
 #define FOUR_BAR_LINEARISATION_B 1
 #define FOUR_BAR_LINEARISATION_K 2
@@ -117,14 +117,14 @@ void four_bar_linearisation_kernel(const four_bar_params *params, double theta, 
 #define FOUR_BAR_LINEARISATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* vibration's outputs into out[2], in order: omega_n_squared, zeta_omega_n. */
-void four_bar_vibration_kernel(const four_bar_params *params, double theta, double out[2]);
+void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[2]);
 #define FOUR_BAR_VIBRATION_OMEGA_N_SQUARED 0
 #define FOUR_BAR_VIBRATION_ZETA_OMEGA_N 1
 /* A failure of vibration (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_VIBRATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* mode_linearisation's outputs into out[6], in order: M[FOUR_BAR_N_MODES], B[FOUR_BAR_N_MODES], K[FOUR_BAR_N_MODES]. */
-void four_bar_mode_linearisation_kernel(const four_bar_params *params, double theta, double out[6]);
+void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[6]);
 #define FOUR_BAR_MODE_LINEARISATION_M 0
 #define FOUR_BAR_MODE_LINEARISATION_B 2
 #define FOUR_BAR_MODE_LINEARISATION_K 4
@@ -132,7 +132,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, double th
 #define FOUR_BAR_MODE_LINEARISATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* equilibrium_state's outputs into out[13], in order: residual, scale, M, B, K, branch_residuals[FOUR_BAR_N_BRANCHES], radicands[FOUR_BAR_N_ROOTS], radicand_scales[FOUR_BAR_N_ROOTS]. */
-void four_bar_equilibrium_state_kernel(const four_bar_params *params, double theta, double out[13]);
+void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[13]);
 #define FOUR_BAR_EQUILIBRIUM_STATE_RESIDUAL 0
 #define FOUR_BAR_EQUILIBRIUM_STATE_SCALE 1
 #define FOUR_BAR_EQUILIBRIUM_STATE_M 2

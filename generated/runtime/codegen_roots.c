@@ -60,44 +60,45 @@
 
 #include <float.h>
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: float or double functions */
 #include <stddef.h>
 
 #define CR_MAXN CODEGEN_MAX_DEGREE        /* array bound: the largest degree accepted */
-#define CR_PI 3.14159265358979323846264338327950288
-#define CR_ULPS 64.0                       /* see 5(a) */
-#define CR_PAIR 1e-5                       /* see 5(b); in chart units (theta ~ 2 u) */
+#define CR_PI CODEGEN_R(3.14159265358979323846264338327950288)
+#define CR_ULPS CODEGEN_R(64.0)                       /* see 5(a) */
+#define CR_PAIR CODEGEN_R(1e-5)                       /* see 5(b); in chart units (theta ~ 2 u) */
 #define CR_MAXIT 400                       /* iteration cap: ~60 halvings reach full relative
                                               precision; only a root at 0 needs more, and there
                                               Newton converges (fast) */
 
 /* One step s <- s x + a of the compensated Horner scheme below: s + c carries the value, m the
  * sum of |a_i||x|^i; xh + xl = x is x split by split(). The product's rounding error pe comes
- * from fma where the hardware has it (FP_FAST_FMA); else from Dekker's TwoProduct, equally
+ * from fma where the hardware has it (CODEGEN_FAST_FMA); else from Dekker's TwoProduct, equally
  * exact (no overflow can occur here: |s| stays far below 2^995) and much faster than a call to
  * a software fma, around which every floating-point register must be saved. */
-static inline void split(double a, double *hi, double *lo)
+static inline void split(codegen_real a, codegen_real *hi, codegen_real *lo)
 {
-    const double t = 134217729.0 * a;                     /* Veltkamp: 2^27 + 1 */
+    const codegen_real t = CODEGEN_SPLITTER * a;
     *hi = t - (t - a);
     *lo = a - *hi;
 }
 
-static inline void cstep(double *s, double *c, double *m, double x, double xh, double xl,
-                         double ax, double a)
+static inline void cstep(codegen_real *s, codegen_real *c, codegen_real *m, codegen_real x, codegen_real xh, codegen_real xl,
+                         codegen_real ax, codegen_real a)
 {
-    const double p = *s * x;
-#ifdef FP_FAST_FMA
-    const double pe = fma(*s, x, -p);                     /* s * x = p + pe exactly */
+    const codegen_real p = *s * x;
+#ifdef CODEGEN_FAST_FMA
+    const codegen_real pe = fma(*s, x, -p);                     /* s * x = p + pe exactly */
     (void)xh;
     (void)xl;
 #else
-    double sh, sl;
+    codegen_real sh, sl;
     split(*s, &sh, &sl);
-    const double pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl;   /* likewise */
+    const codegen_real pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl;   /* likewise */
 #endif
-    const double t = p + a;
-    const double z = t - p;
-    const double se = (p - (t - z)) + (a - z);           /* p + a = t + se exactly */
+    const codegen_real t = p + a;
+    const codegen_real z = t - p;
+    const codegen_real se = (p - (t - z)) + (a - z);           /* p + a = t + se exactly */
     *s = t;
     *c = *c * x + (pe + se);
     *m = *m * ax + fabs(a);
@@ -107,13 +108,13 @@ static inline void cstep(double *s, double *c, double *m, double x, double xh, d
  * error-free transformations (TwoProduct for the product, see cstep; Knuth's TwoSum for the
  * sum) give |result - f(x)| <= u |f(x)| + gamma_{2n}^2 sum |a_i||x|^i. *mag receives
  * sum |a_i||x|^i. */
-static double eval(const double *a, int n, double x, double *mag)
+static codegen_real eval(const codegen_real *a, int n, codegen_real x, codegen_real *mag)
 {
-    double s = a[n];
-    double c = 0.0;
-    double m = fabs(a[n]);
-    const double ax = fabs(x);
-    double xh, xl;
+    codegen_real s = a[n];
+    codegen_real c = 0;
+    codegen_real m = fabs(a[n]);
+    const codegen_real ax = fabs(x);
+    codegen_real xh, xl;
     split(x, &xh, &xl);
     for (int i = n - 1; i >= 0; --i) {
         cstep(&s, &c, &m, x, xh, xl, ax, a[i]);
@@ -124,14 +125,14 @@ static double eval(const double *a, int n, double x, double *mag)
 
 /* f, f' and f'' (degrees n >= 1, n - 1, n - 2; f'' = 0 when n < 2) at x, each exactly as eval
  * computes it, in one loop so that the three independent recurrences overlap. */
-static void eval3(const double *f, const double *df, const double *d2f, int n, double x,
-                  double v[3], double mag[3])
+static void eval3(const codegen_real *f, const codegen_real *df, const codegen_real *d2f, int n, codegen_real x,
+                  codegen_real v[3], codegen_real mag[3])
 {
-    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
-    double c0 = 0.0, c1 = 0.0, c2 = 0.0;
-    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
-    const double ax = fabs(x);
-    double xh, xl;
+    codegen_real s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0;
+    codegen_real c0 = 0, c1 = 0, c2 = 0;
+    codegen_real m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const codegen_real ax = fabs(x);
+    codegen_real xh, xl;
     split(x, &xh, &xl);
     int i = n - 1;
     for (; i >= 2; --i) {
@@ -156,10 +157,10 @@ static void eval3(const double *f, const double *df, const double *d2f, int n, d
  * recurrences in one loop; each value is within gamma_{2n} <= 4 n eps times its magnitude sum
  * (below) of the truth (Higham, Accuracy and Stability of Numerical Algorithms, 5.1). A value
  * beyond PLAIN_OK's margin has a certain sign and a small relative error. */
-#define PLAIN_OK(v, n, mag) (fabs(v) > 4.0 * (double)(n) * DBL_EPSILON * (mag))
-static inline double horner_fd(const double *a, const double *df, int n, double x, double *dv)
+#define PLAIN_OK(v, n, mag) (fabs(v) > CODEGEN_R(4.0) * (codegen_real)(n) * CODEGEN_EPSILON * (mag))
+static inline codegen_real horner_fd(const codegen_real *a, const codegen_real *df, int n, codegen_real x, codegen_real *dv)
 {
-    double s = a[n], d = df[n - 1];
+    codegen_real s = a[n], d = df[n - 1];
     for (int i = n - 1; i >= 1; --i) {
         s = s * x + a[i];
         d = d * x + df[i - 1];
@@ -169,9 +170,9 @@ static inline double horner_fd(const double *a, const double *df, int n, double 
 }
 
 /* sum |a_i| r^i: the magnitude sum at |x| = r, and a bound on it wherever |x| <= r. */
-static inline double magnitude(const double *a, int n, double r)
+static inline codegen_real magnitude(const codegen_real *a, int n, codegen_real r)
 {
-    double m = fabs(a[n]);
+    codegen_real m = fabs(a[n]);
     for (int i = n - 1; i >= 0; --i) {
         m = m * r + fabs(a[i]);
     }
@@ -180,12 +181,12 @@ static inline double magnitude(const double *a, int n, double r)
 
 /* f, f' and f'' as eval3 takes them, by plain Horner's rule, with the sums mag as eval3 gives
  * them; each value is within gamma_{2n} times its mag of the truth (Higham, 5.1). */
-static void horner3(const double *f, const double *df, const double *d2f, int n, double x,
-                    double v[3], double mag[3])
+static void horner3(const codegen_real *f, const codegen_real *df, const codegen_real *d2f, int n, codegen_real x,
+                    codegen_real v[3], codegen_real mag[3])
 {
-    double s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0.0;
-    double m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
-    const double ax = fabs(x);
+    codegen_real s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0;
+    codegen_real m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
+    const codegen_real ax = fabs(x);
     int i = n - 1;
     for (; i >= 2; --i) {
         s0 = s0 * x + f[i];
@@ -216,27 +217,27 @@ static void horner3(const double *f, const double *df, const double *d2f, int n,
  * that certifies its sign, else by the compensated scheme; f' only steers Newton, so plain
  * Horner serves. *del receives the uncertainty of the result: the last step plus the root's
  * sensitivity to a relative change ceps in each coefficient. */
-static double solve(const double *f, const double *df, int n, double ceps, double lo,
-                    double hi, int slo, double *del)
+static codegen_real solve(const codegen_real *f, const codegen_real *df, int n, codegen_real ceps, codegen_real lo,
+                    codegen_real hi, int slo, codegen_real *del)
 {
-    double x = 0.5 * (lo + hi);
-    double dx = hi - lo;
-    double dv;
+    codegen_real x = CODEGEN_R(0.5) * (lo + hi);
+    codegen_real dx = hi - lo;
+    codegen_real dv;
     /* The magnitude sum anywhere in the bracket is at most its value at the farther end: one
      * bound for every iteration; the sum at x itself is formed only where that bound is too
      * coarse to certify the sign. */
-    const double bound = magnitude(f, n, fmax(fabs(lo), fabs(hi)));
+    const codegen_real bound = magnitude(f, n, fmax(fabs(lo), fabs(hi)));
     for (int it = 0;; ++it) {
-        double v = horner_fd(f, df, n, x, &dv);
+        codegen_real v = horner_fd(f, df, n, x, &dv);
         if (!PLAIN_OK(v, n, bound) && !PLAIN_OK(v, n, magnitude(f, n, fabs(x)))) {
-            double mag;
+            codegen_real mag;
             v = eval(f, n, x, &mag);
         }
-        if (v == 0.0) {
-            dx = 0.0;
+        if (v == 0) {
+            dx = 0;
             break;
         }
-        if ((v > 0.0) == (slo > 0)) {
+        if ((v > 0) == (slo > 0)) {
             lo = x;
         } else {
             hi = x;
@@ -244,11 +245,11 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
         if (it == CR_MAXIT) {
             break;                        /* x, dv: the last point evaluated */
         }
-        const double dxold = dx;
-        if (dv != 0.0) {
+        const codegen_real dxold = dx;
+        if (dv != 0) {
             dx = v / dv;
-            const double xn = x - dx;
-            if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+            const codegen_real xn = x - dx;
+            if (fabs(dx) <= CODEGEN_EPSILON * fabs(x) + CODEGEN_REAL_MIN) {
                 /* Newton step below the resolution of x: converged (even if xn rounds onto or
                  * just past an end of the bracket, which the test below would reject). */
                 if (xn > lo && xn < hi) {
@@ -256,25 +257,25 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
                 }
                 break;
             }
-            if (xn > lo && xn < hi && fabs(2.0 * dx) <= fabs(dxold)) {
+            if (xn > lo && xn < hi && fabs(CODEGEN_R(2.0) * dx) <= fabs(dxold)) {
                 x = xn;
                 continue;
             }
         }
-        dx = 0.5 * (hi - lo);
+        dx = CODEGEN_R(0.5) * (hi - lo);
         x = lo + dx;
-        if (fabs(dx) <= DBL_EPSILON * fabs(x) + DBL_MIN) {
+        if (fabs(dx) <= CODEGEN_EPSILON * fabs(x) + CODEGEN_REAL_MIN) {
             break;
         }
     }
     /* dv: from the last evaluation, at most a step below the resolution of x away. */
-    double dmag = magnitude(df, n - 1, fabs(x));
+    codegen_real dmag = magnitude(df, n - 1, fabs(x));
     if (!PLAIN_OK(dv, n - 1, dmag)) {
         dv = eval(df, n - 1, x, &dmag);
     }
     dv = fabs(dv);
-    const double mag = magnitude(f, n, fabs(x));
-    *del = fabs(dx) + ((dv > 0.0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
+    const codegen_real mag = magnitude(f, n, fabs(x));
+    *del = fabs(dx) + ((dv > 0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
     return x;
 }
 
@@ -285,34 +286,34 @@ static double solve(const double *f, const double *df, int n, double ceps, doubl
  * and runs of untrusted signs touching an endpoint are left to chart A. ends_out != NULL
  * (chart A, level 0): the endpoints (the seam) are also tested by rule 5; their signs are
  * stored there. */
-static int level_roots(const double *f, const double *df, const double *d2f, int n,
-                       double ceps, const double *crit, const double *cdel, int nc,
-                       const int *ends_in, int *ends_out, double *rt, double *rdel)
+static int level_roots(const codegen_real *f, const codegen_real *df, const codegen_real *d2f, int n,
+                       codegen_real ceps, const codegen_real *crit, const codegen_real *cdel, int nc,
+                       const int *ends_in, int *ends_out, codegen_real *rt, codegen_real *rdel)
 {
-    double px[CR_MAXN + 2], pv[CR_MAXN + 2], pd[CR_MAXN + 2];  /* points, f, uncertainty */
+    codegen_real px[CR_MAXN + 2], pv[CR_MAXN + 2], pd[CR_MAXN + 2];  /* points, f, uncertainty */
     int ps[CR_MAXN + 2] = {0};                               /* trusted sign, 0 = root */
     const int np = nc + 2;
-    const double g = (double)n * DBL_EPSILON;                /* gamma_{2n} */
-    double amax = 0.0;                                       /* largest |coefficient| */
+    const codegen_real g = (codegen_real)n * CODEGEN_EPSILON;                /* gamma_{2n} */
+    codegen_real amax = 0;                                       /* largest |coefficient| */
     for (int i = 0; i <= n; ++i) {
         amax = (fabs(f[i]) > amax) ? fabs(f[i]) : amax;
     }
 
-    px[0] = -1.0;
-    pd[0] = 0.0;
+    px[0] = -1;
+    pd[0] = 0;
     for (int i = 0; i < nc; ++i) {
         px[i + 1] = crit[i];
         pd[i + 1] = cdel[i];
     }
-    px[np - 1] = 1.0;
-    pd[np - 1] = 0.0;
+    px[np - 1] = 1;
+    pd[np - 1] = 0;
 
     for (int j = 0; j < np; ++j) {
-        double pw = 0.0;                                     /* sum |x|^i */
+        codegen_real pw = 0;                                     /* sum |x|^i */
         for (int i = 0; i <= n; ++i) {
-            pw = pw * fabs(px[j]) + 1.0;
+            pw = pw * fabs(px[j]) + 1;
         }
-        double vals[3], mags[3];
+        codegen_real vals[3], mags[3];
         const int inner = j > 0 && j < np - 1;
         if (inner || ends_out == NULL) {
             /* Fast path (all points but the seam's): if plain Horner's values, widened by their
@@ -321,53 +322,53 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
              * else of it is used. Otherwise (the few points near a root of f) the compensated
              * values decide as below. */
             horner3(f, df, d2f, n, px[j], vals, mags);
-            const double e0 = 4.0 * (double)n * DBL_EPSILON * mags[0];
-            const double vlo = fabs(vals[0]) - e0;
-            const double d1up = fabs(vals[1]) + 4.0 * (double)n * DBL_EPSILON * mags[1];
-            const double d2up = fabs(vals[2]) + 4.0 * (double)n * DBL_EPSILON * mags[2];
-            const double tolup = DBL_EPSILON * (fabs(vals[0]) + e0) + 2.0 * g * g * mags[0] +
-                                 (d1up + 0.5 * d2up * pd[j]) * pd[j];
-            if (vlo > 2.0 * tolup && (!inner || vlo > 2.0 * ceps * amax * pw ||
+            const codegen_real e0 = CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[0];
+            const codegen_real vlo = fabs(vals[0]) - e0;
+            const codegen_real d1up = fabs(vals[1]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[1];
+            const codegen_real d2up = fabs(vals[2]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[2];
+            const codegen_real tolup = CODEGEN_EPSILON * (fabs(vals[0]) + e0) + CODEGEN_R(2.0) * g * g * mags[0] +
+                                 (d1up + CODEGEN_R(0.5) * d2up * pd[j]) * pd[j];
+            if (vlo > CODEGEN_R(2.0) * tolup && (!inner || vlo > CODEGEN_R(2.0) * ceps * amax * pw ||
                                       vlo > d2up * CR_PAIR * CR_PAIR)) {
                 pv[j] = vals[0];
-                ps[j] = (vals[0] > 0.0) ? 1 : -1;
+                ps[j] = (vals[0] > 0) ? 1 : -1;
                 continue;
             }
         }
         eval3(f, df, d2f, n, px[j], vals, mags);
-        const double v = vals[0];
-        const double mag = mags[0];
-        const double d1s = vals[1];
-        const double d2s = vals[2];
-        const double d1 = fabs(d1s);
-        const double d2 = fabs(d2s);
+        const codegen_real v = vals[0];
+        const codegen_real mag = mags[0];
+        const codegen_real d1s = vals[1];
+        const codegen_real d2s = vals[2];
+        const codegen_real d1 = fabs(d1s);
+        const codegen_real d2 = fabs(d2s);
         /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
-        double tol = DBL_EPSILON * fabs(v) + 2.0 * g * g * mag + (d1 + 0.5 * d2 * pd[j]) * pd[j];
+        codegen_real tol = CODEGEN_EPSILON * fabs(v) + CODEGEN_R(2.0) * g * g * mag + (d1 + CODEGEN_R(0.5) * d2 * pd[j]) * pd[j];
         int zero = fabs(v) <= tol;
         /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
          * point x + dc of f's quadratic model there (value fc), if it is within CR_PAIR. */
         const int seam = ends_out != NULL && (j == 0 || j == np - 1);
-        const double dc = (seam && d2 > 0.0) ? -d1s / d2s : 0.0;
-        double fc = v + 0.5 * d1s * dc;
+        const codegen_real dc = (seam && d2 > 0) ? -d1s / d2s : 0;
+        codegen_real fc = v + CODEGEN_R(0.5) * d1s * dc;
         if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= CR_PAIR)) &&
-            fabs(fc) <= ceps * amax * pw && 2.0 * fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
+            fabs(fc) <= ceps * amax * pw && CODEGEN_R(2.0) * fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
             zero = 1;                                        /* 5(a) and 5(b) */
             tol = ceps * amax * pw;
-            if (seam && d1 > 0.5 * (double)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
+            if (seam && d1 > CODEGEN_R(0.5) * (codegen_real)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
                 px[j] += dc;
             } else if (seam) {
-                fc = 0.0;                       /* on the seam: it stands for its run */
+                fc = 0;                       /* on the seam: it stands for its run */
             }
         }
         pv[j] = fc;
-        ps[j] = zero ? 0 : (v > 0.0 ? 1 : -1);
+        ps[j] = zero ? 0 : (v > 0 ? 1 : -1);
         /* Should the point stand for a root, how far that root may be from it. */
-        double est = CR_PAIR;
-        if (d1 > 0.0) {
+        codegen_real est = CR_PAIR;
+        if (d1 > 0) {
             est = fmin(est, tol / d1);
         }
-        if (d2 > 0.0) {
-            est = fmin(est, sqrt(2.0 * tol / d2));
+        if (d2 > 0) {
+            est = fmin(est, sqrt(CODEGEN_R(2.0) * tol / d2));
         }
         pd[j] += est;
     }
@@ -382,7 +383,7 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
 
     int nr = 0;
     int run_start = -1;          /* first index of the current run of untrusted signs */
-    double best = 0.0;           /* smallest |f| in that run; its point represents the run */
+    codegen_real best = 0;           /* smallest |f| in that run; its point represents the run */
     for (int j = 0; j < np; ++j) {
         if (ps[j] == 0) {
             if (run_start < 0) {
@@ -416,11 +417,11 @@ static int level_roots(const double *f, const double *df, const double *d2f, int
 
 /* Roots of c[0..m] (1 <= m <= CR_MAXN) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted,
  * into roots (room for m values; at most m are written). */
-static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out, double *roots)
+static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *ends_out, codegen_real *roots)
 {
-    double d[CR_MAXN + 1][CR_MAXN + 1];  /* d[k] = k-th derivative, degree m - k */
-    double cdel[CR_MAXN] = {0.0}, rt[CR_MAXN], rdel[CR_MAXN];
-    double *crit = roots;                /* each level's roots are the next one's critical points */
+    codegen_real d[CR_MAXN + 1][CR_MAXN + 1];  /* d[k] = k-th derivative, degree m - k */
+    codegen_real cdel[CR_MAXN] = {0}, rt[CR_MAXN], rdel[CR_MAXN];
+    codegen_real *crit = roots;                /* each level's roots are the next one's critical points */
     int nc = 0;
 
     for (int i = 0; i <= m; ++i) {
@@ -428,13 +429,13 @@ static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out
     }
     for (int k = 1; k <= m; ++k) {
         for (int i = 0; i <= m - k; ++i) {
-            d[k][i] = (double)(i + 1) * d[k - 1][i + 1];
+            d[k][i] = (codegen_real)(i + 1) * d[k - 1][i + 1];
         }
     }
     for (int k = m - 1; k >= 0; --k) {
-        const double *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
+        const codegen_real *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
         /* d[k]'s coefficients: the input's uncertainty plus one ulp per differentiation. */
-        const double ceps = (CR_ULPS + (double)k) * DBL_EPSILON;
+        const codegen_real ceps = (CR_ULPS + (codegen_real)k) * CODEGEN_EPSILON;
         const int nr = level_roots(d[k], d[k + 1], d2f, m - k, ceps, crit, cdel, nc,
                                    k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
                                    rt, rdel);
@@ -449,19 +450,19 @@ static int chart_roots(const double *c, int m, const int *ends_in, int *ends_out
 
 /* theta = 2 atan(1/u) in (-pi, pi]; u = 0 (tau = infinity) is pi. The two branches avoid the
  * cancellation of subtracting 2 pi. */
-static double theta_of_u(double u)
+static codegen_real theta_of_u(codegen_real u)
 {
-    const double t = (u >= 0.0) ? 2.0 * atan2(1.0, u) : -2.0 * atan2(1.0, -u);
+    const codegen_real t = (u >= 0) ? CODEGEN_R(2.0) * atan2((codegen_real)1, u) : -CODEGEN_R(2.0) * atan2((codegen_real)1, -u);
     return (t <= -CR_PI) ? CR_PI : t;
 }
 
 /* The contract is in codegen_runtime.h. Outputs are written only on success. */
-codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, double *theta,
+codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots)
 {
-    double s[CR_MAXN + 1];
-    double out[2 * CR_MAXN + 2];
-    double amax = 0.0;
+    codegen_real s[CR_MAXN + 1];
+    codegen_real out[2 * CR_MAXN + 2];
+    codegen_real amax = 0;
     int nout = 0;
     int e;
 
@@ -478,7 +479,7 @@ codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, do
         }
         amax = fmax(amax, fabs(sigma[i]));
     }
-    if (amax == 0.0) {
+    if (amax == 0) {
         return CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL;
     }
 
@@ -489,21 +490,21 @@ codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, do
     }
     int lo = 0;
     int hi = degree;
-    while (s[lo] == 0.0) {                /* stops: some s[i] != 0 since amax > 0 */
+    while (s[lo] == 0) {                /* stops: some s[i] != 0 since amax > 0 */
         ++lo;
     }
-    while (s[hi] == 0.0) {
+    while (s[hi] == 0) {
         --hi;
     }
     if (lo > 0) {
-        out[nout++] = 0.0;                /* factor tau^lo */
+        out[nout++] = 0;                /* factor tau^lo */
     }
     if (hi < degree) {
         out[nout++] = CR_PI;              /* degree drop: roots at tau = infinity */
     }
     const int m = hi - lo;
     if (m > 0) {
-        double a[CR_MAXN + 1], q[CR_MAXN + 1], r[CR_MAXN];
+        codegen_real a[CR_MAXN + 1], q[CR_MAXN + 1], r[CR_MAXN];
         int ends[2], ends_b[2];
         for (int i = 0; i <= m; ++i) {
             a[i] = s[lo + i];
@@ -511,7 +512,7 @@ codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, do
         }
         const int na = chart_roots(a, m, NULL, ends, r);
         for (int i = 0; i < na; ++i) {
-            out[nout++] = 2.0 * atan(r[i]);
+            out[nout++] = CODEGEN_R(2.0) * atan(r[i]);
         }
         ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
         ends_b[1] = ends[1];
@@ -524,7 +525,7 @@ codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, do
     /* Insertion sort; then merge values equal to working precision (also across the wrap at
      * +-pi): the same root seen by both charts, or roots no double can tell apart. */
     for (int i = 1; i < nout; ++i) {
-        const double t = out[i];
+        const codegen_real t = out[i];
         int j = i - 1;
         while (j >= 0 && out[j] > t) {
             out[j + 1] = out[j];
@@ -532,14 +533,14 @@ codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, do
         }
         out[j + 1] = t;
     }
-    const double tiny = 4.0 * DBL_EPSILON;
+    const codegen_real tiny = CODEGEN_R(4.0) * CODEGEN_EPSILON;
     int n = 0;
     for (int i = 0; i < nout; ++i) {
         if (n == 0 || out[i] - out[n - 1] > tiny) {
             out[n++] = out[i];
         }
     }
-    if (n > 1 && out[0] + 2.0 * CR_PI - out[n - 1] <= tiny) {
+    if (n > 1 && out[0] + CODEGEN_R(2.0) * CR_PI - out[n - 1] <= tiny) {
         for (int i = 1; i < n; ++i) {
             out[i - 1] = out[i];
         }

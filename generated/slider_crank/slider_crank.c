@@ -9,9 +9,10 @@
 #include "codegen_dd.h"
 
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
-static int all_finite(const double *values, int count)
+static int all_finite(const codegen_real *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -22,7 +23,7 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static void copy_out(double *destination, const double *source, int count)
+static void copy_out(codegen_real *destination, const codegen_real *source, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -73,7 +74,7 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     {
-        const double values[SLIDER_CRANK_N_PARAMS] = {
+        const codegen_real values[SLIDER_CRANK_N_PARAMS] = {
             params->R, params->l, params->e, params->m_1, params->m_2, params->m_3, params->k, params->l_0, params->x_S, params->y_S, params->b, params->F, params->T, params->g
         };
         if (!all_finite(values, SLIDER_CRANK_N_PARAMS)) {
@@ -81,14 +82,14 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
         }
     }
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double b = params->b;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real b = params->b;
         if (!((R > 0) && (l > 0))) {
             return SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE;
         }
@@ -111,26 +112,26 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
 /* position_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 12. */
-void slider_crank_position_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[2])
+void slider_crank_position_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real out[2])
 {
     (void)params;
     (void)coords;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double x = coords[2];
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real theta = coords[0];
+        const codegen_real psi = coords[1];
+        const codegen_real x = coords[2];
         out[0] = R*cos(theta) + l*cos(psi) - x;
         out[1] = R*sin(theta) - e + l*sin(psi);
     }
 }
 
 /* position_constraints: eq. -. */
-slider_crank_status slider_crank_position_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double f[SLIDER_CRANK_N_CONSTRAINTS])
+slider_crank_status slider_crank_position_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real f[SLIDER_CRANK_N_CONSTRAINTS])
 {
-    double out[2];
+    codegen_real out[2];
     slider_crank_status status;
     if (coords == NULL || f == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -153,15 +154,15 @@ slider_crank_status slider_crank_position_constraints(const slider_crank_params 
 /* constraint_jacobian without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 11. */
-void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[6])
+void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real out[6])
 {
     (void)params;
     (void)coords;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real theta = coords[0];
+        const codegen_real psi = coords[1];
         out[0] = -R*sin(theta);
         out[1] = -l*sin(psi);
         out[2] = -1;
@@ -172,9 +173,9 @@ void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, 
 }
 
 /* constraint_jacobian: eq. -. */
-slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double A[SLIDER_CRANK_N_JACOBIAN])
+slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real A[SLIDER_CRANK_N_JACOBIAN])
 {
-    double out[6];
+    codegen_real out[6];
     slider_crank_status status;
     if (coords == NULL || A == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -197,30 +198,30 @@ slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *
 /* velocity_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 14. */
-void slider_crank_velocity_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[2])
+void slider_crank_velocity_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[2])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double theta_d = rates[0];
-        const double psi_d = rates[1];
-        const double x_d = rates[2];
-        const double tmp0 = R*theta_d;
-        const double tmp1 = l*psi_d;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real theta = coords[0];
+        const codegen_real psi = coords[1];
+        const codegen_real theta_d = rates[0];
+        const codegen_real psi_d = rates[1];
+        const codegen_real x_d = rates[2];
+        const codegen_real tmp0 = R*theta_d;
+        const codegen_real tmp1 = l*psi_d;
         out[0] = -tmp0*sin(theta) - tmp1*sin(psi) - x_d;
         out[1] = tmp0*cos(theta) + tmp1*cos(psi);
     }
 }
 
 /* velocity_constraints: eq. -. */
-slider_crank_status slider_crank_velocity_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double f_d[SLIDER_CRANK_N_CONSTRAINTS])
+slider_crank_status slider_crank_velocity_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real f_d[SLIDER_CRANK_N_CONSTRAINTS])
 {
-    double out[2];
+    codegen_real out[2];
     slider_crank_status status;
     if (coords == NULL || rates == NULL || f_d == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -246,37 +247,37 @@ slider_crank_status slider_crank_velocity_constraints(const slider_crank_params 
 /* acceleration_constraints without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 28. */
-void slider_crank_acceleration_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double out[2])
+void slider_crank_acceleration_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], codegen_real out[2])
 {
     (void)params;
     (void)coords;
     (void)rates;
     (void)accels;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double theta_d = rates[0];
-        const double psi_d = rates[1];
-        const double theta_dd = accels[0];
-        const double psi_dd = accels[1];
-        const double x_dd = accels[2];
-        const double tmp0 = sin(theta);
-        const double tmp1 = sin(psi);
-        const double tmp2 = cos(theta);
-        const double tmp3 = R*(theta_d*theta_d);
-        const double tmp4 = cos(psi);
-        const double tmp5 = l*(psi_d*psi_d);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real theta = coords[0];
+        const codegen_real psi = coords[1];
+        const codegen_real theta_d = rates[0];
+        const codegen_real psi_d = rates[1];
+        const codegen_real theta_dd = accels[0];
+        const codegen_real psi_dd = accels[1];
+        const codegen_real x_dd = accels[2];
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = sin(psi);
+        const codegen_real tmp2 = cos(theta);
+        const codegen_real tmp3 = R*(theta_d*theta_d);
+        const codegen_real tmp4 = cos(psi);
+        const codegen_real tmp5 = l*(psi_d*psi_d);
         out[0] = -R*theta_dd*tmp0 - l*psi_dd*tmp1 - tmp2*tmp3 - tmp4*tmp5 - x_dd;
         out[1] = R*theta_dd*tmp2 + l*psi_dd*tmp4 - tmp0*tmp3 - tmp1*tmp5;
     }
 }
 
 /* acceleration_constraints: eq. -. */
-slider_crank_status slider_crank_acceleration_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double f_dd[SLIDER_CRANK_N_CONSTRAINTS])
+slider_crank_status slider_crank_acceleration_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], codegen_real f_dd[SLIDER_CRANK_N_CONSTRAINTS])
 {
-    double out[2];
+    codegen_real out[2];
     slider_crank_status status;
     if (coords == NULL || rates == NULL || accels == NULL || f_dd == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -305,20 +306,20 @@ slider_crank_status slider_crank_acceleration_constraints(const slider_crank_par
 /* point_kinematics without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 7. */
-void slider_crank_point_kinematics_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[8])
+void slider_crank_point_kinematics_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[8])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double R = params->R;
-        const double e = params->e;
-        const double theta = coords[0];
-        const double x = coords[2];
-        const double theta_d = rates[0];
-        const double x_d = rates[2];
-        const double tmp0 = R*cos(theta);
-        const double tmp1 = R*sin(theta);
+        const codegen_real R = params->R;
+        const codegen_real e = params->e;
+        const codegen_real theta = coords[0];
+        const codegen_real x = coords[2];
+        const codegen_real theta_d = rates[0];
+        const codegen_real x_d = rates[2];
+        const codegen_real tmp0 = R*cos(theta);
+        const codegen_real tmp1 = R*sin(theta);
         out[0] = tmp0;
         out[1] = tmp1;
         out[2] = x;
@@ -331,9 +332,9 @@ void slider_crank_point_kinematics_kernel(const slider_crank_params *params, con
 }
 
 /* point_kinematics: eq. -. */
-slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double positions[SLIDER_CRANK_N_POINT_COORDS], double velocities[SLIDER_CRANK_N_POINT_COORDS])
+slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real positions[SLIDER_CRANK_N_POINT_COORDS], codegen_real velocities[SLIDER_CRANK_N_POINT_COORDS])
 {
-    double out[8];
+    codegen_real out[8];
     slider_crank_status status;
     if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -360,40 +361,40 @@ slider_crank_status slider_crank_point_kinematics(const slider_crank_params *par
 /* energies without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 61. */
-void slider_crank_energies_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[4])
+void slider_crank_energies_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double g = params->g;
-        const double theta = coords[0];
-        const double x = coords[2];
-        const double theta_d = rates[0];
-        const double psi_d = rates[1];
-        const double x_d = rates[2];
-        const double tmp0 = (R*R)*(theta_d*theta_d);
-        const double tmp1 = sin(theta);
-        const double tmp2 = (1.0/4.0)*tmp0;
-        const double tmp3 = tmp2*(cos(theta)*cos(theta));
-        const double tmp4 = (1.0/2.0)*m_1;
-        const double tmp5 = R*tmp1;
-        const double tmp6 = (1.0/2.0)*tmp5;
-        const double tmp7 = (1.0/24.0)*(l*l)*m_2*(psi_d*psi_d) + (1.0/24.0)*m_1*tmp0 + (1.0/2.0)*m_2*(tmp3 + ((-theta_d*tmp6 + (1.0/2.0)*x_d)*(-theta_d*tmp6 + (1.0/2.0)*x_d))) + (1.0/2.0)*m_3*(x_d*x_d) + tmp4*((tmp1*tmp1)*tmp2 + tmp3);
-        const double tmp8 = e*g*m_3;
-        const double tmp9 = g*tmp4*tmp5;
-        const double tmp10 = g*m_2*((1.0/2.0)*e + tmp6);
-        const double tmp11 = (1.0/2.0)*k*((-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S))))*(-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S)))));
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real g = params->g;
+        const codegen_real theta = coords[0];
+        const codegen_real x = coords[2];
+        const codegen_real theta_d = rates[0];
+        const codegen_real psi_d = rates[1];
+        const codegen_real x_d = rates[2];
+        const codegen_real tmp0 = (R*R)*(theta_d*theta_d);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = (((codegen_real)1/4))*tmp0;
+        const codegen_real tmp3 = tmp2*(cos(theta)*cos(theta));
+        const codegen_real tmp4 = (((codegen_real)1/2))*m_1;
+        const codegen_real tmp5 = R*tmp1;
+        const codegen_real tmp6 = (((codegen_real)1/2))*tmp5;
+        const codegen_real tmp7 = (((codegen_real)1/24))*(l*l)*m_2*(psi_d*psi_d) + (((codegen_real)1/24))*m_1*tmp0 + (((codegen_real)1/2))*m_2*(tmp3 + ((-theta_d*tmp6 + (((codegen_real)1/2))*x_d)*(-theta_d*tmp6 + (((codegen_real)1/2))*x_d))) + (((codegen_real)1/2))*m_3*(x_d*x_d) + tmp4*((tmp1*tmp1)*tmp2 + tmp3);
+        const codegen_real tmp8 = e*g*m_3;
+        const codegen_real tmp9 = g*tmp4*tmp5;
+        const codegen_real tmp10 = g*m_2*((((codegen_real)1/2))*e + tmp6);
+        const codegen_real tmp11 = (((codegen_real)1/2))*k*((-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S))))*(-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S)))));
         out[0] = tmp7;
         out[1] = tmp10 + tmp8 + tmp9;
         out[2] = tmp11;
@@ -402,9 +403,9 @@ void slider_crank_energies_kernel(const slider_crank_params *params, const doubl
 }
 
 /* energies: eq. -. */
-slider_crank_status slider_crank_energies(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+slider_crank_status slider_crank_energies(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian)
 {
-    double out[4];
+    codegen_real out[4];
     slider_crank_status status;
     if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -433,7 +434,7 @@ slider_crank_status slider_crank_energies(const slider_crank_params *params, con
 /* lagrange_terms without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 99. */
-void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double out[18])
+void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], const codegen_real multipliers[SLIDER_CRANK_N_CONSTRAINTS], codegen_real out[18])
 {
     (void)params;
     (void)coords;
@@ -441,58 +442,58 @@ void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const
     (void)accels;
     (void)multipliers;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double T = params->T;
-        const double g = params->g;
-        const double theta = coords[0];
-        const double psi = coords[1];
-        const double x = coords[2];
-        const double theta_d = rates[0];
-        const double x_d = rates[2];
-        const double theta_dd = accels[0];
-        const double psi_dd = accels[1];
-        const double x_dd = accels[2];
-        const double lambda_1 = multipliers[0];
-        const double lambda_2 = multipliers[1];
-        const double tmp0 = (R*R);
-        const double tmp1 = sin(theta);
-        const double tmp2 = (1.0/2.0)*theta_dd;
-        const double tmp3 = tmp0*tmp2;
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = (1.0/2.0)*m_1;
-        const double tmp7 = (theta_d*theta_d);
-        const double tmp8 = tmp0*tmp1*tmp4;
-        const double tmp9 = R*tmp1;
-        const double tmp10 = R*tmp4;
-        const double tmp11 = theta_d*tmp10*(-1.0/2.0*theta_d*tmp9 + (1.0/2.0)*x_d);
-        const double tmp12 = (1.0/2.0)*tmp7;
-        const double tmp13 = -tmp10*tmp12 - tmp2*tmp9 + (1.0/2.0)*x_dd;
-        const double tmp14 = (1.0/2.0)*m_2;
-        const double tmp15 = (1.0/12.0)*m_1*theta_dd*tmp0 + tmp14*((1.0/2.0)*theta_dd*tmp0*tmp5 - tmp11 - tmp13*tmp9 - tmp7*tmp8) + tmp6*((tmp1*tmp1)*tmp3 + tmp3*tmp5);
-        const double tmp16 = (1.0/12.0)*(l*l)*m_2*psi_dd;
-        const double tmp17 = m_3*x_dd + tmp13*tmp14;
-        const double tmp18 = g*tmp10;
-        const double tmp19 = tmp14*tmp18 - tmp14*(-tmp11 - tmp12*tmp8) + tmp18*tmp6;
-        const double tmp20 = x - x_S;
-        const double tmp21 = sqrt((tmp20*tmp20) + ((e - y_S)*(e - y_S)));
-        const double tmp22 = k*tmp20*(-l_0 + tmp21)/tmp21;
-        const double tmp23 = lambda_1*tmp9;
-        const double tmp24 = l*lambda_1*sin(psi);
-        const double tmp25 = cos(psi);
-        const double tmp26 = -lambda_1;
-        const double tmp27 = b*x_d;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real g = params->g;
+        const codegen_real theta = coords[0];
+        const codegen_real psi = coords[1];
+        const codegen_real x = coords[2];
+        const codegen_real theta_d = rates[0];
+        const codegen_real x_d = rates[2];
+        const codegen_real theta_dd = accels[0];
+        const codegen_real psi_dd = accels[1];
+        const codegen_real x_dd = accels[2];
+        const codegen_real lambda_1 = multipliers[0];
+        const codegen_real lambda_2 = multipliers[1];
+        const codegen_real tmp0 = (R*R);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = (((codegen_real)1/2))*theta_dd;
+        const codegen_real tmp3 = tmp0*tmp2;
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = (((codegen_real)1/2))*m_1;
+        const codegen_real tmp7 = (theta_d*theta_d);
+        const codegen_real tmp8 = tmp0*tmp1*tmp4;
+        const codegen_real tmp9 = R*tmp1;
+        const codegen_real tmp10 = R*tmp4;
+        const codegen_real tmp11 = theta_d*tmp10*(-((codegen_real)1/2)*theta_d*tmp9 + (((codegen_real)1/2))*x_d);
+        const codegen_real tmp12 = (((codegen_real)1/2))*tmp7;
+        const codegen_real tmp13 = -tmp10*tmp12 - tmp2*tmp9 + (((codegen_real)1/2))*x_dd;
+        const codegen_real tmp14 = (((codegen_real)1/2))*m_2;
+        const codegen_real tmp15 = (((codegen_real)1/12))*m_1*theta_dd*tmp0 + tmp14*((((codegen_real)1/2))*theta_dd*tmp0*tmp5 - tmp11 - tmp13*tmp9 - tmp7*tmp8) + tmp6*((tmp1*tmp1)*tmp3 + tmp3*tmp5);
+        const codegen_real tmp16 = (((codegen_real)1/12))*(l*l)*m_2*psi_dd;
+        const codegen_real tmp17 = m_3*x_dd + tmp13*tmp14;
+        const codegen_real tmp18 = g*tmp10;
+        const codegen_real tmp19 = tmp14*tmp18 - tmp14*(-tmp11 - tmp12*tmp8) + tmp18*tmp6;
+        const codegen_real tmp20 = x - x_S;
+        const codegen_real tmp21 = sqrt((tmp20*tmp20) + ((e - y_S)*(e - y_S)));
+        const codegen_real tmp22 = k*tmp20*(-l_0 + tmp21)/tmp21;
+        const codegen_real tmp23 = lambda_1*tmp9;
+        const codegen_real tmp24 = l*lambda_1*sin(psi);
+        const codegen_real tmp25 = cos(psi);
+        const codegen_real tmp26 = -lambda_1;
+        const codegen_real tmp27 = b*x_d;
         out[0] = tmp15;
         out[1] = tmp16;
         out[2] = tmp17;
@@ -515,9 +516,9 @@ void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const
 }
 
 /* lagrange_terms: eq. -. */
-slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double dt_dL_dqdot[SLIDER_CRANK_N_COORDS], double dL_dq[SLIDER_CRANK_N_COORDS], double constraint_forces[SLIDER_CRANK_N_COORDS], double dissipative_forces[SLIDER_CRANK_N_COORDS], double applied_forces[SLIDER_CRANK_N_COORDS], double residual[SLIDER_CRANK_N_COORDS])
+slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], const codegen_real multipliers[SLIDER_CRANK_N_CONSTRAINTS], codegen_real dt_dL_dqdot[SLIDER_CRANK_N_COORDS], codegen_real dL_dq[SLIDER_CRANK_N_COORDS], codegen_real constraint_forces[SLIDER_CRANK_N_COORDS], codegen_real dissipative_forces[SLIDER_CRANK_N_COORDS], codegen_real applied_forces[SLIDER_CRANK_N_COORDS], codegen_real residual[SLIDER_CRANK_N_COORDS])
 {
-    double out[18];
+    codegen_real out[18];
     slider_crank_status status;
     if (coords == NULL || rates == NULL || accels == NULL || multipliers == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -554,29 +555,29 @@ slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *param
 /* dependent_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 47. */
-void slider_crank_dependent_state_kernel(const slider_crank_params *params, double theta, double theta_d, double out[6])
+void slider_crank_dependent_state_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[6])
 {
     (void)params;
     (void)theta;
     (void)theta_d;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double tmp0 = R*sin(theta);
-        const double tmp1 = -e + tmp0;
-        const double tmp2 = -tmp1;
-        const double tmp3 = e + l - tmp0;
-        const double tmp4 = -l - tmp1;
-        const double tmp5 = tmp3*tmp4;
-        const double tmp6 = sqrt(-tmp5);
-        const double tmp7 = R*cos(theta);
-        const double tmp8 = (l*l);
-        const double tmp9 = 1/(((tmp2*tmp2)*tmp8 - tmp5*tmp8));
-        const double tmp10 = 1/(tmp3);
-        const double tmp11 = 1/(tmp4);
-        const double tmp12 = (1.0/2.0)*tmp7;
-        const double tmp13 = tmp12*tmp3 + tmp12*tmp4;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real tmp0 = R*sin(theta);
+        const codegen_real tmp1 = -e + tmp0;
+        const codegen_real tmp2 = -tmp1;
+        const codegen_real tmp3 = e + l - tmp0;
+        const codegen_real tmp4 = -l - tmp1;
+        const codegen_real tmp5 = tmp3*tmp4;
+        const codegen_real tmp6 = sqrt(-tmp5);
+        const codegen_real tmp7 = R*cos(theta);
+        const codegen_real tmp8 = (l*l);
+        const codegen_real tmp9 = 1/(((tmp2*tmp2)*tmp8 - tmp5*tmp8));
+        const codegen_real tmp10 = 1/(tmp3);
+        const codegen_real tmp11 = 1/(tmp4);
+        const codegen_real tmp12 = (((codegen_real)1/2))*tmp7;
+        const codegen_real tmp13 = tmp12*tmp3 + tmp12*tmp4;
         out[0] = theta;
         out[1] = atan2(l*tmp2, l*tmp6);
         out[2] = tmp6 + tmp7;
@@ -587,9 +588,9 @@ void slider_crank_dependent_state_kernel(const slider_crank_params *params, doub
 }
 
 /* dependent_state: eq. -. */
-slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, double theta, double theta_d, double coords[SLIDER_CRANK_N_COORDS], double rates[SLIDER_CRANK_N_COORDS])
+slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real rates[SLIDER_CRANK_N_COORDS])
 {
-    double out[6];
+    codegen_real out[6];
     slider_crank_status status;
     if (coords == NULL || rates == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -616,59 +617,59 @@ slider_crank_status slider_crank_dependent_state(const slider_crank_params *para
 /* reduced_coefficients without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 110. */
-void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params, double theta, double out[3])
+void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double param_e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double b = params->b;
-        const double tmp0 = (R*R);
-        const double tmp1 = m_1*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = (1.0/4.0)*tmp1;
-        const double tmp5 = cos(theta);
-        const double tmp6 = (tmp5*tmp5);
-        const double tmp7 = (1.0/4.0)*m_2*tmp0;
-        const double tmp8 = R*tmp2;
-        const double tmp9 = l + param_e - tmp8;
-        const double tmp10 = -l + param_e - tmp8;
-        const double tmp11 = 1/(tmp10*tmp9);
-        const double tmp12 = tmp0*tmp11;
-        const double tmp13 = (1.0/12.0)*(l*l)*m_2;
-        const double tmp14 = -tmp10*tmp9;
-        const double tmp15 = sqrt(tmp14);
-        const double tmp16 = tmp15*tmp2;
-        const double tmp17 = -param_e*tmp5 + tmp5*tmp8;
-        const double tmp18 = -2*tmp16 - tmp17;
-        const double tmp19 = -tmp16 - tmp17;
-        const double tmp20 = tmp12*(tmp19*tmp19);
-        const double tmp21 = 1/(tmp15);
-        const double tmp22 = tmp21*tmp8;
-        const double tmp23 = R*tmp5;
-        const double tmp24 = (1.0/2.0)*tmp10*tmp23 + (1.0/2.0)*tmp23*tmp9;
-        const double tmp25 = R*tmp21;
-        const double tmp26 = tmp15*tmp5;
-        const double tmp27 = -R*tmp3 + R*tmp6 + param_e*tmp2;
-        const double tmp28 = -tmp22;
-        const double tmp29 = R*tmp11;
-        const double tmp30 = tmp21*tmp24;
-        out[0] = -m_3*tmp20 + (1.0/12.0)*tmp1 - tmp11*(tmp18*tmp18)*tmp7 - tmp12*tmp13*tmp6 + tmp3*tmp4 + tmp4*tmp6 + tmp6*tmp7;
-        out[1] = (1.0/2.0)*R*m_2*tmp18*tmp21*((1.0/2.0)*tmp25*(-2*tmp26 - tmp27) + tmp30*((1.0/2.0)*tmp18*tmp29 + tmp28)) + R*m_3*tmp19*tmp21*(tmp25*(-tmp26 - tmp27) + tmp30*(tmp19*tmp29 + tmp28)) - tmp13*tmp25*tmp5*(tmp22 + tmp23*tmp24/(tmp14*sqrt(tmp14))) - tmp2*tmp5*tmp7;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real param_e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real b = params->b;
+        const codegen_real tmp0 = (R*R);
+        const codegen_real tmp1 = m_1*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = (tmp5*tmp5);
+        const codegen_real tmp7 = (((codegen_real)1/4))*m_2*tmp0;
+        const codegen_real tmp8 = R*tmp2;
+        const codegen_real tmp9 = l + param_e - tmp8;
+        const codegen_real tmp10 = -l + param_e - tmp8;
+        const codegen_real tmp11 = 1/(tmp10*tmp9);
+        const codegen_real tmp12 = tmp0*tmp11;
+        const codegen_real tmp13 = (((codegen_real)1/12))*(l*l)*m_2;
+        const codegen_real tmp14 = -tmp10*tmp9;
+        const codegen_real tmp15 = sqrt(tmp14);
+        const codegen_real tmp16 = tmp15*tmp2;
+        const codegen_real tmp17 = -param_e*tmp5 + tmp5*tmp8;
+        const codegen_real tmp18 = -2*tmp16 - tmp17;
+        const codegen_real tmp19 = -tmp16 - tmp17;
+        const codegen_real tmp20 = tmp12*(tmp19*tmp19);
+        const codegen_real tmp21 = 1/(tmp15);
+        const codegen_real tmp22 = tmp21*tmp8;
+        const codegen_real tmp23 = R*tmp5;
+        const codegen_real tmp24 = (((codegen_real)1/2))*tmp10*tmp23 + (((codegen_real)1/2))*tmp23*tmp9;
+        const codegen_real tmp25 = R*tmp21;
+        const codegen_real tmp26 = tmp15*tmp5;
+        const codegen_real tmp27 = -R*tmp3 + R*tmp6 + param_e*tmp2;
+        const codegen_real tmp28 = -tmp22;
+        const codegen_real tmp29 = R*tmp11;
+        const codegen_real tmp30 = tmp21*tmp24;
+        out[0] = -m_3*tmp20 + (((codegen_real)1/12))*tmp1 - tmp11*(tmp18*tmp18)*tmp7 - tmp12*tmp13*tmp6 + tmp3*tmp4 + tmp4*tmp6 + tmp6*tmp7;
+        out[1] = (((codegen_real)1/2))*R*m_2*tmp18*tmp21*((((codegen_real)1/2))*tmp25*(-2*tmp26 - tmp27) + tmp30*((((codegen_real)1/2))*tmp18*tmp29 + tmp28)) + R*m_3*tmp19*tmp21*(tmp25*(-tmp26 - tmp27) + tmp30*(tmp19*tmp29 + tmp28)) - tmp13*tmp25*tmp5*(tmp22 + tmp23*tmp24/(tmp14*sqrt(tmp14))) - tmp2*tmp5*tmp7;
         out[2] = -b*tmp20;
     }
 }
 
 /* reduced_coefficients: eq. -. */
-slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, double theta, double e[SLIDER_CRANK_N_REDUCED])
+slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, codegen_real theta, codegen_real e[SLIDER_CRANK_N_REDUCED])
 {
-    double out[3];
+    codegen_real out[3];
     slider_crank_status status;
     if (e == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -691,71 +692,71 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 153. */
-void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, double theta, double theta_d, double out[1])
+void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
 {
     (void)params;
     (void)theta;
     (void)theta_d;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double T = params->T;
-        const double g = params->g;
-        const double tmp0 = (R*R);
-        const double tmp1 = m_1*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = tmp0*tmp5;
-        const double tmp7 = (1.0/4.0)*tmp6;
-        const double tmp8 = R*tmp2;
-        const double tmp9 = e + l - tmp8;
-        const double tmp10 = e - l - tmp8;
-        const double tmp11 = 1/(tmp10*tmp9);
-        const double tmp12 = (1.0/12.0)*(l*l)*m_2;
-        const double tmp13 = -tmp10*tmp9;
-        const double tmp14 = sqrt(tmp13);
-        const double tmp15 = tmp14*tmp2;
-        const double tmp16 = -e*tmp4 + tmp4*tmp8;
-        const double tmp17 = -2*tmp15 - tmp16;
-        const double tmp18 = tmp0*tmp11;
-        const double tmp19 = (1.0/4.0)*m_2;
-        const double tmp20 = -tmp15 - tmp16;
-        const double tmp21 = tmp18*(tmp20*tmp20);
-        const double tmp22 = R*tmp4;
-        const double tmp23 = (1.0/2.0)*g*tmp22;
-        const double tmp24 = 1/(tmp14);
-        const double tmp25 = R*tmp24;
-        const double tmp26 = tmp20*tmp25;
-        const double tmp27 = 2*x_S;
-        const double tmp28 = tmp14*tmp4;
-        const double tmp29 = 2*tmp28;
-        const double tmp30 = sqrt(R*tmp29 + (e*e) - 2*e*y_S + tmp13 - tmp14*tmp27 - tmp22*tmp27 + tmp6 + (x_S*x_S) + (y_S*y_S));
-        const double tmp31 = tmp24*tmp8;
-        const double tmp32 = (1.0/2.0)*tmp10*tmp22 + (1.0/2.0)*tmp22*tmp9;
-        const double tmp33 = -R*tmp3 + R*tmp5 + e*tmp2;
-        const double tmp34 = -tmp31;
-        const double tmp35 = R*tmp11;
-        const double tmp36 = tmp24*tmp32;
-        out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((1.0/2.0)*R*m_2*tmp17*tmp24*((1.0/2.0)*tmp25*(-tmp29 - tmp33) + tmp36*((1.0/2.0)*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (R*R);
+        const codegen_real tmp1 = m_1*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = tmp0*tmp5;
+        const codegen_real tmp7 = (((codegen_real)1/4))*tmp6;
+        const codegen_real tmp8 = R*tmp2;
+        const codegen_real tmp9 = e + l - tmp8;
+        const codegen_real tmp10 = e - l - tmp8;
+        const codegen_real tmp11 = 1/(tmp10*tmp9);
+        const codegen_real tmp12 = (((codegen_real)1/12))*(l*l)*m_2;
+        const codegen_real tmp13 = -tmp10*tmp9;
+        const codegen_real tmp14 = sqrt(tmp13);
+        const codegen_real tmp15 = tmp14*tmp2;
+        const codegen_real tmp16 = -e*tmp4 + tmp4*tmp8;
+        const codegen_real tmp17 = -2*tmp15 - tmp16;
+        const codegen_real tmp18 = tmp0*tmp11;
+        const codegen_real tmp19 = (((codegen_real)1/4))*m_2;
+        const codegen_real tmp20 = -tmp15 - tmp16;
+        const codegen_real tmp21 = tmp18*(tmp20*tmp20);
+        const codegen_real tmp22 = R*tmp4;
+        const codegen_real tmp23 = (((codegen_real)1/2))*g*tmp22;
+        const codegen_real tmp24 = 1/(tmp14);
+        const codegen_real tmp25 = R*tmp24;
+        const codegen_real tmp26 = tmp20*tmp25;
+        const codegen_real tmp27 = 2*x_S;
+        const codegen_real tmp28 = tmp14*tmp4;
+        const codegen_real tmp29 = 2*tmp28;
+        const codegen_real tmp30 = sqrt(R*tmp29 + (e*e) - 2*e*y_S + tmp13 - tmp14*tmp27 - tmp22*tmp27 + tmp6 + (x_S*x_S) + (y_S*y_S));
+        const codegen_real tmp31 = tmp24*tmp8;
+        const codegen_real tmp32 = (((codegen_real)1/2))*tmp10*tmp22 + (((codegen_real)1/2))*tmp22*tmp9;
+        const codegen_real tmp33 = -R*tmp3 + R*tmp5 + e*tmp2;
+        const codegen_real tmp34 = -tmp31;
+        const codegen_real tmp35 = R*tmp11;
+        const codegen_real tmp36 = tmp24*tmp32;
+        out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((((codegen_real)1/2))*R*m_2*tmp17*tmp24*((((codegen_real)1/2))*tmp25*(-tmp29 - tmp33) + tmp36*((((codegen_real)1/2))*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
     }
 }
 
 /* angular_acceleration: eq. -. */
-slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, double theta, double theta_d, double *theta_dd)
+slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd)
 {
-    double out[1];
+    codegen_real out[1];
     slider_crank_status status;
     if (theta_dd == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -781,55 +782,55 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
 /* equilibrium_residual without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 101. */
-void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params, double theta, double out[2])
+void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double F = params->F;
-        const double T = params->T;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = F*R;
-        const double tmp2 = sin(theta);
-        const double tmp3 = R*tmp2;
-        const double tmp4 = e + l - tmp3;
-        const double tmp5 = -e + l + tmp3;
-        const double tmp6 = tmp4*tmp5;
-        const double tmp7 = sqrt(tmp6);
-        const double tmp8 = -e*tmp0 + tmp0*tmp3;
-        const double tmp9 = (-tmp2*tmp7 - tmp8)/tmp7;
-        const double tmp10 = 2*x_S;
-        const double tmp11 = R*tmp0;
-        const double tmp12 = 2*tmp11;
-        const double tmp13 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp10*tmp11 + (x_S*x_S) + (y_S*y_S);
-        const double tmp14 = sqrt(-tmp10*tmp7 + tmp12*tmp7 + tmp13 + tmp6);
-        const double tmp15 = tmp11 - x_S;
-        const double tmp16 = R*k;
-        const double tmp17 = g*tmp11;
-        const double tmp18 = tmp4*tmp5;
-        const double tmp19 = sqrt(tmp18);
-        const double tmp20 = 1/(fabs(tmp19));
-        const double tmp21 = tmp19*tmp2 + tmp8;
-        const double tmp22 = sqrt(-tmp10*tmp19 + tmp12*tmp19 + tmp13 + tmp18);
-        out[0] = (1.0/2.0)*R*g*m_1*tmp0 + (1.0/2.0)*R*g*m_2*tmp0 - T - tmp1*tmp9 - tmp16*tmp9*(l_0 - tmp14)*(tmp15 + tmp7)/tmp14;
-        out[1] = tmp20*fabs(tmp1*tmp21) + tmp20*fabs(tmp16*tmp21*(l_0 - tmp22)*(tmp15 + tmp19))/fabs(tmp22) + fabs(T) + (1.0/2.0)*fabs(m_1*tmp17) + (1.0/2.0)*fabs(m_2*tmp17);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = F*R;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = R*tmp2;
+        const codegen_real tmp4 = e + l - tmp3;
+        const codegen_real tmp5 = -e + l + tmp3;
+        const codegen_real tmp6 = tmp4*tmp5;
+        const codegen_real tmp7 = sqrt(tmp6);
+        const codegen_real tmp8 = -e*tmp0 + tmp0*tmp3;
+        const codegen_real tmp9 = (-tmp2*tmp7 - tmp8)/tmp7;
+        const codegen_real tmp10 = 2*x_S;
+        const codegen_real tmp11 = R*tmp0;
+        const codegen_real tmp12 = 2*tmp11;
+        const codegen_real tmp13 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp10*tmp11 + (x_S*x_S) + (y_S*y_S);
+        const codegen_real tmp14 = sqrt(-tmp10*tmp7 + tmp12*tmp7 + tmp13 + tmp6);
+        const codegen_real tmp15 = tmp11 - x_S;
+        const codegen_real tmp16 = R*k;
+        const codegen_real tmp17 = g*tmp11;
+        const codegen_real tmp18 = tmp4*tmp5;
+        const codegen_real tmp19 = sqrt(tmp18);
+        const codegen_real tmp20 = 1/(fabs(tmp19));
+        const codegen_real tmp21 = tmp19*tmp2 + tmp8;
+        const codegen_real tmp22 = sqrt(-tmp10*tmp19 + tmp12*tmp19 + tmp13 + tmp18);
+        out[0] = (((codegen_real)1/2))*R*g*m_1*tmp0 + (((codegen_real)1/2))*R*g*m_2*tmp0 - T - tmp1*tmp9 - tmp16*tmp9*(l_0 - tmp14)*(tmp15 + tmp7)/tmp14;
+        out[1] = tmp20*fabs(tmp1*tmp21) + tmp20*fabs(tmp16*tmp21*(l_0 - tmp22)*(tmp15 + tmp19))/fabs(tmp22) + fabs(T) + (((codegen_real)1/2))*fabs(m_1*tmp17) + (((codegen_real)1/2))*fabs(m_2*tmp17);
     }
 }
 
 /* equilibrium_residual: eq. -. */
-slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, double theta, double *residual, double *scale)
+slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale)
 {
-    double out[2];
+    codegen_real out[2];
     slider_crank_status status;
     if (residual == NULL || scale == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -853,27 +854,27 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
 /* radicands without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 54. */
-void slider_crank_radicands_kernel(const slider_crank_params *params, double theta, double out[4])
+void slider_crank_radicands_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double tmp0 = sin(theta);
-        const double tmp1 = R*tmp0;
-        const double tmp2 = -(e - l - tmp1)*(e + l - tmp1);
-        const double tmp3 = e*y_S;
-        const double tmp4 = 2*sqrt(tmp2);
-        const double tmp5 = cos(theta);
-        const double tmp6 = R*tmp5;
-        const double tmp7 = tmp6*x_S;
-        const double tmp8 = (e*e);
-        const double tmp9 = (R*R);
-        const double tmp10 = tmp2 + (tmp5*tmp5)*tmp9 + tmp8 + (x_S*x_S) + (y_S*y_S);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = R*tmp0;
+        const codegen_real tmp2 = -(e - l - tmp1)*(e + l - tmp1);
+        const codegen_real tmp3 = e*y_S;
+        const codegen_real tmp4 = 2*sqrt(tmp2);
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = R*tmp5;
+        const codegen_real tmp7 = tmp6*x_S;
+        const codegen_real tmp8 = (e*e);
+        const codegen_real tmp9 = (R*R);
+        const codegen_real tmp10 = tmp2 + (tmp5*tmp5)*tmp9 + tmp8 + (x_S*x_S) + (y_S*y_S);
         out[0] = tmp2;
         out[1] = tmp10 - 2*tmp3 + tmp4*tmp6 - tmp4*x_S - 2*tmp7;
         out[2] = (l*l) + (tmp0*tmp0)*tmp9 + tmp8 + 2*fabs(e*tmp1);
@@ -882,9 +883,9 @@ void slider_crank_radicands_kernel(const slider_crank_params *params, double the
 }
 
 /* radicands: eq. -. */
-slider_crank_status slider_crank_radicands(const slider_crank_params *params, double theta, double values[SLIDER_CRANK_N_ROOTS], double scales[SLIDER_CRANK_N_ROOTS])
+slider_crank_status slider_crank_radicands(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_ROOTS], codegen_real scales[SLIDER_CRANK_N_ROOTS])
 {
-    double out[4];
+    codegen_real out[4];
     slider_crank_status status;
     if (values == NULL || scales == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -908,49 +909,49 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, do
 /* equilibrium_branches without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 94. */
-void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params, double theta, double out[4])
+void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double F = params->F;
-        const double T = params->T;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = sin(theta);
-        const double tmp2 = R*tmp1;
-        const double tmp3 = tmp0*tmp2;
-        const double tmp4 = -(e - l - tmp2)*(e + l - tmp2);
-        const double tmp5 = sqrt(tmp4);
-        const double tmp6 = tmp1*tmp5;
-        const double tmp7 = e*tmp0 - tmp3 - tmp6;
-        const double tmp8 = R/tmp5;
-        const double tmp9 = F*tmp8;
-        const double tmp10 = tmp7*tmp9;
-        const double tmp11 = 2*x_S;
-        const double tmp12 = tmp11*tmp5;
-        const double tmp13 = R*tmp0;
-        const double tmp14 = 2*tmp13*tmp5;
-        const double tmp15 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp11*tmp13 + tmp4 + (x_S*x_S) + (y_S*y_S);
-        const double tmp16 = sqrt(-tmp12 + tmp14 + tmp15);
-        const double tmp17 = k*tmp8;
-        const double tmp18 = tmp17*tmp7*(tmp13 + tmp5 - x_S)/tmp16;
-        const double tmp19 = sqrt(tmp12 - tmp14 + tmp15);
-        const double tmp20 = e*tmp0 - tmp3 + tmp6;
-        const double tmp21 = tmp17*tmp20*(R*tmp0 - tmp5 - x_S)/tmp19;
-        const double tmp22 = (1.0/2.0)*g*tmp13;
-        const double tmp23 = -T + m_1*tmp22 + m_2*tmp22;
-        const double tmp24 = tmp20*tmp9 + tmp23;
-        out[0] = (1.0/2.0)*R*g*m_1*tmp0 + (1.0/2.0)*R*g*m_2*tmp0 - T - tmp10 - tmp18*(l_0 - tmp16);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = R*tmp1;
+        const codegen_real tmp3 = tmp0*tmp2;
+        const codegen_real tmp4 = -(e - l - tmp2)*(e + l - tmp2);
+        const codegen_real tmp5 = sqrt(tmp4);
+        const codegen_real tmp6 = tmp1*tmp5;
+        const codegen_real tmp7 = e*tmp0 - tmp3 - tmp6;
+        const codegen_real tmp8 = R/tmp5;
+        const codegen_real tmp9 = F*tmp8;
+        const codegen_real tmp10 = tmp7*tmp9;
+        const codegen_real tmp11 = 2*x_S;
+        const codegen_real tmp12 = tmp11*tmp5;
+        const codegen_real tmp13 = R*tmp0;
+        const codegen_real tmp14 = 2*tmp13*tmp5;
+        const codegen_real tmp15 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp11*tmp13 + tmp4 + (x_S*x_S) + (y_S*y_S);
+        const codegen_real tmp16 = sqrt(-tmp12 + tmp14 + tmp15);
+        const codegen_real tmp17 = k*tmp8;
+        const codegen_real tmp18 = tmp17*tmp7*(tmp13 + tmp5 - x_S)/tmp16;
+        const codegen_real tmp19 = sqrt(tmp12 - tmp14 + tmp15);
+        const codegen_real tmp20 = e*tmp0 - tmp3 + tmp6;
+        const codegen_real tmp21 = tmp17*tmp20*(R*tmp0 - tmp5 - x_S)/tmp19;
+        const codegen_real tmp22 = (((codegen_real)1/2))*g*tmp13;
+        const codegen_real tmp23 = -T + m_1*tmp22 + m_2*tmp22;
+        const codegen_real tmp24 = tmp20*tmp9 + tmp23;
+        out[0] = (((codegen_real)1/2))*R*g*m_1*tmp0 + (((codegen_real)1/2))*R*g*m_2*tmp0 - T - tmp10 - tmp18*(l_0 - tmp16);
         out[1] = tmp21*(l_0 - tmp19) + tmp24;
         out[2] = -tmp10 + tmp18*(l_0 + tmp16) + tmp23;
         out[3] = -tmp21*(l_0 + tmp19) + tmp24;
@@ -958,9 +959,9 @@ void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params,
 }
 
 /* equilibrium_branches: eq. -. */
-slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES])
+slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, codegen_real theta, codegen_real residuals[SLIDER_CRANK_N_BRANCHES])
 {
-    double out[4];
+    codegen_real out[4];
     slider_crank_status status;
     if (residuals == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -12420,14 +12421,14 @@ static const codegen_dd_instruction sigma_program[11435] = {
     {CODEGEN_DD_SUB, 192, 169, 190}, /* w_200 */
 };
 
-static const double sigma_constants[3] = {
+static const codegen_real sigma_constants[3] = {
     2.0, 4.0, 0.5
 };
 
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 8850. */
-void slider_crank_sigma_kernel(const slider_crank_params *params, double out[25])
+void slider_crank_sigma_kernel(const slider_crank_params *params, codegen_real out[25])
 {
     (void)params;
     {
@@ -12474,9 +12475,9 @@ void slider_crank_sigma_kernel(const slider_crank_params *params, double out[25]
 }
 
 /* sigma: eq. -. */
-slider_crank_status slider_crank_sigma(const slider_crank_params *params, double sigma[SLIDER_CRANK_N_SIGMA])
+slider_crank_status slider_crank_sigma(const slider_crank_params *params, codegen_real sigma[SLIDER_CRANK_N_SIGMA])
 {
-    double out[25];
+    codegen_real out[25];
     slider_crank_status status;
     if (sigma == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -12496,117 +12497,117 @@ slider_crank_status slider_crank_sigma(const slider_crank_params *params, double
 /* linearisation without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 305. */
-void slider_crank_linearisation_kernel(const slider_crank_params *params, double theta, double out[3])
+void slider_crank_linearisation_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = (R*R);
-        const double tmp1 = m_1*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = tmp0*tmp5;
-        const double tmp7 = (1.0/4.0)*tmp6;
-        const double tmp8 = R*tmp2;
-        const double tmp9 = e + l - tmp8;
-        const double tmp10 = e - l - tmp8;
-        const double tmp11 = 1/(tmp10*tmp9);
-        const double tmp12 = tmp10*tmp9;
-        const double tmp13 = -tmp12;
-        const double tmp14 = sqrt(tmp13);
-        const double tmp15 = tmp14*tmp2;
-        const double tmp16 = 2*tmp15;
-        const double tmp17 = -e*tmp4 + tmp4*tmp8;
-        const double tmp18 = tmp0*tmp11;
-        const double tmp19 = tmp18*((-tmp15 - tmp17)*(-tmp15 - tmp17));
-        const double tmp20 = (1.0/2.0)*g*tmp8;
-        const double tmp21 = (e*e);
-        const double tmp22 = R*tmp5;
-        const double tmp23 = tmp21*tmp22;
-        const double tmp24 = (R*R*R);
-        const double tmp25 = tmp24*tmp3*tmp5;
-        const double tmp26 = 2*e;
-        const double tmp27 = tmp2*tmp26;
-        const double tmp28 = tmp27*tmp6;
-        const double tmp29 = e*tmp2;
-        const double tmp30 = tmp12*tmp29;
-        const double tmp31 = R*tmp3;
-        const double tmp32 = tmp12*tmp31;
-        const double tmp33 = (tmp13*sqrt(tmp13));
-        const double tmp34 = tmp33*tmp4;
-        const double tmp35 = tmp12*tmp22;
-        const double tmp36 = R/tmp33;
-        const double tmp37 = (x_S*x_S);
-        const double tmp38 = 2*x_S;
-        const double tmp39 = R*tmp4;
-        const double tmp40 = tmp14*tmp38;
-        const double tmp41 = tmp13 + 2*tmp14*tmp39 + tmp21 - tmp26*y_S + tmp37 - tmp38*tmp39 - tmp40 + tmp6 + (y_S*y_S);
-        const double tmp42 = (tmp41*sqrt(tmp41));
-        const double tmp43 = l_0*tmp31;
-        const double tmp44 = l_0*tmp12;
-        const double tmp45 = 2*tmp12;
-        const double tmp46 = e*tmp4*tmp8;
-        const double tmp47 = l_0*tmp46;
-        const double tmp48 = (tmp10*tmp10)*(tmp9*tmp9);
-        const double tmp49 = tmp0*tmp21;
-        const double tmp50 = (tmp4*tmp4*tmp4);
-        const double tmp51 = l_0*tmp50;
-        const double tmp52 = tmp49*tmp51;
-        const double tmp53 = tmp24*tmp51;
-        const double tmp54 = l_0*tmp33;
-        const double tmp55 = tmp33*tmp43;
-        const double tmp56 = (R*R*R*R);
-        const double tmp57 = tmp3*tmp56;
-        const double tmp58 = tmp51*tmp57;
-        const double tmp59 = 4*x_S;
-        const double tmp60 = tmp0*tmp12;
-        const double tmp61 = l_0*tmp3;
-        const double tmp62 = 6*x_S;
-        const double tmp63 = (tmp4*tmp4*tmp4*tmp4);
-        const double tmp64 = l_0*tmp14;
-        const double tmp65 = tmp63*tmp64;
-        const double tmp66 = tmp4*tmp48;
-        const double tmp67 = tmp0*tmp61;
-        const double tmp68 = tmp37*tmp64;
-        const double tmp69 = 6*tmp54;
-        const double tmp70 = e*l_0*tmp16;
-        const double tmp71 = tmp42*x_S;
-        const double tmp72 = l_0*tmp41;
-        const double tmp73 = tmp50*tmp72;
-        const double tmp74 = tmp72*x_S;
-        const double tmp75 = tmp24*tmp27;
-        const double tmp76 = tmp42*tmp50;
-        const double tmp77 = tmp41*tmp54;
-        const double tmp78 = 3*tmp12*tmp46;
-        const double tmp79 = tmp4*tmp42;
-        const double tmp80 = tmp33*tmp42;
-        const double tmp81 = 3*tmp3*tmp60;
-        const double tmp82 = 2*tmp80;
-        out[0] = -1.0/12.0*(l*l)*m_2*tmp11*tmp6 + m_1*tmp7 - 1.0/4.0*m_2*tmp18*((-tmp16 - tmp17)*(-tmp16 - tmp17)) + m_2*tmp7 - m_3*tmp19 + (1.0/4.0)*tmp1*tmp3 + (1.0/12.0)*tmp1;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (R*R);
+        const codegen_real tmp1 = m_1*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = tmp0*tmp5;
+        const codegen_real tmp7 = (((codegen_real)1/4))*tmp6;
+        const codegen_real tmp8 = R*tmp2;
+        const codegen_real tmp9 = e + l - tmp8;
+        const codegen_real tmp10 = e - l - tmp8;
+        const codegen_real tmp11 = 1/(tmp10*tmp9);
+        const codegen_real tmp12 = tmp10*tmp9;
+        const codegen_real tmp13 = -tmp12;
+        const codegen_real tmp14 = sqrt(tmp13);
+        const codegen_real tmp15 = tmp14*tmp2;
+        const codegen_real tmp16 = 2*tmp15;
+        const codegen_real tmp17 = -e*tmp4 + tmp4*tmp8;
+        const codegen_real tmp18 = tmp0*tmp11;
+        const codegen_real tmp19 = tmp18*((-tmp15 - tmp17)*(-tmp15 - tmp17));
+        const codegen_real tmp20 = (((codegen_real)1/2))*g*tmp8;
+        const codegen_real tmp21 = (e*e);
+        const codegen_real tmp22 = R*tmp5;
+        const codegen_real tmp23 = tmp21*tmp22;
+        const codegen_real tmp24 = (R*R*R);
+        const codegen_real tmp25 = tmp24*tmp3*tmp5;
+        const codegen_real tmp26 = 2*e;
+        const codegen_real tmp27 = tmp2*tmp26;
+        const codegen_real tmp28 = tmp27*tmp6;
+        const codegen_real tmp29 = e*tmp2;
+        const codegen_real tmp30 = tmp12*tmp29;
+        const codegen_real tmp31 = R*tmp3;
+        const codegen_real tmp32 = tmp12*tmp31;
+        const codegen_real tmp33 = (tmp13*sqrt(tmp13));
+        const codegen_real tmp34 = tmp33*tmp4;
+        const codegen_real tmp35 = tmp12*tmp22;
+        const codegen_real tmp36 = R/tmp33;
+        const codegen_real tmp37 = (x_S*x_S);
+        const codegen_real tmp38 = 2*x_S;
+        const codegen_real tmp39 = R*tmp4;
+        const codegen_real tmp40 = tmp14*tmp38;
+        const codegen_real tmp41 = tmp13 + 2*tmp14*tmp39 + tmp21 - tmp26*y_S + tmp37 - tmp38*tmp39 - tmp40 + tmp6 + (y_S*y_S);
+        const codegen_real tmp42 = (tmp41*sqrt(tmp41));
+        const codegen_real tmp43 = l_0*tmp31;
+        const codegen_real tmp44 = l_0*tmp12;
+        const codegen_real tmp45 = 2*tmp12;
+        const codegen_real tmp46 = e*tmp4*tmp8;
+        const codegen_real tmp47 = l_0*tmp46;
+        const codegen_real tmp48 = (tmp10*tmp10)*(tmp9*tmp9);
+        const codegen_real tmp49 = tmp0*tmp21;
+        const codegen_real tmp50 = (tmp4*tmp4*tmp4);
+        const codegen_real tmp51 = l_0*tmp50;
+        const codegen_real tmp52 = tmp49*tmp51;
+        const codegen_real tmp53 = tmp24*tmp51;
+        const codegen_real tmp54 = l_0*tmp33;
+        const codegen_real tmp55 = tmp33*tmp43;
+        const codegen_real tmp56 = (R*R*R*R);
+        const codegen_real tmp57 = tmp3*tmp56;
+        const codegen_real tmp58 = tmp51*tmp57;
+        const codegen_real tmp59 = 4*x_S;
+        const codegen_real tmp60 = tmp0*tmp12;
+        const codegen_real tmp61 = l_0*tmp3;
+        const codegen_real tmp62 = 6*x_S;
+        const codegen_real tmp63 = (tmp4*tmp4*tmp4*tmp4);
+        const codegen_real tmp64 = l_0*tmp14;
+        const codegen_real tmp65 = tmp63*tmp64;
+        const codegen_real tmp66 = tmp4*tmp48;
+        const codegen_real tmp67 = tmp0*tmp61;
+        const codegen_real tmp68 = tmp37*tmp64;
+        const codegen_real tmp69 = 6*tmp54;
+        const codegen_real tmp70 = e*l_0*tmp16;
+        const codegen_real tmp71 = tmp42*x_S;
+        const codegen_real tmp72 = l_0*tmp41;
+        const codegen_real tmp73 = tmp50*tmp72;
+        const codegen_real tmp74 = tmp72*x_S;
+        const codegen_real tmp75 = tmp24*tmp27;
+        const codegen_real tmp76 = tmp42*tmp50;
+        const codegen_real tmp77 = tmp41*tmp54;
+        const codegen_real tmp78 = 3*tmp12*tmp46;
+        const codegen_real tmp79 = tmp4*tmp42;
+        const codegen_real tmp80 = tmp33*tmp42;
+        const codegen_real tmp81 = 3*tmp3*tmp60;
+        const codegen_real tmp82 = 2*tmp80;
+        out[0] = -((codegen_real)1/12)*(l*l)*m_2*tmp11*tmp6 + m_1*tmp7 - ((codegen_real)1/4)*m_2*tmp18*((-tmp16 - tmp17)*(-tmp16 - tmp17)) + m_2*tmp7 - m_3*tmp19 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1;
         out[1] = -b*tmp19;
-        out[2] = F*tmp36*(tmp23 + tmp25 - tmp28 - tmp30 + tmp32 + tmp34 - tmp35) + k*tmp36*(pow(R, 5)*tmp3*tmp65 + e*tmp15*tmp53*tmp59 - 8*l_0*tmp30*tmp6*x_S - 4*tmp12*tmp58 + (tmp13*tmp13*sqrt(tmp13))*tmp43 + tmp21*tmp24*tmp65 + 2*tmp22*tmp77 - tmp22*tmp82 + tmp23*tmp38*tmp44 + tmp23*tmp54 + tmp23*tmp68 + tmp23*tmp71 - tmp23*tmp74 + tmp25*tmp44*tmp62 + tmp25*tmp68 + tmp25*tmp69 + tmp25*tmp71 - tmp25*tmp74 - tmp28*tmp71 + tmp28*tmp74 - tmp29*tmp6*tmp69 + tmp29*tmp77 - tmp29*tmp80 + 6*tmp30*tmp53 - tmp30*tmp71 + tmp30*tmp74 + tmp31*tmp82 + tmp32*tmp71 - tmp32*tmp74 - tmp34*tmp62*tmp67 + tmp34*tmp71 - tmp34*tmp74 - tmp35*tmp71 + tmp35*tmp74 - 2*tmp37*tmp4*tmp60*tmp61 + tmp37*tmp45*tmp47 + tmp37*tmp55 - tmp37*tmp6*tmp70 - tmp38*tmp43*tmp48 + tmp4*tmp72*tmp81 - tmp40*tmp52 - tmp40*tmp58 - 2*tmp41*tmp55 + tmp42*tmp78 - tmp45*tmp52 + tmp46*tmp54*tmp59 - 2*tmp47*tmp48 - tmp48*tmp79 + tmp49*tmp73 - tmp49*tmp76 - tmp56*tmp63*tmp70 + tmp57*tmp73 - tmp57*tmp76 - tmp60*tmp73 + tmp60*tmp76 + 4*tmp66*tmp67 + tmp66*tmp72 - tmp72*tmp78 - tmp73*tmp75 + tmp75*tmp76 - tmp79*tmp81)/tmp42 - m_1*tmp20 - m_2*tmp20;
+        out[2] = F*tmp36*(tmp23 + tmp25 - tmp28 - tmp30 + tmp32 + tmp34 - tmp35) + k*tmp36*(pow(R, CODEGEN_R(5.0))*tmp3*tmp65 + e*tmp15*tmp53*tmp59 - 8*l_0*tmp30*tmp6*x_S - 4*tmp12*tmp58 + (tmp13*tmp13*sqrt(tmp13))*tmp43 + tmp21*tmp24*tmp65 + 2*tmp22*tmp77 - tmp22*tmp82 + tmp23*tmp38*tmp44 + tmp23*tmp54 + tmp23*tmp68 + tmp23*tmp71 - tmp23*tmp74 + tmp25*tmp44*tmp62 + tmp25*tmp68 + tmp25*tmp69 + tmp25*tmp71 - tmp25*tmp74 - tmp28*tmp71 + tmp28*tmp74 - tmp29*tmp6*tmp69 + tmp29*tmp77 - tmp29*tmp80 + 6*tmp30*tmp53 - tmp30*tmp71 + tmp30*tmp74 + tmp31*tmp82 + tmp32*tmp71 - tmp32*tmp74 - tmp34*tmp62*tmp67 + tmp34*tmp71 - tmp34*tmp74 - tmp35*tmp71 + tmp35*tmp74 - 2*tmp37*tmp4*tmp60*tmp61 + tmp37*tmp45*tmp47 + tmp37*tmp55 - tmp37*tmp6*tmp70 - tmp38*tmp43*tmp48 + tmp4*tmp72*tmp81 - tmp40*tmp52 - tmp40*tmp58 - 2*tmp41*tmp55 + tmp42*tmp78 - tmp45*tmp52 + tmp46*tmp54*tmp59 - 2*tmp47*tmp48 - tmp48*tmp79 + tmp49*tmp73 - tmp49*tmp76 - tmp56*tmp63*tmp70 + tmp57*tmp73 - tmp57*tmp76 - tmp60*tmp73 + tmp60*tmp76 + 4*tmp66*tmp67 + tmp66*tmp72 - tmp72*tmp78 - tmp73*tmp75 + tmp75*tmp76 - tmp79*tmp81)/tmp42 - m_1*tmp20 - m_2*tmp20;
     }
 }
 
 /* linearisation: eq. -. */
-slider_crank_status slider_crank_linearisation(const slider_crank_params *params, double theta, double *M, double *B, double *K)
+slider_crank_status slider_crank_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K)
 {
-    double out[3];
+    codegen_real out[3];
     slider_crank_status status;
     if (M == NULL || B == NULL || K == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -12631,121 +12632,121 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
 /* vibration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 321. */
-void slider_crank_vibration_kernel(const slider_crank_params *params, double theta, double out[2])
+void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = (R*R);
-        const double tmp1 = m_1*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = tmp1*tmp3;
-        const double tmp5 = cos(theta);
-        const double tmp6 = (tmp5*tmp5);
-        const double tmp7 = tmp0*tmp6;
-        const double tmp8 = (1.0/4.0)*tmp7;
-        const double tmp9 = R*tmp2;
-        const double tmp10 = e + l - tmp9;
-        const double tmp11 = e - l - tmp9;
-        const double tmp12 = 1/(tmp10*tmp11);
-        const double tmp13 = (l*l)*m_2*tmp12*tmp7;
-        const double tmp14 = tmp10*tmp11;
-        const double tmp15 = -tmp14;
-        const double tmp16 = sqrt(tmp15);
-        const double tmp17 = tmp16*tmp2;
-        const double tmp18 = 2*tmp17;
-        const double tmp19 = -e*tmp5 + tmp5*tmp9;
-        const double tmp20 = tmp0*tmp12;
-        const double tmp21 = m_2*tmp20*((-tmp18 - tmp19)*(-tmp18 - tmp19));
-        const double tmp22 = tmp20*((-tmp17 - tmp19)*(-tmp17 - tmp19));
-        const double tmp23 = m_3*tmp22;
-        const double tmp24 = (1.0/2.0)*g*tmp9;
-        const double tmp25 = (e*e);
-        const double tmp26 = R*tmp6;
-        const double tmp27 = tmp25*tmp26;
-        const double tmp28 = (R*R*R);
-        const double tmp29 = tmp28*tmp3*tmp6;
-        const double tmp30 = 2*e;
-        const double tmp31 = tmp2*tmp30;
-        const double tmp32 = tmp31*tmp7;
-        const double tmp33 = e*tmp2;
-        const double tmp34 = tmp14*tmp33;
-        const double tmp35 = R*tmp3;
-        const double tmp36 = tmp14*tmp35;
-        const double tmp37 = (tmp15*sqrt(tmp15));
-        const double tmp38 = tmp37*tmp5;
-        const double tmp39 = tmp14*tmp26;
-        const double tmp40 = R/tmp37;
-        const double tmp41 = (x_S*x_S);
-        const double tmp42 = 2*x_S;
-        const double tmp43 = R*tmp5;
-        const double tmp44 = tmp16*tmp42;
-        const double tmp45 = tmp15 + 2*tmp16*tmp43 + tmp25 - tmp30*y_S + tmp41 - tmp42*tmp43 - tmp44 + tmp7 + (y_S*y_S);
-        const double tmp46 = (tmp45*sqrt(tmp45));
-        const double tmp47 = l_0*tmp35;
-        const double tmp48 = l_0*tmp14;
-        const double tmp49 = 2*tmp14;
-        const double tmp50 = e*tmp5*tmp9;
-        const double tmp51 = l_0*tmp50;
-        const double tmp52 = (tmp10*tmp10)*(tmp11*tmp11);
-        const double tmp53 = tmp0*tmp25;
-        const double tmp54 = (tmp5*tmp5*tmp5);
-        const double tmp55 = l_0*tmp54;
-        const double tmp56 = tmp53*tmp55;
-        const double tmp57 = tmp28*tmp55;
-        const double tmp58 = l_0*tmp37;
-        const double tmp59 = tmp37*tmp47;
-        const double tmp60 = (R*R*R*R);
-        const double tmp61 = tmp3*tmp60;
-        const double tmp62 = tmp55*tmp61;
-        const double tmp63 = 4*x_S;
-        const double tmp64 = tmp0*tmp14;
-        const double tmp65 = l_0*tmp3;
-        const double tmp66 = 6*x_S;
-        const double tmp67 = (tmp5*tmp5*tmp5*tmp5);
-        const double tmp68 = l_0*tmp16;
-        const double tmp69 = tmp67*tmp68;
-        const double tmp70 = tmp5*tmp52;
-        const double tmp71 = tmp0*tmp65;
-        const double tmp72 = tmp41*tmp68;
-        const double tmp73 = 6*tmp58;
-        const double tmp74 = e*l_0*tmp18;
-        const double tmp75 = tmp46*x_S;
-        const double tmp76 = l_0*tmp45;
-        const double tmp77 = tmp54*tmp76;
-        const double tmp78 = tmp76*x_S;
-        const double tmp79 = tmp28*tmp31;
-        const double tmp80 = tmp46*tmp54;
-        const double tmp81 = tmp45*tmp58;
-        const double tmp82 = 3*tmp14*tmp50;
-        const double tmp83 = tmp46*tmp5;
-        const double tmp84 = tmp37*tmp46;
-        const double tmp85 = 3*tmp3*tmp64;
-        const double tmp86 = 2*tmp84;
-        const double tmp87 = (1.0/2.0)*tmp7;
-        out[0] = (F*tmp40*(tmp27 + tmp29 - tmp32 - tmp34 + tmp36 + tmp38 - tmp39) + k*tmp40*(pow(R, 5)*tmp3*tmp69 + e*tmp17*tmp57*tmp63 - 8*l_0*tmp34*tmp7*x_S - 4*tmp14*tmp62 + (tmp15*tmp15*sqrt(tmp15))*tmp47 + tmp25*tmp28*tmp69 + 2*tmp26*tmp81 - tmp26*tmp86 + tmp27*tmp42*tmp48 + tmp27*tmp58 + tmp27*tmp72 + tmp27*tmp75 - tmp27*tmp78 + tmp29*tmp48*tmp66 + tmp29*tmp72 + tmp29*tmp73 + tmp29*tmp75 - tmp29*tmp78 - tmp32*tmp75 + tmp32*tmp78 - tmp33*tmp7*tmp73 + tmp33*tmp81 - tmp33*tmp84 + 6*tmp34*tmp57 - tmp34*tmp75 + tmp34*tmp78 + tmp35*tmp86 + tmp36*tmp75 - tmp36*tmp78 - tmp38*tmp66*tmp71 + tmp38*tmp75 - tmp38*tmp78 - tmp39*tmp75 + tmp39*tmp78 + tmp41*tmp49*tmp51 - 2*tmp41*tmp5*tmp64*tmp65 + tmp41*tmp59 - tmp41*tmp7*tmp74 - tmp42*tmp47*tmp52 - tmp44*tmp56 - tmp44*tmp62 - 2*tmp45*tmp59 + tmp46*tmp82 - tmp49*tmp56 + tmp5*tmp76*tmp85 + tmp50*tmp58*tmp63 - 2*tmp51*tmp52 - tmp52*tmp83 + tmp53*tmp77 - tmp53*tmp80 - tmp60*tmp67*tmp74 + tmp61*tmp77 - tmp61*tmp80 - tmp64*tmp77 + tmp64*tmp80 + 4*tmp70*tmp71 + tmp70*tmp76 - tmp76*tmp82 - tmp77*tmp79 + tmp79*tmp80 - tmp83*tmp85)/tmp46 - m_1*tmp24 - m_2*tmp24)/(m_1*tmp8 + m_2*tmp8 + (1.0/12.0)*tmp1 - 1.0/12.0*tmp13 - 1.0/4.0*tmp21 - tmp23 + (1.0/4.0)*tmp4);
-        out[1] = -b*tmp22/(m_1*tmp87 + m_2*tmp87 + (1.0/6.0)*tmp1 - 1.0/6.0*tmp13 - 1.0/2.0*tmp21 - 2*tmp23 + (1.0/2.0)*tmp4);
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (R*R);
+        const codegen_real tmp1 = m_1*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = tmp1*tmp3;
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = (tmp5*tmp5);
+        const codegen_real tmp7 = tmp0*tmp6;
+        const codegen_real tmp8 = (((codegen_real)1/4))*tmp7;
+        const codegen_real tmp9 = R*tmp2;
+        const codegen_real tmp10 = e + l - tmp9;
+        const codegen_real tmp11 = e - l - tmp9;
+        const codegen_real tmp12 = 1/(tmp10*tmp11);
+        const codegen_real tmp13 = (l*l)*m_2*tmp12*tmp7;
+        const codegen_real tmp14 = tmp10*tmp11;
+        const codegen_real tmp15 = -tmp14;
+        const codegen_real tmp16 = sqrt(tmp15);
+        const codegen_real tmp17 = tmp16*tmp2;
+        const codegen_real tmp18 = 2*tmp17;
+        const codegen_real tmp19 = -e*tmp5 + tmp5*tmp9;
+        const codegen_real tmp20 = tmp0*tmp12;
+        const codegen_real tmp21 = m_2*tmp20*((-tmp18 - tmp19)*(-tmp18 - tmp19));
+        const codegen_real tmp22 = tmp20*((-tmp17 - tmp19)*(-tmp17 - tmp19));
+        const codegen_real tmp23 = m_3*tmp22;
+        const codegen_real tmp24 = (((codegen_real)1/2))*g*tmp9;
+        const codegen_real tmp25 = (e*e);
+        const codegen_real tmp26 = R*tmp6;
+        const codegen_real tmp27 = tmp25*tmp26;
+        const codegen_real tmp28 = (R*R*R);
+        const codegen_real tmp29 = tmp28*tmp3*tmp6;
+        const codegen_real tmp30 = 2*e;
+        const codegen_real tmp31 = tmp2*tmp30;
+        const codegen_real tmp32 = tmp31*tmp7;
+        const codegen_real tmp33 = e*tmp2;
+        const codegen_real tmp34 = tmp14*tmp33;
+        const codegen_real tmp35 = R*tmp3;
+        const codegen_real tmp36 = tmp14*tmp35;
+        const codegen_real tmp37 = (tmp15*sqrt(tmp15));
+        const codegen_real tmp38 = tmp37*tmp5;
+        const codegen_real tmp39 = tmp14*tmp26;
+        const codegen_real tmp40 = R/tmp37;
+        const codegen_real tmp41 = (x_S*x_S);
+        const codegen_real tmp42 = 2*x_S;
+        const codegen_real tmp43 = R*tmp5;
+        const codegen_real tmp44 = tmp16*tmp42;
+        const codegen_real tmp45 = tmp15 + 2*tmp16*tmp43 + tmp25 - tmp30*y_S + tmp41 - tmp42*tmp43 - tmp44 + tmp7 + (y_S*y_S);
+        const codegen_real tmp46 = (tmp45*sqrt(tmp45));
+        const codegen_real tmp47 = l_0*tmp35;
+        const codegen_real tmp48 = l_0*tmp14;
+        const codegen_real tmp49 = 2*tmp14;
+        const codegen_real tmp50 = e*tmp5*tmp9;
+        const codegen_real tmp51 = l_0*tmp50;
+        const codegen_real tmp52 = (tmp10*tmp10)*(tmp11*tmp11);
+        const codegen_real tmp53 = tmp0*tmp25;
+        const codegen_real tmp54 = (tmp5*tmp5*tmp5);
+        const codegen_real tmp55 = l_0*tmp54;
+        const codegen_real tmp56 = tmp53*tmp55;
+        const codegen_real tmp57 = tmp28*tmp55;
+        const codegen_real tmp58 = l_0*tmp37;
+        const codegen_real tmp59 = tmp37*tmp47;
+        const codegen_real tmp60 = (R*R*R*R);
+        const codegen_real tmp61 = tmp3*tmp60;
+        const codegen_real tmp62 = tmp55*tmp61;
+        const codegen_real tmp63 = 4*x_S;
+        const codegen_real tmp64 = tmp0*tmp14;
+        const codegen_real tmp65 = l_0*tmp3;
+        const codegen_real tmp66 = 6*x_S;
+        const codegen_real tmp67 = (tmp5*tmp5*tmp5*tmp5);
+        const codegen_real tmp68 = l_0*tmp16;
+        const codegen_real tmp69 = tmp67*tmp68;
+        const codegen_real tmp70 = tmp5*tmp52;
+        const codegen_real tmp71 = tmp0*tmp65;
+        const codegen_real tmp72 = tmp41*tmp68;
+        const codegen_real tmp73 = 6*tmp58;
+        const codegen_real tmp74 = e*l_0*tmp18;
+        const codegen_real tmp75 = tmp46*x_S;
+        const codegen_real tmp76 = l_0*tmp45;
+        const codegen_real tmp77 = tmp54*tmp76;
+        const codegen_real tmp78 = tmp76*x_S;
+        const codegen_real tmp79 = tmp28*tmp31;
+        const codegen_real tmp80 = tmp46*tmp54;
+        const codegen_real tmp81 = tmp45*tmp58;
+        const codegen_real tmp82 = 3*tmp14*tmp50;
+        const codegen_real tmp83 = tmp46*tmp5;
+        const codegen_real tmp84 = tmp37*tmp46;
+        const codegen_real tmp85 = 3*tmp3*tmp64;
+        const codegen_real tmp86 = 2*tmp84;
+        const codegen_real tmp87 = (((codegen_real)1/2))*tmp7;
+        out[0] = (F*tmp40*(tmp27 + tmp29 - tmp32 - tmp34 + tmp36 + tmp38 - tmp39) + k*tmp40*(pow(R, CODEGEN_R(5.0))*tmp3*tmp69 + e*tmp17*tmp57*tmp63 - 8*l_0*tmp34*tmp7*x_S - 4*tmp14*tmp62 + (tmp15*tmp15*sqrt(tmp15))*tmp47 + tmp25*tmp28*tmp69 + 2*tmp26*tmp81 - tmp26*tmp86 + tmp27*tmp42*tmp48 + tmp27*tmp58 + tmp27*tmp72 + tmp27*tmp75 - tmp27*tmp78 + tmp29*tmp48*tmp66 + tmp29*tmp72 + tmp29*tmp73 + tmp29*tmp75 - tmp29*tmp78 - tmp32*tmp75 + tmp32*tmp78 - tmp33*tmp7*tmp73 + tmp33*tmp81 - tmp33*tmp84 + 6*tmp34*tmp57 - tmp34*tmp75 + tmp34*tmp78 + tmp35*tmp86 + tmp36*tmp75 - tmp36*tmp78 - tmp38*tmp66*tmp71 + tmp38*tmp75 - tmp38*tmp78 - tmp39*tmp75 + tmp39*tmp78 + tmp41*tmp49*tmp51 - 2*tmp41*tmp5*tmp64*tmp65 + tmp41*tmp59 - tmp41*tmp7*tmp74 - tmp42*tmp47*tmp52 - tmp44*tmp56 - tmp44*tmp62 - 2*tmp45*tmp59 + tmp46*tmp82 - tmp49*tmp56 + tmp5*tmp76*tmp85 + tmp50*tmp58*tmp63 - 2*tmp51*tmp52 - tmp52*tmp83 + tmp53*tmp77 - tmp53*tmp80 - tmp60*tmp67*tmp74 + tmp61*tmp77 - tmp61*tmp80 - tmp64*tmp77 + tmp64*tmp80 + 4*tmp70*tmp71 + tmp70*tmp76 - tmp76*tmp82 - tmp77*tmp79 + tmp79*tmp80 - tmp83*tmp85)/tmp46 - m_1*tmp24 - m_2*tmp24)/(m_1*tmp8 + m_2*tmp8 + (((codegen_real)1/12))*tmp1 - ((codegen_real)1/12)*tmp13 - ((codegen_real)1/4)*tmp21 - tmp23 + (((codegen_real)1/4))*tmp4);
+        out[1] = -b*tmp22/(m_1*tmp87 + m_2*tmp87 + (((codegen_real)1/6))*tmp1 - ((codegen_real)1/6)*tmp13 - ((codegen_real)1/2)*tmp21 - 2*tmp23 + (((codegen_real)1/2))*tmp4);
     }
 }
 
 /* vibration: eq. -. */
-slider_crank_status slider_crank_vibration(const slider_crank_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+slider_crank_status slider_crank_vibration(const slider_crank_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n)
 {
-    double out[2];
+    codegen_real out[2];
     slider_crank_status status;
     if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -12769,138 +12770,138 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, do
 /* mode_linearisation without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 529. */
-void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, double theta, double out[6])
+void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[6])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double g = params->g;
-        const double tmp0 = sin(theta);
-        const double tmp1 = R*tmp0;
-        const double tmp2 = e + l - tmp1;
-        const double tmp3 = e - l - tmp1;
-        const double tmp4 = tmp2*tmp3;
-        const double tmp5 = -tmp4;
-        const double tmp6 = sqrt(tmp5);
-        const double tmp7 = tmp0*tmp6;
-        const double tmp8 = cos(theta);
-        const double tmp9 = tmp1*tmp8;
-        const double tmp10 = -e*tmp8 + tmp9;
-        const double tmp11 = ((-tmp10 - tmp7)*(-tmp10 - tmp7));
-        const double tmp12 = (R*R);
-        const double tmp13 = 1/(tmp2*tmp3);
-        const double tmp14 = tmp12*tmp13;
-        const double tmp15 = m_3*tmp14;
-        const double tmp16 = 2*tmp7;
-        const double tmp17 = (1.0/4.0)*m_2*tmp14;
-        const double tmp18 = m_1*tmp12;
-        const double tmp19 = (tmp8*tmp8);
-        const double tmp20 = tmp12*tmp19;
-        const double tmp21 = (1.0/4.0)*tmp20;
-        const double tmp22 = (tmp0*tmp0);
-        const double tmp23 = -1.0/12.0*(l*l)*m_2*tmp13*tmp20 + m_1*tmp21 + m_2*tmp21 + (1.0/4.0)*tmp18*tmp22 + (1.0/12.0)*tmp18;
-        const double tmp24 = e*tmp8;
-        const double tmp25 = tmp24 - tmp9;
-        const double tmp26 = ((tmp25 + tmp7)*(tmp25 + tmp7));
-        const double tmp27 = b*tmp14;
-        const double tmp28 = (1.0/2.0)*g*tmp1;
-        const double tmp29 = m_1*tmp28;
-        const double tmp30 = m_2*tmp28;
-        const double tmp31 = (e*e);
-        const double tmp32 = R*tmp19;
-        const double tmp33 = tmp31*tmp32;
-        const double tmp34 = (R*R*R);
-        const double tmp35 = tmp19*tmp22*tmp34;
-        const double tmp36 = 2*e;
-        const double tmp37 = tmp0*tmp36;
-        const double tmp38 = tmp20*tmp37;
-        const double tmp39 = e*tmp0;
-        const double tmp40 = tmp39*tmp4;
-        const double tmp41 = R*tmp22;
-        const double tmp42 = tmp4*tmp41;
-        const double tmp43 = (tmp5*sqrt(tmp5));
-        const double tmp44 = tmp43*tmp8;
-        const double tmp45 = tmp32*tmp4;
-        const double tmp46 = R/tmp43;
-        const double tmp47 = F*tmp46;
-        const double tmp48 = 2*x_S;
-        const double tmp49 = tmp48*tmp6;
-        const double tmp50 = R*tmp8;
-        const double tmp51 = 2*tmp50*tmp6;
-        const double tmp52 = (x_S*x_S);
-        const double tmp53 = tmp20 + tmp31 - tmp36*y_S - tmp48*tmp50 + tmp5 + tmp52 + (y_S*y_S);
-        const double tmp54 = -tmp49 + tmp51 + tmp53;
-        const double tmp55 = (tmp54*sqrt(tmp54));
-        const double tmp56 = tmp44*x_S;
-        const double tmp57 = tmp39*tmp43;
-        const double tmp58 = (tmp8*tmp8*tmp8);
-        const double tmp59 = tmp55*tmp58;
-        const double tmp60 = tmp12*tmp31;
-        const double tmp61 = (R*R*R*R);
-        const double tmp62 = tmp22*tmp61;
-        const double tmp63 = tmp55*tmp8;
-        const double tmp64 = (tmp2*tmp2);
-        const double tmp65 = (tmp3*tmp3);
-        const double tmp66 = tmp64*tmp65;
-        const double tmp67 = 2*tmp43;
-        const double tmp68 = tmp55*tmp67;
-        const double tmp69 = tmp55*x_S;
-        const double tmp70 = l_0*tmp54;
-        const double tmp71 = tmp58*tmp70;
-        const double tmp72 = tmp66*tmp8;
-        const double tmp73 = tmp12*tmp4;
-        const double tmp74 = l_0*tmp41;
-        const double tmp75 = tmp32*tmp67;
-        const double tmp76 = tmp34*tmp37;
-        const double tmp77 = tmp70*x_S;
-        const double tmp78 = l_0*tmp58;
-        const double tmp79 = tmp62*tmp78;
-        const double tmp80 = 4*tmp4*tmp79;
-        const double tmp81 = tmp22*tmp73;
-        const double tmp82 = 3*tmp81;
-        const double tmp83 = tmp48*tmp66*tmp74;
-        const double tmp84 = tmp60*tmp78;
-        const double tmp85 = 2*tmp4;
-        const double tmp86 = tmp84*tmp85;
-        const double tmp87 = tmp12*tmp22;
-        const double tmp88 = 2*l_0;
-        const double tmp89 = tmp1*tmp24;
-        const double tmp90 = tmp66*tmp88*tmp89;
-        const double tmp91 = tmp52*tmp8*tmp81*tmp88;
-        const double tmp92 = l_0*tmp4;
-        const double tmp93 = 3*tmp4*tmp89;
-        const double tmp94 = tmp8*tmp82;
-        const double tmp95 = 6*l_0;
-        const double tmp96 = 6*tmp35;
-        const double tmp97 = 8*l_0*tmp20*tmp40*x_S;
-        const double tmp98 = l_0*tmp43;
-        const double tmp99 = (tmp8*tmp8*tmp8*tmp8);
-        const double tmp100 = l_0*tmp6;
-        const double tmp101 = tmp100*tmp99;
-        const double tmp102 = tmp100*tmp52;
-        const double tmp103 = e*l_0*tmp16;
-        const double tmp104 = 4*x_S;
-        const double tmp105 = pow(R, 5)*tmp101*tmp22 + e*tmp104*tmp34*tmp7*tmp78 + tmp101*tmp31*tmp34 + tmp102*tmp33 + tmp102*tmp35 - tmp103*tmp20*tmp52 - tmp103*tmp61*tmp99 + tmp104*tmp89*tmp98 - tmp20*tmp57*tmp95 + tmp33*tmp98 + tmp43*tmp52*tmp74 - tmp49*tmp79 - tmp49*tmp84 + (tmp5*tmp5*sqrt(tmp5))*tmp74 - tmp56*tmp87*tmp95 + tmp96*tmp98;
-        const double tmp106 = k*tmp46;
-        const double tmp107 = tmp49 - tmp51 + tmp53;
-        const double tmp108 = (tmp107*sqrt(tmp107));
-        const double tmp109 = tmp108*tmp58;
-        const double tmp110 = l_0*tmp107;
-        const double tmp111 = tmp110*x_S;
-        const double tmp112 = tmp108*x_S;
-        const double tmp113 = tmp110*tmp58;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = R*tmp0;
+        const codegen_real tmp2 = e + l - tmp1;
+        const codegen_real tmp3 = e - l - tmp1;
+        const codegen_real tmp4 = tmp2*tmp3;
+        const codegen_real tmp5 = -tmp4;
+        const codegen_real tmp6 = sqrt(tmp5);
+        const codegen_real tmp7 = tmp0*tmp6;
+        const codegen_real tmp8 = cos(theta);
+        const codegen_real tmp9 = tmp1*tmp8;
+        const codegen_real tmp10 = -e*tmp8 + tmp9;
+        const codegen_real tmp11 = ((-tmp10 - tmp7)*(-tmp10 - tmp7));
+        const codegen_real tmp12 = (R*R);
+        const codegen_real tmp13 = 1/(tmp2*tmp3);
+        const codegen_real tmp14 = tmp12*tmp13;
+        const codegen_real tmp15 = m_3*tmp14;
+        const codegen_real tmp16 = 2*tmp7;
+        const codegen_real tmp17 = (((codegen_real)1/4))*m_2*tmp14;
+        const codegen_real tmp18 = m_1*tmp12;
+        const codegen_real tmp19 = (tmp8*tmp8);
+        const codegen_real tmp20 = tmp12*tmp19;
+        const codegen_real tmp21 = (((codegen_real)1/4))*tmp20;
+        const codegen_real tmp22 = (tmp0*tmp0);
+        const codegen_real tmp23 = -((codegen_real)1/12)*(l*l)*m_2*tmp13*tmp20 + m_1*tmp21 + m_2*tmp21 + (((codegen_real)1/4))*tmp18*tmp22 + (((codegen_real)1/12))*tmp18;
+        const codegen_real tmp24 = e*tmp8;
+        const codegen_real tmp25 = tmp24 - tmp9;
+        const codegen_real tmp26 = ((tmp25 + tmp7)*(tmp25 + tmp7));
+        const codegen_real tmp27 = b*tmp14;
+        const codegen_real tmp28 = (((codegen_real)1/2))*g*tmp1;
+        const codegen_real tmp29 = m_1*tmp28;
+        const codegen_real tmp30 = m_2*tmp28;
+        const codegen_real tmp31 = (e*e);
+        const codegen_real tmp32 = R*tmp19;
+        const codegen_real tmp33 = tmp31*tmp32;
+        const codegen_real tmp34 = (R*R*R);
+        const codegen_real tmp35 = tmp19*tmp22*tmp34;
+        const codegen_real tmp36 = 2*e;
+        const codegen_real tmp37 = tmp0*tmp36;
+        const codegen_real tmp38 = tmp20*tmp37;
+        const codegen_real tmp39 = e*tmp0;
+        const codegen_real tmp40 = tmp39*tmp4;
+        const codegen_real tmp41 = R*tmp22;
+        const codegen_real tmp42 = tmp4*tmp41;
+        const codegen_real tmp43 = (tmp5*sqrt(tmp5));
+        const codegen_real tmp44 = tmp43*tmp8;
+        const codegen_real tmp45 = tmp32*tmp4;
+        const codegen_real tmp46 = R/tmp43;
+        const codegen_real tmp47 = F*tmp46;
+        const codegen_real tmp48 = 2*x_S;
+        const codegen_real tmp49 = tmp48*tmp6;
+        const codegen_real tmp50 = R*tmp8;
+        const codegen_real tmp51 = 2*tmp50*tmp6;
+        const codegen_real tmp52 = (x_S*x_S);
+        const codegen_real tmp53 = tmp20 + tmp31 - tmp36*y_S - tmp48*tmp50 + tmp5 + tmp52 + (y_S*y_S);
+        const codegen_real tmp54 = -tmp49 + tmp51 + tmp53;
+        const codegen_real tmp55 = (tmp54*sqrt(tmp54));
+        const codegen_real tmp56 = tmp44*x_S;
+        const codegen_real tmp57 = tmp39*tmp43;
+        const codegen_real tmp58 = (tmp8*tmp8*tmp8);
+        const codegen_real tmp59 = tmp55*tmp58;
+        const codegen_real tmp60 = tmp12*tmp31;
+        const codegen_real tmp61 = (R*R*R*R);
+        const codegen_real tmp62 = tmp22*tmp61;
+        const codegen_real tmp63 = tmp55*tmp8;
+        const codegen_real tmp64 = (tmp2*tmp2);
+        const codegen_real tmp65 = (tmp3*tmp3);
+        const codegen_real tmp66 = tmp64*tmp65;
+        const codegen_real tmp67 = 2*tmp43;
+        const codegen_real tmp68 = tmp55*tmp67;
+        const codegen_real tmp69 = tmp55*x_S;
+        const codegen_real tmp70 = l_0*tmp54;
+        const codegen_real tmp71 = tmp58*tmp70;
+        const codegen_real tmp72 = tmp66*tmp8;
+        const codegen_real tmp73 = tmp12*tmp4;
+        const codegen_real tmp74 = l_0*tmp41;
+        const codegen_real tmp75 = tmp32*tmp67;
+        const codegen_real tmp76 = tmp34*tmp37;
+        const codegen_real tmp77 = tmp70*x_S;
+        const codegen_real tmp78 = l_0*tmp58;
+        const codegen_real tmp79 = tmp62*tmp78;
+        const codegen_real tmp80 = 4*tmp4*tmp79;
+        const codegen_real tmp81 = tmp22*tmp73;
+        const codegen_real tmp82 = 3*tmp81;
+        const codegen_real tmp83 = tmp48*tmp66*tmp74;
+        const codegen_real tmp84 = tmp60*tmp78;
+        const codegen_real tmp85 = 2*tmp4;
+        const codegen_real tmp86 = tmp84*tmp85;
+        const codegen_real tmp87 = tmp12*tmp22;
+        const codegen_real tmp88 = 2*l_0;
+        const codegen_real tmp89 = tmp1*tmp24;
+        const codegen_real tmp90 = tmp66*tmp88*tmp89;
+        const codegen_real tmp91 = tmp52*tmp8*tmp81*tmp88;
+        const codegen_real tmp92 = l_0*tmp4;
+        const codegen_real tmp93 = 3*tmp4*tmp89;
+        const codegen_real tmp94 = tmp8*tmp82;
+        const codegen_real tmp95 = 6*l_0;
+        const codegen_real tmp96 = 6*tmp35;
+        const codegen_real tmp97 = 8*l_0*tmp20*tmp40*x_S;
+        const codegen_real tmp98 = l_0*tmp43;
+        const codegen_real tmp99 = (tmp8*tmp8*tmp8*tmp8);
+        const codegen_real tmp100 = l_0*tmp6;
+        const codegen_real tmp101 = tmp100*tmp99;
+        const codegen_real tmp102 = tmp100*tmp52;
+        const codegen_real tmp103 = e*l_0*tmp16;
+        const codegen_real tmp104 = 4*x_S;
+        const codegen_real tmp105 = pow(R, CODEGEN_R(5.0))*tmp101*tmp22 + e*tmp104*tmp34*tmp7*tmp78 + tmp101*tmp31*tmp34 + tmp102*tmp33 + tmp102*tmp35 - tmp103*tmp20*tmp52 - tmp103*tmp61*tmp99 + tmp104*tmp89*tmp98 - tmp20*tmp57*tmp95 + tmp33*tmp98 + tmp43*tmp52*tmp74 - tmp49*tmp79 - tmp49*tmp84 + (tmp5*tmp5*sqrt(tmp5))*tmp74 - tmp56*tmp87*tmp95 + tmp96*tmp98;
+        const codegen_real tmp106 = k*tmp46;
+        const codegen_real tmp107 = tmp49 - tmp51 + tmp53;
+        const codegen_real tmp108 = (tmp107*sqrt(tmp107));
+        const codegen_real tmp109 = tmp108*tmp58;
+        const codegen_real tmp110 = l_0*tmp107;
+        const codegen_real tmp111 = tmp110*x_S;
+        const codegen_real tmp112 = tmp108*x_S;
+        const codegen_real tmp113 = tmp110*tmp58;
         out[0] = -tmp11*tmp15 - tmp17*((-tmp10 - tmp16)*(-tmp10 - tmp16)) + tmp23;
         out[1] = -tmp15*tmp26 - tmp17*((tmp16 + tmp25)*(tmp16 + tmp25)) + tmp23;
         out[2] = -tmp11*tmp27;
@@ -12911,9 +12912,9 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, d
 }
 
 /* mode_linearisation: eq. -. */
-slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, double theta, double M[SLIDER_CRANK_N_MODES], double B[SLIDER_CRANK_N_MODES], double K[SLIDER_CRANK_N_MODES])
+slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real M[SLIDER_CRANK_N_MODES], codegen_real B[SLIDER_CRANK_N_MODES], codegen_real K[SLIDER_CRANK_N_MODES])
 {
-    double out[6];
+    codegen_real out[6];
     slider_crank_status status;
     if (M == NULL || B == NULL || K == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -12938,150 +12939,150 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
 /* equilibrium_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 420. */
-void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, double theta, double out[13])
+void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[13])
 {
     (void)params;
     (void)theta;
     {
-        const double R = params->R;
-        const double l = params->l;
-        const double e = params->e;
-        const double m_1 = params->m_1;
-        const double m_2 = params->m_2;
-        const double m_3 = params->m_3;
-        const double k = params->k;
-        const double l_0 = params->l_0;
-        const double x_S = params->x_S;
-        const double y_S = params->y_S;
-        const double b = params->b;
-        const double F = params->F;
-        const double T = params->T;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = sin(theta);
-        const double tmp2 = R*tmp1;
-        const double tmp3 = e + l - tmp2;
-        const double tmp4 = -e + l + tmp2;
-        const double tmp5 = -tmp4;
-        const double tmp6 = tmp3*tmp5;
-        const double tmp7 = -tmp6;
-        const double tmp8 = sqrt(tmp7);
-        const double tmp9 = tmp1*tmp8;
-        const double tmp10 = e*tmp0;
-        const double tmp11 = tmp0*tmp2;
-        const double tmp12 = -tmp10 + tmp11;
-        const double tmp13 = -tmp12 - tmp9;
-        const double tmp14 = 1/(tmp8);
-        const double tmp15 = F*R;
-        const double tmp16 = tmp14*tmp15;
-        const double tmp17 = tmp13*tmp16;
-        const double tmp18 = 2*x_S;
-        const double tmp19 = tmp18*tmp8;
-        const double tmp20 = R*tmp0;
-        const double tmp21 = 2*tmp8;
-        const double tmp22 = tmp20*tmp21;
-        const double tmp23 = (e*e);
-        const double tmp24 = (x_S*x_S);
-        const double tmp25 = (y_S*y_S);
-        const double tmp26 = (R*R);
-        const double tmp27 = (tmp0*tmp0);
-        const double tmp28 = tmp26*tmp27;
-        const double tmp29 = tmp23 + tmp24 + tmp25 + tmp28 + tmp7;
-        const double tmp30 = e*y_S;
-        const double tmp31 = -tmp18*tmp20 - 2*tmp30;
-        const double tmp32 = tmp29 + tmp31;
-        const double tmp33 = -tmp19 + tmp22 + tmp32;
-        const double tmp34 = sqrt(tmp33);
-        const double tmp35 = tmp20 - x_S;
-        const double tmp36 = R*k;
-        const double tmp37 = tmp14*tmp36;
-        const double tmp38 = tmp13*tmp37*(tmp35 + tmp8)/tmp34;
-        const double tmp39 = (1.0/2.0)*R*g*m_1*tmp0 + (1.0/2.0)*R*g*m_2*tmp0 - T - tmp17 - tmp38*(l_0 - tmp34);
-        const double tmp40 = g*tmp20;
-        const double tmp41 = m_1*tmp40;
-        const double tmp42 = m_2*tmp40;
-        const double tmp43 = tmp3*tmp4;
-        const double tmp44 = sqrt(tmp43);
-        const double tmp45 = 1/(fabs(tmp44));
-        const double tmp46 = tmp1*tmp44 + tmp12;
-        const double tmp47 = sqrt(-tmp18*tmp44 + 2*tmp20*tmp44 + tmp23 + tmp24 + tmp25 + tmp28 + tmp31 + tmp43);
-        const double tmp48 = (tmp1*tmp1);
-        const double tmp49 = tmp26*tmp48;
-        const double tmp50 = (1.0/4.0)*m_1;
-        const double tmp51 = (1.0/4.0)*m_2;
-        const double tmp52 = (l*l);
-        const double tmp53 = 1/(tmp3*tmp5);
-        const double tmp54 = 2*tmp9;
-        const double tmp55 = tmp26*tmp53;
-        const double tmp56 = (tmp13*tmp13)*tmp55;
-        const double tmp57 = (1.0/2.0)*g*tmp2;
-        const double tmp58 = (tmp7*sqrt(tmp7));
-        const double tmp59 = 1/(tmp58);
-        const double tmp60 = R*tmp27;
-        const double tmp61 = tmp23*tmp60;
-        const double tmp62 = (R*R*R);
-        const double tmp63 = tmp27*tmp48*tmp62;
-        const double tmp64 = e*tmp1;
-        const double tmp65 = 2*tmp64;
-        const double tmp66 = tmp6*tmp64;
-        const double tmp67 = R*tmp48;
-        const double tmp68 = tmp6*tmp67;
-        const double tmp69 = tmp0*tmp58;
-        const double tmp70 = tmp6*tmp60;
-        const double tmp71 = (tmp33*sqrt(tmp33));
-        const double tmp72 = l_0*tmp67;
-        const double tmp73 = l_0*tmp6;
-        const double tmp74 = tmp10*tmp2;
-        const double tmp75 = l_0*tmp74;
-        const double tmp76 = 2*tmp6;
-        const double tmp77 = tmp24*tmp76;
-        const double tmp78 = (tmp3*tmp3)*(tmp5*tmp5);
-        const double tmp79 = tmp23*tmp26;
-        const double tmp80 = (tmp0*tmp0*tmp0);
-        const double tmp81 = l_0*tmp80;
-        const double tmp82 = tmp79*tmp81;
-        const double tmp83 = tmp62*tmp81;
-        const double tmp84 = l_0*tmp58;
-        const double tmp85 = tmp58*tmp72;
-        const double tmp86 = (R*R*R*R);
-        const double tmp87 = tmp48*tmp86;
-        const double tmp88 = tmp81*tmp87;
-        const double tmp89 = 4*x_S;
-        const double tmp90 = l_0*tmp49;
-        const double tmp91 = 6*x_S;
-        const double tmp92 = (tmp0*tmp0*tmp0*tmp0);
-        const double tmp93 = l_0*tmp8;
-        const double tmp94 = tmp92*tmp93;
-        const double tmp95 = tmp0*tmp78;
-        const double tmp96 = tmp24*tmp93;
-        const double tmp97 = 6*tmp84;
-        const double tmp98 = tmp28*tmp64;
-        const double tmp99 = e*l_0*tmp54;
-        const double tmp100 = tmp71*x_S;
-        const double tmp101 = l_0*tmp33;
-        const double tmp102 = tmp101*tmp80;
-        const double tmp103 = tmp101*x_S;
-        const double tmp104 = tmp62*tmp65;
-        const double tmp105 = tmp71*tmp80;
-        const double tmp106 = tmp18*tmp98;
-        const double tmp107 = tmp33*tmp84;
-        const double tmp108 = 3*tmp6;
-        const double tmp109 = tmp108*tmp74;
-        const double tmp110 = tmp0*tmp71;
-        const double tmp111 = tmp26*tmp6;
-        const double tmp112 = tmp58*tmp71;
-        const double tmp113 = tmp108*tmp49;
-        const double tmp114 = 2*tmp112;
-        const double tmp115 = sqrt(tmp19 - tmp22 + tmp32);
-        const double tmp116 = tmp10 - tmp11 + tmp9;
-        const double tmp117 = tmp116*tmp37*(R*tmp0 - tmp8 - x_S)/tmp115;
-        const double tmp118 = -T + (1.0/2.0)*tmp41 + (1.0/2.0)*tmp42;
-        const double tmp119 = tmp116*tmp16 + tmp118;
+        const codegen_real R = params->R;
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real x_S = params->x_S;
+        const codegen_real y_S = params->y_S;
+        const codegen_real b = params->b;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = R*tmp1;
+        const codegen_real tmp3 = e + l - tmp2;
+        const codegen_real tmp4 = -e + l + tmp2;
+        const codegen_real tmp5 = -tmp4;
+        const codegen_real tmp6 = tmp3*tmp5;
+        const codegen_real tmp7 = -tmp6;
+        const codegen_real tmp8 = sqrt(tmp7);
+        const codegen_real tmp9 = tmp1*tmp8;
+        const codegen_real tmp10 = e*tmp0;
+        const codegen_real tmp11 = tmp0*tmp2;
+        const codegen_real tmp12 = -tmp10 + tmp11;
+        const codegen_real tmp13 = -tmp12 - tmp9;
+        const codegen_real tmp14 = 1/(tmp8);
+        const codegen_real tmp15 = F*R;
+        const codegen_real tmp16 = tmp14*tmp15;
+        const codegen_real tmp17 = tmp13*tmp16;
+        const codegen_real tmp18 = 2*x_S;
+        const codegen_real tmp19 = tmp18*tmp8;
+        const codegen_real tmp20 = R*tmp0;
+        const codegen_real tmp21 = 2*tmp8;
+        const codegen_real tmp22 = tmp20*tmp21;
+        const codegen_real tmp23 = (e*e);
+        const codegen_real tmp24 = (x_S*x_S);
+        const codegen_real tmp25 = (y_S*y_S);
+        const codegen_real tmp26 = (R*R);
+        const codegen_real tmp27 = (tmp0*tmp0);
+        const codegen_real tmp28 = tmp26*tmp27;
+        const codegen_real tmp29 = tmp23 + tmp24 + tmp25 + tmp28 + tmp7;
+        const codegen_real tmp30 = e*y_S;
+        const codegen_real tmp31 = -tmp18*tmp20 - 2*tmp30;
+        const codegen_real tmp32 = tmp29 + tmp31;
+        const codegen_real tmp33 = -tmp19 + tmp22 + tmp32;
+        const codegen_real tmp34 = sqrt(tmp33);
+        const codegen_real tmp35 = tmp20 - x_S;
+        const codegen_real tmp36 = R*k;
+        const codegen_real tmp37 = tmp14*tmp36;
+        const codegen_real tmp38 = tmp13*tmp37*(tmp35 + tmp8)/tmp34;
+        const codegen_real tmp39 = (((codegen_real)1/2))*R*g*m_1*tmp0 + (((codegen_real)1/2))*R*g*m_2*tmp0 - T - tmp17 - tmp38*(l_0 - tmp34);
+        const codegen_real tmp40 = g*tmp20;
+        const codegen_real tmp41 = m_1*tmp40;
+        const codegen_real tmp42 = m_2*tmp40;
+        const codegen_real tmp43 = tmp3*tmp4;
+        const codegen_real tmp44 = sqrt(tmp43);
+        const codegen_real tmp45 = 1/(fabs(tmp44));
+        const codegen_real tmp46 = tmp1*tmp44 + tmp12;
+        const codegen_real tmp47 = sqrt(-tmp18*tmp44 + 2*tmp20*tmp44 + tmp23 + tmp24 + tmp25 + tmp28 + tmp31 + tmp43);
+        const codegen_real tmp48 = (tmp1*tmp1);
+        const codegen_real tmp49 = tmp26*tmp48;
+        const codegen_real tmp50 = (((codegen_real)1/4))*m_1;
+        const codegen_real tmp51 = (((codegen_real)1/4))*m_2;
+        const codegen_real tmp52 = (l*l);
+        const codegen_real tmp53 = 1/(tmp3*tmp5);
+        const codegen_real tmp54 = 2*tmp9;
+        const codegen_real tmp55 = tmp26*tmp53;
+        const codegen_real tmp56 = (tmp13*tmp13)*tmp55;
+        const codegen_real tmp57 = (((codegen_real)1/2))*g*tmp2;
+        const codegen_real tmp58 = (tmp7*sqrt(tmp7));
+        const codegen_real tmp59 = 1/(tmp58);
+        const codegen_real tmp60 = R*tmp27;
+        const codegen_real tmp61 = tmp23*tmp60;
+        const codegen_real tmp62 = (R*R*R);
+        const codegen_real tmp63 = tmp27*tmp48*tmp62;
+        const codegen_real tmp64 = e*tmp1;
+        const codegen_real tmp65 = 2*tmp64;
+        const codegen_real tmp66 = tmp6*tmp64;
+        const codegen_real tmp67 = R*tmp48;
+        const codegen_real tmp68 = tmp6*tmp67;
+        const codegen_real tmp69 = tmp0*tmp58;
+        const codegen_real tmp70 = tmp6*tmp60;
+        const codegen_real tmp71 = (tmp33*sqrt(tmp33));
+        const codegen_real tmp72 = l_0*tmp67;
+        const codegen_real tmp73 = l_0*tmp6;
+        const codegen_real tmp74 = tmp10*tmp2;
+        const codegen_real tmp75 = l_0*tmp74;
+        const codegen_real tmp76 = 2*tmp6;
+        const codegen_real tmp77 = tmp24*tmp76;
+        const codegen_real tmp78 = (tmp3*tmp3)*(tmp5*tmp5);
+        const codegen_real tmp79 = tmp23*tmp26;
+        const codegen_real tmp80 = (tmp0*tmp0*tmp0);
+        const codegen_real tmp81 = l_0*tmp80;
+        const codegen_real tmp82 = tmp79*tmp81;
+        const codegen_real tmp83 = tmp62*tmp81;
+        const codegen_real tmp84 = l_0*tmp58;
+        const codegen_real tmp85 = tmp58*tmp72;
+        const codegen_real tmp86 = (R*R*R*R);
+        const codegen_real tmp87 = tmp48*tmp86;
+        const codegen_real tmp88 = tmp81*tmp87;
+        const codegen_real tmp89 = 4*x_S;
+        const codegen_real tmp90 = l_0*tmp49;
+        const codegen_real tmp91 = 6*x_S;
+        const codegen_real tmp92 = (tmp0*tmp0*tmp0*tmp0);
+        const codegen_real tmp93 = l_0*tmp8;
+        const codegen_real tmp94 = tmp92*tmp93;
+        const codegen_real tmp95 = tmp0*tmp78;
+        const codegen_real tmp96 = tmp24*tmp93;
+        const codegen_real tmp97 = 6*tmp84;
+        const codegen_real tmp98 = tmp28*tmp64;
+        const codegen_real tmp99 = e*l_0*tmp54;
+        const codegen_real tmp100 = tmp71*x_S;
+        const codegen_real tmp101 = l_0*tmp33;
+        const codegen_real tmp102 = tmp101*tmp80;
+        const codegen_real tmp103 = tmp101*x_S;
+        const codegen_real tmp104 = tmp62*tmp65;
+        const codegen_real tmp105 = tmp71*tmp80;
+        const codegen_real tmp106 = tmp18*tmp98;
+        const codegen_real tmp107 = tmp33*tmp84;
+        const codegen_real tmp108 = 3*tmp6;
+        const codegen_real tmp109 = tmp108*tmp74;
+        const codegen_real tmp110 = tmp0*tmp71;
+        const codegen_real tmp111 = tmp26*tmp6;
+        const codegen_real tmp112 = tmp58*tmp71;
+        const codegen_real tmp113 = tmp108*tmp49;
+        const codegen_real tmp114 = 2*tmp112;
+        const codegen_real tmp115 = sqrt(tmp19 - tmp22 + tmp32);
+        const codegen_real tmp116 = tmp10 - tmp11 + tmp9;
+        const codegen_real tmp117 = tmp116*tmp37*(R*tmp0 - tmp8 - x_S)/tmp115;
+        const codegen_real tmp118 = -T + (((codegen_real)1/2))*tmp41 + (((codegen_real)1/2))*tmp42;
+        const codegen_real tmp119 = tmp116*tmp16 + tmp118;
         out[0] = tmp39;
-        out[1] = tmp45*fabs(tmp15*tmp46) + tmp45*fabs(tmp36*tmp46*(l_0 - tmp47)*(tmp35 + tmp44))/fabs(tmp47) + fabs(T) + (1.0/2.0)*fabs(tmp41) + (1.0/2.0)*fabs(tmp42);
-        out[2] = (1.0/12.0)*m_1*tmp26 - 1.0/12.0*m_2*tmp28*tmp52*tmp53 - m_3*tmp56 + tmp28*tmp50 + tmp28*tmp51 + tmp49*tmp50 - tmp51*tmp55*((-tmp12 - tmp54)*(-tmp12 - tmp54));
+        out[1] = tmp45*fabs(tmp15*tmp46) + tmp45*fabs(tmp36*tmp46*(l_0 - tmp47)*(tmp35 + tmp44))/fabs(tmp47) + fabs(T) + (((codegen_real)1/2))*fabs(tmp41) + (((codegen_real)1/2))*fabs(tmp42);
+        out[2] = (((codegen_real)1/12))*m_1*tmp26 - ((codegen_real)1/12)*m_2*tmp28*tmp52*tmp53 - m_3*tmp56 + tmp28*tmp50 + tmp28*tmp51 + tmp49*tmp50 - tmp51*tmp55*((-tmp12 - tmp54)*(-tmp12 - tmp54));
         out[3] = -b*tmp56;
-        out[4] = -m_1*tmp57 - m_2*tmp57 + tmp15*tmp59*(-tmp28*tmp65 + tmp61 + tmp63 - tmp66 + tmp68 + tmp69 - tmp70) + tmp36*tmp59*(pow(R, 5)*tmp48*tmp94 + e*tmp83*tmp89*tmp9 - 8*l_0*tmp28*tmp66*x_S + tmp0*tmp101*tmp113 - tmp0*tmp77*tmp90 + tmp100*tmp61 + tmp100*tmp63 - tmp100*tmp66 + tmp100*tmp68 + tmp100*tmp69 - tmp100*tmp70 + tmp101*tmp106 - tmp101*tmp109 + tmp101*tmp95 - tmp102*tmp104 - tmp102*tmp111 + tmp102*tmp79 + tmp102*tmp87 - tmp103*tmp61 - tmp103*tmp63 + tmp103*tmp66 - tmp103*tmp68 - tmp103*tmp69 + tmp103*tmp70 + tmp104*tmp105 + tmp105*tmp111 - tmp105*tmp79 - tmp105*tmp87 - tmp106*tmp71 + 2*tmp107*tmp60 + tmp107*tmp64 + tmp109*tmp71 - tmp110*tmp113 - tmp110*tmp78 - tmp112*tmp64 - tmp114*tmp60 + tmp114*tmp67 + tmp18*tmp61*tmp73 - tmp18*tmp72*tmp78 - tmp19*tmp82 - tmp19*tmp88 + tmp23*tmp62*tmp94 - tmp24*tmp28*tmp99 + tmp24*tmp85 - 2*tmp33*tmp85 - 4*tmp6*tmp88 + tmp61*tmp84 + tmp61*tmp96 + tmp63*tmp73*tmp91 + tmp63*tmp96 + tmp63*tmp97 + 6*tmp66*tmp83 - tmp69*tmp90*tmp91 + (tmp7*tmp7*sqrt(tmp7))*tmp72 + tmp74*tmp84*tmp89 + tmp75*tmp77 - 2*tmp75*tmp78 - tmp76*tmp82 - tmp86*tmp92*tmp99 + 4*tmp90*tmp95 - tmp97*tmp98)/tmp71;
+        out[4] = -m_1*tmp57 - m_2*tmp57 + tmp15*tmp59*(-tmp28*tmp65 + tmp61 + tmp63 - tmp66 + tmp68 + tmp69 - tmp70) + tmp36*tmp59*(pow(R, CODEGEN_R(5.0))*tmp48*tmp94 + e*tmp83*tmp89*tmp9 - 8*l_0*tmp28*tmp66*x_S + tmp0*tmp101*tmp113 - tmp0*tmp77*tmp90 + tmp100*tmp61 + tmp100*tmp63 - tmp100*tmp66 + tmp100*tmp68 + tmp100*tmp69 - tmp100*tmp70 + tmp101*tmp106 - tmp101*tmp109 + tmp101*tmp95 - tmp102*tmp104 - tmp102*tmp111 + tmp102*tmp79 + tmp102*tmp87 - tmp103*tmp61 - tmp103*tmp63 + tmp103*tmp66 - tmp103*tmp68 - tmp103*tmp69 + tmp103*tmp70 + tmp104*tmp105 + tmp105*tmp111 - tmp105*tmp79 - tmp105*tmp87 - tmp106*tmp71 + 2*tmp107*tmp60 + tmp107*tmp64 + tmp109*tmp71 - tmp110*tmp113 - tmp110*tmp78 - tmp112*tmp64 - tmp114*tmp60 + tmp114*tmp67 + tmp18*tmp61*tmp73 - tmp18*tmp72*tmp78 - tmp19*tmp82 - tmp19*tmp88 + tmp23*tmp62*tmp94 - tmp24*tmp28*tmp99 + tmp24*tmp85 - 2*tmp33*tmp85 - 4*tmp6*tmp88 + tmp61*tmp84 + tmp61*tmp96 + tmp63*tmp73*tmp91 + tmp63*tmp96 + tmp63*tmp97 + 6*tmp66*tmp83 - tmp69*tmp90*tmp91 + (tmp7*tmp7*sqrt(tmp7))*tmp72 + tmp74*tmp84*tmp89 + tmp75*tmp77 - 2*tmp75*tmp78 - tmp76*tmp82 - tmp86*tmp92*tmp99 + 4*tmp90*tmp95 - tmp97*tmp98)/tmp71;
         out[5] = tmp39;
         out[6] = tmp117*(l_0 - tmp115) + tmp119;
         out[7] = tmp118 - tmp17 + tmp38*(l_0 + tmp34);
@@ -13094,9 +13095,9 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, do
 }
 
 /* equilibrium_state: eq. -. */
-slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[SLIDER_CRANK_N_BRANCHES], double radicands[SLIDER_CRANK_N_ROOTS], double radicand_scales[SLIDER_CRANK_N_ROOTS])
+slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real branch_residuals[SLIDER_CRANK_N_BRANCHES], codegen_real radicands[SLIDER_CRANK_N_ROOTS], codegen_real radicand_scales[SLIDER_CRANK_N_ROOTS])
 {
-    double out[13];
+    codegen_real out[13];
     slider_crank_status status;
     if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL || branch_residuals == NULL || radicands == NULL || radicand_scales == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
@@ -13123,8 +13124,8 @@ slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *pa
     return SLIDER_CRANK_OK;
 }
 
-slider_crank_status slider_crank_poly_real_roots(const double sigma[SLIDER_CRANK_N_SIGMA],
-                                       double theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots)
+slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
+                                       codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots)
 {
     /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
      * out of range) cannot occur: the header checks the degree at compile time. */
@@ -13161,17 +13162,17 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp10 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(codegen_iv_neg(tmp9), codegen_iv_mul(e, tmp0)), codegen_iv_mul(tmp0, tmp3)), tmp8, iv_flags);
     const codegen_iv tmp11 = codegen_iv_pow(e, 2);
     const codegen_iv tmp12 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2.0), e);
+    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2), e);
     const codegen_iv tmp14 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(2.0), x_S);
+    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(2), x_S);
     const codegen_iv tmp16 = codegen_iv_pow(R, 2);
     const codegen_iv tmp17 = codegen_iv_pow(tmp0, 2);
     const codegen_iv tmp18 = codegen_iv_mul(tmp16, tmp17);
     const codegen_iv tmp19 = codegen_iv_mul(tmp15, tmp8);
-    const codegen_iv tmp20 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp11, tmp12), tmp18), tmp19), tmp7), codegen_iv_pow(y_S, 2)), codegen_iv_mul(tmp13, y_S)), codegen_iv_mul(tmp14, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp14), tmp8));
+    const codegen_iv tmp20 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp11, tmp12), tmp18), tmp19), tmp7), codegen_iv_pow(y_S, 2)), codegen_iv_mul(tmp13, y_S)), codegen_iv_mul(tmp14, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp14), tmp8));
     const codegen_iv tmp21 = codegen_iv_sqrt(tmp20, iv_flags);
     const codegen_iv tmp22 = codegen_iv_mul(R, k);
-    const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), g), tmp3);
+    const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), tmp3);
     const codegen_iv tmp24 = codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 3);
     const codegen_iv tmp25 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp24, 1), iv_flags);
     const codegen_iv tmp26 = codegen_iv_mul(R, tmp17);
@@ -13190,7 +13191,7 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp39 = codegen_iv_pow(codegen_iv_sqrt(tmp20, iv_flags), 3);
     const codegen_iv tmp40 = codegen_iv_mul(l_0, tmp35);
     const codegen_iv tmp41 = codegen_iv_mul(l_0, tmp6);
-    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2.0), tmp6);
+    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2), tmp6);
     const codegen_iv tmp43 = codegen_iv_mul(codegen_iv_mul(e, tmp0), tmp3);
     const codegen_iv tmp44 = codegen_iv_mul(l_0, tmp43);
     const codegen_iv tmp45 = codegen_iv_mul(codegen_iv_pow(tmp4, 2), codegen_iv_pow(tmp5, 2));
@@ -13204,17 +13205,17 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp53 = codegen_iv_pow(R, 4);
     const codegen_iv tmp54 = codegen_iv_mul(tmp29, tmp53);
     const codegen_iv tmp55 = codegen_iv_mul(tmp48, tmp54);
-    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(4.0), x_S);
+    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(4), x_S);
     const codegen_iv tmp57 = codegen_iv_mul(tmp16, tmp6);
     const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp29);
-    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_point(6.0), x_S);
+    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_point(6), x_S);
     const codegen_iv tmp60 = codegen_iv_pow(tmp0, 4);
     const codegen_iv tmp61 = codegen_iv_mul(l_0, tmp8);
     const codegen_iv tmp62 = codegen_iv_mul(tmp60, tmp61);
     const codegen_iv tmp63 = codegen_iv_mul(tmp0, tmp45);
     const codegen_iv tmp64 = codegen_iv_mul(tmp16, tmp58);
     const codegen_iv tmp65 = codegen_iv_mul(tmp12, tmp61);
-    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(6.0), tmp51);
+    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(6), tmp51);
     const codegen_iv tmp67 = codegen_iv_mul(codegen_iv_mul(l_0, tmp13), tmp9);
     const codegen_iv tmp68 = codegen_iv_mul(tmp39, x_S);
     const codegen_iv tmp69 = codegen_iv_mul(l_0, tmp20);
@@ -13223,13 +13224,13 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp72 = codegen_iv_mul(tmp28, tmp31);
     const codegen_iv tmp73 = codegen_iv_mul(tmp39, tmp47);
     const codegen_iv tmp74 = codegen_iv_mul(tmp20, tmp51);
-    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp43), tmp6);
+    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp43), tmp6);
     const codegen_iv tmp76 = codegen_iv_mul(tmp0, tmp39);
     const codegen_iv tmp77 = codegen_iv_mul(tmp24, tmp39);
-    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp29), tmp57);
-    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2.0), tmp77);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp10)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp10, tmp22), codegen_iv_sub(l_0, tmp21)), codegen_iv_sub(codegen_iv_add(tmp14, tmp8), x_S)), tmp21, iv_flags));
-    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp23)), codegen_iv_mul(m_2, tmp23)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp25), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(tmp27, tmp30), tmp32), tmp34), tmp36), tmp37), tmp38))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp22, tmp25), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(tmp12, tmp52), codegen_iv_mul(tmp19, tmp49)), codegen_iv_mul(tmp19, tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp20), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp26), tmp74)), codegen_iv_mul(tmp26, tmp79)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp68)), codegen_iv_mul(tmp27, tmp71)), codegen_iv_mul(tmp30, tmp65)), codegen_iv_mul(tmp30, tmp66)), codegen_iv_mul(tmp30, tmp68)), codegen_iv_mul(tmp30, tmp71)), codegen_iv_mul(tmp32, tmp68)), codegen_iv_mul(tmp32, tmp71)), codegen_iv_mul(tmp33, tmp74)), codegen_iv_mul(tmp33, tmp77)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp34), tmp50)), codegen_iv_mul(tmp34, tmp68)), codegen_iv_mul(tmp34, tmp71)), codegen_iv_mul(tmp35, tmp79)), codegen_iv_mul(tmp36, tmp68)), codegen_iv_mul(tmp36, tmp71)), codegen_iv_mul(tmp37, tmp68)), codegen_iv_mul(tmp37, tmp71)), codegen_iv_mul(tmp38, tmp68)), codegen_iv_mul(tmp38, tmp71)), codegen_iv_mul(tmp39, tmp75)), codegen_iv_mul(tmp40, codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 5))), codegen_iv_mul(tmp42, tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp44), tmp45)), codegen_iv_mul(tmp45, tmp76)), codegen_iv_mul(tmp46, tmp70)), codegen_iv_mul(tmp46, tmp73)), codegen_iv_mul(tmp54, tmp70)), codegen_iv_mul(tmp54, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp55), tmp6)), codegen_iv_mul(tmp57, tmp70)), codegen_iv_mul(tmp57, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp63), tmp64)), codegen_iv_mul(tmp63, tmp69)), codegen_iv_mul(tmp69, tmp75)), codegen_iv_mul(tmp70, tmp72)), codegen_iv_mul(tmp72, tmp73)), codegen_iv_mul(tmp76, tmp78)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp29), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp69), tmp78)), codegen_iv_mul(codegen_iv_mul(tmp11, tmp28), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp18), tmp67)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp42), tmp44)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp27), tmp41)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp40), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp33), tmp66)), codegen_iv_mul(codegen_iv_mul(tmp30, tmp41), tmp59)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp59), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp43, tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp60), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp50), tmp56), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), l_0), tmp18), tmp34), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp0), tmp12), tmp57), tmp58))), tmp39, iv_flags));
+    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp29), tmp57);
+    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2), tmp77);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp10)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp10, tmp22), codegen_iv_sub(l_0, tmp21)), codegen_iv_sub(codegen_iv_add(tmp14, tmp8), x_S)), tmp21, iv_flags));
+    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp23)), codegen_iv_mul(m_2, tmp23)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp25), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(tmp27, tmp30), tmp32), tmp34), tmp36), tmp37), tmp38))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp22, tmp25), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(tmp12, tmp52), codegen_iv_mul(tmp19, tmp49)), codegen_iv_mul(tmp19, tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp20), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp74)), codegen_iv_mul(tmp26, tmp79)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp68)), codegen_iv_mul(tmp27, tmp71)), codegen_iv_mul(tmp30, tmp65)), codegen_iv_mul(tmp30, tmp66)), codegen_iv_mul(tmp30, tmp68)), codegen_iv_mul(tmp30, tmp71)), codegen_iv_mul(tmp32, tmp68)), codegen_iv_mul(tmp32, tmp71)), codegen_iv_mul(tmp33, tmp74)), codegen_iv_mul(tmp33, tmp77)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp34), tmp50)), codegen_iv_mul(tmp34, tmp68)), codegen_iv_mul(tmp34, tmp71)), codegen_iv_mul(tmp35, tmp79)), codegen_iv_mul(tmp36, tmp68)), codegen_iv_mul(tmp36, tmp71)), codegen_iv_mul(tmp37, tmp68)), codegen_iv_mul(tmp37, tmp71)), codegen_iv_mul(tmp38, tmp68)), codegen_iv_mul(tmp38, tmp71)), codegen_iv_mul(tmp39, tmp75)), codegen_iv_mul(tmp40, codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 5))), codegen_iv_mul(tmp42, tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp44), tmp45)), codegen_iv_mul(tmp45, tmp76)), codegen_iv_mul(tmp46, tmp70)), codegen_iv_mul(tmp46, tmp73)), codegen_iv_mul(tmp54, tmp70)), codegen_iv_mul(tmp54, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp55), tmp6)), codegen_iv_mul(tmp57, tmp70)), codegen_iv_mul(tmp57, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp63), tmp64)), codegen_iv_mul(tmp63, tmp69)), codegen_iv_mul(tmp69, tmp75)), codegen_iv_mul(tmp70, tmp72)), codegen_iv_mul(tmp72, tmp73)), codegen_iv_mul(tmp76, tmp78)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp29), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp69), tmp78)), codegen_iv_mul(codegen_iv_mul(tmp11, tmp28), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp18), tmp67)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp42), tmp44)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp27), tmp41)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp40), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp33), tmp66)), codegen_iv_mul(codegen_iv_mul(tmp30, tmp41), tmp59)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp59), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp43, tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp60), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp50), tmp56), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp18), tmp34), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp12), tmp57), tmp58))), tmp39, iv_flags));
 }
 
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
@@ -13251,7 +13252,7 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_point(0.5), g);
+    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g);
     const codegen_iv tmp3 = codegen_iv_mul(tmp1, tmp2);
     const codegen_iv tmp4 = codegen_iv_mul(F, R);
     const codegen_iv tmp5 = codegen_iv_sin(theta);
@@ -13266,12 +13267,12 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp14 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(tmp12, tmp13), codegen_iv_mul(tmp0, tmp6)), tmp11, iv_flags);
     const codegen_iv tmp15 = codegen_iv_pow(e, 2);
     const codegen_iv tmp16 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp17 = codegen_iv_mul(codegen_iv_point(2.0), e);
-    const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2.0), x_S);
+    const codegen_iv tmp17 = codegen_iv_mul(codegen_iv_point(2), e);
+    const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2), x_S);
     const codegen_iv tmp19 = codegen_iv_pow(R, 2);
     const codegen_iv tmp20 = codegen_iv_pow(tmp0, 2);
     const codegen_iv tmp21 = codegen_iv_mul(tmp19, tmp20);
-    const codegen_iv tmp22 = codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp10, tmp15), tmp16), tmp21), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp1), tmp11)), codegen_iv_mul(tmp1, tmp18)), codegen_iv_mul(tmp11, tmp18)), codegen_iv_mul(tmp17, y_S));
+    const codegen_iv tmp22 = codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp10, tmp15), tmp16), tmp21), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp1), tmp11)), codegen_iv_mul(tmp1, tmp18)), codegen_iv_mul(tmp11, tmp18)), codegen_iv_mul(tmp17, y_S));
     const codegen_iv tmp23 = codegen_iv_sqrt(tmp22, iv_flags);
     const codegen_iv tmp24 = codegen_iv_mul(R, k);
     const codegen_iv tmp25 = codegen_iv_mul(tmp2, tmp6);
@@ -13297,12 +13298,12 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp45 = codegen_iv_mul(l_0, tmp44);
     const codegen_iv tmp46 = codegen_iv_mul(tmp45, tmp9);
     const codegen_iv tmp47 = codegen_iv_mul(tmp12, tmp6);
-    const codegen_iv tmp48 = codegen_iv_mul(codegen_iv_point(2.0), l_0);
+    const codegen_iv tmp48 = codegen_iv_mul(codegen_iv_point(2), l_0);
     const codegen_iv tmp49 = codegen_iv_mul(tmp15, tmp34);
     const codegen_iv tmp50 = codegen_iv_mul(l_0, tmp26);
     const codegen_iv tmp51 = codegen_iv_pow(R, 4);
     const codegen_iv tmp52 = codegen_iv_mul(tmp31, tmp51);
-    const codegen_iv tmp53 = codegen_iv_mul(codegen_iv_point(4.0), x_S);
+    const codegen_iv tmp53 = codegen_iv_mul(codegen_iv_point(4), x_S);
     const codegen_iv tmp54 = codegen_iv_mul(tmp19, tmp9);
     const codegen_iv tmp55 = codegen_iv_mul(tmp31, tmp54);
     const codegen_iv tmp56 = codegen_iv_pow(tmp0, 4);
@@ -13318,7 +13319,7 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     const codegen_iv tmp66 = codegen_iv_mul(tmp0, tmp37);
     const codegen_iv tmp67 = codegen_iv_mul(tmp26, tmp61);
     *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(m_1, tmp3)), codegen_iv_mul(m_2, tmp3)), codegen_iv_mul(tmp14, tmp4)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp14, tmp24), codegen_iv_sub(l_0, tmp23)), codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), x_S), codegen_iv_mul(R, tmp0))), tmp23, iv_flags));
-    *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8.0), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4.0), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3.0), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6.0), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2.0), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
+    *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
 }
 
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
@@ -13338,8 +13339,8 @@ slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *par
     }
 }
 
-slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags)
+slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags)
 {
     codegen_iv iv_g, iv_dg;
     unsigned iv_flags = 0u;
@@ -13370,7 +13371,7 @@ slider_crank_status slider_crank_enclosure(const slider_crank_params *params, un
     return SLIDER_CRANK_OK;
 }
 
-slider_crank_status slider_crank_position_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, double *f, slider_crank_status *statuses)
+slider_crank_status slider_crank_position_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, codegen_real *f, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13386,7 +13387,7 @@ slider_crank_status slider_crank_position_constraints_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_constraint_jacobian_batch(size_t count, const slider_crank_params *params, const double *coords, double *A, slider_crank_status *statuses)
+slider_crank_status slider_crank_constraint_jacobian_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, codegen_real *A, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13402,7 +13403,7 @@ slider_crank_status slider_crank_constraint_jacobian_batch(size_t count, const s
     return first;
 }
 
-slider_crank_status slider_crank_velocity_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *f_d, slider_crank_status *statuses)
+slider_crank_status slider_crank_velocity_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *f_d, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13418,7 +13419,7 @@ slider_crank_status slider_crank_velocity_constraints_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_acceleration_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, const double *accels, double *f_dd, slider_crank_status *statuses)
+slider_crank_status slider_crank_acceleration_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *f_dd, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13434,7 +13435,7 @@ slider_crank_status slider_crank_acceleration_constraints_batch(size_t count, co
     return first;
 }
 
-slider_crank_status slider_crank_point_kinematics_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *positions, double *velocities, slider_crank_status *statuses)
+slider_crank_status slider_crank_point_kinematics_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13450,7 +13451,7 @@ slider_crank_status slider_crank_point_kinematics_batch(size_t count, const slid
     return first;
 }
 
-slider_crank_status slider_crank_energies_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, slider_crank_status *statuses)
+slider_crank_status slider_crank_energies_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13466,7 +13467,7 @@ slider_crank_status slider_crank_energies_batch(size_t count, const slider_crank
     return first;
 }
 
-slider_crank_status slider_crank_lagrange_terms_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, const double *accels, const double *multipliers, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, slider_crank_status *statuses)
+slider_crank_status slider_crank_lagrange_terms_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, const codegen_real *multipliers, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13482,7 +13483,7 @@ slider_crank_status slider_crank_lagrange_terms_batch(size_t count, const slider
     return first;
 }
 
-slider_crank_status slider_crank_dependent_state_batch(size_t count, const slider_crank_params *params, const double *theta, const double *theta_d, double *coords, double *rates, slider_crank_status *statuses)
+slider_crank_status slider_crank_dependent_state_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13498,7 +13499,7 @@ slider_crank_status slider_crank_dependent_state_batch(size_t count, const slide
     return first;
 }
 
-slider_crank_status slider_crank_reduced_coefficients_batch(size_t count, const slider_crank_params *params, const double *theta, double *e, slider_crank_status *statuses)
+slider_crank_status slider_crank_reduced_coefficients_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *e, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13514,7 +13515,7 @@ slider_crank_status slider_crank_reduced_coefficients_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_angular_acceleration_batch(size_t count, const slider_crank_params *params, const double *theta, const double *theta_d, double *theta_dd, slider_crank_status *statuses)
+slider_crank_status slider_crank_angular_acceleration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13530,7 +13531,7 @@ slider_crank_status slider_crank_angular_acceleration_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const slider_crank_params *params, const double *theta, double *residual, double *scale, slider_crank_status *statuses)
+slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13546,7 +13547,7 @@ slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_radicands_batch(size_t count, const slider_crank_params *params, const double *theta, double *values, double *scales, slider_crank_status *statuses)
+slider_crank_status slider_crank_radicands_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13562,7 +13563,7 @@ slider_crank_status slider_crank_radicands_batch(size_t count, const slider_cran
     return first;
 }
 
-slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const slider_crank_params *params, const double *theta, double *residuals, slider_crank_status *statuses)
+slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residuals, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13578,7 +13579,7 @@ slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const 
     return first;
 }
 
-slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, double *sigma, slider_crank_status *statuses)
+slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, codegen_real *sigma, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13594,7 +13595,7 @@ slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_pa
     return first;
 }
 
-slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses)
+slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13610,7 +13611,7 @@ slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_
     return first;
 }
 
-slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, slider_crank_status *statuses)
+slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13626,7 +13627,7 @@ slider_crank_status slider_crank_vibration_batch(size_t count, const slider_cran
     return first;
 }
 
-slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses)
+slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;
@@ -13642,7 +13643,7 @@ slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const sl
     return first;
 }
 
-slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, slider_crank_status *statuses)
+slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, slider_crank_status *statuses)
 {
     size_t i;
     slider_crank_status first = SLIDER_CRANK_OK;

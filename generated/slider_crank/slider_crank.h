@@ -59,20 +59,20 @@ typedef enum slider_crank_status {
 
 /* The mechanism's parameters, SI units. */
 typedef struct slider_crank_params {
-    double R; /* [m] crank length */
-    double l; /* [m] connecting-rod length */
-    double e; /* [m] offset of the slide (the slider moves on y = e) */
-    double m_1; /* [kg] mass of the crank */
-    double m_2; /* [kg] mass of the connecting rod */
-    double m_3; /* [kg] mass of the slider */
-    double k; /* [N/m] spring stiffness */
-    double l_0; /* [m] free length of the spring */
-    double x_S; /* [m] abscissa of the spring's fixed point S */
-    double y_S; /* [m] ordinate of the spring's fixed point S */
-    double b; /* [N s/m] damping coefficient on the slide */
-    double F; /* [N] force on the slider along +X */
-    double T; /* [N m] torque on the crank (counter-clockwise positive) */
-    double g; /* [m/s^2] gravitational acceleration (along -Y) */
+    codegen_real R; /* [m] crank length */
+    codegen_real l; /* [m] connecting-rod length */
+    codegen_real e; /* [m] offset of the slide (the slider moves on y = e) */
+    codegen_real m_1; /* [kg] mass of the crank */
+    codegen_real m_2; /* [kg] mass of the connecting rod */
+    codegen_real m_3; /* [kg] mass of the slider */
+    codegen_real k; /* [N/m] spring stiffness */
+    codegen_real l_0; /* [m] free length of the spring */
+    codegen_real x_S; /* [m] abscissa of the spring's fixed point S */
+    codegen_real y_S; /* [m] ordinate of the spring's fixed point S */
+    codegen_real b; /* [N s/m] damping coefficient on the slide */
+    codegen_real F; /* [N] force on the slider along +X */
+    codegen_real T; /* [N m] torque on the crank (counter-clockwise positive) */
+    codegen_real g; /* [m/s^2] gravitational acceleration (along -Y) */
 } slider_crank_params;
 
 /* A constant string describing a status code (never NULL). */
@@ -86,14 +86,14 @@ slider_crank_status slider_crank_check_params(const slider_crank_params *params)
  * out f: constraint values [m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_position_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double f[SLIDER_CRANK_N_CONSTRAINTS]);
+slider_crank_status slider_crank_position_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real f[SLIDER_CRANK_N_CONSTRAINTS]);
 
 /* Velocity-constraint matrix A = df/dq, so that A qdot = 0.
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
  * out A: row-major 2x3; column j has the unit m per unit of q_j
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double A[SLIDER_CRANK_N_JACOBIAN]);
+slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real A[SLIDER_CRANK_N_JACOBIAN]);
 
 /* Velocity constraints A(q) qdot = 0.
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
@@ -101,7 +101,7 @@ slider_crank_status slider_crank_constraint_jacobian(const slider_crank_params *
  * out f_d: values [m/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_velocity_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double f_d[SLIDER_CRANK_N_CONSTRAINTS]);
+slider_crank_status slider_crank_velocity_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real f_d[SLIDER_CRANK_N_CONSTRAINTS]);
 
 /* Acceleration constraints A qddot + Adot qdot = 0.
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
@@ -110,7 +110,7 @@ slider_crank_status slider_crank_velocity_constraints(const slider_crank_params 
  * out f_dd: values [m/s^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_acceleration_constraints(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double f_dd[SLIDER_CRANK_N_CONSTRAINTS]);
+slider_crank_status slider_crank_acceleration_constraints(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], codegen_real f_dd[SLIDER_CRANK_N_CONSTRAINTS]);
 
 /* Positions and velocities of the points A, B (x, y for each).
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
@@ -119,7 +119,7 @@ slider_crank_status slider_crank_acceleration_constraints(const slider_crank_par
  * out velocities: vx, vy of each point [m/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double positions[SLIDER_CRANK_N_POINT_COORDS], double velocities[SLIDER_CRANK_N_POINT_COORDS]);
+slider_crank_status slider_crank_point_kinematics(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real positions[SLIDER_CRANK_N_POINT_COORDS], codegen_real velocities[SLIDER_CRANK_N_POINT_COORDS]);
 
 /* Kinetic and potential energies and the Lagrangian L = T - V_G - V_E.
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
@@ -130,7 +130,7 @@ slider_crank_status slider_crank_point_kinematics(const slider_crank_params *par
  * out lagrangian: Lagrangian [J]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_energies(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian);
+slider_crank_status slider_crank_energies(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian);
 
 /* Terms of Lagrange's equations with multipliers, one entry per coordinate; residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.
  * in  coords: generalised coordinates: theta [rad], psi [rad], x [m]
@@ -145,7 +145,7 @@ slider_crank_status slider_crank_energies(const slider_crank_params *params, con
  * out residual: left minus right side of (15)
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double dt_dL_dqdot[SLIDER_CRANK_N_COORDS], double dL_dq[SLIDER_CRANK_N_COORDS], double constraint_forces[SLIDER_CRANK_N_COORDS], double dissipative_forces[SLIDER_CRANK_N_COORDS], double applied_forces[SLIDER_CRANK_N_COORDS], double residual[SLIDER_CRANK_N_COORDS]);
+slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], const codegen_real multipliers[SLIDER_CRANK_N_CONSTRAINTS], codegen_real dt_dL_dqdot[SLIDER_CRANK_N_COORDS], codegen_real dL_dq[SLIDER_CRANK_N_COORDS], codegen_real constraint_forces[SLIDER_CRANK_N_COORDS], codegen_real dissipative_forces[SLIDER_CRANK_N_COORDS], codegen_real applied_forces[SLIDER_CRANK_N_COORDS], codegen_real residual[SLIDER_CRANK_N_COORDS]);
 
 /* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
  * in  theta: independent coordinate theta [rad]
@@ -154,14 +154,14 @@ slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *param
  * out rates: their rates [unit/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, double theta, double theta_d, double coords[SLIDER_CRANK_N_COORDS], double rates[SLIDER_CRANK_N_COORDS]);
+slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real rates[SLIDER_CRANK_N_COORDS]);
 
 /* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
  * in  theta: independent coordinate theta [rad]
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, double theta, double e[SLIDER_CRANK_N_REDUCED]);
+slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, codegen_real theta, codegen_real e[SLIDER_CRANK_N_REDUCED]);
 
 /* thetaddot from the reduced equation of motion.
  * in  theta: independent coordinate theta [rad]
@@ -169,7 +169,7 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
  * out theta_dd: [rad/s^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, double theta, double theta_d, double *theta_dd);
+slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
 /* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
  * in  theta: independent coordinate theta [rad]
@@ -177,7 +177,7 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
  * out scale: [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, double theta, double *residual, double *scale);
+slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
 /* The radicands under the square roots of the position analysis (assembly, length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
  * in  theta: independent coordinate theta [rad]
@@ -185,20 +185,20 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
  * out scales: [unit^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_radicands(const slider_crank_params *params, double theta, double values[SLIDER_CRANK_N_ROOTS], double scales[SLIDER_CRANK_N_ROOTS]);
+slider_crank_status slider_crank_radicands(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_ROOTS], codegen_real scales[SLIDER_CRANK_N_ROOTS]);
 
 /* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch.
  * in  theta: independent coordinate theta [rad]
  * out residuals: [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, double theta, double residuals[SLIDER_CRANK_N_BRANCHES]);
+slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, codegen_real theta, codegen_real residuals[SLIDER_CRANK_N_BRANCHES]);
 
 /* Coefficients sigma_0..sigma_24 of sum sigma_i tau^i (tau = tan(theta/2)), which vanishes wherever G does on some branch: the numerator of G with every square root eliminated, times (1+tau^2)^12. Evaluated in double-double arithmetic: squaring out the roots cancels up to ~13 digits.
  * out sigma: [as derived]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
  */
-slider_crank_status slider_crank_sigma(const slider_crank_params *params, double sigma[SLIDER_CRANK_N_SIGMA]);
+slider_crank_status slider_crank_sigma(const slider_crank_params *params, codegen_real sigma[SLIDER_CRANK_N_SIGMA]);
 
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * in  theta: equilibrium angle theta_E [rad]
@@ -207,7 +207,7 @@ slider_crank_status slider_crank_sigma(const slider_crank_params *params, double
  * out K: K_EQ [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_linearisation(const slider_crank_params *params, double theta, double *M, double *B, double *K);
+slider_crank_status slider_crank_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
 /* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
  * in  theta: equilibrium angle theta_E [rad]
@@ -215,7 +215,7 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
  * out zeta_omega_n: [1/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_vibration(const slider_crank_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
+slider_crank_status slider_crank_vibration(const slider_crank_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
 /* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
  * in  theta: equilibrium angle theta_E [rad]
@@ -224,7 +224,7 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, do
  * out K: K_EQ [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, double theta, double M[SLIDER_CRANK_N_MODES], double B[SLIDER_CRANK_N_MODES], double K[SLIDER_CRANK_N_MODES]);
+slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real M[SLIDER_CRANK_N_MODES], codegen_real B[SLIDER_CRANK_N_MODES], codegen_real K[SLIDER_CRANK_N_MODES]);
 
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
  * in  theta: equilibrium angle theta_E [rad]
@@ -238,29 +238,29 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
  * out radicand_scales: [unit^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
  */
-slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K, double branch_residuals[SLIDER_CRANK_N_BRANCHES], double radicands[SLIDER_CRANK_N_ROOTS], double radicand_scales[SLIDER_CRANK_N_ROOTS]);
+slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real branch_residuals[SLIDER_CRANK_N_BRANCHES], codegen_real radicands[SLIDER_CRANK_N_ROOTS], codegen_real radicand_scales[SLIDER_CRANK_N_ROOTS]);
 
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns SLIDER_CRANK_OK when every item succeeded, else the first failure. */
-slider_crank_status slider_crank_position_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, double *f, slider_crank_status *statuses);
-slider_crank_status slider_crank_constraint_jacobian_batch(size_t count, const slider_crank_params *params, const double *coords, double *A, slider_crank_status *statuses);
-slider_crank_status slider_crank_velocity_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *f_d, slider_crank_status *statuses);
-slider_crank_status slider_crank_acceleration_constraints_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, const double *accels, double *f_dd, slider_crank_status *statuses);
-slider_crank_status slider_crank_point_kinematics_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *positions, double *velocities, slider_crank_status *statuses);
-slider_crank_status slider_crank_energies_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, slider_crank_status *statuses);
-slider_crank_status slider_crank_lagrange_terms_batch(size_t count, const slider_crank_params *params, const double *coords, const double *rates, const double *accels, const double *multipliers, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, slider_crank_status *statuses);
-slider_crank_status slider_crank_dependent_state_batch(size_t count, const slider_crank_params *params, const double *theta, const double *theta_d, double *coords, double *rates, slider_crank_status *statuses);
-slider_crank_status slider_crank_reduced_coefficients_batch(size_t count, const slider_crank_params *params, const double *theta, double *e, slider_crank_status *statuses);
-slider_crank_status slider_crank_angular_acceleration_batch(size_t count, const slider_crank_params *params, const double *theta, const double *theta_d, double *theta_dd, slider_crank_status *statuses);
-slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const slider_crank_params *params, const double *theta, double *residual, double *scale, slider_crank_status *statuses);
-slider_crank_status slider_crank_radicands_batch(size_t count, const slider_crank_params *params, const double *theta, double *values, double *scales, slider_crank_status *statuses);
-slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const slider_crank_params *params, const double *theta, double *residuals, slider_crank_status *statuses);
-slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, double *sigma, slider_crank_status *statuses);
-slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
-slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, slider_crank_status *statuses);
-slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const double *theta, double *M, double *B, double *K, slider_crank_status *statuses);
-slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, double *branch_residuals, double *radicands, double *radicand_scales, slider_crank_status *statuses);
+slider_crank_status slider_crank_position_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, codegen_real *f, slider_crank_status *statuses);
+slider_crank_status slider_crank_constraint_jacobian_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, codegen_real *A, slider_crank_status *statuses);
+slider_crank_status slider_crank_velocity_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *f_d, slider_crank_status *statuses);
+slider_crank_status slider_crank_acceleration_constraints_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *f_dd, slider_crank_status *statuses);
+slider_crank_status slider_crank_point_kinematics_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, slider_crank_status *statuses);
+slider_crank_status slider_crank_energies_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, slider_crank_status *statuses);
+slider_crank_status slider_crank_lagrange_terms_batch(size_t count, const slider_crank_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, const codegen_real *multipliers, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, slider_crank_status *statuses);
+slider_crank_status slider_crank_dependent_state_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, slider_crank_status *statuses);
+slider_crank_status slider_crank_reduced_coefficients_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *e, slider_crank_status *statuses);
+slider_crank_status slider_crank_angular_acceleration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, slider_crank_status *statuses);
+slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, slider_crank_status *statuses);
+slider_crank_status slider_crank_radicands_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, slider_crank_status *statuses);
+slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residuals, slider_crank_status *statuses);
+slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, codegen_real *sigma, slider_crank_status *statuses);
+slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);
+slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, slider_crank_status *statuses);
+slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);
+slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, slider_crank_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
@@ -271,14 +271,14 @@ slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const sli
  * square root may reach zero, or the mode may not exist on part of the interval) and
  * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
  * Returns SLIDER_CRANK_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
-slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags);
+slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags);
 
 /* Real roots of sum_{i=0}^{24} sigma[i] tau^i as angles theta = 2 atan(tau) in (-pi, pi],
  * ascending; tau = infinity (a vanishing leading coefficient) is theta = pi. A root of even
  * multiplicity is reported once. The shared, hand-written root finder (codegen_roots.c). */
-slider_crank_status slider_crank_poly_real_roots(const double sigma[SLIDER_CRANK_N_SIGMA],
-                                       double theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots);
+slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
+                                       codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots);
 
 /* Stability of an equilibrium from M, B, K (M > 0). */
 typedef enum slider_crank_stability {
@@ -307,22 +307,22 @@ typedef enum slider_crank_root_kind {
  * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
  * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct slider_crank_equilibrium {
-    double theta;           /* theta_E [rad], in the coordinate's range */
-    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
+    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
     int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     slider_crank_root_kind kind;
-    double residual;        /* G(theta_E) (42) [N m] */
-    double residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
+    codegen_real residual;        /* G(theta_E) (42) [N m] */
+    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
                                has |residual| / residual_scale near machine epsilon */
-    double M;               /* M_EQ [kg m^2] (50) */
-    double B;               /* B_EQ [N m s] (51) */
-    double K;               /* K_EQ [N m] (52) */
-    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    codegen_real M;               /* M_EQ [kg m^2] (50) */
+    codegen_real B;               /* B_EQ [N m s] (51) */
+    codegen_real K;               /* K_EQ [N m] (52) */
+    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
     slider_crank_stability stability;
     slider_crank_damping damping;
 } slider_crank_equilibrium;
@@ -337,7 +337,7 @@ typedef enum slider_crank_uncertainty {
 } slider_crank_uncertainty;
 
 typedef struct slider_crank_interval {
-    double lo, hi;          /* [rad] */
+    codegen_real lo, hi;          /* [rad] */
     slider_crank_uncertainty kind;
     unsigned mode;          /* the assembly mode it was found on (0: as declared) */
     int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
@@ -346,13 +346,13 @@ typedef struct slider_crank_interval {
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct slider_crank_analysis {
-    double sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 (polynomial route; 0 after isolation) */
+    codegen_real sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 (polynomial route; 0 after isolation) */
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     slider_crank_equilibrium roots[SLIDER_CRANK_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
-    double singular_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real singular_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
-    double unassembled_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real unassembled_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
     slider_crank_interval uncertain[SLIDER_CRANK_MAX_UNCERTAIN]; /* ascending */
 } slider_crank_analysis;

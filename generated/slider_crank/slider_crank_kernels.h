@@ -13,38 +13,38 @@
 #include "codegen_interval.h"
 
 /* position_constraints's outputs into out[2], in order: f[SLIDER_CRANK_N_CONSTRAINTS]. */
-void slider_crank_position_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[2]);
+void slider_crank_position_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real out[2]);
 #define SLIDER_CRANK_POSITION_CONSTRAINTS_F 0
 /* A failure of position_constraints (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_POSITION_CONSTRAINTS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* constraint_jacobian's outputs into out[6], in order: A[SLIDER_CRANK_N_JACOBIAN]. */
-void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], double out[6]);
+void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real out[6]);
 #define SLIDER_CRANK_CONSTRAINT_JACOBIAN_A 0
 /* A failure of constraint_jacobian (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_CONSTRAINT_JACOBIAN_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* velocity_constraints's outputs into out[2], in order: f_d[SLIDER_CRANK_N_CONSTRAINTS]. */
-void slider_crank_velocity_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[2]);
+void slider_crank_velocity_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[2]);
 #define SLIDER_CRANK_VELOCITY_CONSTRAINTS_F_D 0
 /* A failure of velocity_constraints (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_VELOCITY_CONSTRAINTS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* acceleration_constraints's outputs into out[2], in order: f_dd[SLIDER_CRANK_N_CONSTRAINTS]. */
-void slider_crank_acceleration_constraints_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], double out[2]);
+void slider_crank_acceleration_constraints_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], codegen_real out[2]);
 #define SLIDER_CRANK_ACCELERATION_CONSTRAINTS_F_DD 0
 /* A failure of acceleration_constraints (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_ACCELERATION_CONSTRAINTS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* point_kinematics's outputs into out[8], in order: positions[SLIDER_CRANK_N_POINT_COORDS], velocities[SLIDER_CRANK_N_POINT_COORDS]. */
-void slider_crank_point_kinematics_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[8]);
+void slider_crank_point_kinematics_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[8]);
 #define SLIDER_CRANK_POINT_KINEMATICS_POSITIONS 0
 #define SLIDER_CRANK_POINT_KINEMATICS_VELOCITIES 4
 /* A failure of point_kinematics (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_POINT_KINEMATICS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* energies's outputs into out[4], in order: T, V_G, V_E, lagrangian. */
-void slider_crank_energies_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], double out[4]);
+void slider_crank_energies_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], codegen_real out[4]);
 #define SLIDER_CRANK_ENERGIES_T 0
 #define SLIDER_CRANK_ENERGIES_V_G 1
 #define SLIDER_CRANK_ENERGIES_V_E 2
@@ -53,7 +53,7 @@ void slider_crank_energies_kernel(const slider_crank_params *params, const doubl
 #define SLIDER_CRANK_ENERGIES_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* lagrange_terms's outputs into out[18], in order: dt_dL_dqdot[SLIDER_CRANK_N_COORDS], dL_dq[SLIDER_CRANK_N_COORDS], constraint_forces[SLIDER_CRANK_N_COORDS], dissipative_forces[SLIDER_CRANK_N_COORDS], applied_forces[SLIDER_CRANK_N_COORDS], residual[SLIDER_CRANK_N_COORDS]. */
-void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const double coords[SLIDER_CRANK_N_COORDS], const double rates[SLIDER_CRANK_N_COORDS], const double accels[SLIDER_CRANK_N_COORDS], const double multipliers[SLIDER_CRANK_N_CONSTRAINTS], double out[18]);
+void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], const codegen_real multipliers[SLIDER_CRANK_N_CONSTRAINTS], codegen_real out[18]);
 #define SLIDER_CRANK_LAGRANGE_TERMS_DT_DL_DQDOT 0
 #define SLIDER_CRANK_LAGRANGE_TERMS_DL_DQ 3
 #define SLIDER_CRANK_LAGRANGE_TERMS_CONSTRAINT_FORCES 6
@@ -64,52 +64,52 @@ void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const
 #define SLIDER_CRANK_LAGRANGE_TERMS_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* dependent_state's outputs into out[6], in order: coords[SLIDER_CRANK_N_COORDS], rates[SLIDER_CRANK_N_COORDS]. */
-void slider_crank_dependent_state_kernel(const slider_crank_params *params, double theta, double theta_d, double out[6]);
+void slider_crank_dependent_state_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[6]);
 #define SLIDER_CRANK_DEPENDENT_STATE_COORDS 0
 #define SLIDER_CRANK_DEPENDENT_STATE_RATES 3
 /* A failure of dependent_state (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_DEPENDENT_STATE_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* reduced_coefficients's outputs into out[3], in order: e[SLIDER_CRANK_N_REDUCED]. */
-void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params, double theta, double out[3]);
+void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[3]);
 #define SLIDER_CRANK_REDUCED_COEFFICIENTS_E 0
 /* A failure of reduced_coefficients (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_REDUCED_COEFFICIENTS_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, double theta, double theta_d, double out[1]);
+void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
 #define SLIDER_CRANK_ANGULAR_ACCELERATION_THETA_DD 0
 /* A failure of angular_acceleration (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_ANGULAR_ACCELERATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* equilibrium_residual's outputs into out[2], in order: residual, scale. */
-void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params, double theta, double out[2]);
+void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[2]);
 #define SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_RESIDUAL 0
 #define SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_SCALE 1
 /* A failure of equilibrium_residual (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* radicands's outputs into out[4], in order: values[SLIDER_CRANK_N_ROOTS], scales[SLIDER_CRANK_N_ROOTS]. */
-void slider_crank_radicands_kernel(const slider_crank_params *params, double theta, double out[4]);
+void slider_crank_radicands_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4]);
 #define SLIDER_CRANK_RADICANDS_VALUES 0
 #define SLIDER_CRANK_RADICANDS_SCALES 2
 /* A failure of radicands (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_RADICANDS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* equilibrium_branches's outputs into out[4], in order: residuals[SLIDER_CRANK_N_BRANCHES]. */
-void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params, double theta, double out[4]);
+void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4]);
 #define SLIDER_CRANK_EQUILIBRIUM_BRANCHES_RESIDUALS 0
 /* A failure of equilibrium_branches (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_EQUILIBRIUM_BRANCHES_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* sigma's outputs into out[25], in order: sigma[SLIDER_CRANK_N_SIGMA]. */
-void slider_crank_sigma_kernel(const slider_crank_params *params, double out[25]);
+void slider_crank_sigma_kernel(const slider_crank_params *params, codegen_real out[25]);
 #define SLIDER_CRANK_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_SIGMA_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
 /* linearisation's outputs into out[3], in order: M, B, K. */
-void slider_crank_linearisation_kernel(const slider_crank_params *params, double theta, double out[3]);
+void slider_crank_linearisation_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[3]);
 #define SLIDER_CRANK_LINEARISATION_M 0
 #define SLIDER_CRANK_LINEARISATION_B 1
 #define SLIDER_CRANK_LINEARISATION_K 2
@@ -117,14 +117,14 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, double
 #define SLIDER_CRANK_LINEARISATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* vibration's outputs into out[2], in order: omega_n_squared, zeta_omega_n. */
-void slider_crank_vibration_kernel(const slider_crank_params *params, double theta, double out[2]);
+void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[2]);
 #define SLIDER_CRANK_VIBRATION_OMEGA_N_SQUARED 0
 #define SLIDER_CRANK_VIBRATION_ZETA_OMEGA_N 1
 /* A failure of vibration (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_VIBRATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* mode_linearisation's outputs into out[6], in order: M[SLIDER_CRANK_N_MODES], B[SLIDER_CRANK_N_MODES], K[SLIDER_CRANK_N_MODES]. */
-void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, double theta, double out[6]);
+void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[6]);
 #define SLIDER_CRANK_MODE_LINEARISATION_M 0
 #define SLIDER_CRANK_MODE_LINEARISATION_B 2
 #define SLIDER_CRANK_MODE_LINEARISATION_K 4
@@ -132,7 +132,7 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, d
 #define SLIDER_CRANK_MODE_LINEARISATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* equilibrium_state's outputs into out[13], in order: residual, scale, M, B, K, branch_residuals[SLIDER_CRANK_N_BRANCHES], radicands[SLIDER_CRANK_N_ROOTS], radicand_scales[SLIDER_CRANK_N_ROOTS]. */
-void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, double theta, double out[13]);
+void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[13]);
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_RESIDUAL 0
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_SCALE 1
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_M 2

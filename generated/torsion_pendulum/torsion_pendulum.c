@@ -8,9 +8,10 @@
 #include "torsion_pendulum_kernels.h"
 
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
-static int all_finite(const double *values, int count)
+static int all_finite(const codegen_real *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -21,7 +22,7 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static void copy_out(double *destination, const double *source, int count)
+static void copy_out(codegen_real *destination, const codegen_real *source, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -70,7 +71,7 @@ torsion_pendulum_status torsion_pendulum_check_params(const torsion_pendulum_par
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     {
-        const double values[TORSION_PENDULUM_N_PARAMS] = {
+        const codegen_real values[TORSION_PENDULUM_N_PARAMS] = {
             params->l, params->m, params->m_t, params->k_t, params->theta_0, params->c, params->F_x, params->g
         };
         if (!all_finite(values, TORSION_PENDULUM_N_PARAMS)) {
@@ -78,11 +79,11 @@ torsion_pendulum_status torsion_pendulum_check_params(const torsion_pendulum_par
         }
     }
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double c = params->c;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real c = params->c;
         if (!(l > 0)) {
             return TORSION_PENDULUM_ERR_L_NOT_POSITIVE;
         }
@@ -102,17 +103,17 @@ torsion_pendulum_status torsion_pendulum_check_params(const torsion_pendulum_par
 /* point_kinematics without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 7. */
-void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4])
+void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double l = params->l;
-        const double theta = coords[0];
-        const double theta_d = rates[0];
-        const double tmp0 = l*cos(theta);
-        const double tmp1 = l*sin(theta);
+        const codegen_real l = params->l;
+        const codegen_real theta = coords[0];
+        const codegen_real theta_d = rates[0];
+        const codegen_real tmp0 = l*cos(theta);
+        const codegen_real tmp1 = l*sin(theta);
         out[0] = tmp0;
         out[1] = tmp1;
         out[2] = -theta_d*tmp1;
@@ -121,9 +122,9 @@ void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *par
 }
 
 /* point_kinematics: eq. -. */
-torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double positions[TORSION_PENDULUM_N_POINT_COORDS], double velocities[TORSION_PENDULUM_N_POINT_COORDS])
+torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real positions[TORSION_PENDULUM_N_POINT_COORDS], codegen_real velocities[TORSION_PENDULUM_N_POINT_COORDS])
 {
-    double out[4];
+    codegen_real out[4];
     torsion_pendulum_status status;
     if (coords == NULL || rates == NULL || positions == NULL || velocities == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -150,43 +151,43 @@ torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum
 /* energies without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 41. */
-void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4])
+void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real out[4])
 {
     (void)params;
     (void)coords;
     (void)rates;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double theta_0 = params->theta_0;
-        const double g = params->g;
-        const double theta = coords[0];
-        const double theta_d = rates[0];
-        const double tmp0 = (l*l);
-        const double tmp1 = (theta_d*theta_d);
-        const double tmp2 = tmp0*tmp1;
-        const double tmp3 = sin(theta);
-        const double tmp4 = tmp2*(tmp3*tmp3);
-        const double tmp5 = tmp2*(cos(theta)*cos(theta));
-        const double tmp6 = tmp4 + tmp5;
-        const double tmp7 = (1.0/4.0)*tmp4 + (1.0/4.0)*tmp5;
-        const double tmp8 = (1.0/2.0)*m;
-        const double tmp9 = g*l*tmp3;
-        const double tmp10 = m_t*tmp9 + tmp8*tmp9;
-        const double tmp11 = (1.0/2.0)*k_t*((theta - theta_0)*(theta - theta_0));
-        out[0] = (1.0/24.0)*m*tmp2 + (1.0/2.0)*m_t*tmp6 + tmp7*tmp8;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real theta_0 = params->theta_0;
+        const codegen_real g = params->g;
+        const codegen_real theta = coords[0];
+        const codegen_real theta_d = rates[0];
+        const codegen_real tmp0 = (l*l);
+        const codegen_real tmp1 = (theta_d*theta_d);
+        const codegen_real tmp2 = tmp0*tmp1;
+        const codegen_real tmp3 = sin(theta);
+        const codegen_real tmp4 = tmp2*(tmp3*tmp3);
+        const codegen_real tmp5 = tmp2*(cos(theta)*cos(theta));
+        const codegen_real tmp6 = tmp4 + tmp5;
+        const codegen_real tmp7 = (((codegen_real)1/4))*tmp4 + (((codegen_real)1/4))*tmp5;
+        const codegen_real tmp8 = (((codegen_real)1/2))*m;
+        const codegen_real tmp9 = g*l*tmp3;
+        const codegen_real tmp10 = m_t*tmp9 + tmp8*tmp9;
+        const codegen_real tmp11 = (((codegen_real)1/2))*k_t*((theta - theta_0)*(theta - theta_0));
+        out[0] = (((codegen_real)1/24))*m*tmp2 + (((codegen_real)1/2))*m_t*tmp6 + tmp7*tmp8;
         out[1] = tmp10;
         out[2] = tmp11;
-        out[3] = (1.0/24.0)*m*tmp0*tmp1 + (1.0/2.0)*m*tmp7 + (1.0/2.0)*m_t*tmp6 - tmp10 - tmp11;
+        out[3] = (((codegen_real)1/24))*m*tmp0*tmp1 + (((codegen_real)1/2))*m*tmp7 + (((codegen_real)1/2))*m_t*tmp6 - tmp10 - tmp11;
     }
 }
 
 /* energies: eq. -. */
-torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian)
+torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian)
 {
-    double out[4];
+    codegen_real out[4];
     torsion_pendulum_status status;
     if (coords == NULL || rates == NULL || T == NULL || V_G == NULL || V_E == NULL || lagrangian == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -215,37 +216,37 @@ torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params 
 /* lagrange_terms without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 41. */
-void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double out[6])
+void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], const codegen_real accels[TORSION_PENDULUM_N_COORDS], codegen_real out[6])
 {
     (void)params;
     (void)coords;
     (void)rates;
     (void)accels;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double theta_0 = params->theta_0;
-        const double c = params->c;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double theta = coords[0];
-        const double theta_d = rates[0];
-        const double theta_dd = accels[0];
-        const double tmp0 = (l*l)*theta_dd;
-        const double tmp1 = sin(theta);
-        const double tmp2 = (tmp1*tmp1);
-        const double tmp3 = (1.0/2.0)*tmp0;
-        const double tmp4 = cos(theta);
-        const double tmp5 = (tmp4*tmp4);
-        const double tmp6 = (1.0/2.0)*m;
-        const double tmp7 = 2*tmp0;
-        const double tmp8 = (1.0/12.0)*m*tmp0 + (1.0/2.0)*m_t*(tmp2*tmp7 + tmp5*tmp7) + tmp6*(tmp2*tmp3 + tmp3*tmp5);
-        const double tmp9 = g*l*tmp4;
-        const double tmp10 = (1.0/2.0)*k_t*(2*theta - 2*theta_0) + m_t*tmp9 + tmp6*tmp9;
-        const double tmp11 = c*theta_d;
-        const double tmp12 = F_x*l*tmp1;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real theta_0 = params->theta_0;
+        const codegen_real c = params->c;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real theta = coords[0];
+        const codegen_real theta_d = rates[0];
+        const codegen_real theta_dd = accels[0];
+        const codegen_real tmp0 = (l*l)*theta_dd;
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = (tmp1*tmp1);
+        const codegen_real tmp3 = (((codegen_real)1/2))*tmp0;
+        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp5 = (tmp4*tmp4);
+        const codegen_real tmp6 = (((codegen_real)1/2))*m;
+        const codegen_real tmp7 = 2*tmp0;
+        const codegen_real tmp8 = (((codegen_real)1/12))*m*tmp0 + (((codegen_real)1/2))*m_t*(tmp2*tmp7 + tmp5*tmp7) + tmp6*(tmp2*tmp3 + tmp3*tmp5);
+        const codegen_real tmp9 = g*l*tmp4;
+        const codegen_real tmp10 = (((codegen_real)1/2))*k_t*(2*theta - 2*theta_0) + m_t*tmp9 + tmp6*tmp9;
+        const codegen_real tmp11 = c*theta_d;
+        const codegen_real tmp12 = F_x*l*tmp1;
         out[0] = tmp8;
         out[1] = -tmp10;
         out[2] = 0;
@@ -256,9 +257,9 @@ void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *param
 }
 
 /* lagrange_terms: eq. -. */
-torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], double dL_dq[TORSION_PENDULUM_N_COORDS], double constraint_forces[TORSION_PENDULUM_N_COORDS], double dissipative_forces[TORSION_PENDULUM_N_COORDS], double applied_forces[TORSION_PENDULUM_N_COORDS], double residual[TORSION_PENDULUM_N_COORDS])
+torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], const codegen_real accels[TORSION_PENDULUM_N_COORDS], codegen_real dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], codegen_real dL_dq[TORSION_PENDULUM_N_COORDS], codegen_real constraint_forces[TORSION_PENDULUM_N_COORDS], codegen_real dissipative_forces[TORSION_PENDULUM_N_COORDS], codegen_real applied_forces[TORSION_PENDULUM_N_COORDS], codegen_real residual[TORSION_PENDULUM_N_COORDS])
 {
-    double out[6];
+    codegen_real out[6];
     torsion_pendulum_status status;
     if (coords == NULL || rates == NULL || accels == NULL || dt_dL_dqdot == NULL || dL_dq == NULL || constraint_forces == NULL || dissipative_forces == NULL || applied_forces == NULL || residual == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -292,7 +293,7 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_p
 /* dependent_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 0. */
-void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[2])
+void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[2])
 {
     (void)params;
     (void)theta;
@@ -304,9 +305,9 @@ void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *para
 }
 
 /* dependent_state: eq. -. */
-torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_params *params, double theta, double theta_d, double coords[TORSION_PENDULUM_N_COORDS], double rates[TORSION_PENDULUM_N_COORDS])
+torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[TORSION_PENDULUM_N_COORDS], codegen_real rates[TORSION_PENDULUM_N_COORDS])
 {
-    double out[2];
+    codegen_real out[2];
     torsion_pendulum_status status;
     if (coords == NULL || rates == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -333,31 +334,31 @@ torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_
 /* reduced_coefficients without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 17. */
-void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params *params, double theta, double out[3])
+void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double c = params->c;
-        const double tmp0 = (l*l);
-        const double tmp1 = m*tmp0;
-        const double tmp2 = (sin(theta)*sin(theta));
-        const double tmp3 = m_t*tmp0;
-        const double tmp4 = (cos(theta)*cos(theta));
-        const double tmp5 = (1.0/4.0)*tmp1;
-        out[0] = (1.0/12.0)*tmp1 + tmp2*tmp3 + tmp2*tmp5 + tmp3*tmp4 + tmp4*tmp5;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real c = params->c;
+        const codegen_real tmp0 = (l*l);
+        const codegen_real tmp1 = m*tmp0;
+        const codegen_real tmp2 = (sin(theta)*sin(theta));
+        const codegen_real tmp3 = m_t*tmp0;
+        const codegen_real tmp4 = (cos(theta)*cos(theta));
+        const codegen_real tmp5 = (((codegen_real)1/4))*tmp1;
+        out[0] = (((codegen_real)1/12))*tmp1 + tmp2*tmp3 + tmp2*tmp5 + tmp3*tmp4 + tmp4*tmp5;
         out[1] = 0;
         out[2] = c;
     }
 }
 
 /* reduced_coefficients: eq. -. */
-torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, double theta, double e[TORSION_PENDULUM_N_REDUCED])
+torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, codegen_real theta, codegen_real e[TORSION_PENDULUM_N_REDUCED])
 {
-    double out[3];
+    codegen_real out[3];
     torsion_pendulum_status status;
     if (e == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -380,37 +381,37 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pend
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 33. */
-void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[1])
+void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
 {
     (void)params;
     (void)theta;
     (void)theta_d;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double theta_0 = params->theta_0;
-        const double c = params->c;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double tmp0 = sin(theta);
-        const double tmp1 = cos(theta);
-        const double tmp2 = g*l*tmp1;
-        const double tmp3 = (l*l);
-        const double tmp4 = m*tmp3;
-        const double tmp5 = (tmp0*tmp0);
-        const double tmp6 = m_t*tmp3;
-        const double tmp7 = (tmp1*tmp1);
-        const double tmp8 = (1.0/4.0)*tmp4;
-        out[0] = (-F_x*l*tmp0 - c*theta_d - k_t*(theta - theta_0) - 1.0/2.0*m*tmp2 - m_t*tmp2)/((1.0/12.0)*tmp4 + tmp5*tmp6 + tmp5*tmp8 + tmp6*tmp7 + tmp7*tmp8);
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real theta_0 = params->theta_0;
+        const codegen_real c = params->c;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = cos(theta);
+        const codegen_real tmp2 = g*l*tmp1;
+        const codegen_real tmp3 = (l*l);
+        const codegen_real tmp4 = m*tmp3;
+        const codegen_real tmp5 = (tmp0*tmp0);
+        const codegen_real tmp6 = m_t*tmp3;
+        const codegen_real tmp7 = (tmp1*tmp1);
+        const codegen_real tmp8 = (((codegen_real)1/4))*tmp4;
+        out[0] = (-F_x*l*tmp0 - c*theta_d - k_t*(theta - theta_0) - ((codegen_real)1/2)*m*tmp2 - m_t*tmp2)/((((codegen_real)1/12))*tmp4 + tmp5*tmp6 + tmp5*tmp8 + tmp6*tmp7 + tmp7*tmp8);
     }
 }
 
 /* angular_acceleration: eq. -. */
-torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, double theta, double theta_d, double *theta_dd)
+torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd)
 {
-    double out[1];
+    codegen_real out[1];
     torsion_pendulum_status status;
     if (theta_dd == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -436,32 +437,32 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
 /* equilibrium_residual without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 22. */
-void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params *params, double theta, double out[2])
+void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double theta_0 = params->theta_0;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double tmp0 = F_x*l*sin(theta);
-        const double tmp1 = g*l*cos(theta);
-        const double tmp2 = m_t*tmp1;
-        const double tmp3 = k_t*(theta - theta_0);
-        const double tmp4 = m*tmp1;
-        out[0] = tmp0 + tmp2 + tmp3 + (1.0/2.0)*tmp4;
-        out[1] = fabs(tmp0) + fabs(tmp2) + fabs(tmp3) + (1.0/2.0)*fabs(tmp4);
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real theta_0 = params->theta_0;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = F_x*l*sin(theta);
+        const codegen_real tmp1 = g*l*cos(theta);
+        const codegen_real tmp2 = m_t*tmp1;
+        const codegen_real tmp3 = k_t*(theta - theta_0);
+        const codegen_real tmp4 = m*tmp1;
+        out[0] = tmp0 + tmp2 + tmp3 + (((codegen_real)1/2))*tmp4;
+        out[1] = fabs(tmp0) + fabs(tmp2) + fabs(tmp3) + (((codegen_real)1/2))*fabs(tmp4);
     }
 }
 
 /* equilibrium_residual: eq. -. */
-torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, double theta, double *residual, double *scale)
+torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale)
 {
-    double out[2];
+    codegen_real out[2];
     torsion_pendulum_status status;
     if (residual == NULL || scale == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -485,37 +486,37 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pend
 /* linearisation without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 27. */
-void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params, double theta, double out[3])
+void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[3])
 {
     (void)params;
     (void)theta;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double c = params->c;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double tmp0 = (l*l);
-        const double tmp1 = m*tmp0;
-        const double tmp2 = sin(theta);
-        const double tmp3 = (tmp2*tmp2);
-        const double tmp4 = m_t*tmp0;
-        const double tmp5 = cos(theta);
-        const double tmp6 = (tmp5*tmp5);
-        const double tmp7 = (1.0/4.0)*tmp1;
-        const double tmp8 = g*l*tmp2;
-        out[0] = (1.0/12.0)*tmp1 + tmp3*tmp4 + tmp3*tmp7 + tmp4*tmp6 + tmp6*tmp7;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real c = params->c;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = (l*l);
+        const codegen_real tmp1 = m*tmp0;
+        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp3 = (tmp2*tmp2);
+        const codegen_real tmp4 = m_t*tmp0;
+        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp6 = (tmp5*tmp5);
+        const codegen_real tmp7 = (((codegen_real)1/4))*tmp1;
+        const codegen_real tmp8 = g*l*tmp2;
+        out[0] = (((codegen_real)1/12))*tmp1 + tmp3*tmp4 + tmp3*tmp7 + tmp4*tmp6 + tmp6*tmp7;
         out[1] = c;
-        out[2] = F_x*l*tmp5 + k_t - 1.0/2.0*m*tmp8 - m_t*tmp8;
+        out[2] = F_x*l*tmp5 + k_t - ((codegen_real)1/2)*m*tmp8 - m_t*tmp8;
     }
 }
 
 /* linearisation: eq. -. */
-torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, double theta, double *M, double *B, double *K)
+torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K)
 {
-    double out[3];
+    codegen_real out[3];
     torsion_pendulum_status status;
     if (M == NULL || B == NULL || K == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -540,39 +541,39 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
 /* vibration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 39. */
-void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, double theta, double out[2])
+void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[2])
 {
     (void)params;
     (void)theta;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double c = params->c;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double tmp0 = cos(theta);
-        const double tmp1 = sin(theta);
-        const double tmp2 = g*l*tmp1;
-        const double tmp3 = (l*l);
-        const double tmp4 = m*tmp3;
-        const double tmp5 = (tmp1*tmp1);
-        const double tmp6 = m_t*tmp3;
-        const double tmp7 = tmp5*tmp6;
-        const double tmp8 = (tmp0*tmp0);
-        const double tmp9 = tmp6*tmp8;
-        const double tmp10 = (1.0/4.0)*tmp4;
-        const double tmp11 = (1.0/2.0)*tmp4;
-        out[0] = (F_x*l*tmp0 + k_t - 1.0/2.0*m*tmp2 - m_t*tmp2)/(tmp10*tmp5 + tmp10*tmp8 + (1.0/12.0)*tmp4 + tmp7 + tmp9);
-        out[1] = c/(tmp11*tmp5 + tmp11*tmp8 + (1.0/6.0)*tmp4 + 2*tmp7 + 2*tmp9);
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real c = params->c;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp2 = g*l*tmp1;
+        const codegen_real tmp3 = (l*l);
+        const codegen_real tmp4 = m*tmp3;
+        const codegen_real tmp5 = (tmp1*tmp1);
+        const codegen_real tmp6 = m_t*tmp3;
+        const codegen_real tmp7 = tmp5*tmp6;
+        const codegen_real tmp8 = (tmp0*tmp0);
+        const codegen_real tmp9 = tmp6*tmp8;
+        const codegen_real tmp10 = (((codegen_real)1/4))*tmp4;
+        const codegen_real tmp11 = (((codegen_real)1/2))*tmp4;
+        out[0] = (F_x*l*tmp0 + k_t - ((codegen_real)1/2)*m*tmp2 - m_t*tmp2)/(tmp10*tmp5 + tmp10*tmp8 + (((codegen_real)1/12))*tmp4 + tmp7 + tmp9);
+        out[1] = c/(tmp11*tmp5 + tmp11*tmp8 + (((codegen_real)1/6))*tmp4 + 2*tmp7 + 2*tmp9);
     }
 }
 
 /* vibration: eq. -. */
-torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, double theta, double *omega_n_squared, double *zeta_omega_n)
+torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n)
 {
-    double out[2];
+    codegen_real out[2];
     torsion_pendulum_status status;
     if (omega_n_squared == NULL || zeta_omega_n == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -596,47 +597,47 @@ torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params
 /* equilibrium_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 45. */
-void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *params, double theta, double out[5])
+void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[5])
 {
     (void)params;
     (void)theta;
     {
-        const double l = params->l;
-        const double m = params->m;
-        const double m_t = params->m_t;
-        const double k_t = params->k_t;
-        const double theta_0 = params->theta_0;
-        const double c = params->c;
-        const double F_x = params->F_x;
-        const double g = params->g;
-        const double tmp0 = sin(theta);
-        const double tmp1 = F_x*l;
-        const double tmp2 = tmp0*tmp1;
-        const double tmp3 = cos(theta);
-        const double tmp4 = g*l;
-        const double tmp5 = tmp3*tmp4;
-        const double tmp6 = m_t*tmp5;
-        const double tmp7 = k_t*(theta - theta_0);
-        const double tmp8 = m*tmp5;
-        const double tmp9 = (l*l);
-        const double tmp10 = m*tmp9;
-        const double tmp11 = (tmp0*tmp0);
-        const double tmp12 = m_t*tmp9;
-        const double tmp13 = (tmp3*tmp3);
-        const double tmp14 = (1.0/4.0)*tmp10;
-        const double tmp15 = tmp0*tmp4;
-        out[0] = tmp2 + tmp6 + tmp7 + (1.0/2.0)*tmp8;
-        out[1] = fabs(tmp2) + fabs(tmp6) + fabs(tmp7) + (1.0/2.0)*fabs(tmp8);
-        out[2] = (1.0/12.0)*tmp10 + tmp11*tmp12 + tmp11*tmp14 + tmp12*tmp13 + tmp13*tmp14;
+        const codegen_real l = params->l;
+        const codegen_real m = params->m;
+        const codegen_real m_t = params->m_t;
+        const codegen_real k_t = params->k_t;
+        const codegen_real theta_0 = params->theta_0;
+        const codegen_real c = params->c;
+        const codegen_real F_x = params->F_x;
+        const codegen_real g = params->g;
+        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp1 = F_x*l;
+        const codegen_real tmp2 = tmp0*tmp1;
+        const codegen_real tmp3 = cos(theta);
+        const codegen_real tmp4 = g*l;
+        const codegen_real tmp5 = tmp3*tmp4;
+        const codegen_real tmp6 = m_t*tmp5;
+        const codegen_real tmp7 = k_t*(theta - theta_0);
+        const codegen_real tmp8 = m*tmp5;
+        const codegen_real tmp9 = (l*l);
+        const codegen_real tmp10 = m*tmp9;
+        const codegen_real tmp11 = (tmp0*tmp0);
+        const codegen_real tmp12 = m_t*tmp9;
+        const codegen_real tmp13 = (tmp3*tmp3);
+        const codegen_real tmp14 = (((codegen_real)1/4))*tmp10;
+        const codegen_real tmp15 = tmp0*tmp4;
+        out[0] = tmp2 + tmp6 + tmp7 + (((codegen_real)1/2))*tmp8;
+        out[1] = fabs(tmp2) + fabs(tmp6) + fabs(tmp7) + (((codegen_real)1/2))*fabs(tmp8);
+        out[2] = (((codegen_real)1/12))*tmp10 + tmp11*tmp12 + tmp11*tmp14 + tmp12*tmp13 + tmp13*tmp14;
         out[3] = c;
-        out[4] = k_t - 1.0/2.0*m*tmp15 - m_t*tmp15 + tmp1*tmp3;
+        out[4] = k_t - ((codegen_real)1/2)*m*tmp15 - m_t*tmp15 + tmp1*tmp3;
     }
 }
 
 /* equilibrium_state: eq. -. */
-torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K)
+torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K)
 {
-    double out[5];
+    codegen_real out[5];
     torsion_pendulum_status status;
     if (residual == NULL || scale == NULL || M == NULL || B == NULL || K == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
@@ -678,7 +679,7 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
     const codegen_iv tmp2 = codegen_iv_cos(theta);
     const codegen_iv tmp3 = codegen_iv_mul(g, l);
     const codegen_iv tmp4 = codegen_iv_mul(m_t, tmp3);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(0.5), m), tmp3);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp3);
     *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(tmp0, tmp1)), codegen_iv_mul(tmp2, tmp4)), codegen_iv_mul(tmp2, tmp5));
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(k_t, codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp0, tmp5)), codegen_iv_mul(tmp1, tmp2));
 }
@@ -697,8 +698,8 @@ torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum
     }
 }
 
-torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags)
+torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags)
 {
     codegen_iv iv_g, iv_dg;
     unsigned iv_flags = 0u;
@@ -729,7 +730,7 @@ torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params
     return TORSION_PENDULUM_OK;
 }
 
-torsion_pendulum_status torsion_pendulum_point_kinematics_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, double *positions, double *velocities, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_point_kinematics_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -745,7 +746,7 @@ torsion_pendulum_status torsion_pendulum_point_kinematics_batch(size_t count, co
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_energies_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_energies_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -761,7 +762,7 @@ torsion_pendulum_status torsion_pendulum_energies_batch(size_t count, const tors
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_lagrange_terms_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, const double *accels, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_lagrange_terms_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -777,7 +778,7 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms_batch(size_t count, cons
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_dependent_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, const double *theta_d, double *coords, double *rates, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_dependent_state_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -793,7 +794,7 @@ torsion_pendulum_status torsion_pendulum_dependent_state_batch(size_t count, con
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_reduced_coefficients_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *e, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_reduced_coefficients_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *e, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -809,7 +810,7 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients_batch(size_t count
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, const double *theta_d, double *theta_dd, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -825,7 +826,7 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -841,7 +842,7 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *M, double *B, double *K, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -857,7 +858,7 @@ torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;
@@ -873,7 +874,7 @@ torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const tor
     return first;
 }
 
-torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, torsion_pendulum_status *statuses)
+torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, torsion_pendulum_status *statuses)
 {
     size_t i;
     torsion_pendulum_status first = TORSION_PENDULUM_OK;

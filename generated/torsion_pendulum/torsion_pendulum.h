@@ -52,14 +52,14 @@ typedef enum torsion_pendulum_status {
 
 /* The mechanism's parameters, SI units. */
 typedef struct torsion_pendulum_params {
-    double l; /* [m] length of the bar */
-    double m; /* [kg] mass of the bar */
-    double m_t; /* [kg] point mass at the tip */
-    double k_t; /* [N m/rad] torsional spring stiffness */
-    double theta_0; /* [rad] free angle of the torsional spring */
-    double c; /* [N m s/rad] torsional damping coefficient */
-    double F_x; /* [N] horizontal force at the tip along +X */
-    double g; /* [m/s^2] gravitational acceleration (along -Y) */
+    codegen_real l; /* [m] length of the bar */
+    codegen_real m; /* [kg] mass of the bar */
+    codegen_real m_t; /* [kg] point mass at the tip */
+    codegen_real k_t; /* [N m/rad] torsional spring stiffness */
+    codegen_real theta_0; /* [rad] free angle of the torsional spring */
+    codegen_real c; /* [N m s/rad] torsional damping coefficient */
+    codegen_real F_x; /* [N] horizontal force at the tip along +X */
+    codegen_real g; /* [m/s^2] gravitational acceleration (along -Y) */
 } torsion_pendulum_params;
 
 /* A constant string describing a status code (never NULL). */
@@ -75,7 +75,7 @@ torsion_pendulum_status torsion_pendulum_check_params(const torsion_pendulum_par
  * out velocities: vx, vy of each point [m/s]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double positions[TORSION_PENDULUM_N_POINT_COORDS], double velocities[TORSION_PENDULUM_N_POINT_COORDS]);
+torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real positions[TORSION_PENDULUM_N_POINT_COORDS], codegen_real velocities[TORSION_PENDULUM_N_POINT_COORDS]);
 
 /* Kinetic and potential energies and the Lagrangian L = T - V_G - V_E.
  * in  coords: generalised coordinates: theta [rad]
@@ -86,7 +86,7 @@ torsion_pendulum_status torsion_pendulum_point_kinematics(const torsion_pendulum
  * out lagrangian: Lagrangian [J]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double *T, double *V_G, double *V_E, double *lagrangian);
+torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian);
 
 /* Terms of Lagrange's equations with multipliers, one entry per coordinate; residual = d/dt(dL/dqdot) - dL/dq + A^T lambda + V_D - Q_nc vanishes on a motion.
  * in  coords: generalised coordinates: theta [rad]
@@ -100,7 +100,7 @@ torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params 
  * out residual: left minus right side of (15)
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], double dL_dq[TORSION_PENDULUM_N_COORDS], double constraint_forces[TORSION_PENDULUM_N_COORDS], double dissipative_forces[TORSION_PENDULUM_N_COORDS], double applied_forces[TORSION_PENDULUM_N_COORDS], double residual[TORSION_PENDULUM_N_COORDS]);
+torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], const codegen_real accels[TORSION_PENDULUM_N_COORDS], codegen_real dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], codegen_real dL_dq[TORSION_PENDULUM_N_COORDS], codegen_real constraint_forces[TORSION_PENDULUM_N_COORDS], codegen_real dissipative_forces[TORSION_PENDULUM_N_COORDS], codegen_real applied_forces[TORSION_PENDULUM_N_COORDS], codegen_real residual[TORSION_PENDULUM_N_COORDS]);
 
 /* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
  * in  theta: independent coordinate theta [rad]
@@ -109,14 +109,14 @@ torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_p
  * out rates: their rates [unit/s]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_params *params, double theta, double theta_d, double coords[TORSION_PENDULUM_N_COORDS], double rates[TORSION_PENDULUM_N_COORDS]);
+torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[TORSION_PENDULUM_N_COORDS], codegen_real rates[TORSION_PENDULUM_N_COORDS]);
 
 /* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
  * in  theta: independent coordinate theta [rad]
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, double theta, double e[TORSION_PENDULUM_N_REDUCED]);
+torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pendulum_params *params, codegen_real theta, codegen_real e[TORSION_PENDULUM_N_REDUCED]);
 
 /* thetaddot from the reduced equation of motion.
  * in  theta: independent coordinate theta [rad]
@@ -124,7 +124,7 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pend
  * out theta_dd: [rad/s^2]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_SINGULAR_STATE where a denominator of the result vanishes.
  */
-torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, double theta, double theta_d, double *theta_dd);
+torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
 /* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
  * in  theta: independent coordinate theta [rad]
@@ -132,7 +132,7 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
  * out scale: [N m]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, double theta, double *residual, double *scale);
+torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pendulum_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * in  theta: equilibrium angle theta_E [rad]
@@ -141,7 +141,7 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pend
  * out K: K_EQ [N m]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, double theta, double *M, double *B, double *K);
+torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
 /* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
  * in  theta: equilibrium angle theta_E [rad]
@@ -149,7 +149,7 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
  * out zeta_omega_n: [1/s]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_SINGULAR_STATE where a denominator of the result vanishes.
  */
-torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, double theta, double *omega_n_squared, double *zeta_omega_n);
+torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation).
  * in  theta: equilibrium angle theta_E [rad]
@@ -160,21 +160,21 @@ torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params
  * out K: K_EQ [N m]
  * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
  */
-torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, double theta, double *residual, double *scale, double *M, double *B, double *K);
+torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulum_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K);
 
 /* Batch form of each function above: item i uses params[i] and the i-th block of each
  * array (a scalar input or output is one value per item), and stores its status in
  * statuses[i]. Returns TORSION_PENDULUM_OK when every item succeeded, else the first failure. */
-torsion_pendulum_status torsion_pendulum_point_kinematics_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, double *positions, double *velocities, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_energies_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, double *T, double *V_G, double *V_E, double *lagrangian, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_lagrange_terms_batch(size_t count, const torsion_pendulum_params *params, const double *coords, const double *rates, const double *accels, double *dt_dL_dqdot, double *dL_dq, double *constraint_forces, double *dissipative_forces, double *applied_forces, double *residual, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_dependent_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, const double *theta_d, double *coords, double *rates, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_reduced_coefficients_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *e, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, const double *theta_d, double *theta_dd, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *M, double *B, double *K, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *omega_n_squared, double *zeta_omega_n, torsion_pendulum_status *statuses);
-torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const double *theta, double *residual, double *scale, double *M, double *B, double *K, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_point_kinematics_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *positions, codegen_real *velocities, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_energies_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, codegen_real *T, codegen_real *V_G, codegen_real *V_E, codegen_real *lagrangian, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_lagrange_terms_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *coords, const codegen_real *rates, const codegen_real *accels, codegen_real *dt_dL_dqdot, codegen_real *dL_dq, codegen_real *constraint_forces, codegen_real *dissipative_forces, codegen_real *applied_forces, codegen_real *residual, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_dependent_state_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *coords, codegen_real *rates, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_reduced_coefficients_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *e, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_angular_acceleration_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *theta_dd, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_equilibrium_residual_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_linearisation_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_vibration_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, torsion_pendulum_status *statuses);
+torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, const torsion_pendulum_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, torsion_pendulum_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
  * angles theta[0] <= theta <= theta[1] [rad], on assembly mode `mode` (0: as declared;
@@ -185,8 +185,8 @@ torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, c
  * square root may reach zero, or the mode may not exist on part of the interval) and
  * CODEGEN_IV_OUTSIDE (the mode exists nowhere on it), or-ed. The bounds may be infinite.
  * Returns TORSION_PENDULUM_ERR_ARGUMENT for a mode out of range or theta[0] > theta[1]. */
-torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const double theta[2],
-                                double g[2], double dg[2], unsigned *flags);
+torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const codegen_real theta[2],
+                                codegen_real g[2], codegen_real dg[2], unsigned *flags);
 
 /* Stability of an equilibrium from M, B, K (M > 0). */
 typedef enum torsion_pendulum_stability {
@@ -215,22 +215,22 @@ typedef enum torsion_pendulum_root_kind {
  * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
  * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
 typedef struct torsion_pendulum_equilibrium {
-    double theta;           /* theta_E [rad], in the coordinate's range */
-    double theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    double theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
+    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
+    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
+    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
     int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     torsion_pendulum_root_kind kind;
-    double residual;        /* G(theta_E) (42) [N m] */
-    double residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
+    codegen_real residual;        /* G(theta_E) (42) [N m] */
+    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
                                has |residual| / residual_scale near machine epsilon */
-    double M;               /* M_EQ [kg m^2] (50) */
-    double B;               /* B_EQ [N m s] (51) */
-    double K;               /* K_EQ [N m] (52) */
-    double omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    double zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    double eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    double eigen_im[2];     /* and imaginary parts [rad/s] */
+    codegen_real M;               /* M_EQ [kg m^2] (50) */
+    codegen_real B;               /* B_EQ [N m s] (51) */
+    codegen_real K;               /* K_EQ [N m] (52) */
+    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
+    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
+    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
+    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
     torsion_pendulum_stability stability;
     torsion_pendulum_damping damping;
 } torsion_pendulum_equilibrium;
@@ -245,7 +245,7 @@ typedef enum torsion_pendulum_uncertainty {
 } torsion_pendulum_uncertainty;
 
 typedef struct torsion_pendulum_interval {
-    double lo, hi;          /* [rad] */
+    codegen_real lo, hi;          /* [rad] */
     torsion_pendulum_uncertainty kind;
     unsigned mode;          /* the assembly mode it was found on (0: as declared) */
     int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
@@ -257,9 +257,9 @@ typedef struct torsion_pendulum_analysis {
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
     torsion_pendulum_equilibrium roots[TORSION_PENDULUM_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
-    double singular_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real singular_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
-    double unassembled_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
+    codegen_real unassembled_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
     torsion_pendulum_interval uncertain[TORSION_PENDULUM_MAX_UNCERTAIN]; /* ascending */
 } torsion_pendulum_analysis;

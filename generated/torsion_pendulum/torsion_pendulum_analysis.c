@@ -10,14 +10,15 @@
 
 #include <float.h>
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 #include <string.h>
 
 /* The first half-width [rad, relative to max(|theta|, 1)] of the intervals that try to prove
  * an equilibrium of the polynomial route, grown 32-fold up to CERTIFY_RADIUS [rad]: a root
  * polished to rounding is proven by the first or second. */
-#define CERTIFY_START 2.5e-13
-#define CERTIFY_RADIUS 1e-6
+#define CERTIFY_START (1024 * CODEGEN_EPSILON)
+#define CERTIFY_RADIUS (64 * CODEGEN_SQRT_EPSILON)
 
 /* The inputs were validated once, at the entry points below; inside, the unchecked kernels
  * (torsion_pendulum_kernels.h) evaluate, and each group of results fails as the public function
@@ -31,7 +32,7 @@
 #define AT_B 3
 #define AT_K 4
 
-static int all_finite(const double *values, int count)
+static int all_finite(const codegen_real *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -42,24 +43,24 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static torsion_pendulum_status finite_or(const double *values, int count, torsion_pendulum_status failure)
+static torsion_pendulum_status finite_or(const codegen_real *values, int count, torsion_pendulum_status failure)
 {
     return all_finite(values, count) ? TORSION_PENDULUM_OK : failure;
 }
 
-static void state_at(const torsion_pendulum_params *params, double theta, double at[STATE_SIZE])
+static void state_at(const torsion_pendulum_params *params, codegen_real theta, codegen_real at[STATE_SIZE])
 {
     torsion_pendulum_equilibrium_state_kernel(params, theta, at);
 }
 
 /* G and the size of its terms, as torsion_pendulum_equilibrium_residual returns them. */
-static torsion_pendulum_status residual_of(const double at[STATE_SIZE])
+static torsion_pendulum_status residual_of(const codegen_real at[STATE_SIZE])
 {
     return finite_or(at + AT_RESIDUAL, 2, TORSION_PENDULUM_EQUILIBRIUM_RESIDUAL_FAILURE);
 }
 
 /* M, B, K, as torsion_pendulum_linearisation returns them. */
-static torsion_pendulum_status linearisation_of(const double at[STATE_SIZE])
+static torsion_pendulum_status linearisation_of(const codegen_real at[STATE_SIZE])
 {
     return finite_or(at + AT_M, 3, TORSION_PENDULUM_LINEARISATION_FAILURE);
 }
@@ -67,67 +68,67 @@ static torsion_pendulum_status linearisation_of(const double at[STATE_SIZE])
 /* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
  * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
  * itself, |K| max(|theta|, 1). */
-static torsion_pendulum_status residual_scale(const double at[STATE_SIZE], double theta, double k,
-                                     double *scale)
+static torsion_pendulum_status residual_scale(const codegen_real at[STATE_SIZE], codegen_real theta, codegen_real k,
+                                     codegen_real *scale)
 {
     const torsion_pendulum_status status = residual_of(at);
     if (status == TORSION_PENDULUM_OK) {
-        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), 1.0);
+        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), (codegen_real)1);
     }
     return status;
 }
 
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
  * M K can overflow where B/M and K/M do not. */
-static void eigenvalues(double m, double b, double k, double re[2], double im[2])
+static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_real re[2], codegen_real im[2])
 {
-    const double half_b = 0.5 * (b / m), k_m = k / m;
-    const double disc = half_b * half_b - k_m;
-    if (disc < 0.0) {
+    const codegen_real half_b = CODEGEN_R(0.5) * (b / m), k_m = k / m;
+    const codegen_real disc = half_b * half_b - k_m;
+    if (disc < 0) {
         re[0] = re[1] = -half_b;
         im[0] = sqrt(-disc);
         im[1] = -im[0];
     } else {
-        const double q = -(half_b + copysign(sqrt(disc), half_b));
+        const codegen_real q = -(half_b + copysign(sqrt(disc), half_b));
         re[0] = q;
-        re[1] = q != 0.0 ? k_m / q : 0.0;
-        im[0] = im[1] = 0.0;
+        re[1] = q != 0 ? k_m / q : 0;
+        im[0] = im[1] = 0;
     }
 }
 
 /* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
-static void frequency(double m, double b, double k, torsion_pendulum_equilibrium *e)
+static void frequency(codegen_real m, codegen_real b, codegen_real k, torsion_pendulum_equilibrium *e)
 {
-    const double w = sqrt(fabs(k) / m);
-    e->omega_n[0] = k >= 0.0 ? w : 0.0;
-    e->omega_n[1] = k >= 0.0 ? 0.0 : w;
-    e->zeta[0] = e->zeta[1] = 0.0;
-    if (w == 0.0) {
-        e->zeta[0] = b > 0.0 ? HUGE_VAL : 0.0;
-    } else if (k >= 0.0) {
-        e->zeta[0] = b / (2.0 * m * w);
+    const codegen_real w = sqrt(fabs(k) / m);
+    e->omega_n[0] = k >= 0 ? w : 0;
+    e->omega_n[1] = k >= 0 ? 0 : w;
+    e->zeta[0] = e->zeta[1] = 0;
+    if (w == 0) {
+        e->zeta[0] = b > 0 ? CODEGEN_HUGE : 0;
+    } else if (k >= 0) {
+        e->zeta[0] = b / (CODEGEN_R(2.0) * m * w);
     } else {
-        e->zeta[1] = -b / (2.0 * m * w); /* 1/i = -i */
+        e->zeta[1] = -b / (CODEGEN_R(2.0) * m * w); /* 1/i = -i */
     }
 }
 
-static void classify_motion(double b, double k, torsion_pendulum_equilibrium *e)
+static void classify_motion(codegen_real b, codegen_real k, torsion_pendulum_equilibrium *e)
 {
-    if (k < 0.0) {
+    if (k < 0) {
         e->stability = TORSION_PENDULUM_UNSTABLE;
-    } else if (k > 0.0 && b > 0.0) {
+    } else if (k > 0 && b > 0) {
         e->stability = TORSION_PENDULUM_STABLE;
     } else {
         e->stability = TORSION_PENDULUM_MARGINAL;
     }
-    if (k <= 0.0) {
+    if (k <= 0) {
         e->damping = TORSION_PENDULUM_NOT_OSCILLATORY;
-    } else if (b == 0.0) {
+    } else if (b == 0) {
         e->damping = TORSION_PENDULUM_UNDAMPED;
-    } else if (fabs(e->zeta[0] - 1.0) <= 8.0 * DBL_EPSILON) {
+    } else if (fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
         e->damping = TORSION_PENDULUM_CRITICALLY_DAMPED;
     } else {
-        e->damping = e->zeta[0] < 1.0 ? TORSION_PENDULUM_UNDERDAMPED : TORSION_PENDULUM_OVERDAMPED;
+        e->damping = e->zeta[0] < 1 ? TORSION_PENDULUM_UNDERDAMPED : TORSION_PENDULUM_OVERDAMPED;
     }
 }
 
@@ -136,11 +137,11 @@ static void classify_motion(double b, double k, torsion_pendulum_equilibrium *e)
  * still say whether a perturbation grows. */
 static torsion_pendulum_status vibrate(torsion_pendulum_equilibrium *e)
 {
-    if (!(e->M > 0.0)) {
-        e->omega_n[0] = e->omega_n[1] = e->zeta[0] = e->zeta[1] = NAN;
-        e->eigen_re[0] = e->eigen_re[1] = e->eigen_im[0] = e->eigen_im[1] = NAN;
-        e->stability = e->K < 0.0 ? TORSION_PENDULUM_UNSTABLE
-                     : e->K > 0.0 && e->B > 0.0 ? TORSION_PENDULUM_STABLE : TORSION_PENDULUM_MARGINAL;
+    if (!(e->M > 0)) {
+        e->omega_n[0] = e->omega_n[1] = e->zeta[0] = e->zeta[1] = CODEGEN_NAN;
+        e->eigen_re[0] = e->eigen_re[1] = e->eigen_im[0] = e->eigen_im[1] = CODEGEN_NAN;
+        e->stability = e->K < 0 ? TORSION_PENDULUM_UNSTABLE
+                     : e->K > 0 && e->B > 0 ? TORSION_PENDULUM_STABLE : TORSION_PENDULUM_MARGINAL;
         e->damping = TORSION_PENDULUM_NOT_OSCILLATORY;
         return TORSION_PENDULUM_OK;
     }
@@ -156,8 +157,8 @@ static torsion_pendulum_status vibrate(torsion_pendulum_equilibrium *e)
 
 /* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
  * at: the state at theta. */
-static torsion_pendulum_status linearise_at(const torsion_pendulum_params *params, unsigned mode, double theta,
-                                   const double at[STATE_SIZE], torsion_pendulum_equilibrium *e)
+static torsion_pendulum_status linearise_at(const torsion_pendulum_params *params, unsigned mode, codegen_real theta,
+                                   const codegen_real at[STATE_SIZE], torsion_pendulum_equilibrium *e)
 {
     torsion_pendulum_status status;
     (void)params;
@@ -179,10 +180,10 @@ static torsion_pendulum_status linearise_at(const torsion_pendulum_params *param
     return status;
 }
 
-static torsion_pendulum_status linearise(const torsion_pendulum_params *params, unsigned mode, double theta,
+static torsion_pendulum_status linearise(const torsion_pendulum_params *params, unsigned mode, codegen_real theta,
                                 torsion_pendulum_equilibrium *e)
 {
-    double at[STATE_SIZE];
+    codegen_real at[STATE_SIZE];
     state_at(params, theta, at);
     return linearise_at(params, mode, theta, at, e);
 }
@@ -212,11 +213,11 @@ static void sort_roots(torsion_pendulum_equilibrium *roots, int count)
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. Zeros found at or below
  * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
-static torsion_pendulum_status isolation_range(const torsion_pendulum_params *params, double *lo, double *hi,
-                                      double *below)
+static torsion_pendulum_status isolation_range(const torsion_pendulum_params *params, codegen_real *lo, codegen_real *hi,
+                                      codegen_real *below)
 {
-    const double pi = 3.14159265358979323846, centre = params->theta_0;
-    *below = -HUGE_VAL;
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = params->theta_0;
+    *below = -CODEGEN_HUGE;
     *lo = centre - pi;
     *hi = centre + pi;
     return TORSION_PENDULUM_OK;
@@ -224,11 +225,11 @@ static torsion_pendulum_status isolation_range(const torsion_pendulum_params *pa
 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
-static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *params, unsigned mode, double lo,
-                                   double hi, double below, torsion_pendulum_analysis *work)
+static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *params, unsigned mode, codegen_real lo,
+                                   codegen_real hi, codegen_real below, torsion_pendulum_analysis *work)
 {
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN];
-    const double two_pi = 6.28318530717958647692;
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
     const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
                                          TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count);
@@ -243,11 +244,12 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
         return TORSION_PENDULUM_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
     for (i = 0; i < count; ++i) {
-        const double shift = found[i].theta <= below ? two_pi : 0.0;
+        const codegen_real shift = found[i].theta <= below ? two_pi : 0;
         /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
         const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
-                                                shift == 0.0 ? codegen_iv_point(0.0)
-                                                : codegen_iv_make(0x1.921fb54442d18p+2, 0x1.921fb54442d19p+2));
+                                                shift == 0 ? codegen_iv_point(0)
+                                                : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
+                                                                  CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             torsion_pendulum_equilibrium *e = &work->roots[work->n_roots];
             torsion_pendulum_status status;
@@ -293,7 +295,7 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
 torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result)
 {
     torsion_pendulum_analysis work;
-    double lo, hi, below;
+    codegen_real lo, hi, below;
     unsigned mode;
     int i;
     torsion_pendulum_status status;

@@ -13,14 +13,14 @@
 #include "codegen_interval.h"
 
 /* point_kinematics's outputs into out[4], in order: positions[TORSION_PENDULUM_N_POINT_COORDS], velocities[TORSION_PENDULUM_N_POINT_COORDS]. */
-void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4]);
+void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real out[4]);
 #define TORSION_PENDULUM_POINT_KINEMATICS_POSITIONS 0
 #define TORSION_PENDULUM_POINT_KINEMATICS_VELOCITIES 2
 /* A failure of point_kinematics (a result not finite) is reported as TORSION_PENDULUM_ERR_OVERFLOW. */
 #define TORSION_PENDULUM_POINT_KINEMATICS_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* energies's outputs into out[4], in order: T, V_G, V_E, lagrangian. */
-void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], double out[4]);
+void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], codegen_real out[4]);
 #define TORSION_PENDULUM_ENERGIES_T 0
 #define TORSION_PENDULUM_ENERGIES_V_G 1
 #define TORSION_PENDULUM_ENERGIES_V_E 2
@@ -29,7 +29,7 @@ void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, con
 #define TORSION_PENDULUM_ENERGIES_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* lagrange_terms's outputs into out[6], in order: dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], dL_dq[TORSION_PENDULUM_N_COORDS], constraint_forces[TORSION_PENDULUM_N_COORDS], dissipative_forces[TORSION_PENDULUM_N_COORDS], applied_forces[TORSION_PENDULUM_N_COORDS], residual[TORSION_PENDULUM_N_COORDS]. */
-void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *params, const double coords[TORSION_PENDULUM_N_COORDS], const double rates[TORSION_PENDULUM_N_COORDS], const double accels[TORSION_PENDULUM_N_COORDS], double out[6]);
+void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], const codegen_real accels[TORSION_PENDULUM_N_COORDS], codegen_real out[6]);
 #define TORSION_PENDULUM_LAGRANGE_TERMS_DT_DL_DQDOT 0
 #define TORSION_PENDULUM_LAGRANGE_TERMS_DL_DQ 1
 #define TORSION_PENDULUM_LAGRANGE_TERMS_CONSTRAINT_FORCES 2
@@ -40,33 +40,33 @@ void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *param
 #define TORSION_PENDULUM_LAGRANGE_TERMS_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* dependent_state's outputs into out[2], in order: coords[TORSION_PENDULUM_N_COORDS], rates[TORSION_PENDULUM_N_COORDS]. */
-void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[2]);
+void torsion_pendulum_dependent_state_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[2]);
 #define TORSION_PENDULUM_DEPENDENT_STATE_COORDS 0
 #define TORSION_PENDULUM_DEPENDENT_STATE_RATES 1
 /* A failure of dependent_state (a result not finite) is reported as TORSION_PENDULUM_ERR_OVERFLOW. */
 #define TORSION_PENDULUM_DEPENDENT_STATE_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* reduced_coefficients's outputs into out[3], in order: e[TORSION_PENDULUM_N_REDUCED]. */
-void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params *params, double theta, double out[3]);
+void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[3]);
 #define TORSION_PENDULUM_REDUCED_COEFFICIENTS_E 0
 /* A failure of reduced_coefficients (a result not finite) is reported as TORSION_PENDULUM_ERR_OVERFLOW. */
 #define TORSION_PENDULUM_REDUCED_COEFFICIENTS_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, double theta, double theta_d, double out[1]);
+void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
 #define TORSION_PENDULUM_ANGULAR_ACCELERATION_THETA_DD 0
 /* A failure of angular_acceleration (a result not finite) is reported as TORSION_PENDULUM_ERR_SINGULAR_STATE. */
 #define TORSION_PENDULUM_ANGULAR_ACCELERATION_FAILURE TORSION_PENDULUM_ERR_SINGULAR_STATE
 
 /* equilibrium_residual's outputs into out[2], in order: residual, scale. */
-void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params *params, double theta, double out[2]);
+void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[2]);
 #define TORSION_PENDULUM_EQUILIBRIUM_RESIDUAL_RESIDUAL 0
 #define TORSION_PENDULUM_EQUILIBRIUM_RESIDUAL_SCALE 1
 /* A failure of equilibrium_residual (a result not finite) is reported as TORSION_PENDULUM_ERR_OVERFLOW. */
 #define TORSION_PENDULUM_EQUILIBRIUM_RESIDUAL_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* linearisation's outputs into out[3], in order: M, B, K. */
-void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params, double theta, double out[3]);
+void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[3]);
 #define TORSION_PENDULUM_LINEARISATION_M 0
 #define TORSION_PENDULUM_LINEARISATION_B 1
 #define TORSION_PENDULUM_LINEARISATION_K 2
@@ -74,14 +74,14 @@ void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params
 #define TORSION_PENDULUM_LINEARISATION_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
 /* vibration's outputs into out[2], in order: omega_n_squared, zeta_omega_n. */
-void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, double theta, double out[2]);
+void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[2]);
 #define TORSION_PENDULUM_VIBRATION_OMEGA_N_SQUARED 0
 #define TORSION_PENDULUM_VIBRATION_ZETA_OMEGA_N 1
 /* A failure of vibration (a result not finite) is reported as TORSION_PENDULUM_ERR_SINGULAR_STATE. */
 #define TORSION_PENDULUM_VIBRATION_FAILURE TORSION_PENDULUM_ERR_SINGULAR_STATE
 
 /* equilibrium_state's outputs into out[5], in order: residual, scale, M, B, K. */
-void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *params, double theta, double out[5]);
+void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real out[5]);
 #define TORSION_PENDULUM_EQUILIBRIUM_STATE_RESIDUAL 0
 #define TORSION_PENDULUM_EQUILIBRIUM_STATE_SCALE 1
 #define TORSION_PENDULUM_EQUILIBRIUM_STATE_M 2

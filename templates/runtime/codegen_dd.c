@@ -4,17 +4,18 @@
 #include "codegen_dd.h"
 
 #include <math.h>
+#include <tgmath.h> /* math on codegen_real: float or double functions */
 
-codegen_dd codegen_dd_from(double x)
+codegen_dd codegen_dd_from(codegen_real x)
 {
     codegen_dd r;
     r.hi = x;
-    r.lo = 0.0;
+    r.lo = 0;
     return r;
 }
 
 /* hi + lo = a + b exactly, given |a| >= |b| or a == 0. */
-static codegen_dd quick_two_sum(double a, double b)
+static codegen_dd quick_two_sum(codegen_real a, codegen_real b)
 {
     codegen_dd r;
     r.hi = a + b;
@@ -23,10 +24,10 @@ static codegen_dd quick_two_sum(double a, double b)
 }
 
 /* hi + lo = a + b exactly (Knuth). */
-static codegen_dd two_sum(double a, double b)
+static codegen_dd two_sum(codegen_real a, codegen_real b)
 {
     codegen_dd r;
-    double v;
+    codegen_real v;
     r.hi = a + b;
     v = r.hi - a;
     r.lo = (a - (r.hi - v)) + (b - v);
@@ -55,26 +56,26 @@ codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
 
 codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
 {
-    const double p = a.hi * b.hi;
-    const double e = fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
+    const codegen_real p = a.hi * b.hi;
+    const codegen_real e = fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
     return quick_two_sum(p, e);
 }
 
 codegen_dd codegen_dd_div(codegen_dd a, codegen_dd b)
 {
-    const double q1 = a.hi / b.hi;
+    const codegen_real q1 = a.hi / b.hi;
     const codegen_dd r = codegen_dd_sub(a, codegen_dd_mul(b, codegen_dd_from(q1)));
-    const double q2 = r.hi / b.hi;
+    const codegen_real q2 = r.hi / b.hi;
     return quick_two_sum(q1, q2);
 }
 
-double codegen_dd_to_double(codegen_dd a)
+codegen_real codegen_dd_to_double(codegen_dd a)
 {
     return a.hi + a.lo;
 }
 
 void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
-                    const double *constants, codegen_dd *v)
+                    const codegen_real *constants, codegen_dd *v)
 {
     size_t i;
     for (i = 0; i < count; ++i) {

@@ -18,11 +18,13 @@
 
 #include <stddef.h>
 
+#include "codegen_real.h"
+
 typedef struct codegen_dd {
-    double hi, lo;
+    codegen_real hi, lo;
 } codegen_dd;
 
-codegen_dd codegen_dd_from(double x);
+codegen_dd codegen_dd_from(codegen_real x);
 codegen_dd codegen_dd_add(codegen_dd a, codegen_dd b);
 codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b);
 codegen_dd codegen_dd_neg(codegen_dd a);
@@ -30,7 +32,7 @@ codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b);
 /* a / b by two long-division steps (b.hi == 0 gives a non-finite result, as in double). */
 codegen_dd codegen_dd_div(codegen_dd a, codegen_dd b);
 /* The nearest double. */
-double codegen_dd_to_double(codegen_dd a);
+codegen_real codegen_dd_to_double(codegen_dd a);
 
 typedef enum codegen_dd_operation {
     CODEGEN_DD_CONST, /* v[destination] = constants[left] */
@@ -48,6 +50,6 @@ typedef struct codegen_dd_instruction {
 /* Runs count instructions in order over the values v (operands are read before the
  * destination is written, so they may coincide). */
 void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
-                    const double *constants, codegen_dd *v);
+                    const codegen_real *constants, codegen_dd *v);
 
 #endif /* CODEGEN_DD_H */

@@ -5,21 +5,22 @@
 #include "codegen_interval.h"
 
 #include <stddef.h>
+#include <tgmath.h> /* math on codegen_real: float or double functions */
 
 /* ---- sin, cos ---- */
 
-#define TWO_PI 6.283185307179586
-#define HALF_PI 1.5707963267948966
+#define TWO_PI CODEGEN_R(6.283185307179586)
+#define HALF_PI CODEGEN_R(1.5707963267948966)
 
 /* Whether phase + 2 pi k lies in [lo - slack, hi + slack] for some integer k; slack covers
  * the rounding of phase + 2 pi k and of 2 pi itself at this magnitude. */
-static int holds_phase(codegen_iv a, double phase)
+static int holds_phase(codegen_iv a, codegen_real phase)
 {
-    const double slack = 8.0 * DBL_EPSILON * (fabs(a.lo) + fabs(a.hi) + 1.0);
-    const double k = ceil((a.lo - slack - phase) / TWO_PI);
+    const codegen_real slack = CODEGEN_R(8.0) * CODEGEN_EPSILON * (fabs(a.lo) + fabs(a.hi) + 1);
+    const codegen_real k = ceil((a.lo - slack - phase) / TWO_PI);
     int j;
     for (j = -1; j <= 1; ++j) {
-        const double x = phase + (k + j) * TWO_PI;
+        const codegen_real x = phase + (k + (codegen_real)j) * TWO_PI;
         if (x >= a.lo - slack && x <= a.hi + slack) {
             return 1;
         }
@@ -29,29 +30,29 @@ static int holds_phase(codegen_iv a, double phase)
 
 /* sin (is_sin) or cos over a: its values at the ends, widened by two ulps for libm's error,
  * and the extremes +-1 where a holds a crest (max_phase) or trough (min_phase). */
-static codegen_iv periodic(codegen_iv a, int is_sin, double max_phase, double min_phase)
+static codegen_iv periodic(codegen_iv a, int is_sin, codegen_real max_phase, codegen_real min_phase)
 {
-    double at_lo, at_hi, lo, hi;
+    codegen_real at_lo, at_hi, lo, hi;
     /* beyond 2^50 rad the doubles are too sparse to place a crest: the whole range */
-    if (!(a.hi - a.lo < 6.0) || !(fabs(a.lo) < 0x1p50) || !(fabs(a.hi) < 0x1p50)) {
-        return codegen_iv_make(-1.0, 1.0);
+    if (!(a.hi - a.lo < CODEGEN_R(6.0)) || !(fabs(a.lo) < CODEGEN_R(0x1p50)) || !(fabs(a.hi) < CODEGEN_R(0x1p50))) {
+        return codegen_iv_make(-1, 1);
     }
     at_lo = is_sin ? sin(a.lo) : cos(a.lo);
     at_hi = is_sin ? sin(a.hi) : cos(a.hi);
     lo = codegen_iv_down(codegen_iv_down(at_lo < at_hi ? at_lo : at_hi));
     hi = codegen_iv_up(codegen_iv_up(at_lo > at_hi ? at_lo : at_hi));
     if (holds_phase(a, max_phase)) {
-        hi = 1.0;
+        hi = 1;
     }
     if (holds_phase(a, min_phase)) {
-        lo = -1.0;
+        lo = -1;
     }
-    return codegen_iv_make(lo < -1.0 ? -1.0 : lo, hi > 1.0 ? 1.0 : hi);
+    return codegen_iv_make(lo < -1 ? -1 : lo, hi > 1 ? 1 : hi);
 }
 
 codegen_iv codegen_iv_cos(codegen_iv a)
 {
-    return periodic(a, 0, 0.0, TWO_PI / 2.0);
+    return periodic(a, 0, 0, TWO_PI / CODEGEN_R(2.0));
 }
 
 codegen_iv codegen_iv_sin(codegen_iv a)
@@ -65,13 +66,13 @@ codegen_iv codegen_iv_sin(codegen_iv a)
 /* Deeper than the ~60 halvings from any interval of doubles down to RESOLUTION. */
 #define STACK_DEPTH 96
 /* Boxes narrower than this many ulps of their ends are not split further. */
-#define RESOLUTION 16.0
+#define RESOLUTION CODEGEN_R(16.0)
 /* Refinement steps (safeguarded Newton: ~5 usually reach rounding). */
 #define REFINE_STEPS 100
 #define UNKNOWN_SIGN 2
 /* Where a box is split: off its centre, so that splits avoid the symmetric angles (0, pi/2,
  * the range's centre) where zeros often sit exactly. */
-#define SPLIT 0.5078125
+#define SPLIT CODEGEN_R(0.5078125)
 
 typedef struct isolation {
     codegen_enclosure enclose;
@@ -81,16 +82,16 @@ typedef struct isolation {
     int capacity, count;
     long boxes;
     int pending;              /* a run of unresolved boxes waiting to be merged */
-    double pending_lo, pending_hi;
+    codegen_real pending_lo, pending_hi;
     unsigned pending_flags;
 } isolation;
 
 typedef struct box {
-    double lo, hi;
+    codegen_real lo, hi;
     int sign_lo, sign_hi;     /* G's decided sign at each end, 0 undecided, or UNKNOWN_SIGN */
 } box;
 
-static int enclose(isolation *s, double lo, double hi, codegen_iv *g, codegen_iv *dg,
+static int enclose(isolation *s, codegen_real lo, codegen_real hi, codegen_iv *g, codegen_iv *dg,
                    unsigned *flags)
 {
     *flags = 0u;
@@ -103,27 +104,27 @@ static int enclose(isolation *s, double lo, double hi, codegen_iv *g, codegen_iv
 /* G's sign at theta, if the enclosure decides it (else 0), and G and G' there (midpoints of
  * their enclosures); a point where G is not smooth or the mechanism may not exist is
  * undecided. */
-static int probe(isolation *s, double theta, int *sign, double *value, double *slope)
+static int probe(isolation *s, codegen_real theta, int *sign, codegen_real *value, codegen_real *slope)
 {
-    codegen_iv g = {0.0, 0.0}, dg = {0.0, 0.0};
+    codegen_iv g = {0, 0}, dg = {0, 0};
     unsigned flags;
     const int status = enclose(s, theta, theta, &g, &dg, &flags);
     *sign = 0;
-    *value = 0.5 * g.lo + 0.5 * g.hi;
-    *slope = 0.5 * dg.lo + 0.5 * dg.hi;
+    *value = CODEGEN_R(0.5) * g.lo + CODEGEN_R(0.5) * g.hi;
+    *slope = CODEGEN_R(0.5) * dg.lo + CODEGEN_R(0.5) * dg.hi;
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))) {
-        *sign = g.lo > 0.0 ? 1 : g.hi < 0.0 ? -1 : 0;
+        *sign = g.lo > 0 ? 1 : g.hi < 0 ? -1 : 0;
     }
     return status;
 }
 
-static int sign_at(isolation *s, double theta, int *sign)
+static int sign_at(isolation *s, codegen_real theta, int *sign)
 {
-    double value, slope;
+    codegen_real value, slope;
     return probe(s, theta, sign, &value, &slope);
 }
 
-static int known_sign(isolation *s, double theta, int *sign)
+static int known_sign(isolation *s, codegen_real theta, int *sign)
 {
     return *sign != UNKNOWN_SIGN ? 0 : sign_at(s, theta, sign);
 }
@@ -135,7 +136,7 @@ static int end_signs(isolation *s, box *b)
     return status != 0 ? status : known_sign(s, b->hi, &b->sign_hi);
 }
 
-static int append(isolation *s, double lo, double hi, double theta, codegen_isolated_kind kind,
+static int append(isolation *s, codegen_real lo, codegen_real hi, codegen_real theta, codegen_isolated_kind kind,
                   int sign_change)
 {
     codegen_isolated *r;
@@ -153,12 +154,12 @@ static int append(isolation *s, double lo, double hi, double theta, codegen_isol
 
 /* theta's sign is within rounding: the bracket [*lo, *hi] closes in on it from both sides,
  * with steps growing eightfold from a few ulps, as far as signs are decided there. */
-static int tighten(isolation *s, double theta, double *lo, double *hi, int sign_lo)
+static int tighten(isolation *s, codegen_real theta, codegen_real *lo, codegen_real *hi, int sign_lo)
 {
-    double step;
+    codegen_real step;
     int sign, status = 0, left = 0, right = 0;
-    for (step = 4.0 * DBL_EPSILON * fmax(fabs(theta), 1.0); status == 0 && !(left && right)
-         && step < *hi - *lo; step *= 8.0) {
+    for (step = CODEGEN_R(4.0) * CODEGEN_EPSILON * fmax(fabs(theta), (codegen_real)1); status == 0 && !(left && right)
+         && step < *hi - *lo; step *= CODEGEN_R(8.0)) {
         if (!left && theta - step > *lo) {
             status = sign_at(s, theta - step, &sign);
             if (sign == sign_lo) {
@@ -182,12 +183,12 @@ static int tighten(isolation *s, double theta, double *lo, double *hi, int sign_
  * proven by deciding each new point's sign with the enclosure, until a point's sign is
  * within rounding (that point is the zero to working precision; tighten then closes the
  * bracket around it) or the bracket reaches adjacent doubles. */
-static int refine(isolation *s, double lo, double hi, int sign_lo)
+static int refine(isolation *s, codegen_real lo, codegen_real hi, int sign_lo)
 {
-    double theta = lo + 0.5 * (hi - lo);
+    codegen_real theta = lo + CODEGEN_R(0.5) * (hi - lo);
     int sign, status = 0, i;
     for (i = 0; i < REFINE_STEPS; ++i) {
-        double value, slope, next;
+        codegen_real value, slope, next;
         status = probe(s, theta, &sign, &value, &slope);
         if (status == 0 && sign == 0) {
             status = tighten(s, theta, &lo, &hi, sign_lo);
@@ -206,7 +207,7 @@ static int refine(isolation *s, double lo, double hi, int sign_lo)
         }
         next = theta - value / slope;
         if (!(next > lo && next < hi)) {
-            next = lo + 0.5 * (hi - lo);
+            next = lo + CODEGEN_R(0.5) * (hi - lo);
         }
         if (!(next > lo && next < hi)) {
             break; /* lo and hi are adjacent doubles; theta is one of them */
@@ -263,7 +264,7 @@ static int flush(isolation *s)
     }
     status = end_signs(s, &b);
     return status != 0 ? status
-         : append(s, b.lo, b.hi, 0.5 * b.lo + 0.5 * b.hi,
+         : append(s, b.lo, b.hi, CODEGEN_R(0.5) * b.lo + CODEGEN_R(0.5) * b.hi,
                   ((flags | s->pending_flags) & SMOOTHNESS_FLAGS) != 0u ? CODEGEN_ISOLATED_SINGULAR
                                                                          : CODEGEN_ISOLATED_CLUSTER,
                   b.sign_lo * b.sign_hi < 0);
@@ -290,12 +291,12 @@ static int unresolved(isolation *s, const box *b, unsigned flags)
  * smooth, G's sign is within rounding at both ends and the middle: splitting cannot decide
  * more (a fold, or a zero where G's rounding spreads wide). A box where G is not smooth is split
  * down to the resolution (its ends may lie outside the mechanism's domain, its middle not). */
-static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, unsigned flags,
+static int hopeless(isolation *s, box *b, codegen_real mid, codegen_iv g_mid, unsigned flags,
                     int *result)
 {
-    const double scale = fmax(fmax(fabs(b->lo), fabs(b->hi)), 1.0);
+    const codegen_real scale = fmax(fmax(fabs(b->lo), fabs(b->hi)), (codegen_real)1);
     int status = 0;
-    *result = b->hi - b->lo <= RESOLUTION * DBL_EPSILON * scale || !(mid > b->lo && mid < b->hi);
+    *result = b->hi - b->lo <= RESOLUTION * CODEGEN_EPSILON * scale || !(mid > b->lo && mid < b->hi);
     if (*result || flags || !codegen_iv_has_zero(g_mid)) {
         return 0;
     }
@@ -307,23 +308,23 @@ static int hopeless(isolation *s, box *b, double mid, codegen_iv g_mid, unsigned
 /* Where to split [lo, hi]: off-centre (SPLIT); across many binades at their geometric middle
  * (or at 0 when the box holds it), so that reaching a zero near 1 from 1e300 takes ~10
  * splits, not ~1000, and the stack suffices. */
-static double split_point(double lo, double hi)
+static codegen_real split_point(codegen_real lo, codegen_real hi)
 {
-    const double wide = 64.0;
-    if (lo < 0.0 && hi > 0.0 && (hi > wide || -lo > wide)) {
-        return 0.0;
+    const codegen_real wide = CODEGEN_R(64.0);
+    if (lo < 0 && hi > 0 && (hi > wide || -lo > wide)) {
+        return 0;
     }
-    if (lo >= 0.0 && hi > wide * fmax(lo, 1.0)) {
-        return sqrt(fmax(lo, 1.0)) * sqrt(hi);
+    if (lo >= 0 && hi > wide * fmax(lo, (codegen_real)1)) {
+        return sqrt(fmax(lo, (codegen_real)1)) * sqrt(hi);
     }
-    if (hi <= 0.0 && -lo > wide * fmax(-hi, 1.0)) {
-        return -sqrt(fmax(-hi, 1.0)) * sqrt(-lo);
+    if (hi <= 0 && -lo > wide * fmax(-hi, (codegen_real)1)) {
+        return -sqrt(fmax(-hi, (codegen_real)1)) * sqrt(-lo);
     }
-    return (1.0 - SPLIT) * lo + SPLIT * hi; /* (hi - lo may overflow) */
+    return (1 - SPLIT) * lo + SPLIT * hi; /* (hi - lo may overflow) */
 }
 
 /* One box of the subdivision: 0 and *split = 1 when its halves must be examined. */
-static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
+static int examine(isolation *s, box *b, codegen_real *mid, int *mid_sign, int *split)
 {
     codegen_iv g, dg, g_mid, dg_mid;
     unsigned flags, mid_flags = 0u;
@@ -344,7 +345,7 @@ static int examine(isolation *s, box *b, double *mid, int *mid_sign, int *split)
         }
         if (!mid_flags) {
             const codegen_iv offset = codegen_iv_make(b->lo - *mid, b->hi - *mid);
-            *mid_sign = g_mid.lo > 0.0 ? 1 : g_mid.hi < 0.0 ? -1 : 0;
+            *mid_sign = g_mid.lo > 0 ? 1 : g_mid.hi < 0 ? -1 : 0;
             if (!codegen_iv_has_zero(codegen_iv_add(g_mid, codegen_iv_mul(dg, offset)))) {
                 return 0;
             }
@@ -376,12 +377,12 @@ static void start(isolation *s, codegen_enclosure enclose_fn, const void *contex
     s->count = 0;
     s->boxes = 0;
     s->pending = 0;
-    s->pending_lo = s->pending_hi = 0.0;
+    s->pending_lo = s->pending_hi = 0;
     s->pending_flags = 0u;
 }
 
-int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, double lo,
-                    double hi, codegen_isolated *out, int capacity, int *count)
+int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, codegen_real lo,
+                    codegen_real hi, codegen_isolated *out, int capacity, int *count)
 {
     isolation s;
     box stack[STACK_DEPTH];
@@ -393,7 +394,7 @@ int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned 
     ++top;
     while (top > 0 && status == 0) {
         box b = stack[--top];
-        double mid;
+        codegen_real mid;
         int mid_sign, split;
         status = examine(&s, &b, &mid, &mid_sign, &split);
         if (status != 0 || !split) {
@@ -422,8 +423,8 @@ int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned 
     return status;
 }
 
-int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned mode, double lo,
-                    double hi, int *certified)
+int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned mode, codegen_real lo,
+                    codegen_real hi, int *certified)
 {
     isolation s;
     box b;
@@ -452,11 +453,11 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
  * and is tried once more sixteen times wider: two enclosures a try, where guessing widths
  * for codegen_certify costs three each. */
 int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, unsigned mode,
-                           double m, double *lo, double *hi, int *certified)
+                           codegen_real m, codegen_real *lo, codegen_real *hi, int *certified)
 {
     codegen_iv g_m, dg_m;
     unsigned flags = 0u;
-    double w;
+    codegen_real w;
     int attempt, status;
     *certified = 0;
     status = enclose_fn(context, mode, codegen_iv_point(m), &g_m, &dg_m, &flags);
@@ -464,9 +465,9 @@ int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, un
         || codegen_iv_has_zero(dg_m)) {
         return status;
     }
-    w = 2.0 * fmax(fabs(g_m.lo), fabs(g_m.hi)) / fmin(fabs(dg_m.lo), fabs(dg_m.hi))
-        + 8.0 * DBL_EPSILON * fmax(fabs(m), 1.0);
-    for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= 16.0) {
+    w = CODEGEN_R(2.0) * fmax(fabs(g_m.lo), fabs(g_m.hi)) / fmin(fabs(dg_m.lo), fabs(dg_m.hi))
+        + CODEGEN_R(8.0) * CODEGEN_EPSILON * fmax(fabs(m), (codegen_real)1);
+    for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= CODEGEN_R(16.0)) {
         const codegen_iv x = codegen_iv_make(m - w, m + w);
         codegen_iv g_x, dg_x, n;
         flags = 0u;

@@ -15,14 +15,10 @@
 #ifndef CODEGEN_INTERVAL_H
 #define CODEGEN_INTERVAL_H
 
-#include <float.h>
-#include <math.h>
+#include "codegen_real.h"
 
-#ifdef __FAST_MATH__
-#error "codegen_interval.h: -ffast-math breaks the rounding bounds of the interval arithmetic"
-#endif
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
-#error "codegen_interval.h: needs double evaluated in double (FLT_EVAL_METHOD 0; use -msse2 -mfpmath=sse on x86)"
+#error "codegen_interval.h: needs each type evaluated in its own precision (FLT_EVAL_METHOD 0; use -msse2 -mfpmath=sse on x86)"
 #endif
 
 #ifdef __cplusplus
@@ -31,7 +27,7 @@ extern "C" {
 
 /* The closed interval [lo, hi]; lo may be -HUGE_VAL and hi HUGE_VAL (unbounded). */
 typedef struct codegen_iv {
-    double lo, hi;
+    codegen_real lo, hi;
 } codegen_iv;
 
 /* What an enclosure met on the way, or-ed together by the operations that notice it. */
@@ -42,17 +38,17 @@ typedef struct codegen_iv {
 #define CODEGEN_IV_OUTSIDE 4u /* a radicand is below 0 on the whole interval: no state there */
 
 /* The next double below / above x: a bound on any real that rounds to x. */
-static inline double codegen_iv_down(double x)
+static inline codegen_real codegen_iv_down(codegen_real x)
 {
-    return x == HUGE_VAL ? DBL_MAX : x - (fabs(x) * 0x1p-52 + 0x1p-1074);
+    return x == CODEGEN_HUGE ? CODEGEN_REAL_MAX : x - (codegen_fabs(x) * CODEGEN_EPSILON + CODEGEN_REAL_TRUE_MIN);
 }
 
-static inline double codegen_iv_up(double x)
+static inline codegen_real codegen_iv_up(codegen_real x)
 {
-    return x == -HUGE_VAL ? -DBL_MAX : x + (fabs(x) * 0x1p-52 + 0x1p-1074);
+    return x == -CODEGEN_HUGE ? -CODEGEN_REAL_MAX : x + (codegen_fabs(x) * CODEGEN_EPSILON + CODEGEN_REAL_TRUE_MIN);
 }
 
-static inline codegen_iv codegen_iv_make(double lo, double hi)
+static inline codegen_iv codegen_iv_make(codegen_real lo, codegen_real hi)
 {
     codegen_iv r;
     r.lo = lo;
@@ -60,26 +56,26 @@ static inline codegen_iv codegen_iv_make(double lo, double hi)
     return r;
 }
 
-static inline codegen_iv codegen_iv_point(double x)
+static inline codegen_iv codegen_iv_point(codegen_real x)
 {
     return codegen_iv_make(x, x);
 }
 
 static inline int codegen_iv_has_zero(codegen_iv x)
 {
-    return !(x.lo > 0.0 || x.hi < 0.0); /* a NaN bound counts as holding everything */
+    return !(x.lo > 0 || x.hi < 0); /* a NaN bound counts as holding everything */
 }
 
 /* A sum with one operand exactly 0 is exact: no widening (so 0 + 0 stays 0, and a sum of
  * squares cannot dip below zero). */
-static inline double codegen_iv_sum_down(double a, double b)
+static inline codegen_real codegen_iv_sum_down(codegen_real a, codegen_real b)
 {
-    return a == 0.0 ? b : b == 0.0 ? a : codegen_iv_down(a + b);
+    return a == 0 ? b : b == 0 ? a : codegen_iv_down(a + b);
 }
 
-static inline double codegen_iv_sum_up(double a, double b)
+static inline codegen_real codegen_iv_sum_up(codegen_real a, codegen_real b)
 {
-    return a == 0.0 ? b : b == 0.0 ? a : codegen_iv_up(a + b);
+    return a == 0 ? b : b == 0 ? a : codegen_iv_up(a + b);
 }
 
 static inline codegen_iv codegen_iv_add(codegen_iv a, codegen_iv b)
@@ -100,64 +96,64 @@ static inline codegen_iv codegen_iv_sub(codegen_iv a, codegen_iv b)
 /* Bounds on x * y and x / y: exactly 0 when x (or y, for the product) is 0 -- so 0 * infinity
  * counts as 0, the bounds standing for finite values -- and moved outward otherwise (an
  * underflow to 0 included). */
-static inline double codegen_iv_mul_down(double x, double y)
+static inline codegen_real codegen_iv_mul_down(codegen_real x, codegen_real y)
 {
-    return x == 0.0 || y == 0.0 ? 0.0 : codegen_iv_down(x * y);
+    return x == 0 || y == 0 ? 0 : codegen_iv_down(x * y);
 }
 
-static inline double codegen_iv_mul_up(double x, double y)
+static inline codegen_real codegen_iv_mul_up(codegen_real x, codegen_real y)
 {
-    return x == 0.0 || y == 0.0 ? 0.0 : codegen_iv_up(x * y);
+    return x == 0 || y == 0 ? 0 : codegen_iv_up(x * y);
 }
 
 /* (infinity / infinity is NaN: unbounded in the bound's direction) */
-static inline double codegen_iv_div_down(double x, double y)
+static inline codegen_real codegen_iv_div_down(codegen_real x, codegen_real y)
 {
-    const double q = x / y;
-    return x == 0.0 ? 0.0 : q != q ? -HUGE_VAL : codegen_iv_down(q);
+    const codegen_real q = x / y;
+    return x == 0 ? 0 : q != q ? -CODEGEN_HUGE : codegen_iv_down(q);
 }
 
-static inline double codegen_iv_div_up(double x, double y)
+static inline codegen_real codegen_iv_div_up(codegen_real x, codegen_real y)
 {
-    const double q = x / y;
-    return x == 0.0 ? 0.0 : q != q ? HUGE_VAL : codegen_iv_up(q);
+    const codegen_real q = x / y;
+    return x == 0 ? 0 : q != q ? CODEGEN_HUGE : codegen_iv_up(q);
 }
 
-static inline double codegen_iv_min4(double a, double b, double c, double d)
+static inline codegen_real codegen_iv_min4(codegen_real a, codegen_real b, codegen_real c, codegen_real d)
 {
-    const double ab = a < b ? a : b, cd = c < d ? c : d;
+    const codegen_real ab = a < b ? a : b, cd = c < d ? c : d;
     return ab < cd ? ab : cd;
 }
 
-static inline double codegen_iv_max4(double a, double b, double c, double d)
+static inline codegen_real codegen_iv_max4(codegen_real a, codegen_real b, codegen_real c, codegen_real d)
 {
-    const double ab = a > b ? a : b, cd = c > d ? c : d;
+    const codegen_real ab = a > b ? a : b, cd = c > d ? c : d;
     return ab > cd ? ab : cd;
 }
 
 /* Bounds that cannot cross 0 (an underflow widened outward would). */
-static inline double codegen_iv_at_least_0(double x)
+static inline codegen_real codegen_iv_at_least_0(codegen_real x)
 {
-    return x < 0.0 ? 0.0 : x;
+    return x < 0 ? 0 : x;
 }
 
 /* By the signs of the factors: two products where neither interval holds 0 inside. */
 static inline codegen_iv codegen_iv_mul(codegen_iv a, codegen_iv b)
 {
-    if (a.lo >= 0.0) {
-        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.lo, b.lo)), codegen_iv_mul_up(a.hi, b.hi))
-             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.hi))
+    if (a.lo >= 0) {
+        return b.lo >= 0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.lo, b.lo)), codegen_iv_mul_up(a.hi, b.hi))
+             : b.hi <= 0 ? codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.hi))
              : codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.hi, b.hi));
     }
-    if (a.hi <= 0.0) {
-        return b.lo >= 0.0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.lo))
-             : b.hi <= 0.0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.hi, b.hi)), codegen_iv_mul_up(a.lo, b.lo))
+    if (a.hi <= 0) {
+        return b.lo >= 0 ? codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.lo))
+             : b.hi <= 0 ? codegen_iv_make(codegen_iv_at_least_0(codegen_iv_mul_down(a.hi, b.hi)), codegen_iv_mul_up(a.lo, b.lo))
              : codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.lo, b.lo));
     }
-    if (b.lo >= 0.0) {
+    if (b.lo >= 0) {
         return codegen_iv_make(codegen_iv_mul_down(a.lo, b.hi), codegen_iv_mul_up(a.hi, b.hi));
     }
-    if (b.hi <= 0.0) {
+    if (b.hi <= 0) {
         return codegen_iv_make(codegen_iv_mul_down(a.hi, b.lo), codegen_iv_mul_up(a.lo, b.lo));
     }
     return codegen_iv_make( /* both hold 0 inside */
@@ -169,7 +165,7 @@ static inline codegen_iv codegen_iv_mul(codegen_iv a, codegen_iv b)
 
 static inline codegen_iv codegen_iv_whole(void)
 {
-    return codegen_iv_make(-HUGE_VAL, HUGE_VAL);
+    return codegen_iv_make(-CODEGEN_HUGE, CODEGEN_HUGE);
 }
 
 static inline codegen_iv codegen_iv_div(codegen_iv a, codegen_iv b, unsigned *flags)
@@ -189,7 +185,7 @@ static inline codegen_iv codegen_iv_div(codegen_iv a, codegen_iv b, unsigned *fl
 
 /* x^n of one double, enclosed (n >= 1): square-and-multiply, ~log2(n) roundings, the first
  * factor taken as it is (no product with 1). */
-static inline codegen_iv codegen_iv_point_pow(double x, int n)
+static inline codegen_iv codegen_iv_point_pow(codegen_real x, int n)
 {
     codegen_iv base = codegen_iv_point(x), result = base;
     int started = 0;
@@ -215,28 +211,28 @@ static inline codegen_iv codegen_iv_pow(codegen_iv a, int n)
     if (n % 2 == 1) {
         return codegen_iv_make(lo.lo, hi.hi);
     }
-    if (a.lo >= 0.0) {
+    if (a.lo >= 0) {
         return codegen_iv_make(codegen_iv_at_least_0(lo.lo), hi.hi);
     }
-    if (a.hi <= 0.0) {
+    if (a.hi <= 0) {
         return codegen_iv_make(codegen_iv_at_least_0(hi.lo), lo.hi);
     }
-    return codegen_iv_make(0.0, lo.hi > hi.hi ? lo.hi : hi.hi);
+    return codegen_iv_make(0, lo.hi > hi.hi ? lo.hi : hi.hi);
 }
 
 static inline codegen_iv codegen_iv_sqrt(codegen_iv a, unsigned *flags)
 {
-    if (a.hi < 0.0) {
+    if (a.hi < 0) {
         *flags |= CODEGEN_IV_OUTSIDE;
-        return codegen_iv_make(0.0, 0.0);
+        return codegen_iv_make(0, 0);
     }
-    if (!(a.lo > 0.0)) { /* 0 or below (or NaN): the root may be 0 inside */
+    if (!(a.lo > 0)) { /* 0 or below (or NaN): the root may be 0 inside */
         *flags |= CODEGEN_IV_EDGE;
-        return codegen_iv_make(0.0, codegen_iv_up(sqrt(a.hi)));
+        return codegen_iv_make(0, codegen_iv_up(codegen_sqrt(a.hi)));
     }
     {
-        const double lo = codegen_iv_down(sqrt(a.lo));
-        return codegen_iv_make(lo > 0.0 ? lo : 0.0, codegen_iv_up(sqrt(a.hi)));
+        const codegen_real lo = codegen_iv_down(codegen_sqrt(a.lo));
+        return codegen_iv_make(lo > 0 ? lo : 0, codegen_iv_up(codegen_sqrt(a.hi)));
     }
 }
 
@@ -263,8 +259,8 @@ typedef enum codegen_isolated_kind {
 } codegen_isolated_kind;
 
 typedef struct codegen_isolated {
-    double lo, hi;   /* the interval */
-    double theta;    /* ROOT: the zero to working precision; otherwise the midpoint */
+    codegen_real lo, hi;   /* the interval */
+    codegen_real theta;    /* ROOT: the zero to working precision; otherwise the midpoint */
     codegen_isolated_kind kind;
     int sign_change; /* G's sign is decided at both ends, and differs: an odd number of
                         zeros inside if G is continuous there */
@@ -285,20 +281,20 @@ typedef struct codegen_isolated {
  * sign change, and report what double precision cannot decide as a CLUSTER or SINGULAR
  * interval. Nothing is dropped: every zero of G in [lo, hi] lies in some reported interval.
  * out receives *count entries (at most capacity). Reentrant; stack use ~2 KiB. */
-int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mode, double lo,
-                    double hi, codegen_isolated *out, int capacity, int *count);
+int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mode, codegen_real lo,
+                    codegen_real hi, codegen_isolated *out, int capacity, int *count);
 
 /* *certified = 1 if [lo, hi] provably holds exactly one zero of G, a simple one (G changes
  * sign at the ends, G' keeps its sign between), else 0. Returns 0 or the enclosure's status. */
-int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mode, double lo,
-                    double hi, int *certified);
+int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mode, codegen_real lo,
+                    codegen_real hi, int *certified);
 
 /* *certified = 1 if an interval [*lo, *hi] around m, a few times the distance a Newton step
  * from m can move, provably holds exactly one zero of G, a simple one (as codegen_certify
  * says it), proven by the interval Newton test; else 0 and *lo, *hi untouched. For m within
  * rounding of a simple zero, as polishing leaves it. Returns 0 or the enclosure's status. */
 int codegen_certify_newton(codegen_enclosure enclose, const void *context, unsigned mode,
-                           double m, double *lo, double *hi, int *certified);
+                           codegen_real m, codegen_real *lo, codegen_real *hi, int *certified);
 
 #ifdef __cplusplus
 }

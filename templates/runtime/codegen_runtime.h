@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 
+#include "codegen_real.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -41,7 +43,7 @@ typedef enum codegen_roots_status {
  * all coefficients zero (CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL). On any error theta and *n_roots
  * are left untouched. The result does not depend on the coefficients' overall scale. Reentrant
  * and thread-safe; stack use is O(CODEGEN_MAX_DEGREE^2) (about 13 KiB for 32). */
-codegen_roots_status codegen_poly_real_roots(const double *sigma, int degree, double *theta,
+codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots);
 
 #ifdef __cplusplus

@@ -1,0 +1,71 @@
+/*
+ * codegen_real.h -- the real type of the whole library, chosen when it is compiled.
+ * Hand-written (not generated). Plain C99.
+ *
+ * By default the library computes in double. Compiled with -DCODEGEN_FLOAT (every file of the
+ * library and the program using it: the header's types change), it computes in float, for
+ * cores with a single-precision FPU only (Cortex-M4F): codegen_real is float, literals are
+ * float literals, the library's .c files call the float functions of libm (through
+ * <tgmath.h>), and every tolerance is derived from CODEGEN_EPSILON.
+ *
+ * Flags that break the arithmetic are refused here, at compile time:
+ *   -ffast-math (and -ffinite-math-only, which it implies): the rounding bounds of the
+ *     interval arithmetic and the checks for NaN parameters assume IEEE arithmetic;
+ *   -fsingle-precision-constant: double literals silently become float ones.
+ * Documented, not refusable: contraction into fma (-ffp-contract=fast, the default of gnu99)
+ * changes results in the last bits; use -ffp-contract=off (or -std=c99) where bit
+ * reproducibility across compilers and targets matters.
+ */
+#ifndef CODEGEN_REAL_H
+#define CODEGEN_REAL_H
+
+#include <float.h>
+#include <math.h>
+
+#ifdef __FAST_MATH__
+#error "codegen: -ffast-math (or -ffinite-math-only) breaks the library's IEEE rounding bounds and NaN checks; compile without it"
+#endif
+
+/* With -fsingle-precision-constant, 1.0 has the size of a float: the array size is -1. */
+typedef char codegen_error_compiled_with_fsingle_precision_constant[
+    sizeof(1.0) == sizeof(double) ? 1 : -1];
+
+#ifdef CODEGEN_FLOAT
+typedef float codegen_real;
+#define CODEGEN_R(literal) literal##F          /* a literal of the library's type */
+#define CODEGEN_BOUND(as_double, as_float) as_float##F /* a constant rounded for each type */
+#define CODEGEN_EPSILON FLT_EPSILON            /* 2^-23 */
+#define CODEGEN_SQRT_EPSILON 3.45266983e-4F   /* 2^-11.5: tolerances on what rounding squares */
+#define CODEGEN_REAL_MIN FLT_MIN               /* smallest normal */
+#define CODEGEN_REAL_TRUE_MIN 0x1p-149F        /* smallest subnormal */
+#define CODEGEN_REAL_MAX FLT_MAX
+#define CODEGEN_HUGE HUGE_VALF
+#define CODEGEN_NAN NAN
+#define CODEGEN_REAL_NAME "float"
+#define CODEGEN_SPLITTER 4097.0F              /* Veltkamp's 2^12 + 1: halves of a float */
+#ifdef FP_FAST_FMAF
+#define CODEGEN_FAST_FMA 1                     /* fmaf is as fast as a product */
+#endif
+#define codegen_fabs fabsf /* for headers, which must not include <tgmath.h> for their users */
+#define codegen_sqrt sqrtf
+#else
+typedef double codegen_real;
+#define CODEGEN_R(literal) literal
+#define CODEGEN_BOUND(as_double, as_float) as_double
+#define CODEGEN_EPSILON DBL_EPSILON            /* 2^-52 */
+#define CODEGEN_SQRT_EPSILON 0x1p-26
+#define CODEGEN_REAL_MIN DBL_MIN
+#define CODEGEN_REAL_TRUE_MIN 0x1p-1074
+#define CODEGEN_REAL_MAX DBL_MAX
+#define CODEGEN_HUGE HUGE_VAL
+#define CODEGEN_NAN ((double)NAN)                /* NAN is a float */
+#define CODEGEN_REAL_NAME "double"
+#define CODEGEN_SPLITTER 134217729.0           /* Veltkamp's 2^27 + 1: halves of a double */
+#ifdef FP_FAST_FMA
+#define CODEGEN_FAST_FMA 1
+#endif
+#define codegen_fabs fabs
+#define codegen_sqrt sqrt
+#endif
+
+#endif /* CODEGEN_REAL_H */
