@@ -7,7 +7,8 @@
  * Plain C99 + libm: no allocation, no global state, no I/O; every function is reentrant.
  * Every function validates its inputs, returns a slider_crank_status, and writes its outputs
  * only on SLIDER_CRANK_OK (on failure the outputs are left untouched). Angles are in radians,
- * everything else in SI units. Arrays are row-major.
+ * everything else in SI units. Arrays are row-major. Reals are codegen_real: double, or float
+ * when every file is compiled with -DCODEGEN_FLOAT (codegen_real.h).
  */
 #ifndef SLIDER_CRANK_H
 #define SLIDER_CRANK_H
