@@ -171,13 +171,9 @@ class Branches:
         """Write the points to ``path``: .csv or .parquet (as ``sweep.write``: text labels,
         Parquet through pyarrow) or .json (``to_dict``). Returns the rows written. Raises
         ValueError for another extension or a missing folder."""
-        path = Path(path)
+        path = check_table_path(path)
         if path.suffix.lower() != ".json":
-            if path.suffix.lower() not in sweep.FORMATS:
-                raise ValueError(f"{path}: the table is written as .csv, .json or .parquet")
             return sweep.write(self.table(), path, labels=LABELS)
-        if not path.parent.is_dir():
-            raise ValueError(f"{path}: no folder {path.parent}")
         path.write_text(json.dumps(self.to_dict(), indent=1) + "\n")
         return len(self.points)
 
@@ -185,6 +181,17 @@ class Branches:
         """The figure (``codegen.branch_figure.plot``): .png or .svg; needs matplotlib."""
         from .branch_figure import plot
         return plot(self, path)
+
+
+def check_table_path(path: str | os.PathLike[str]) -> Path:
+    """``path`` as a Path if a table can be written there (.csv, .json or .parquet, in an
+    existing folder); ValueError otherwise."""
+    path = Path(path)
+    if path.suffix.lower() not in (*sweep.FORMATS, ".json"):
+        raise ValueError(f"{path}: the table is written as .csv, .json or .parquet")
+    if not path.parent.is_dir():
+        raise ValueError(f"{path}: no folder {path.parent}")
+    return path
 
 
 def _finite(x: float) -> float | None:
