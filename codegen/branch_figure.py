@@ -108,7 +108,9 @@ def plot(result: Branches, path: str | os.PathLike[str]) -> Path:
     if np.any(np.isfinite(zeta) & (zeta > 0)):
         damping.set_yscale("log")   # zeta -> infinity as K -> 0 at a fold
     damping.set_xlabel(label)
-    frequency.set_title("stable branches", fontsize=9, loc="left")
+    marginal = np.any(result.points["stability"] == STABILITY.index("marginal"))
+    frequency.set_title(f"stable {'and marginal ' * bool(marginal)}branches", fontsize=9,
+                        loc="left")
     for ax in axes:
         ax.grid(True, alpha=0.3)
     damping.set_xlim(result.values[0], result.values[-1])
