@@ -147,6 +147,21 @@ def generate_table(generate: dict[str, Any], results: dict[str, dict[str, Any]])
     return table(["what", "mechanism", "wall time [s]"], rows)
 
 
+def branches_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 6: Library.branches over a range with folds."""
+    rows = []
+    for name, r in results.items():
+        b = r["branches"]
+        events = ", ".join(f"{kind} x{n}" for kind, n in b["events"].items()) or "none"
+        rows.append([f"`{name}`", f"{b['parameter']} from {b['from']:g} to {b['to']:g} "
+                     f"{b['unit']}", str(b["points"]), str(b["branches"]), events,
+                     f"{b['bisection_width']:.0e} {b['unit']}", f"{b['w1_seconds']:.3f}",
+                     f"{b['w2_seconds']:.3f}", f"{b['sampling_w2_seconds']:.3f}"])
+    return table(["mechanism", "range", "values", "branches", "events", "bisection to",
+                  "workers=1 [s]", "workers=2 [s]", "of which sampling, workers=2 [s]"],
+                 rows)
+
+
 def machine_table(info: dict[str, Any]) -> str:
     load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
     rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
@@ -188,7 +203,15 @@ SECTIONS = (
      "The command line deriving every shipped mechanism afresh and comparing with "
      "generated/ without writing (start-up included), and the cold `derive()` of each "
      "mechanism inside the benchmark."),
-    ("6. Machine", ""),
+    ("6. Branches against one parameter",
+     "`lib.branches(NAME, FROM, TO, points=N, workers=W)`: the equilibria at N evenly spaced "
+     "values analysed on W threads, joined into branches, every event (fold, pitchfork, "
+     "branch end, stability change) refined by bisection on the parameter to the width "
+     "shown, all open brackets analysed together in one batch per halving. Sampling: "
+     "`sweep.sweep` of the same N sets on two threads, which the call spends first; the "
+     "rest is joining and refinement. Target: 2 000 values with fold refinement in under "
+     "1 s."),
+    ("7. Machine", ""),
 )
 
 
@@ -196,7 +219,8 @@ def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
              info: dict[str, Any], config: dict[str, Any]) -> str:
     """The whole of results.md."""
     tables = (analysis_table(results), kernels_table(results), roots_table(results),
-              accuracy_table(results), generate_table(generate, results), machine_table(info))
+              accuracy_table(results), generate_table(generate, results),
+              branches_table(results), machine_table(info))
     head = ("# `make bench` results\n\n"
             "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
             f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "

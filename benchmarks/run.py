@@ -11,7 +11,8 @@ seed), medians of several repeats:
 4. the genuine equilibria of the library and of the pipeline against 40 digits;
 5. the wall time of deriving everything afresh (``python -m codegen generate --no-cache
    --check``, which writes nothing);
-6. the machine, its load, the compiler, the date and the commit.
+6. ``Library.branches`` over a parameter range holding folds (benchmarks/branch_timing.py);
+7. the machine, its load, the compiler, the date and the commit.
 
 Writes results.md and results.json (into benchmarks/, or --out) and prints the tables.
 ``--quick`` is a smoke run of a few seconds per mechanism (the derivations dominate).
@@ -36,6 +37,7 @@ from typing import Any
 import numpy as np
 
 import accuracy
+import branch_timing
 import driver
 import pipeline
 import report
@@ -60,12 +62,13 @@ class Sizes:
     accuracy_sets: int   # sets checked against 40 digits (section 4)
     min_seconds: float   # shortest C timing sample
     generate: bool       # time the command line's fresh derivation (section 5)
+    branch_points: int   # parameter values of each branches run (section 6)
 
 
 FULL = Sizes(sets=200, repeats=5, states=1000, accuracy_sets=50, min_seconds=0.02,
-             generate=True)
+             generate=True, branch_points=2000)
 QUICK = Sizes(sets=12, repeats=3, states=100, accuracy_sets=3, min_seconds=0.002,
-              generate=False)
+              generate=False, branch_points=100)
 
 
 @dataclass
@@ -148,7 +151,9 @@ def measure(m: Mechanism, sizes: Sizes) -> dict[str, Any]:
               "analysis": analysis_timings(m, c, analysed, columns, sizes),
               "kernels": kernels(m, c),
               "roots": roots(m, c, sizes) if c.sigma is not None else None,
-              "accuracy": None}
+              "accuracy": None,
+              "branches": branch_timing.measure(m.name, m.library, sizes.branch_points,
+                                                sizes.repeats, median_seconds)}
     if found is not None:
         progress(f"{m.name}: 40-digit references")
         count = min(sizes.accuracy_sets, len(m.table))

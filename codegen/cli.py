@@ -15,6 +15,7 @@ from pathlib import Path
 
 from . import __version__
 from .api import shipped
+from .figures import PlotUnavailable
 
 #: The mechanism a command works on when none is named: the paper's example.
 DEFAULT_MECHANISM = "doughty"
@@ -34,7 +35,9 @@ examples:
   {prog} list                                 the mechanisms this installation has
   {prog} sources --copy mylib/                the C sources, to build into a program
   {prog} generate --model my_model.py         a mechanism of your own, generated and built
-  {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets""",
+  {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets
+  {prog} branches --vary F --from -200 --to 300 --plot f.png
+                                              every equilibrium as F varies, folds located""",
     "analyze": """\
 examples:
   {prog} analyze
@@ -56,6 +59,19 @@ examples:
     "list": """\
 examples:
   {prog} list""",
+    "branches": """\
+examples:
+  {prog} branches --vary F --from 0 --to 200
+  {prog} branches --vary F --from -200 --to 300 --out f.csv --plot docs/branches_doughty_F.png
+  {prog} branches --mechanism torsion_pendulum --vary k_t --from 0 --to 50 --out k.json
+  {prog} branches --mechanism slider_crank --vary T --from -20 --to 20 --points 4001 --set b=0
+
+The parameter runs over --points evenly spaced values from --from to --to (both included);
+the others are the example's, or --set's. The equilibria of neighbouring values are joined
+into branches, and every fold (two equilibria meet and vanish), pitchfork, branch end and
+change of stability is located by bisection on the parameter. --out writes a row per point
+of every branch (.csv, .json or .parquet), --plot the figure (.png or .svg; pip install
+'mechvib[plot]'). Angles in degrees, the parameter in its unit, the rest SI.""",
     "sweep": """\
 examples:
   {prog} sweep --vary F=0:200:101 --vary k=1000:3000:5 --out grid.csv
@@ -156,11 +172,13 @@ def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
     return {name: _number(name, value) for name, value in pairs}
 
 
-def _library(args):
+def _library(args, build: str | None = None):
+    """The library --mechanism or --model names; a model is generated and built into
+    ``build`` (default build/codegen)."""
     from .api import load
 
     if getattr(args, "model", None):
-        return _user_library(_generator(), args.model, Path(args.out or "build/codegen"))
+        return _user_library(_generator(), args.model, Path(build or "build/codegen"))
     return load(args.mechanism or DEFAULT_MECHANISM)
 
 
@@ -170,7 +188,7 @@ def _analyze(args) -> int:
     from .analysis import analyze
     from .report import paragraph, table
 
-    library = _library(args)
+    library = _library(args, args.out)
     params = library.example_params(**_overrides(args.set))
     result = analyze(params, args.method)
     if args.json:
@@ -294,6 +312,35 @@ def _sweep(args) -> int:
     return 0
 
 
+def _branches(args) -> int:
+    """Follow every equilibrium as one parameter varies; a summary on stdout, the table
+    and the figure to files."""
+    from . import branch_figure, figures, sweep
+    from .branches import branches, check_table_path
+    from .report import branch_summary
+
+    if args.plot:   # before the work: a bad path or no matplotlib fails at once
+        figures.check_path(args.plot)
+        figures.pyplot()
+    if args.out:
+        check_table_path(args.out)
+    base = _overrides(args.set)
+    if args.vary in base:
+        raise ValueError(f"{args.vary}: given more than once (--vary, --set)")
+    library = _library(args)
+    with sweep.ProgressBar() as bar:
+        result = branches(library, args.vary, args.start, args.stop, args.points, base=base,
+                          method=args.method, workers=args.workers, progress=bar)
+    print(branch_summary(result))
+    if args.out:
+        rows = result.write(args.out)
+        print(f"Wrote {rows:,} rows to {args.out}.")
+    if args.plot:
+        branch_figure.plot(result, args.plot)
+        print(f"Drew the figure to {args.plot}.")
+    return 0
+
+
 class _Tally:
     """What the summary of a sweep counts, piece by piece."""
 
@@ -328,16 +375,20 @@ class _Tally:
             f"{self.stable:,} of them stable. Wrote {self.rows:,} rows to {out}.")
 
 
-def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None) -> None:
+def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
+                       model: bool = False) -> None:
+    """--mechanism; --model with --out DIR (its help ``out_help``), or --model alone."""
     which = verb.add_mutually_exclusive_group()
     which.add_argument("--mechanism", metavar="NAME",
                        help=f"a shipped mechanism: {', '.join(shipped())} "
                             f"(default {DEFAULT_MECHANISM})")
-    if out_help is None:
+    if out_help is None and not model:
         return
     which.add_argument("--model", metavar="FILE",
-                       help="a model file of your own (Python, defining build() -> Mechanism)")
-    verb.add_argument("--out", metavar="DIR", help=out_help)
+                       help="a model file of your own (Python, defining build() -> Mechanism)"
+                            + ("" if out_help else "; built into build/codegen"))
+    if out_help is not None:
+        verb.add_argument("--out", metavar="DIR", help=out_help)
 
 
 def _method_option(verb: argparse.ArgumentParser) -> None:
@@ -403,6 +454,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
 
     _verb(verbs, "list", "the mechanisms this installation has compiled", prog, _list)
 
+    from .branches import DEFAULT_POINTS
     from .sweep import CHUNK
 
     swp = _verb(verbs, "sweep", "analyse a grid or a random sample of parameter sets into a "
@@ -434,6 +486,30 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                      help="run one task per chunk on this dask.distributed scheduler (e.g. "
                           "tcp://host:8786; pip install 'mechvib[dask]'; its workers need "
                           "mechvib installed)")
+
+    brn = _verb(verbs, "branches", "every equilibrium as one parameter varies: branches, folds "
+                "and stability, as a table and a figure", prog, _branches)
+    _mechanism_options(brn, None, model=True)
+    brn.add_argument("--vary", required=True, metavar="NAME", help="the parameter to vary")
+    brn.add_argument("--from", dest="start", type=float, required=True, metavar="VALUE",
+                     help="its first value, in its unit")
+    brn.add_argument("--to", dest="stop", type=float, required=True, metavar="VALUE",
+                     help="its last value, in its unit (above --from)")
+    brn.add_argument("--points", type=_positive, default=DEFAULT_POINTS, metavar="N",
+                     help=f"values sampled, evenly spaced, ends included (default "
+                          f"{DEFAULT_POINTS})")
+    brn.add_argument("--set", action="append", type=_assignment, default=[],
+                     metavar="NAME=VALUE",
+                     help="another parameter held at VALUE instead of the example's, in SI "
+                          "units (repeatable)")
+    brn.add_argument("--out", metavar="FILE",
+                     help="write every point of every branch: FILE.csv, FILE.json or "
+                          "FILE.parquet (angles in degrees)")
+    brn.add_argument("--plot", metavar="FILE",
+                     help="draw the figure: FILE.png or FILE.svg (pip install 'mechvib[plot]')")
+    _method_option(brn)
+    brn.add_argument("--workers", type=_positive, metavar="N",
+                     help="threads for the samples (default: every CPU)")
     return top
 
 
@@ -464,7 +540,8 @@ def main(argv: list[str] | None = None) -> int:
         status = args.run(args)
         sys.stdout.flush()
         return status
-    except ValueError as error:  # bad input (LibraryError, ModelError included): one line
+    except (ValueError, PlotUnavailable) as error:  # bad input (LibraryError, ModelError
+        # included), or a figure without matplotlib: one line
         print(f"{top.prog}: error: {error}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # the reader left (`| head`): stop quietly, as Unix tools do

@@ -300,6 +300,15 @@ class Library:
         return sweep(self, sets, **options)
 
 
+    def branches(self, parameter: str, start: float, stop: float, **options: Any) -> Any:
+        """Every equilibrium as ``parameter`` runs from ``start`` to ``stop`` (its unit),
+        joined into branches, with folds, pitchforks, branch ends and stability changes
+        located by bisection, as a ``codegen.branches.Branches``: ``codegen.branches.
+        branches(self, parameter, start, stop, **options)`` (see it for the options: points,
+        base, method, workers, progress, tolerance). Angles in radians."""
+        from .branches import branches  # branches builds on this module
+        return branches(self, parameter, start, stop, **options)
+
 def _origin_of(module: ModuleType) -> Origin | None:
     name = module.__name__
     return ("load", name[len(_SHIPPED_PREFIX):]) if name.startswith(_SHIPPED_PREFIX) else None

@@ -9,9 +9,13 @@ from __future__ import annotations
 import math
 import textwrap
 from dataclasses import dataclass
-from typing import Callable
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Callable
 
-from .analysis import KINDS, Analysis, Equilibrium
+from .analysis import KINDS, STABILITY, Analysis, Equilibrium
+
+if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
+    from .branches import Branches
 
 WIDTH = 100
 
@@ -126,3 +130,57 @@ def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
     elif sigma:
         lines.append("No sigma: the isolation route works on G itself.")
     return "\n".join(lines)
+
+
+def _plural(count: int, noun: str) -> str:
+    """'1 fold', '2 folds', '3 branches'."""
+    return f"{count} {noun}" if count == 1 else \
+        f"{count} {noun}{'es' if noun.endswith(('ch', 'sh', 's')) else 's'}"
+
+
+def _stabilities(codes: Sequence[int]) -> str:
+    """The stabilities a branch passes through, in order: 'unstable -> stable'."""
+    seen = [STABILITY[c] for i, c in enumerate(codes) if i == 0 or c != codes[i - 1]]
+    return " -> ".join(seen)
+
+
+def branch_summary(result: Branches) -> str:
+    """The branches of a ``codegen.branches.Branches`` for a terminal: what was varied,
+    a line per branch (where it runs and its stability), a line per event."""
+    name, unit = result.parameter, result.unit
+    others = ", ".join(f"{k}={v:g}" for k, v in vars(result.base).items() if k != name)
+    kinds = [e.kind for e in result.events]
+    counted = [_plural(result.count, "branch"), *(
+        _plural(kinds.count(k), k) for k in ("fold", "pitchfork") if k in kinds)]
+    lines = [paragraph(
+        f"Equilibria of {result.library.TITLE} as {name} runs from {result.values[0]:g} to "
+        f"{result.values[-1]:g} {unit} over {len(result.values):,} values (the other "
+        f"parameters: {others}; {result.method} route): {', '.join(counted)}."), ""]
+    head = (f"{'branch':>6} {name + ' from':>14} {name + ' to':>14} {'theta_E from [deg]':>19} "
+            f"{'to [deg]':>10}  stability")
+    lines += [head, "-" * len(head)]
+    for number in range(result.count):
+        rows = result.branch(number)
+        ends = [math.degrees(t) + 0.0 for t in rows["theta"][[0, -1]]]
+        lines.append(f"{number:>6} {rows['value'][0]:>14.8g} {rows['value'][-1]:>14.8g} "
+                     f"{ends[0]:>19.4f} {ends[1]:>10.4f}  {_stabilities(rows['stability'])}")
+    if result.events:
+        head = (f"{'event':<16} {name + ' [' + unit + ']':>18} {'theta_E [deg]':>13} "
+                f"{'K_EQ':>12}  branches")
+        lines += ["", head, "-" * len(head)]
+        for e in result.events:
+            where = (f" ({' -> '.join(e.stability)})" if e.kind == "stability change" else
+                     f" (exist {e.side})")
+            lines.append(f"{e.kind:<16} {e.value:>18.10g} {e.theta_deg + 0.0:>13.4f} "
+                         f"{_number(e.K):>12}  {', '.join(map(str, e.branches))}{where}")
+    notes = [f"A fold is where two equilibria meet and vanish, a pitchfork where two meet on a "
+             f"third (K_EQ -> 0 at both); every event is located by bisection to "
+             f"{result.tolerance:.1g} {unit}." if result.events else
+             "No branch ends or changes stability in this range."]
+    if len(result.failed):
+        names = {v: k for k, v in result.library.STATUS.items()}
+        why = sorted({names.get(int(s), str(s)) for s in result.statuses if s != 0})
+        notes.append(f"{len(result.failed):,} values failed ({', '.join(why)}); the branches "
+                     "are joined across them.")
+    notes.append("Angles in degrees; K_EQ in SI units of the coordinate.")
+    return "\n".join(lines + [""] + [paragraph(n) for n in notes])

@@ -423,10 +423,12 @@ class Writer:
     """Rows written to a .csv or .parquet file piece by piece (``write(rows)``), into a
     hidden partial file that replaces ``path`` only when the writer closes without an
     error. Opening checks the extension, the folder and, for Parquet, that pyarrow is
-    installed."""
+    installed. ``labels``: the coded columns and their text (default: a sweep's)."""
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
+    def __init__(self, path: str | os.PathLike[str],
+                 labels: Mapping[str, Sequence[str]] = LABELS) -> None:
         self.path = Path(path)
+        self.labels = labels
         self.format = self.path.suffix.lower()
         if self.format not in FORMATS:
             raise ValueError(f"{self.path}: the output must end in .csv or .parquet")
@@ -449,7 +451,7 @@ class Writer:
         self.rows += len(rows)
 
     def _write_arrow(self, rows: np.ndarray) -> None:
-        table = _arrow_table(self.arrow, rows)
+        table = _arrow_table(self.arrow, rows, self.labels)
         if self._sink is None:
             kind = {".csv": self.arrow.csv.CSVWriter,
                     ".parquet": self.arrow.parquet.ParquetWriter}[self.format]
@@ -461,7 +463,7 @@ class Writer:
         if self._sink is None:
             self._sink = open(self.partial, "w", newline="")
             self._sink.write(",".join(f'"{name}"' for name in rows.dtype.names) + "\n")
-        columns = [_text_column(rows, name) for name in rows.dtype.names]
+        columns = [_text_column(rows, name, self.labels) for name in rows.dtype.names]
         self._sink.writelines(",".join(row) + "\n" for row in zip(*columns))
 
     def close(self, error: bool = False) -> None:
@@ -482,39 +484,49 @@ class Writer:
         self.close(error=kind is not None)
 
 
-def _arrow_table(pa: Any, rows: np.ndarray) -> Any:
+def _rootless(rows: np.ndarray) -> np.ndarray:
+    """The rows without a root (a sweep's failed or empty sets)."""
+    if "kind" not in rows.dtype.names:
+        return np.zeros(len(rows), dtype=bool)
+    return rows["kind"] == NO_ROOT
+
+
+def _arrow_table(pa: Any, rows: np.ndarray, labels: Mapping[str, Sequence[str]]) -> Any:
     """Rows as a pyarrow table: coded columns as dictionary text, and where a row has no
     root, its kind, stability, damping and certified null."""
-    rootless = rows["kind"] == NO_ROOT
+    rootless = _rootless(rows)
     columns = {}
     for name in rows.dtype.names:
         values = np.ascontiguousarray(rows[name])
-        if name in LABELS:
+        if name in labels:
             codes = pa.array(values, mask=values == NO_ROOT, type=pa.int8())
-            columns[name] = pa.DictionaryArray.from_arrays(codes, pa.array(LABELS[name]))
+            columns[name] = pa.DictionaryArray.from_arrays(codes, pa.array(labels[name]))
         else:
             columns[name] = pa.array(values, mask=rootless if name == "certified" else None)
     return pa.table(columns)
 
 
-def _text_column(rows: np.ndarray, name: str) -> np.ndarray:
+def _text_column(rows: np.ndarray, name: str, labels: Mapping[str, Sequence[str]]
+                 ) -> np.ndarray:
     """One column's CSV fields (shortest round-trip floats)."""
     values = rows[name]
-    if name in LABELS:
-        return np.array([f'"{label}"' for label in LABELS[name]] + [""])[values]
+    if name in labels:
+        return np.array([f'"{label}"' for label in labels[name]] + [""])[values]
     if name == "certified":
-        return np.where(rows["kind"] == NO_ROOT, "", np.where(values, "true", "false"))
+        return np.where(_rootless(rows), "", np.where(values, "true", "false"))
     return values.astype(str)
 
 
-def write(rows: np.ndarray | Iterable[np.ndarray], path: str | os.PathLike[str]) -> int:
+def write(rows: np.ndarray | Iterable[np.ndarray], path: str | os.PathLike[str],
+          labels: Mapping[str, Sequence[str]] = LABELS) -> int:
     """Write a sweep's table (or the pieces of ``stream``) to ``path``: Parquet (``.parquet``,
     through pyarrow: ``pip install 'mechvib[sweep]'``) or CSV (``.csv``; through pyarrow
     where installed, else Python's own formatting). kind, stability and damping are written
     as text; on a row without a root they and certified are null (empty in CSV). Returns
     the number of rows written. Raises ValueError for another extension, a missing folder,
-    or Parquet without pyarrow; the file appears only once it is complete."""
-    with Writer(path) as writer:
+    or Parquet without pyarrow; the file appears only once it is complete. ``labels``: the
+    coded columns and their text, for a table other than a sweep's (``codegen.branches``)."""
+    with Writer(path, labels) as writer:
         for piece in [rows] if isinstance(rows, np.ndarray) else rows:
             writer.write(piece)
     return writer.rows

@@ -24,6 +24,9 @@ import pytest
 import codegen
 import codegen.analysis
 import codegen.api
+import codegen.branch_figure
+import codegen.branches
+import codegen.joining
 import codegen.library
 import codegen.sweep
 from codegen.analysis import Analysis, Equilibrium, Uncertain, analyze
@@ -148,7 +151,8 @@ def test_library_methods_are_documented_with_units():
     assert "params_array" in inspect.getdoc(lib.analyze_batch)
 
 
-PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api, codegen.sweep)
+PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api, codegen.sweep,
+                  codegen.branches, codegen.joining, codegen.branch_figure)
 
 
 def _public_callables():

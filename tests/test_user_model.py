@@ -274,3 +274,24 @@ def test_bad_model_is_one_line_and_nonzero_exit(workdir, verb, model):
         assert lines[0].startswith(f"{PROG}: error: {model!r} is neither a "
                                   "shipped mechanism"), lines[0]
     assert not (workdir / "bad").exists()   # nothing generated from a bad model
+
+
+def test_branches_of_the_user_model_follow_the_independent_equilibria(workdir):
+    """`branches --model`: at every sampled k the equilibria are the independent zeros of
+    dV/dtheta, and the fold where two of them vanish lies where the independent count of
+    zeros changes."""
+    out = codegen(workdir, "branches", "--model", "mine.py", "--vary", "k", "--from", "2",
+                  "--to", "30", "--points", "57", "--out", "k.json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads((workdir / "k.json").read_text())
+    samples = [r for r in data["rows"] if r["point"] == "sample"]
+    for k in sorted({r["k"] for r in samples}):
+        mine = sorted(math.radians(r["theta_deg"]) for r in samples if r["k"] == k)
+        expected = zeros(dict(EXAMPLE, k=k))
+        assert len(mine) == len(expected), k
+        assert all(angle_gap(a, b) < 1e-7 for a, b in zip(mine, expected)), k
+    folds = [e for e in data["events"] if e["kind"] == "fold"]
+    assert len(folds) == 1 and folds[0]["side"] == "above"
+    k_fold = folds[0]["value"]
+    assert len(zeros(dict(EXAMPLE, k=k_fold - 1e-5))) == 2
+    assert len(zeros(dict(EXAMPLE, k=k_fold + 1e-5))) == 4
