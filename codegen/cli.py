@@ -410,6 +410,13 @@ def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None) -> N
     verb.add_argument("--out", metavar="DIR", help=out_help)
 
 
+def _set_option(verb: argparse.ArgumentParser,
+                help: str = "override a parameter of the example, in SI units (repeatable)"
+                ) -> None:
+    verb.add_argument("--set", action="append", type=_assignment, default=[],
+                      metavar="NAME=VALUE", help=help)
+
+
 def _method_option(verb: argparse.ArgumentParser) -> None:
     verb.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
                       help="polynomial: the roots of sigma, classified by branch; isolate: the "
@@ -444,8 +451,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                 prog, _analyze)
     _mechanism_options(ana, "with --model: where its library is generated and built "
                             "(default: build/codegen)")
-    ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
-                     help="override a parameter of the example, in SI units (repeatable)")
+    _set_option(ana)
     ana.add_argument("--json", action="store_true",
                      help="print one JSON object (angles in degrees) instead of the table")
     ana.add_argument("--wide", action="store_true",
@@ -485,10 +491,8 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     swp.add_argument("--sample", type=_positive, metavar="N",
                      help="N random sets instead of a grid")
     swp.add_argument("--seed", type=int, help="the random seed of --sample")
-    swp.add_argument("--set", action="append", type=_assignment, default=[],
-                     metavar="NAME=VALUE",
-                     help="a parameter held fixed at VALUE instead of the example's, in SI "
-                          "units (repeatable)")
+    _set_option(swp, "a parameter held fixed at VALUE instead of the example's, in SI units "
+                     "(repeatable)")
     swp.add_argument("--out", required=True, metavar="FILE",
                      help="the table to write: FILE.csv or FILE.parquet (Parquet needs "
                           "pyarrow: pip install 'mechvib[sweep]')")
@@ -508,9 +512,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     sim = _verb(verbs, "simulate", "the motion from an initial state: theta(t) and thetadot(t) "
                 "as CSV or JSON, and a figure", prog, _simulate)
     _mechanism_options(sim, None)
-    sim.add_argument("--set", action="append", type=_assignment, default=[],
-                     metavar="NAME=VALUE",
-                     help="override a parameter of the example, in SI units (repeatable)")
+    _set_option(sim)
     sim.add_argument("--theta0", type=float, required=True, metavar="DEG",
                      help="the initial angle [deg]")
     sim.add_argument("--thetadot0", type=float, default=0.0, metavar="DEG/S",

@@ -37,8 +37,25 @@ PROGRESS_STEPS = 100
 FORMATS = (".csv", ".json")
 
 
+class _InDegrees:
+    """theta [rad] and theta_d [rad/s] arrays, also in degrees."""
+
+    theta: np.ndarray
+    theta_d: np.ndarray
+
+    @property
+    def theta_deg(self) -> np.ndarray:
+        """theta [deg]."""
+        return np.degrees(self.theta)
+
+    @property
+    def theta_d_deg(self) -> np.ndarray:
+        """thetadot [deg/s]."""
+        return np.degrees(self.theta_d)
+
+
 @dataclass(frozen=True, eq=False)
-class Trajectory:
+class Trajectory(_InDegrees):
     """A time response: theta(t) [rad] and thetadot(t) [rad/s] at the times t [s] (the
     first is the initial state), and what the integration took (accepted and rejected
     steps, evaluations of thetaddot) at the tolerances rtol, atol [rad, rad/s]."""
@@ -56,16 +73,6 @@ class Trajectory:
     @property
     def library(self) -> Library:
         return type(self.params).library
-
-    @property
-    def theta_deg(self) -> np.ndarray:
-        """theta(t) [deg]."""
-        return np.degrees(self.theta)
-
-    @property
-    def theta_d_deg(self) -> np.ndarray:
-        """thetadot(t) [deg/s]."""
-        return np.degrees(self.theta_d)
 
 
 def _times(t: Sequence[float] | np.ndarray) -> np.ndarray:
@@ -185,7 +192,7 @@ def rk4_step(params: ParameterSet, theta: float, theta_d: float, h: float
 # --------------------------------------------------------------------------- linearisation
 
 @dataclass(frozen=True, eq=False)
-class LinearResponse:
+class LinearResponse(_InDegrees):
     """The response of M x'' + B x' + K x = 0 about a stable ``equilibrium``, theta = theta_e +
     x: theta_e [rad] is its angle (moved by whole turns next to the start on a periodic
     coordinate), theta [rad] and theta_d [rad/s] at the trajectory's times."""
@@ -194,14 +201,6 @@ class LinearResponse:
     theta_e: float
     theta: np.ndarray
     theta_d: np.ndarray
-
-    @property
-    def theta_deg(self) -> np.ndarray:
-        return np.degrees(self.theta)
-
-    @property
-    def theta_d_deg(self) -> np.ndarray:
-        return np.degrees(self.theta_d)
 
 
 def linear_response(M: float, B: float, K: float, x0: float, v0: float, t: np.ndarray

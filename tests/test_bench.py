@@ -13,7 +13,7 @@ import pytest
 from codegen.api import shipped
 
 RUNNER = Path(__file__).resolve().parent.parent / "benchmarks" / "run.py"
-SECTIONS = 6
+SECTIONS = 7
 
 
 def _sections(text: str) -> dict[int, str]:
@@ -39,4 +39,4 @@ def test_quick_run_writes_every_section_with_every_mechanism(tmp_path):
     results = json.loads((tmp_path / "results.json").read_text())
     assert set(results["mechanisms"]) == set(shipped())
     for measured in results["mechanisms"].values():
-        assert {"analysis", "kernels", "roots", "accuracy"} <= set(measured)
+        assert {"analysis", "kernels", "roots", "accuracy", "simulate"} <= set(measured)

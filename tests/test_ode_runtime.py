@@ -12,36 +12,13 @@ from __future__ import annotations
 
 import math
 import os
-import pathlib
-import shutil
-import subprocess
 from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-RUNTIME = ROOT / "generated" / "runtime"
-RUNTIME_SRC = RUNTIME / "codegen_ode.c"
-DRIVER_SRC = ROOT / "tests" / "c" / "ode_driver.c"
-STRICT = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-          "-Werror"]
-
 OK, BAD_INPUT, BUDGET, STEP_UNDERFLOW, NONFINITE = range(5)   # codegen_ode_status
 INF = math.inf
-
-
-def _compile(tmp: pathlib.Path, name: str, flags) -> pathlib.Path:
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    if not RUNTIME_SRC.exists():
-        pytest.skip("generated/runtime/codegen_ode.c is missing (run `make generate`)")
-    exe = tmp / name
-    r = subprocess.run([cc, *flags, f"-I{RUNTIME}", str(DRIVER_SRC), str(RUNTIME_SRC), "-lm",
-                        "-o", str(exe)], capture_output=True, text=True)
-    assert r.returncode == 0, f"compilation failed:\n{r.stderr}"
-    return exe
 
 
 def h(x: float) -> str:
@@ -61,29 +38,23 @@ class Solution:
 
 
 class Driver:
-    def __init__(self, exe: pathlib.Path, env=None):
-        self.exe, self.env = exe, env
+    """tests/c/ode_driver.c: the commands as methods, the answers parsed."""
+
+    def __init__(self, program):
+        self.program = program     # conftest's DriverProgram
 
     def raw(self, lines) -> str:
-        r = subprocess.run([str(self.exe)], input="\n".join(lines) + "\n", capture_output=True,
-                           text=True, env=self.env, timeout=300)
-        assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
-        return r.stdout
+        return self.program.raw(lines, timeout=300)
 
     def lines(self, lines) -> list[list[str]]:
-        out = self.raw(lines).splitlines()
-        assert len(out) == len(lines)
-        return [line.split() for line in out]
+        return self.program(lines, timeout=300)
 
     def solve(self, problem, a, b, y0, times, rtol=1e-10, atol=1e-12, h_max=INF,
               max_steps=10**6, split=None) -> Solution:
-        return self._parse(self.lines([solve_line(problem, a, b, y0, times, rtol, atol, h_max,
-                                                  max_steps, split)])[0], len(y0))
-
-    @staticmethod
-    def _parse(words, n) -> Solution:
+        words = self.lines([solve_line(problem, a, b, y0, times, rtol, atol, h_max, max_steps,
+                                       split)])[0]
         status, reached, steps, rejected, evaluations = map(int, words[:5])
-        values = np.array([float.fromhex(w) for w in words[7:]]).reshape(-1, n)
+        values = np.array([float.fromhex(w) for w in words[7:]]).reshape(-1, len(y0))
         return Solution(status, reached, steps, rejected, evaluations, float.fromhex(words[5]),
                         float.fromhex(words[6]), values)
 
@@ -101,10 +72,15 @@ def solve_line(problem, a, b, y0, times, rtol=1e-10, atol=1e-12, h_max=INF, max_
             + " ".join(h(t) for t in times))
 
 
+def _build(compiler, tmp, name, flags=None):
+    return compiler.build(tmp / name, "ode_driver.c", "codegen_ode.c", flags)
+
+
 @pytest.fixture(scope="module")
-def drv(tmp_path_factory):
+def drv(tmp_path_factory, runtime_driver):
     """The driver, compiled with -O2 and the strict flags (a warning is an error)."""
-    return Driver(_compile(tmp_path_factory.mktemp("ode"), "ode_driver", STRICT))
+    return Driver(runtime_driver.program(_build(runtime_driver, tmp_path_factory.mktemp("ode"),
+                                                "ode_driver")))
 
 
 # ---------------------------------------------------------------------------- exact solutions
@@ -353,12 +329,11 @@ def _sanitizer_script() -> list[str]:
     return lines
 
 
-def test_sanitized_driver(tmp_path, drv, sanitizer):
+def test_sanitized_driver(tmp_path, drv, sanitizer, runtime_driver):
     """Every kind of integration and failure under AddressSanitizer + UBSan (work and outputs
     exactly CODEGEN_ODE_WORK(n) doubles on the heap): clean, and the same output bit for bit."""
-    exe = _compile(tmp_path, "ode_driver_san",
-                   [*sanitizer.flags, "-Wall", "-Wextra", "-Wpedantic", "-Wconversion",
-                    "-Wshadow", "-Werror"])
+    exe = _build(runtime_driver, tmp_path, "ode_driver_san",
+                 [*sanitizer.flags, *runtime_driver.warnings])
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=0", UBSAN_OPTIONS="print_stacktrace=1")
     lines = _sanitizer_script()
-    assert Driver(exe, env).raw(lines) == drv.raw(lines)
+    assert runtime_driver.program(exe, env).raw(lines) == drv.raw(lines)
