@@ -76,7 +76,7 @@ class Trajectory(_InDegrees):
 
 
 def _times(t: Sequence[float] | np.ndarray) -> np.ndarray:
-    times = np.ascontiguousarray(t, dtype=np.float64)
+    times = np.array(t, dtype=np.float64)   # a copy: the trajectory owns its times
     if times.ndim != 1 or times.size < 1:
         raise ValueError(f"t must be a 1-D array of at least one time, not shape {times.shape}")
     if not np.all(np.isfinite(times)):
@@ -154,8 +154,9 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
                         options),
                   params, rerun=rerun, inputs={"theta0": theta0, "theta_d0": theta_d0})
     theta, theta_d = np.empty_like(times), np.empty_like(times)
-    c_times, c_theta, c_theta_d = (ffi.from_buffer("double[]", a, require_writable=True)
-                                   for a in (times, theta, theta_d))
+    c_times = ffi.from_buffer("double[]", times)
+    c_theta, c_theta_d = (ffi.from_buffer("double[]", a, require_writable=True)
+                          for a in (theta, theta_d))
     count = len(times)
     piece = count if progress is None else max(1, -(-count // PROGRESS_STEPS))
     for first in range(0, count, piece):

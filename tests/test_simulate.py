@@ -349,6 +349,16 @@ def test_bad_options_and_times_are_value_errors_naming_them(options, match):
         library.simulate(None, 2.8, 0.0, **arguments)
 
 
+def test_any_array_of_times_and_the_trajectory_owns_a_copy():
+    library = load("doughty")
+    times = np.linspace(0.0, 1.0, 21)
+    times.flags.writeable = False
+    strided = library.simulate(None, 2.8, 0.0, times[::4])
+    assert np.array_equal(strided.t, times[::4]) and not np.shares_memory(strided.t, times)
+    whole = library.simulate(None, 2.8, 0.0, list(times))
+    assert np.array_equal(whole.theta[::4], strided.theta)   # the same steps, interpolated
+
+
 def test_failures_are_library_errors_with_their_cause():
     library = load("doughty")
     with pytest.raises(LibraryError, match=r"^theta0: .*theta0=nan"):
