@@ -162,6 +162,25 @@ def branches_table(results: dict[str, dict[str, Any]]) -> str:
                  rows)
 
 
+def simulate_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 7: the time response, the library against scipy."""
+    rows = []
+    for name, r in results.items():
+        x = r["simulate"]
+        rows.append([f"`{name}`", f"{x['theta0_deg']:.2f}", f"{x['span_s']:g}",
+                     num(x["library_ms"]),
+                     f"{x['library_steps']} ({x['library_rejected']})",
+                     str(x["library_evaluations"]), num(x["scipy_ms"]),
+                     str(x["scipy_evaluations"]), num(x["speedup"]),
+                     sci(x["library_error"][0]), sci(x["scipy_error"][0]),
+                     sci(x["library_error"][1]), sci(x["scipy_error"][1])])
+    return table(["mechanism", "theta0 [deg]", "span [s]", "library [ms]",
+                  "library steps (rejected)", "library evaluations", "scipy RK45 [ms]",
+                  "scipy evaluations", "scipy / library", "theta error library [rad]",
+                  "theta error scipy [rad]", "thetadot error library [rel.]",
+                  "thetadot error scipy [rel.]"], rows)
+
+
 def machine_table(info: dict[str, Any]) -> str:
     load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
     rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
@@ -211,7 +230,15 @@ SECTIONS = (
      "`sweep.sweep` of the same N sets on two threads, which the call spends first; the "
      "rest is joining and refinement. Target: 2 000 values with fold refinement in under "
      "1 s."),
-    ("7. Machine", ""),
+    ("7. Time response",
+     "Each example from rest {offset:g} rad off its least damped stable equilibrium, for "
+     "{span:g} s with output at {points} times, rtol {rtol:g} and atol {atol:g}: "
+     "`lib.simulate` (the C Dormand-Prince 5(4) of codegen_ode.c through the Python API) "
+     "against `scipy.integrate.solve_ivp(method='RK45')` at the same tolerances on thetaddot "
+     "lambdified from the derivation to Python's `math` module, timed in the same run; the "
+     "errors are the largest against DOP853 at rtol 1e-13 on the same thetaddot (thetadot's "
+     "relative to its largest value). Issue 13's target: scipy / library >= 100 on doughty."),
+    ("8. Machine", ""),
 )
 
 
@@ -220,7 +247,8 @@ def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
     """The whole of results.md."""
     tables = (analysis_table(results), kernels_table(results), roots_table(results),
               accuracy_table(results), generate_table(generate, results),
-              branches_table(results), machine_table(info))
+              branches_table(results),
+              simulate_table(results), machine_table(info))
     head = ("# `make bench` results\n\n"
             "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
             f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "

@@ -12,7 +12,9 @@ seed), medians of several repeats:
 5. the wall time of deriving everything afresh (``python -m codegen generate --no-cache
    --check``, which writes nothing);
 6. ``Library.branches`` over a parameter range holding folds (benchmarks/branch_timing.py);
-7. the machine, its load, the compiler, the date and the commit.
+7. the time response: ``Library.simulate`` against scipy's solve_ivp (RK45) on the
+   lambdified thetaddot, and both against a tight reference (benchmarks/simulate.py);
+8. the machine, its load, the compiler, the date and the commit.
 
 Writes results.md and results.json (into benchmarks/, or --out) and prints the tables.
 ``--quick`` is a smoke run of a few seconds per mechanism (the derivations dominate).
@@ -41,9 +43,10 @@ import branch_timing
 import driver
 import pipeline
 import report
+import simulate
 from codegen.api import load, shipped
 from codegen.library import Library
-from symbolic import Symbolic, mpmath_function, naive_c, symbolic
+from symbolic import Symbolic, naive_c, scalar_function, symbolic
 
 HERE = Path(__file__).resolve().parent
 SEED = 20_261_123
@@ -154,10 +157,12 @@ def measure(m: Mechanism, sizes: Sizes) -> dict[str, Any]:
               "accuracy": None,
               "branches": branch_timing.measure(m.name, m.library, sizes.branch_points,
                                                 sizes.repeats, median_seconds)}
+    progress(f"{m.name}: time response")
+    result["simulate"] = simulate.measure(m.library, m.symbols, sizes.repeats, median_seconds)
     if found is not None:
         progress(f"{m.name}: 40-digit references")
         count = min(sizes.accuracy_sets, len(m.table))
-        G = mpmath_function((m.symbols.theta, *m.symbols.parameters), m.symbols.residual)
+        G = scalar_function((m.symbols.theta, *m.symbols.parameters), m.symbols.residual)
         result["accuracy"] = accuracy.compare(G, m.table[:count], m.library.PARAMETER_NAMES,
                                               analysed.equilibria, found)
     return result
@@ -243,6 +248,8 @@ def main(argv: list[str] | None = None) -> int:
             "load_after": os.getloadavg()}
     config = {**asdict(sizes), "seed": SEED, "spread": SPREAD,
               "genuine_tolerance": pipeline.GENUINE, "real_tolerance": pipeline.REAL,
+              "offset": simulate.OFFSET, "span": simulate.SPAN, "points": simulate.POINTS,
+              "rtol": simulate.RTOL, "atol": simulate.ATOL,
               "note": " (--quick: a smoke run, not for quoting)" if args.quick else ""}
     text = report.markdown(results, generate, info, config)
     args.out.mkdir(parents=True, exist_ok=True)

@@ -101,10 +101,13 @@ def numpy_function(arguments: Sequence[sp.Symbol], outputs: Sequence[sp.Expr],
     return evaluate
 
 
-def mpmath_function(arguments: Sequence[sp.Symbol], output: sp.Expr) -> Callable[..., object]:
-    """``lambdify`` to mpmath (evaluated at whatever mp.dps is current at the call)."""
+def scalar_function(arguments: Sequence[sp.Symbol], output: sp.Expr, modules: str = "mpmath"
+                    ) -> Callable[..., object]:
+    """``lambdify`` of one expression's straight-line program for scalar arguments: to mpmath
+    (evaluated at whatever mp.dps is current at the call), or to Python's math module (the
+    fastest a float-by-float caller such as scipy's solve_ivp can have)."""
     program, (reduced,) = straight_line((output,))
-    return sp.lambdify(arguments, reduced, modules="mpmath", cse=lambda exprs: (program, exprs))
+    return sp.lambdify(arguments, reduced, modules=modules, cse=lambda exprs: (program, exprs))
 
 
 def naive_c(prefix: str, symbols: Symbolic) -> str:

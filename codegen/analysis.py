@@ -199,10 +199,12 @@ def _from_c(params: ParameterSet, result: Any, method: str) -> Analysis:
                     method)
 
 
-def _library(params: ParameterSet) -> Library:
+def library_of_params(params: ParameterSet) -> Library:
+    """The library a parameter set belongs to; TypeError if it is not a library's Params."""
     library = getattr(type(params), "library", None)
     if library is None:
-        raise TypeError("analyze takes the Params of a library (Library.example_params())")
+        raise TypeError("expected the Params of a library (Library.example_params()), not "
+                        f"{type(params).__name__}")
     return library
 
 
@@ -234,7 +236,7 @@ def analyze(params: ParameterSet, method: Method = "auto") -> Analysis:
     e.g. "F: a result is too large to represent (F=1e+308)"; ValueError for an unknown or
     unavailable method; TypeError if params is not a library's Params.
     """
-    library = _library(params)
+    library = library_of_params(params)
     taken = route(library, method)
     c_entry, analysis_type = entry(library, taken), f"{library.PREFIX}_analysis *"
     result = library.ffi.new(analysis_type)

@@ -7,6 +7,7 @@ was wrong; no traceback reaches the user.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shutil
 import sys
@@ -37,7 +38,8 @@ examples:
   {prog} generate --model my_model.py         a mechanism of your own, generated and built
   {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets
   {prog} branches --vary F --from -200 --to 300 --plot f.png
-                                              every equilibrium as F varies, folds located""",
+                                              every equilibrium as F varies, folds located
+  {prog} simulate --theta0 160 --to 2 --plot theta.png   the motion from 160 deg""",
     "analyze": """\
 examples:
   {prog} analyze
@@ -84,6 +86,20 @@ included); with --sample N, --vary NAME=LO:HI draws each set's NAME uniformly in
 The other parameters are the example's, or --set's. The file has one row per equilibrium
 (per root with --all-roots), with the set's index, parameters and status; a set that fails
 or has none has one row with an empty theta. Angles in radians there, the rest SI.""",
+    "simulate": """\
+examples:
+  {prog} simulate --theta0 160 --to 2                      CSV on stdout
+  {prog} simulate --theta0 160 --to 2 --linearised --plot theta.png --out theta.json
+  {prog} simulate --mechanism four_bar --theta0 -30 --thetadot0 100 --to 5 --out m.csv
+  {prog} simulate --set b=0 --theta0 170 --to 10 --points 5001 --rtol 1e-11 --plot m.svg
+
+Integrates the reduced equation of motion thetaddot = f(theta, thetadot) in C (adaptive
+Dormand-Prince 5(4)) from theta0 [deg] and thetadot0 [deg/s] at t = 0 to --to [s], and
+writes theta and thetadot at --points evenly spaced times: CSV on stdout, or --out FILE.csv
+or FILE.json (degrees and seconds), and with --plot a figure of both. --linearised adds the
+response of the linearisation about the stable equilibrium nearest theta0 (its M, B, K
+from the analysis) from the same state. rtol and atol bound each step's error (atol in rad
+and rad/s).""",
 }
 
 
@@ -375,6 +391,60 @@ class _Tally:
             f"{self.stable:,} of them stable. Wrote {self.rows:,} rows to {out}.")
 
 
+def _simulate(args) -> int:
+    """The motion from an initial state: CSV on stdout, or files and a summary."""
+    import numpy as np
+
+    from . import figures, simulation, sweep
+
+    if args.plot:
+        figures.check_path(args.plot)
+        try:
+            figures.pyplot()
+        except figures.PlotUnavailable as error:
+            raise ValueError(str(error)) from None
+    if args.out and Path(args.out).suffix.lower() not in simulation.FORMATS:
+        raise ValueError(f"--out {args.out}: the trajectory is written as "
+                         f"{' or '.join(simulation.FORMATS)}")
+    if not 0.0 < args.to < math.inf:
+        raise ValueError(f"--to: the end time must be positive and finite, not {args.to!r}")
+    if args.points < 2:
+        raise ValueError("--points: at least 2 (the start and the end)")
+    params = _library(args).example_params(**_overrides(args.set))
+    start = time.perf_counter()
+    with sweep.ProgressBar(unit="points") as bar:
+        trajectory = simulation.simulate(
+            params, math.radians(args.theta0), math.radians(args.thetadot0),
+            np.linspace(0.0, args.to, args.points), rtol=args.rtol, atol=args.atol,
+            max_steps=args.max_steps, progress=bar)
+    seconds = time.perf_counter() - start
+    linear = simulation.linearised(trajectory) if args.linearised else None
+    if not (args.out or args.plot):
+        simulation.write_csv(sys.stdout, trajectory, linear)
+        return 0
+    written = [str(simulation.write(trajectory, args.out, linear))] if args.out else []
+    written += [str(simulation.plot(trajectory, args.plot, linear))] if args.plot else []
+    print(_simulation_summary(trajectory, linear, seconds, written))
+    return 0
+
+
+def _simulation_summary(trajectory, linear, seconds: float, written: list[str]) -> str:
+    from .report import paragraph
+
+    about = ""
+    if linear is not None:
+        e = linear.equilibrium
+        about = (f" Linearised about theta_E = {math.degrees(linear.theta_e):.4f} deg "
+                 f"({e.stability}, {e.damping}, zeta {e.zeta.real:.4g}).")
+    return paragraph(
+        f"Simulated {trajectory.t[-1]:g} s of {trajectory.library.TITLE} from theta0 = "
+        f"{trajectory.theta_deg[0]:g} deg, thetadot0 = {trajectory.theta_d_deg[0]:g} deg/s: "
+        f"{len(trajectory.t):,} points, {trajectory.steps:,} steps ({trajectory.rejected:,} "
+        f"rejected), {trajectory.evaluations:,} evaluations of thetaddot, in "
+        f"{seconds * 1e3:.1f} ms (rtol {trajectory.rtol:g}, atol {trajectory.atol:g}).{about} "
+        f"Wrote {' and '.join(written)}.")
+
+
 def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
                        model: bool = False) -> None:
     """--mechanism; --model with --out DIR (its help ``out_help``), or --model alone."""
@@ -389,6 +459,13 @@ def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
                             + ("" if out_help else "; built into build/codegen"))
     if out_help is not None:
         verb.add_argument("--out", metavar="DIR", help=out_help)
+
+
+def _set_option(verb: argparse.ArgumentParser,
+                help: str = "override a parameter of the example, in SI units (repeatable)"
+                ) -> None:
+    verb.add_argument("--set", action="append", type=_assignment, default=[],
+                      metavar="NAME=VALUE", help=help)
 
 
 def _method_option(verb: argparse.ArgumentParser) -> None:
@@ -425,8 +502,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
                 prog, _analyze)
     _mechanism_options(ana, "with --model: where its library is generated and built "
                             "(default: build/codegen)")
-    ana.add_argument("--set", action="append", type=_assignment, default=[], metavar="NAME=VALUE",
-                     help="override a parameter of the example, in SI units (repeatable)")
+    _set_option(ana)
     ana.add_argument("--json", action="store_true",
                      help="print one JSON object (angles in degrees) instead of the table")
     ana.add_argument("--wide", action="store_true",
@@ -467,10 +543,8 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     swp.add_argument("--sample", type=_positive, metavar="N",
                      help="N random sets instead of a grid")
     swp.add_argument("--seed", type=int, help="the random seed of --sample")
-    swp.add_argument("--set", action="append", type=_assignment, default=[],
-                     metavar="NAME=VALUE",
-                     help="a parameter held fixed at VALUE instead of the example's, in SI "
-                          "units (repeatable)")
+    _set_option(swp, "a parameter held fixed at VALUE instead of the example's, in SI units "
+                     "(repeatable)")
     swp.add_argument("--out", required=True, metavar="FILE",
                      help="the table to write: FILE.csv or FILE.parquet (Parquet needs "
                           "pyarrow: pip install 'mechvib[sweep]')")
@@ -510,6 +584,33 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     _method_option(brn)
     brn.add_argument("--workers", type=_positive, metavar="N",
                      help="threads for the samples (default: every CPU)")
+
+    sim = _verb(verbs, "simulate", "the motion from an initial state: theta(t) and thetadot(t) "
+                "as CSV or JSON, and a figure", prog, _simulate)
+    _mechanism_options(sim, None)
+    _set_option(sim)
+    sim.add_argument("--theta0", type=float, required=True, metavar="DEG",
+                     help="the initial angle [deg]")
+    sim.add_argument("--thetadot0", type=float, default=0.0, metavar="DEG/S",
+                     help="the initial rate [deg/s] (default 0)")
+    sim.add_argument("--to", type=float, required=True, metavar="T",
+                     help="the end time [s] (the motion starts at t = 0)")
+    sim.add_argument("--points", type=_positive, default=1001, metavar="N",
+                     help="output times, evenly spaced from 0 to T (default 1001)")
+    sim.add_argument("--rtol", type=float, metavar="R",
+                     help="relative tolerance per step (default 1e-9)")
+    sim.add_argument("--atol", type=float, metavar="A",
+                     help="absolute tolerance per step, in rad and rad/s (default 1e-12)")
+    sim.add_argument("--max-steps", type=_positive, metavar="N",
+                     help="the integrator's step budget (default 1000000)")
+    sim.add_argument("--linearised", action="store_true",
+                     help="also the linearised response about the stable equilibrium nearest "
+                          "theta0")
+    sim.add_argument("--out", metavar="FILE",
+                     help="write FILE.csv or FILE.json instead of CSV on stdout")
+    sim.add_argument("--plot", metavar="FILE",
+                     help="draw theta(t) and thetadot(t) to FILE.png or FILE.svg (needs "
+                          "matplotlib: pip install 'mechvib[plot]')")
     return top
 
 

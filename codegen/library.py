@@ -273,11 +273,7 @@ class Library:
                 ) -> analysis.Analysis:
         """Every equilibrium of ``params`` (default: the example), classified and linearised,
         by the route ``method`` names: see ``codegen.analysis.analyze``. Angles in radians."""
-        if params is None:
-            return analysis.analyze(self.example_params(), method)
-        if isinstance(params, Mapping):
-            return analysis.analyze(cast(ParameterSet, self.Params(**params)), method)
-        return analysis.analyze(params, method)
+        return analysis.analyze(self._params(params), method)
 
     def analyze_batch(self, table: np.ndarray, method: analysis.Method = "auto"
                       ) -> tuple[list[analysis.Analysis | None], np.ndarray]:
@@ -291,6 +287,30 @@ class Library:
         object per set, on ``workers`` threads: see ``codegen.batch.analyze_table``."""
         from .batch import analyze_table  # batch builds on this module
         return analyze_table(table, self, method, workers)
+
+    def simulate(self, params: ParamsLike | None, theta0: float, theta_d0: float,
+                 t: Any, **options: Any) -> Any:
+        """The motion from theta0 [rad], theta_d0 [rad/s] at t[0] at every time of ``t`` [s],
+        integrated in C, as numpy arrays (a ``codegen.simulation.Trajectory``: ``.theta``
+        [rad], ``.theta_d`` [rad/s]); ``params`` None is the example. Options (rtol, atol,
+        max_steps, h_max, progress): see ``codegen.simulation.simulate``."""
+        from . import simulation  # simulation builds on this module
+        return simulation.simulate(self._params(params), theta0, theta_d0, t, **options)
+
+    def rk4_step(self, params: ParamsLike | None, theta: float, theta_d: float, h: float
+                 ) -> tuple[float, float]:
+        """One fixed Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s]:
+        (theta, theta_d) h later, for real-time loops; see ``codegen.simulation.rk4_step``."""
+        from . import simulation
+        return simulation.rk4_step(self._params(params), theta, theta_d, h)
+
+    def _params(self, params: ParamsLike | None) -> ParameterSet:
+        """A Params of this library: the example for None, built from a mapping."""
+        if params is None:
+            return self.example_params()
+        if isinstance(params, Mapping):
+            return cast(ParameterSet, self.Params(**params))
+        return params
 
     def sweep(self, sets: Any, **options: Any) -> np.ndarray:
         """Every set of ``sets`` (a params_array, e.g. ``codegen.sweep.grid`` or ``sample``)

@@ -342,14 +342,16 @@ def sweep(library: Library, sets: Any, *, method: analysis.Method = "auto",
 # --------------------------------------------------------------------------- progress
 
 class ProgressBar:
-    """A progress callback drawing ``[####....] done/total sets, rate, ETA`` on one line of
+    """A progress callback drawing ``[####....] done/total UNIT, rate, ETA`` on one line of
     ``stream`` (default stderr), redrawn per call, only when the stream is a terminal: in a
-    pipe or a file it writes nothing. ``close()`` (or leaving a ``with``) clears the line."""
+    pipe or a file it writes nothing. ``unit`` names what is counted (default "sets", as a
+    sweep counts; a simulation counts "points"). ``close()`` (or leaving a ``with``) clears
+    the line."""
 
     def __init__(self, stream: TextIO | None = None, width: int = 24,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, unit: str = "sets") -> None:
         self.stream = sys.stderr if stream is None else stream
-        self.width, self.clock = width, clock
+        self.width, self.clock, self.unit = width, clock, unit
         self.enabled = _is_terminal(self.stream)
         self._start: float | None = None
         self._drawn = 0
@@ -367,8 +369,8 @@ class ProgressBar:
         filled = self.width * done // total if total else self.width
         rate = done / elapsed if elapsed > 0 else 0.0
         eta = _duration((total - done) / rate) if rate > 0 else "--:--"
-        return (f"[{'#' * filled}{'.' * (self.width - filled)}] {done:,}/{total:,} sets  "
-                f"{rate:,.0f} sets/s  ETA {eta}")
+        return (f"[{'#' * filled}{'.' * (self.width - filled)}] {done:,}/{total:,} {self.unit}  "
+                f"{rate:,.0f} {self.unit}/s  ETA {eta}")
 
     def _draw(self, text: str) -> None:
         self.stream.write("\r" + text.ljust(self._drawn))

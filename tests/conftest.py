@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import zlib
 from dataclasses import dataclass
+from pathlib import Path
 
 import mpmath
 import numpy as np
@@ -400,3 +401,64 @@ def sanitizer(tmp_path) -> Sanitizer:
     if r.returncode != 0:
         pytest.skip(f"{cc} cannot link AddressSanitizer/UBSan: {r.stderr.strip()[:200]}")
     return Sanitizer(cc)
+
+
+# --------------------------------------------------------------------------- runtime drivers
+
+#: gcc's warnings as the project holds C to them (every warning an error).
+WARNINGS = ("-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow", "-Werror")
+ROOT = Path(__file__).resolve().parents[1]
+RUNTIME = ROOT / "generated" / "runtime"
+
+
+class DriverProgram:
+    """A compiled test driver: one command per line on stdin, one answer line per command."""
+
+    def __init__(self, exe: Path, env=None):
+        self.exe, self.env = exe, env
+
+    def raw(self, lines, timeout=120.0) -> str:
+        r = subprocess.run([str(self.exe)], input="\n".join(lines) + "\n", capture_output=True,
+                           text=True, env=self.env, timeout=timeout)
+        assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
+        return r.stdout
+
+    def __call__(self, lines, timeout=120.0) -> list[list[str]]:
+        """The words of each answer line."""
+        out = self.raw(lines, timeout).splitlines()
+        assert len(out) == len(lines)
+        return [line.split() for line in out]
+
+
+@dataclass(frozen=True)
+class RuntimeDriverCompiler:
+    """Builds a driver of tests/c/ with one source of generated/runtime/ (strict: -std=c99 -O2
+    and WARNINGS, unless other flags are given)."""
+
+    cc: str
+    strict: tuple[str, ...] = ("-std=c99", "-O2", *WARNINGS)
+    warnings: tuple[str, ...] = WARNINGS
+
+    def build(self, exe: Path, driver: str, runtime: str, flags=None, defines=()) -> Path:
+        source = RUNTIME / runtime
+        if not source.exists():
+            pytest.skip(f"generated/runtime/{runtime} is missing (run `make generate`)")
+        r = subprocess.run([self.cc, *(self.strict if flags is None else flags), *defines,
+                            f"-I{RUNTIME}", str(ROOT / "tests" / "c" / driver), str(source),
+                            "-lm", "-o", str(exe)], capture_output=True, text=True)
+        assert r.returncode == 0, f"compilation failed:\n{r.stderr}"
+        return exe
+
+    @staticmethod
+    def program(exe: Path, env=None) -> DriverProgram:
+        """A built driver, to feed commands (``env``: its environment, e.g. ASAN_OPTIONS)."""
+        return DriverProgram(exe, env)
+
+
+@pytest.fixture(scope="session")
+def runtime_driver() -> RuntimeDriverCompiler:
+    """Compiles the runtime's test drivers; skips where there is no C compiler."""
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    return RuntimeDriverCompiler(cc)

@@ -39,4 +39,4 @@ def test_quick_run_writes_every_section_with_every_mechanism(tmp_path):
     results = json.loads((tmp_path / "results.json").read_text())
     assert set(results["mechanisms"]) == set(shipped())
     for measured in results["mechanisms"].values():
-        assert {"analysis", "kernels", "roots", "accuracy", "branches"} <= set(measured)
+        assert {"analysis", "kernels", "roots", "accuracy", "branches", "simulate"} <= set(measured)

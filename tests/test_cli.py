@@ -224,7 +224,8 @@ def test_usage_errors_are_one_line(tmp_path):
 
 
 @pytest.mark.parametrize("args", [("analyze",), ("analyze", "--json"), ("analyze", "--wide"),
-                                  ("list",)])
+                                  ("list",), ("simulate", "--theta0", "160", "--to", "20",
+                                              "--points", "200000")])
 def test_output_survives_a_closed_pipe(tmp_path, args):
     """`mechvib analyze | head -1`: the reader leaves early; no traceback, SIGPIPE's status."""
     process = subprocess.Popen([sys.executable, "-m", "codegen", *args], cwd=tmp_path,

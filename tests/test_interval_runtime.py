@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 import os
 import pathlib
-import shutil
 import subprocess
 from dataclasses import dataclass
 from fractions import Fraction
@@ -25,12 +24,6 @@ import mpmath
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-RUNTIME = ROOT / "generated" / "runtime"
-RUNTIME_SRC = RUNTIME / "codegen_interval.c"
-DRIVER_SRC = ROOT / "tests" / "c" / "interval_driver.c"
-STRICT = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-          "-Werror"]
 SEED = 20_240_611
 
 POLE, EDGE, OUTSIDE = 1, 2, 4                          # CODEGEN_IV_* flags
@@ -43,40 +36,15 @@ TINY = 2.0 ** -1074
 
 # ---------------------------------------------------------------------------- the driver
 
-def _compile(tmp: pathlib.Path, name: str, flags, defines=()) -> pathlib.Path:
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    if not RUNTIME_SRC.exists():
-        pytest.skip("generated/runtime/codegen_interval.c is missing (run `make generate`)")
-    exe = tmp / name
-    r = subprocess.run([cc, *flags, *defines, f"-I{RUNTIME}", str(DRIVER_SRC), str(RUNTIME_SRC),
-                        "-lm", "-o", str(exe)], capture_output=True, text=True)
-    assert r.returncode == 0, f"compilation failed:\n{r.stderr}"
-    return exe
-
-
-class Driver:
-    def __init__(self, exe: pathlib.Path, env=None):
-        self.exe = exe
-        self.env = env
-
-    def raw(self, lines, timeout=120.0) -> str:
-        r = subprocess.run([str(self.exe)], input="\n".join(lines) + "\n", capture_output=True,
-                           text=True, env=self.env, timeout=timeout)
-        assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
-        return r.stdout
-
-    def __call__(self, lines, timeout=120.0):
-        out = self.raw(lines, timeout).splitlines()
-        assert len(out) == len(lines)
-        return [line.split() for line in out]
+def _compile(compiler, tmp: pathlib.Path, name: str, flags=None, defines=()) -> pathlib.Path:
+    return compiler.build(tmp / name, "interval_driver.c", "codegen_interval.c", flags, defines)
 
 
 @pytest.fixture(scope="module")
-def drv(tmp_path_factory):
+def drv(tmp_path_factory, runtime_driver):
     """The driver, compiled with -O2 and the strict flags (a warning is an error)."""
-    return Driver(_compile(tmp_path_factory.mktemp("interval"), "interval_driver", STRICT))
+    return runtime_driver.program(_compile(runtime_driver, tmp_path_factory.mktemp("interval"),
+                                           "interval_driver"))
 
 
 def h(x: float) -> str:
@@ -988,12 +956,12 @@ def test_isolate_capacity_and_status_pass_through(drv):
         assert res.bad == 0 and len(res.found) <= 16
 
 
-def test_isolate_budget(tmp_path_factory):
+def test_isolate_budget(tmp_path_factory, runtime_driver):
     """With CODEGEN_ISOLATE_MAX_BOXES = 50: a problem that needs more returns
     CODEGEN_ISOLATE_BUDGET after exactly 50 enclosures; a small one still succeeds."""
-    exe = _compile(tmp_path_factory.mktemp("budget"), "interval_budget", STRICT,
-                   ["-DCODEGEN_ISOLATE_MAX_BOXES=50L"])
-    d = Driver(exe)
+    exe = _compile(runtime_driver, tmp_path_factory.mktemp("budget"), "interval_budget",
+                   defines=["-DCODEGEN_ISOLATE_MAX_BOXES=50L"])
+    d = runtime_driver.program(exe)
     problems = [(-3.0, 3.0, poly(*[-2.5, -1.75, -1.0, -0.25, 0.5, 1.25, 2.0, 2.75]), 16),
                 (0.0, 1.0, poly(0.3), 4)]
     big, small = isolate_many(d, problems)
@@ -1139,16 +1107,15 @@ def _sanitizer_script():
     return lines
 
 
-def test_sanitized_driver(tmp_path, drv, sanitizer):
+def test_sanitized_driver(tmp_path, drv, sanitizer, runtime_driver):
     """The driver under AddressSanitizer + UBSan (results in heap blocks of exactly capacity
     entries, NULL at 0) over arithmetic on hostile intervals, and isolation at and beyond
     capacity, with failing enclosures, out of budget, over huge intervals: clean, and the same
     output bit for bit as the -O2 build."""
-    exe = _compile(tmp_path, "interval_driver_san",
-                   [*sanitizer.flags, "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-                               "-Werror"])
+    exe = _compile(runtime_driver, tmp_path, "interval_driver_san",
+                   [*sanitizer.flags, *runtime_driver.warnings])
     # leak checking is off only because LeakSanitizer cannot run under some tracers
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=0", UBSAN_OPTIONS="print_stacktrace=1")
     lines = _sanitizer_script()
-    sanitized = Driver(exe, env).raw(lines)
+    sanitized = runtime_driver.program(exe, env).raw(lines)
     assert sanitized == drv.raw(lines)

@@ -72,9 +72,14 @@ GENERIC_STATUSES = (
     Status("ERR_OVERFLOW", 6, "a result is too large to represent"),
     Status("ERR_EVERY_ANGLE", 7, "the equilibrium equation vanishes identically: "
                                  "every angle is an equilibrium"),
-    Status("ERR_ARGUMENT", 8, "an argument is out of range (a mode number, or an interval "
-                              "whose ends are reversed)"),
+    Status("ERR_ARGUMENT", 8, "an argument is out of range (a mode number, an interval whose "
+                              "ends are reversed, an integrator option, or output times out of "
+                              "order)"),
     Status("ERR_CAPACITY", 9, "more equilibria or uncertain intervals than the result holds"),
+    Status("ERR_STEP_BUDGET", 10, "the integrator used up its step budget before the last "
+                                  "output time"),
+    Status("ERR_STEP_SIZE", 11, "the integrator's step fell below the resolution of time: "
+                                "the motion is singular or too stiff there"),
 )
 
 #: Room in an analysis for roots where no polynomial bounds their number, and for the

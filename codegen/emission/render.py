@@ -208,6 +208,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
                  f"{prefix}.cdef": "library.cdef.j2"}
     templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
     templates[f"{prefix}_kernels.h"] = "kernels.h.j2"
+    templates[f"{prefix}_simulate.c"] = "simulate.c.j2"
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)

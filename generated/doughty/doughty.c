@@ -51,9 +51,13 @@ const char *doughty_status_message(doughty_status status)
     case DOUGHTY_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
     case DOUGHTY_ERR_ARGUMENT:
-        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+        return "an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order)";
     case DOUGHTY_ERR_CAPACITY:
         return "more equilibria or uncertain intervals than the result holds";
+    case DOUGHTY_ERR_STEP_BUDGET:
+        return "the integrator used up its step budget before the last output time";
+    case DOUGHTY_ERR_STEP_SIZE:
+        return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
     case DOUGHTY_ERR_L_NOT_POSITIVE:
         return "L must be positive";
     case DOUGHTY_ERR_A_OUT_OF_RANGE:

@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "codegen_interval.h"
+#include "codegen_ode.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -49,14 +50,16 @@ typedef enum doughty_status {
     DOUGHTY_ERR_SINGULAR_STATE = 5, /* the spring length r is zero, so its direction is undefined */
     DOUGHTY_ERR_OVERFLOW = 6, /* a result is too large to represent */
     DOUGHTY_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    DOUGHTY_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    DOUGHTY_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order) */
     DOUGHTY_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
-    DOUGHTY_ERR_L_NOT_POSITIVE = 10, /* L must be positive */
-    DOUGHTY_ERR_A_OUT_OF_RANGE = 11, /* a must lie in [0, L] */
-    DOUGHTY_ERR_L_ND_NEGATIVE = 12, /* l_ND must not be negative */
-    DOUGHTY_ERR_MASS_NEGATIVE = 13, /* masses m_A, m_B, m_C must not be negative */
-    DOUGHTY_ERR_K_NEGATIVE = 14, /* k must not be negative */
-    DOUGHTY_ERR_B_NEGATIVE = 15 /* b must not be negative */
+    DOUGHTY_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
+    DOUGHTY_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
+    DOUGHTY_ERR_L_NOT_POSITIVE = 12, /* L must be positive */
+    DOUGHTY_ERR_A_OUT_OF_RANGE = 13, /* a must lie in [0, L] */
+    DOUGHTY_ERR_L_ND_NEGATIVE = 14, /* l_ND must not be negative */
+    DOUGHTY_ERR_MASS_NEGATIVE = 15, /* masses m_A, m_B, m_C must not be negative */
+    DOUGHTY_ERR_K_NEGATIVE = 16, /* k must not be negative */
+    DOUGHTY_ERR_B_NEGATIVE = 17 /* b must not be negative */
 } doughty_status;
 
 /* The mechanism's parameters, SI units. */
@@ -379,6 +382,62 @@ doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses);
 doughty_status doughty_isolate_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses);
+
+/* The time response: the reduced equation of motion (36), thetaddot = f(theta, thetadot),
+ * integrated from an initial state by the runtime's adaptive Dormand-Prince 5(4) integrator
+ * (codegen_ode.h), evaluating doughty_angular_acceleration's unchecked kernel. Times in s,
+ * angles in rad, rates in rad/s. The options (codegen_ode_options; NULL: codegen_ode_defaults(),
+ * rtol 1e-9, atol 1e-12, no step limit, 10^6 steps) bound each step's error by
+ * atol + rtol |y| in theta [rad] and thetadot [rad/s] alike. */
+
+/* An integration in progress: doughty_simulation_start, then _advance as often as wanted. Plain
+ * data (no pointers: it may be copied); read, do not modify. state.t is the time reached
+ * [s], state.steps, state.rejected and state.evaluations what it took. */
+typedef struct doughty_simulation {
+    doughty_params params;   /* the parameter set, copied by _start */
+    codegen_ode_options options;  /* the options, copied by _start */
+    codegen_ode_state state;      /* where the integration stands */
+    codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
+} doughty_simulation;
+
+/* Starts an integration at time t0 [s] from theta0 [rad], theta_d0 [rad/s]: validates the
+ * parameters and the options once and evaluates the acceleration there.
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_NULL_POINTER; the parameters' status
+ * (doughty_check_params); DOUGHTY_ERR_NONFINITE (t0, theta0 or theta_d0); DOUGHTY_ERR_ARGUMENT
+ * (an option out of range); DOUGHTY_ERR_SINGULAR_STATE (the acceleration is not finite at
+ * the initial state). */
+doughty_status doughty_simulation_start(doughty_simulation *simulation, const doughty_params *params,
+                                      codegen_real t0, codegen_real theta0, codegen_real theta_d0,
+                                      const codegen_ode_options *options);
+
+/* Integrates on: theta[i] [rad] and theta_d[i] [rad/s] at times[i] [s], i < n_times. The times
+ * must be finite (DOUGHTY_ERR_NONFINITE), non-decreasing and not before the start of the last
+ * step taken (DOUGHTY_ERR_ARGUMENT): outputs are interpolated (order 4) and never shorten a
+ * step, so splitting the times between calls changes no number. *reached (may be NULL)
+ * receives how many outputs were written. On DOUGHTY_ERR_STEP_BUDGET, DOUGHTY_ERR_STEP_SIZE or
+ * DOUGHTY_ERR_SINGULAR_STATE (the acceleration is not finite at every trial state down to
+ * the smallest step) the outputs before state.t are written, and the integration is over:
+ * later calls return the same status. */
+doughty_status doughty_simulation_advance(doughty_simulation *simulation, const codegen_real *times,
+                                        size_t n_times, codegen_real *theta, codegen_real *theta_d,
+                                        size_t *reached);
+
+/* The whole time response in one call: doughty_simulation_start at times[0] (so theta[0] =
+ * theta0, theta_d[0] = theta_d0), then doughty_simulation_advance over every time; n_times >= 1
+ * (DOUGHTY_ERR_ARGUMENT otherwise). The statuses and outputs are theirs. */
+doughty_status doughty_simulate(const doughty_params *params, codegen_real theta0, codegen_real theta_d0,
+                              const codegen_real *times, size_t n_times,
+                              const codegen_ode_options *options, codegen_real *theta,
+                              codegen_real *theta_d, size_t *reached);
+
+/* One classical Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s], for
+ * fixed-step loops (real time): *theta_next [rad], *theta_d_next [rad/s] at h later, with a
+ * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
+ * every call. Returns DOUGHTY_OK; DOUGHTY_ERR_NULL_POINTER; the parameters' status;
+ * DOUGHTY_ERR_NONFINITE (h, theta or theta_d); DOUGHTY_ERR_SINGULAR_STATE (a stage or the
+ * result is not finite). The outputs are written only on DOUGHTY_OK. */
+doughty_status doughty_rk4_step(const doughty_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
+                              codegen_real *theta_next, codegen_real *theta_d_next);
 
 #ifdef __cplusplus
 }

@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "codegen_interval.h"
+#include "codegen_ode.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -49,13 +50,15 @@ typedef enum four_bar_status {
     FOUR_BAR_ERR_SINGULAR_STATE = 5, /* the coupler and rocker are aligned (a limit position) or the spring length is zero */
     FOUR_BAR_ERR_OVERFLOW = 6, /* a result is too large to represent */
     FOUR_BAR_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    FOUR_BAR_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    FOUR_BAR_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order) */
     FOUR_BAR_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
-    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 10, /* d, a_2, a_3, a_4 must be positive */
-    FOUR_BAR_ERR_L_0_NEGATIVE = 11, /* l_0 must not be negative */
-    FOUR_BAR_ERR_MASS_NEGATIVE = 12, /* masses m_2, m_3, m_4 must not be negative */
-    FOUR_BAR_ERR_K_NEGATIVE = 13, /* k must not be negative */
-    FOUR_BAR_ERR_B_NEGATIVE = 14 /* b must not be negative */
+    FOUR_BAR_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
+    FOUR_BAR_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
+    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 12, /* d, a_2, a_3, a_4 must be positive */
+    FOUR_BAR_ERR_L_0_NEGATIVE = 13, /* l_0 must not be negative */
+    FOUR_BAR_ERR_MASS_NEGATIVE = 14, /* masses m_2, m_3, m_4 must not be negative */
+    FOUR_BAR_ERR_K_NEGATIVE = 15, /* k must not be negative */
+    FOUR_BAR_ERR_B_NEGATIVE = 16 /* b must not be negative */
 } four_bar_status;
 
 /* The mechanism's parameters, SI units. */
@@ -375,6 +378,62 @@ four_bar_status four_bar_analyze_batch(size_t count, const four_bar_params *para
                                   four_bar_analysis *results, four_bar_status *statuses);
 four_bar_status four_bar_isolate_batch(size_t count, const four_bar_params *params,
                                   four_bar_analysis *results, four_bar_status *statuses);
+
+/* The time response: the reduced equation of motion (36), thetaddot = f(theta, thetadot),
+ * integrated from an initial state by the runtime's adaptive Dormand-Prince 5(4) integrator
+ * (codegen_ode.h), evaluating four_bar_angular_acceleration's unchecked kernel. Times in s,
+ * angles in rad, rates in rad/s. The options (codegen_ode_options; NULL: codegen_ode_defaults(),
+ * rtol 1e-9, atol 1e-12, no step limit, 10^6 steps) bound each step's error by
+ * atol + rtol |y| in theta [rad] and thetadot [rad/s] alike. */
+
+/* An integration in progress: four_bar_simulation_start, then _advance as often as wanted. Plain
+ * data (no pointers: it may be copied); read, do not modify. state.t is the time reached
+ * [s], state.steps, state.rejected and state.evaluations what it took. */
+typedef struct four_bar_simulation {
+    four_bar_params params;   /* the parameter set, copied by _start */
+    codegen_ode_options options;  /* the options, copied by _start */
+    codegen_ode_state state;      /* where the integration stands */
+    codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
+} four_bar_simulation;
+
+/* Starts an integration at time t0 [s] from theta0 [rad], theta_d0 [rad/s]: validates the
+ * parameters and the options once and evaluates the acceleration there.
+ * Returns FOUR_BAR_OK; FOUR_BAR_ERR_NULL_POINTER; the parameters' status
+ * (four_bar_check_params); FOUR_BAR_ERR_NONFINITE (t0, theta0 or theta_d0); FOUR_BAR_ERR_ARGUMENT
+ * (an option out of range); FOUR_BAR_ERR_SINGULAR_STATE (the acceleration is not finite at
+ * the initial state). */
+four_bar_status four_bar_simulation_start(four_bar_simulation *simulation, const four_bar_params *params,
+                                      codegen_real t0, codegen_real theta0, codegen_real theta_d0,
+                                      const codegen_ode_options *options);
+
+/* Integrates on: theta[i] [rad] and theta_d[i] [rad/s] at times[i] [s], i < n_times. The times
+ * must be finite (FOUR_BAR_ERR_NONFINITE), non-decreasing and not before the start of the last
+ * step taken (FOUR_BAR_ERR_ARGUMENT): outputs are interpolated (order 4) and never shorten a
+ * step, so splitting the times between calls changes no number. *reached (may be NULL)
+ * receives how many outputs were written. On FOUR_BAR_ERR_STEP_BUDGET, FOUR_BAR_ERR_STEP_SIZE or
+ * FOUR_BAR_ERR_SINGULAR_STATE (the acceleration is not finite at every trial state down to
+ * the smallest step) the outputs before state.t are written, and the integration is over:
+ * later calls return the same status. */
+four_bar_status four_bar_simulation_advance(four_bar_simulation *simulation, const codegen_real *times,
+                                        size_t n_times, codegen_real *theta, codegen_real *theta_d,
+                                        size_t *reached);
+
+/* The whole time response in one call: four_bar_simulation_start at times[0] (so theta[0] =
+ * theta0, theta_d[0] = theta_d0), then four_bar_simulation_advance over every time; n_times >= 1
+ * (FOUR_BAR_ERR_ARGUMENT otherwise). The statuses and outputs are theirs. */
+four_bar_status four_bar_simulate(const four_bar_params *params, codegen_real theta0, codegen_real theta_d0,
+                              const codegen_real *times, size_t n_times,
+                              const codegen_ode_options *options, codegen_real *theta,
+                              codegen_real *theta_d, size_t *reached);
+
+/* One classical Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s], for
+ * fixed-step loops (real time): *theta_next [rad], *theta_d_next [rad/s] at h later, with a
+ * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
+ * every call. Returns FOUR_BAR_OK; FOUR_BAR_ERR_NULL_POINTER; the parameters' status;
+ * FOUR_BAR_ERR_NONFINITE (h, theta or theta_d); FOUR_BAR_ERR_SINGULAR_STATE (a stage or the
+ * result is not finite). The outputs are written only on FOUR_BAR_OK. */
+four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
+                              codegen_real *theta_next, codegen_real *theta_d_next);
 
 #ifdef __cplusplus
 }

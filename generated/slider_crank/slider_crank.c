@@ -51,9 +51,13 @@ const char *slider_crank_status_message(slider_crank_status status)
     case SLIDER_CRANK_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
     case SLIDER_CRANK_ERR_ARGUMENT:
-        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+        return "an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order)";
     case SLIDER_CRANK_ERR_CAPACITY:
         return "more equilibria or uncertain intervals than the result holds";
+    case SLIDER_CRANK_ERR_STEP_BUDGET:
+        return "the integrator used up its step budget before the last output time";
+    case SLIDER_CRANK_ERR_STEP_SIZE:
+        return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
     case SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE:
         return "R and l must be positive";
     case SLIDER_CRANK_ERR_L_0_NEGATIVE:

@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "codegen_interval.h"
+#include "codegen_ode.h"
 #include "codegen_runtime.h"
 
 #ifdef __cplusplus
@@ -49,13 +50,15 @@ typedef enum slider_crank_status {
     SLIDER_CRANK_ERR_SINGULAR_STATE = 5, /* the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero */
     SLIDER_CRANK_ERR_OVERFLOW = 6, /* a result is too large to represent */
     SLIDER_CRANK_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    SLIDER_CRANK_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    SLIDER_CRANK_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order) */
     SLIDER_CRANK_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
-    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 10, /* R and l must be positive */
-    SLIDER_CRANK_ERR_L_0_NEGATIVE = 11, /* l_0 must not be negative */
-    SLIDER_CRANK_ERR_MASS_NEGATIVE = 12, /* masses m_1, m_2, m_3 must not be negative */
-    SLIDER_CRANK_ERR_K_NEGATIVE = 13, /* k must not be negative */
-    SLIDER_CRANK_ERR_B_NEGATIVE = 14 /* b must not be negative */
+    SLIDER_CRANK_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
+    SLIDER_CRANK_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
+    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 12, /* R and l must be positive */
+    SLIDER_CRANK_ERR_L_0_NEGATIVE = 13, /* l_0 must not be negative */
+    SLIDER_CRANK_ERR_MASS_NEGATIVE = 14, /* masses m_1, m_2, m_3 must not be negative */
+    SLIDER_CRANK_ERR_K_NEGATIVE = 15, /* k must not be negative */
+    SLIDER_CRANK_ERR_B_NEGATIVE = 16 /* b must not be negative */
 } slider_crank_status;
 
 /* The mechanism's parameters, SI units. */
@@ -375,6 +378,62 @@ slider_crank_status slider_crank_analyze_batch(size_t count, const slider_crank_
                                   slider_crank_analysis *results, slider_crank_status *statuses);
 slider_crank_status slider_crank_isolate_batch(size_t count, const slider_crank_params *params,
                                   slider_crank_analysis *results, slider_crank_status *statuses);
+
+/* The time response: the reduced equation of motion (36), thetaddot = f(theta, thetadot),
+ * integrated from an initial state by the runtime's adaptive Dormand-Prince 5(4) integrator
+ * (codegen_ode.h), evaluating slider_crank_angular_acceleration's unchecked kernel. Times in s,
+ * angles in rad, rates in rad/s. The options (codegen_ode_options; NULL: codegen_ode_defaults(),
+ * rtol 1e-9, atol 1e-12, no step limit, 10^6 steps) bound each step's error by
+ * atol + rtol |y| in theta [rad] and thetadot [rad/s] alike. */
+
+/* An integration in progress: slider_crank_simulation_start, then _advance as often as wanted. Plain
+ * data (no pointers: it may be copied); read, do not modify. state.t is the time reached
+ * [s], state.steps, state.rejected and state.evaluations what it took. */
+typedef struct slider_crank_simulation {
+    slider_crank_params params;   /* the parameter set, copied by _start */
+    codegen_ode_options options;  /* the options, copied by _start */
+    codegen_ode_state state;      /* where the integration stands */
+    codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
+} slider_crank_simulation;
+
+/* Starts an integration at time t0 [s] from theta0 [rad], theta_d0 [rad/s]: validates the
+ * parameters and the options once and evaluates the acceleration there.
+ * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status
+ * (slider_crank_check_params); SLIDER_CRANK_ERR_NONFINITE (t0, theta0 or theta_d0); SLIDER_CRANK_ERR_ARGUMENT
+ * (an option out of range); SLIDER_CRANK_ERR_SINGULAR_STATE (the acceleration is not finite at
+ * the initial state). */
+slider_crank_status slider_crank_simulation_start(slider_crank_simulation *simulation, const slider_crank_params *params,
+                                      codegen_real t0, codegen_real theta0, codegen_real theta_d0,
+                                      const codegen_ode_options *options);
+
+/* Integrates on: theta[i] [rad] and theta_d[i] [rad/s] at times[i] [s], i < n_times. The times
+ * must be finite (SLIDER_CRANK_ERR_NONFINITE), non-decreasing and not before the start of the last
+ * step taken (SLIDER_CRANK_ERR_ARGUMENT): outputs are interpolated (order 4) and never shorten a
+ * step, so splitting the times between calls changes no number. *reached (may be NULL)
+ * receives how many outputs were written. On SLIDER_CRANK_ERR_STEP_BUDGET, SLIDER_CRANK_ERR_STEP_SIZE or
+ * SLIDER_CRANK_ERR_SINGULAR_STATE (the acceleration is not finite at every trial state down to
+ * the smallest step) the outputs before state.t are written, and the integration is over:
+ * later calls return the same status. */
+slider_crank_status slider_crank_simulation_advance(slider_crank_simulation *simulation, const codegen_real *times,
+                                        size_t n_times, codegen_real *theta, codegen_real *theta_d,
+                                        size_t *reached);
+
+/* The whole time response in one call: slider_crank_simulation_start at times[0] (so theta[0] =
+ * theta0, theta_d[0] = theta_d0), then slider_crank_simulation_advance over every time; n_times >= 1
+ * (SLIDER_CRANK_ERR_ARGUMENT otherwise). The statuses and outputs are theirs. */
+slider_crank_status slider_crank_simulate(const slider_crank_params *params, codegen_real theta0, codegen_real theta_d0,
+                              const codegen_real *times, size_t n_times,
+                              const codegen_ode_options *options, codegen_real *theta,
+                              codegen_real *theta_d, size_t *reached);
+
+/* One classical Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s], for
+ * fixed-step loops (real time): *theta_next [rad], *theta_d_next [rad/s] at h later, with a
+ * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
+ * every call. Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status;
+ * SLIDER_CRANK_ERR_NONFINITE (h, theta or theta_d); SLIDER_CRANK_ERR_SINGULAR_STATE (a stage or the
+ * result is not finite). The outputs are written only on SLIDER_CRANK_OK. */
+slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
+                              codegen_real *theta_next, codegen_real *theta_d_next);
 
 #ifdef __cplusplus
 }

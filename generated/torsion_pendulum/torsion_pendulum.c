@@ -50,9 +50,13 @@ const char *torsion_pendulum_status_message(torsion_pendulum_status status)
     case TORSION_PENDULUM_ERR_EVERY_ANGLE:
         return "the equilibrium equation vanishes identically: every angle is an equilibrium";
     case TORSION_PENDULUM_ERR_ARGUMENT:
-        return "an argument is out of range (a mode number, or an interval whose ends are reversed)";
+        return "an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order)";
     case TORSION_PENDULUM_ERR_CAPACITY:
         return "more equilibria or uncertain intervals than the result holds";
+    case TORSION_PENDULUM_ERR_STEP_BUDGET:
+        return "the integrator used up its step budget before the last output time";
+    case TORSION_PENDULUM_ERR_STEP_SIZE:
+        return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
     case TORSION_PENDULUM_ERR_L_NOT_POSITIVE:
         return "l must be positive";
     case TORSION_PENDULUM_ERR_MASS_NEGATIVE:

@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "codegen_interval.h"
+#include "codegen_ode.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,12 +44,14 @@ typedef enum torsion_pendulum_status {
     TORSION_PENDULUM_ERR_SINGULAR_STATE = 5, /* a denominator of the result vanishes */
     TORSION_PENDULUM_ERR_OVERFLOW = 6, /* a result is too large to represent */
     TORSION_PENDULUM_ERR_EVERY_ANGLE = 7, /* the equilibrium equation vanishes identically: every angle is an equilibrium */
-    TORSION_PENDULUM_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, or an interval whose ends are reversed) */
+    TORSION_PENDULUM_ERR_ARGUMENT = 8, /* an argument is out of range (a mode number, an interval whose ends are reversed, an integrator option, or output times out of order) */
     TORSION_PENDULUM_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
-    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 10, /* l must be positive */
-    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 11, /* masses m, m_t must not be negative */
-    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 12, /* k_t must not be negative */
-    TORSION_PENDULUM_ERR_C_NEGATIVE = 13 /* c must not be negative */
+    TORSION_PENDULUM_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
+    TORSION_PENDULUM_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
+    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 12, /* l must be positive */
+    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 13, /* masses m, m_t must not be negative */
+    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 14, /* k_t must not be negative */
+    TORSION_PENDULUM_ERR_C_NEGATIVE = 15 /* c must not be negative */
 } torsion_pendulum_status;
 
 /* The mechanism's parameters, SI units. */
@@ -280,6 +283,62 @@ torsion_pendulum_status torsion_pendulum_analyze_batch(size_t count, const torsi
                                   torsion_pendulum_analysis *results, torsion_pendulum_status *statuses);
 torsion_pendulum_status torsion_pendulum_isolate_batch(size_t count, const torsion_pendulum_params *params,
                                   torsion_pendulum_analysis *results, torsion_pendulum_status *statuses);
+
+/* The time response: the reduced equation of motion (36), thetaddot = f(theta, thetadot),
+ * integrated from an initial state by the runtime's adaptive Dormand-Prince 5(4) integrator
+ * (codegen_ode.h), evaluating torsion_pendulum_angular_acceleration's unchecked kernel. Times in s,
+ * angles in rad, rates in rad/s. The options (codegen_ode_options; NULL: codegen_ode_defaults(),
+ * rtol 1e-9, atol 1e-12, no step limit, 10^6 steps) bound each step's error by
+ * atol + rtol |y| in theta [rad] and thetadot [rad/s] alike. */
+
+/* An integration in progress: torsion_pendulum_simulation_start, then _advance as often as wanted. Plain
+ * data (no pointers: it may be copied); read, do not modify. state.t is the time reached
+ * [s], state.steps, state.rejected and state.evaluations what it took. */
+typedef struct torsion_pendulum_simulation {
+    torsion_pendulum_params params;   /* the parameter set, copied by _start */
+    codegen_ode_options options;  /* the options, copied by _start */
+    codegen_ode_state state;      /* where the integration stands */
+    codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
+} torsion_pendulum_simulation;
+
+/* Starts an integration at time t0 [s] from theta0 [rad], theta_d0 [rad/s]: validates the
+ * parameters and the options once and evaluates the acceleration there.
+ * Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_NULL_POINTER; the parameters' status
+ * (torsion_pendulum_check_params); TORSION_PENDULUM_ERR_NONFINITE (t0, theta0 or theta_d0); TORSION_PENDULUM_ERR_ARGUMENT
+ * (an option out of range); TORSION_PENDULUM_ERR_SINGULAR_STATE (the acceleration is not finite at
+ * the initial state). */
+torsion_pendulum_status torsion_pendulum_simulation_start(torsion_pendulum_simulation *simulation, const torsion_pendulum_params *params,
+                                      codegen_real t0, codegen_real theta0, codegen_real theta_d0,
+                                      const codegen_ode_options *options);
+
+/* Integrates on: theta[i] [rad] and theta_d[i] [rad/s] at times[i] [s], i < n_times. The times
+ * must be finite (TORSION_PENDULUM_ERR_NONFINITE), non-decreasing and not before the start of the last
+ * step taken (TORSION_PENDULUM_ERR_ARGUMENT): outputs are interpolated (order 4) and never shorten a
+ * step, so splitting the times between calls changes no number. *reached (may be NULL)
+ * receives how many outputs were written. On TORSION_PENDULUM_ERR_STEP_BUDGET, TORSION_PENDULUM_ERR_STEP_SIZE or
+ * TORSION_PENDULUM_ERR_SINGULAR_STATE (the acceleration is not finite at every trial state down to
+ * the smallest step) the outputs before state.t are written, and the integration is over:
+ * later calls return the same status. */
+torsion_pendulum_status torsion_pendulum_simulation_advance(torsion_pendulum_simulation *simulation, const codegen_real *times,
+                                        size_t n_times, codegen_real *theta, codegen_real *theta_d,
+                                        size_t *reached);
+
+/* The whole time response in one call: torsion_pendulum_simulation_start at times[0] (so theta[0] =
+ * theta0, theta_d[0] = theta_d0), then torsion_pendulum_simulation_advance over every time; n_times >= 1
+ * (TORSION_PENDULUM_ERR_ARGUMENT otherwise). The statuses and outputs are theirs. */
+torsion_pendulum_status torsion_pendulum_simulate(const torsion_pendulum_params *params, codegen_real theta0, codegen_real theta_d0,
+                              const codegen_real *times, size_t n_times,
+                              const codegen_ode_options *options, codegen_real *theta,
+                              codegen_real *theta_d, size_t *reached);
+
+/* One classical Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s], for
+ * fixed-step loops (real time): *theta_next [rad], *theta_d_next [rad/s] at h later, with a
+ * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
+ * every call. Returns TORSION_PENDULUM_OK; TORSION_PENDULUM_ERR_NULL_POINTER; the parameters' status;
+ * TORSION_PENDULUM_ERR_NONFINITE (h, theta or theta_d); TORSION_PENDULUM_ERR_SINGULAR_STATE (a stage or the
+ * result is not finite). The outputs are written only on TORSION_PENDULUM_OK. */
+torsion_pendulum_status torsion_pendulum_rk4_step(const torsion_pendulum_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
+                              codegen_real *theta_next, codegen_real *theta_d_next);
 
 #ifdef __cplusplus
 }

@@ -151,11 +151,47 @@ def driver(folder: Path) -> str:
                   "                }",
                   "            }",
                   "        }"]
+    lines += _time_response(prefix, max_status)
     lines += ["    }",
               f'    printf("{name}: %ld sets, %ld calls OK, %ld failures\\n", count, successes, '
               "failures);",
               "    return failures != 0 || successes == 0;", "}", ""]
     return "\n".join(lines)
+
+
+def _time_response(prefix: str, max_status: int) -> list[str]:
+    """Calls of PREFIX_simulate (a short span, a small step budget: any status may come) and
+    PREFIX_rk4_step: rows before *reached finite, the rest untouched; every row on OK."""
+    return [
+        "        {",
+        "            double times[4], theta[4], theta_d[4], next[2] = {SENTINEL, SENTINEL};",
+        "            codegen_ode_options options = codegen_ode_defaults();",
+        "            size_t reached = 99, i;",
+        "            int status;",
+        "            times[0] = value(1.0, hostility);",
+        "            for (i = 1; i < 4; ++i) {",
+        "                times[i] = times[i - 1] + value(0.01, hostility);",
+        "            }",
+        "            for (i = 0; i < 4; ++i) {",
+        "                theta[i] = theta_d[i] = SENTINEL;",
+        "            }",
+        "            options.max_steps = 300;",
+        f"            status = (int){prefix}_simulate(&p, value(1.0, hostility), "
+        "value(1.0, hostility), times, 4, &options, theta, theta_d, &reached);",
+        f'            check("{prefix}_simulate", set, status, {max_status}, NULL, 0);',
+        "            if (reached > 4 || (status == 0 && reached != 4)) {",
+        '                printf("simulate (set %ld): reached %lu with status %d\\n", set, '
+        "(unsigned long)reached, status);",
+        "                ++failures;",
+        "            }",
+        "            for (i = 0; i < 4 && reached <= 4; ++i) {",
+        '                check("simulate row", set, i < reached ? 0 : 1, 1, &theta[i], 1);',
+        '                check("simulate rate", set, i < reached ? 0 : 1, 1, &theta_d[i], 1);',
+        "            }",
+        f'            check("{prefix}_rk4_step", set, (int){prefix}_rk4_step(&p, '
+        "value(0.001, hostility), value(1.0, hostility), value(1.0, hostility), next, "
+        f"next + 1), {max_status}, next, 2);",
+        "        }"]
 
 
 if __name__ == "__main__":
