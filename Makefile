@@ -94,8 +94,10 @@ bench: venv  ## the library side by side with naive SymPy C and numpy: writes be
 
 # The cross toolchain and QEMU: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi
 # qemu-system-arm. Its own makefile, which may run two compilers at once (.NOTPARALLEL is ours).
+EMBEDDED_REPORT ?= embedded/report
 embedded:  ## every library on a Cortex-M4F under QEMU (double, float) vs the host: writes embedded/report.md and .json
-	$(MAKE) --no-print-directory -j2 -f embedded/embedded.mk LIBS="$(LIBS)" PYTHON=$(PYTHON)
+	$(MAKE) --no-print-directory -j2 -f embedded/embedded.mk LIBS="$(LIBS)" PYTHON=$(PYTHON) \
+	  REPORT=$(EMBEDDED_REPORT)
 
 clean:  ## remove what builds leave (build/, dist/, egg-info, the in-place extensions); the next target reinstalls
 	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed minimal

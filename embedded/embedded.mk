@@ -3,9 +3,10 @@
 # CODEGEN_FLOAT, linked into the test firmware (embedded/: start-up, linker script, and a
 # main written from the library's API spec by tests/c/make_driver.py --firmware), run under
 # QEMU's mps2-an386 and compared with the same main built for the host; embedded/report.py
-# then writes embedded/report.md and .json (sizes, stack, instructions, the comparison).
+# then writes $(REPORT).md and .json (sizes, stack, instructions, the comparison).
 PYTHON   ?= python3
 OUT      ?= build/embedded
+REPORT   ?= embedded/report
 BUILDS    = double float
 double_DEFINES =
 float_DEFINES  = -DCODEGEN_FLOAT
@@ -37,7 +38,7 @@ FIRMWARE = startup platform_qemu
 
 .PHONY: all
 .DELETE_ON_ERROR:
-all: embedded/report.md
+all: $(REPORT).md
 
 # $(1): a build (double or float)
 define build_rules
@@ -55,6 +56,7 @@ $(OUT)/$(1)/$(2)/%.o: generated/$(2)/%.c $(wildcard generated/$(2)/*.h generated
 	@mkdir -p $$(@D)
 	$(ARM_CC) $(ARM_CFLAGS) $($(1)_DEFINES) -Igenerated/$(2) -Igenerated/runtime -c $$< -o $$@
 $(OUT)/$(1)/$(2)/main.o: $(OUT)/main_$(2).c embedded/platform.h
+	@mkdir -p $$(@D)
 	$(ARM_CC) $(ARM_CFLAGS) $($(1)_DEFINES) -Iembedded -Igenerated/$(2) -Igenerated/runtime \
 	  -c $$< -o $$@
 $(OUT)/$(1)/$(2)/firmware.elf: $(OUT)/$(1)/$(2)/main.o \
@@ -84,7 +86,8 @@ $(foreach lib,$(LIBS),$(eval $(call main_rule,$(lib))))
 $(foreach build,$(BUILDS),$(eval $(call build_rules,$(build))))
 $(foreach build,$(BUILDS),$(foreach lib,$(LIBS),$(eval $(call library_rules,$(build),$(lib)))))
 
-OUTPUTS = $(foreach build,$(BUILDS),$(foreach lib,$(LIBS),$(OUT)/$(build)/$(lib)/target.txt \
+# A library's builds side by side: with -j2 the largest library's compiles run together.
+OUTPUTS = $(foreach lib,$(LIBS),$(foreach build,$(BUILDS),$(OUT)/$(build)/$(lib)/target.txt \
                                                           $(OUT)/$(build)/$(lib)/host.txt))
-embedded/report.md: $(OUTPUTS) embedded/report.py
-	$(PYTHON) embedded/report.py $(OUT) embedded/report
+$(REPORT).md: $(OUTPUTS) $(wildcard embedded/*.py)
+	$(PYTHON) embedded/report.py $(OUT) $(REPORT) "$(ARM_CFLAGS)"

@@ -15,6 +15,11 @@ void measure_end(measurement *result)
     result->stack_bytes = 0;
 }
 
+unsigned long platform_calibration(void)
+{
+    return 0;
+}
+
 void platform_fail(const char *message)
 {
     fprintf(stderr, "%s\n", message);

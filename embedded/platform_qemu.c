@@ -23,6 +23,7 @@ extern char end[], __heap_end[];
 
 static uint32_t start_ticks;
 static uintptr_t start_sp;
+static int calibrated = 0;
 static unsigned long overhead = 0;   /* instructions of an empty measurement */
 
 static uintptr_t stack_pointer(void)
@@ -66,10 +67,11 @@ static void stop(measurement *result)
 
 void measure_begin(void)
 {
-    if (overhead == 0) {   /* once: what measuring nothing costs */
+    if (!calibrated) {   /* once: what measuring nothing costs, called as a caller calls */
         measurement empty;
-        start();
-        stop(&empty);
+        calibrated = 1;
+        measure_begin();
+        measure_end(&empty);
         overhead = empty.instructions;
     }
     start();
@@ -79,6 +81,16 @@ void measure_end(measurement *result)
 {
     stop(result);
     result->instructions -= overhead;
+}
+
+unsigned long platform_calibration(void)
+{
+    measurement loop;
+    measure_begin();
+    /* 1 + 2 x 1000 instructions */
+    __asm__ volatile("mov r0, #1000\n1:\n\tsubs r0, r0, #1\n\tbne 1b" ::: "r0", "cc");
+    measure_end(&loop);
+    return loop.instructions;
 }
 
 /* Semihosting (ARM's debug monitor interface, which QEMU implements): operation in r0,

@@ -23,6 +23,11 @@ _CALLS = {"R_ARM_THM_CALL", "R_ARM_THM_JUMP24", "R_ARM_THM_JUMP19", "R_ARM_CALL"
           "R_ARM_JUMP24", "R_ARM_THM_JUMP11", "R_ARM_THM_JUMP8"}
 
 
+def tool(*command: str) -> str:
+    """What a command prints (it must succeed)."""
+    return subprocess.run(command, check=True, capture_output=True, text=True).stdout
+
+
 @dataclass
 class Graph:
     frames: dict[str, int] = field(default_factory=dict)      # function -> its frame [B]
@@ -88,15 +93,11 @@ def _registers(operands: str) -> int:
     return count
 
 
-def tool(*command: str) -> str:
-    return subprocess.run(command, check=True, capture_output=True, text=True).stdout
-
-
 def read_binary(elf: Path, graph: Graph) -> None:
     """Frames and calls of the functions the call graphs only name (libm, libgcc, libc),
     from the linked firmware's disassembly; a function's other names (__aeabi_dadd for
     __adddf3) share them."""
-    _read_disassembly(tool("arm-none-eabi-objdump", "-d", "--no-show-raw-insn", str(elf)),
+    read_disassembly(tool("arm-none-eabi-objdump", "-d", "--no-show-raw-insn", str(elf)),
                       graph)
     by_address: dict[int, list[str]] = {}
     for line in tool("arm-none-eabi-nm", str(elf)).splitlines():
@@ -112,7 +113,7 @@ def read_binary(elf: Path, graph: Graph) -> None:
                 graph.calls[name] = graph.calls.get(labelled[0], set())
 
 
-def _read_disassembly(listing: str, graph: Graph) -> None:
+def read_disassembly(listing: str, graph: Graph) -> None:
     function = None
     for line in listing.splitlines():
         start = re.match(r"^[0-9a-f]+ <([^>]+)>:$", line)

@@ -242,13 +242,18 @@ def firmware(folder: Path) -> str:
               f"    static {prefix}_analysis analysis;",
               f"    {prefix}_params p;",
               "    measurement m;",
+              "    unsigned long calibration;",
               "    int failed = 0;",
               "    int status;"]
     for parameter in spec["parameters"]:
         lines.append(f"    p.{parameter['name']} = {float(parameter['example'])!r};")
     heading = json.dumps(f"{name}: {spec['title']}, the example; sizeof({prefix}_analysis) ")
     lines.append(f'    printf("%s%lu\\n", {heading}, (unsigned long)sizeof analysis);')
-    lines.append('    printf("# libm fma rounds once: %d\\n", fma_rounds_once());')
+    lines += ['    printf("# libm fma rounds once: %d\\n", fma_rounds_once());',
+              "    calibration = platform_calibration();",
+              "    if (calibration != 0) {",
+              '        printf("# calibration: 2001 instructions counted as %lu\\n", calibration);',
+              "    }"]
     for route in ("analyze", "isolate"):
         lines += ["    measure_begin();",
                   f"    status = (int){prefix}_{route}(&p, &analysis);",
