@@ -122,7 +122,8 @@ def comparison_table(report: dict) -> list[str]:
                      {True: "yes", False: "no", None: "-"}[entry["measured"]["fma_rounds_once"]],
                      "yes" if entry["stack"]["calls_fma"] else "no"])
     return _table(["mechanism", "build", "firmware vs host", "lines differing",
-                   "largest difference in a root's angle [ulp]", "libm fma rounds once", "library calls fma"],
+                   "largest difference in a root's angle [ulp]", "libm fma rounds once",
+                   "library calls fma"],
                   rows)
 
 
@@ -150,7 +151,7 @@ def markdown(report: dict) -> str:
         "counts are exact: a loop of 2001 instructions is counted as "
         f"{_calibrations(report)}). The firmware's main, written per library from its API spec by "
         "`tests/c/make_driver.py --firmware`, runs both routes on the library's example "
-        "parameters (Table 2 for `doughty`) and prints every result's bits; the same main built "
+        "parameters (the paper's Table 2 for its mechanism) and prints every result's bits; the same main built "
         "for the host (`gcc -O0 -ffp-contract=off`) is the reference. " + float_note,
         "",
         "- *Worst-case stack*: gcc's `-fstack-usage` frames along its `-fcallgraph-info=su` "

@@ -215,7 +215,9 @@ def firmware(folder: Path) -> str:
              "        return;",
              "    }"]
     if "N_SIGMA" in spec["sizes"]:
-        lines.append(f'    for (i = 0; i < {spec["sizes"]["N_SIGMA"]}; ++i) {{ show("sigma", i, a->sigma[i]); }}')
+        lines += [f'    for (i = 0; i < {spec["sizes"]["N_SIGMA"]}; ++i) {{',
+                  '        show("sigma", i, a->sigma[i]);',
+                  '    }']
     lines += ["    for (i = 0; i < a->n_roots; ++i) {",
               f"        const {prefix}_equilibrium *e = &a->roots[i];",
               '        printf("root %d: theta_E = %9.4f deg  %-10s  K_EQ = %10.4f\\n", i, '
@@ -226,7 +228,9 @@ def firmware(folder: Path) -> str:
     lines += [f'        printf("{field}[%d] = %d\\n", i, (int)e->{field});'
               for field in ROOT_CODES]
     lines += ["    }",
-              '    for (i = 0; i < a->n_singular; ++i) { show("singular", i, a->singular_theta[i]); }',
+              '    for (i = 0; i < a->n_singular; ++i) {',
+              '        show("singular", i, a->singular_theta[i]);',
+              '    }',
               '    for (i = 0; i < a->n_unassembled; ++i) {',
               '        show("unassembled", i, a->unassembled_theta[i]);',
               '    }',
