@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+import codegen
 from codegen.analysis import analyze
 from codegen.api import load
 
@@ -85,7 +86,8 @@ def test_configure_discovers_every_mechanism(cmake, tmp_path):
     configured = _configure(ROOT, tmp_path)
     assert configured.returncode == 0, configured.stderr
     assert len(MECHANISMS) >= 4
-    assert f"mechvib 0.1.0: {';'.join(MECHANISMS)} (each also _float)" in configured.stdout
+    assert (f"mechvib {codegen.__version__}: {';'.join(MECHANISMS)} (each also _float)"
+            in configured.stdout)
     for name in MECHANISMS:
         assert (tmp_path / f"mechvib-{name}.pc").is_file()
         float_pc = (tmp_path / f"mechvib-{name}-float.pc").read_text()
