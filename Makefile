@@ -12,7 +12,7 @@ CC       ?= gcc
 STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
 SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
 
-.PHONY: all help venv analyze generate check build test test-all lint sanitize example bench clean
+.PHONY: all help venv analyze generate check build test test-all lint sanitize example bench embedded clean
 .DEFAULT_GOAL := all
 # The targets share .venv, generated/ and the in-place extensions: one at a time, even with -j.
 .NOTPARALLEL:
@@ -99,6 +99,13 @@ build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/
 # BENCH_ARGS=--quick: a smoke run of ~40 s (the derivations dominate); `--help` lists the sizes.
 bench: venv  ## the library side by side with naive SymPy C and numpy: writes benchmarks/results.md and .json (~1-2 min)
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
+
+# The cross toolchain and QEMU: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi
+# qemu-system-arm. Its own makefile, which may run two compilers at once (.NOTPARALLEL is ours).
+EMBEDDED_REPORT ?= embedded/report
+embedded:  ## every library on a Cortex-M4F under QEMU (double, float) vs the host: writes embedded/report.md and .json
+	$(MAKE) --no-print-directory -j2 -f embedded/embedded.mk LIBS="$(LIBS)" PYTHON=$(PYTHON) \
+	  REPORT=$(EMBEDDED_REPORT)
 
 clean:  ## remove what builds leave (build/, dist/, egg-info, the in-place extensions); the next target reinstalls
 	rm -rf build dist *.egg-info codegen/_native_* .pytest_cache $(VENV)/.installed minimal

@@ -70,6 +70,40 @@ def pytest_generate_tests(metafunc):
         metafunc.parametrize("plan_function_name", [f.name for f in _plan().functions])
 
 
+# --------------------------------------------------------------------------- tools
+
+
+def _in_ci() -> bool:
+    """CI is set (to anything but an explicit no: '', 0, false, no)."""
+    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
+
+
+def missing_tools_message(missing: list[str], packages: dict[str, str] | None = None) -> str:
+    """What is missing and how to install it; a tool's Debian package is its own name unless
+    ``packages`` maps it to others."""
+    install = " ".join(dict.fromkeys((packages or {}).get(tool, tool) for tool in missing))
+    return (f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed: "
+            f"install with `apt-get install {install}` (Debian/Ubuntu; .ci/run does "
+            f"this in CI)")
+
+
+def _need_tools(*tools: str, packages: dict[str, str] | None = None) -> None:
+    missing = [tool for tool in tools if shutil.which(tool) is None]
+    if not missing:
+        return
+    message = missing_tools_message(missing, packages)
+    if _in_ci():
+        pytest.fail(f"{message} [CI is set, so this fails instead of skipping]", pytrace=False)
+    pytest.skip(message)
+
+
+@pytest.fixture(scope="session")
+def need_tools():
+    """need_tools(*tools, packages=None): skip the test (locally) or fail it (CI set, as .ci/run
+    does, since it installs them) unless every tool is on PATH, naming the install command."""
+    return _need_tools
+
+
 @pytest.fixture(scope="session")
 def derivation():
     return _derivation()

@@ -6,7 +6,6 @@ missing tools and the command that installs them.
 """
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
 from pathlib import Path
@@ -16,29 +15,6 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _in_ci() -> bool:
-    """CI is set (to anything but an explicit no: '', 0, false, no)."""
-    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
-
-
-def missing_tools_message(missing: list[str]) -> str:
-    """What is missing and how to install it (Debian/Ubuntu package names = tool names)."""
-    return (f"{', '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed: "
-            f"install with `apt-get install {' '.join(missing)}` (Debian/Ubuntu; .ci/run does "
-            f"this in CI)")
-
-
-def _need(*tools: str) -> None:
-    """Fail (in CI) or skip (locally) unless every tool is on PATH."""
-    missing = [tool for tool in tools if shutil.which(tool) is None]
-    if not missing:
-        return
-    message = missing_tools_message(missing)
-    if _in_ci():
-        pytest.fail(f"{message} [CI is set, so this fails instead of skipping]", pytrace=False)
-    pytest.skip(message)
-
-
 def _make(target: str) -> str:
     result = subprocess.run(["make", "--no-print-directory", target], cwd=ROOT,
                             capture_output=True, text=True)
@@ -46,8 +22,8 @@ def _make(target: str) -> str:
     return result.stdout + result.stderr
 
 
-def test_sanitizers_report_nothing():
-    _need("gcc")
+def test_sanitizers_report_nothing(need_tools):
+    need_tools("gcc")
     out = _make("sanitize")
     assert "parameter sets, 0 failed" in out
     # every library's generic driver ran (tests/c/make_driver.py) and found nothing
@@ -59,14 +35,14 @@ def test_sanitizers_report_nothing():
     assert "runtime error" not in out and "ERROR: AddressSanitizer" not in out
 
 
-def test_gcc_clang_and_cppcheck_are_clean():
-    _need("gcc", "clang", "cppcheck")
+def test_gcc_clang_and_cppcheck_are_clean(need_tools):
+    need_tools("gcc", "clang", "cppcheck")
     out = _make("lint")
     assert "warning" not in out.lower().replace("-w", "").replace("--enable=warning", "")
 
 
 @pytest.mark.parametrize("ci", [None, "1", "true", "0", "false"])
-def test_a_missing_tool_fails_in_ci_and_skips_otherwise(monkeypatch, ci):
+def test_a_missing_tool_fails_in_ci_and_skips_otherwise(monkeypatch, ci, need_tools):
     """The message names the missing tools and their install command; CI=1 (what .ci/run
     exports) fails, no CI (or CI=0/false) skips."""
     present = {"gcc"}
@@ -78,11 +54,14 @@ def test_a_missing_tool_fails_in_ci_and_skips_otherwise(monkeypatch, ci):
         monkeypatch.setenv("CI", ci)
     expected = (pytest.fail.Exception if ci in ("1", "true") else pytest.skip.Exception)
     with pytest.raises(expected) as raised:
-        _need("gcc", "clang", "cppcheck")
+        need_tools("gcc", "clang", "cppcheck")
     message = str(raised.value)
     assert "clang, cppcheck are not installed" in message
     assert "`apt-get install clang cppcheck`" in message
-    _need("gcc")  # present: neither fails nor skips
+    need_tools("gcc")  # present: neither fails nor skips
+    with pytest.raises(expected) as raised:  # a tool whose package has another name
+        need_tools("arm-none-eabi-gcc", packages={"arm-none-eabi-gcc": "gcc-arm-none-eabi"})
+    assert "`apt-get install gcc-arm-none-eabi`" in str(raised.value)
 
 
 def test_ci_script_sets_ci():

@@ -348,7 +348,8 @@ def test_sdist_holds_what_the_wheel_is_built_from(dists):
     assert top == f"mechvib-{codegen.__version__}"
     expected = {str(src.relative_to(ROOT)) for src in _shipped_data().values()}
     expected |= {"LICENSE", "README.md", "pyproject.toml", "setup.py", "codegen/py.typed",
-                 "codegen/build_ext.py", "codegen/resources.py"}
+                 "codegen/build_ext.py", "codegen/resources.py", "CMakeLists.txt",
+                 "cmake/mechvibConfig.cmake.in", "cmake/mechvib.pc.in"}
     assert expected <= names, sorted(expected - names)
     assert not [n for n in names if n.endswith((".o", ".so"))]
 

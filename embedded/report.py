@@ -1,0 +1,210 @@
+"""embedded/report.md and .json from what `make embedded` built and ran (embedded/embedded.mk).
+
+For each build (double, float) and library: code size per group of objects
+(arm-none-eabi-size), the worst-case stack of every public function (stack.py, from gcc's call
+graphs) beside the high-water mark the firmware measured, the instructions QEMU counted for
+each route of the example's analysis, and the firmware's output against the host's. Exits 1
+when a double build's output differs from the host's for no cause it can name.
+
+Usage: report.py BUILD_DIR OUT_STEM CFLAGS   (writes OUT_STEM.md and OUT_STEM.json; CFLAGS: the
+cross compiler's flags, for the record)
+"""
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import stack  # noqa: E402  (beside this file)
+from render import markdown  # noqa: E402
+
+_VALUE = re.compile(r"^(\S+) = 0x([0-9a-f]{16}) ")
+
+
+def sizes(objects: dict[str, Path]) -> dict[str, dict[str, int]]:
+    """Group -> text (code and constants: flash), data, bss, from arm-none-eabi-size."""
+    out = stack.tool("arm-none-eabi-size", *map(str, objects.values())).splitlines()[1:]
+    return {group: dict(zip(("text", "data", "bss"), map(int, line.split()[:3])))
+            for group, line in zip(objects, out)}
+
+
+def object_groups(build: Path, lib: str) -> dict[str, Path]:
+    """The library's objects by what they hold: its functions, its analysis, and each part
+    of the runtime (roots, interval, dd: codegen_NAME.c)."""
+    groups = {}
+    for obj in sorted((build / lib).glob(f"{lib}*.o")):
+        groups[obj.stem.removeprefix(lib).lstrip("_") or "functions"] = obj
+    for obj in sorted((build / "runtime").glob("*.o")):
+        groups[f"runtime {obj.stem.removeprefix('codegen_')}"] = obj
+    return groups
+
+
+def public_functions(objects: list[Path]) -> list[str]:
+    """The functions the library's header declares: its global ones but the kernels."""
+    names = []
+    for obj in objects:
+        for line in stack.tool("arm-none-eabi-nm", "-g", "--defined-only", str(obj)).splitlines():
+            _, kind, name = line.split()
+            if kind == "T" and not name.endswith("_kernel"):
+                names.append(name)
+    return sorted(names)
+
+
+def cycles_through(graph: stack.Graph, roots: list[str]) -> list[list[str]]:
+    """The recursions reachable from roots, each once (as the functions on its cycle)."""
+    found, seen = [], set()
+
+    def visit(name: str, path: list[str]) -> None:
+        for callee in sorted(graph.calls.get(name, ())):
+            if callee in path:
+                cycle = path[path.index(callee):]
+                if frozenset(cycle) not in seen:
+                    seen.add(frozenset(cycle))
+                    found.append(cycle)
+            elif callee not in done:
+                visit(callee, path + [callee])
+        done.add(name)
+
+    done: set[str] = set()
+    for root in roots:
+        visit(root, [root])
+    return found
+
+
+def stack_report(build: Path, lib: str, library_objects: list[Path]) -> dict:
+    graph = stack.Graph()
+    stack.read_callgraphs(library_objects + sorted((build / "runtime").glob("*.o")), graph)
+    stack.read_binary(build / lib / "firmware.elf", graph)
+    worst = stack.worst_stack(graph)
+    functions = {}
+    for name in public_functions(library_objects):
+        result = worst(name)
+        functions[name] = {"bytes": result.bytes, "bounded": result.bounded,
+                           "path": [[stack.short(f), frame] for f, frame in result.path]}
+    cycles = cycles_through(graph, list(functions))
+    return {"functions": functions,
+            "recursion": [{"functions": [stack.short(f) for f in cycle],
+                           "bytes_per_level": sum(graph.frames.get(f, 0) for f in cycle)}
+                          for cycle in cycles],
+            "calls_fma": _reaches(graph, functions, "fma")}
+
+
+def _reaches(graph: stack.Graph, roots, target: str) -> bool:
+    """Whether any of roots calls target, however indirectly."""
+    todo, seen = list(roots), set()
+    while todo:
+        name = todo.pop()
+        if name == target:
+            return True
+        if name not in seen:
+            seen.add(name)
+            todo.extend(graph.calls.get(name, ()))
+    return False
+
+
+def measured(target_output: str) -> dict:
+    """The firmware's '# ' lines: per route its instructions and stack high-water mark."""
+    result = {"fma_rounds_once": None, "calibration": None}
+    for line in target_output.splitlines():
+        route = re.match(r"# (\w+): instructions (\d+) stack (\d+)", line)
+        if route:
+            result[route.group(1)] = {"instructions": int(route.group(2)),
+                                      "stack": int(route.group(3))}
+        calibration = re.match(r"# calibration: 2001 instructions counted as (\d+)", line)
+        if calibration:
+            result["calibration"] = int(calibration.group(1))
+        fma = re.match(r"# libm fma rounds once: (\d)", line)
+        if fma:
+            result["fma_rounds_once"] = fma.group(1) == "1"
+    return result
+
+
+def _ulps(a: str, b: str) -> int:
+    """Distance in units in the last place between two doubles given by their bits."""
+    def ordered(bits: str) -> int:
+        value = int(bits, 16)
+        return value if value < 1 << 63 else (1 << 63) - value
+    return abs(ordered(a) - ordered(b))
+
+
+def comparison(host: str, target: str) -> dict:
+    """The firmware's output against the host's, the measurements ('# ') aside."""
+    host_lines = [x for x in host.splitlines() if not x.startswith("#")]
+    target_lines = [x for x in target.splitlines() if not x.startswith("#")]
+    if host_lines == target_lines:
+        return {"identical": True, "lines": len(host_lines)}
+    same_shape = len(host_lines) == len(target_lines)
+    differing = [(h, t) for h, t in zip(host_lines, target_lines) if h != t]
+    values = [(_VALUE.match(h), _VALUE.match(t)) for h, t in differing]
+    exact = all(h and t and h.group(1) == t.group(1) for h, t in values)
+    return {"identical": False, "lines": len(host_lines), "differing_lines": len(differing),
+            # every difference is in a value's last bits, none in a count, kind or status
+            "only_values_differ": same_shape and exact,
+            # in the roots' angles (a residual, G at a root, is rounding noise: any ulps)
+            "max_ulps_theta": max((_ulps(h.group(2), t.group(2)) for h, t in values
+                                   if h and t and h.group(1).startswith("theta[")),
+                                  default=0),
+            "first_difference": list(differing[0]) if differing else None}
+
+
+def verdict(entry: dict) -> str:
+    same = entry["comparison"]
+    if same["identical"]:
+        return "identical"
+    if (same["only_values_differ"] and entry["measured"]["fma_rounds_once"] is False
+            and entry["stack"]["calls_fma"]):
+        return "differs: the C library's fma rounds twice"
+    return "DIFFERS"
+
+
+def collect(out: Path, cflags: str) -> dict:
+    report = {"builds": {}, "tools": {
+        "gcc": stack.tool("arm-none-eabi-gcc", "-dumpversion").strip(),
+        "qemu": stack.tool("qemu-system-arm", "--version").split()[3],
+        "cflags": " ".join(cflags.split())}}
+    for build in sorted(p for p in out.iterdir() if (p / "runtime").is_dir()):
+        libs = {}
+        for lib_dir in sorted(p for p in build.iterdir() if (p / "firmware.elf").is_file()):
+            lib = lib_dir.name
+            groups = object_groups(build, lib)
+            library_objects = [obj for group, obj in groups.items()
+                               if not group.startswith("runtime")]
+            target = (lib_dir / "target.txt").read_text()
+            entry = {"size": sizes(groups), "stack": stack_report(build, lib, library_objects),
+                     "measured": measured(target),
+                     "comparison": comparison((lib_dir / "host.txt").read_text(), target)}
+            entry["verdict"] = verdict(entry)
+            libs[lib] = entry
+        report["builds"][build.name] = libs
+    report["float_is_double"] = _same_objects(out / "double", out / "float")
+    return report
+
+
+def _same_objects(a: Path, b: Path) -> bool:
+    """Whether CODEGEN_FLOAT changed no object: the float build is the double code."""
+    objects = sorted(p.relative_to(a) for p in a.rglob("*.o") if "firmware" not in p.parts)
+    return bool(objects) and all((b / o).is_file() and (a / o).read_bytes() == (b / o).read_bytes()
+                                 for o in objects)
+
+
+def main() -> int:
+    out, stem = Path(sys.argv[1]), Path(sys.argv[2])
+    report = collect(out, sys.argv[3])
+    stem.with_suffix(".json").write_text(json.dumps(report, indent=1, sort_keys=True) + "\n")
+    text = markdown(report)
+    stem.with_suffix(".md").write_text(text)
+    print(text)
+    failures = [f"{build}/{lib}" for build, libs in report["builds"].items()
+                for lib, entry in libs.items()
+                if build == "double" and entry["verdict"] == "DIFFERS"]
+    if failures:
+        print(f"report.py: the firmware's output differs from the host's: {', '.join(failures)}",
+              file=sys.stderr)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
