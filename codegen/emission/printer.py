@@ -4,12 +4,12 @@ common-subexpression pass over all outputs of a function.
 The C computes in ``codegen_real`` (codegen_real.h): double, or float when the library is
 compiled with -DCODEGEN_FLOAT. So the printer writes literals that take the library's type:
 an integer as it is (exact in float below 2^24), a rational as ``(codegen_real)p/q`` (one
-rounding in the library's type), any other number through ``CODEGEN_R``. Functions keep
-their plain names; the generated sources include <tgmath.h>, which picks sinf or sin by the
-argument's type.
+rounding in the library's type), any other number through ``CODEGEN_R``. libm is called as
+``codegen_sin``, ..., which codegen_real.h maps to sinf or sin.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import sympy as sp
@@ -23,11 +23,17 @@ from .plan import CFunction
 C_REAL, CFFI_REAL = "codegen_real", "double"
 #: Integers up to this size are exact in float as well as in double.
 EXACT_INTEGER = 2**24
+#: libm as SymPy's C printer names it, and as codegen_real.h maps it for the real type.
+_LIBM_CALL = re.compile(r"(?<![\w.])(atan2|atan|ceil|copysign|cos|fabs|fma|fmax|fmin|pow|sin|"
+                        r"sqrt|tan)\(")
 
 
 class RealPrinter(C99CodePrinter):
     """C99 printer for ``codegen_real`` with small integer and half-integer powers as
     products and sqrt."""
+
+    def doprint(self, expr, assign_to=None):
+        return _LIBM_CALL.sub(r"codegen_\1(", super().doprint(expr, assign_to))
 
     def _print_Integer(self, expr):
         if abs(int(expr)) < EXACT_INTEGER:

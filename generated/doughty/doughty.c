@@ -9,7 +9,6 @@
 #include "codegen_dd.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
 static int all_finite(const codegen_real *values, int count)
@@ -134,10 +133,10 @@ void doughty_position_constraints_kernel(const doughty_params *params, const cod
         const codegen_real r = coords[2];
         const codegen_real theta = coords[3];
         const codegen_real phi = coords[4];
-        const codegen_real tmp0 = cos(theta);
-        const codegen_real tmp1 = cos(phi);
-        const codegen_real tmp2 = sin(theta);
-        const codegen_real tmp3 = r*sin(phi);
+        const codegen_real tmp0 = codegen_cos(theta);
+        const codegen_real tmp1 = codegen_cos(phi);
+        const codegen_real tmp2 = codegen_sin(theta);
+        const codegen_real tmp3 = r*codegen_sin(phi);
         const codegen_real tmp4 = L - a;
         out[0] = -H + a*tmp0 + r*tmp1;
         out[1] = -a*tmp2 + q - tmp3;
@@ -182,12 +181,12 @@ void doughty_constraint_jacobian_kernel(const doughty_params *params, const code
         const codegen_real r = coords[2];
         const codegen_real theta = coords[3];
         const codegen_real phi = coords[4];
-        const codegen_real tmp0 = cos(phi);
-        const codegen_real tmp1 = sin(theta);
-        const codegen_real tmp2 = sin(phi);
+        const codegen_real tmp0 = codegen_cos(phi);
+        const codegen_real tmp1 = codegen_sin(theta);
+        const codegen_real tmp2 = codegen_sin(phi);
         const codegen_real tmp3 = -r*tmp2;
         const codegen_real tmp4 = -tmp2;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = -r*tmp0;
         const codegen_real tmp7 = L - a;
         out[0] = 0;
@@ -255,13 +254,13 @@ void doughty_velocity_constraints_kernel(const doughty_params *params, const cod
         const codegen_real r_d = rates[2];
         const codegen_real theta_d = rates[3];
         const codegen_real phi_d = rates[4];
-        const codegen_real tmp0 = cos(phi);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp0 = codegen_cos(phi);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = a*theta_d;
-        const codegen_real tmp3 = sin(phi);
+        const codegen_real tmp3 = codegen_sin(phi);
         const codegen_real tmp4 = phi_d*r;
         const codegen_real tmp5 = tmp3*tmp4;
-        const codegen_real tmp6 = cos(theta);
+        const codegen_real tmp6 = codegen_cos(theta);
         const codegen_real tmp7 = r_d*tmp3 + tmp0*tmp4;
         const codegen_real tmp8 = L - a;
         out[0] = r_d*tmp0 - tmp1*tmp2 - tmp5;
@@ -320,14 +319,14 @@ void doughty_acceleration_constraints_kernel(const doughty_params *params, const
         const codegen_real r_dd = accels[2];
         const codegen_real theta_dd = accels[3];
         const codegen_real phi_dd = accels[4];
-        const codegen_real tmp0 = cos(phi);
-        const codegen_real tmp1 = sin(theta);
-        const codegen_real tmp2 = sin(phi);
+        const codegen_real tmp0 = codegen_cos(phi);
+        const codegen_real tmp1 = codegen_sin(theta);
+        const codegen_real tmp2 = codegen_sin(phi);
         const codegen_real tmp3 = phi_dd*r*tmp2;
         const codegen_real tmp4 = 2*phi_d*r_d;
         const codegen_real tmp5 = tmp2*tmp4;
         const codegen_real tmp6 = (theta_d*theta_d);
-        const codegen_real tmp7 = cos(theta);
+        const codegen_real tmp7 = codegen_cos(theta);
         const codegen_real tmp8 = a*tmp7;
         const codegen_real tmp9 = (phi_d*phi_d);
         const codegen_real tmp10 = r*tmp0;
@@ -388,8 +387,8 @@ void doughty_point_kinematics_kernel(const doughty_params *params, const codegen
         const codegen_real q_d = rates[1];
         const codegen_real theta_d = rates[3];
         const codegen_real tmp0 = (((codegen_real)1/2))*L;
-        const codegen_real tmp1 = tmp0*cos(theta);
-        const codegen_real tmp2 = tmp0*sin(theta);
+        const codegen_real tmp1 = tmp0*codegen_cos(theta);
+        const codegen_real tmp2 = tmp0*codegen_sin(theta);
         out[0] = p;
         out[1] = 0;
         out[2] = 0;
@@ -455,9 +454,9 @@ void doughty_energies_kernel(const doughty_params *params, const codegen_real co
         const codegen_real q_d = rates[1];
         const codegen_real theta_d = rates[3];
         const codegen_real tmp0 = (L*L)*(theta_d*theta_d);
-        const codegen_real tmp1 = L*sin(theta);
+        const codegen_real tmp1 = L*codegen_sin(theta);
         const codegen_real tmp2 = (((codegen_real)1/2))*m_C;
-        const codegen_real tmp3 = (((codegen_real)1/2))*m_A*(p_d*p_d) + (((codegen_real)1/2))*m_B*(q_d*q_d) + (((codegen_real)1/24))*m_C*tmp0 + tmp2*((((codegen_real)1/4))*tmp0*(cos(theta)*cos(theta)) + ((p_d + (((codegen_real)1/2))*theta_d*tmp1)*(p_d + (((codegen_real)1/2))*theta_d*tmp1)));
+        const codegen_real tmp3 = (((codegen_real)1/2))*m_A*(p_d*p_d) + (((codegen_real)1/2))*m_B*(q_d*q_d) + (((codegen_real)1/24))*m_C*tmp0 + tmp2*((((codegen_real)1/4))*tmp0*(codegen_cos(theta)*codegen_cos(theta)) + ((p_d + (((codegen_real)1/2))*theta_d*tmp1)*(p_d + (((codegen_real)1/2))*theta_d*tmp1)));
         const codegen_real tmp4 = g*m_B*q;
         const codegen_real tmp5 = g*tmp1*tmp2;
         const codegen_real tmp6 = (((codegen_real)1/2))*k*((-l_ND + r)*(-l_ND + r));
@@ -531,11 +530,11 @@ void doughty_lagrange_terms_kernel(const doughty_params *params, const codegen_r
         const codegen_real lambda_2 = multipliers[1];
         const codegen_real lambda_3 = multipliers[2];
         const codegen_real lambda_4 = multipliers[3];
-        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
         const codegen_real tmp1 = L*tmp0;
         const codegen_real tmp2 = theta_dd*tmp1;
         const codegen_real tmp3 = (theta_d*theta_d);
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = L*tmp4;
         const codegen_real tmp6 = tmp3*tmp5;
         const codegen_real tmp7 = (((codegen_real)1/2))*m_C;
@@ -549,8 +548,8 @@ void doughty_lagrange_terms_kernel(const doughty_params *params, const codegen_r
         const codegen_real tmp15 = g*m_B;
         const codegen_real tmp16 = (((codegen_real)1/2))*k*(-2*l_ND + 2*r);
         const codegen_real tmp17 = g*tmp5*tmp7 - tmp7*(L*theta_d*tmp13*tmp4 - ((codegen_real)1/2)*tmp12);
-        const codegen_real tmp18 = cos(phi);
-        const codegen_real tmp19 = sin(phi);
+        const codegen_real tmp18 = codegen_cos(phi);
+        const codegen_real tmp19 = codegen_sin(phi);
         const codegen_real tmp20 = lambda_1*tmp18 - lambda_2*tmp19 + lambda_3*tmp18 - lambda_4*tmp19;
         const codegen_real tmp21 = a*lambda_1*tmp0;
         const codegen_real tmp22 = a*lambda_2*tmp4;
@@ -641,9 +640,9 @@ void doughty_dependent_state_kernel(const doughty_params *params, codegen_real t
         const codegen_real H = params->H;
         const codegen_real L = params->L;
         const codegen_real a = params->a;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = L*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = L*tmp2;
         const codegen_real tmp4 = a*tmp0;
         const codegen_real tmp5 = -tmp4;
@@ -651,13 +650,13 @@ void doughty_dependent_state_kernel(const doughty_params *params, codegen_real t
         const codegen_real tmp7 = a*tmp2;
         const codegen_real tmp8 = tmp3 - tmp7;
         const codegen_real tmp9 = (tmp6*tmp6) + (tmp8*tmp8);
-        const codegen_real tmp10 = sqrt(tmp9);
+        const codegen_real tmp10 = codegen_sqrt(tmp9);
         const codegen_real tmp11 = 1/(tmp9);
         out[0] = tmp1;
         out[1] = tmp3;
         out[2] = tmp10;
         out[3] = theta;
-        out[4] = atan2(tmp8, tmp6);
+        out[4] = codegen_atan2(tmp8, tmp6);
         out[5] = -theta_d*tmp3;
         out[6] = theta_d*tmp1;
         out[7] = theta_d*(tmp6*tmp7 + (((codegen_real)1/2))*tmp8*(2*tmp1 - 2*tmp4))/tmp10;
@@ -710,9 +709,9 @@ void doughty_reduced_coefficients_kernel(const doughty_params *params, codegen_r
         const codegen_real b = params->b;
         const codegen_real tmp0 = (L*L);
         const codegen_real tmp1 = m_C*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = (((codegen_real)1/4))*tmp1;
         const codegen_real tmp7 = tmp0*tmp4;
@@ -769,9 +768,9 @@ void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_r
         const codegen_real g = params->g;
         const codegen_real tmp0 = (L*L);
         const codegen_real tmp1 = m_C*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = (((codegen_real)1/4))*tmp1;
         const codegen_real tmp7 = L*g*tmp4;
@@ -780,7 +779,7 @@ void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_r
         const codegen_real tmp10 = a*tmp4;
         const codegen_real tmp11 = H*a - 2*L*tmp10 + tmp8;
         const codegen_real tmp12 = ((H - tmp10)*(H - tmp10)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
-        const codegen_real tmp13 = sqrt(tmp12);
+        const codegen_real tmp13 = codegen_sqrt(tmp12);
         out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - ((codegen_real)1/2)*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (((codegen_real)1/12))*tmp1 + tmp3*tmp6 + tmp5*tmp6);
     }
 }
@@ -828,17 +827,17 @@ void doughty_equilibrium_residual_kernel(const doughty_params *params, codegen_r
         const codegen_real l_ND = params->l_ND;
         const codegen_real F = params->F;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = L*tmp0;
         const codegen_real tmp2 = F*tmp1;
         const codegen_real tmp3 = a*tmp0;
-        const codegen_real tmp4 = sin(theta);
-        const codegen_real tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const codegen_real tmp4 = codegen_sin(theta);
+        const codegen_real tmp5 = codegen_sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
         const codegen_real tmp6 = 1/(tmp5);
         const codegen_real tmp7 = k*tmp4*(l_ND - tmp5)*(H*a + (L*L)*tmp0 - 2*L*tmp3);
         const codegen_real tmp8 = g*tmp1;
         out[0] = L*g*m_B*tmp0 + (((codegen_real)1/2))*L*g*m_C*tmp0 - tmp2 - tmp6*tmp7;
-        out[1] = tmp6*fabs(tmp7) + fabs(tmp2) + fabs(m_B*tmp8) + (((codegen_real)1/2))*fabs(m_C*tmp8);
+        out[1] = tmp6*codegen_fabs(tmp7) + codegen_fabs(tmp2) + codegen_fabs(m_B*tmp8) + (((codegen_real)1/2))*codegen_fabs(m_C*tmp8);
     }
 }
 
@@ -877,13 +876,13 @@ void doughty_radicands_kernel(const doughty_params *params, codegen_real theta, 
         const codegen_real H = params->H;
         const codegen_real L = params->L;
         const codegen_real a = params->a;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = a*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (a*a);
         out[0] = ((H - tmp1)*(H - tmp1)) + ((L*tmp2 - a*tmp2)*(L*tmp2 - a*tmp2));
-        out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*fabs(L*a) + 2*fabs(H*tmp1);
+        out[1] = (H*H) + (L*L)*tmp3 + (tmp0*tmp0)*tmp4 + tmp3*tmp4 + 2*tmp3*codegen_fabs(L*a) + 2*codegen_fabs(H*tmp1);
     }
 }
 
@@ -928,12 +927,12 @@ void doughty_equilibrium_branches_kernel(const doughty_params *params, codegen_r
         const codegen_real l_ND = params->l_ND;
         const codegen_real F = params->F;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = L*tmp0;
         const codegen_real tmp2 = F*tmp1;
         const codegen_real tmp3 = a*tmp0;
-        const codegen_real tmp4 = sin(theta);
-        const codegen_real tmp5 = sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
+        const codegen_real tmp4 = codegen_sin(theta);
+        const codegen_real tmp5 = codegen_sqrt(((H - tmp3)*(H - tmp3)) + ((L*tmp4 - a*tmp4)*(L*tmp4 - a*tmp4)));
         const codegen_real tmp6 = k*tmp4*(H*a + (L*L)*tmp0 - 2*L*tmp3)/tmp5;
         const codegen_real tmp7 = g*tmp1;
         out[0] = L*g*m_B*tmp0 + (((codegen_real)1/2))*L*g*m_C*tmp0 - tmp2 - tmp6*(l_ND - tmp5);
@@ -1279,10 +1278,10 @@ void doughty_linearisation_kernel(const doughty_params *params, codegen_real the
         const codegen_real g = params->g;
         const codegen_real tmp0 = (L*L);
         const codegen_real tmp1 = m_C*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = tmp0*tmp3;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = tmp0*tmp6;
         const codegen_real tmp8 = (((codegen_real)1/4))*tmp1;
@@ -1291,7 +1290,7 @@ void doughty_linearisation_kernel(const doughty_params *params, codegen_real the
         const codegen_real tmp11 = L*tmp2;
         const codegen_real tmp12 = ((H - tmp9)*(H - tmp9)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
         const codegen_real tmp13 = g*tmp11;
-        const codegen_real tmp14 = (tmp12*sqrt(tmp12));
+        const codegen_real tmp14 = (tmp12*codegen_sqrt(tmp12));
         const codegen_real tmp15 = (a*a);
         const codegen_real tmp16 = l_ND*tmp3;
         const codegen_real tmp17 = tmp15*tmp16;
@@ -1353,11 +1352,11 @@ void doughty_vibration_kernel(const doughty_params *params, codegen_real theta, 
         const codegen_real g = params->g;
         const codegen_real tmp0 = (L*L);
         const codegen_real tmp1 = m_C*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = tmp0*tmp3;
         const codegen_real tmp5 = m_A*tmp4;
-        const codegen_real tmp6 = cos(theta);
+        const codegen_real tmp6 = codegen_cos(theta);
         const codegen_real tmp7 = (tmp6*tmp6);
         const codegen_real tmp8 = tmp0*tmp7;
         const codegen_real tmp9 = m_B*tmp8;
@@ -1366,7 +1365,7 @@ void doughty_vibration_kernel(const doughty_params *params, codegen_real theta, 
         const codegen_real tmp12 = g*tmp11;
         const codegen_real tmp13 = a*tmp6;
         const codegen_real tmp14 = ((H - tmp13)*(H - tmp13)) + ((-a*tmp2 + tmp11)*(-a*tmp2 + tmp11));
-        const codegen_real tmp15 = (tmp14*sqrt(tmp14));
+        const codegen_real tmp15 = (tmp14*codegen_sqrt(tmp14));
         const codegen_real tmp16 = (a*a);
         const codegen_real tmp17 = l_ND*tmp3;
         const codegen_real tmp18 = tmp16*tmp17;
@@ -1426,14 +1425,14 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
         const codegen_real l_ND = params->l_ND;
         const codegen_real F = params->F;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = L*tmp0;
         const codegen_real tmp2 = F*tmp1;
         const codegen_real tmp3 = a*tmp0;
-        const codegen_real tmp4 = sin(theta);
+        const codegen_real tmp4 = codegen_sin(theta);
         const codegen_real tmp5 = L*tmp4;
         const codegen_real tmp6 = ((H - tmp3)*(H - tmp3)) + ((-a*tmp4 + tmp5)*(-a*tmp4 + tmp5));
-        const codegen_real tmp7 = sqrt(tmp6);
+        const codegen_real tmp7 = codegen_sqrt(tmp6);
         const codegen_real tmp8 = 1/(tmp7);
         const codegen_real tmp9 = (L*L);
         const codegen_real tmp10 = H*a - 2*L*tmp3 + tmp0*tmp9;
@@ -1449,7 +1448,7 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
         const codegen_real tmp20 = (tmp0*tmp0);
         const codegen_real tmp21 = tmp20*tmp9;
         const codegen_real tmp22 = g*tmp5;
-        const codegen_real tmp23 = (tmp6*sqrt(tmp6));
+        const codegen_real tmp23 = (tmp6*codegen_sqrt(tmp6));
         const codegen_real tmp24 = (H*H);
         const codegen_real tmp25 = (a*a);
         const codegen_real tmp26 = tmp18*tmp25;
@@ -1465,14 +1464,14 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
         const codegen_real tmp36 = 2*tmp20;
         const codegen_real tmp37 = tmp23*tmp34;
         out[0] = tmp13;
-        out[1] = tmp8*fabs(tmp12) + fabs(tmp15) + (((codegen_real)1/2))*fabs(tmp16) + fabs(tmp2);
+        out[1] = tmp8*codegen_fabs(tmp12) + codegen_fabs(tmp15) + (((codegen_real)1/2))*codegen_fabs(tmp16) + codegen_fabs(tmp2);
         out[2] = m_A*tmp19 + m_B*tmp21 + (((codegen_real)1/4))*m_C*tmp19 + (((codegen_real)1/4))*tmp17*tmp20 + (((codegen_real)1/12))*tmp17;
         out[3] = b*(tmp10*tmp10)*tmp18/tmp6;
         out[4] = F*tmp5 + k*(-4*H*tmp1*tmp27 + (L*L*L*L)*tmp28 - 4*(L*L*L)*a*tmp28 - tmp19*tmp23 + tmp19*tmp32 + tmp21*tmp23 - tmp21*tmp32 + tmp23*tmp29 + tmp24*tmp27 + 2*tmp29*tmp30 - tmp29*tmp32 + 4*tmp30*tmp31 - tmp33*tmp35 + tmp33*tmp37 + tmp35*tmp36 - tmp36*tmp37)/tmp23 - m_B*tmp22 - ((codegen_real)1/2)*m_C*tmp22;
         out[5] = tmp13;
         out[6] = tmp11*tmp8*(l_ND + tmp7) + tmp15 + (((codegen_real)1/2))*tmp16 - tmp2;
         out[7] = tmp6;
-        out[8] = tmp19 + tmp24 + tmp26 + tmp31 + tmp33*fabs(tmp34) + 2*fabs(tmp29);
+        out[8] = tmp19 + tmp24 + tmp26 + tmp31 + tmp33*codegen_fabs(tmp34) + 2*codegen_fabs(tmp29);
     }
 }
 

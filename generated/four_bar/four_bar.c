@@ -9,7 +9,6 @@
 #include "codegen_dd.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
 static int all_finite(const codegen_real *values, int count)
@@ -130,8 +129,8 @@ void four_bar_position_constraints_kernel(const four_bar_params *params, const c
         const codegen_real theta = coords[0];
         const codegen_real phi_3 = coords[1];
         const codegen_real phi_4 = coords[2];
-        out[0] = a_2*cos(theta) + a_3*cos(phi_3) - a_4*cos(phi_4) - d;
-        out[1] = a_2*sin(theta) + a_3*sin(phi_3) - a_4*sin(phi_4);
+        out[0] = a_2*codegen_cos(theta) + a_3*codegen_cos(phi_3) - a_4*codegen_cos(phi_4) - d;
+        out[1] = a_2*codegen_sin(theta) + a_3*codegen_sin(phi_3) - a_4*codegen_sin(phi_4);
     }
 }
 
@@ -172,12 +171,12 @@ void four_bar_constraint_jacobian_kernel(const four_bar_params *params, const co
         const codegen_real theta = coords[0];
         const codegen_real phi_3 = coords[1];
         const codegen_real phi_4 = coords[2];
-        out[0] = -a_2*sin(theta);
-        out[1] = -a_3*sin(phi_3);
-        out[2] = a_4*sin(phi_4);
-        out[3] = a_2*cos(theta);
-        out[4] = a_3*cos(phi_3);
-        out[5] = -a_4*cos(phi_4);
+        out[0] = -a_2*codegen_sin(theta);
+        out[1] = -a_3*codegen_sin(phi_3);
+        out[2] = a_4*codegen_sin(phi_4);
+        out[3] = a_2*codegen_cos(theta);
+        out[4] = a_3*codegen_cos(phi_3);
+        out[5] = -a_4*codegen_cos(phi_4);
     }
 }
 
@@ -224,8 +223,8 @@ void four_bar_velocity_constraints_kernel(const four_bar_params *params, const c
         const codegen_real phi_4_d = rates[2];
         const codegen_real tmp0 = a_2*theta_d;
         const codegen_real tmp1 = a_3*phi_3_d;
-        out[0] = a_4*phi_4_d*sin(phi_4) - tmp0*sin(theta) - tmp1*sin(phi_3);
-        out[1] = -a_4*phi_4_d*cos(phi_4) + tmp0*cos(theta) + tmp1*cos(phi_3);
+        out[0] = a_4*phi_4_d*codegen_sin(phi_4) - tmp0*codegen_sin(theta) - tmp1*codegen_sin(phi_3);
+        out[1] = -a_4*phi_4_d*codegen_cos(phi_4) + tmp0*codegen_cos(theta) + tmp1*codegen_cos(phi_3);
     }
 }
 
@@ -277,14 +276,14 @@ void four_bar_acceleration_constraints_kernel(const four_bar_params *params, con
         const codegen_real theta_dd = accels[0];
         const codegen_real phi_3_dd = accels[1];
         const codegen_real phi_4_dd = accels[2];
-        const codegen_real tmp0 = sin(theta);
-        const codegen_real tmp1 = sin(phi_3);
-        const codegen_real tmp2 = sin(phi_4);
-        const codegen_real tmp3 = cos(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
+        const codegen_real tmp1 = codegen_sin(phi_3);
+        const codegen_real tmp2 = codegen_sin(phi_4);
+        const codegen_real tmp3 = codegen_cos(theta);
         const codegen_real tmp4 = a_2*(theta_d*theta_d);
-        const codegen_real tmp5 = cos(phi_3);
+        const codegen_real tmp5 = codegen_cos(phi_3);
         const codegen_real tmp6 = a_3*(phi_3_d*phi_3_d);
-        const codegen_real tmp7 = cos(phi_4);
+        const codegen_real tmp7 = codegen_cos(phi_4);
         const codegen_real tmp8 = (phi_4_d*phi_4_d);
         out[0] = -a_2*theta_dd*tmp0 - a_3*phi_3_dd*tmp1 + a_4*phi_4_dd*tmp2 + a_4*tmp7*tmp8 - tmp3*tmp4 - tmp5*tmp6;
         out[1] = a_2*theta_dd*tmp3 + a_3*phi_3_dd*tmp5 - a_4*phi_4_dd*tmp7 + a_4*tmp2*tmp8 - tmp0*tmp4 - tmp1*tmp6;
@@ -336,10 +335,10 @@ void four_bar_point_kinematics_kernel(const four_bar_params *params, const codeg
         const codegen_real phi_4 = coords[2];
         const codegen_real theta_d = rates[0];
         const codegen_real phi_4_d = rates[2];
-        const codegen_real tmp0 = a_2*cos(theta);
-        const codegen_real tmp1 = a_2*sin(theta);
-        const codegen_real tmp2 = a_4*cos(phi_4);
-        const codegen_real tmp3 = a_4*sin(phi_4);
+        const codegen_real tmp0 = a_2*codegen_cos(theta);
+        const codegen_real tmp1 = a_2*codegen_sin(theta);
+        const codegen_real tmp2 = a_4*codegen_cos(phi_4);
+        const codegen_real tmp3 = a_4*codegen_sin(phi_4);
         out[0] = tmp0;
         out[1] = tmp1;
         out[2] = d + tmp2;
@@ -406,13 +405,13 @@ void four_bar_energies_kernel(const four_bar_params *params, const codegen_real 
         const codegen_real phi_4_d = rates[2];
         const codegen_real tmp0 = (a_2*a_2)*(theta_d*theta_d);
         const codegen_real tmp1 = (a_4*a_4)*(phi_4_d*phi_4_d);
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (((codegen_real)1/4))*tmp0;
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (((codegen_real)1/2))*m_2;
-        const codegen_real tmp6 = sin(phi_4);
+        const codegen_real tmp6 = codegen_sin(phi_4);
         const codegen_real tmp7 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp8 = cos(phi_4);
+        const codegen_real tmp8 = codegen_cos(phi_4);
         const codegen_real tmp9 = (((codegen_real)1/2))*m_4;
         const codegen_real tmp10 = (((codegen_real)1/2))*a_2;
         const codegen_real tmp11 = tmp10*tmp2;
@@ -423,7 +422,7 @@ void four_bar_energies_kernel(const four_bar_params *params, const codegen_real 
         const codegen_real tmp16 = a_2*g*tmp2*tmp5;
         const codegen_real tmp17 = g*tmp12*tmp9;
         const codegen_real tmp18 = g*m_3*(tmp11 + tmp13);
-        const codegen_real tmp19 = (((codegen_real)1/2))*k*((-l_0 + sqrt(((tmp12 - y_S)*(tmp12 - y_S)) + ((d + tmp14 - x_S)*(d + tmp14 - x_S))))*(-l_0 + sqrt(((tmp12 - y_S)*(tmp12 - y_S)) + ((d + tmp14 - x_S)*(d + tmp14 - x_S)))));
+        const codegen_real tmp19 = (((codegen_real)1/2))*k*((-l_0 + codegen_sqrt(((tmp12 - y_S)*(tmp12 - y_S)) + ((d + tmp14 - x_S)*(d + tmp14 - x_S))))*(-l_0 + codegen_sqrt(((tmp12 - y_S)*(tmp12 - y_S)) + ((d + tmp14 - x_S)*(d + tmp14 - x_S)))));
         out[0] = tmp15;
         out[1] = tmp16 + tmp17 + tmp18;
         out[2] = tmp19;
@@ -496,18 +495,18 @@ void four_bar_lagrange_terms_kernel(const four_bar_params *params, const codegen
         const codegen_real lambda_1 = multipliers[0];
         const codegen_real lambda_2 = multipliers[1];
         const codegen_real tmp0 = (a_2*a_2);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = (((codegen_real)1/2))*theta_dd;
         const codegen_real tmp3 = tmp0*tmp2;
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (((codegen_real)1/2))*m_2;
         const codegen_real tmp6 = a_2*tmp1;
-        const codegen_real tmp7 = sin(phi_4);
+        const codegen_real tmp7 = codegen_sin(phi_4);
         const codegen_real tmp8 = a_4*tmp7;
         const codegen_real tmp9 = (((codegen_real)1/2))*phi_4_dd;
         const codegen_real tmp10 = a_2*tmp4;
         const codegen_real tmp11 = (((codegen_real)1/2))*(theta_d*theta_d);
-        const codegen_real tmp12 = cos(phi_4);
+        const codegen_real tmp12 = codegen_cos(phi_4);
         const codegen_real tmp13 = a_4*tmp12;
         const codegen_real tmp14 = (((codegen_real)1/2))*(phi_4_d*phi_4_d);
         const codegen_real tmp15 = -tmp10*tmp11 - tmp13*tmp14 - tmp2*tmp6 - tmp8*tmp9;
@@ -531,13 +530,13 @@ void four_bar_lagrange_terms_kernel(const four_bar_params *params, const codegen
         const codegen_real tmp33 = tmp8 - y_S;
         const codegen_real tmp34 = d + tmp13 - x_S;
         const codegen_real tmp35 = (tmp33*tmp33) + (tmp34*tmp34);
-        const codegen_real tmp36 = sqrt(tmp35);
+        const codegen_real tmp36 = codegen_sqrt(tmp35);
         const codegen_real tmp37 = tmp13*tmp33;
         const codegen_real tmp38 = tmp34*tmp8;
         const codegen_real tmp39 = k*(-l_0 + tmp36)*(tmp37 - tmp38)/tmp36 + tmp22*tmp28 + tmp22*tmp32 + tmp27*tmp32;
         const codegen_real tmp40 = lambda_1*tmp6;
-        const codegen_real tmp41 = a_3*lambda_1*sin(phi_3);
-        const codegen_real tmp42 = cos(phi_3);
+        const codegen_real tmp41 = a_3*lambda_1*codegen_sin(phi_3);
+        const codegen_real tmp42 = codegen_cos(phi_3);
         const codegen_real tmp43 = lambda_1*tmp8 - lambda_2*tmp13;
         const codegen_real tmp44 = (((codegen_real)1/2))*b*(2*tmp37 - 2*tmp38)*(phi_4_d*tmp37 - phi_4_d*tmp38)/tmp35;
         out[0] = tmp23;
@@ -618,15 +617,15 @@ void four_bar_dependent_state_kernel(const four_bar_params *params, codegen_real
         const codegen_real tmp4 = a_3*tmp3;
         const codegen_real tmp5 = (a_2*a_2);
         const codegen_real tmp6 = (d*d);
-        const codegen_real tmp7 = cos(theta);
+        const codegen_real tmp7 = codegen_cos(theta);
         const codegen_real tmp8 = a_2*tmp7;
         const codegen_real tmp9 = 2*d*tmp8;
         const codegen_real tmp10 = -tmp1 - tmp2 - tmp4 + tmp5 + tmp6 - tmp9;
         const codegen_real tmp11 = tmp5 + tmp6 - tmp9;
         const codegen_real tmp12 = -tmp1 + tmp11;
         const codegen_real tmp13 = tmp12 - tmp2 + tmp4;
-        const codegen_real tmp14 = sqrt(-tmp10*tmp13);
-        const codegen_real tmp15 = sin(theta);
+        const codegen_real tmp14 = codegen_sqrt(-tmp10*tmp13);
+        const codegen_real tmp15 = codegen_sin(theta);
         const codegen_real tmp16 = a_2*tmp15;
         const codegen_real tmp17 = tmp16*tmp6;
         const codegen_real tmp18 = (a_2*a_2*a_2);
@@ -667,8 +666,8 @@ void four_bar_dependent_state_kernel(const four_bar_params *params, codegen_real
         const codegen_real tmp53 = (tmp15*tmp15);
         const codegen_real tmp54 = 1/(((tmp39*tmp39) + (tmp42*tmp42)));
         out[0] = theta;
-        out[1] = atan2(tmp24, tmp33);
-        out[2] = atan2(tmp39, tmp42);
+        out[1] = codegen_atan2(tmp24, tmp33);
+        out[2] = codegen_atan2(tmp39, tmp42);
         out[3] = theta_d;
         out[4] = theta_d*(-tmp24*tmp45*((((codegen_real)1/2))*tmp0*tmp22*(-tmp15*tmp48*tmp7 + 3*tmp17 + tmp19 - tmp31*tmp52) - tmp0*tmp32*tmp47) + tmp33*tmp45*((((codegen_real)1/2))*tmp0*tmp22*(a_2*tmp14*tmp15 + a_2*tmp14*tmp49*tmp50*tmp51*tmp7 + a_2*tmp2*tmp7 - d*tmp14*tmp52 + 2*d*tmp29*tmp5 - tmp26 - tmp27 - tmp28 - tmp30*tmp53) - tmp21*tmp47));
         out[5] = theta_d*(tmp38*tmp54*(2*a_2*a_4*tmp14*tmp7 - 4*a_4*tmp37*tmp46 + tmp36 - tmp41*tmp52) + tmp42*tmp54*(a_4*tmp48*tmp53 - tmp14*tmp40*tmp52 - tmp35*tmp8 + tmp41));
@@ -722,10 +721,10 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real b = params->b;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = m_2*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (a_3*a_3);
         const codegen_real tmp8 = (a_4*a_4);
@@ -740,7 +739,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp17 = tmp16 - tmp7;
         const codegen_real tmp18 = tmp10 + tmp17 - tmp8;
         const codegen_real tmp19 = tmp15*tmp18;
-        const codegen_real tmp20 = sqrt(-tmp19);
+        const codegen_real tmp20 = codegen_sqrt(-tmp19);
         const codegen_real tmp21 = tmp12*tmp20;
         const codegen_real tmp22 = (d*d*d);
         const codegen_real tmp23 = tmp2*tmp22;
@@ -754,7 +753,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp31 = 4*tmp0;
         const codegen_real tmp32 = tmp11*tmp6;
         const codegen_real tmp33 = tmp31*tmp32;
-        const codegen_real tmp34 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp34 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp35 = a_2*tmp34;
         const codegen_real tmp36 = 2*tmp3;
         const codegen_real tmp37 = 4*tmp3;
@@ -790,7 +789,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp67 = tmp20*tmp66;
         const codegen_real tmp68 = 2*tmp11;
         const codegen_real tmp69 = tmp0*tmp30*tmp68 + tmp65 + tmp67;
-        const codegen_real tmp70 = pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp70 = codegen_pow(a_2, CODEGEN_R(5.0));
         const codegen_real tmp71 = tmp13*tmp70;
         const codegen_real tmp72 = tmp3*tmp71;
         const codegen_real tmp73 = tmp2*tmp60;
@@ -830,7 +829,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp107 = tmp0*tmp6;
         const codegen_real tmp108 = -tmp0*tmp106 - 16*tmp107*tmp66 - tmp20*tmp5*tmp76 + tmp20*tmp61;
         const codegen_real tmp109 = 3*tmp100 - tmp101*tmp102 - tmp101*tmp20*tmp54 + tmp103*tmp94 + tmp105*tmp20 + tmp108 + 3*tmp99;
-        const codegen_real tmp110 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp110 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp111 = 2*tmp66;
         const codegen_real tmp112 = tmp44*tmp5;
         const codegen_real tmp113 = tmp112*tmp20;
@@ -1007,7 +1006,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp284 = (y_S*y_S);
         const codegen_real tmp285 = tmp131*x_S;
         const codegen_real tmp286 = d*tmp171 + tmp0*tmp283 + tmp0*tmp284 + tmp11*tmp283 + tmp11*tmp284 + tmp115*tmp176*y_S - tmp12*tmp79 - tmp12*tmp82 + tmp120*tmp285 + tmp133*tmp26 - tmp134*x_S - tmp14*tmp283 - tmp14*tmp284 - tmp165*y_S + tmp167*y_S - tmp168*y_S - tmp171*x_S - tmp172*x_S + tmp173*x_S + tmp174*x_S + tmp21*y_S - tmp22*x_S - tmp223*tmp6 + tmp224 - tmp26*y_S - tmp28*y_S - tmp285 + tmp39 + tmp60 - tmp79*x_S + tmp82*x_S;
-        const codegen_real tmp287 = sqrt(tmp16*tmp286);
+        const codegen_real tmp287 = codegen_sqrt(tmp16*tmp286);
         out[0] = (((codegen_real)1/12))*m_3*(tmp205*tmp205)*tmp7 + (((codegen_real)1/12))*m_4*(tmp162*tmp162)*tmp8 + (((codegen_real)1/12))*tmp1 - (tmp125*tmp125)*tmp98 - (tmp130*tmp130)*tmp88 + tmp3*tmp4 + tmp4*tmp6 - (tmp85*tmp85)*tmp88 - (tmp97*tmp97)*tmp98;
         out[1] = (((codegen_real)1/12))*m_3*tmp205*tmp7*(tmp161*(-tmp12*tmp203 + tmp140*tmp273*tmp274 + tmp170*tmp188*tmp276 + tmp186*tmp191*tmp268*tmp279 - tmp188*tmp198*tmp277 - tmp272*tmp276*tmp278 + tmp273*tmp277 - tmp274*tmp280) + tmp161*(tmp133*tmp193*tmp262 + tmp161*((((codegen_real)1/4))*tmp140*tmp177*tmp178*tmp186*tmp271*tmp281 - tmp280*tmp282) - tmp195*((((codegen_real)1/2))*a_2*tmp163*tmp164*tmp5 - tmp179*tmp279) + tmp201*((((codegen_real)1/2))*a_2*tmp163*tmp164*tmp2 - tmp140*tmp180) + tmp204*tmp259 - tmp269*tmp276 - tmp270*tmp282 + tmp275*tmp282) + tmp170*tmp193*tmp262 - tmp181*tmp262 - tmp192*tmp260*tmp261 - tmp195*(-tmp157*tmp170*tmp179 + tmp177*tmp206*tmp265 - tmp177*tmp264 + tmp193*(tmp175 + tmp197 + tmp263)) + tmp199*tmp261 + tmp201*(-tmp184*tmp264 + tmp193*(tmp183 + tmp266) - tmp260*tmp267 + tmp265*tmp268) + tmp204*tmp246 - tmp270*tmp274 + tmp274*tmp275) + (((codegen_real)1/12))*m_4*tmp162*tmp8*(tmp139*tmp243 + tmp148*(12*a_4*tmp166 + tmp152) + tmp154*(-tmp138 - tmp151*tmp245 - tmp244) + tmp156*tmp246 + tmp161*(tmp242*tmp254 + tmp250*tmp255 + tmp250*tmp256 + tmp252 + tmp257) + tmp161*(tmp139*tmp254 + tmp156*tmp259 + tmp161*(tmp255*tmp258 + tmp256*tmp258) + tmp247*tmp258 + tmp251*tmp258 - tmp252 + tmp257) + tmp242*tmp243 + tmp247*tmp250 + tmp250*tmp251) - tmp125*tmp232*(tmp125*tmp207 + tmp161*(-tmp125*tmp228 - tmp222*(12*a_2*tmp22*tmp6 + 12*d*tmp27*tmp6 - tmp105 - tmp241 - 3*tmp49 - tmp5*tmp94 - 3*tmp52)) - tmp222*(tmp239 - 24*tmp24 - 24*tmp29*tmp5 + 36*tmp30*tmp6*tmp90 + tmp84 + tmp96)) - tmp130*tmp229*(tmp130*tmp207 + tmp161*(-tmp130*tmp228 - tmp222*(4*a_2*tmp22*tmp6 + 4*d*tmp27*tmp6 - tmp128 - tmp223*tmp5 - tmp241 - tmp49 - tmp52)) - tmp222*(-tmp216*tmp29 + tmp239 - 8*tmp24 + tmp69 + tmp93)) - tmp229*tmp85*(tmp161*(-tmp222*(tmp2*tmp223 + tmp2*tmp33 - 4*tmp225 - tmp226*tmp25 + tmp227 + tmp64 + tmp66) - tmp228*tmp85) + tmp207*tmp85 - tmp222*(tmp102*tmp37 - tmp103*tmp209 + tmp129 + tmp208*tmp37 + tmp220)) - tmp232*tmp97*(tmp161*(-tmp222*(tmp2*tmp92 - 12*tmp225 - tmp226*tmp89 + tmp227 + 3*tmp64 + 3*tmp66 + tmp95) - tmp228*tmp97) + tmp207*tmp97 - tmp222*(tmp102*tmp230 - tmp103*tmp231*tmp90 + tmp109 + tmp208*tmp230 + tmp220));
         out[2] = b*(((((codegen_real)1/2))*tmp164*(tmp157*tmp286 + tmp16*tmp161*(-d*y_S + tmp12*y_S - tmp133*x_S + tmp149) + tmp16*(2*a_2*d*tmp2*tmp283 + 2*a_2*d*tmp2*tmp284 + a_2*d*tmp2*tmp7 + a_2*d*tmp2*tmp8 + a_2*d*tmp20*tmp5 + a_2*tmp2*tmp8*x_S + a_2*tmp5*tmp7*y_S + 2*d*tmp0*tmp6*y_S + 4*tmp0*tmp11*tmp2*tmp5 - tmp133*tmp22 - tmp134*y_S - tmp165*x_S - tmp167*x_S - tmp171*y_S - tmp172*y_S - tmp174*y_S - tmp196*y_S + tmp2*tmp27*x_S - tmp21*x_S - tmp215*tmp285 - tmp226))/tmp287 - tmp267*tmp287)*((((codegen_real)1/2))*tmp164*(tmp157*tmp286 + tmp16*tmp161*(-d*y_S + tmp12*y_S - tmp133*x_S + tmp149) + tmp16*(2*a_2*d*tmp2*tmp283 + 2*a_2*d*tmp2*tmp284 + a_2*d*tmp2*tmp7 + a_2*d*tmp2*tmp8 + a_2*d*tmp20*tmp5 + a_2*tmp2*tmp8*x_S + a_2*tmp5*tmp7*y_S + 2*d*tmp0*tmp6*y_S + 4*tmp0*tmp11*tmp2*tmp5 - tmp133*tmp22 - tmp134*y_S - tmp165*x_S - tmp167*x_S - tmp171*y_S - tmp172*y_S - tmp174*y_S - tmp196*y_S + tmp2*tmp27*x_S - tmp21*x_S - tmp215*tmp285 - tmp226))/tmp287 - tmp267*tmp287));
@@ -1062,10 +1061,10 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real g = params->g;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = m_2*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (a_3*a_3);
         const codegen_real tmp8 = (a_4*a_4);
@@ -1080,7 +1079,7 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real tmp17 = tmp16 - tmp7;
         const codegen_real tmp18 = tmp10 + tmp17 - tmp8;
         const codegen_real tmp19 = tmp15*tmp18;
-        const codegen_real tmp20 = sqrt(-tmp19);
+        const codegen_real tmp20 = codegen_sqrt(-tmp19);
         const codegen_real tmp21 = tmp12*tmp20;
         const codegen_real tmp22 = (d*d*d);
         const codegen_real tmp23 = tmp2*tmp22;
@@ -1094,7 +1093,7 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real tmp31 = 4*tmp0;
         const codegen_real tmp32 = tmp11*tmp6;
         const codegen_real tmp33 = tmp31*tmp32;
-        const codegen_real tmp34 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp34 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp35 = a_2*tmp34;
         const codegen_real tmp36 = 2*tmp3;
         const codegen_real tmp37 = 4*tmp3;
@@ -1130,7 +1129,7 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real tmp67 = tmp20*tmp66;
         const codegen_real tmp68 = 2*tmp11;
         const codegen_real tmp69 = tmp0*tmp30*tmp68 + tmp65 + tmp67;
-        const codegen_real tmp70 = pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp70 = codegen_pow(a_2, CODEGEN_R(5.0));
         const codegen_real tmp71 = tmp13*tmp70;
         const codegen_real tmp72 = tmp3*tmp71;
         const codegen_real tmp73 = tmp2*tmp60;
@@ -1170,7 +1169,7 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real tmp107 = tmp0*tmp6;
         const codegen_real tmp108 = -tmp0*tmp106 - 16*tmp107*tmp66 - tmp20*tmp5*tmp76 + tmp20*tmp61;
         const codegen_real tmp109 = 3*tmp100 - tmp101*tmp102 - tmp101*tmp20*tmp54 + tmp103*tmp94 + tmp105*tmp20 + tmp108 + 3*tmp99;
-        const codegen_real tmp110 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp110 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp111 = 2*tmp66;
         const codegen_real tmp112 = tmp44*tmp5;
         const codegen_real tmp113 = tmp112*tmp20;
@@ -1272,7 +1271,7 @@ void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen
         const codegen_real tmp209 = tmp131*x_S;
         const codegen_real tmp210 = tmp0*tmp68;
         const codegen_real tmp211 = d*tmp171 + tmp0*tmp206 + tmp0*tmp207 + tmp11*tmp206 + tmp11*tmp207 + tmp115*tmp176*y_S - tmp12*tmp79 - tmp12*tmp82 + tmp120*tmp209 + tmp133*tmp26 - tmp134*x_S - tmp14*tmp206 - tmp14*tmp207 - tmp165*y_S + tmp167*y_S - tmp168*y_S - tmp171*x_S - tmp172*x_S + tmp173*x_S + tmp174*x_S + tmp208 - tmp209 + tmp21*y_S - tmp210*tmp6 - tmp22*x_S - tmp26*y_S - tmp28*y_S + tmp39 + tmp60 - tmp79*x_S + tmp82*x_S;
-        const codegen_real tmp212 = sqrt(tmp16*tmp211);
+        const codegen_real tmp212 = codegen_sqrt(tmp16*tmp211);
         const codegen_real tmp213 = tmp157*tmp178;
         const codegen_real tmp214 = tmp212*tmp213;
         const codegen_real tmp215 = k*(-l_0 + tmp164*tmp212);
@@ -1405,7 +1404,7 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real y_S = params->y_S;
         const codegen_real T = params->T;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = (a_2*a_2*a_2*a_2);
         const codegen_real tmp2 = (a_3*a_3);
         const codegen_real tmp3 = (a_4*a_4);
@@ -1420,7 +1419,7 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp12 = tmp5 + tmp6 - tmp9;
         const codegen_real tmp13 = tmp12 - tmp2 - tmp3 + tmp4;
         const codegen_real tmp14 = tmp11*tmp13;
-        const codegen_real tmp15 = sqrt(-tmp14);
+        const codegen_real tmp15 = codegen_sqrt(-tmp14);
         const codegen_real tmp16 = tmp0*tmp15;
         const codegen_real tmp17 = tmp1*tmp16;
         const codegen_real tmp18 = (d*d*d*d);
@@ -1434,7 +1433,7 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp26 = tmp23*tmp25;
         const codegen_real tmp27 = tmp3*tmp5;
         const codegen_real tmp28 = tmp3*tmp6;
-        const codegen_real tmp29 = sin(theta);
+        const codegen_real tmp29 = codegen_sin(theta);
         const codegen_real tmp30 = tmp29*tmp6;
         const codegen_real tmp31 = (tmp29*tmp29);
         const codegen_real tmp32 = 2*tmp21;
@@ -1457,7 +1456,7 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp49 = 6*tmp29*tmp48;
         const codegen_real tmp50 = d*tmp46;
         const codegen_real tmp51 = tmp36*tmp50;
-        const codegen_real tmp52 = pow(a_2, CODEGEN_R(5.0))*d*tmp42 - pow(d, CODEGEN_R(6.0))*tmp36 + 10*pow(d, CODEGEN_R(5.0))*tmp0*tmp45 - tmp1*tmp39 - 8*tmp1*tmp41 + tmp2*tmp40 - tmp2*tmp49 - tmp2*tmp51 + 8*tmp20*tmp25*tmp44 + 12*tmp20*tmp29*tmp46 + 4*tmp21*tmp37*tmp43 - 16*tmp21*tmp38 + tmp27*tmp39 + 4*tmp27*tmp41 + tmp3*tmp40 - tmp3*tmp49 - tmp3*tmp51 + tmp36*tmp43*tmp5 - 4*tmp38;
+        const codegen_real tmp52 = codegen_pow(a_2, CODEGEN_R(5.0))*d*tmp42 - codegen_pow(d, CODEGEN_R(6.0))*tmp36 + 10*codegen_pow(d, CODEGEN_R(5.0))*tmp0*tmp45 - tmp1*tmp39 - 8*tmp1*tmp41 + tmp2*tmp40 - tmp2*tmp49 - tmp2*tmp51 + 8*tmp20*tmp25*tmp44 + 12*tmp20*tmp29*tmp46 + 4*tmp21*tmp37*tmp43 - 16*tmp21*tmp38 + tmp27*tmp39 + 4*tmp27*tmp41 + tmp3*tmp40 - tmp3*tmp49 - tmp3*tmp51 + tmp36*tmp43*tmp5 - 4*tmp38;
         const codegen_real tmp53 = -2*a_2*d*tmp15*tmp21*tmp3 - 2*a_2*d*tmp15*tmp3*tmp31 - tmp0*tmp15*tmp2*tmp5 - tmp0*tmp15*tmp2*tmp6 - tmp11*tmp13*tmp29*tmp5 + tmp14*tmp30 + tmp16*tmp27 + tmp16*tmp28 + tmp32*tmp34 + tmp34*tmp35 + tmp52;
         const codegen_real tmp54 = 1/(tmp12*tmp12);
         const codegen_real tmp55 = a_2*g*tmp54;
@@ -1478,13 +1477,13 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp70 = tmp7*y_S;
         const codegen_real tmp71 = tmp45*x_S;
         const codegen_real tmp72 = -tmp15*tmp67 + tmp15*tmp69 + tmp15*tmp70 - tmp15*tmp71 - tmp2*tmp61 + tmp2*tmp65 + tmp2*tmp66 - tmp2*tmp8 - tmp20*x_S - tmp23*tmp32 + tmp27 + tmp3*tmp61 - tmp3*tmp65 - tmp3*tmp66 - tmp3*tmp8 + tmp32*tmp64 + tmp42*tmp68 + tmp43 - tmp44*y_S - tmp46*x_S + tmp48 + tmp5*tmp62 + tmp5*tmp63 + tmp50 + tmp6*tmp62 + tmp6*tmp63 + tmp6*tmp65 - tmp6*tmp66 - tmp62*tmp9 - tmp63*tmp9 - tmp64;
-        const codegen_real tmp73 = sqrt(tmp12*tmp72);
+        const codegen_real tmp73 = codegen_sqrt(tmp12*tmp72);
         const codegen_real tmp74 = 2*tmp69;
         const codegen_real tmp75 = 1/(tmp12);
         const codegen_real tmp76 = -l_0 + tmp73*tmp75;
         const codegen_real tmp77 = k*tmp54*tmp73*tmp74*tmp76 - ((codegen_real)1/2)*k*tmp75*tmp76*((((codegen_real)1/2))*tmp12*tmp57*(-tmp11*tmp74 - tmp13*tmp74)*(-tmp67 + tmp69 + tmp70 - tmp71) + tmp12*(a_2*d*tmp0*tmp15 + a_2*d*tmp2*tmp29 + a_2*d*tmp29*tmp3 + 2*a_2*d*tmp29*tmp62 + 2*a_2*d*tmp29*tmp63 + a_2*tmp0*tmp2*y_S + a_2*tmp29*tmp3*x_S + 2*d*tmp21*tmp5*y_S - d*tmp44 + 4*tmp0*tmp29*tmp5*tmp6 - 4*tmp0*tmp29*tmp64 - tmp15*tmp65 - tmp15*tmp66 - tmp2*tmp71 + tmp22*tmp29*x_S - tmp29*tmp47 - tmp3*tmp70 - tmp35*tmp68 - tmp46*y_S - tmp6*tmp70 - tmp6*tmp71) + tmp72*tmp74)/tmp73;
         const codegen_real tmp78 = tmp10*tmp13;
-        const codegen_real tmp79 = sqrt(tmp78);
+        const codegen_real tmp79 = codegen_sqrt(tmp78);
         const codegen_real tmp80 = tmp0*tmp79;
         const codegen_real tmp81 = tmp1*tmp80;
         const codegen_real tmp82 = tmp18*tmp80;
@@ -1496,10 +1495,10 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp88 = tmp3*tmp87;
         const codegen_real tmp89 = tmp2*tmp87;
         const codegen_real tmp90 = -tmp2*tmp5*tmp80 + tmp27*tmp80 + tmp28*tmp80 - tmp30*tmp78 - tmp32*tmp88 + tmp32*tmp89 - tmp35*tmp88 + tmp35*tmp89 + tmp37*tmp78 - tmp43*tmp80 + tmp52;
-        const codegen_real tmp91 = (((codegen_real)1/4))/fabs(tmp79);
+        const codegen_real tmp91 = (((codegen_real)1/4))/codegen_fabs(tmp79);
         const codegen_real tmp92 = 12*tmp79;
         out[0] = -T + (((codegen_real)1/2))*a_2*g*m_2*tmp0 - tmp56*tmp58*(12*a_2*tmp15*tmp20*tmp21 + 12*d*tmp15*tmp21*tmp22 - 12*tmp15*tmp26 - 3*tmp17 - 3*tmp19 - 6*tmp24 - tmp53) - tmp58*tmp60*(4*a_2*tmp15*tmp20*tmp21 + 4*d*tmp15*tmp21*tmp22 - tmp15*tmp59 - tmp17 - tmp19 - 2*tmp24 - tmp53) - tmp77;
-        out[1] = tmp91*fabs(tmp56*(tmp26*tmp92 + 3*tmp81 + 3*tmp82 - tmp83*tmp92 - tmp85*tmp92 + 6*tmp86 + tmp90)) + tmp91*fabs(tmp60*(tmp59*tmp79 + tmp81 + tmp82 - tmp83*tmp84 - tmp84*tmp85 + 2*tmp86 + tmp90)) + fabs(T) + fabs(tmp77) + (((codegen_real)1/2))*fabs(g*m_2*tmp7);
+        out[1] = tmp91*codegen_fabs(tmp56*(tmp26*tmp92 + 3*tmp81 + 3*tmp82 - tmp83*tmp92 - tmp85*tmp92 + 6*tmp86 + tmp90)) + tmp91*codegen_fabs(tmp60*(tmp59*tmp79 + tmp81 + tmp82 - tmp83*tmp84 - tmp84*tmp85 + 2*tmp86 + tmp90)) + codegen_fabs(T) + codegen_fabs(tmp77) + (((codegen_real)1/2))*codegen_fabs(g*m_2*tmp7);
     }
 }
 
@@ -1546,7 +1545,7 @@ void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp2 = 2*a_3*a_4;
         const codegen_real tmp3 = (a_2*a_2);
         const codegen_real tmp4 = (d*d);
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = d*tmp5;
         const codegen_real tmp7 = a_2*tmp6;
         const codegen_real tmp8 = 2*tmp7;
@@ -1566,7 +1565,7 @@ void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp22 = tmp12*tmp3;
         const codegen_real tmp23 = (a_2*a_2*a_2);
         const codegen_real tmp24 = tmp5*x_S;
-        const codegen_real tmp25 = sin(theta);
+        const codegen_real tmp25 = codegen_sin(theta);
         const codegen_real tmp26 = tmp25*y_S;
         const codegen_real tmp27 = tmp21*x_S;
         const codegen_real tmp28 = a_2*tmp26;
@@ -1574,7 +1573,7 @@ void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp30 = 2*tmp3;
         const codegen_real tmp31 = tmp26*tmp6;
         const codegen_real tmp32 = tmp30*tmp4;
-        const codegen_real tmp33 = sqrt(tmp10);
+        const codegen_real tmp33 = codegen_sqrt(tmp10);
         const codegen_real tmp34 = d*y_S;
         const codegen_real tmp35 = d*tmp25;
         const codegen_real tmp36 = tmp21*y_S;
@@ -1585,42 +1584,42 @@ void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp41 = tmp0*tmp30;
         const codegen_real tmp42 = 2*tmp13;
         const codegen_real tmp43 = 2*tmp1;
-        const codegen_real tmp44 = 4*fabs(tmp7);
+        const codegen_real tmp44 = 4*codegen_fabs(tmp7);
         const codegen_real tmp45 = 4*tmp3;
         const codegen_real tmp46 = tmp29*tmp4;
         const codegen_real tmp47 = tmp45*tmp46;
-        const codegen_real tmp48 = fabs(a_2);
-        const codegen_real tmp49 = fabs(tmp6);
+        const codegen_real tmp48 = codegen_fabs(a_2);
+        const codegen_real tmp49 = codegen_fabs(tmp6);
         const codegen_real tmp50 = tmp48*tmp49;
-        const codegen_real tmp51 = fabs(d);
-        const codegen_real tmp52 = fabs(tmp21);
+        const codegen_real tmp51 = codegen_fabs(d);
+        const codegen_real tmp52 = codegen_fabs(tmp21);
         const codegen_real tmp53 = tmp51*tmp52;
         const codegen_real tmp54 = 4*tmp53;
-        const codegen_real tmp55 = fabs(tmp12);
+        const codegen_real tmp55 = codegen_fabs(tmp12);
         const codegen_real tmp56 = tmp39*tmp55;
-        const codegen_real tmp57 = fabs(x_S);
+        const codegen_real tmp57 = codegen_fabs(x_S);
         const codegen_real tmp58 = tmp40*tmp51;
-        const codegen_real tmp59 = fabs(tmp28);
-        const codegen_real tmp60 = 3*fabs(tmp27);
+        const codegen_real tmp59 = codegen_fabs(tmp28);
+        const codegen_real tmp60 = 3*codegen_fabs(tmp27);
         const codegen_real tmp61 = tmp0*tmp3;
         const codegen_real tmp62 = 2*tmp4;
         const codegen_real tmp63 = tmp39*tmp48;
-        const codegen_real tmp64 = fabs(tmp24);
-        const codegen_real tmp65 = fabs(tmp26);
+        const codegen_real tmp64 = codegen_fabs(tmp24);
+        const codegen_real tmp65 = codegen_fabs(tmp26);
         const codegen_real tmp66 = tmp51*tmp57;
         const codegen_real tmp67 = tmp1*tmp4;
         const codegen_real tmp68 = 4*tmp39;
-        const codegen_real tmp69 = fabs(tmp31);
+        const codegen_real tmp69 = codegen_fabs(tmp31);
         const codegen_real tmp70 = tmp48*tmp61;
         const codegen_real tmp71 = tmp13*tmp48;
         const codegen_real tmp72 = 4*tmp46;
         const codegen_real tmp73 = tmp32*tmp48;
         const codegen_real tmp74 = 4*tmp50;
-        const codegen_real tmp75 = fabs(tmp5);
+        const codegen_real tmp75 = codegen_fabs(tmp5);
         const codegen_real tmp76 = tmp51*tmp75;
         const codegen_real tmp77 = tmp29*tmp55;
         const codegen_real tmp78 = tmp47*tmp48;
-        const codegen_real tmp79 = fabs(tmp34);
+        const codegen_real tmp79 = codegen_fabs(tmp34);
         const codegen_real tmp80 = tmp3*tmp33;
         const codegen_real tmp81 = tmp33*tmp4;
         const codegen_real tmp82 = tmp51*tmp81;
@@ -1629,7 +1628,7 @@ void four_bar_radicands_kernel(const four_bar_params *params, codegen_real theta
         out[0] = tmp10;
         out[1] = tmp9*(a_2*tmp33*tmp35 - tmp0*tmp12 + tmp0*tmp27 + tmp0*tmp28 - tmp0*tmp7 + tmp1*tmp12 - tmp1*tmp27 - tmp1*tmp28 - tmp1*tmp7 + tmp11*tmp21 - tmp11*x_S + tmp13 - tmp14*tmp8 + tmp15 - tmp16*tmp8 + tmp17 + tmp18 + tmp19 + tmp20 + 2*tmp22*tmp29 - tmp22 - tmp23*tmp24 - tmp23*tmp26 + tmp23*tmp6 + tmp27*tmp4 - tmp28*tmp4 - tmp29*tmp32 + tmp30*tmp31 - tmp33*tmp34 + tmp33*tmp36 - tmp33*tmp38);
         out[2] = (a_3*a_3*a_3*a_3) + (a_4*a_4*a_4*a_4) + tmp0*tmp43 + tmp0*tmp44 + tmp1*tmp44 + 2*tmp18 + tmp32 + tmp39 + tmp4*tmp43 + tmp4*tmp54 + tmp40 + tmp41 + tmp42 + tmp45*tmp50 + tmp47;
-        out[3] = tmp0*tmp40 + tmp1*tmp39 + tmp13*tmp4 + 3*tmp13*tmp50 + tmp13*tmp55 + tmp14*tmp39 + tmp14*tmp40 + tmp15*tmp62 + tmp15*tmp72 + tmp15*tmp74 + tmp16*tmp39 + tmp16*tmp40 + tmp17*tmp62 + tmp17*tmp72 + tmp17*tmp74 + tmp18*tmp29*tmp30 + tmp18*tmp3 + 3*tmp18*tmp53 + tmp18*tmp59 + tmp18*tmp60 + tmp18*tmp66 + tmp19*tmp54 + tmp20*tmp54 + tmp29*tmp40*tmp45 + 4*tmp29*tmp56 + tmp29*tmp79*tmp84 + tmp32*tmp33*fabs(tmp25*tmp5) + tmp32*tmp66 + tmp4*tmp45*tmp51*fabs(tmp26*tmp5) + tmp40*tmp59 + tmp40*tmp60 + tmp41*tmp69 + tmp41*tmp77 + tmp42*tmp46 + tmp42*tmp69 + tmp42*tmp77 + tmp46*tmp68 + tmp49*tmp63 + tmp50*tmp61 + tmp52*tmp58 + tmp53*tmp67 + tmp55*tmp61 + tmp56 + tmp57*tmp58 + tmp57*tmp75*tmp78 + tmp59*tmp67 + tmp60*tmp67 + tmp63*tmp64 + tmp63*tmp65 + tmp64*tmp70 + tmp64*tmp71 + tmp64*tmp73 + tmp65*tmp70 + tmp65*tmp71 + tmp65*tmp73 + tmp65*tmp78 + tmp66*tmp67 + tmp68*tmp69 + tmp73*tmp76 + tmp76*tmp78 + tmp79*tmp80 + 3*tmp81*fabs(tmp36) + tmp81*fabs(tmp38) + tmp82*fabs(y_S) + tmp82*fabs(a_2*tmp25) + tmp83*fabs(tmp35) + tmp83*fabs(tmp37) + tmp83*fabs(tmp5*y_S) + tmp84*fabs(tmp37*tmp6);
+        out[3] = tmp0*tmp40 + tmp1*tmp39 + tmp13*tmp4 + 3*tmp13*tmp50 + tmp13*tmp55 + tmp14*tmp39 + tmp14*tmp40 + tmp15*tmp62 + tmp15*tmp72 + tmp15*tmp74 + tmp16*tmp39 + tmp16*tmp40 + tmp17*tmp62 + tmp17*tmp72 + tmp17*tmp74 + tmp18*tmp29*tmp30 + tmp18*tmp3 + 3*tmp18*tmp53 + tmp18*tmp59 + tmp18*tmp60 + tmp18*tmp66 + tmp19*tmp54 + tmp20*tmp54 + tmp29*tmp40*tmp45 + 4*tmp29*tmp56 + tmp29*tmp79*tmp84 + tmp32*tmp33*codegen_fabs(tmp25*tmp5) + tmp32*tmp66 + tmp4*tmp45*tmp51*codegen_fabs(tmp26*tmp5) + tmp40*tmp59 + tmp40*tmp60 + tmp41*tmp69 + tmp41*tmp77 + tmp42*tmp46 + tmp42*tmp69 + tmp42*tmp77 + tmp46*tmp68 + tmp49*tmp63 + tmp50*tmp61 + tmp52*tmp58 + tmp53*tmp67 + tmp55*tmp61 + tmp56 + tmp57*tmp58 + tmp57*tmp75*tmp78 + tmp59*tmp67 + tmp60*tmp67 + tmp63*tmp64 + tmp63*tmp65 + tmp64*tmp70 + tmp64*tmp71 + tmp64*tmp73 + tmp65*tmp70 + tmp65*tmp71 + tmp65*tmp73 + tmp65*tmp78 + tmp66*tmp67 + tmp68*tmp69 + tmp73*tmp76 + tmp76*tmp78 + tmp79*tmp80 + 3*tmp81*codegen_fabs(tmp36) + tmp81*codegen_fabs(tmp38) + tmp82*codegen_fabs(y_S) + tmp82*codegen_fabs(a_2*tmp25) + tmp83*codegen_fabs(tmp35) + tmp83*codegen_fabs(tmp37) + tmp83*codegen_fabs(tmp5*y_S) + tmp84*codegen_fabs(tmp37*tmp6);
     }
 }
 
@@ -1680,7 +1679,7 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real g = params->g;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = (d*d);
-        const codegen_real tmp2 = cos(theta);
+        const codegen_real tmp2 = codegen_cos(theta);
         const codegen_real tmp3 = a_2*tmp2;
         const codegen_real tmp4 = d*tmp3;
         const codegen_real tmp5 = 2*tmp4;
@@ -1692,10 +1691,10 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real tmp11 = tmp0 + tmp1 - tmp10 - tmp5 - tmp8 - tmp9;
         const codegen_real tmp12 = tmp10 + tmp6 - tmp8 - tmp9;
         const codegen_real tmp13 = tmp11*tmp12;
-        const codegen_real tmp14 = sqrt(-tmp13);
+        const codegen_real tmp14 = codegen_sqrt(-tmp13);
         const codegen_real tmp15 = d*y_S;
         const codegen_real tmp16 = tmp14*tmp15;
-        const codegen_real tmp17 = sin(theta);
+        const codegen_real tmp17 = codegen_sin(theta);
         const codegen_real tmp18 = a_2*tmp17;
         const codegen_real tmp19 = d*tmp18;
         const codegen_real tmp20 = tmp14*tmp19;
@@ -1726,7 +1725,7 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real tmp45 = tmp2*tmp44;
         const codegen_real tmp46 = tmp0*tmp26 + tmp0*tmp27 + tmp1*tmp26 + tmp1*tmp27 + tmp1*tmp41 - tmp1*tmp42 + tmp25 - tmp26*tmp5 - tmp27*tmp5 + tmp28 - tmp29*x_S + tmp31 - tmp32*tmp8 + tmp32*tmp9 - tmp34*x_S + tmp35 + tmp36*tmp39 - tmp36 - tmp37*y_S - tmp39*tmp40 - tmp4*tmp8 - tmp4*tmp9 + tmp41*tmp8 - tmp41*tmp9 + tmp42*tmp8 - tmp42*tmp9 + tmp43*tmp45;
         const codegen_real tmp47 = -tmp16 + tmp20 + tmp22 - tmp24 + tmp46;
-        const codegen_real tmp48 = sqrt(tmp47*tmp6);
+        const codegen_real tmp48 = codegen_sqrt(tmp47*tmp6);
         const codegen_real tmp49 = 1/(tmp48);
         const codegen_real tmp50 = tmp48*tmp7;
         const codegen_real tmp51 = -l_0 + tmp50;
@@ -1763,18 +1762,18 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real tmp82 = tmp8*tmp80;
         const codegen_real tmp83 = -tmp0*tmp71*tmp8 + tmp1*tmp71*tmp9 + tmp25*tmp71 - tmp28*tmp71 - tmp39*tmp81 + tmp39*tmp82 - tmp62*tmp81 + tmp62*tmp82;
         const codegen_real tmp84 = -tmp30*tmp76 + tmp40*tmp75*tmp79 + 3*tmp72 + 3*tmp74 - tmp76*tmp77 + 6*tmp78 + tmp83;
-        const codegen_real tmp85 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp85 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp86 = tmp44*tmp73;
         const codegen_real tmp87 = tmp8*tmp86;
         const codegen_real tmp88 = tmp86*tmp9;
         const codegen_real tmp89 = tmp1*tmp17;
         const codegen_real tmp90 = tmp13*tmp89;
-        const codegen_real tmp91 = pow(a_2, CODEGEN_R(5.0))*d*tmp45;
+        const codegen_real tmp91 = codegen_pow(a_2, CODEGEN_R(5.0))*d*tmp45;
         const codegen_real tmp92 = tmp0*tmp28*tmp44;
         const codegen_real tmp93 = tmp1*tmp44;
         const codegen_real tmp94 = tmp25*tmp93;
         const codegen_real tmp95 = 8*tmp29*tmp37*tmp79;
-        const codegen_real tmp96 = 10*pow(d, CODEGEN_R(5.0))*tmp18*tmp2;
+        const codegen_real tmp96 = 10*codegen_pow(d, CODEGEN_R(5.0))*tmp18*tmp2;
         const codegen_real tmp97 = 12*tmp17*tmp29*tmp34;
         const codegen_real tmp98 = tmp0*tmp17;
         const codegen_real tmp99 = 4*tmp38;
@@ -1790,7 +1789,7 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real tmp109 = m_4*tmp104;
         const codegen_real tmp110 = T - ((codegen_real)1/2)*a_2*g*m_2*tmp2 + tmp105*(-tmp103 - tmp84) + tmp109*(-tmp103 - tmp108);
         const codegen_real tmp111 = tmp16 - tmp20 - tmp22 + tmp24 + tmp46;
-        const codegen_real tmp112 = sqrt(tmp111*tmp6);
+        const codegen_real tmp112 = codegen_sqrt(tmp111*tmp6);
         const codegen_real tmp113 = tmp112*tmp7;
         const codegen_real tmp114 = k*(-l_0 + tmp113);
         const codegen_real tmp115 = (((codegen_real)1/2))*tmp7;
@@ -36123,10 +36122,10 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real g = params->g;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = m_2*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (a_3*a_3);
         const codegen_real tmp8 = (a_4*a_4);
@@ -36140,7 +36139,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp16 = tmp15 - tmp7;
         const codegen_real tmp17 = tmp10 + tmp16 - tmp8;
         const codegen_real tmp18 = tmp14*tmp17;
-        const codegen_real tmp19 = sqrt(-tmp18);
+        const codegen_real tmp19 = codegen_sqrt(-tmp18);
         const codegen_real tmp20 = tmp12*tmp19;
         const codegen_real tmp21 = (d*d*d);
         const codegen_real tmp22 = 4*tmp21;
@@ -36154,7 +36153,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp30 = tmp0*tmp29;
         const codegen_real tmp31 = tmp11*tmp30;
         const codegen_real tmp32 = 2*tmp3;
-        const codegen_real tmp33 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp33 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp34 = a_2*tmp33;
         const codegen_real tmp35 = tmp24*tmp3;
         const codegen_real tmp36 = tmp11*tmp7;
@@ -36186,7 +36185,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp62 = tmp29*tmp41;
         const codegen_real tmp63 = 2*tmp30;
         const codegen_real tmp64 = tmp11*tmp63 + tmp61 + tmp62;
-        const codegen_real tmp65 = pow(a_2, CODEGEN_R(5.0))*d;
+        const codegen_real tmp65 = codegen_pow(a_2, CODEGEN_R(5.0))*d;
         const codegen_real tmp66 = tmp32*tmp65;
         const codegen_real tmp67 = tmp29*tmp57;
         const codegen_real tmp68 = tmp18*tmp55;
@@ -36216,7 +36215,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp92 = tmp0*tmp11;
         const codegen_real tmp93 = tmp91*tmp92;
         const codegen_real tmp94 = 12*tmp93;
-        const codegen_real tmp95 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp95 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp96 = 2*tmp2;
         const codegen_real tmp97 = tmp41*tmp96;
         const codegen_real tmp98 = tmp38*tmp8;
@@ -36297,7 +36296,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp173 = tmp20*y_S;
         const codegen_real tmp174 = tmp114*x_S;
         const codegen_real tmp175 = tmp0*tmp155 + tmp0*tmp156 + tmp11*tmp155 + tmp11*tmp156 + tmp134*tmp142*y_S + tmp157 + tmp158*tmp51 - tmp158 + tmp159 - tmp160 - tmp161 + tmp162 + tmp163 + tmp164 - tmp165 - tmp166 - tmp167 - tmp168 - tmp169 - tmp170 - tmp171 + tmp172 + tmp173 - tmp174 - tmp21*x_S - tmp23*y_S + tmp36 - tmp51*tmp92 + tmp57 - tmp70*x_S + tmp73*x_S;
-        const codegen_real tmp176 = sqrt(tmp15*tmp175);
+        const codegen_real tmp176 = codegen_sqrt(tmp15*tmp175);
         const codegen_real tmp177 = tmp126*tmp176;
         const codegen_real tmp178 = 1/(tmp176);
         const codegen_real tmp179 = -d*y_S - tmp113*x_S + tmp12*y_S + tmp123;
@@ -36390,10 +36389,10 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real g = params->g;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = m_2*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (a_3*a_3);
         const codegen_real tmp8 = (a_4*a_4);
@@ -36407,7 +36406,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp16 = tmp15 - tmp7;
         const codegen_real tmp17 = tmp10 + tmp16 - tmp8;
         const codegen_real tmp18 = tmp14*tmp17;
-        const codegen_real tmp19 = sqrt(-tmp18);
+        const codegen_real tmp19 = codegen_sqrt(-tmp18);
         const codegen_real tmp20 = tmp12*tmp19;
         const codegen_real tmp21 = (d*d*d);
         const codegen_real tmp22 = 4*tmp21;
@@ -36421,7 +36420,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp30 = tmp0*tmp29;
         const codegen_real tmp31 = tmp11*tmp30;
         const codegen_real tmp32 = 2*tmp3;
-        const codegen_real tmp33 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp33 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp34 = a_2*tmp33;
         const codegen_real tmp35 = tmp24*tmp3;
         const codegen_real tmp36 = tmp11*tmp7;
@@ -36453,7 +36452,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp62 = tmp29*tmp41;
         const codegen_real tmp63 = 2*tmp30;
         const codegen_real tmp64 = tmp11*tmp63 + tmp61 + tmp62;
-        const codegen_real tmp65 = pow(a_2, CODEGEN_R(5.0))*d;
+        const codegen_real tmp65 = codegen_pow(a_2, CODEGEN_R(5.0))*d;
         const codegen_real tmp66 = tmp32*tmp65;
         const codegen_real tmp67 = tmp29*tmp57;
         const codegen_real tmp68 = tmp18*tmp55;
@@ -36486,7 +36485,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp95 = tmp0*tmp11;
         const codegen_real tmp96 = tmp94*tmp95;
         const codegen_real tmp97 = 12*tmp96;
-        const codegen_real tmp98 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp98 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp99 = 2*tmp2;
         const codegen_real tmp100 = tmp41*tmp99;
         const codegen_real tmp101 = tmp38*tmp8;
@@ -36575,7 +36574,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp184 = 4*tmp183;
         const codegen_real tmp185 = 1/(tmp15*tmp15*tmp15);
         const codegen_real tmp186 = k*tmp185;
-        const codegen_real tmp187 = sqrt(tmp15*tmp182);
+        const codegen_real tmp187 = codegen_sqrt(tmp15*tmp182);
         const codegen_real tmp188 = -l_0 + tmp138*tmp187;
         const codegen_real tmp189 = k*tmp150*tmp188;
         const codegen_real tmp190 = 8*tmp183;
@@ -36667,7 +36666,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp0 = 1/(a_3);
         const codegen_real tmp1 = (a_2*a_2);
         const codegen_real tmp2 = (d*d);
-        const codegen_real tmp3 = cos(theta);
+        const codegen_real tmp3 = codegen_cos(theta);
         const codegen_real tmp4 = a_2*tmp3;
         const codegen_real tmp5 = 2*d*tmp4;
         const codegen_real tmp6 = tmp1 + tmp2 - tmp5;
@@ -36680,9 +36679,9 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp13 = tmp6 - tmp8;
         const codegen_real tmp14 = tmp11 + tmp13 - tmp9;
         const codegen_real tmp15 = tmp12*tmp14;
-        const codegen_real tmp16 = sqrt(-tmp15);
+        const codegen_real tmp16 = codegen_sqrt(-tmp15);
         const codegen_real tmp17 = tmp16*tmp4;
-        const codegen_real tmp18 = sin(theta);
+        const codegen_real tmp18 = codegen_sin(theta);
         const codegen_real tmp19 = (a_2*a_2*a_2);
         const codegen_real tmp20 = tmp18*tmp19;
         const codegen_real tmp21 = a_2*tmp18;
@@ -36764,7 +36763,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp97 = tmp89*tmp96;
         const codegen_real tmp98 = 6*tmp91 + 3*tmp95 + 3*tmp97;
         const codegen_real tmp99 = 2*tmp57;
-        const codegen_real tmp100 = pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp100 = codegen_pow(a_2, CODEGEN_R(5.0));
         const codegen_real tmp101 = d*tmp100;
         const codegen_real tmp102 = tmp1*tmp3;
         const codegen_real tmp103 = tmp19*tmp99;
@@ -36785,7 +36784,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp118 = tmp117*tmp9;
         const codegen_real tmp119 = tmp113 + tmp115 + tmp116 - tmp118;
         const codegen_real tmp120 = -12*tmp109 - tmp110*tmp111 + tmp119;
-        const codegen_real tmp121 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp121 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp122 = a_2*tmp121;
         const codegen_real tmp123 = 4*tmp31;
         const codegen_real tmp124 = tmp19*tmp57;
@@ -36831,7 +36830,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp164 = tmp52*tmp8;
         const codegen_real tmp165 = -tmp102*tmp16*tmp8 - tmp114*tmp16*tmp3 - tmp139*tmp163 + tmp139*tmp164 - tmp142*tmp163 + tmp142*tmp164 + tmp146*tmp16 + tmp16*tmp162;
         const codegen_real tmp166 = -tmp132*tmp16*tmp88 + 3*tmp153 + 3*tmp154 - tmp155*tmp88 + tmp157*tmp16 + tmp16*tmp161 + tmp165;
-        const codegen_real tmp167 = pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp167 = codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp168 = 2*tmp18;
         const codegen_real tmp169 = tmp168*tmp96;
         const codegen_real tmp170 = tmp169*tmp8;
@@ -36915,7 +36914,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp248 = tmp233*tmp5;
         const codegen_real tmp249 = tmp1*tmp232 + tmp1*tmp233 + tmp112 + tmp114 - tmp138*tmp159 + tmp138*tmp236 + tmp2*tmp232 + tmp2*tmp233 + tmp234 + tmp235 - tmp236 - tmp237 - tmp238 + tmp239 + tmp240 + tmp241 - tmp242 - tmp243 - tmp244 - tmp245 - tmp246 - tmp247 - tmp248 + tmp27*tmp40*y_S - tmp31*x_S - tmp32*x_S + tmp33*x_S;
         const codegen_real tmp250 = -tmp227 + tmp231 + tmp249;
-        const codegen_real tmp251 = sqrt(tmp250*tmp6);
+        const codegen_real tmp251 = codegen_sqrt(tmp250*tmp6);
         const codegen_real tmp252 = tmp44*tmp63;
         const codegen_real tmp253 = 1/(tmp251);
         const codegen_real tmp254 = -d*y_S - tmp21*x_S + tmp4*y_S + tmp45;
@@ -36935,7 +36934,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp268 = tmp250*tmp63 + tmp256 + tmp267*tmp6;
         const codegen_real tmp269 = -tmp228 - tmp229 + tmp230;
         const codegen_real tmp270 = tmp227 + tmp249 + tmp269;
-        const codegen_real tmp271 = sqrt(tmp270*tmp6);
+        const codegen_real tmp271 = codegen_sqrt(tmp270*tmp6);
         const codegen_real tmp272 = 1/(tmp271);
         const codegen_real tmp273 = tmp144*tmp172 + tmp20*x_S + tmp21*tmp32 + tmp21*tmp33 + tmp23*x_S + tmp232*tmp63 + tmp233*tmp63 - tmp257 - tmp258 - tmp259 - tmp260 - tmp261 - tmp262 - tmp263 - tmp264 - tmp265 + tmp266 + tmp36*y_S + tmp41*y_S;
         const codegen_real tmp274 = -tmp256 + tmp270*tmp63 + tmp273*tmp6;
@@ -37069,7 +37068,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real g = params->g;
         const codegen_real tmp0 = (a_2*a_2);
         const codegen_real tmp1 = (d*d);
-        const codegen_real tmp2 = cos(theta);
+        const codegen_real tmp2 = codegen_cos(theta);
         const codegen_real tmp3 = a_2*tmp2;
         const codegen_real tmp4 = d*tmp3;
         const codegen_real tmp5 = 2*tmp4;
@@ -37084,11 +37083,11 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp14 = tmp10 + tmp13 - tmp8;
         const codegen_real tmp15 = tmp12*tmp14;
         const codegen_real tmp16 = -tmp15;
-        const codegen_real tmp17 = sqrt(tmp16);
+        const codegen_real tmp17 = codegen_sqrt(tmp16);
         const codegen_real tmp18 = d*y_S;
         const codegen_real tmp19 = tmp17*tmp18;
         const codegen_real tmp20 = d*tmp17;
-        const codegen_real tmp21 = sin(theta);
+        const codegen_real tmp21 = codegen_sin(theta);
         const codegen_real tmp22 = a_2*tmp21;
         const codegen_real tmp23 = tmp20*tmp22;
         const codegen_real tmp24 = tmp3*y_S;
@@ -37141,7 +37140,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp71 = tmp29 + tmp31 + tmp33 + tmp34 + tmp35 + tmp36 - tmp37*x_S + tmp38 + tmp39*x_S + tmp42 + tmp44*tmp67 - tmp44 - tmp45*x_S - tmp46 - tmp48 - tmp49*tmp51 + tmp53 + tmp55 + tmp58 - tmp59 - tmp60 - tmp62 - tmp63 - tmp64 - tmp65 - tmp66 + tmp68*tmp70;
         const codegen_real tmp72 = -tmp19 + tmp23 + tmp25 - tmp28 + tmp71;
         const codegen_real tmp73 = tmp6*tmp72;
-        const codegen_real tmp74 = sqrt(tmp73);
+        const codegen_real tmp74 = codegen_sqrt(tmp73);
         const codegen_real tmp75 = d*tmp21;
         const codegen_real tmp76 = a_2*tmp75;
         const codegen_real tmp77 = 2*tmp76;
@@ -37212,7 +37211,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp142 = 3*tmp117 + 3*tmp120 - tmp121*tmp124 - tmp123*tmp17 + tmp125*tmp127 + tmp127*tmp129 + tmp141;
         const codegen_real tmp143 = tmp15*tmp21;
         const codegen_real tmp144 = tmp1*tmp143;
-        const codegen_real tmp145 = 2*pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp145 = 2*codegen_pow(d, CODEGEN_R(6.0));
         const codegen_real tmp146 = tmp145*tmp21;
         const codegen_real tmp147 = tmp118*tmp21;
         const codegen_real tmp148 = 4*tmp0;
@@ -37227,7 +37226,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp157 = tmp147*tmp156*tmp49;
         const codegen_real tmp158 = tmp1*tmp49;
         const codegen_real tmp159 = 8*tmp150*tmp158;
-        const codegen_real tmp160 = pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp160 = codegen_pow(a_2, CODEGEN_R(5.0));
         const codegen_real tmp161 = d*tmp2;
         const codegen_real tmp162 = tmp153*tmp160*tmp161;
         const codegen_real tmp163 = 2*tmp34;
@@ -37237,7 +37236,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp167 = tmp1*tmp166*tmp21;
         const codegen_real tmp168 = 8*tmp128;
         const codegen_real tmp169 = tmp168*tmp37*tmp47;
-        const codegen_real tmp170 = pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp170 = codegen_pow(d, CODEGEN_R(5.0));
         const codegen_real tmp171 = 10*tmp170*tmp21*tmp3;
         const codegen_real tmp172 = 12*tmp37;
         const codegen_real tmp173 = tmp2*tmp47;
@@ -37271,7 +37270,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp201 = g*m_2;
         const codegen_real tmp202 = tmp201*tmp3;
         const codegen_real tmp203 = tmp11*tmp14;
-        const codegen_real tmp204 = sqrt(tmp203);
+        const codegen_real tmp204 = codegen_sqrt(tmp203);
         const codegen_real tmp205 = tmp116*tmp204;
         const codegen_real tmp206 = tmp119*tmp204;
         const codegen_real tmp207 = d*tmp40;
@@ -37283,7 +37282,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp213 = tmp140*tmp45;
         const codegen_real tmp214 = tmp0*tmp210 - tmp1*tmp210 + tmp130*tmp204 + tmp132*tmp204 - tmp134*tmp204 - tmp135*tmp204 - tmp140*tmp204*tmp39 + tmp188 - tmp204*tmp211*tmp39 + tmp204*tmp212 + tmp204*tmp213;
         const codegen_real tmp215 = tmp112*tmp82;
-        const codegen_real tmp216 = (((codegen_real)1/4))/fabs(tmp204);
+        const codegen_real tmp216 = (((codegen_real)1/4))/codegen_fabs(tmp204);
         const codegen_real tmp217 = tmp0*tmp1;
         const codegen_real tmp218 = tmp125*tmp217;
         const codegen_real tmp219 = tmp129*tmp217;
@@ -37375,7 +37374,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp305 = tmp109*tmp85;
         const codegen_real tmp306 = -tmp23 - tmp25 + tmp28;
         const codegen_real tmp307 = tmp19 + tmp306 + tmp71;
-        const codegen_real tmp308 = sqrt(tmp307*tmp6);
+        const codegen_real tmp308 = codegen_sqrt(tmp307*tmp6);
         const codegen_real tmp309 = tmp308*tmp79;
         const codegen_real tmp310 = -l_0 + tmp309;
         const codegen_real tmp311 = k*tmp278*(tmp307*tmp77 + tmp6*(-tmp102 - tmp105 + tmp107 + tmp18*tmp49*tmp68 + tmp208*tmp69 + tmp22*tmp39 + tmp22*tmp45 + tmp24*tmp7 + tmp27*tmp8 + tmp30*tmp77 + tmp32*tmp77 + tmp47*x_S - tmp93 - tmp94 - tmp95 - tmp96 - tmp97 - tmp98 - tmp99) - tmp92)/tmp308;
@@ -37385,41 +37384,41 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp315 = -l_0 - tmp80;
         const codegen_real tmp316 = -l_0 - tmp309;
         const codegen_real tmp317 = 2*tmp133;
-        const codegen_real tmp318 = 4*fabs(tmp4);
-        const codegen_real tmp319 = fabs(a_2);
-        const codegen_real tmp320 = fabs(tmp161);
+        const codegen_real tmp318 = 4*codegen_fabs(tmp4);
+        const codegen_real tmp319 = codegen_fabs(a_2);
+        const codegen_real tmp320 = codegen_fabs(tmp161);
         const codegen_real tmp321 = tmp319*tmp320;
-        const codegen_real tmp322 = fabs(d);
-        const codegen_real tmp323 = fabs(tmp3);
+        const codegen_real tmp322 = codegen_fabs(d);
+        const codegen_real tmp323 = codegen_fabs(tmp3);
         const codegen_real tmp324 = tmp322*tmp323;
-        const codegen_real tmp325 = fabs(d*x_S);
+        const codegen_real tmp325 = codegen_fabs(d*x_S);
         const codegen_real tmp326 = tmp115*tmp325;
-        const codegen_real tmp327 = fabs(x_S);
+        const codegen_real tmp327 = codegen_fabs(x_S);
         const codegen_real tmp328 = tmp118*tmp322;
-        const codegen_real tmp329 = fabs(tmp57);
-        const codegen_real tmp330 = 3*fabs(tmp297);
+        const codegen_real tmp329 = codegen_fabs(tmp57);
+        const codegen_real tmp330 = 3*codegen_fabs(tmp297);
         const codegen_real tmp331 = tmp115*tmp319;
-        const codegen_real tmp332 = fabs(tmp103);
-        const codegen_real tmp333 = fabs(tmp56);
+        const codegen_real tmp332 = codegen_fabs(tmp103);
+        const codegen_real tmp333 = codegen_fabs(tmp56);
         const codegen_real tmp334 = tmp322*tmp327;
         const codegen_real tmp335 = 4*tmp115;
-        const codegen_real tmp336 = fabs(tmp70);
+        const codegen_real tmp336 = codegen_fabs(tmp70);
         const codegen_real tmp337 = tmp133*tmp319;
         const codegen_real tmp338 = tmp29*tmp319;
         const codegen_real tmp339 = tmp1*tmp183;
         const codegen_real tmp340 = tmp319*tmp51;
         const codegen_real tmp341 = 4*tmp321;
         const codegen_real tmp342 = 4*tmp324;
-        const codegen_real tmp343 = fabs(tmp2);
+        const codegen_real tmp343 = codegen_fabs(tmp2);
         const codegen_real tmp344 = tmp322*tmp343;
         const codegen_real tmp345 = tmp325*tmp49;
         const codegen_real tmp346 = tmp225*tmp319;
-        const codegen_real tmp347 = tmp126*fabs(tmp18);
+        const codegen_real tmp347 = tmp126*codegen_fabs(tmp18);
         const codegen_real tmp348 = tmp1*tmp17;
         const codegen_real tmp349 = tmp322*tmp348;
         const codegen_real tmp350 = tmp126*tmp319;
         out[0] = tmp200;
-        out[1] = tmp216*fabs(m_3*tmp215*(-tmp121*tmp204*tmp207 - tmp123*tmp204 + tmp204*tmp218 + tmp204*tmp219 + 3*tmp205 + 3*tmp206 + tmp214)) + tmp216*fabs(m_4*tmp215*(-tmp183*tmp204*tmp207 - tmp193*tmp204 + tmp194*tmp204 + tmp204*tmp209 + tmp205 + tmp206 + tmp214)) + fabs(T) + fabs(tmp110) + (((codegen_real)1/2))*fabs(tmp202);
+        out[1] = tmp216*codegen_fabs(m_3*tmp215*(-tmp121*tmp204*tmp207 - tmp123*tmp204 + tmp204*tmp218 + tmp204*tmp219 + 3*tmp205 + 3*tmp206 + tmp214)) + tmp216*codegen_fabs(m_4*tmp215*(-tmp183*tmp204*tmp207 - tmp193*tmp204 + tmp194*tmp204 + tmp204*tmp209 + tmp205 + tmp206 + tmp214)) + codegen_fabs(T) + codegen_fabs(tmp110) + (((codegen_real)1/2))*codegen_fabs(tmp202);
         out[2] = (((codegen_real)1/12))*m_3*tmp7*((tmp276*tmp279*tmp283*((((codegen_real)1/2))*tmp272*tmp79*(a_2*tmp17*tmp21 + a_2*tmp2*tmp8 + 2*d*tmp0*tmp49 - tmp100*tmp275 - tmp41 - tmp52 - tmp54) - tmp277*tmp282) - tmp279*tmp284*((((codegen_real)1/2))*tmp272*tmp79*(-tmp104*tmp69 + 3*tmp273 + tmp274) - tmp276*tmp277) + tmp89*(-tmp22*tmp281*tmp284 + (((codegen_real)1/4))*tmp263*tmp276*tmp280*tmp283*tmp82))*(tmp276*tmp279*tmp283*((((codegen_real)1/2))*tmp272*tmp79*(a_2*tmp17*tmp21 + a_2*tmp2*tmp8 + 2*d*tmp0*tmp49 - tmp100*tmp275 - tmp41 - tmp52 - tmp54) - tmp277*tmp282) - tmp279*tmp284*((((codegen_real)1/2))*tmp272*tmp79*(-tmp104*tmp69 + 3*tmp273 + tmp274) - tmp276*tmp277) + tmp89*(-tmp22*tmp281*tmp284 + (((codegen_real)1/4))*tmp263*tmp276*tmp280*tmp283*tmp82))) + (((codegen_real)1/12))*m_4*tmp8*((tmp269*(a_4*tmp100*tmp104 - tmp260*tmp3 + tmp262) + tmp271*(-a_4*tmp263*tmp270 + tmp106*tmp9 + tmp266) + tmp89*(tmp22*tmp271*tmp9 + tmp264*tmp269))*(tmp269*(a_4*tmp100*tmp104 - tmp260*tmp3 + tmp262) + tmp271*(-a_4*tmp263*tmp270 + tmp106*tmp9 + tmp266) + tmp89*(tmp22*tmp271*tmp9 + tmp264*tmp269))) + tmp100*tmp221 - (tmp190*tmp190)*tmp258 - (tmp197*tmp197)*tmp254 + (((codegen_real)1/12))*tmp220 + tmp221*tmp49 - tmp254*((tmp222*tmp225 - 4*tmp223 - 4*tmp224 + tmp239 + tmp242 + tmp251)*(tmp222*tmp225 - 4*tmp223 - 4*tmp224 + tmp239 + tmp242 + tmp251)) - tmp258*((-12*tmp223 - 12*tmp224 + tmp239 + tmp256 + tmp257)*(-12*tmp223 - 12*tmp224 + tmp239 + tmp256 + tmp257));
         out[3] = b*(((((codegen_real)1/2))*tmp109*tmp79*tmp85 - tmp78*tmp82)*((((codegen_real)1/2))*tmp109*tmp79*tmp85 - tmp78*tmp82));
         out[4] = -tmp109*tmp287*tmp76 + tmp191*tmp301 - tmp198*(-8*tmp223 - 8*tmp224 + tmp242 + tmp256 + tmp295) - ((codegen_real)1/2)*tmp201*tmp22 + tmp278*tmp300*(tmp108*tmp270 + tmp298*tmp89 + tmp299*tmp76*tmp90 + tmp5*tmp72 + tmp6*(-8*tmp0*tmp70 + 4*tmp100*tmp44 - tmp183*tmp44 + tmp225 - tmp285 + tmp306 - tmp38 - tmp42 + tmp46 + tmp48 - tmp53 - tmp55 - tmp58 + tmp59 + tmp60 + tmp62 + tmp63 + tmp64 + tmp65 + tmp66) + tmp88*tmp91*(-tmp12*tmp5 - tmp14*tmp5 - tmp288)) + tmp285*tmp287*tmp72 + tmp286*tmp288*tmp289*tmp74 - tmp296*(-24*tmp223 - 24*tmp224 + tmp251 + 36*tmp255*tmp49 + tmp257 + tmp295) + (((codegen_real)1/4))*tmp299*tmp300*tmp79*((((codegen_real)1/2))*tmp252*tmp86*tmp91 + tmp298 + tmp77*tmp90) + tmp301*tmp302 - tmp305*tmp76*tmp84 + (((codegen_real)1/2))*tmp305*((((codegen_real)1/2))*k*tmp109*tmp82*tmp85 - ((codegen_real)1/2)*tmp109*tmp84/tmp72 - tmp287*tmp78 - tmp77*tmp84) - tmp5*tmp74*tmp84 + tmp89*(-tmp191*tmp304 - tmp296*(12*a_2*tmp37*tmp49 + 12*d*tmp40*tmp49 - 3*tmp116 - 3*tmp119 - tmp218 - tmp219 - tmp303)) + tmp89*(-tmp198*(4*a_2*tmp37*tmp49 + 4*d*tmp40*tmp49 - tmp116 - tmp119 - tmp194 - tmp209 - tmp303) - tmp302*tmp304);
@@ -37430,7 +37429,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         out[9] = tmp16;
         out[10] = tmp73;
         out[11] = (a_3*a_3*a_3*a_3) + (a_4*a_4*a_4*a_4) + tmp115 + tmp118 + 2*tmp131 + tmp136*tmp7 + tmp148*tmp321 + tmp163 + tmp166 + tmp195*tmp324 + tmp225 + tmp317 + tmp318*tmp7 + tmp318*tmp8 + tmp51;
-        out[12] = tmp115*tmp30 + tmp115*tmp32 + tmp115*tmp8 + tmp118*tmp148*tmp49 + tmp118*tmp30 + tmp118*tmp32 + tmp118*tmp329 + tmp118*tmp330 + 2*tmp126*fabs(tmp161*tmp26) + tmp131*tmp324 + tmp131*tmp329 + tmp131*tmp330 + tmp131*tmp334 + tmp133*tmp321 + tmp133*tmp325 + tmp152 + tmp158*tmp166 + tmp158*tmp335 + tmp164*tmp49 + tmp166*tmp336 + tmp166*tmp345 + tmp17*tmp51*fabs(tmp69) + tmp182 + tmp183*tmp326 + tmp186 + tmp208*tmp322*fabs(tmp2*tmp56) + 3*tmp29*tmp321 + tmp29*tmp325 + tmp31*tmp339 + tmp31*tmp341 + tmp31*tmp50 + tmp317*tmp336 + tmp317*tmp345 + tmp320*tmp331 + tmp323*tmp328 + 3*tmp324*tmp34 + tmp326 + tmp327*tmp328 + tmp327*tmp343*tmp346 + tmp329*tmp34 + tmp33*tmp339 + tmp33*tmp341 + tmp33*tmp50 + tmp330*tmp34 + tmp331*tmp332 + tmp331*tmp333 + tmp332*tmp337 + tmp332*tmp338 + tmp332*tmp340 + tmp333*tmp337 + tmp333*tmp338 + tmp333*tmp340 + tmp333*tmp346 + tmp334*tmp34 + tmp334*tmp51 + tmp335*tmp336 + tmp340*tmp344 + tmp342*tmp35 + tmp342*tmp36 + tmp344*tmp346 + tmp347*tmp67 + tmp347 + 3*tmp348*fabs(tmp24) + tmp348*fabs(tmp27) + tmp349*fabs(tmp22) + tmp349*fabs(y_S) + tmp350*fabs(tmp26) + tmp350*fabs(tmp75) + tmp350*fabs(tmp2*y_S);
+        out[12] = tmp115*tmp30 + tmp115*tmp32 + tmp115*tmp8 + tmp118*tmp148*tmp49 + tmp118*tmp30 + tmp118*tmp32 + tmp118*tmp329 + tmp118*tmp330 + 2*tmp126*codegen_fabs(tmp161*tmp26) + tmp131*tmp324 + tmp131*tmp329 + tmp131*tmp330 + tmp131*tmp334 + tmp133*tmp321 + tmp133*tmp325 + tmp152 + tmp158*tmp166 + tmp158*tmp335 + tmp164*tmp49 + tmp166*tmp336 + tmp166*tmp345 + tmp17*tmp51*codegen_fabs(tmp69) + tmp182 + tmp183*tmp326 + tmp186 + tmp208*tmp322*codegen_fabs(tmp2*tmp56) + 3*tmp29*tmp321 + tmp29*tmp325 + tmp31*tmp339 + tmp31*tmp341 + tmp31*tmp50 + tmp317*tmp336 + tmp317*tmp345 + tmp320*tmp331 + tmp323*tmp328 + 3*tmp324*tmp34 + tmp326 + tmp327*tmp328 + tmp327*tmp343*tmp346 + tmp329*tmp34 + tmp33*tmp339 + tmp33*tmp341 + tmp33*tmp50 + tmp330*tmp34 + tmp331*tmp332 + tmp331*tmp333 + tmp332*tmp337 + tmp332*tmp338 + tmp332*tmp340 + tmp333*tmp337 + tmp333*tmp338 + tmp333*tmp340 + tmp333*tmp346 + tmp334*tmp34 + tmp334*tmp51 + tmp335*tmp336 + tmp340*tmp344 + tmp342*tmp35 + tmp342*tmp36 + tmp344*tmp346 + tmp347*tmp67 + tmp347 + 3*tmp348*codegen_fabs(tmp24) + tmp348*codegen_fabs(tmp27) + tmp349*codegen_fabs(tmp22) + tmp349*codegen_fabs(y_S) + tmp350*codegen_fabs(tmp26) + tmp350*codegen_fabs(tmp75) + tmp350*codegen_fabs(tmp2*y_S);
     }
 }
 

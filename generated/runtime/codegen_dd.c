@@ -4,7 +4,6 @@
 #include "codegen_dd.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: float or double functions */
 
 codegen_dd codegen_dd_from(codegen_real x)
 {
@@ -57,7 +56,7 @@ codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
 codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
 {
     const codegen_real p = a.hi * b.hi;
-    const codegen_real e = fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
+    const codegen_real e = codegen_fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
     return quick_two_sum(p, e);
 }
 

@@ -12,7 +12,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: float or double functions */
 
 #define STAGES 7
 
@@ -94,7 +93,7 @@ static codegen_real scaled(codegen_real x, codegen_real scale)
 
 static codegen_real tolerance(const codegen_ode_options *o, codegen_real a, codegen_real b)
 {
-    return o->atol + o->rtol * fmax(fabs(a), fabs(b));
+    return o->atol + o->rtol * codegen_fmax(codegen_fabs(a), codegen_fabs(b));
 }
 
 static int options_valid(const codegen_ode_options *o)
@@ -122,7 +121,7 @@ static codegen_real norm(const codegen_ode_options *o, const codegen_real *x, co
         const codegen_real r = scaled(x[i], tolerance(o, y[i], 0));
         sum += r * r;
     }
-    return sqrt(sum / (codegen_real)n);
+    return codegen_sqrt(sum / (codegen_real)n);
 }
 
 /* Hairer, Norsett and Wanner's first step: small enough that an Euler step changes y by about
@@ -137,7 +136,7 @@ static codegen_real first_step(codegen_ode_rhs f, const void *context, const cod
     const codegen_real d0 = norm(o, y, y, n), d1 = norm(o, rate, y, n);
     codegen_real h0 = (d0 < CODEGEN_R(1e-5) || d1 < CODEGEN_R(1e-5)) ? CODEGEN_R(1e-6) : CODEGEN_R(0.01) * d0 / d1, h1, d2 = 0, larger;
     int i;
-    h0 = fmin(isfinite(h0) ? h0 : CODEGEN_R(1e-6), o->h_max);
+    h0 = codegen_fmin(isfinite(h0) ? h0 : CODEGEN_R(1e-6), o->h_max);
     for (i = 0; i < n; ++i) {
         trial[i] = y[i] + h0 * rate[i];
     }
@@ -150,10 +149,10 @@ static codegen_real first_step(codegen_ode_rhs f, const void *context, const cod
         const codegen_real r = scaled(trial_rate[i] - rate[i], tolerance(o, y[i], 0));
         d2 += r * r;
     }
-    d2 = sqrt(d2 / (codegen_real)n) / h0;
-    larger = fmax(d1, d2);
-    h1 = larger <= CODEGEN_R(1e-15) ? fmax(CODEGEN_R(1e-6), h0 * CODEGEN_R(1e-3)) : pow(CODEGEN_R(0.01) / larger, CODEGEN_R(0.2));
-    return fmin(fmin(CODEGEN_R(100.0) * h0, h1), o->h_max);
+    d2 = codegen_sqrt(d2 / (codegen_real)n) / h0;
+    larger = codegen_fmax(d1, d2);
+    h1 = larger <= CODEGEN_R(1e-15) ? codegen_fmax(CODEGEN_R(1e-6), h0 * CODEGEN_R(1e-3)) : codegen_pow(CODEGEN_R(0.01) / larger, CODEGEN_R(0.2));
+    return codegen_fmin(codegen_fmin(CODEGEN_R(100.0) * h0, h1), o->h_max);
 }
 
 codegen_ode_status codegen_ode_start(codegen_ode_rhs f, const void *context, int n, codegen_real t0,
@@ -220,7 +219,7 @@ static codegen_real trial_step(codegen_ode_rhs f, const void *context, const cod
         sum += r * r;
     }
     *nonfinite = 0;
-    return sqrt(sum / (codegen_real)n);
+    return codegen_sqrt(sum / (codegen_real)n);
 }
 
 /* Steps until the time reached is at least t_out (no step if it already is). */
@@ -233,13 +232,13 @@ static codegen_ode_status step_to(codegen_ode_rhs f, const void *context,
      * output inside it); the next trial starts from its last rate (first same as last). */
     int stale = s->steps > 0, rejected_last = 0;
     while (s->t < t_out) {
-        const codegen_real h = fmin(s->h, o->h_max);
+        const codegen_real h = codegen_fmin(s->h, o->h_max);
         codegen_real error, factor;
         int nonfinite;
         if (s->steps + s->rejected >= o->max_steps) {
             return CODEGEN_ODE_BUDGET;
         }
-        if (!(h > UNDERFLOW_ULPS * CODEGEN_EPSILON * fabs(s->t))) {
+        if (!(h > UNDERFLOW_ULPS * CODEGEN_EPSILON * codegen_fabs(s->t))) {
             return s->last_nonfinite ? CODEGEN_ODE_NONFINITE : CODEGEN_ODE_STEP_UNDERFLOW;
         }
         if (stale) {
@@ -250,18 +249,18 @@ static codegen_ode_status step_to(codegen_ode_rhs f, const void *context,
         s->last_nonfinite = nonfinite;
         if (!(error <= 1)) {
             factor = nonfinite ? NONFINITE_SHRINK
-                               : fmax(SHRINK_LIMIT, SAFETY * pow(error, -EXPONENT));
+                               : codegen_fmax(SHRINK_LIMIT, SAFETY * codegen_pow(error, -EXPONENT));
             s->h = h * factor;
             s->rejected += 1;
             rejected_last = 1;
             continue;
         }
-        factor = SAFETY * pow(fmax(error, CODEGEN_R(1e-10)), -EXPONENT) * pow(s->error_old, MEMORY);
-        factor = fmin(GROWTH_LIMIT, fmax(SHRINK_LIMIT, factor));
+        factor = SAFETY * codegen_pow(codegen_fmax(error, CODEGEN_R(1e-10)), -EXPONENT) * codegen_pow(s->error_old, MEMORY);
+        factor = codegen_fmin(GROWTH_LIMIT, codegen_fmax(SHRINK_LIMIT, factor));
         if (rejected_last) {
-            factor = fmin(factor, (codegen_real)1);
+            factor = codegen_fmin(factor, (codegen_real)1);
         }
-        s->error_old = fmax(error, FIRST_ERROR_OLD);
+        s->error_old = codegen_fmax(error, FIRST_ERROR_OLD);
         s->h = h * factor;
         copy(work + AT_Y_PREV * n, work + AT_Y * n, n);
         copy(work + AT_Y * n, work + AT_STAGE * n, n);

@@ -9,7 +9,6 @@
 #include "codegen_dd.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
 static int all_finite(const codegen_real *values, int count)
@@ -127,8 +126,8 @@ void slider_crank_position_constraints_kernel(const slider_crank_params *params,
         const codegen_real theta = coords[0];
         const codegen_real psi = coords[1];
         const codegen_real x = coords[2];
-        out[0] = R*cos(theta) + l*cos(psi) - x;
-        out[1] = R*sin(theta) - e + l*sin(psi);
+        out[0] = R*codegen_cos(theta) + l*codegen_cos(psi) - x;
+        out[1] = R*codegen_sin(theta) - e + l*codegen_sin(psi);
     }
 }
 
@@ -167,11 +166,11 @@ void slider_crank_constraint_jacobian_kernel(const slider_crank_params *params, 
         const codegen_real l = params->l;
         const codegen_real theta = coords[0];
         const codegen_real psi = coords[1];
-        out[0] = -R*sin(theta);
-        out[1] = -l*sin(psi);
+        out[0] = -R*codegen_sin(theta);
+        out[1] = -l*codegen_sin(psi);
         out[2] = -1;
-        out[3] = R*cos(theta);
-        out[4] = l*cos(psi);
+        out[3] = R*codegen_cos(theta);
+        out[4] = l*codegen_cos(psi);
         out[5] = 0;
     }
 }
@@ -217,8 +216,8 @@ void slider_crank_velocity_constraints_kernel(const slider_crank_params *params,
         const codegen_real x_d = rates[2];
         const codegen_real tmp0 = R*theta_d;
         const codegen_real tmp1 = l*psi_d;
-        out[0] = -tmp0*sin(theta) - tmp1*sin(psi) - x_d;
-        out[1] = tmp0*cos(theta) + tmp1*cos(psi);
+        out[0] = -tmp0*codegen_sin(theta) - tmp1*codegen_sin(psi) - x_d;
+        out[1] = tmp0*codegen_cos(theta) + tmp1*codegen_cos(psi);
     }
 }
 
@@ -267,11 +266,11 @@ void slider_crank_acceleration_constraints_kernel(const slider_crank_params *par
         const codegen_real theta_dd = accels[0];
         const codegen_real psi_dd = accels[1];
         const codegen_real x_dd = accels[2];
-        const codegen_real tmp0 = sin(theta);
-        const codegen_real tmp1 = sin(psi);
-        const codegen_real tmp2 = cos(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
+        const codegen_real tmp1 = codegen_sin(psi);
+        const codegen_real tmp2 = codegen_cos(theta);
         const codegen_real tmp3 = R*(theta_d*theta_d);
-        const codegen_real tmp4 = cos(psi);
+        const codegen_real tmp4 = codegen_cos(psi);
         const codegen_real tmp5 = l*(psi_d*psi_d);
         out[0] = -R*theta_dd*tmp0 - l*psi_dd*tmp1 - tmp2*tmp3 - tmp4*tmp5 - x_dd;
         out[1] = R*theta_dd*tmp2 + l*psi_dd*tmp4 - tmp0*tmp3 - tmp1*tmp5;
@@ -322,8 +321,8 @@ void slider_crank_point_kinematics_kernel(const slider_crank_params *params, con
         const codegen_real x = coords[2];
         const codegen_real theta_d = rates[0];
         const codegen_real x_d = rates[2];
-        const codegen_real tmp0 = R*cos(theta);
-        const codegen_real tmp1 = R*sin(theta);
+        const codegen_real tmp0 = R*codegen_cos(theta);
+        const codegen_real tmp1 = R*codegen_sin(theta);
         out[0] = tmp0;
         out[1] = tmp1;
         out[2] = x;
@@ -388,9 +387,9 @@ void slider_crank_energies_kernel(const slider_crank_params *params, const codeg
         const codegen_real psi_d = rates[1];
         const codegen_real x_d = rates[2];
         const codegen_real tmp0 = (R*R)*(theta_d*theta_d);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = (((codegen_real)1/4))*tmp0;
-        const codegen_real tmp3 = tmp2*(cos(theta)*cos(theta));
+        const codegen_real tmp3 = tmp2*(codegen_cos(theta)*codegen_cos(theta));
         const codegen_real tmp4 = (((codegen_real)1/2))*m_1;
         const codegen_real tmp5 = R*tmp1;
         const codegen_real tmp6 = (((codegen_real)1/2))*tmp5;
@@ -398,7 +397,7 @@ void slider_crank_energies_kernel(const slider_crank_params *params, const codeg
         const codegen_real tmp8 = e*g*m_3;
         const codegen_real tmp9 = g*tmp4*tmp5;
         const codegen_real tmp10 = g*m_2*((((codegen_real)1/2))*e + tmp6);
-        const codegen_real tmp11 = (((codegen_real)1/2))*k*((-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S))))*(-l_0 + sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S)))));
+        const codegen_real tmp11 = (((codegen_real)1/2))*k*((-l_0 + codegen_sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S))))*(-l_0 + codegen_sqrt(((e - y_S)*(e - y_S)) + ((x - x_S)*(x - x_S)))));
         out[0] = tmp7;
         out[1] = tmp10 + tmp8 + tmp9;
         out[2] = tmp11;
@@ -471,10 +470,10 @@ void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const
         const codegen_real lambda_1 = multipliers[0];
         const codegen_real lambda_2 = multipliers[1];
         const codegen_real tmp0 = (R*R);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = (((codegen_real)1/2))*theta_dd;
         const codegen_real tmp3 = tmp0*tmp2;
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = (((codegen_real)1/2))*m_1;
         const codegen_real tmp7 = (theta_d*theta_d);
@@ -491,11 +490,11 @@ void slider_crank_lagrange_terms_kernel(const slider_crank_params *params, const
         const codegen_real tmp18 = g*tmp10;
         const codegen_real tmp19 = tmp14*tmp18 - tmp14*(-tmp11 - tmp12*tmp8) + tmp18*tmp6;
         const codegen_real tmp20 = x - x_S;
-        const codegen_real tmp21 = sqrt((tmp20*tmp20) + ((e - y_S)*(e - y_S)));
+        const codegen_real tmp21 = codegen_sqrt((tmp20*tmp20) + ((e - y_S)*(e - y_S)));
         const codegen_real tmp22 = k*tmp20*(-l_0 + tmp21)/tmp21;
         const codegen_real tmp23 = lambda_1*tmp9;
-        const codegen_real tmp24 = l*lambda_1*sin(psi);
-        const codegen_real tmp25 = cos(psi);
+        const codegen_real tmp24 = l*lambda_1*codegen_sin(psi);
+        const codegen_real tmp25 = codegen_cos(psi);
         const codegen_real tmp26 = -lambda_1;
         const codegen_real tmp27 = b*x_d;
         out[0] = tmp15;
@@ -568,14 +567,14 @@ void slider_crank_dependent_state_kernel(const slider_crank_params *params, code
         const codegen_real R = params->R;
         const codegen_real l = params->l;
         const codegen_real e = params->e;
-        const codegen_real tmp0 = R*sin(theta);
+        const codegen_real tmp0 = R*codegen_sin(theta);
         const codegen_real tmp1 = -e + tmp0;
         const codegen_real tmp2 = -tmp1;
         const codegen_real tmp3 = e + l - tmp0;
         const codegen_real tmp4 = -l - tmp1;
         const codegen_real tmp5 = tmp3*tmp4;
-        const codegen_real tmp6 = sqrt(-tmp5);
-        const codegen_real tmp7 = R*cos(theta);
+        const codegen_real tmp6 = codegen_sqrt(-tmp5);
+        const codegen_real tmp7 = R*codegen_cos(theta);
         const codegen_real tmp8 = (l*l);
         const codegen_real tmp9 = 1/(((tmp2*tmp2)*tmp8 - tmp5*tmp8));
         const codegen_real tmp10 = 1/(tmp3);
@@ -583,7 +582,7 @@ void slider_crank_dependent_state_kernel(const slider_crank_params *params, code
         const codegen_real tmp12 = (((codegen_real)1/2))*tmp7;
         const codegen_real tmp13 = tmp12*tmp3 + tmp12*tmp4;
         out[0] = theta;
-        out[1] = atan2(l*tmp2, l*tmp6);
+        out[1] = codegen_atan2(l*tmp2, l*tmp6);
         out[2] = tmp6 + tmp7;
         out[3] = theta_d;
         out[4] = theta_d*(tmp10*tmp11*tmp13*tmp2*tmp6*tmp8*tmp9 - tmp6*tmp7*tmp8*tmp9);
@@ -635,10 +634,10 @@ void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params,
         const codegen_real b = params->b;
         const codegen_real tmp0 = (R*R);
         const codegen_real tmp1 = m_1*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = (((codegen_real)1/4))*tmp1;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (((codegen_real)1/4))*m_2*tmp0;
         const codegen_real tmp8 = R*tmp2;
@@ -648,7 +647,7 @@ void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params,
         const codegen_real tmp12 = tmp0*tmp11;
         const codegen_real tmp13 = (((codegen_real)1/12))*(l*l)*m_2;
         const codegen_real tmp14 = -tmp10*tmp9;
-        const codegen_real tmp15 = sqrt(tmp14);
+        const codegen_real tmp15 = codegen_sqrt(tmp14);
         const codegen_real tmp16 = tmp15*tmp2;
         const codegen_real tmp17 = -param_e*tmp5 + tmp5*tmp8;
         const codegen_real tmp18 = -2*tmp16 - tmp17;
@@ -665,7 +664,7 @@ void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params,
         const codegen_real tmp29 = R*tmp11;
         const codegen_real tmp30 = tmp21*tmp24;
         out[0] = -m_3*tmp20 + (((codegen_real)1/12))*tmp1 - tmp11*(tmp18*tmp18)*tmp7 - tmp12*tmp13*tmp6 + tmp3*tmp4 + tmp4*tmp6 + tmp6*tmp7;
-        out[1] = (((codegen_real)1/2))*R*m_2*tmp18*tmp21*((((codegen_real)1/2))*tmp25*(-2*tmp26 - tmp27) + tmp30*((((codegen_real)1/2))*tmp18*tmp29 + tmp28)) + R*m_3*tmp19*tmp21*(tmp25*(-tmp26 - tmp27) + tmp30*(tmp19*tmp29 + tmp28)) - tmp13*tmp25*tmp5*(tmp22 + tmp23*tmp24/(tmp14*sqrt(tmp14))) - tmp2*tmp5*tmp7;
+        out[1] = (((codegen_real)1/2))*R*m_2*tmp18*tmp21*((((codegen_real)1/2))*tmp25*(-2*tmp26 - tmp27) + tmp30*((((codegen_real)1/2))*tmp18*tmp29 + tmp28)) + R*m_3*tmp19*tmp21*(tmp25*(-tmp26 - tmp27) + tmp30*(tmp19*tmp29 + tmp28)) - tmp13*tmp25*tmp5*(tmp22 + tmp23*tmp24/(tmp14*codegen_sqrt(tmp14))) - tmp2*tmp5*tmp7;
         out[2] = -b*tmp20;
     }
 }
@@ -718,9 +717,9 @@ void slider_crank_angular_acceleration_kernel(const slider_crank_params *params,
         const codegen_real g = params->g;
         const codegen_real tmp0 = (R*R);
         const codegen_real tmp1 = m_1*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = tmp0*tmp5;
         const codegen_real tmp7 = (((codegen_real)1/4))*tmp6;
@@ -730,7 +729,7 @@ void slider_crank_angular_acceleration_kernel(const slider_crank_params *params,
         const codegen_real tmp11 = 1/(tmp10*tmp9);
         const codegen_real tmp12 = (((codegen_real)1/12))*(l*l)*m_2;
         const codegen_real tmp13 = -tmp10*tmp9;
-        const codegen_real tmp14 = sqrt(tmp13);
+        const codegen_real tmp14 = codegen_sqrt(tmp13);
         const codegen_real tmp15 = tmp14*tmp2;
         const codegen_real tmp16 = -e*tmp4 + tmp4*tmp8;
         const codegen_real tmp17 = -2*tmp15 - tmp16;
@@ -746,14 +745,14 @@ void slider_crank_angular_acceleration_kernel(const slider_crank_params *params,
         const codegen_real tmp27 = 2*x_S;
         const codegen_real tmp28 = tmp14*tmp4;
         const codegen_real tmp29 = 2*tmp28;
-        const codegen_real tmp30 = sqrt(R*tmp29 + (e*e) - 2*e*y_S + tmp13 - tmp14*tmp27 - tmp22*tmp27 + tmp6 + (x_S*x_S) + (y_S*y_S));
+        const codegen_real tmp30 = codegen_sqrt(R*tmp29 + (e*e) - 2*e*y_S + tmp13 - tmp14*tmp27 - tmp22*tmp27 + tmp6 + (x_S*x_S) + (y_S*y_S));
         const codegen_real tmp31 = tmp24*tmp8;
         const codegen_real tmp32 = (((codegen_real)1/2))*tmp10*tmp22 + (((codegen_real)1/2))*tmp22*tmp9;
         const codegen_real tmp33 = -R*tmp3 + R*tmp5 + e*tmp2;
         const codegen_real tmp34 = -tmp31;
         const codegen_real tmp35 = R*tmp11;
         const codegen_real tmp36 = tmp24*tmp32;
-        out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((((codegen_real)1/2))*R*m_2*tmp17*tmp24*((((codegen_real)1/2))*tmp25*(-tmp29 - tmp33) + tmp36*((((codegen_real)1/2))*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
+        out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((((codegen_real)1/2))*R*m_2*tmp17*tmp24*((((codegen_real)1/2))*tmp25*(-tmp29 - tmp33) + tmp36*((((codegen_real)1/2))*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*codegen_sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
     }
 }
 
@@ -803,31 +802,31 @@ void slider_crank_equilibrium_residual_kernel(const slider_crank_params *params,
         const codegen_real F = params->F;
         const codegen_real T = params->T;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
         const codegen_real tmp1 = F*R;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = R*tmp2;
         const codegen_real tmp4 = e + l - tmp3;
         const codegen_real tmp5 = -e + l + tmp3;
         const codegen_real tmp6 = tmp4*tmp5;
-        const codegen_real tmp7 = sqrt(tmp6);
+        const codegen_real tmp7 = codegen_sqrt(tmp6);
         const codegen_real tmp8 = -e*tmp0 + tmp0*tmp3;
         const codegen_real tmp9 = (-tmp2*tmp7 - tmp8)/tmp7;
         const codegen_real tmp10 = 2*x_S;
         const codegen_real tmp11 = R*tmp0;
         const codegen_real tmp12 = 2*tmp11;
         const codegen_real tmp13 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp10*tmp11 + (x_S*x_S) + (y_S*y_S);
-        const codegen_real tmp14 = sqrt(-tmp10*tmp7 + tmp12*tmp7 + tmp13 + tmp6);
+        const codegen_real tmp14 = codegen_sqrt(-tmp10*tmp7 + tmp12*tmp7 + tmp13 + tmp6);
         const codegen_real tmp15 = tmp11 - x_S;
         const codegen_real tmp16 = R*k;
         const codegen_real tmp17 = g*tmp11;
         const codegen_real tmp18 = tmp4*tmp5;
-        const codegen_real tmp19 = sqrt(tmp18);
-        const codegen_real tmp20 = 1/(fabs(tmp19));
+        const codegen_real tmp19 = codegen_sqrt(tmp18);
+        const codegen_real tmp20 = 1/(codegen_fabs(tmp19));
         const codegen_real tmp21 = tmp19*tmp2 + tmp8;
-        const codegen_real tmp22 = sqrt(-tmp10*tmp19 + tmp12*tmp19 + tmp13 + tmp18);
+        const codegen_real tmp22 = codegen_sqrt(-tmp10*tmp19 + tmp12*tmp19 + tmp13 + tmp18);
         out[0] = (((codegen_real)1/2))*R*g*m_1*tmp0 + (((codegen_real)1/2))*R*g*m_2*tmp0 - T - tmp1*tmp9 - tmp16*tmp9*(l_0 - tmp14)*(tmp15 + tmp7)/tmp14;
-        out[1] = tmp20*fabs(tmp1*tmp21) + tmp20*fabs(tmp16*tmp21*(l_0 - tmp22)*(tmp15 + tmp19))/fabs(tmp22) + fabs(T) + (((codegen_real)1/2))*fabs(m_1*tmp17) + (((codegen_real)1/2))*fabs(m_2*tmp17);
+        out[1] = tmp20*codegen_fabs(tmp1*tmp21) + tmp20*codegen_fabs(tmp16*tmp21*(l_0 - tmp22)*(tmp15 + tmp19))/codegen_fabs(tmp22) + codegen_fabs(T) + (((codegen_real)1/2))*codegen_fabs(m_1*tmp17) + (((codegen_real)1/2))*codegen_fabs(m_2*tmp17);
     }
 }
 
@@ -868,12 +867,12 @@ void slider_crank_radicands_kernel(const slider_crank_params *params, codegen_re
         const codegen_real e = params->e;
         const codegen_real x_S = params->x_S;
         const codegen_real y_S = params->y_S;
-        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
         const codegen_real tmp1 = R*tmp0;
         const codegen_real tmp2 = -(e - l - tmp1)*(e + l - tmp1);
         const codegen_real tmp3 = e*y_S;
-        const codegen_real tmp4 = 2*sqrt(tmp2);
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp4 = 2*codegen_sqrt(tmp2);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = R*tmp5;
         const codegen_real tmp7 = tmp6*x_S;
         const codegen_real tmp8 = (e*e);
@@ -881,8 +880,8 @@ void slider_crank_radicands_kernel(const slider_crank_params *params, codegen_re
         const codegen_real tmp10 = tmp2 + (tmp5*tmp5)*tmp9 + tmp8 + (x_S*x_S) + (y_S*y_S);
         out[0] = tmp2;
         out[1] = tmp10 - 2*tmp3 + tmp4*tmp6 - tmp4*x_S - 2*tmp7;
-        out[2] = (l*l) + (tmp0*tmp0)*tmp9 + tmp8 + 2*fabs(e*tmp1);
-        out[3] = tmp10 + tmp4*fabs(tmp6) + tmp4*fabs(x_S) + 2*fabs(tmp3) + 2*fabs(tmp7);
+        out[2] = (l*l) + (tmp0*tmp0)*tmp9 + tmp8 + 2*codegen_fabs(e*tmp1);
+        out[3] = tmp10 + tmp4*codegen_fabs(tmp6) + tmp4*codegen_fabs(x_S) + 2*codegen_fabs(tmp3) + 2*codegen_fabs(tmp7);
     }
 }
 
@@ -930,12 +929,12 @@ void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params,
         const codegen_real F = params->F;
         const codegen_real T = params->T;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = R*tmp1;
         const codegen_real tmp3 = tmp0*tmp2;
         const codegen_real tmp4 = -(e - l - tmp2)*(e + l - tmp2);
-        const codegen_real tmp5 = sqrt(tmp4);
+        const codegen_real tmp5 = codegen_sqrt(tmp4);
         const codegen_real tmp6 = tmp1*tmp5;
         const codegen_real tmp7 = e*tmp0 - tmp3 - tmp6;
         const codegen_real tmp8 = R/tmp5;
@@ -946,10 +945,10 @@ void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params,
         const codegen_real tmp13 = R*tmp0;
         const codegen_real tmp14 = 2*tmp13*tmp5;
         const codegen_real tmp15 = (R*R)*(tmp0*tmp0) + (e*e) - 2*e*y_S - tmp11*tmp13 + tmp4 + (x_S*x_S) + (y_S*y_S);
-        const codegen_real tmp16 = sqrt(-tmp12 + tmp14 + tmp15);
+        const codegen_real tmp16 = codegen_sqrt(-tmp12 + tmp14 + tmp15);
         const codegen_real tmp17 = k*tmp8;
         const codegen_real tmp18 = tmp17*tmp7*(tmp13 + tmp5 - x_S)/tmp16;
-        const codegen_real tmp19 = sqrt(tmp12 - tmp14 + tmp15);
+        const codegen_real tmp19 = codegen_sqrt(tmp12 - tmp14 + tmp15);
         const codegen_real tmp20 = e*tmp0 - tmp3 + tmp6;
         const codegen_real tmp21 = tmp17*tmp20*(R*tmp0 - tmp5 - x_S)/tmp19;
         const codegen_real tmp22 = (((codegen_real)1/2))*g*tmp13;
@@ -12521,9 +12520,9 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, codege
         const codegen_real g = params->g;
         const codegen_real tmp0 = (R*R);
         const codegen_real tmp1 = m_1*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = tmp0*tmp5;
         const codegen_real tmp7 = (((codegen_real)1/4))*tmp6;
@@ -12533,7 +12532,7 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, codege
         const codegen_real tmp11 = 1/(tmp10*tmp9);
         const codegen_real tmp12 = tmp10*tmp9;
         const codegen_real tmp13 = -tmp12;
-        const codegen_real tmp14 = sqrt(tmp13);
+        const codegen_real tmp14 = codegen_sqrt(tmp13);
         const codegen_real tmp15 = tmp14*tmp2;
         const codegen_real tmp16 = 2*tmp15;
         const codegen_real tmp17 = -e*tmp4 + tmp4*tmp8;
@@ -12552,7 +12551,7 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, codege
         const codegen_real tmp30 = tmp12*tmp29;
         const codegen_real tmp31 = R*tmp3;
         const codegen_real tmp32 = tmp12*tmp31;
-        const codegen_real tmp33 = (tmp13*sqrt(tmp13));
+        const codegen_real tmp33 = (tmp13*codegen_sqrt(tmp13));
         const codegen_real tmp34 = tmp33*tmp4;
         const codegen_real tmp35 = tmp12*tmp22;
         const codegen_real tmp36 = R/tmp33;
@@ -12561,7 +12560,7 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, codege
         const codegen_real tmp39 = R*tmp4;
         const codegen_real tmp40 = tmp14*tmp38;
         const codegen_real tmp41 = tmp13 + 2*tmp14*tmp39 + tmp21 - tmp26*y_S + tmp37 - tmp38*tmp39 - tmp40 + tmp6 + (y_S*y_S);
-        const codegen_real tmp42 = (tmp41*sqrt(tmp41));
+        const codegen_real tmp42 = (tmp41*codegen_sqrt(tmp41));
         const codegen_real tmp43 = l_0*tmp31;
         const codegen_real tmp44 = l_0*tmp12;
         const codegen_real tmp45 = 2*tmp12;
@@ -12604,7 +12603,7 @@ void slider_crank_linearisation_kernel(const slider_crank_params *params, codege
         const codegen_real tmp82 = 2*tmp80;
         out[0] = -((codegen_real)1/12)*(l*l)*m_2*tmp11*tmp6 + m_1*tmp7 - ((codegen_real)1/4)*m_2*tmp18*((-tmp16 - tmp17)*(-tmp16 - tmp17)) + m_2*tmp7 - m_3*tmp19 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1;
         out[1] = -b*tmp19;
-        out[2] = F*tmp36*(tmp23 + tmp25 - tmp28 - tmp30 + tmp32 + tmp34 - tmp35) + k*tmp36*(pow(R, CODEGEN_R(5.0))*tmp3*tmp65 + e*tmp15*tmp53*tmp59 - 8*l_0*tmp30*tmp6*x_S - 4*tmp12*tmp58 + (tmp13*tmp13*sqrt(tmp13))*tmp43 + tmp21*tmp24*tmp65 + 2*tmp22*tmp77 - tmp22*tmp82 + tmp23*tmp38*tmp44 + tmp23*tmp54 + tmp23*tmp68 + tmp23*tmp71 - tmp23*tmp74 + tmp25*tmp44*tmp62 + tmp25*tmp68 + tmp25*tmp69 + tmp25*tmp71 - tmp25*tmp74 - tmp28*tmp71 + tmp28*tmp74 - tmp29*tmp6*tmp69 + tmp29*tmp77 - tmp29*tmp80 + 6*tmp30*tmp53 - tmp30*tmp71 + tmp30*tmp74 + tmp31*tmp82 + tmp32*tmp71 - tmp32*tmp74 - tmp34*tmp62*tmp67 + tmp34*tmp71 - tmp34*tmp74 - tmp35*tmp71 + tmp35*tmp74 - 2*tmp37*tmp4*tmp60*tmp61 + tmp37*tmp45*tmp47 + tmp37*tmp55 - tmp37*tmp6*tmp70 - tmp38*tmp43*tmp48 + tmp4*tmp72*tmp81 - tmp40*tmp52 - tmp40*tmp58 - 2*tmp41*tmp55 + tmp42*tmp78 - tmp45*tmp52 + tmp46*tmp54*tmp59 - 2*tmp47*tmp48 - tmp48*tmp79 + tmp49*tmp73 - tmp49*tmp76 - tmp56*tmp63*tmp70 + tmp57*tmp73 - tmp57*tmp76 - tmp60*tmp73 + tmp60*tmp76 + 4*tmp66*tmp67 + tmp66*tmp72 - tmp72*tmp78 - tmp73*tmp75 + tmp75*tmp76 - tmp79*tmp81)/tmp42 - m_1*tmp20 - m_2*tmp20;
+        out[2] = F*tmp36*(tmp23 + tmp25 - tmp28 - tmp30 + tmp32 + tmp34 - tmp35) + k*tmp36*(codegen_pow(R, CODEGEN_R(5.0))*tmp3*tmp65 + e*tmp15*tmp53*tmp59 - 8*l_0*tmp30*tmp6*x_S - 4*tmp12*tmp58 + (tmp13*tmp13*codegen_sqrt(tmp13))*tmp43 + tmp21*tmp24*tmp65 + 2*tmp22*tmp77 - tmp22*tmp82 + tmp23*tmp38*tmp44 + tmp23*tmp54 + tmp23*tmp68 + tmp23*tmp71 - tmp23*tmp74 + tmp25*tmp44*tmp62 + tmp25*tmp68 + tmp25*tmp69 + tmp25*tmp71 - tmp25*tmp74 - tmp28*tmp71 + tmp28*tmp74 - tmp29*tmp6*tmp69 + tmp29*tmp77 - tmp29*tmp80 + 6*tmp30*tmp53 - tmp30*tmp71 + tmp30*tmp74 + tmp31*tmp82 + tmp32*tmp71 - tmp32*tmp74 - tmp34*tmp62*tmp67 + tmp34*tmp71 - tmp34*tmp74 - tmp35*tmp71 + tmp35*tmp74 - 2*tmp37*tmp4*tmp60*tmp61 + tmp37*tmp45*tmp47 + tmp37*tmp55 - tmp37*tmp6*tmp70 - tmp38*tmp43*tmp48 + tmp4*tmp72*tmp81 - tmp40*tmp52 - tmp40*tmp58 - 2*tmp41*tmp55 + tmp42*tmp78 - tmp45*tmp52 + tmp46*tmp54*tmp59 - 2*tmp47*tmp48 - tmp48*tmp79 + tmp49*tmp73 - tmp49*tmp76 - tmp56*tmp63*tmp70 + tmp57*tmp73 - tmp57*tmp76 - tmp60*tmp73 + tmp60*tmp76 + 4*tmp66*tmp67 + tmp66*tmp72 - tmp72*tmp78 - tmp73*tmp75 + tmp75*tmp76 - tmp79*tmp81)/tmp42 - m_1*tmp20 - m_2*tmp20;
     }
 }
 
@@ -12656,10 +12655,10 @@ void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_re
         const codegen_real g = params->g;
         const codegen_real tmp0 = (R*R);
         const codegen_real tmp1 = m_1*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = tmp1*tmp3;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = tmp0*tmp6;
         const codegen_real tmp8 = (((codegen_real)1/4))*tmp7;
@@ -12670,7 +12669,7 @@ void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_re
         const codegen_real tmp13 = (l*l)*m_2*tmp12*tmp7;
         const codegen_real tmp14 = tmp10*tmp11;
         const codegen_real tmp15 = -tmp14;
-        const codegen_real tmp16 = sqrt(tmp15);
+        const codegen_real tmp16 = codegen_sqrt(tmp15);
         const codegen_real tmp17 = tmp16*tmp2;
         const codegen_real tmp18 = 2*tmp17;
         const codegen_real tmp19 = -e*tmp5 + tmp5*tmp9;
@@ -12691,7 +12690,7 @@ void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_re
         const codegen_real tmp34 = tmp14*tmp33;
         const codegen_real tmp35 = R*tmp3;
         const codegen_real tmp36 = tmp14*tmp35;
-        const codegen_real tmp37 = (tmp15*sqrt(tmp15));
+        const codegen_real tmp37 = (tmp15*codegen_sqrt(tmp15));
         const codegen_real tmp38 = tmp37*tmp5;
         const codegen_real tmp39 = tmp14*tmp26;
         const codegen_real tmp40 = R/tmp37;
@@ -12700,7 +12699,7 @@ void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_re
         const codegen_real tmp43 = R*tmp5;
         const codegen_real tmp44 = tmp16*tmp42;
         const codegen_real tmp45 = tmp15 + 2*tmp16*tmp43 + tmp25 - tmp30*y_S + tmp41 - tmp42*tmp43 - tmp44 + tmp7 + (y_S*y_S);
-        const codegen_real tmp46 = (tmp45*sqrt(tmp45));
+        const codegen_real tmp46 = (tmp45*codegen_sqrt(tmp45));
         const codegen_real tmp47 = l_0*tmp35;
         const codegen_real tmp48 = l_0*tmp14;
         const codegen_real tmp49 = 2*tmp14;
@@ -12742,7 +12741,7 @@ void slider_crank_vibration_kernel(const slider_crank_params *params, codegen_re
         const codegen_real tmp85 = 3*tmp3*tmp64;
         const codegen_real tmp86 = 2*tmp84;
         const codegen_real tmp87 = (((codegen_real)1/2))*tmp7;
-        out[0] = (F*tmp40*(tmp27 + tmp29 - tmp32 - tmp34 + tmp36 + tmp38 - tmp39) + k*tmp40*(pow(R, CODEGEN_R(5.0))*tmp3*tmp69 + e*tmp17*tmp57*tmp63 - 8*l_0*tmp34*tmp7*x_S - 4*tmp14*tmp62 + (tmp15*tmp15*sqrt(tmp15))*tmp47 + tmp25*tmp28*tmp69 + 2*tmp26*tmp81 - tmp26*tmp86 + tmp27*tmp42*tmp48 + tmp27*tmp58 + tmp27*tmp72 + tmp27*tmp75 - tmp27*tmp78 + tmp29*tmp48*tmp66 + tmp29*tmp72 + tmp29*tmp73 + tmp29*tmp75 - tmp29*tmp78 - tmp32*tmp75 + tmp32*tmp78 - tmp33*tmp7*tmp73 + tmp33*tmp81 - tmp33*tmp84 + 6*tmp34*tmp57 - tmp34*tmp75 + tmp34*tmp78 + tmp35*tmp86 + tmp36*tmp75 - tmp36*tmp78 - tmp38*tmp66*tmp71 + tmp38*tmp75 - tmp38*tmp78 - tmp39*tmp75 + tmp39*tmp78 + tmp41*tmp49*tmp51 - 2*tmp41*tmp5*tmp64*tmp65 + tmp41*tmp59 - tmp41*tmp7*tmp74 - tmp42*tmp47*tmp52 - tmp44*tmp56 - tmp44*tmp62 - 2*tmp45*tmp59 + tmp46*tmp82 - tmp49*tmp56 + tmp5*tmp76*tmp85 + tmp50*tmp58*tmp63 - 2*tmp51*tmp52 - tmp52*tmp83 + tmp53*tmp77 - tmp53*tmp80 - tmp60*tmp67*tmp74 + tmp61*tmp77 - tmp61*tmp80 - tmp64*tmp77 + tmp64*tmp80 + 4*tmp70*tmp71 + tmp70*tmp76 - tmp76*tmp82 - tmp77*tmp79 + tmp79*tmp80 - tmp83*tmp85)/tmp46 - m_1*tmp24 - m_2*tmp24)/(m_1*tmp8 + m_2*tmp8 + (((codegen_real)1/12))*tmp1 - ((codegen_real)1/12)*tmp13 - ((codegen_real)1/4)*tmp21 - tmp23 + (((codegen_real)1/4))*tmp4);
+        out[0] = (F*tmp40*(tmp27 + tmp29 - tmp32 - tmp34 + tmp36 + tmp38 - tmp39) + k*tmp40*(codegen_pow(R, CODEGEN_R(5.0))*tmp3*tmp69 + e*tmp17*tmp57*tmp63 - 8*l_0*tmp34*tmp7*x_S - 4*tmp14*tmp62 + (tmp15*tmp15*codegen_sqrt(tmp15))*tmp47 + tmp25*tmp28*tmp69 + 2*tmp26*tmp81 - tmp26*tmp86 + tmp27*tmp42*tmp48 + tmp27*tmp58 + tmp27*tmp72 + tmp27*tmp75 - tmp27*tmp78 + tmp29*tmp48*tmp66 + tmp29*tmp72 + tmp29*tmp73 + tmp29*tmp75 - tmp29*tmp78 - tmp32*tmp75 + tmp32*tmp78 - tmp33*tmp7*tmp73 + tmp33*tmp81 - tmp33*tmp84 + 6*tmp34*tmp57 - tmp34*tmp75 + tmp34*tmp78 + tmp35*tmp86 + tmp36*tmp75 - tmp36*tmp78 - tmp38*tmp66*tmp71 + tmp38*tmp75 - tmp38*tmp78 - tmp39*tmp75 + tmp39*tmp78 + tmp41*tmp49*tmp51 - 2*tmp41*tmp5*tmp64*tmp65 + tmp41*tmp59 - tmp41*tmp7*tmp74 - tmp42*tmp47*tmp52 - tmp44*tmp56 - tmp44*tmp62 - 2*tmp45*tmp59 + tmp46*tmp82 - tmp49*tmp56 + tmp5*tmp76*tmp85 + tmp50*tmp58*tmp63 - 2*tmp51*tmp52 - tmp52*tmp83 + tmp53*tmp77 - tmp53*tmp80 - tmp60*tmp67*tmp74 + tmp61*tmp77 - tmp61*tmp80 - tmp64*tmp77 + tmp64*tmp80 + 4*tmp70*tmp71 + tmp70*tmp76 - tmp76*tmp82 - tmp77*tmp79 + tmp79*tmp80 - tmp83*tmp85)/tmp46 - m_1*tmp24 - m_2*tmp24)/(m_1*tmp8 + m_2*tmp8 + (((codegen_real)1/12))*tmp1 - ((codegen_real)1/12)*tmp13 - ((codegen_real)1/4)*tmp21 - tmp23 + (((codegen_real)1/4))*tmp4);
         out[1] = -b*tmp22/(m_1*tmp87 + m_2*tmp87 + (((codegen_real)1/6))*tmp1 - ((codegen_real)1/6)*tmp13 - ((codegen_real)1/2)*tmp21 - 2*tmp23 + (((codegen_real)1/2))*tmp4);
     }
 }
@@ -12792,15 +12791,15 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
         const codegen_real b = params->b;
         const codegen_real F = params->F;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
         const codegen_real tmp1 = R*tmp0;
         const codegen_real tmp2 = e + l - tmp1;
         const codegen_real tmp3 = e - l - tmp1;
         const codegen_real tmp4 = tmp2*tmp3;
         const codegen_real tmp5 = -tmp4;
-        const codegen_real tmp6 = sqrt(tmp5);
+        const codegen_real tmp6 = codegen_sqrt(tmp5);
         const codegen_real tmp7 = tmp0*tmp6;
-        const codegen_real tmp8 = cos(theta);
+        const codegen_real tmp8 = codegen_cos(theta);
         const codegen_real tmp9 = tmp1*tmp8;
         const codegen_real tmp10 = -e*tmp8 + tmp9;
         const codegen_real tmp11 = ((-tmp10 - tmp7)*(-tmp10 - tmp7));
@@ -12835,7 +12834,7 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
         const codegen_real tmp40 = tmp39*tmp4;
         const codegen_real tmp41 = R*tmp22;
         const codegen_real tmp42 = tmp4*tmp41;
-        const codegen_real tmp43 = (tmp5*sqrt(tmp5));
+        const codegen_real tmp43 = (tmp5*codegen_sqrt(tmp5));
         const codegen_real tmp44 = tmp43*tmp8;
         const codegen_real tmp45 = tmp32*tmp4;
         const codegen_real tmp46 = R/tmp43;
@@ -12847,7 +12846,7 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
         const codegen_real tmp52 = (x_S*x_S);
         const codegen_real tmp53 = tmp20 + tmp31 - tmp36*y_S - tmp48*tmp50 + tmp5 + tmp52 + (y_S*y_S);
         const codegen_real tmp54 = -tmp49 + tmp51 + tmp53;
-        const codegen_real tmp55 = (tmp54*sqrt(tmp54));
+        const codegen_real tmp55 = (tmp54*codegen_sqrt(tmp54));
         const codegen_real tmp56 = tmp44*x_S;
         const codegen_real tmp57 = tmp39*tmp43;
         const codegen_real tmp58 = (tmp8*tmp8*tmp8);
@@ -12897,10 +12896,10 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
         const codegen_real tmp102 = tmp100*tmp52;
         const codegen_real tmp103 = e*l_0*tmp16;
         const codegen_real tmp104 = 4*x_S;
-        const codegen_real tmp105 = pow(R, CODEGEN_R(5.0))*tmp101*tmp22 + e*tmp104*tmp34*tmp7*tmp78 + tmp101*tmp31*tmp34 + tmp102*tmp33 + tmp102*tmp35 - tmp103*tmp20*tmp52 - tmp103*tmp61*tmp99 + tmp104*tmp89*tmp98 - tmp20*tmp57*tmp95 + tmp33*tmp98 + tmp43*tmp52*tmp74 - tmp49*tmp79 - tmp49*tmp84 + (tmp5*tmp5*sqrt(tmp5))*tmp74 - tmp56*tmp87*tmp95 + tmp96*tmp98;
+        const codegen_real tmp105 = codegen_pow(R, CODEGEN_R(5.0))*tmp101*tmp22 + e*tmp104*tmp34*tmp7*tmp78 + tmp101*tmp31*tmp34 + tmp102*tmp33 + tmp102*tmp35 - tmp103*tmp20*tmp52 - tmp103*tmp61*tmp99 + tmp104*tmp89*tmp98 - tmp20*tmp57*tmp95 + tmp33*tmp98 + tmp43*tmp52*tmp74 - tmp49*tmp79 - tmp49*tmp84 + (tmp5*tmp5*codegen_sqrt(tmp5))*tmp74 - tmp56*tmp87*tmp95 + tmp96*tmp98;
         const codegen_real tmp106 = k*tmp46;
         const codegen_real tmp107 = tmp49 - tmp51 + tmp53;
-        const codegen_real tmp108 = (tmp107*sqrt(tmp107));
+        const codegen_real tmp108 = (tmp107*codegen_sqrt(tmp107));
         const codegen_real tmp109 = tmp108*tmp58;
         const codegen_real tmp110 = l_0*tmp107;
         const codegen_real tmp111 = tmp110*x_S;
@@ -12962,15 +12961,15 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real F = params->F;
         const codegen_real T = params->T;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = R*tmp1;
         const codegen_real tmp3 = e + l - tmp2;
         const codegen_real tmp4 = -e + l + tmp2;
         const codegen_real tmp5 = -tmp4;
         const codegen_real tmp6 = tmp3*tmp5;
         const codegen_real tmp7 = -tmp6;
-        const codegen_real tmp8 = sqrt(tmp7);
+        const codegen_real tmp8 = codegen_sqrt(tmp7);
         const codegen_real tmp9 = tmp1*tmp8;
         const codegen_real tmp10 = e*tmp0;
         const codegen_real tmp11 = tmp0*tmp2;
@@ -12996,7 +12995,7 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real tmp31 = -tmp18*tmp20 - 2*tmp30;
         const codegen_real tmp32 = tmp29 + tmp31;
         const codegen_real tmp33 = -tmp19 + tmp22 + tmp32;
-        const codegen_real tmp34 = sqrt(tmp33);
+        const codegen_real tmp34 = codegen_sqrt(tmp33);
         const codegen_real tmp35 = tmp20 - x_S;
         const codegen_real tmp36 = R*k;
         const codegen_real tmp37 = tmp14*tmp36;
@@ -13006,10 +13005,10 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real tmp41 = m_1*tmp40;
         const codegen_real tmp42 = m_2*tmp40;
         const codegen_real tmp43 = tmp3*tmp4;
-        const codegen_real tmp44 = sqrt(tmp43);
-        const codegen_real tmp45 = 1/(fabs(tmp44));
+        const codegen_real tmp44 = codegen_sqrt(tmp43);
+        const codegen_real tmp45 = 1/(codegen_fabs(tmp44));
         const codegen_real tmp46 = tmp1*tmp44 + tmp12;
-        const codegen_real tmp47 = sqrt(-tmp18*tmp44 + 2*tmp20*tmp44 + tmp23 + tmp24 + tmp25 + tmp28 + tmp31 + tmp43);
+        const codegen_real tmp47 = codegen_sqrt(-tmp18*tmp44 + 2*tmp20*tmp44 + tmp23 + tmp24 + tmp25 + tmp28 + tmp31 + tmp43);
         const codegen_real tmp48 = (tmp1*tmp1);
         const codegen_real tmp49 = tmp26*tmp48;
         const codegen_real tmp50 = (((codegen_real)1/4))*m_1;
@@ -13020,7 +13019,7 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real tmp55 = tmp26*tmp53;
         const codegen_real tmp56 = (tmp13*tmp13)*tmp55;
         const codegen_real tmp57 = (((codegen_real)1/2))*g*tmp2;
-        const codegen_real tmp58 = (tmp7*sqrt(tmp7));
+        const codegen_real tmp58 = (tmp7*codegen_sqrt(tmp7));
         const codegen_real tmp59 = 1/(tmp58);
         const codegen_real tmp60 = R*tmp27;
         const codegen_real tmp61 = tmp23*tmp60;
@@ -13033,7 +13032,7 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real tmp68 = tmp6*tmp67;
         const codegen_real tmp69 = tmp0*tmp58;
         const codegen_real tmp70 = tmp6*tmp60;
-        const codegen_real tmp71 = (tmp33*sqrt(tmp33));
+        const codegen_real tmp71 = (tmp33*codegen_sqrt(tmp33));
         const codegen_real tmp72 = l_0*tmp67;
         const codegen_real tmp73 = l_0*tmp6;
         const codegen_real tmp74 = tmp10*tmp2;
@@ -13077,24 +13076,24 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
         const codegen_real tmp112 = tmp58*tmp71;
         const codegen_real tmp113 = tmp108*tmp49;
         const codegen_real tmp114 = 2*tmp112;
-        const codegen_real tmp115 = sqrt(tmp19 - tmp22 + tmp32);
+        const codegen_real tmp115 = codegen_sqrt(tmp19 - tmp22 + tmp32);
         const codegen_real tmp116 = tmp10 - tmp11 + tmp9;
         const codegen_real tmp117 = tmp116*tmp37*(R*tmp0 - tmp8 - x_S)/tmp115;
         const codegen_real tmp118 = -T + (((codegen_real)1/2))*tmp41 + (((codegen_real)1/2))*tmp42;
         const codegen_real tmp119 = tmp116*tmp16 + tmp118;
         out[0] = tmp39;
-        out[1] = tmp45*fabs(tmp15*tmp46) + tmp45*fabs(tmp36*tmp46*(l_0 - tmp47)*(tmp35 + tmp44))/fabs(tmp47) + fabs(T) + (((codegen_real)1/2))*fabs(tmp41) + (((codegen_real)1/2))*fabs(tmp42);
+        out[1] = tmp45*codegen_fabs(tmp15*tmp46) + tmp45*codegen_fabs(tmp36*tmp46*(l_0 - tmp47)*(tmp35 + tmp44))/codegen_fabs(tmp47) + codegen_fabs(T) + (((codegen_real)1/2))*codegen_fabs(tmp41) + (((codegen_real)1/2))*codegen_fabs(tmp42);
         out[2] = (((codegen_real)1/12))*m_1*tmp26 - ((codegen_real)1/12)*m_2*tmp28*tmp52*tmp53 - m_3*tmp56 + tmp28*tmp50 + tmp28*tmp51 + tmp49*tmp50 - tmp51*tmp55*((-tmp12 - tmp54)*(-tmp12 - tmp54));
         out[3] = -b*tmp56;
-        out[4] = -m_1*tmp57 - m_2*tmp57 + tmp15*tmp59*(-tmp28*tmp65 + tmp61 + tmp63 - tmp66 + tmp68 + tmp69 - tmp70) + tmp36*tmp59*(pow(R, CODEGEN_R(5.0))*tmp48*tmp94 + e*tmp83*tmp89*tmp9 - 8*l_0*tmp28*tmp66*x_S + tmp0*tmp101*tmp113 - tmp0*tmp77*tmp90 + tmp100*tmp61 + tmp100*tmp63 - tmp100*tmp66 + tmp100*tmp68 + tmp100*tmp69 - tmp100*tmp70 + tmp101*tmp106 - tmp101*tmp109 + tmp101*tmp95 - tmp102*tmp104 - tmp102*tmp111 + tmp102*tmp79 + tmp102*tmp87 - tmp103*tmp61 - tmp103*tmp63 + tmp103*tmp66 - tmp103*tmp68 - tmp103*tmp69 + tmp103*tmp70 + tmp104*tmp105 + tmp105*tmp111 - tmp105*tmp79 - tmp105*tmp87 - tmp106*tmp71 + 2*tmp107*tmp60 + tmp107*tmp64 + tmp109*tmp71 - tmp110*tmp113 - tmp110*tmp78 - tmp112*tmp64 - tmp114*tmp60 + tmp114*tmp67 + tmp18*tmp61*tmp73 - tmp18*tmp72*tmp78 - tmp19*tmp82 - tmp19*tmp88 + tmp23*tmp62*tmp94 - tmp24*tmp28*tmp99 + tmp24*tmp85 - 2*tmp33*tmp85 - 4*tmp6*tmp88 + tmp61*tmp84 + tmp61*tmp96 + tmp63*tmp73*tmp91 + tmp63*tmp96 + tmp63*tmp97 + 6*tmp66*tmp83 - tmp69*tmp90*tmp91 + (tmp7*tmp7*sqrt(tmp7))*tmp72 + tmp74*tmp84*tmp89 + tmp75*tmp77 - 2*tmp75*tmp78 - tmp76*tmp82 - tmp86*tmp92*tmp99 + 4*tmp90*tmp95 - tmp97*tmp98)/tmp71;
+        out[4] = -m_1*tmp57 - m_2*tmp57 + tmp15*tmp59*(-tmp28*tmp65 + tmp61 + tmp63 - tmp66 + tmp68 + tmp69 - tmp70) + tmp36*tmp59*(codegen_pow(R, CODEGEN_R(5.0))*tmp48*tmp94 + e*tmp83*tmp89*tmp9 - 8*l_0*tmp28*tmp66*x_S + tmp0*tmp101*tmp113 - tmp0*tmp77*tmp90 + tmp100*tmp61 + tmp100*tmp63 - tmp100*tmp66 + tmp100*tmp68 + tmp100*tmp69 - tmp100*tmp70 + tmp101*tmp106 - tmp101*tmp109 + tmp101*tmp95 - tmp102*tmp104 - tmp102*tmp111 + tmp102*tmp79 + tmp102*tmp87 - tmp103*tmp61 - tmp103*tmp63 + tmp103*tmp66 - tmp103*tmp68 - tmp103*tmp69 + tmp103*tmp70 + tmp104*tmp105 + tmp105*tmp111 - tmp105*tmp79 - tmp105*tmp87 - tmp106*tmp71 + 2*tmp107*tmp60 + tmp107*tmp64 + tmp109*tmp71 - tmp110*tmp113 - tmp110*tmp78 - tmp112*tmp64 - tmp114*tmp60 + tmp114*tmp67 + tmp18*tmp61*tmp73 - tmp18*tmp72*tmp78 - tmp19*tmp82 - tmp19*tmp88 + tmp23*tmp62*tmp94 - tmp24*tmp28*tmp99 + tmp24*tmp85 - 2*tmp33*tmp85 - 4*tmp6*tmp88 + tmp61*tmp84 + tmp61*tmp96 + tmp63*tmp73*tmp91 + tmp63*tmp96 + tmp63*tmp97 + 6*tmp66*tmp83 - tmp69*tmp90*tmp91 + (tmp7*tmp7*codegen_sqrt(tmp7))*tmp72 + tmp74*tmp84*tmp89 + tmp75*tmp77 - 2*tmp75*tmp78 - tmp76*tmp82 - tmp86*tmp92*tmp99 + 4*tmp90*tmp95 - tmp97*tmp98)/tmp71;
         out[5] = tmp39;
         out[6] = tmp117*(l_0 - tmp115) + tmp119;
         out[7] = tmp118 - tmp17 + tmp38*(l_0 + tmp34);
         out[8] = -tmp117*(l_0 + tmp115) + tmp119;
         out[9] = tmp7;
         out[10] = tmp33;
-        out[11] = tmp23 + tmp49 + tmp52 + 2*fabs(e*tmp2);
-        out[12] = tmp21*fabs(tmp20) + tmp21*fabs(x_S) + tmp29 + 2*fabs(tmp30) + 2*fabs(tmp20*x_S);
+        out[11] = tmp23 + tmp49 + tmp52 + 2*codegen_fabs(e*tmp2);
+        out[12] = tmp21*codegen_fabs(tmp20) + tmp21*codegen_fabs(x_S) + tmp29 + 2*codegen_fabs(tmp30) + 2*codegen_fabs(tmp20*x_S);
     }
 }
 

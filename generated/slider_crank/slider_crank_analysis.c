@@ -14,7 +14,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 #include <string.h>
 
@@ -133,7 +132,7 @@ static slider_crank_status residual_scale(const codegen_real at[STATE_SIZE], cod
 {
     const slider_crank_status status = residual_of(at);
     if (status == SLIDER_CRANK_OK) {
-        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), (codegen_real)1);
+        *scale = at[AT_SCALE] + codegen_fabs(k) * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     }
     return status;
 }
@@ -146,10 +145,10 @@ static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_
     const codegen_real disc = half_b * half_b - k_m;
     if (disc < 0) {
         re[0] = re[1] = -half_b;
-        im[0] = sqrt(-disc);
+        im[0] = codegen_sqrt(-disc);
         im[1] = -im[0];
     } else {
-        const codegen_real q = -(half_b + copysign(sqrt(disc), half_b));
+        const codegen_real q = -(half_b + codegen_copysign(codegen_sqrt(disc), half_b));
         re[0] = q;
         re[1] = q != 0 ? k_m / q : 0;
         im[0] = im[1] = 0;
@@ -159,7 +158,7 @@ static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_
 /* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
 static void frequency(codegen_real m, codegen_real b, codegen_real k, slider_crank_equilibrium *e)
 {
-    const codegen_real w = sqrt(fabs(k) / m);
+    const codegen_real w = codegen_sqrt(codegen_fabs(k) / m);
     e->omega_n[0] = k >= 0 ? w : 0;
     e->omega_n[1] = k >= 0 ? 0 : w;
     e->zeta[0] = e->zeta[1] = 0;
@@ -185,7 +184,7 @@ static void classify_motion(codegen_real b, codegen_real k, slider_crank_equilib
         e->damping = SLIDER_CRANK_NOT_OSCILLATORY;
     } else if (b == 0) {
         e->damping = SLIDER_CRANK_UNDAMPED;
-    } else if (fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
+    } else if (codegen_fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
         e->damping = SLIDER_CRANK_CRITICALLY_DAMPED;
     } else {
         e->damping = e->zeta[0] < 1 ? SLIDER_CRANK_UNDERDAMPED : SLIDER_CRANK_OVERDAMPED;
@@ -303,7 +302,7 @@ static void sort_roots(slider_crank_equilibrium *roots, int count)
  * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
 static slider_crank_status smooth_near(const slider_crank_params *params, unsigned mode, codegen_real theta)
 {
-    const codegen_real w = CERTIFY_START * fmax(fabs(theta), (codegen_real)1);
+    const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     codegen_iv g, dg;
     unsigned flags;
     const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
@@ -326,7 +325,7 @@ static slider_crank_status certify_around(const slider_crank_params *params, uns
         e->certified = proven;
         return (slider_crank_status)newton;
     }
-    for (w = CERTIFY_START * fmax(fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
+    for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
         const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
                                            &proven);
         if (status != 0) {
@@ -359,16 +358,16 @@ static codegen_real polish(const slider_crank_params *params, codegen_real theta
         const codegen_real k = at[AT_K];
         if (linearisation_of(at) != SLIDER_CRANK_OK || k == 0
             || residual_scale(at, theta, k, &scale) != SLIDER_CRANK_OK
-            || fabs(at[AT_RESIDUAL]) <= GENUINE_RESIDUAL * scale) {
+            || codegen_fabs(at[AT_RESIDUAL]) <= GENUINE_RESIDUAL * scale) {
             break;
         }
         next = theta - at[AT_RESIDUAL] / k;
-        if (!(fabs(next - start) <= radius)) {
+        if (!(codegen_fabs(next - start) <= radius)) {
             break;
         }
         state_at(params, next, next_at);
         if (residual_of(next_at) != SLIDER_CRANK_OK
-            || !(fabs(next_at[AT_RESIDUAL]) < fabs(at[AT_RESIDUAL]))) {
+            || !(codegen_fabs(next_at[AT_RESIDUAL]) < codegen_fabs(at[AT_RESIDUAL]))) {
             break;
         }
         theta = next;
@@ -406,7 +405,7 @@ static slider_crank_status check_state(const codegen_real at[STATE_SIZE], int *a
         return status;
     }
     for (i = 0; i < SLIDER_CRANK_N_ROOTS; ++i) {
-        if (fabs(values[i]) <= tolerance * scales[i]) {
+        if (codegen_fabs(values[i]) <= tolerance * scales[i]) {
             return SLIDER_CRANK_ERR_SINGULAR_STATE;
         }
         if (values[i] < 0) {
@@ -428,7 +427,7 @@ static slider_crank_status branch_kind(const codegen_real at[STATE_SIZE], slider
         return status;
     }
     for (j = 1u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
-        if (fabs(g[j]) < fabs(g[best])) {
+        if (codegen_fabs(g[j]) < codegen_fabs(g[best])) {
             best = j;
         }
     }
@@ -451,7 +450,7 @@ static codegen_real refine_on_branch(const slider_crank_params *params, codegen_
     if (!branch_value(params, theta, branch, &g0) || g0 == 0) {
         return theta;
     }
-    for (step = BRACKET_START * fmax(fabs(theta), (codegen_real)1); step <= radius && !found; step *= CODEGEN_R(4.0)) {
+    for (step = BRACKET_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1); step <= radius && !found; step *= CODEGEN_R(4.0)) {
         if (branch_value(params, theta - step, branch, &g) && (g < 0) != (g0 < 0)) {
             lo = theta - step;
             g_lo = g;
@@ -487,7 +486,7 @@ static codegen_real refine_on_branch(const slider_crank_params *params, codegen_
             side = 1;
         }
     }
-    return !found ? theta : fabs(g_lo) < fabs(g_hi) ? lo : hi;
+    return !found ? theta : codegen_fabs(g_lo) < codegen_fabs(g_hi) ? lo : hi;
 }
 
 /* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
@@ -521,12 +520,12 @@ static slider_crank_status study_root(const slider_crank_params *params, codegen
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (e->genuine && !(fabs(e->residual) <= SINGULAR_RESIDUAL * e->residual_scale)) {
+    if (e->genuine && !(codegen_fabs(e->residual) <= SINGULAR_RESIDUAL * e->residual_scale)) {
         /* The genuine branch r*G vanishes but Newton cannot bring G near zero: G jumps
          * here, which it does only where r = 0 (a root the finder placed ~1e-8 off it). */
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
-    e->genuine = e->genuine || fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
+    e->genuine = e->genuine || codegen_fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
     *twinned = e->genuine && !declared;
     if (e->genuine) {
         e->kind = SLIDER_CRANK_EQUILIBRIUM;
@@ -582,7 +581,7 @@ static void restore_twins(const slider_crank_params *params, slider_crank_equili
     for (i = 0; i < count; ++i) {
         for (j = 0; twinned[i] && j < count; ++j) {
             if (j != i && !twinned[j] && roots[j].genuine
-                && fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
+                && codegen_fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
                 slider_crank_equilibrium own;
                 int assembled, again;
                 if (study_root(params, source[i], 0, &own, &assembled, &again) == SLIDER_CRANK_OK
@@ -650,7 +649,7 @@ static slider_crank_status isolation_range(const slider_crank_params *params, co
     *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
         const codegen_real cut = centre + pi - (codegen_real)k * SEAM_STEP;
-        const codegen_real margin = SEAM_MARGIN * fmax(fabs(cut), (codegen_real)1);
+        const codegen_real margin = SEAM_MARGIN * codegen_fmax(codegen_fabs(cut), (codegen_real)1);
         int decided = 1;
         unsigned mode;
         for (mode = 0u; mode < SLIDER_CRANK_N_MODES && decided; ++mode) {

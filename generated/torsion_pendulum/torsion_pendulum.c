@@ -8,7 +8,6 @@
 #include "torsion_pendulum_kernels.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
 static int all_finite(const codegen_real *values, int count)
@@ -116,8 +115,8 @@ void torsion_pendulum_point_kinematics_kernel(const torsion_pendulum_params *par
         const codegen_real l = params->l;
         const codegen_real theta = coords[0];
         const codegen_real theta_d = rates[0];
-        const codegen_real tmp0 = l*cos(theta);
-        const codegen_real tmp1 = l*sin(theta);
+        const codegen_real tmp0 = l*codegen_cos(theta);
+        const codegen_real tmp1 = l*codegen_sin(theta);
         out[0] = tmp0;
         out[1] = tmp1;
         out[2] = -theta_d*tmp1;
@@ -172,9 +171,9 @@ void torsion_pendulum_energies_kernel(const torsion_pendulum_params *params, con
         const codegen_real tmp0 = (l*l);
         const codegen_real tmp1 = (theta_d*theta_d);
         const codegen_real tmp2 = tmp0*tmp1;
-        const codegen_real tmp3 = sin(theta);
+        const codegen_real tmp3 = codegen_sin(theta);
         const codegen_real tmp4 = tmp2*(tmp3*tmp3);
-        const codegen_real tmp5 = tmp2*(cos(theta)*cos(theta));
+        const codegen_real tmp5 = tmp2*(codegen_cos(theta)*codegen_cos(theta));
         const codegen_real tmp6 = tmp4 + tmp5;
         const codegen_real tmp7 = (((codegen_real)1/4))*tmp4 + (((codegen_real)1/4))*tmp5;
         const codegen_real tmp8 = (((codegen_real)1/2))*m;
@@ -239,10 +238,10 @@ void torsion_pendulum_lagrange_terms_kernel(const torsion_pendulum_params *param
         const codegen_real theta_d = rates[0];
         const codegen_real theta_dd = accels[0];
         const codegen_real tmp0 = (l*l)*theta_dd;
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = (tmp1*tmp1);
         const codegen_real tmp3 = (((codegen_real)1/2))*tmp0;
-        const codegen_real tmp4 = cos(theta);
+        const codegen_real tmp4 = codegen_cos(theta);
         const codegen_real tmp5 = (tmp4*tmp4);
         const codegen_real tmp6 = (((codegen_real)1/2))*m;
         const codegen_real tmp7 = 2*tmp0;
@@ -349,9 +348,9 @@ void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params 
         const codegen_real c = params->c;
         const codegen_real tmp0 = (l*l);
         const codegen_real tmp1 = m*tmp0;
-        const codegen_real tmp2 = (sin(theta)*sin(theta));
+        const codegen_real tmp2 = (codegen_sin(theta)*codegen_sin(theta));
         const codegen_real tmp3 = m_t*tmp0;
-        const codegen_real tmp4 = (cos(theta)*cos(theta));
+        const codegen_real tmp4 = (codegen_cos(theta)*codegen_cos(theta));
         const codegen_real tmp5 = (((codegen_real)1/4))*tmp1;
         out[0] = (((codegen_real)1/12))*tmp1 + tmp2*tmp3 + tmp2*tmp5 + tmp3*tmp4 + tmp4*tmp5;
         out[1] = 0;
@@ -399,8 +398,8 @@ void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params 
         const codegen_real c = params->c;
         const codegen_real F_x = params->F_x;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = sin(theta);
-        const codegen_real tmp1 = cos(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
+        const codegen_real tmp1 = codegen_cos(theta);
         const codegen_real tmp2 = g*l*tmp1;
         const codegen_real tmp3 = (l*l);
         const codegen_real tmp4 = m*tmp3;
@@ -453,13 +452,13 @@ void torsion_pendulum_equilibrium_residual_kernel(const torsion_pendulum_params 
         const codegen_real theta_0 = params->theta_0;
         const codegen_real F_x = params->F_x;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = F_x*l*sin(theta);
-        const codegen_real tmp1 = g*l*cos(theta);
+        const codegen_real tmp0 = F_x*l*codegen_sin(theta);
+        const codegen_real tmp1 = g*l*codegen_cos(theta);
         const codegen_real tmp2 = m_t*tmp1;
         const codegen_real tmp3 = k_t*(theta - theta_0);
         const codegen_real tmp4 = m*tmp1;
         out[0] = tmp0 + tmp2 + tmp3 + (((codegen_real)1/2))*tmp4;
-        out[1] = fabs(tmp0) + fabs(tmp2) + fabs(tmp3) + (((codegen_real)1/2))*fabs(tmp4);
+        out[1] = codegen_fabs(tmp0) + codegen_fabs(tmp2) + codegen_fabs(tmp3) + (((codegen_real)1/2))*codegen_fabs(tmp4);
     }
 }
 
@@ -504,10 +503,10 @@ void torsion_pendulum_linearisation_kernel(const torsion_pendulum_params *params
         const codegen_real g = params->g;
         const codegen_real tmp0 = (l*l);
         const codegen_real tmp1 = m*tmp0;
-        const codegen_real tmp2 = sin(theta);
+        const codegen_real tmp2 = codegen_sin(theta);
         const codegen_real tmp3 = (tmp2*tmp2);
         const codegen_real tmp4 = m_t*tmp0;
-        const codegen_real tmp5 = cos(theta);
+        const codegen_real tmp5 = codegen_cos(theta);
         const codegen_real tmp6 = (tmp5*tmp5);
         const codegen_real tmp7 = (((codegen_real)1/4))*tmp1;
         const codegen_real tmp8 = g*l*tmp2;
@@ -557,8 +556,8 @@ void torsion_pendulum_vibration_kernel(const torsion_pendulum_params *params, co
         const codegen_real c = params->c;
         const codegen_real F_x = params->F_x;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = cos(theta);
-        const codegen_real tmp1 = sin(theta);
+        const codegen_real tmp0 = codegen_cos(theta);
+        const codegen_real tmp1 = codegen_sin(theta);
         const codegen_real tmp2 = g*l*tmp1;
         const codegen_real tmp3 = (l*l);
         const codegen_real tmp4 = m*tmp3;
@@ -614,10 +613,10 @@ void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *pa
         const codegen_real c = params->c;
         const codegen_real F_x = params->F_x;
         const codegen_real g = params->g;
-        const codegen_real tmp0 = sin(theta);
+        const codegen_real tmp0 = codegen_sin(theta);
         const codegen_real tmp1 = F_x*l;
         const codegen_real tmp2 = tmp0*tmp1;
-        const codegen_real tmp3 = cos(theta);
+        const codegen_real tmp3 = codegen_cos(theta);
         const codegen_real tmp4 = g*l;
         const codegen_real tmp5 = tmp3*tmp4;
         const codegen_real tmp6 = m_t*tmp5;
@@ -631,7 +630,7 @@ void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *pa
         const codegen_real tmp14 = (((codegen_real)1/4))*tmp10;
         const codegen_real tmp15 = tmp0*tmp4;
         out[0] = tmp2 + tmp6 + tmp7 + (((codegen_real)1/2))*tmp8;
-        out[1] = fabs(tmp2) + fabs(tmp6) + fabs(tmp7) + (((codegen_real)1/2))*fabs(tmp8);
+        out[1] = codegen_fabs(tmp2) + codegen_fabs(tmp6) + codegen_fabs(tmp7) + (((codegen_real)1/2))*codegen_fabs(tmp8);
         out[2] = (((codegen_real)1/12))*tmp10 + tmp11*tmp12 + tmp11*tmp14 + tmp12*tmp13 + tmp13*tmp14;
         out[3] = c;
         out[4] = k_t - ((codegen_real)1/2)*m*tmp15 - m_t*tmp15 + tmp1*tmp3;

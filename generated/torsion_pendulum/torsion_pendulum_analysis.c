@@ -10,7 +10,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 #include <string.h>
 
@@ -73,7 +72,7 @@ static torsion_pendulum_status residual_scale(const codegen_real at[STATE_SIZE],
 {
     const torsion_pendulum_status status = residual_of(at);
     if (status == TORSION_PENDULUM_OK) {
-        *scale = at[AT_SCALE] + fabs(k) * fmax(fabs(theta), (codegen_real)1);
+        *scale = at[AT_SCALE] + codegen_fabs(k) * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     }
     return status;
 }
@@ -86,10 +85,10 @@ static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_
     const codegen_real disc = half_b * half_b - k_m;
     if (disc < 0) {
         re[0] = re[1] = -half_b;
-        im[0] = sqrt(-disc);
+        im[0] = codegen_sqrt(-disc);
         im[1] = -im[0];
     } else {
-        const codegen_real q = -(half_b + copysign(sqrt(disc), half_b));
+        const codegen_real q = -(half_b + codegen_copysign(codegen_sqrt(disc), half_b));
         re[0] = q;
         re[1] = q != 0 ? k_m / q : 0;
         im[0] = im[1] = 0;
@@ -99,7 +98,7 @@ static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_
 /* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
 static void frequency(codegen_real m, codegen_real b, codegen_real k, torsion_pendulum_equilibrium *e)
 {
-    const codegen_real w = sqrt(fabs(k) / m);
+    const codegen_real w = codegen_sqrt(codegen_fabs(k) / m);
     e->omega_n[0] = k >= 0 ? w : 0;
     e->omega_n[1] = k >= 0 ? 0 : w;
     e->zeta[0] = e->zeta[1] = 0;
@@ -125,7 +124,7 @@ static void classify_motion(codegen_real b, codegen_real k, torsion_pendulum_equ
         e->damping = TORSION_PENDULUM_NOT_OSCILLATORY;
     } else if (b == 0) {
         e->damping = TORSION_PENDULUM_UNDAMPED;
-    } else if (fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
+    } else if (codegen_fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
         e->damping = TORSION_PENDULUM_CRITICALLY_DAMPED;
     } else {
         e->damping = e->zeta[0] < 1 ? TORSION_PENDULUM_UNDERDAMPED : TORSION_PENDULUM_OVERDAMPED;

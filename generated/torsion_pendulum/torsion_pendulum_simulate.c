@@ -9,7 +9,6 @@
 #include "torsion_pendulum_kernels.h"
 
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: the float or the double functions */
 #include <stddef.h>
 
 /* The state vector: (theta [rad], thetadot [rad/s]). */

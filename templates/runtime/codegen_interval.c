@@ -5,7 +5,6 @@
 #include "codegen_interval.h"
 
 #include <stddef.h>
-#include <tgmath.h> /* math on codegen_real: float or double functions */
 
 /* ---- sin, cos ---- */
 
@@ -16,8 +15,8 @@
  * the rounding of phase + 2 pi k and of 2 pi itself at this magnitude. */
 static int holds_phase(codegen_iv a, codegen_real phase)
 {
-    const codegen_real slack = CODEGEN_R(8.0) * CODEGEN_EPSILON * (fabs(a.lo) + fabs(a.hi) + 1);
-    const codegen_real k = ceil((a.lo - slack - phase) / TWO_PI);
+    const codegen_real slack = CODEGEN_R(8.0) * CODEGEN_EPSILON * (codegen_fabs(a.lo) + codegen_fabs(a.hi) + 1);
+    const codegen_real k = codegen_ceil((a.lo - slack - phase) / TWO_PI);
     int j;
     for (j = -1; j <= 1; ++j) {
         const codegen_real x = phase + (k + (codegen_real)j) * TWO_PI;
@@ -34,11 +33,11 @@ static codegen_iv periodic(codegen_iv a, int is_sin, codegen_real max_phase, cod
 {
     codegen_real at_lo, at_hi, lo, hi;
     /* beyond 2^50 rad the doubles are too sparse to place a crest: the whole range */
-    if (!(a.hi - a.lo < CODEGEN_R(6.0)) || !(fabs(a.lo) < CODEGEN_R(0x1p50)) || !(fabs(a.hi) < CODEGEN_R(0x1p50))) {
+    if (!(a.hi - a.lo < CODEGEN_R(6.0)) || !(codegen_fabs(a.lo) < CODEGEN_R(0x1p50)) || !(codegen_fabs(a.hi) < CODEGEN_R(0x1p50))) {
         return codegen_iv_make(-1, 1);
     }
-    at_lo = is_sin ? sin(a.lo) : cos(a.lo);
-    at_hi = is_sin ? sin(a.hi) : cos(a.hi);
+    at_lo = is_sin ? codegen_sin(a.lo) : codegen_cos(a.lo);
+    at_hi = is_sin ? codegen_sin(a.hi) : codegen_cos(a.hi);
     lo = codegen_iv_down(codegen_iv_down(at_lo < at_hi ? at_lo : at_hi));
     hi = codegen_iv_up(codegen_iv_up(at_lo > at_hi ? at_lo : at_hi));
     if (holds_phase(a, max_phase)) {
@@ -158,7 +157,7 @@ static int tighten(isolation *s, codegen_real theta, codegen_real *lo, codegen_r
 {
     codegen_real step;
     int sign, status = 0, left = 0, right = 0;
-    for (step = CODEGEN_R(4.0) * CODEGEN_EPSILON * fmax(fabs(theta), (codegen_real)1); status == 0 && !(left && right)
+    for (step = CODEGEN_R(4.0) * CODEGEN_EPSILON * codegen_fmax(codegen_fabs(theta), (codegen_real)1); status == 0 && !(left && right)
          && step < *hi - *lo; step *= CODEGEN_R(8.0)) {
         if (!left && theta - step > *lo) {
             status = sign_at(s, theta - step, &sign);
@@ -294,7 +293,7 @@ static int unresolved(isolation *s, const box *b, unsigned flags)
 static int hopeless(isolation *s, box *b, codegen_real mid, codegen_iv g_mid, unsigned flags,
                     int *result)
 {
-    const codegen_real scale = fmax(fmax(fabs(b->lo), fabs(b->hi)), (codegen_real)1);
+    const codegen_real scale = codegen_fmax(codegen_fmax(codegen_fabs(b->lo), codegen_fabs(b->hi)), (codegen_real)1);
     int status = 0;
     *result = b->hi - b->lo <= RESOLUTION * CODEGEN_EPSILON * scale || !(mid > b->lo && mid < b->hi);
     if (*result || flags || !codegen_iv_has_zero(g_mid)) {
@@ -314,11 +313,11 @@ static codegen_real split_point(codegen_real lo, codegen_real hi)
     if (lo < 0 && hi > 0 && (hi > wide || -lo > wide)) {
         return 0;
     }
-    if (lo >= 0 && hi > wide * fmax(lo, (codegen_real)1)) {
-        return sqrt(fmax(lo, (codegen_real)1)) * sqrt(hi);
+    if (lo >= 0 && hi > wide * codegen_fmax(lo, (codegen_real)1)) {
+        return codegen_sqrt(codegen_fmax(lo, (codegen_real)1)) * codegen_sqrt(hi);
     }
-    if (hi <= 0 && -lo > wide * fmax(-hi, (codegen_real)1)) {
-        return -sqrt(fmax(-hi, (codegen_real)1)) * sqrt(-lo);
+    if (hi <= 0 && -lo > wide * codegen_fmax(-hi, (codegen_real)1)) {
+        return -codegen_sqrt(codegen_fmax(-hi, (codegen_real)1)) * codegen_sqrt(-lo);
     }
     return (1 - SPLIT) * lo + SPLIT * hi; /* (hi - lo may overflow) */
 }
@@ -465,8 +464,8 @@ int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, un
         || codegen_iv_has_zero(dg_m)) {
         return status;
     }
-    w = CODEGEN_R(2.0) * fmax(fabs(g_m.lo), fabs(g_m.hi)) / fmin(fabs(dg_m.lo), fabs(dg_m.hi))
-        + CODEGEN_R(8.0) * CODEGEN_EPSILON * fmax(fabs(m), (codegen_real)1);
+    w = CODEGEN_R(2.0) * codegen_fmax(codegen_fabs(g_m.lo), codegen_fabs(g_m.hi)) / codegen_fmin(codegen_fabs(dg_m.lo), codegen_fabs(dg_m.hi))
+        + CODEGEN_R(8.0) * CODEGEN_EPSILON * codegen_fmax(codegen_fabs(m), (codegen_real)1);
     for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= CODEGEN_R(16.0)) {
         const codegen_iv x = codegen_iv_make(m - w, m + w);
         codegen_iv g_x, dg_x, n;

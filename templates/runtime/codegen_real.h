@@ -5,8 +5,8 @@
  * By default the library computes in double. Compiled with -DCODEGEN_FLOAT (every file of the
  * library and the program using it: the header's types change), it computes in float, for
  * cores with a single-precision FPU only (Cortex-M4F): codegen_real is float, literals are
- * float literals, the library's .c files call the float functions of libm (through
- * <tgmath.h>), and every tolerance is derived from CODEGEN_EPSILON.
+ * float literals, the library calls the float functions of libm (sinf, ...: through the
+ * codegen_sin, ... names below), and every rounding tolerance derives from CODEGEN_EPSILON.
  *
  * Flags that break the arithmetic are refused here, at compile time:
  *   -ffast-math (and -ffinite-math-only, which it implies): the rounding bounds of the
@@ -46,8 +46,6 @@ typedef float codegen_real;
 #ifdef FP_FAST_FMAF
 #define CODEGEN_FAST_FMA 1                     /* fmaf is as fast as a product */
 #endif
-#define codegen_fabs fabsf /* for headers, which must not include <tgmath.h> for their users */
-#define codegen_sqrt sqrtf
 #else
 typedef double codegen_real;
 #define CODEGEN_R(literal) literal
@@ -64,8 +62,29 @@ typedef double codegen_real;
 #ifdef FP_FAST_FMA
 #define CODEGEN_FAST_FMA 1
 #endif
-#define codegen_fabs fabs
-#define codegen_sqrt sqrt
 #endif
+
+/* libm for codegen_real: codegen_sin is sinf in the float build and sin in the double one.
+ * (Not <tgmath.h>: newlib's, for one, does not compile without complex long double.) */
+#ifdef CODEGEN_FLOAT
+#define CODEGEN_LIBM(name) name##f
+#else
+#define CODEGEN_LIBM(name) name
+#endif
+#define codegen_atan CODEGEN_LIBM(atan)
+#define codegen_atan2 CODEGEN_LIBM(atan2)
+#define codegen_ceil CODEGEN_LIBM(ceil)
+#define codegen_copysign CODEGEN_LIBM(copysign)
+#define codegen_cos CODEGEN_LIBM(cos)
+#define codegen_fabs CODEGEN_LIBM(fabs)
+#define codegen_fma CODEGEN_LIBM(fma)
+#define codegen_fmax CODEGEN_LIBM(fmax)
+#define codegen_fmin CODEGEN_LIBM(fmin)
+#define codegen_frexp CODEGEN_LIBM(frexp)
+#define codegen_ldexp CODEGEN_LIBM(ldexp)
+#define codegen_pow CODEGEN_LIBM(pow)
+#define codegen_sin CODEGEN_LIBM(sin)
+#define codegen_sqrt CODEGEN_LIBM(sqrt)
+#define codegen_tan CODEGEN_LIBM(tan)
 
 #endif /* CODEGEN_REAL_H */

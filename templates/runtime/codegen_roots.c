@@ -60,7 +60,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <tgmath.h> /* math on codegen_real: float or double functions */
 #include <stddef.h>
 
 #define CR_MAXN CODEGEN_MAX_DEGREE        /* array bound: the largest degree accepted */
@@ -88,7 +87,7 @@ static inline void cstep(codegen_real *s, codegen_real *c, codegen_real *m, code
 {
     const codegen_real p = *s * x;
 #ifdef CODEGEN_FAST_FMA
-    const codegen_real pe = fma(*s, x, -p);                     /* s * x = p + pe exactly */
+    const codegen_real pe = codegen_fma(*s, x, -p);                     /* s * x = p + pe exactly */
     (void)xh;
     (void)xl;
 #else
@@ -101,7 +100,7 @@ static inline void cstep(codegen_real *s, codegen_real *c, codegen_real *m, code
     const codegen_real se = (p - (t - z)) + (a - z);           /* p + a = t + se exactly */
     *s = t;
     *c = *c * x + (pe + se);
-    *m = *m * ax + fabs(a);
+    *m = *m * ax + codegen_fabs(a);
 }
 
 /* f(x) = sum a[i] x^i by the compensated Horner scheme (Graillat, Langlois & Louvet, 2005):
@@ -112,8 +111,8 @@ static codegen_real eval(const codegen_real *a, int n, codegen_real x, codegen_r
 {
     codegen_real s = a[n];
     codegen_real c = 0;
-    codegen_real m = fabs(a[n]);
-    const codegen_real ax = fabs(x);
+    codegen_real m = codegen_fabs(a[n]);
+    const codegen_real ax = codegen_fabs(x);
     codegen_real xh, xl;
     split(x, &xh, &xl);
     for (int i = n - 1; i >= 0; --i) {
@@ -130,8 +129,8 @@ static void eval3(const codegen_real *f, const codegen_real *df, const codegen_r
 {
     codegen_real s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0;
     codegen_real c0 = 0, c1 = 0, c2 = 0;
-    codegen_real m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
-    const codegen_real ax = fabs(x);
+    codegen_real m0 = codegen_fabs(s0), m1 = codegen_fabs(s1), m2 = codegen_fabs(s2);
+    const codegen_real ax = codegen_fabs(x);
     codegen_real xh, xl;
     split(x, &xh, &xl);
     int i = n - 1;
@@ -157,7 +156,7 @@ static void eval3(const codegen_real *f, const codegen_real *df, const codegen_r
  * recurrences in one loop; each value is within gamma_{2n} <= 4 n eps times its magnitude sum
  * (below) of the truth (Higham, Accuracy and Stability of Numerical Algorithms, 5.1). A value
  * beyond PLAIN_OK's margin has a certain sign and a small relative error. */
-#define PLAIN_OK(v, n, mag) (fabs(v) > CODEGEN_R(4.0) * (codegen_real)(n) * CODEGEN_EPSILON * (mag))
+#define PLAIN_OK(v, n, mag) (codegen_fabs(v) > CODEGEN_R(4.0) * (codegen_real)(n) * CODEGEN_EPSILON * (mag))
 static inline codegen_real horner_fd(const codegen_real *a, const codegen_real *df, int n, codegen_real x, codegen_real *dv)
 {
     codegen_real s = a[n], d = df[n - 1];
@@ -172,9 +171,9 @@ static inline codegen_real horner_fd(const codegen_real *a, const codegen_real *
 /* sum |a_i| r^i: the magnitude sum at |x| = r, and a bound on it wherever |x| <= r. */
 static inline codegen_real magnitude(const codegen_real *a, int n, codegen_real r)
 {
-    codegen_real m = fabs(a[n]);
+    codegen_real m = codegen_fabs(a[n]);
     for (int i = n - 1; i >= 0; --i) {
-        m = m * r + fabs(a[i]);
+        m = m * r + codegen_fabs(a[i]);
     }
     return m;
 }
@@ -185,27 +184,27 @@ static void horner3(const codegen_real *f, const codegen_real *df, const codegen
                     codegen_real v[3], codegen_real mag[3])
 {
     codegen_real s0 = f[n], s1 = df[n - 1], s2 = (n >= 2) ? d2f[n - 2] : 0;
-    codegen_real m0 = fabs(s0), m1 = fabs(s1), m2 = fabs(s2);
-    const codegen_real ax = fabs(x);
+    codegen_real m0 = codegen_fabs(s0), m1 = codegen_fabs(s1), m2 = codegen_fabs(s2);
+    const codegen_real ax = codegen_fabs(x);
     int i = n - 1;
     for (; i >= 2; --i) {
         s0 = s0 * x + f[i];
         s1 = s1 * x + df[i - 1];
         s2 = s2 * x + d2f[i - 2];
-        m0 = m0 * ax + fabs(f[i]);
-        m1 = m1 * ax + fabs(df[i - 1]);
-        m2 = m2 * ax + fabs(d2f[i - 2]);
+        m0 = m0 * ax + codegen_fabs(f[i]);
+        m1 = m1 * ax + codegen_fabs(df[i - 1]);
+        m2 = m2 * ax + codegen_fabs(d2f[i - 2]);
     }
     for (; i >= 1; --i) {
         s0 = s0 * x + f[i];
         s1 = s1 * x + df[i - 1];
-        m0 = m0 * ax + fabs(f[i]);
-        m1 = m1 * ax + fabs(df[i - 1]);
+        m0 = m0 * ax + codegen_fabs(f[i]);
+        m1 = m1 * ax + codegen_fabs(df[i - 1]);
     }
     v[0] = s0 * x + f[0];
     v[1] = s1;
     v[2] = s2;
-    mag[0] = m0 * ax + fabs(f[0]);
+    mag[0] = m0 * ax + codegen_fabs(f[0]);
     mag[1] = m1;
     mag[2] = m2;
 }
@@ -226,10 +225,10 @@ static codegen_real solve(const codegen_real *f, const codegen_real *df, int n, 
     /* The magnitude sum anywhere in the bracket is at most its value at the farther end: one
      * bound for every iteration; the sum at x itself is formed only where that bound is too
      * coarse to certify the sign. */
-    const codegen_real bound = magnitude(f, n, fmax(fabs(lo), fabs(hi)));
+    const codegen_real bound = magnitude(f, n, codegen_fmax(codegen_fabs(lo), codegen_fabs(hi)));
     for (int it = 0;; ++it) {
         codegen_real v = horner_fd(f, df, n, x, &dv);
-        if (!PLAIN_OK(v, n, bound) && !PLAIN_OK(v, n, magnitude(f, n, fabs(x)))) {
+        if (!PLAIN_OK(v, n, bound) && !PLAIN_OK(v, n, magnitude(f, n, codegen_fabs(x)))) {
             codegen_real mag;
             v = eval(f, n, x, &mag);
         }
@@ -249,7 +248,7 @@ static codegen_real solve(const codegen_real *f, const codegen_real *df, int n, 
         if (dv != 0) {
             dx = v / dv;
             const codegen_real xn = x - dx;
-            if (fabs(dx) <= CODEGEN_EPSILON * fabs(x) + CODEGEN_REAL_MIN) {
+            if (codegen_fabs(dx) <= CODEGEN_EPSILON * codegen_fabs(x) + CODEGEN_REAL_MIN) {
                 /* Newton step below the resolution of x: converged (even if xn rounds onto or
                  * just past an end of the bracket, which the test below would reject). */
                 if (xn > lo && xn < hi) {
@@ -257,25 +256,25 @@ static codegen_real solve(const codegen_real *f, const codegen_real *df, int n, 
                 }
                 break;
             }
-            if (xn > lo && xn < hi && fabs(CODEGEN_R(2.0) * dx) <= fabs(dxold)) {
+            if (xn > lo && xn < hi && codegen_fabs(CODEGEN_R(2.0) * dx) <= codegen_fabs(dxold)) {
                 x = xn;
                 continue;
             }
         }
         dx = CODEGEN_R(0.5) * (hi - lo);
         x = lo + dx;
-        if (fabs(dx) <= CODEGEN_EPSILON * fabs(x) + CODEGEN_REAL_MIN) {
+        if (codegen_fabs(dx) <= CODEGEN_EPSILON * codegen_fabs(x) + CODEGEN_REAL_MIN) {
             break;
         }
     }
     /* dv: from the last evaluation, at most a step below the resolution of x away. */
-    codegen_real dmag = magnitude(df, n - 1, fabs(x));
+    codegen_real dmag = magnitude(df, n - 1, codegen_fabs(x));
     if (!PLAIN_OK(dv, n - 1, dmag)) {
         dv = eval(df, n - 1, x, &dmag);
     }
-    dv = fabs(dv);
-    const codegen_real mag = magnitude(f, n, fabs(x));
-    *del = fabs(dx) + ((dv > 0) ? fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
+    dv = codegen_fabs(dv);
+    const codegen_real mag = magnitude(f, n, codegen_fabs(x));
+    *del = codegen_fabs(dx) + ((dv > 0) ? codegen_fmin(ceps * mag / dv, CR_PAIR) : CR_PAIR);
     return x;
 }
 
@@ -296,7 +295,7 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
     const codegen_real g = (codegen_real)n * CODEGEN_EPSILON;                /* gamma_{2n} */
     codegen_real amax = 0;                                       /* largest |coefficient| */
     for (int i = 0; i <= n; ++i) {
-        amax = (fabs(f[i]) > amax) ? fabs(f[i]) : amax;
+        amax = (codegen_fabs(f[i]) > amax) ? codegen_fabs(f[i]) : amax;
     }
 
     px[0] = -1;
@@ -311,7 +310,7 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
     for (int j = 0; j < np; ++j) {
         codegen_real pw = 0;                                     /* sum |x|^i */
         for (int i = 0; i <= n; ++i) {
-            pw = pw * fabs(px[j]) + 1;
+            pw = pw * codegen_fabs(px[j]) + 1;
         }
         codegen_real vals[3], mags[3];
         const int inner = j > 0 && j < np - 1;
@@ -323,10 +322,10 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
              * values decide as below. */
             horner3(f, df, d2f, n, px[j], vals, mags);
             const codegen_real e0 = CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[0];
-            const codegen_real vlo = fabs(vals[0]) - e0;
-            const codegen_real d1up = fabs(vals[1]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[1];
-            const codegen_real d2up = fabs(vals[2]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[2];
-            const codegen_real tolup = CODEGEN_EPSILON * (fabs(vals[0]) + e0) + CODEGEN_R(2.0) * g * g * mags[0] +
+            const codegen_real vlo = codegen_fabs(vals[0]) - e0;
+            const codegen_real d1up = codegen_fabs(vals[1]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[1];
+            const codegen_real d2up = codegen_fabs(vals[2]) + CODEGEN_R(4.0) * (codegen_real)n * CODEGEN_EPSILON * mags[2];
+            const codegen_real tolup = CODEGEN_EPSILON * (codegen_fabs(vals[0]) + e0) + CODEGEN_R(2.0) * g * g * mags[0] +
                                  (d1up + CODEGEN_R(0.5) * d2up * pd[j]) * pd[j];
             if (vlo > CODEGEN_R(2.0) * tolup && (!inner || vlo > CODEGEN_R(2.0) * ceps * amax * pw ||
                                       vlo > d2up * CR_PAIR * CR_PAIR)) {
@@ -340,18 +339,18 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
         const codegen_real mag = mags[0];
         const codegen_real d1s = vals[1];
         const codegen_real d2s = vals[2];
-        const codegen_real d1 = fabs(d1s);
-        const codegen_real d2 = fabs(d2s);
+        const codegen_real d1 = codegen_fabs(d1s);
+        const codegen_real d2 = codegen_fabs(d2s);
         /* Twice the compensated error bound, plus f's variation over the point's uncertainty. */
-        codegen_real tol = CODEGEN_EPSILON * fabs(v) + CODEGEN_R(2.0) * g * g * mag + (d1 + CODEGEN_R(0.5) * d2 * pd[j]) * pd[j];
-        int zero = fabs(v) <= tol;
+        codegen_real tol = CODEGEN_EPSILON * codegen_fabs(v) + CODEGEN_R(2.0) * g * g * mag + (d1 + CODEGEN_R(0.5) * d2 * pd[j]) * pd[j];
+        int zero = codegen_fabs(v) <= tol;
         /* Rule 5 at a critical point; in chart A also at the seam, applied to the critical
          * point x + dc of f's quadratic model there (value fc), if it is within CR_PAIR. */
         const int seam = ends_out != NULL && (j == 0 || j == np - 1);
         const codegen_real dc = (seam && d2 > 0) ? -d1s / d2s : 0;
         codegen_real fc = v + CODEGEN_R(0.5) * d1s * dc;
-        if (!zero && ((j > 0 && j < np - 1) || (seam && fabs(dc) <= CR_PAIR)) &&
-            fabs(fc) <= ceps * amax * pw && CODEGEN_R(2.0) * fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
+        if (!zero && ((j > 0 && j < np - 1) || (seam && codegen_fabs(dc) <= CR_PAIR)) &&
+            codegen_fabs(fc) <= ceps * amax * pw && CODEGEN_R(2.0) * codegen_fabs(fc) <= d2 * CR_PAIR * CR_PAIR) {
             zero = 1;                                        /* 5(a) and 5(b) */
             tol = ceps * amax * pw;
             if (seam && d1 > CODEGEN_R(0.5) * (codegen_real)n * tol) {   /* 5(a) for f' at |x| = 1 fails */
@@ -365,10 +364,10 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
         /* Should the point stand for a root, how far that root may be from it. */
         codegen_real est = CR_PAIR;
         if (d1 > 0) {
-            est = fmin(est, tol / d1);
+            est = codegen_fmin(est, tol / d1);
         }
         if (d2 > 0) {
-            est = fmin(est, sqrt(CODEGEN_R(2.0) * tol / d2));
+            est = codegen_fmin(est, codegen_sqrt(CODEGEN_R(2.0) * tol / d2));
         }
         pd[j] += est;
     }
@@ -388,12 +387,12 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
         if (ps[j] == 0) {
             if (run_start < 0) {
                 run_start = j;
-                best = fabs(pv[j]);
+                best = codegen_fabs(pv[j]);
                 rt[nr] = px[j];
                 rdel[nr] = pd[j];
                 ++nr;
-            } else if (fabs(pv[j]) < best) {
-                best = fabs(pv[j]);
+            } else if (codegen_fabs(pv[j]) < best) {
+                best = codegen_fabs(pv[j]);
                 rt[nr - 1] = px[j];
                 rdel[nr - 1] = pd[j];
             }
@@ -452,7 +451,7 @@ static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *en
  * cancellation of subtracting 2 pi. */
 static codegen_real theta_of_u(codegen_real u)
 {
-    const codegen_real t = (u >= 0) ? CODEGEN_R(2.0) * atan2((codegen_real)1, u) : -CODEGEN_R(2.0) * atan2((codegen_real)1, -u);
+    const codegen_real t = (u >= 0) ? CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, u) : -CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, -u);
     return (t <= -CR_PI) ? CR_PI : t;
 }
 
@@ -477,16 +476,16 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
         if (!isfinite(sigma[i])) {
             return CODEGEN_ROOTS_ERR_NONFINITE;
         }
-        amax = fmax(amax, fabs(sigma[i]));
+        amax = codegen_fmax(amax, codegen_fabs(sigma[i]));
     }
     if (amax == 0) {
         return CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL;
     }
 
     /* Power-of-two scaling is exact: results do not depend on the overall magnitude. */
-    (void)frexp(amax, &e);
+    (void)codegen_frexp(amax, &e);
     for (int i = 0; i <= degree; ++i) {
-        s[i] = ldexp(sigma[i], -e);
+        s[i] = codegen_ldexp(sigma[i], -e);
     }
     int lo = 0;
     int hi = degree;
@@ -512,7 +511,7 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
         }
         const int na = chart_roots(a, m, NULL, ends, r);
         for (int i = 0; i < na; ++i) {
-            out[nout++] = CODEGEN_R(2.0) * atan(r[i]);
+            out[nout++] = CODEGEN_R(2.0) * codegen_atan(r[i]);
         }
         ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
         ends_b[1] = ends[1];
