@@ -13,7 +13,7 @@ import pytest
 from codegen.api import shipped
 
 RUNNER = Path(__file__).resolve().parent.parent / "benchmarks" / "run.py"
-SECTIONS = 7
+SECTIONS = 8
 
 
 def _sections(text: str) -> dict[int, str]:
