@@ -11,7 +11,9 @@ on the parameter, all open brackets analysed together in one batch per halving:
   there and whose gap has shrunk to nothing (it goes as the square root of the distance to
   the fold) merge: a **fold** (a double root of G, K_EQ -> 0), or a **pitchfork** when a
   continuing branch lies between them. A branch that ends without meeting another (a limit
-  position, the end of the angle's range, a singular state) is an **end**;
+  position, the end of the angle's range, a singular state) is an **end**. The count is
+  only as sharp as the analysis separates a close pair, so each fold is then polished where
+  G and G' vanish together (``codegen.folds``);
 * where a branch's stability changes between two samples, the bracket closes on the value
   where it does (K_EQ crossing zero on the middle branch of a pitchfork, say).
 
@@ -32,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis, joining, sweep
+from . import analysis, folds, joining, sweep
 from .library import Library, ParameterSet, ParamsLike
 
 #: What happens at an event (see the module's docstring).
@@ -407,9 +409,15 @@ def _pairs(ends: list[int], theta_at: Callable[[int], float], gap_before: Callab
     return pairs
 
 
+#: Polishes a fold: (start, the pair's angles, direction, first step, reach) -> a Fold.
+Polisher = Callable[[float, tuple[float, float], int, float, float], "folds.Fold | None"]
+
+
 def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
-                   branch: np.ndarray, periodic: bool) -> tuple[list[Event], list[np.ndarray]]:
-    """The folds, pitchforks and ends of one change of count, and their refined points."""
+                   branch: np.ndarray, periodic: bool, polish: Polisher
+                   ) -> tuple[list[Event], list[np.ndarray]]:
+    """The folds, pitchforks and ends of one change of count, and their refined points: the
+    points where the pairs last exist, and each fold polished where G and G' vanish."""
     side = samples.first[change.step + (0 if bracket.keep_low else 1)]
     grid = samples.rows[side:side + len(bracket.kept)]
     # kept[i] is grid[i] followed to the refined end (equal counts: a one-to-one matching)
@@ -429,10 +437,18 @@ def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
                                      float(kept["theta"][b]), periodic)
                      for i in range(len(kept)) if i not in (a, b))
         kind = "pitchfork" if inside else "fold"
-        events.append(Event(kind, sum(span) / 2, span, joining.mean_angle(
-            float(kept["theta"][a]), float(kept["theta"][b]), periodic),
-            float(kept["K"][a] + kept["K"][b]) / 2,
-            tuple(sorted(int(branch[side + i]) for i in (a, b))), where))
+        ta, tb = float(kept["theta"][a]), float(kept["theta"][b])
+        numbers = tuple(sorted(int(branch[side + i]) for i in (a, b)))
+        fold = None if inside else polish(
+            bracket.kept_value, (ta, ta + 2 * (joining.mean_angle(ta, tb, periodic) - ta)),
+            1 if bracket.keep_low else -1, span[1] - span[0],
+            float(samples.at[change.step + 1] - samples.at[change.step]))
+        if fold is None:   # a pitchfork, or polishing failed: the bisection's bracket
+            events.append(Event(kind, sum(span) / 2, span, joining.mean_angle(ta, tb, periodic),
+                                float(kept["K"][a] + kept["K"][b]) / 2, numbers, where))
+        else:
+            events.append(Event(kind, fold.value, fold.bracket, fold.theta, fold.K, numbers,
+                                where))
         points.append(_points(kept[[a, b]], bracket.kept_value, branch[side + np.array([a, b])], kind))
     for i in (i for i in ends if i not in paired):
         events.append(Event("end", sum(span) / 2, span, float(kept["theta"][i]),
@@ -503,8 +519,15 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     analyse = _Analyser(library, table[:1], parameter, taken)
     _refine([*changes_at, *turns], analyse, tolerance)
     events, extra = [], [_points(rows, samples.value, branch, "sample")]
+    values_of = dict(zip(library.PARAMETER_NAMES, table[0].tolist()))
+
+    def polish(start: float, pair: tuple[float, float], direction: int, first: float,
+               reach: float) -> folds.Fold | None:
+        return folds.polish(library, values_of, parameter, start, pair, direction, first,
+                            reach, tolerance)
+
     for change, bracket in zip(changes, changes_at):
-        found, refined = _change_events(change, bracket, samples, branch, periodic)
+        found, refined = _change_events(change, bracket, samples, branch, periodic, polish)
         events += found
         extra += refined
     for r, bracket in zip(turned, turns):

@@ -26,6 +26,7 @@ import codegen.analysis
 import codegen.api
 import codegen.branch_figure
 import codegen.branches
+import codegen.folds
 import codegen.joining
 import codegen.library
 import codegen.sweep
@@ -152,7 +153,7 @@ def test_library_methods_are_documented_with_units():
 
 
 PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api, codegen.sweep,
-                  codegen.branches, codegen.joining, codegen.branch_figure)
+                  codegen.branches, codegen.folds, codegen.joining, codegen.branch_figure)
 
 
 def _public_callables():
