@@ -28,7 +28,7 @@ import json
 import math
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -66,13 +66,14 @@ _COPIED = ("theta", "certified", "stability", "damping", "omega_n", "zeta", "K",
 
 @dataclass(frozen=True)
 class Event:
-    """Where branches end, or one changes stability, located by bisection. ``theta`` [rad]
-    (``theta_deg`` in degrees): the angle where the pair meets (a fold or a pitchfork: the
-    middle of the pair just before it merges), where the branch ends, or where it changes
-    stability; ``K`` [N m] (per rad) there: -> 0 at a fold or a pitchfork."""
+    """Where branches end, or one changes stability, located by bisection (a fold then
+    polished where G = G' = 0). ``theta`` [rad] (``theta_deg`` in degrees): the angle where
+    the pair meets (a fold: the double root; a pitchfork: the middle of the pair just
+    before it merges), where the branch ends, or where it changes stability; ``K`` [N m]
+    (per rad) there: -> 0 at a fold or a pitchfork."""
 
     kind: str                      # one of EVENTS
-    value: float                   # the parameter's value there [its unit]: the bracket's middle
+    value: float                   # the parameter's value there [its unit], in the bracket
     bracket: tuple[float, float]   # the event lies between these values [its unit]
     theta: float                   # [rad]
     K: float                       # K_EQ [N m]
@@ -388,8 +389,8 @@ def _points(rows: np.ndarray, value: np.ndarray | float, branch: np.ndarray | in
     return out
 
 
-def _pairs(ends: list[int], theta_at: Callable[[int], float], gap_before: Callable[[int, int], float],
-           periodic: bool) -> list[tuple[int, int]]:
+def _pairs(ends: list[int], theta_at: Callable[[int], float],
+           gap_before: Callable[[int, int], float], periodic: bool) -> list[tuple[int, int]]:
     """Neighbouring ending equilibria (by angle; around the circle where periodic) that
     meet: their gap at the refined end is tiny, or small beside their gap at the sample."""
     def meet(a: int, b: int) -> bool:
@@ -449,7 +450,8 @@ def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
         else:
             events.append(Event(kind, fold.value, fold.bracket, fold.theta, fold.K, numbers,
                                 where))
-        points.append(_points(kept[[a, b]], bracket.kept_value, branch[side + np.array([a, b])], kind))
+        points.append(_points(kept[[a, b]], bracket.kept_value,
+                              branch[side + np.array([a, b])], kind))
     for i in (i for i in ends if i not in paired):
         events.append(Event("end", sum(span) / 2, span, float(kept["theta"][i]),
                             float(kept["K"][i]), (int(branch[side + i]),), where))
@@ -519,11 +521,11 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     analyse = _Analyser(library, table[:1], parameter, taken)
     _refine([*changes_at, *turns], analyse, tolerance)
     events, extra = [], [_points(rows, samples.value, branch, "sample")]
-    values_of = dict(zip(library.PARAMETER_NAMES, table[0].tolist()))
+    base_values = dict(zip(library.PARAMETER_NAMES, table[0].tolist()))
 
     def polish(start: float, pair: tuple[float, float], direction: int, first: float,
                reach: float) -> folds.Fold | None:
-        return folds.polish(library, values_of, parameter, start, pair, direction, first,
+        return folds.polish(library, base_values, parameter, start, pair, direction, first,
                             reach, tolerance)
 
     for change, bracket in zip(changes, changes_at):
@@ -536,9 +538,9 @@ def branches(library: Library, parameter: str, start: float, stop: float,
         extra.append(refined)
     every = np.concatenate(extra)
     every = every[np.lexsort((every["value"], every["branch"]))]
-    base_set = library.Params(**dict(zip(library.PARAMETER_NAMES, table[0].tolist())))
-    return Branches(library, parameter, values, statuses, base_set, taken, every,
-                    tuple(sorted(events, key=lambda e: (e.value, e.branches))), tolerance)
+    return Branches(library, parameter, values, statuses, library.Params(**base_values), taken,
+                    every, tuple(sorted(events, key=lambda e: (e.value, e.branches))),
+                    tolerance)
 
 
 def _count_bracket(samples: _Samples, change: _Change) -> _CountBracket:

@@ -16,6 +16,9 @@ from codegen.analysis import analyze, analyze_batch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
 from test_equilibria import min_spring_length  # noqa: E402  (closed form of min r, (34))
+import reference_mechanisms  # noqa: E402  (independent of our derivation)
+
+REFERENCE = reference_mechanisms.REFERENCES["doughty"]
 
 LENGTHS = ("H", "L", "a", "l_ND")
 
@@ -103,13 +106,28 @@ def test_genuine_roots_satisfy_43_and_extraneous_ones_fail_it(p):
     for r in _analysis(p).roots:
         genuine, extraneous = api.equilibrium_branches(p, r.theta)
         if r.genuine:
-            assert r.relative_residual <= 1e-12, r
+            assert (r.relative_residual <= 1e-12
+                    or abs(r.residual) <= 1e-12 * _data_sensitivity(p, r.theta)), r
         else:
             # (43) fails, relative to the size of its own terms, far beyond rounding (an
             # extraneous root 2e-6 rad from a genuine one fails it by ~1e-6); the other
             # branch holds
             assert r.relative_residual >= 1e-9, r
             assert abs(extraneous) < abs(genuine), r
+
+
+def _data_sensitivity(p, theta, step=1e-8):
+    """sum over the data of |x dG/dx| at theta (the reference, 30 digits): what G moves by
+    when each datum moves by its own size. Where G's terms are small differences of large
+    ones (k (r - l_ND) with r ~ l_ND, e.g. g ~ 0 beside a flat triple root), rounding leaves
+    a residual of this size times epsilon, however small the terms' own sum."""
+    values = {n: getattr(p, n) for n in api.PARAMETER_NAMES}
+
+    def g(name, factor):
+        return REFERENCE.generalized_force({**values, name: values[name] * factor}, theta)
+
+    return float(sum(abs(g(n, 1 + step) - g(n, 1 - step)) / (2 * step)
+                     for n in api.PARAMETER_NAMES if values[n] != 0))
 
 
 def _random_table(n, seed=7):
