@@ -412,20 +412,37 @@ def _simulate(args) -> int:
         raise ValueError("--points: at least 2 (the start and the end)")
     params = _library(args).example_params(**_overrides(args.set))
     start = time.perf_counter()
-    with sweep.ProgressBar(unit="points") as bar:
-        trajectory = simulation.simulate(
-            params, math.radians(args.theta0), math.radians(args.thetadot0),
-            np.linspace(0.0, args.to, args.points), rtol=args.rtol, atol=args.atol,
-            max_steps=args.max_steps, progress=bar)
+    try:
+        with sweep.ProgressBar(unit="points") as bar:
+            trajectory = simulation.simulate(
+                params, math.radians(args.theta0), math.radians(args.thetadot0),
+                np.linspace(0.0, args.to, args.points), rtol=args.rtol, atol=args.atol,
+                max_steps=args.max_steps, progress=bar)
+    except simulation.IntegrationError as error:
+        # what was computed before the failure is still written, and the failure said
+        written, _ = _write_trajectory(args, error.trajectory)
+        where = f"; the {len(error.trajectory.t):,} points before it" if written else ""
+        raise ValueError(f"{error}{where}{' written to ' if written else ''}"
+                         f"{' and '.join(written)}") from None
     seconds = time.perf_counter() - start
+    written, linear = _write_trajectory(args, trajectory)
+    if written:
+        print(_simulation_summary(trajectory, linear, seconds, written))
+    return 0
+
+
+def _write_trajectory(args, trajectory):
+    """CSV on stdout (no file to name), or the --out and --plot files: the files' names,
+    and the linearised response drawn beside (None unless --linearised)."""
+    from . import simulation
+
     linear = simulation.linearised(trajectory) if args.linearised else None
     if not (args.out or args.plot):
         simulation.write_csv(sys.stdout, trajectory, linear)
-        return 0
+        return [], linear
     written = [str(simulation.write(trajectory, args.out, linear))] if args.out else []
     written += [str(simulation.plot(trajectory, args.plot, linear))] if args.plot else []
-    print(_simulation_summary(trajectory, linear, seconds, written))
-    return 0
+    return written, linear
 
 
 def _simulation_summary(trajectory, linear, seconds: float, written: list[str]) -> str:

@@ -108,14 +108,37 @@ def _options(library: Library, rtol: float | None, atol: float | None,
     return options
 
 
-def _integration_error(library: Library, status: int, simulation: Any) -> LibraryError:
-    """A failure after the start (the step budget, the step size, a singular state): the
-    reason and the time it happened, no parameter to blame."""
+class IntegrationError(LibraryError):
+    """The integration failed after the start (the step budget, the step size, a singular
+    state): ``trajectory`` holds what was computed before, the outputs up to the time the
+    failure happened (at least the initial state)."""
+
+    def __init__(self, *args: Any, trajectory: Trajectory | None = None, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.trajectory = trajectory
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        cls, arguments = super().__reduce__()[:2]
+        return (_rebuild_integration_error, (cls, arguments, self.trajectory))
+
+
+def _rebuild_integration_error(cls: type, arguments: tuple[Any, ...],
+                               trajectory: Trajectory | None) -> IntegrationError:
+    error = cls(*arguments)
+    error.trajectory = trajectory
+    return error
+
+
+def _integration_error(library: Library, status: int, simulation: Any,
+                       partial: Trajectory) -> IntegrationError:
+    """A failure after the start: the reason and the time it happened, no parameter to
+    blame, and the trajectory up to there."""
     code = {v: k for k, v in library.STATUS.items()}[status]
     values: dict[str, Any] = {"t": simulation.state.t}
     if code == "ERR_STEP_BUDGET":
         values["max_steps"] = simulation.options.max_steps
-    return LibraryError(status, code, library._reason(status), values=values)
+    return IntegrationError(status, code, library._reason(status), values=values,
+                            trajectory=partial)
 
 
 def simulate(params: ParameterSet, theta0: float, theta_d0: float,
@@ -134,10 +157,10 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
     without it: outputs are interpolated and never shorten a step).
 
     Raises ValueError for t or an option out of range; LibraryError for bad parameters or
-    initial state (naming them), or when the integration fails: ERR_STEP_BUDGET,
-    ERR_STEP_SIZE (a singular or too stiff motion) or the library's status for a
-    thetaddot that is not finite (ERR_SINGULAR_STATE or ERR_OVERFLOW), with the time
-    reached.
+    initial state (naming them). When the integration fails (ERR_STEP_BUDGET,
+    ERR_STEP_SIZE: a singular or too stiff motion, or the library's status for a thetaddot
+    that is not finite, ERR_SINGULAR_STATE or ERR_OVERFLOW) it raises IntegrationError (a
+    LibraryError) with the time reached, whose ``trajectory`` holds the outputs before it.
     """
     library = library_of_params(params)
     times = _times(t)
@@ -154,22 +177,30 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
                         options),
                   params, rerun=rerun, inputs={"theta0": theta0, "theta_d0": theta_d0})
     theta, theta_d = np.empty_like(times), np.empty_like(times)
+    theta[0], theta_d[0] = theta0, theta_d0
     c_times = ffi.from_buffer("double[]", times)
     c_theta, c_theta_d = (ffi.from_buffer("double[]", a, require_writable=True)
                           for a in (theta, theta_d))
     count = len(times)
     piece = count if progress is None else max(1, -(-count // PROGRESS_STEPS))
+    reached = ffi.new("size_t *")
+
+    def trajectory(n: int) -> Trajectory:
+        state = simulation.state
+        return Trajectory(params, times[:n], theta[:n], theta_d[:n], options.rtol,
+                          options.atol, int(state.steps), int(state.rejected),
+                          int(state.evaluations))
+
     for first in range(0, count, piece):
         n = min(piece, count - first)
         status = advance(simulation, c_times + first, n, c_theta + first, c_theta_d + first,
-                         ffi.NULL)
+                         reached)
         if status != library.STATUS["OK"]:
-            raise _integration_error(library, status, simulation)
+            written = max(first + int(reached[0]), 1)   # t[0] holds the initial state
+            raise _integration_error(library, status, simulation, trajectory(written))
         if progress is not None:
             progress(first + n, count)
-    state = simulation.state
-    return Trajectory(params, times, theta, theta_d, options.rtol, options.atol,
-                      int(state.steps), int(state.rejected), int(state.evaluations))
+    return trajectory(count)
 
 
 def rk4_step(params: ParameterSet, theta: float, theta_d: float, h: float

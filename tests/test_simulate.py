@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
+import pickle
 from dataclasses import dataclass
 
 import numpy as np
@@ -370,6 +371,24 @@ def test_failures_are_library_errors_with_their_cause():
     assert error.value.code == "ERR_STEP_BUDGET" and 0 < error.value.values["t"] < 2.0
     with pytest.raises(TypeError, match="Params of a library"):
         simulation.simulate({"k": 1.0}, 2.8, 0.0, [0.0, 1.0])
+
+
+def test_a_failed_integration_keeps_the_outputs_before_the_failure():
+    """The step budget runs out part way: the error's trajectory is the prefix of the full
+    one (bit for bit: the same steps), ending before the time the failure happened."""
+    library = load("doughty")
+    times = np.linspace(0.0, 2.0, 401)
+    full = library.simulate(None, 2.8, 0.0, times)
+    with pytest.raises(simulation.IntegrationError) as error:
+        library.simulate(None, 2.8, 0.0, times, max_steps=full.steps // 2, progress=lambda *_: None)
+    partial = error.value.trajectory
+    n = len(partial.t)
+    assert 1 < n < len(times) and partial.t[-1] <= error.value.values["t"] < times[n]
+    assert np.array_equal(partial.theta, full.theta[:n])
+    assert np.array_equal(partial.theta_d, full.theta_d[:n])
+    again = pickle.loads(pickle.dumps(error.value))
+    assert again.code == "ERR_STEP_BUDGET" and np.array_equal(again.trajectory.theta, partial.theta)
+    assert str(again) == str(error.value)
 
 
 def test_nearest_stable_equilibrium_moves_by_whole_turns_on_a_periodic_coordinate():

@@ -111,7 +111,6 @@ def test_a_missing_matplotlib_is_one_line_saying_how_to_install_it(tmp_path):
     (("--theta0", "nan", "--to", "2"), "theta0: an input value is NaN"),
     (("--theta0", "160", "--to", "2", "--set", "k=-1"), "k: k must not be negative"),
     (("--theta0", "160", "--to", "2", "--rtol", "0"), "rtol: "),
-    (("--theta0", "160", "--to", "2", "--max-steps", "20"), "step budget"),
     (("--to", "2",), "--theta0"),
     (("--theta0", "160", "--to", "2", "--set", "nope=1"), "nope")])
 def test_errors_are_one_line_with_status_2(tmp_path, args, message):
@@ -120,6 +119,25 @@ def test_errors_are_one_line_with_status_2(tmp_path, args, message):
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
     assert message in lines[0]
+
+
+def test_a_failed_integration_writes_what_it_computed_and_says_where_it_stopped(tmp_path):
+    """Exit status 2 and one line naming the failure and the time, after the points before
+    it: on stdout as CSV, or in the --out file."""
+    out = simulate("--theta0", "160", "--to", "2", "--points", "201", "--max-steps", "20",
+                   cwd=tmp_path)
+    lines = out.stderr.strip().splitlines()
+    assert out.returncode == 2 and len(lines) == 1 and "step budget" in lines[0], out.stderr
+    rows = np.array(list(csv.reader(io.StringIO(out.stdout)))[1:], dtype=float)
+    trajectory, _ = _api(160.0, 2.0, 201)
+    assert 1 < len(rows) < 201
+    assert np.array_equal(rows[:, 1], trajectory.theta_deg[:len(rows)])   # the same steps
+    out = simulate("--theta0", "160", "--to", "2", "--points", "201", "--max-steps", "20",
+                   "--out", "m.json", cwd=tmp_path)
+    saved = json.loads((tmp_path / "m.json").read_text())
+    assert out.returncode == 2 and out.stdout == ""
+    assert f"the {len(rows)} points before it written to m.json" in out.stderr
+    assert np.array_equal(saved["theta_deg"], rows[:, 1])
 
 
 def test_help_shows_examples_and_units(tmp_path):
