@@ -53,10 +53,33 @@ codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
     return codegen_dd_add(a, codegen_dd_neg(b));
 }
 
+#ifdef CODEGEN_FLOAT
+#define SPLIT_MAX 0x1p114F           /* CODEGEN_SPLITTER * a stays finite below this */
+#else
+#define SPLIT_MAX 0x1p995
+#endif
+
+/* a * b - p exactly, for p = fl(a * b) (no underflow). Hardware fma, or Dekker's
+ * TwoProduct on Veltkamp's halves: the same value, without a software fma, which costs a
+ * call and on some C libraries (newlib 3.3) rounds twice. Beyond SPLIT_MAX, where the halves
+ * would overflow, libm's fma. */
+static codegen_real product_error(codegen_real a, codegen_real b, codegen_real p)
+{
+#ifndef CODEGEN_FAST_FMA
+    if (codegen_fabs(a) < SPLIT_MAX && codegen_fabs(b) < SPLIT_MAX) {
+        const codegen_real ta = CODEGEN_SPLITTER * a, tb = CODEGEN_SPLITTER * b;
+        const codegen_real ah = ta - (ta - a), bh = tb - (tb - b);
+        const codegen_real al = a - ah, bl = b - bh;
+        return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    }
+#endif
+    return codegen_fma(a, b, -p);
+}
+
 codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
 {
     const codegen_real p = a.hi * b.hi;
-    const codegen_real e = codegen_fma(a.hi, b.hi, -p) + (a.hi * b.lo + a.lo * b.hi);
+    const codegen_real e = product_error(a.hi, b.hi, p) + (a.hi * b.lo + a.lo * b.hi);
     return quick_two_sum(p, e);
 }
 

@@ -14,7 +14,7 @@ extern "C" {
 #endif
 
 #ifndef CODEGEN_MAX_DEGREE
-#define CODEGEN_MAX_DEGREE 64   /* largest degree the root finder accepts; stack use grows as its square */
+#define CODEGEN_MAX_DEGREE 64   /* largest degree the root finder accepts; its stack use grows in proportion */
 #endif
 
 /* Status of codegen_poly_real_roots. The values 0..3 deliberately equal the generated
@@ -42,7 +42,7 @@ typedef enum codegen_roots_status {
  * (CODEGEN_ROOTS_ERR_NULL_POINTER), NaN or infinite coefficients (CODEGEN_ROOTS_ERR_NONFINITE),
  * all coefficients zero (CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL). On any error theta and *n_roots
  * are left untouched. The result does not depend on the coefficients' overall scale. Reentrant
- * and thread-safe; stack use is O(CODEGEN_MAX_DEGREE^2) (about 13 KiB for 32). */
+ * and thread-safe; stack use is O(CODEGEN_MAX_DEGREE) (about 6 KiB for 64 in double). */
 codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots);
 

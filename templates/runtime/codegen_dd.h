@@ -1,6 +1,6 @@
 /*
  * codegen_dd.h -- double-double arithmetic for the generated polynomial coefficients.
- * Hand-written (not generated). Plain C99 + libm (fma); no state.
+ * Hand-written (not generated). Plain C99 (+ libm's fma where the hardware has it); no state.
  *
  * Generated code does not call the arithmetic directly: a long coefficient program written
  * as calls takes compilers minutes. It is a table of three-address instructions instead,
@@ -9,8 +9,10 @@
  * A value is hi + lo with |lo| <= ulp(hi)/2: about 106 significant bits. Squaring the
  * square roots out of G cancels many digits in the low coefficients of sigma (13 in a
  * non-Grashof four-bar); evaluated in double-double they keep ~16 digits after that.
- * Sums use Knuth's two-sum and products fma's exact error, so the results do not depend on
- * the compiler contracting expressions; like all of this library, it needs IEEE round-to-
+ * Sums use Knuth's two-sum and products the exact error of the leading product (fma where it
+ * is hardware, Dekker's TwoProduct elsewhere: both exact, so every platform gets the same
+ * bits, even one whose software fma rounds twice), so the results do not depend on the
+ * compiler contracting expressions; like all of this library, it needs IEEE round-to-
  * nearest and no -ffast-math.
  */
 #ifndef CODEGEN_DD_H

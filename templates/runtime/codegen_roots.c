@@ -414,28 +414,38 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
     return nr;
 }
 
+/* The k-th derivative of c[0..m] into dk[0..m-k]: dk[i] = (i+1) (i+2) ... (i+k) c[i+k], the
+ * factors applied from (i+k) down, i.e. bit for bit what differentiating k times one after the
+ * other gives. Computed afresh per level (O(m k) products) so that only three derivatives are
+ * held at a time: O(m) stack instead of a table of O(m^2). */
+static void derivative(const codegen_real *c, int m, int k, codegen_real *dk)
+{
+    for (int i = 0; i <= m - k; ++i) {
+        codegen_real v = c[i + k];
+        for (int j = k; j >= 1; --j) {
+            v = (codegen_real)(i + j) * v;
+        }
+        dk[i] = v;
+    }
+}
+
 /* Roots of c[0..m] (1 <= m <= CR_MAXN) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted,
  * into roots (room for m values; at most m are written). */
 static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *ends_out, codegen_real *roots)
 {
-    codegen_real d[CR_MAXN + 1][CR_MAXN + 1];  /* d[k] = k-th derivative, degree m - k */
+    /* Derivatives k, k+1 and k+2 of the level in hand, rotated as k goes down. */
+    codegen_real store[3][CR_MAXN + 1];
+    codegen_real *f = store[0], *df = store[1], *d2f = store[2];
     codegen_real cdel[CR_MAXN] = {0}, rt[CR_MAXN], rdel[CR_MAXN];
     codegen_real *crit = roots;                /* each level's roots are the next one's critical points */
     int nc = 0;
 
-    for (int i = 0; i <= m; ++i) {
-        d[0][i] = c[i];
-    }
-    for (int k = 1; k <= m; ++k) {
-        for (int i = 0; i <= m - k; ++i) {
-            d[k][i] = (codegen_real)(i + 1) * d[k - 1][i + 1];
-        }
-    }
+    derivative(c, m, m, df);                   /* d2f is first read at k = m - 2 */
     for (int k = m - 1; k >= 0; --k) {
-        const codegen_real *d2f = (k + 2 <= m) ? d[k + 2] : d[k + 1];   /* unused when degree 1 */
+        derivative(c, m, k, f);
         /* d[k]'s coefficients: the input's uncertainty plus one ulp per differentiation. */
         const codegen_real ceps = (CR_ULPS + (codegen_real)k) * CODEGEN_EPSILON;
-        const int nr = level_roots(d[k], d[k + 1], d2f, m - k, ceps, crit, cdel, nc,
+        const int nr = level_roots(f, df, (k + 2 <= m) ? d2f : df, m - k, ceps, crit, cdel, nc,
                                    k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
                                    rt, rdel);
         for (int i = 0; i < nr; ++i) {
@@ -443,6 +453,10 @@ static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *en
             cdel[i] = rdel[i];
         }
         nc = nr;
+        codegen_real *const spare = d2f;         /* d[k+2] is done with */
+        d2f = df;
+        df = f;
+        f = spare;
     }
     return nc;
 }
