@@ -1508,9 +1508,12 @@ doughty_status doughty_equilibrium_state(const doughty_params *params, codegen_r
 doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA],
                                        codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots)
 {
-    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
-     * out of range) cannot occur: the header checks the degree at compile time. */
-    return (doughty_status)codegen_poly_real_roots(sigma, DOUGHTY_DEGREE, theta, n_roots);
+    /* Working memory for this degree only (not the largest the runtime accepts): the stack
+     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
+     * other code (a degree below 1) cannot occur. */
+    codegen_real work[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)];
+    return (doughty_status)codegen_poly_real_roots_work(sigma, DOUGHTY_DEGREE, theta, n_roots,
+                                                            work);
 }
 
 /* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared),

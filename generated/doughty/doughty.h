@@ -37,9 +37,6 @@ extern "C" {
 #define DOUGHTY_N_ROOTS 1
 #define DOUGHTY_N_SIGMA 13
 
-/* The degree is derived by the generator; the shared root finder must accept it. */
-typedef char doughty_degree_fits_root_finder[(DOUGHTY_DEGREE <= CODEGEN_MAX_DEGREE) ? 1 : -1];
-
 /* Status codes: DOUGHTY_OK is zero; doughty_status_message() explains the others. */
 typedef enum doughty_status {
     DOUGHTY_OK = 0, /* success */

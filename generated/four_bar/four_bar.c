@@ -37466,9 +37466,12 @@ four_bar_status four_bar_equilibrium_state(const four_bar_params *params, codege
 four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIGMA],
                                        codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots)
 {
-    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
-     * out of range) cannot occur: the header checks the degree at compile time. */
-    return (four_bar_status)codegen_poly_real_roots(sigma, FOUR_BAR_DEGREE, theta, n_roots);
+    /* Working memory for this degree only (not the largest the runtime accepts): the stack
+     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
+     * other code (a degree below 1) cannot occur. */
+    codegen_real work[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)];
+    return (four_bar_status)codegen_poly_real_roots_work(sigma, FOUR_BAR_DEGREE, theta, n_roots,
+                                                            work);
 }
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared),

@@ -37,9 +37,6 @@ extern "C" {
 #define FOUR_BAR_N_ROOTS 2
 #define FOUR_BAR_N_SIGMA 29
 
-/* The degree is derived by the generator; the shared root finder must accept it. */
-typedef char four_bar_degree_fits_root_finder[(FOUR_BAR_DEGREE <= CODEGEN_MAX_DEGREE) ? 1 : -1];
-
 /* Status codes: FOUR_BAR_OK is zero; four_bar_status_message() explains the others. */
 typedef enum four_bar_status {
     FOUR_BAR_OK = 0, /* success */

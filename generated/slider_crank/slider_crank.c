@@ -13130,9 +13130,12 @@ slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *pa
 slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
                                        codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots)
 {
-    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a degree
-     * out of range) cannot occur: the header checks the degree at compile time. */
-    return (slider_crank_status)codegen_poly_real_roots(sigma, SLIDER_CRANK_DEGREE, theta, n_roots);
+    /* Working memory for this degree only (not the largest the runtime accepts): the stack
+     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
+     * other code (a degree below 1) cannot occur. */
+    codegen_real work[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)];
+    return (slider_crank_status)codegen_poly_real_roots_work(sigma, SLIDER_CRANK_DEGREE, theta, n_roots,
+                                                            work);
 }
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared),

@@ -37,9 +37,6 @@ extern "C" {
 #define SLIDER_CRANK_N_ROOTS 2
 #define SLIDER_CRANK_N_SIGMA 25
 
-/* The degree is derived by the generator; the shared root finder must accept it. */
-typedef char slider_crank_degree_fits_root_finder[(SLIDER_CRANK_DEGREE <= CODEGEN_MAX_DEGREE) ? 1 : -1];
-
 /* Status codes: SLIDER_CRANK_OK is zero; slider_crank_status_message() explains the others. */
 typedef enum slider_crank_status {
     SLIDER_CRANK_OK = 0, /* success */

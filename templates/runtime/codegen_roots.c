@@ -53,8 +53,11 @@
  *    than CR_PAIR).
  *    Runs of consecutive such points are one root.
  *
- * Arrays are sized for CODEGEN_MAX_DEGREE; the degree itself is a run-time argument, and for
- * every degree exactly sigma[0..degree] is read.
+ * The degree is a run-time argument, and for every degree exactly sigma[0..degree] is read.
+ * Working memory is the caller's (codegen_poly_real_roots_work, CODEGEN_ROOTS_WORK(degree)
+ * values: O(degree), so a library of degree 12 needs 1.6 KB of stack in double, not what the
+ * largest degree would), or an array of CODEGEN_ROOTS_WORK(CODEGEN_MAX_DEGREE) on the stack
+ * (codegen_poly_real_roots).
  */
 #include "codegen_runtime.h"
 
@@ -62,7 +65,12 @@
 #include <math.h>
 #include <stddef.h>
 
-#define CR_MAXN CODEGEN_MAX_DEGREE        /* array bound: the largest degree accepted */
+#define CR_MAXN CODEGEN_MAX_DEGREE        /* the largest degree codegen_poly_real_roots accepts */
+/* Working memory, in values, of level_roots and chart_roots for a chart of degree m; with the
+ * coefficients (s, a, q), the roots (r) and the output (out) of codegen_poly_real_roots_work,
+ * CODEGEN_ROOTS_WORK(m) = (m + 1) + 2 (m + 1) + m + (2 m + 2) + CHART_WORK(m) = 16 m + 16. */
+#define LEVEL_WORK(m) (4 * ((m) + 2))
+#define CHART_WORK(m) (3 * ((m) + 1) + 3 * (m) + LEVEL_WORK(m))
 #define CR_PI CODEGEN_R(3.14159265358979323846264338327950288)
 #define CR_ULPS CODEGEN_R(64.0)                       /* see 5(a) */
 #define CR_PAIR CODEGEN_R(1e-5)                       /* see 5(b); in chart units (theta ~ 2 u) */
@@ -287,11 +295,13 @@ static codegen_real solve(const codegen_real *f, const codegen_real *df, int n, 
  * stored there. */
 static int level_roots(const codegen_real *f, const codegen_real *df, const codegen_real *d2f, int n,
                        codegen_real ceps, const codegen_real *crit, const codegen_real *cdel, int nc,
-                       const int *ends_in, int *ends_out, codegen_real *rt, codegen_real *rdel)
+                       const int *ends_in, int *ends_out, codegen_real *rt, codegen_real *rdel,
+                       codegen_real *work)
 {
-    codegen_real px[CR_MAXN + 2], pv[CR_MAXN + 2], pd[CR_MAXN + 2];  /* points, f, uncertainty */
-    int ps[CR_MAXN + 2] = {0};                               /* trusted sign, 0 = root */
+    /* nc + 2 points each: where, f there, its uncertainty, and the trusted sign (-1, 1; 0 for
+     * a root), in the caller's LEVEL_WORK(m) values */
     const int np = nc + 2;
+    codegen_real *const px = work, *const pv = px + np, *const pd = pv + np, *const ps = pd + np;
     const codegen_real g = (codegen_real)n * CODEGEN_EPSILON;                /* gamma_{2n} */
     codegen_real amax = 0;                                       /* largest |coefficient| */
     for (int i = 0; i <= n; ++i) {
@@ -372,12 +382,12 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
         pd[j] += est;
     }
     if (ends_in != NULL) {
-        ps[0] = ends_in[0];
-        ps[np - 1] = ends_in[1];
+        ps[0] = (codegen_real)ends_in[0];
+        ps[np - 1] = (codegen_real)ends_in[1];
     }
     if (ends_out != NULL) {
-        ends_out[0] = ps[0];
-        ends_out[1] = ps[np - 1];
+        ends_out[0] = (int)ps[0];
+        ends_out[1] = (int)ps[np - 1];
     }
 
     int nr = 0;
@@ -404,7 +414,7 @@ static int level_roots(const codegen_real *f, const codegen_real *df, const code
             }
             run_start = -1;
         } else if (j > 0 && ps[j - 1] == -ps[j]) {
-            rt[nr] = solve(f, df, n, ceps, px[j - 1], px[j], ps[j - 1], &rdel[nr]);
+            rt[nr] = solve(f, df, n, ceps, px[j - 1], px[j], (int)ps[j - 1], &rdel[nr]);
             ++nr;
         }
     }
@@ -429,14 +439,15 @@ static void derivative(const codegen_real *c, int m, int k, codegen_real *dk)
     }
 }
 
-/* Roots of c[0..m] (1 <= m <= CR_MAXN) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted,
- * into roots (room for m values; at most m are written). */
-static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *ends_out, codegen_real *roots)
+/* Roots of c[0..m] (m >= 1) in [-1, 1] (or (-1, 1) when ends_in != NULL), sorted, into roots
+ * (room for m values; at most m are written); work: CHART_WORK(m) values. */
+static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *ends_out, codegen_real *roots,
+                       codegen_real *work)
 {
     /* Derivatives k, k+1 and k+2 of the level in hand, rotated as k goes down. */
-    codegen_real store[3][CR_MAXN + 1];
-    codegen_real *f = store[0], *df = store[1], *d2f = store[2];
-    codegen_real cdel[CR_MAXN] = {0}, rt[CR_MAXN], rdel[CR_MAXN];
+    codegen_real *f = work, *df = f + (m + 1), *d2f = df + (m + 1);
+    codegen_real *const cdel = d2f + (m + 1), *const rt = cdel + m, *const rdel = rt + m;
+    codegen_real *const level = rdel + m;      /* LEVEL_WORK(m) */
     codegen_real *crit = roots;                /* each level's roots are the next one's critical points */
     int nc = 0;
 
@@ -447,7 +458,7 @@ static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *en
         const codegen_real ceps = (CR_ULPS + (codegen_real)k) * CODEGEN_EPSILON;
         const int nr = level_roots(f, df, (k + 2 <= m) ? d2f : df, m - k, ceps, crit, cdel, nc,
                                    k == 0 ? ends_in : NULL, k == 0 ? ends_out : NULL,
-                                   rt, rdel);
+                                   rt, rdel, level);
         for (int i = 0; i < nr; ++i) {
             crit[i] = rt[i];
             cdel[i] = rdel[i];
@@ -469,23 +480,34 @@ static codegen_real theta_of_u(codegen_real u)
     return (t <= -CR_PI) ? CR_PI : t;
 }
 
-/* The contract is in codegen_runtime.h. Outputs are written only on success. */
+/* The contracts are in codegen_runtime.h. Outputs are written only on success. */
 codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots)
 {
-    codegen_real s[CR_MAXN + 1];
-    codegen_real out[2 * CR_MAXN + 2];
+    codegen_real work[CODEGEN_ROOTS_WORK(CR_MAXN)];
+    if (degree < 1 || degree > CR_MAXN) {
+        return CODEGEN_ROOTS_ERR_DEGREE;
+    }
+    return codegen_poly_real_roots_work(sigma, degree, theta, n_roots, work);
+}
+
+codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
+                                                  int *n_roots, codegen_real *work)
+{
     codegen_real amax = 0;
     int nout = 0;
     int e;
 
     /* The degree first: it says how much of sigma may be read. */
-    if (degree < 1 || degree > CR_MAXN) {
+    if (degree < 1) {
         return CODEGEN_ROOTS_ERR_DEGREE;
     }
-    if (sigma == NULL || theta == NULL || n_roots == NULL) {
+    if (sigma == NULL || theta == NULL || n_roots == NULL || work == NULL) {
         return CODEGEN_ROOTS_ERR_NULL_POINTER;
     }
+    codegen_real *const s = work, *const out = s + (degree + 1);
+    codegen_real *const a = out + (2 * degree + 2), *const q = a + (degree + 1), *const r = q + (degree + 1);
+    codegen_real *const chart = r + degree;     /* CHART_WORK(degree) */
     for (int i = 0; i <= degree; ++i) {
         if (!isfinite(sigma[i])) {
             return CODEGEN_ROOTS_ERR_NONFINITE;
@@ -517,19 +539,18 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
     }
     const int m = hi - lo;
     if (m > 0) {
-        codegen_real a[CR_MAXN + 1], q[CR_MAXN + 1], r[CR_MAXN];
         int ends[2], ends_b[2];
         for (int i = 0; i <= m; ++i) {
             a[i] = s[lo + i];
             q[m - i] = s[lo + i];
         }
-        const int na = chart_roots(a, m, NULL, ends, r);
+        const int na = chart_roots(a, m, NULL, ends, r, chart);
         for (int i = 0; i < na; ++i) {
             out[nout++] = CODEGEN_R(2.0) * codegen_atan(r[i]);
         }
         ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
         ends_b[1] = ends[1];
-        const int nb = chart_roots(q, m, ends_b, NULL, r);
+        const int nb = chart_roots(q, m, ends_b, NULL, r, chart);
         for (int i = 0; i < nb; ++i) {
             out[nout++] = theta_of_u(r[i]);
         }

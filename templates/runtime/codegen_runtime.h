@@ -42,9 +42,19 @@ typedef enum codegen_roots_status {
  * (CODEGEN_ROOTS_ERR_NULL_POINTER), NaN or infinite coefficients (CODEGEN_ROOTS_ERR_NONFINITE),
  * all coefficients zero (CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL). On any error theta and *n_roots
  * are left untouched. The result does not depend on the coefficients' overall scale. Reentrant
- * and thread-safe; stack use is O(CODEGEN_MAX_DEGREE) (about 6 KiB for 64 in double). */
+ * and thread-safe; its working memory, CODEGEN_ROOTS_WORK(CODEGEN_MAX_DEGREE) values (8.3 KB
+ * for 64 in double), is on the stack: codegen_poly_real_roots_work takes it from the caller. */
 codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots);
+
+/* The values of working memory codegen_poly_real_roots_work needs for a degree. */
+#define CODEGEN_ROOTS_WORK(degree) (16 * (degree) + 16)
+
+/* codegen_poly_real_roots for any degree >= 1 (no upper bound), in the caller's working
+ * memory: work has room for CODEGEN_ROOTS_WORK(degree) values (contents on return
+ * unspecified). A NULL work is CODEGEN_ROOTS_ERR_NULL_POINTER. Same results, bit for bit. */
+codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
+                                                  int *n_roots, codegen_real *work);
 
 #ifdef __cplusplus
 }

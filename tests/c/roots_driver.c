@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "codegen_runtime.h"
 
@@ -153,6 +154,20 @@ static void check_call(const double *sigma, int degree, int trial)
             }
         }
     }
+    /* The same call in caller-given working memory of exactly CODEGEN_ROOTS_WORK(degree)
+     * values (on the heap: the sanitizer sees any access beyond): the same bits. */
+    double *work = malloc((size_t)CODEGEN_ROOTS_WORK(degree) * sizeof *work);
+    double *theta_w = malloc((size_t)degree * sizeof *theta_w);
+    int n_w = -1;
+    if (work == NULL || theta_w == NULL) {
+        fail("malloc", degree, trial);
+    } else if (codegen_poly_real_roots_work(sigma, degree, theta_w, &n_w, work) != s ||
+               (s == CODEGEN_ROOTS_OK &&
+                (n_w != *n_roots || memcmp(theta_w, theta, (size_t)n_w * sizeof *theta) != 0))) {
+        fail("_work differs from codegen_poly_real_roots", degree, trial);
+    }
+    free(work);
+    free(theta_w);
     free(theta);
     free(n_roots);
 }
@@ -202,6 +217,11 @@ int main(int argc, char **argv)
             CODEGEN_ROOTS_ERR_DEGREE ||
         n != -1) {
         fail("bad degree not reported first", 0, -1);
+    }
+    if (codegen_poly_real_roots_work(NULL, 0, NULL, NULL, NULL) != CODEGEN_ROOTS_ERR_DEGREE ||
+        codegen_poly_real_roots_work(th, 1, th, &n, NULL) != CODEGEN_ROOTS_ERR_NULL_POINTER ||
+        n != -1) {
+        fail("_work: bad degree or no working memory not reported", 0, -1);
     }
     for (int degree = 1; degree <= CODEGEN_MAX_DEGREE; ++degree) {
         for (int t = 0; t < trials; ++t) {
