@@ -122,7 +122,7 @@ def comparison_table(report: dict) -> list[str]:
                      {True: "yes", False: "no", None: "-"}[entry["measured"]["fma_rounds_once"]],
                      "yes" if entry["stack"]["calls_fma"] else "no"])
     return _table(["mechanism", "build", "firmware vs host", "lines differing",
-                   "largest difference in a root's angle [ulp]", "libm fma rounds once",
+                   "largest difference in a root's angle [ulp of its real]", "libm fma rounds once",
                    "library calls fma"],
                   rows)
 

@@ -80,12 +80,24 @@ def test_code_size_is_reported_per_group(report):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("build", ["double", "float"])
 @pytest.mark.parametrize("lib", LIBRARIES)
-def test_double_firmware_prints_what_the_host_prints_bit_for_bit(report, lib):
-    """Newlib 3.3's fma rounds twice (the firmware prints so); the library takes exact
-    products from Dekker's TwoProduct where fma is not hardware, so that changes no bit."""
-    entry = report["builds"]["double"][lib]
-    assert entry["verdict"] == "identical", entry["comparison"]
+def test_firmware_prints_what_the_host_prints_but_libm_bits(report, build, lib):
+    """Every count, kind, status and line as on the host. Values may differ in their last
+    bits where newlib's sin, cos, atan2 (or sinf ...) round otherwise than glibc's; sigma's
+    double-double products do not (newlib 3.3's fma rounds twice: the firmware prints so,
+    and the library takes exact products from Dekker's TwoProduct instead), nor does
+    anything of a library whose example needs no such call."""
+    entry = report["builds"][build][lib]
+    assert entry["comparison"]["identical"] or entry["comparison"]["only_values_differ"], (
+        entry["comparison"])
+    assert entry["verdict"] != "DIFFERS"
+    sigma = [line for line in (ROOT / "build" / "embedded" / build / lib / "target.txt")
+             .read_text().splitlines() if line.startswith("sigma[")]
+    host = [line for line in (ROOT / "build" / "embedded" / build / lib / "host.txt")
+            .read_text().splitlines() if line.startswith("sigma[")]
+    if build == "double":
+        assert sigma == host    # double-double: exact products on any libm
 
 
 # --------------------------------------------------------------- the walker, on made-up graphs

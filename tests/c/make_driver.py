@@ -287,8 +287,10 @@ def firmware(folder: Path) -> str:
               "    int status;"]
     for parameter in spec["parameters"]:
         lines.append(f"    p.{parameter['name']} = {float(parameter['example'])!r};")
-    heading = json.dumps(f"{name}: {spec['title']}, the example; sizeof({prefix}_analysis) ")
-    lines.append(f'    printf("%s%lu\\n", {heading}, (unsigned long)sizeof analysis);')
+    heading = json.dumps(f"{name}: {spec['title']}, the example")
+    lines.append(f'    printf("%s\\n", {heading});')
+    # the structure's size is the platform's (alignment, size_t): a '# ' measurement
+    lines.append(f'    printf("# sizeof({prefix}_analysis) %lu\\n", (unsigned long)sizeof analysis);')
     lines += ['    printf("# libm fma rounds once: %d\\n", fma_rounds_once());',
               "    calibration = platform_calibration();",
               "    if (calibration != 0) {",
