@@ -146,8 +146,10 @@ def _shape(line: str) -> str:
     return value.group(1) if value else " ".join(_DECIMAL.sub("N", line).split())
 
 
-def _uncertain(line: str) -> bool:
-    return line.startswith("uncertain")
+def _set_apart_uncertain(lines: list[str]) -> tuple[list[str], list[str]]:
+    """(the lines, the undecided intervals' lines)."""
+    return ([x for x in lines if not x.startswith("uncertain")],
+            [x for x in lines if x.startswith("uncertain")])
 
 
 def comparison(host: str, target: str, real: str = "double") -> dict:
@@ -158,18 +160,16 @@ def comparison(host: str, target: str, real: str = "double") -> dict:
         return {"identical": True, "lines": len(host_lines)}
     # Undecided intervals may split differently where the libm's bounds differ: compared
     # apart from the rest
-    host_kept, target_kept = ([x for x in lines if not _uncertain(x)]
-                              for lines in (host_lines, target_lines))
+    (host_kept, host_uncertain), (target_kept, target_uncertain) = (
+        _set_apart_uncertain(lines) for lines in (host_lines, target_lines))
     same_shape = [_shape(x) for x in host_kept] == [_shape(x) for x in target_kept]
     differing = [(h, t) for h, t in zip(host_kept, target_kept) if h != t]
     values = [(_VALUE.match(h), _VALUE.match(t)) for h, t in differing]
     return {"identical": False, "lines": len(host_lines),
-            "differing_lines": len(differing) + abs(len(host_lines) - len(host_kept)
-                                                    - (len(target_lines) - len(target_kept))),
+            "differing_lines": len(differing) + abs(len(host_uncertain) - len(target_uncertain)),
             # every difference is in a value's bits, none in a count, kind or status
             "only_values_differ": same_shape,
-            "uncertain_differ": ([x for x in host_lines if _uncertain(x)]
-                                 != [x for x in target_lines if _uncertain(x)]),
+            "uncertain_differ": host_uncertain != target_uncertain,
             # in the roots' angles (a residual, G at a root, is rounding noise: any ulps)
             "max_ulps_theta": max((_ulps(h.group(2), t.group(2), real) for h, t in values
                                    if h and t and h.group(1).startswith("theta[")),

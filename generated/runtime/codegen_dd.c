@@ -53,24 +53,18 @@ codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
     return codegen_dd_add(a, codegen_dd_neg(b));
 }
 
-#ifdef CODEGEN_FLOAT
-#define SPLIT_MAX 0x1p114F           /* CODEGEN_SPLITTER * a stays finite below this */
-#else
-#define SPLIT_MAX 0x1p995
-#endif
-
 /* a * b - p exactly, for p = fl(a * b) (no underflow). Hardware fma, or Dekker's
- * TwoProduct on Veltkamp's halves: the same value, without a software fma, which costs a
- * call and on some C libraries (newlib 3.3) rounds twice. Beyond SPLIT_MAX, where the halves
+ * TwoProduct (codegen_real.h): the same value, without a software fma, which costs a call and
+ * on some C libraries (newlib 3.3) rounds twice. Beyond CODEGEN_SPLIT_MAX, where the halves
  * would overflow, libm's fma. */
 static codegen_real product_error(codegen_real a, codegen_real b, codegen_real p)
 {
 #ifndef CODEGEN_FAST_FMA
-    if (codegen_fabs(a) < SPLIT_MAX && codegen_fabs(b) < SPLIT_MAX) {
-        const codegen_real ta = CODEGEN_SPLITTER * a, tb = CODEGEN_SPLITTER * b;
-        const codegen_real ah = ta - (ta - a), bh = tb - (tb - b);
-        const codegen_real al = a - ah, bl = b - bh;
-        return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+    if (codegen_fabs(a) < CODEGEN_SPLIT_MAX && codegen_fabs(b) < CODEGEN_SPLIT_MAX) {
+        codegen_real ah, al, bh, bl;
+        codegen_split(a, &ah, &al);
+        codegen_split(b, &bh, &bl);
+        return codegen_product_error(p, ah, al, bh, bl);
     }
 #endif
     return codegen_fma(a, b, -p);

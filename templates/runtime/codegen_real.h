@@ -43,6 +43,7 @@ typedef float codegen_real;
 #define CODEGEN_NAN NAN
 #define CODEGEN_REAL_NAME "float"
 #define CODEGEN_SPLITTER 4097.0F              /* Veltkamp's 2^12 + 1: halves of a float */
+#define CODEGEN_SPLIT_MAX 0x1p114F             /* CODEGEN_SPLITTER * a stays finite below */
 #ifdef FP_FAST_FMAF
 #define CODEGEN_FAST_FMA 1                     /* fmaf is as fast as a product */
 #endif
@@ -59,6 +60,7 @@ typedef double codegen_real;
 #define CODEGEN_NAN ((double)NAN)                /* NAN is a float */
 #define CODEGEN_REAL_NAME "double"
 #define CODEGEN_SPLITTER 134217729.0           /* Veltkamp's 2^27 + 1: halves of a double */
+#define CODEGEN_SPLIT_MAX 0x1p995
 #ifdef FP_FAST_FMA
 #define CODEGEN_FAST_FMA 1
 #endif
@@ -86,5 +88,22 @@ typedef double codegen_real;
 #define codegen_sin CODEGEN_LIBM(sin)
 #define codegen_sqrt CODEGEN_LIBM(sqrt)
 #define codegen_tan CODEGEN_LIBM(tan)
+
+/* Exact products without fma, where it is not hardware (a software fma costs a call, and
+ * newlib 3.3's rounds twice). codegen_split: hi + lo = a exactly, each with half the
+ * significand (Veltkamp; |a| < CODEGEN_SPLIT_MAX). codegen_product_error: a b - p exactly
+ * for p = fl(a b), from the halves of a and b (Dekker's TwoProduct; no underflow). */
+static inline void codegen_split(codegen_real a, codegen_real *hi, codegen_real *lo)
+{
+    const codegen_real t = CODEGEN_SPLITTER * a;
+    *hi = t - (t - a);
+    *lo = a - *hi;
+}
+
+static inline codegen_real codegen_product_error(codegen_real p, codegen_real ah, codegen_real al,
+                                                 codegen_real bh, codegen_real bl)
+{
+    return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
 
 #endif /* CODEGEN_REAL_H */

@@ -79,17 +79,11 @@
                                               Newton converges (fast) */
 
 /* One step s <- s x + a of the compensated Horner scheme below: s + c carries the value, m the
- * sum of |a_i||x|^i; xh + xl = x is x split by split(). The product's rounding error pe comes
- * from fma where the hardware has it (CODEGEN_FAST_FMA); else from Dekker's TwoProduct, equally
- * exact (no overflow can occur here: |s| stays far below 2^995) and much faster than a call to
- * a software fma, around which every floating-point register must be saved. */
-static inline void split(codegen_real a, codegen_real *hi, codegen_real *lo)
-{
-    const codegen_real t = CODEGEN_SPLITTER * a;
-    *hi = t - (t - a);
-    *lo = a - *hi;
-}
-
+ * sum of |a_i||x|^i; xh + xl = x is x split by codegen_split. The product's rounding error pe
+ * comes from fma where the hardware has it (CODEGEN_FAST_FMA); else from Dekker's TwoProduct,
+ * equally exact (no overflow can occur here: |s| stays far below CODEGEN_SPLIT_MAX) and much
+ * faster than a call to a software fma, around which every floating-point register must be
+ * saved. */
 static inline void cstep(codegen_real *s, codegen_real *c, codegen_real *m, codegen_real x, codegen_real xh, codegen_real xl,
                          codegen_real ax, codegen_real a)
 {
@@ -100,8 +94,8 @@ static inline void cstep(codegen_real *s, codegen_real *c, codegen_real *m, code
     (void)xl;
 #else
     codegen_real sh, sl;
-    split(*s, &sh, &sl);
-    const codegen_real pe = ((sh * xh - p) + sh * xl + sl * xh) + sl * xl;   /* likewise */
+    codegen_split(*s, &sh, &sl);
+    const codegen_real pe = codegen_product_error(p, sh, sl, xh, xl);       /* likewise */
 #endif
     const codegen_real t = p + a;
     const codegen_real z = t - p;
@@ -122,7 +116,7 @@ static codegen_real eval(const codegen_real *a, int n, codegen_real x, codegen_r
     codegen_real m = codegen_fabs(a[n]);
     const codegen_real ax = codegen_fabs(x);
     codegen_real xh, xl;
-    split(x, &xh, &xl);
+    codegen_split(x, &xh, &xl);
     for (int i = n - 1; i >= 0; --i) {
         cstep(&s, &c, &m, x, xh, xl, ax, a[i]);
     }
@@ -140,7 +134,7 @@ static void eval3(const codegen_real *f, const codegen_real *df, const codegen_r
     codegen_real m0 = codegen_fabs(s0), m1 = codegen_fabs(s1), m2 = codegen_fabs(s2);
     const codegen_real ax = codegen_fabs(x);
     codegen_real xh, xl;
-    split(x, &xh, &xl);
+    codegen_split(x, &xh, &xl);
     int i = n - 1;
     for (; i >= 2; --i) {
         cstep(&s0, &c0, &m0, x, xh, xl, ax, f[i]);
