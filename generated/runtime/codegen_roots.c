@@ -474,6 +474,352 @@ static codegen_real theta_of_u(codegen_real u)
     return (t <= -CR_PI) ? CR_PI : t;
 }
 
+/* The isolation by derivatives in both charts (the reference the fast path answers for): the
+ * roots of a (degree m >= 1) and of its reversal q as angles into out; returns their number.
+ * r: room for m values; chart: CHART_WORK(m). */
+static int isolated_roots(const codegen_real *a, const codegen_real *q, int m, codegen_real *out,
+                          codegen_real *r, codegen_real *chart)
+{
+    int ends[2], ends_b[2], n = 0;
+    const int na = chart_roots(a, m, NULL, ends, r, chart);
+    for (int i = 0; i < na; ++i) {
+        out[n++] = CODEGEN_R(2.0) * codegen_atan(r[i]);
+    }
+    ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
+    ends_b[1] = ends[1];
+    const int nb = chart_roots(q, m, ends_b, NULL, r, chart);
+    for (int i = 0; i < nb; ++i) {
+        out[n++] = theta_of_u(r[i]);
+    }
+    return n;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * The fast path, tried first: all m roots of the polynomial at once by the Ehrlich-Aberth
+ * iteration, then proven by inclusion discs, and each real one refined by solve() in its chart.
+ * It answers only where it can prove that the isolation above (the reference) would report
+ * the same roots; anything else -- a cluster, a multiple or near-multiple root, a complex pair
+ * within reach of rule 5, a failure to converge -- falls back to that isolation.
+ *
+ * Proof (Braess & Hadeler, 1973; the criterion MPSolve uses): for approximations z_1..z_m of
+ * the roots of p = a_m prod (tau - zeta_k), the discs D_i = D(z_i, m |p(z_i)| / |a_m prod_{j!=i}
+ * (z_i - z_j)|) hold every root, and a connected union of k of them holds exactly k. So when
+ * the discs are pairwise disjoint, each holds one simple root: real if its centre is real (the
+ * disc is its own mirror image, and a non-real root's conjugate would be a second root in it),
+ * non-real if it misses the real axis. Every real root is then a real centre's, and each is
+ * bracketed by its disc for solve().
+ * ------------------------------------------------------------------------------------------ */
+
+#define CR_FAST_MAXIT 50                  /* Aberth sweeps before giving up (converged ones skip) */
+#define CR_FAST_MARGIN (CODEGEN_R(4.0) * CR_PAIR)  /* in chart units: twice as far as rule 5 acts */
+#define CR_ROT_C CODEGEN_R(-0.737368878078319901518240381368) /* cos and sin of the golden angle */
+#define CR_ROT_S CODEGEN_R(0.675490294261523642344386198119)  /* pi (3 - sqrt 5): spread starts */
+
+/* Smith's complex division (a / b), safe from the overflow of |b|^2; 0 if b = 0. */
+static int cdiv(codegen_real ar, codegen_real ai, codegen_real br, codegen_real bi, codegen_real *qr,
+                codegen_real *qi)
+{
+    if (codegen_fabs(br) >= codegen_fabs(bi)) {
+        if (br == 0) {
+            return 0;
+        }
+        const codegen_real t = bi / br, d = br + bi * t;
+        *qr = (ar + ai * t) / d;
+        *qi = (ai - ar * t) / d;
+    } else {
+        const codegen_real t = br / bi, d = bi + br * t;
+        *qr = (ar * t + ai) / d;
+        *qi = (ai * t - ar) / d;
+    }
+    return 1;
+}
+
+/* p (value s) and p' (value d) at the complex point x by Horner's rule, where p has the
+ * coefficients a[0..m], or a[m..0] when reversed (the polynomial x^m p(1/x)); *mag receives
+ * sum |a_i| |x|^i. Complex Horner is within 8 (m + 1) eps of *mag of the truth (each complex
+ * product and sum adds at most (2 + sqrt 2) eps). */
+static void chorner(const codegen_real *a, int m, int reversed, codegen_real xr, codegen_real xi,
+                    codegen_real *s, codegen_real *d, codegen_real *mag)
+{
+    const codegen_real ax = codegen_sqrt(xr * xr + xi * xi);
+    const int step = reversed ? 1 : -1;                 /* from the top coefficient down */
+    const codegen_real *c = reversed ? a : a + m;
+    codegen_real sr = *c, si = 0, dr = 0, di = 0;
+    codegen_real g = codegen_fabs(sr);
+    for (int k = m - 1; k >= 0; --k) {
+        c += step;
+        const codegen_real tr = dr * xr - di * xi + sr;
+        di = dr * xi + di * xr + si;
+        dr = tr;
+        const codegen_real ur = sr * xr - si * xi + *c;
+        si = sr * xi + si * xr;
+        sr = ur;
+        g = g * ax + codegen_fabs(*c);
+    }
+    s[0] = sr;
+    s[1] = si;
+    d[0] = dr;
+    d[1] = di;
+    *mag = g;
+}
+
+#define CR_HORNER_ERR(m, mag) (CODEGEN_R(8.0) * (codegen_real)((m) + 1) * CODEGEN_EPSILON * (mag))
+
+/* The Newton correction N = p(z) / p'(z); for |z| > 1 from the reversed polynomial r(y) =
+ * y^m p(1/y) at y = 1/z (nothing overflows, whatever |z|): N = z / (m - y r'(y) / r(y)).
+ * *small = 1 when |p(z)| is within Horner's error bound: z is a root to working precision.
+ * Returns 0 where the correction does not exist (p'(z) = 0, or not finite). */
+static int newton_ratio(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *nr,
+                        codegen_real *ni, int *small)
+{
+    const codegen_real z2 = zr * zr + zi * zi;
+    const int reversed = z2 > 1;
+    codegen_real s[2], d[2], mag;
+    if (!reversed) {
+        chorner(a, m, 0, zr, zi, s, d, &mag);
+    } else {
+        chorner(a, m, 1, zr / z2, -zi / z2, s, d, &mag);
+    }
+    const codegen_real err = CR_HORNER_ERR(m, mag);
+    *small = s[0] * s[0] + s[1] * s[1] <= err * err;
+    if (*small) {
+        return 1;
+    }
+    if (!reversed) {
+        return cdiv(s[0], s[1], d[0], d[1], nr, ni);
+    }
+    codegen_real qr, qi;                                  /* r'(y) / r(y), then y times it */
+    if (!cdiv(d[0], d[1], s[0], s[1], &qr, &qi)) {
+        return 0;
+    }
+    const codegen_real yr = zr / z2, yi = -zi / z2;
+    return cdiv(zr, zi, (codegen_real)m - (yr * qr - yi * qi), -(yr * qi + yi * qr), nr, ni);
+}
+
+/* Starting points: for each edge of the upper convex hull of (k, log2 |a_k|) (the Newton
+ * polygon: its slopes give the roots' magnitudes), as many points as the edge is long, on the
+ * circle of that radius, turned by the golden angle from one point to the next so that none
+ * is symmetric to another about the real axis. Exponents and radii are powers of two (frexp,
+ * ldexp): the same starts on every libm. hull: m + 1 values of scratch. */
+static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi,
+                         codegen_real *hull)
+{
+    int h = 0;
+    for (int k = 0; k <= m; ++k) {
+        if (a[k] == 0) {
+            continue;
+        }
+        int ek, e1, e2;
+        (void)codegen_frexp(a[k], &ek);
+        while (h >= 2) {                        /* drop the last vertex if not above the chord */
+            const int k1 = (int)hull[h - 2], k2 = (int)hull[h - 1];
+            (void)codegen_frexp(a[k1], &e1);
+            (void)codegen_frexp(a[k2], &e2);
+            if ((long)(e2 - e1) * (k - k1) > (long)(ek - e1) * (k2 - k1)) {
+                break;
+            }
+            --h;
+        }
+        hull[h++] = (codegen_real)k;
+    }
+    codegen_real cr = 1, ci = 0;
+    int n = 0;
+    for (int t = 0; t + 1 < h; ++t) {
+        const int k1 = (int)hull[t], k2 = (int)hull[t + 1];
+        int e1, e2;
+        (void)codegen_frexp(a[k1], &e1);
+        (void)codegen_frexp(a[k2], &e2);
+        const int span = k2 - k1;
+        /* |root| ~ (|a_k1| / |a_k2|)^(1 / span), rounded to a power of two */
+        const int num = e1 - e2;
+        const int er = num >= 0 ? (2 * num + span) / (2 * span) : -((span - 2 * num - 1) / (2 * span));
+        const codegen_real rho = codegen_ldexp((codegen_real)1, er);
+        for (int j = 0; j < span; ++j) {
+            const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
+            ci = cr * CR_ROT_S + ci * CR_ROT_C;
+            cr = nc;
+            zr[n] = rho * cr;
+            zi[n] = rho * ci;
+            ++n;
+        }
+    }
+}
+
+/* Gauss-Seidel Ehrlich-Aberth sweeps: z_i -= N / (1 - N sum_{j != i} 1 / (z_i - z_j)), N the
+ * Newton correction, until every z_i is a root to working precision or moves by less than its
+ * resolution. done: m values of scratch. Returns 1 when all converged. */
+static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi, codegen_real *done)
+{
+    int left = m;
+    for (int i = 0; i < m; ++i) {
+        done[i] = 0;
+    }
+    for (int it = 0; it < CR_FAST_MAXIT && left > 0; ++it) {
+        for (int i = 0; i < m; ++i) {
+            codegen_real nr, ni, sr = 0, si = 0, wr, wi;
+            int small;
+            if (done[i] != 0) {
+                continue;
+            }
+            if (!newton_ratio(a, m, zr[i], zi[i], &nr, &ni, &small)) {
+                return 0;
+            }
+            if (small) {
+                done[i] = 1;
+                --left;
+                continue;
+            }
+            for (int j = 0; j < m; ++j) {
+                if (j != i) {
+                    const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
+                    const codegen_real den = dr * dr + di * di;
+                    if (!(den > 0)) {
+                        return 0;
+                    }
+                    const codegen_real inv = 1 / den;
+                    sr += dr * inv;
+                    si -= di * inv;
+                }
+            }
+            if (!cdiv(nr, ni, 1 - (nr * sr - ni * si), -(nr * si + ni * sr), &wr, &wi)) {
+                return 0;
+            }
+            zr[i] -= wr;
+            zi[i] -= wi;
+            if (!isfinite(zr[i]) || !isfinite(zi[i])) {
+                return 0;
+            }
+            /* Convergence is cubic: after a step this small relative to |z|, the error is at
+             * rounding level (and were it not, the discs below would only be wider). */
+            if (codegen_fabs(wr) + codegen_fabs(wi) <= CODEGEN_SQRT_EPSILON * (codegen_fabs(zr[i]) + codegen_fabs(zi[i]))) {
+                done[i] = 1;
+                --left;
+            }
+        }
+    }
+    return left == 0;
+}
+
+/* The radius of D_i (above), an upper bound: |p(z_i)| bounded by Horner's value plus its error
+ * bound, the product's own rounding covered by a factor 2. For |z_i| > 1, |p(z_i)| = |z_i|^m
+ * |r(1/z_i)|, the factors |z_i| taken one per quotient so that nothing overflows. */
+static codegen_real inclusion_radius(const codegen_real *a, int m, const codegen_real *zr,
+                                     const codegen_real *zi, int i)
+{
+    const codegen_real z2 = zr[i] * zr[i] + zi[i] * zi[i];
+    const int reversed = z2 > 1;
+    const codegen_real az = codegen_sqrt(z2);
+    codegen_real s[2], d[2], mag;
+    if (!reversed) {
+        chorner(a, m, 0, zr[i], zi[i], s, d, &mag);
+    } else {
+        chorner(a, m, 1, zr[i] / z2, -zi[i] / z2, s, d, &mag);
+    }
+    codegen_real t = (codegen_real)m * (codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag))
+                     / codegen_fabs(a[m]);
+    for (int j = 0; j < m; ++j) {
+        if (j != i) {
+            const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
+            t = t * (reversed ? az : 1) / codegen_sqrt(dr * dr + di * di);
+        }
+    }
+    t = CODEGEN_R(2.0) * (reversed ? t * az : t) + CODEGEN_REAL_MIN;
+    return (t == t) ? t : CODEGEN_HUGE;
+}
+
+/* Sign of f at x if certain, else 0: from plain Horner where its error bound decides, else
+ * from the compensated value (as level_roots trusts it). */
+static int certain_sign(const codegen_real *f, int n, codegen_real x)
+{
+    codegen_real mag = magnitude(f, n, codegen_fabs(x));
+    codegen_real v = f[n];
+    for (int i = n - 1; i >= 0; --i) {
+        v = v * x + f[i];
+    }
+    if (PLAIN_OK(v, n, mag)) {
+        return v > 0 ? 1 : -1;
+    }
+    v = eval(f, n, x, &mag);
+    const codegen_real g = (codegen_real)n * CODEGEN_EPSILON;
+    const codegen_real tol = CODEGEN_EPSILON * codegen_fabs(v) + CODEGEN_R(2.0) * g * g * mag;
+    return codegen_fabs(v) > CODEGEN_R(2.0) * tol ? (v > 0 ? 1 : -1) : 0;
+}
+
+/* The real roots of a (degree m >= 1, a[0] and a[m] nonzero; q its reversal) as angles into
+ * theta (room for m), or 0 if the fast path cannot vouch for them (then nothing is meant by
+ * theta). work: 7 m + 1 values. */
+static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codegen_real *theta, int *n,
+                      codegen_real *work)
+{
+    codegen_real *const zr = work, *const zi = zr + m, *const rad = zi + m, *const scratch = rad + m;
+    codegen_real *const da = scratch + (m + 1), *const dq = da + m;   /* scratch: hull, then done */
+    aberth_start(a, m, zr, zi, scratch);
+    if (!aberth(a, m, zr, zi, scratch)) {
+        return 0;
+    }
+    /* Centres within rounding of the real axis are moved onto it (any centres would do: the
+     * discs are sized afterwards; a complex pair so moved gives two overlapping discs). */
+    for (int i = 0; i < m; ++i) {
+        if (codegen_fabs(zi[i]) <= CODEGEN_SQRT_EPSILON * codegen_fabs(zr[i])) {
+            zi[i] = 0;
+        }
+    }
+    for (int i = 0; i < m; ++i) {
+        rad[i] = inclusion_radius(a, m, zr, zi, i);
+    }
+    /* Disjoint discs; real roots, and non-real ones from the axis, farther apart in chart
+     * units (distances over max(1, |tau|)^2 are at most those in u = 1 / tau) than rule 5's
+     * reach, so that the isolation would see no multiple root either. */
+    for (int i = 0; i < m; ++i) {
+        const codegen_real si = codegen_fmax((codegen_real)1, codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]) + rad[i]);
+        if (zi[i] != 0 && !((codegen_fabs(zi[i]) - rad[i]) / (si * si) > CR_FAST_MARGIN)) {
+            return 0;
+        }
+        for (int j = i + 1; j < m; ++j) {
+            const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
+            const codegen_real gap = codegen_sqrt(dr * dr + di * di) - rad[i] - rad[j];
+            if (!(gap > 0)) {
+                return 0;
+            }
+            if (zi[i] == 0 && zi[j] == 0) {
+                const codegen_real sj = codegen_fmax((codegen_real)1, codegen_fabs(zr[j]) + rad[j]);
+                const codegen_real s = codegen_fmax(si, sj);
+                if (!(gap / (s * s) > CR_FAST_MARGIN)) {
+                    return 0;
+                }
+            }
+        }
+    }
+    /* Each real root refined in its chart (as the isolation reports it) within its disc. */
+    for (int i = 0; i < m; ++i) {
+        da[i] = (codegen_real)(i + 1) * a[i + 1];
+        dq[i] = (codegen_real)(i + 1) * q[i + 1];
+    }
+    int count = 0;
+    for (int i = 0; i < m; ++i) {
+        if (zi[i] != 0) {
+            continue;
+        }
+        const codegen_real c = zr[i], r = rad[i];
+        const int chart_a = codegen_fabs(c) <= 1;
+        if (!chart_a && !(r < CODEGEN_R(0.5) * codegen_fabs(c))) {
+            return 0;
+        }
+        const codegen_real *f = chart_a ? a : q, *df = chart_a ? da : dq;
+        const codegen_real x1 = chart_a ? c - r : 1 / (c - r), x2 = chart_a ? c + r : 1 / (c + r);
+        const codegen_real lo = codegen_fmin(x1, x2), hi = codegen_fmax(x1, x2);
+        const int slo = certain_sign(f, m, lo), shi = certain_sign(f, m, hi);
+        if (slo == 0 || shi != -slo) {
+            return 0;
+        }
+        codegen_real del;
+        const codegen_real x = solve(f, df, m, CR_ULPS * CODEGEN_EPSILON, lo, hi, slo, &del);
+        theta[count++] = chart_a ? CODEGEN_R(2.0) * codegen_atan(x) : theta_of_u(x);
+    }
+    *n = count;
+    return 1;
+}
+
 /* The contracts are in codegen_runtime.h. Outputs are written only on success. */
 codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                              int *n_roots)
@@ -485,8 +831,9 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
     return codegen_poly_real_roots_work(sigma, degree, theta, n_roots, work);
 }
 
-codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
-                                                  int *n_roots, codegen_real *work)
+/* Both entry points: fast = 1 tries fast_roots before the isolation by derivatives. */
+static codegen_roots_status real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
+                                       int *n_roots, codegen_real *work, int fast)
 {
     codegen_real amax = 0;
     int nout = 0;
@@ -533,21 +880,15 @@ codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int
     }
     const int m = hi - lo;
     if (m > 0) {
-        int ends[2], ends_b[2];
         for (int i = 0; i <= m; ++i) {
             a[i] = s[lo + i];
             q[m - i] = s[lo + i];
         }
-        const int na = chart_roots(a, m, NULL, ends, r, chart);
-        for (int i = 0; i < na; ++i) {
-            out[nout++] = CODEGEN_R(2.0) * codegen_atan(r[i]);
+        int found;
+        if (!(fast && fast_roots(a, q, m, out + nout, &found, chart))) {
+            found = isolated_roots(a, q, m, out + nout, r, chart);
         }
-        ends_b[0] = (m % 2 != 0) ? -ends[0] : ends[0];
-        ends_b[1] = ends[1];
-        const int nb = chart_roots(q, m, ends_b, NULL, r, chart);
-        for (int i = 0; i < nb; ++i) {
-            out[nout++] = theta_of_u(r[i]);
-        }
+        nout += found;
     }
 
     /* Insertion sort; then merge values equal to working precision (also across the wrap at
@@ -585,4 +926,17 @@ codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int
     }
     *n_roots = n;
     return CODEGEN_ROOTS_OK;
+}
+
+codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
+                                                  int *n_roots, codegen_real *work)
+{
+    return real_roots(sigma, degree, theta, n_roots, work, 1);
+}
+
+codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *sigma, int degree,
+                                                            codegen_real *theta, int *n_roots,
+                                                            codegen_real *work)
+{
+    return real_roots(sigma, degree, theta, n_roots, work, 0);
 }

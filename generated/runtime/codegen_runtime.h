@@ -56,6 +56,14 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
 codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
                                                   int *n_roots, codegen_real *work);
 
+/* The same contract, by the isolation on derivatives alone (codegen_roots.c, 1-5): the
+ * reference that codegen_poly_real_roots_work's faster simultaneous iteration answers for,
+ * which it falls back to wherever it cannot prove the same result. Slower; for tests and for
+ * callers who want the one algorithm throughout. */
+codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *sigma, int degree,
+                                                            codegen_real *theta, int *n_roots,
+                                                            codegen_real *work);
+
 #ifdef __cplusplus
 }
 #endif

@@ -5,9 +5,11 @@
  * degree values, is reported by ASan. Inputs: random dense coefficients (fixed-seed LCG), wide
  * magnitudes with exact zeros, products of known real roots with complex pairs, close pairs and
  * double roots, zero or few-ulp leading/trailing coefficients, and a few extreme vectors.
- * Checked: status OK, 0 <= n_roots <= degree, roots ascending in (-pi, pi], no NaN; the error
+ * Checked: status OK, 0 <= n_roots <= degree, roots ascending in (-pi, pi], no NaN; the same
+ * roots from codegen_poly_real_roots_reference_work (the fast path falls back to it); the error
  * statuses for a bad degree (with NULL pointers: nothing may be read) and a NaN in sigma[degree].
  * Usage: roots_driver [trials per degree]; prints "ok <calls>" and exits 0 on success. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -165,6 +167,25 @@ static void check_call(const double *sigma, int degree, int trial)
                (s == CODEGEN_ROOTS_OK &&
                 (n_w != *n_roots || memcmp(theta_w, theta, (size_t)n_w * sizeof *theta) != 0))) {
         fail("_work differs from codegen_poly_real_roots", degree, trial);
+    }
+    /* The reference (isolation by derivatives alone), in the same working memory: the fast
+     * path answers only where it finds what the reference finds -- the same count, each root
+     * within the 4 eps at which the finder itself merges values (its own refinement starts
+     * from another bracket, so the last bit may differ). */
+    if (work != NULL && theta_w != NULL && s == CODEGEN_ROOTS_OK) {
+        n_w = -1;
+        if (codegen_poly_real_roots_reference_work(sigma, degree, theta_w, &n_w, work) != s) {
+            fail("reference status differs", degree, trial);
+        } else if (n_w != *n_roots) {
+            fail("reference count differs", degree, trial);
+        } else {
+            for (int i = 0; i < n_w; ++i) {
+                if (!(fabs(theta_w[i] - theta[i]) <= 4.0 * DBL_EPSILON * fmax(1.0, fabs(theta[i])))) {
+                    fail("reference roots differ", degree, trial);
+                    break;
+                }
+            }
+        }
     }
     free(work);
     free(theta_w);
