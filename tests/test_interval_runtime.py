@@ -1041,14 +1041,16 @@ def test_certify(drv):
         assert o[0] == p[3] and o[1] == 0 and o[2] == p[4] + 1, (p, o)
 
 
-def newton_many(drv, problems):
+def newton_many(drv, problems, slope=None):
     """problems: (m, function[, fail_status, fail_after]) -> (status, certified, calls, bad,
-    lo, hi); enclosures may be asked anywhere in m +- 8."""
+    lo, hi); enclosures may be asked anywhere in m +- 8. slope: the slope the caller passes
+    (None: 0, unknown)."""
     lines = []
     for p in problems:
         m, fn = p[:2]
         fail_status, fail_after = p[2:4] if len(p) > 2 else (0, 0)
-        lines.append(f"newton 5 {h(m - 8.0)} {h(m + 8.0)} {fail_status} {fail_after} {fn}")
+        op = "newton" if slope is None else f"newton_slope {h(slope)}"
+        lines.append(f"{op} 5 {h(m - 8.0)} {h(m + 8.0)} {fail_status} {fail_after} {fn}")
     return [tuple(int(x) for x in t[:4]) + tuple(f(x) for x in t[4:]) for t in drv(lines)]
 
 
@@ -1075,6 +1077,30 @@ def test_certify_newton(drv):
     fails = [(0.3, poly(0.3), 9, 0), (0.3, poly(0.3), -4, 1)]
     for p, o in zip(fails, newton_many(drv, fails)):
         assert o[0] == p[2] and o[1] == 0 and o[2] == p[3] + 1, (p, o)
+
+
+def test_certify_newton_with_a_known_slope(drv):
+    """Given the slope, the first enclosure is of G alone, and the proof is the same: any
+    nonzero slope only sizes the interval, so a wrong one (here a hundred times too large
+    or too small, or of the wrong sign) may fail to prove a zero but never proves a false
+    one; at a double zero, a pole or a domain edge nothing is proven whatever the slope."""
+    near = [(0.3, poly(0.3)), (-1.0, poly(-1.0, 1.0)), (math.asin(0.9), sin_fn(0.9)),
+            (0.5, sqrt_fn(0.25, 0.5))]
+    slopes = [1.0, -2.0, math.sqrt(1 - 0.81), 1.0]      # G'(m), up to sign
+    for p, s in zip(near, slopes):
+        (status, certified, calls, bad, lo, hi), = newton_many(drv, [p], slope=s)
+        assert (status, certified, bad) == (0, 1, 0) and calls <= 3, (p, s)
+        assert lo <= p[0] <= hi and hi - lo < 1e-6
+        for wrong in (100 * s, s / 100, -s):
+            (status, certified, _, bad, lo, hi), = newton_many(drv, [p], slope=wrong)
+            assert status == 0 and bad == 0
+            assert not certified or lo <= p[0] <= hi, (p, wrong)
+    no = [(0.3, poly((0.3, 2))), (0.3, pole(0.0, 0.3)), (0.25, sqrt_fn(0.25, 0.0)),
+          (0.3, flagged(EDGE, 0.3, 0.3, poly(0.3)))]
+    for p in no:     # (a slope far too small sizes X past the m +- 8 the problem allows)
+        for s in (1.0, 1e-30, 1e30):
+            o, = newton_many(drv, [p], slope=s)
+            assert o[:2] == (0, 0) and math.isnan(o[4]), (p, s, o)
 
 
 # ---------------------------------------------------------------------------- 4. sanitizers

@@ -145,7 +145,8 @@ def _has_denominator(expr) -> bool:
 
 
 def _enclosure(plan: Plan) -> dict:
-    """Each mode's interval program of G and G', and how the modes are labelled."""
+    """Each mode's interval programs of G and G' and of G alone, and how the modes are
+    labelled."""
     enclosure = plan.enclosure
     names = tuple(p[0] for p in plan.parameters)
     theta = enclosure.theta.name
@@ -153,8 +154,9 @@ def _enclosure(plan: Plan) -> dict:
     modes = []
     for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
         body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags")
+        value = interval_body([sp.sympify(g)], names, {theta}, "iv_flags")   # G alone: cheaper
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
-        modes.append({"body": body, "label": ", ".join(flipped) or "as declared"})
+        modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
     return {"theta": theta, "equation": enclosure.equation, "modes": modes}
 
 

@@ -1557,6 +1557,27 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
 }
 
+/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
+ * Total ops: 36. */
+static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    const codegen_iv H = codegen_iv_point(params->H);
+    const codegen_iv L = codegen_iv_point(params->L);
+    const codegen_iv a = codegen_iv_point(params->a);
+    const codegen_iv m_B = codegen_iv_point(params->m_B);
+    const codegen_iv m_C = codegen_iv_point(params->m_C);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_ND = codegen_iv_point(params->l_ND);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_sin(theta);
+    const codegen_iv tmp2 = codegen_iv_mul(a, tmp0);
+    const codegen_iv tmp3 = codegen_iv_sqrt(codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp2), 2), codegen_iv_pow(codegen_iv_sub(codegen_iv_mul(L, tmp1), codegen_iv_mul(a, tmp1)), 2)), iv_flags);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(F, L), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp1), codegen_iv_sub(l_ND, tmp3)), codegen_iv_add(codegen_iv_sub(codegen_iv_mul(H, a), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), L), tmp2)), codegen_iv_mul(codegen_iv_pow(L, 2), tmp0))), tmp3, iv_flags));
+}
+
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags)
@@ -1564,7 +1585,11 @@ doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned m
     *flags = 0u;
     switch (mode) {
     case 0u:
-        enclose_mode_0(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_0(params, theta, g, flags);
+        } else {
+            enclose_mode_0(params, theta, g, dg, flags);
+        }
         return DOUGHTY_OK;
     default:
         return DOUGHTY_ERR_ARGUMENT;

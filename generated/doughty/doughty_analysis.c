@@ -288,7 +288,7 @@ static doughty_status smooth_near(const doughty_params *params, unsigned mode, c
 }
 
 /* Prove a root of the polynomial route: by the interval Newton test around it (two
- * enclosures, for a root polished to rounding); failing that, intervals around it from
+ * enclosures, the first of G alone, its slope K being known, for a root polished to rounding); failing that, intervals around it from
  * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
  * on the root's mode. */
 static doughty_status certify_around(const doughty_params *params, unsigned mode,
@@ -296,8 +296,8 @@ static doughty_status certify_around(const doughty_params *params, unsigned mode
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
-                                              &e->theta_hi, &proven);
+    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, e->K,
+                                              &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return (doughty_status)newton;

@@ -137,7 +137,8 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
 #define DOUGHTY_EQUILIBRIUM_STATE_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
 /* doughty_enclosure on an interval of codegen_iv (mode < DOUGHTY_N_MODES, else
- * DOUGHTY_ERR_ARGUMENT); *flags is set, not or-ed. */
+ * DOUGHTY_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
+ * (a smaller program; the flags are those G's own operations raise). */
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

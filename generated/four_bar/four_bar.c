@@ -37644,6 +37644,87 @@ static void enclose_mode_0(const four_bar_params *params, codegen_iv theta, code
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp122, tmp123), codegen_iv_mul(codegen_iv_point(12), tmp126)), tmp136), codegen_iv_mul(tmp124, tmp45)), codegen_iv_mul(tmp125, tmp18)), codegen_iv_mul(tmp125, tmp22)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp101), tmp145), tmp67), tmp70), tmp99), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp20), tmp40)))), codegen_iv_mul(tmp144, tmp146)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp138, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp145), codegen_iv_mul(codegen_iv_point(3), tmp67)), codegen_iv_mul(codegen_iv_point(3), tmp70)), tmp72), tmp75), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp20), tmp40)))), codegen_iv_mul(codegen_iv_mul(m_3, tmp146), tmp95)))), codegen_iv_mul(tmp117, tmp120)), codegen_iv_mul(tmp138, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(3), tmp122), codegen_iv_mul(codegen_iv_point(3), tmp123)), codegen_iv_mul(codegen_iv_point(36), tmp126)), tmp136), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp124), tmp2)), codegen_iv_mul(tmp137, tmp18)), codegen_iv_mul(tmp137, tmp22)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp142), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp108, tmp139), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp112), tmp52)), codegen_iv_mul(tmp5, tmp58)), codegen_iv_mul(tmp6, codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp115), tmp18), tmp22), tmp23), tmp26), tmp28), tmp31), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp53), tmp55), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp19), tmp86)), codegen_iv_mul(tmp19, tmp93)), codegen_iv_mul(tmp2, tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp42), tmp44)))), codegen_iv_mul(codegen_iv_mul(tmp107, tmp110), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp119), codegen_iv_mul(tmp48, tmp5)), codegen_iv_mul(tmp49, tmp5)))), codegen_iv_mul(codegen_iv_mul(tmp109, tmp141), tmp52)))), codegen_iv_mul(tmp143, tmp98)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_2), tmp29)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp120), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp147), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp117, tmp64)), codegen_iv_mul(tmp62, tmp63)), codegen_iv_div(codegen_iv_mul(tmp147, tmp62), tmp58, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp105), tmp113), tmp7)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp117), tmp58)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), tmp141), tmp142), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp109, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp106), tmp110), tmp140)))), codegen_iv_mul(codegen_iv_mul(tmp143, tmp144), tmp97)), codegen_iv_mul(codegen_iv_mul(tmp5, tmp59), tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp116, tmp119), tmp59), tmp61));
 }
 
+/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
+ * Total ops: 392. */
+static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv a_3 = codegen_iv_point(params->a_3);
+    const codegen_iv a_4 = codegen_iv_point(params->a_4);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv m_3 = codegen_iv_point(params->m_3);
+    const codegen_iv m_4 = codegen_iv_point(params->m_4);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_pow(a_2, 2);
+    const codegen_iv tmp2 = codegen_iv_pow(d, 2);
+    const codegen_iv tmp3 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp4 = codegen_iv_mul(d, tmp3);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp1, tmp2), tmp5);
+    const codegen_iv tmp7 = codegen_iv_pow(d, 3);
+    const codegen_iv tmp8 = codegen_iv_pow(a_4, 2);
+    const codegen_iv tmp9 = codegen_iv_mul(d, x_S);
+    const codegen_iv tmp10 = codegen_iv_mul(tmp1, tmp8);
+    const codegen_iv tmp11 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp12 = codegen_iv_pow(y_S, 2);
+    const codegen_iv tmp13 = codegen_iv_pow(a_3, 2);
+    const codegen_iv tmp14 = codegen_iv_mul(tmp13, tmp2);
+    const codegen_iv tmp15 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp16 = codegen_iv_mul(tmp1, tmp9);
+    const codegen_iv tmp17 = codegen_iv_pow(a_2, 3);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp0, tmp17);
+    const codegen_iv tmp19 = codegen_iv_sin(theta);
+    const codegen_iv tmp20 = codegen_iv_mul(tmp17, tmp19);
+    const codegen_iv tmp21 = codegen_iv_mul(tmp3, x_S);
+    const codegen_iv tmp22 = codegen_iv_mul(a_2, tmp19);
+    const codegen_iv tmp23 = codegen_iv_mul(tmp22, y_S);
+    const codegen_iv tmp24 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp25 = codegen_iv_mul(codegen_iv_point(2), tmp24);
+    const codegen_iv tmp26 = codegen_iv_mul(d, y_S);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp1, tmp26);
+    const codegen_iv tmp28 = codegen_iv_mul(codegen_iv_point(2), tmp19);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp0, tmp28);
+    const codegen_iv tmp30 = codegen_iv_mul(tmp1, tmp2);
+    const codegen_iv tmp31 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
+    const codegen_iv tmp32 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(tmp1, tmp13), tmp2), tmp31), tmp5), tmp8);
+    const codegen_iv tmp33 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp31), tmp6), tmp8);
+    const codegen_iv tmp34 = codegen_iv_mul(tmp32, tmp33);
+    const codegen_iv tmp35 = codegen_iv_sqrt(codegen_iv_neg(tmp34), iv_flags);
+    const codegen_iv tmp36 = codegen_iv_mul(d, tmp22);
+    const codegen_iv tmp37 = codegen_iv_mul(tmp3, y_S);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp22, x_S);
+    const codegen_iv tmp39 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(tmp10, tmp14), tmp16), codegen_iv_mul(d, tmp18)), codegen_iv_mul(tmp0, tmp15)), codegen_iv_mul(tmp1, tmp11)), codegen_iv_mul(tmp1, tmp12)), codegen_iv_mul(tmp11, tmp2)), codegen_iv_mul(tmp11, tmp5)), codegen_iv_mul(tmp12, tmp2)), codegen_iv_mul(tmp12, tmp5)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp23)), codegen_iv_mul(tmp13, tmp4)), codegen_iv_mul(tmp13, tmp9)), codegen_iv_mul(tmp16, tmp25)), codegen_iv_mul(tmp18, x_S)), codegen_iv_mul(tmp2, tmp21)), codegen_iv_mul(tmp2, tmp23)), codegen_iv_mul(tmp20, y_S)), codegen_iv_mul(tmp21, tmp8)), codegen_iv_mul(tmp23, tmp8)), codegen_iv_mul(tmp25, tmp30)), codegen_iv_mul(tmp26, tmp35)), codegen_iv_mul(tmp27, tmp29)), codegen_iv_mul(tmp35, tmp36)), codegen_iv_mul(tmp35, tmp37)), codegen_iv_mul(tmp35, tmp38)), codegen_iv_mul(tmp4, tmp8)), codegen_iv_mul(tmp7, x_S)), codegen_iv_mul(tmp8, tmp9));
+    const codegen_iv tmp40 = codegen_iv_sqrt(codegen_iv_mul(tmp39, tmp6), iv_flags);
+    const codegen_iv tmp41 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
+    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2), tmp36);
+    const codegen_iv tmp43 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
+    const codegen_iv tmp44 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp40, tmp43));
+    const codegen_iv tmp45 = codegen_iv_pow(a_2, 4);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp0, tmp35);
+    const codegen_iv tmp47 = codegen_iv_mul(tmp45, tmp46);
+    const codegen_iv tmp48 = codegen_iv_pow(d, 4);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp46, tmp48);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp30, tmp46);
+    const codegen_iv tmp51 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp28, tmp48);
+    const codegen_iv tmp53 = codegen_iv_mul(tmp19, tmp2);
+    const codegen_iv tmp54 = codegen_iv_pow(tmp19, 2);
+    const codegen_iv tmp55 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp13), tmp35);
+    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(2), tmp54);
+    const codegen_iv tmp57 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), codegen_iv_pow(d, 6)), tmp19)), codegen_iv_mul(tmp10, tmp46)), codegen_iv_mul(tmp13, tmp52)), codegen_iv_mul(tmp25, tmp55)), codegen_iv_mul(tmp34, tmp53)), codegen_iv_mul(tmp52, tmp8)), codegen_iv_mul(tmp55, tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(a_2, 5), d), tmp29)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10), codegen_iv_pow(d, 5)), tmp0), tmp22)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp14), tmp28)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp1), tmp19), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp10, tmp2), tmp28)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp10), tmp24), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp18), tmp19), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp19), tmp2), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp2, tmp46), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp20), tmp51), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp13), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp13), tmp2), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp1), tmp14), tmp19), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp1), tmp19), tmp24), tmp48)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp1, tmp19), tmp32), tmp33)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp19), tmp2), tmp24), tmp45)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp24), tmp35), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp35), tmp54), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp13), tmp19), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp19), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp13), tmp17), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp17), tmp19), tmp8));
+    const codegen_iv tmp58 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp35, 1), iv_flags);
+    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), tmp41), tmp58);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(codegen_iv_mul(m_3, tmp59), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3), tmp47)), codegen_iv_mul(codegen_iv_point(3), tmp49)), codegen_iv_mul(codegen_iv_point(6), tmp50)), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp30), tmp35), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp24), tmp35), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp17), tmp24), tmp35)))), codegen_iv_mul(codegen_iv_mul(m_4, tmp59), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp47), tmp49), codegen_iv_mul(codegen_iv_point(2), tmp50)), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp30), tmp35), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp24), tmp35), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp17), tmp24), tmp35)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), a_2), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp43), tmp44), codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp39, tmp42), codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(d, tmp20)), codegen_iv_mul(tmp13, tmp38)), codegen_iv_mul(tmp15, tmp19)), codegen_iv_mul(tmp18, y_S)), codegen_iv_mul(tmp2, tmp37)), codegen_iv_mul(tmp2, tmp38)), codegen_iv_mul(tmp21, tmp35)), codegen_iv_mul(tmp23, tmp35)), codegen_iv_mul(tmp27, tmp56)), codegen_iv_mul(tmp37, tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp16), tmp19)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp19), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp11), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp12), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp13), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp19), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp0), tmp13), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp19), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp1), tmp24), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp1), tmp19), tmp2)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp58), tmp6), codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp32, tmp42)), codegen_iv_mul(tmp33, tmp42))), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp26), tmp36), tmp37), tmp38)))), tmp40, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp40), tmp41), tmp42), tmp44));
+}
+
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
  * enclosed in outward-rounded interval arithmetic. Total ops: 740. */
 static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
@@ -37812,6 +37893,103 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, code
     *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp114, tmp143)), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(m_3, tmp113), tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp111), tmp112), tmp144), codegen_iv_mul(codegen_iv_point(3), tmp67)), codegen_iv_mul(codegen_iv_point(3), tmp70)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp21), tmp41)))))), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp142, tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp144), tmp67), tmp70), tmp74), tmp78), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp21), tmp41)))))), codegen_iv_mul(tmp127, tmp128)), codegen_iv_mul(tmp2, tmp30)), codegen_iv_mul(codegen_iv_mul(tmp107, tmp142), tmp143)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp115), tmp123), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp127, tmp65)), codegen_iv_mul(tmp63, tmp64)), codegen_iv_div(codegen_iv_mul(tmp124, tmp63), tmp60, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp115), tmp123), tmp8)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp128), tmp63)), codegen_iv_mul(codegen_iv_mul(tmp6, tmp61), tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), k), tmp115), tmp125), tmp141), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp119, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp116), tmp120), tmp140)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp115), tmp62), tmp9), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp139)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp122), tmp56)), codegen_iv_mul(tmp6, tmp60)), codegen_iv_mul(tmp7, codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp19), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp136, tmp75)), codegen_iv_mul(tmp20, tmp72)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp20), tmp97)), codegen_iv_mul(tmp4, tmp94)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp43), tmp46)))), codegen_iv_mul(codegen_iv_mul(tmp117, tmp120), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp136), tmp3)), codegen_iv_mul(tmp50, tmp6)), codegen_iv_mul(tmp51, tmp6)))), codegen_iv_mul(codegen_iv_mul(tmp119, tmp141), tmp56)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3), tmp130)), codegen_iv_mul(codegen_iv_point(3), tmp131)), codegen_iv_mul(codegen_iv_point(36), tmp132)), tmp137), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp129), tmp3), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp130), tmp131), codegen_iv_mul(codegen_iv_point(12), tmp132)), tmp137), codegen_iv_mul(tmp138, tmp3)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), k), tmp126), tmp3), tmp4), tmp60), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), k), tmp126), tmp3), tmp4), tmp61), tmp62), tmp97));
 }
 
+/* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
+ * Total ops: 325. */
+static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv a_3 = codegen_iv_point(params->a_3);
+    const codegen_iv a_4 = codegen_iv_point(params->a_4);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv m_3 = codegen_iv_point(params->m_3);
+    const codegen_iv m_4 = codegen_iv_point(params->m_4);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_pow(a_2, 2);
+    const codegen_iv tmp3 = codegen_iv_pow(d, 2);
+    const codegen_iv tmp4 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp2, tmp3), tmp5);
+    const codegen_iv tmp7 = codegen_iv_pow(d, 3);
+    const codegen_iv tmp8 = codegen_iv_pow(a_4, 2);
+    const codegen_iv tmp9 = codegen_iv_mul(d, x_S);
+    const codegen_iv tmp10 = codegen_iv_mul(tmp2, tmp8);
+    const codegen_iv tmp11 = codegen_iv_pow(x_S, 2);
+    const codegen_iv tmp12 = codegen_iv_pow(y_S, 2);
+    const codegen_iv tmp13 = codegen_iv_pow(a_3, 2);
+    const codegen_iv tmp14 = codegen_iv_mul(tmp13, tmp3);
+    const codegen_iv tmp15 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp16 = codegen_iv_mul(tmp0, tmp15);
+    const codegen_iv tmp17 = codegen_iv_mul(tmp2, tmp9);
+    const codegen_iv tmp18 = codegen_iv_pow(a_2, 3);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp0, tmp18);
+    const codegen_iv tmp20 = codegen_iv_mul(d, tmp19);
+    const codegen_iv tmp21 = codegen_iv_sin(theta);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp21);
+    const codegen_iv tmp23 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp24 = codegen_iv_mul(a_2, tmp21);
+    const codegen_iv tmp25 = codegen_iv_mul(tmp24, y_S);
+    const codegen_iv tmp26 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp27 = codegen_iv_mul(codegen_iv_point(2), tmp26);
+    const codegen_iv tmp28 = codegen_iv_mul(d, y_S);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp2, tmp28);
+    const codegen_iv tmp30 = codegen_iv_mul(codegen_iv_point(2), tmp21);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp0, tmp30);
+    const codegen_iv tmp32 = codegen_iv_mul(tmp2, tmp3);
+    const codegen_iv tmp33 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
+    const codegen_iv tmp34 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp2), tmp3), tmp33), tmp5), tmp8);
+    const codegen_iv tmp35 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp33), tmp6), tmp8);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_sqrt(codegen_iv_neg(tmp36), iv_flags);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp24, x_S);
+    const codegen_iv tmp39 = codegen_iv_mul(d, tmp24);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp41 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp10, tmp14), tmp16), tmp17), tmp20), codegen_iv_mul(tmp11, tmp2)), codegen_iv_mul(tmp11, tmp3)), codegen_iv_mul(tmp11, tmp5)), codegen_iv_mul(tmp12, tmp2)), codegen_iv_mul(tmp12, tmp3)), codegen_iv_mul(tmp12, tmp5)), codegen_iv_mul(tmp13, tmp23)), codegen_iv_mul(tmp13, tmp25)), codegen_iv_mul(tmp13, tmp4)), codegen_iv_mul(tmp13, tmp9)), codegen_iv_mul(tmp17, tmp27)), codegen_iv_mul(tmp19, x_S)), codegen_iv_mul(tmp22, y_S)), codegen_iv_mul(tmp23, tmp3)), codegen_iv_mul(tmp23, tmp8)), codegen_iv_mul(tmp25, tmp3)), codegen_iv_mul(tmp25, tmp8)), codegen_iv_mul(tmp27, tmp32)), codegen_iv_mul(tmp28, tmp37)), codegen_iv_mul(tmp29, tmp31)), codegen_iv_mul(tmp37, tmp38)), codegen_iv_mul(tmp37, tmp39)), codegen_iv_mul(tmp37, tmp40)), codegen_iv_mul(tmp4, tmp8)), codegen_iv_mul(tmp7, x_S)), codegen_iv_mul(tmp8, tmp9));
+    const codegen_iv tmp42 = codegen_iv_sqrt(codegen_iv_mul(tmp41, tmp6), iv_flags);
+    const codegen_iv tmp43 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
+    const codegen_iv tmp44 = codegen_iv_mul(codegen_iv_point(2), tmp39);
+    const codegen_iv tmp45 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
+    const codegen_iv tmp46 = codegen_iv_mul(k, codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp42, tmp45)));
+    const codegen_iv tmp47 = codegen_iv_pow(a_2, 4);
+    const codegen_iv tmp48 = codegen_iv_mul(tmp0, tmp37);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp47, tmp48);
+    const codegen_iv tmp50 = codegen_iv_pow(d, 4);
+    const codegen_iv tmp51 = codegen_iv_mul(tmp48, tmp50);
+    const codegen_iv tmp52 = codegen_iv_mul(codegen_iv_point(4), tmp26);
+    const codegen_iv tmp53 = codegen_iv_mul(tmp37, tmp52);
+    const codegen_iv tmp54 = codegen_iv_mul(d, tmp18);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp32, tmp48);
+    const codegen_iv tmp56 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp57 = codegen_iv_mul(codegen_iv_point(4), tmp32);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp30, tmp50);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp3, tmp30);
+    const codegen_iv tmp60 = codegen_iv_mul(tmp2, tmp21);
+    const codegen_iv tmp61 = codegen_iv_mul(tmp50, tmp60);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp21, tmp3);
+    const codegen_iv tmp63 = codegen_iv_mul(tmp26, tmp62);
+    const codegen_iv tmp64 = codegen_iv_mul(codegen_iv_mul(a_2, d), tmp37);
+    const codegen_iv tmp65 = codegen_iv_mul(tmp64, tmp8);
+    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(2), codegen_iv_pow(tmp21, 2));
+    const codegen_iv tmp67 = codegen_iv_mul(tmp13, tmp64);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp20, tmp30);
+    const codegen_iv tmp69 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp16), tmp21);
+    const codegen_iv tmp70 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(4), tmp61), codegen_iv_mul(codegen_iv_pow(d, 6), tmp30)), codegen_iv_mul(tmp10, tmp48)), codegen_iv_mul(tmp10, tmp59)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp10), tmp63)), codegen_iv_mul(tmp13, tmp58)), codegen_iv_mul(tmp13, tmp68)), codegen_iv_mul(tmp13, tmp69)), codegen_iv_mul(tmp14, tmp48)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp26), tmp61)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp67)), codegen_iv_mul(tmp36, tmp60)), codegen_iv_mul(tmp36, tmp62)), codegen_iv_mul(tmp47, tmp59)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp47), tmp63)), codegen_iv_mul(tmp58, tmp8)), codegen_iv_mul(tmp65, tmp66)), codegen_iv_mul(tmp66, tmp67)), codegen_iv_mul(tmp68, tmp8)), codegen_iv_mul(tmp69, tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(a_2, 5), d), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10), codegen_iv_pow(d, 5)), tmp0), tmp24)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp2), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp14, tmp2), tmp30)), codegen_iv_mul(codegen_iv_mul(tmp14, tmp52), tmp60)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp19), tmp21), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp22), tmp56), tmp7)), codegen_iv_mul(codegen_iv_mul(tmp3, tmp48), tmp8));
+    const codegen_iv tmp71 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp37, 1), iv_flags);
+    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), tmp43), tmp71);
+    const codegen_iv tmp73 = codegen_iv_mul(codegen_iv_point(12), tmp37);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp26, tmp73);
+    const codegen_iv tmp75 = codegen_iv_mul(tmp0, tmp21);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_2), tmp1)), codegen_iv_mul(codegen_iv_mul(m_3, tmp72), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(3), tmp49), codegen_iv_mul(codegen_iv_point(3), tmp51)), codegen_iv_mul(codegen_iv_point(6), tmp55)), tmp70), codegen_iv_mul(tmp15, tmp74)), codegen_iv_mul(tmp54, tmp74)), codegen_iv_mul(codegen_iv_mul(tmp32, tmp56), tmp73)))), codegen_iv_mul(codegen_iv_mul(m_4, tmp72), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp49, tmp51), codegen_iv_mul(codegen_iv_point(2), tmp55)), tmp70), codegen_iv_mul(tmp15, tmp53)), codegen_iv_mul(tmp53, tmp54)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp56), tmp57)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp45), tmp46), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(tmp41, tmp44), codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(d, tmp22)), codegen_iv_mul(tmp11, tmp44)), codegen_iv_mul(tmp12, tmp44)), codegen_iv_mul(tmp13, tmp38)), codegen_iv_mul(tmp13, tmp39)), codegen_iv_mul(tmp13, tmp40)), codegen_iv_mul(tmp15, tmp21)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp17), tmp75)), codegen_iv_mul(tmp19, y_S)), codegen_iv_mul(tmp22, x_S)), codegen_iv_mul(tmp23, tmp37)), codegen_iv_mul(tmp25, tmp37)), codegen_iv_mul(tmp27, tmp29)), codegen_iv_mul(tmp29, tmp66)), codegen_iv_mul(tmp3, tmp38)), codegen_iv_mul(tmp3, tmp40)), codegen_iv_mul(tmp37, tmp4)), codegen_iv_mul(tmp38, tmp8)), codegen_iv_mul(tmp39, tmp8)), codegen_iv_mul(tmp40, tmp8)), codegen_iv_mul(tmp57, tmp75)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp6), tmp71), codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp34, tmp44)), codegen_iv_mul(tmp35, tmp44))), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp28), tmp38), tmp39), tmp40)))), tmp42, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp42, tmp43), tmp44), tmp46));
+}
+
 four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags)
@@ -37819,10 +37997,18 @@ four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigne
     *flags = 0u;
     switch (mode) {
     case 0u:
-        enclose_mode_0(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_0(params, theta, g, flags);
+        } else {
+            enclose_mode_0(params, theta, g, dg, flags);
+        }
         return FOUR_BAR_OK;
     case 1u:
-        enclose_mode_1(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_1(params, theta, g, flags);
+        } else {
+            enclose_mode_1(params, theta, g, dg, flags);
+        }
         return FOUR_BAR_OK;
     default:
         return FOUR_BAR_ERR_ARGUMENT;

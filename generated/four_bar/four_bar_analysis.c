@@ -311,7 +311,7 @@ static four_bar_status smooth_near(const four_bar_params *params, unsigned mode,
 }
 
 /* Prove a root of the polynomial route: by the interval Newton test around it (two
- * enclosures, for a root polished to rounding); failing that, intervals around it from
+ * enclosures, the first of G alone, its slope K being known, for a root polished to rounding); failing that, intervals around it from
  * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
  * on the root's mode. */
 static four_bar_status certify_around(const four_bar_params *params, unsigned mode,
@@ -319,8 +319,8 @@ static four_bar_status certify_around(const four_bar_params *params, unsigned mo
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
-                                              &e->theta_hi, &proven);
+    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, e->K,
+                                              &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return (four_bar_status)newton;

@@ -145,7 +145,8 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
 #define FOUR_BAR_EQUILIBRIUM_STATE_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
 /* four_bar_enclosure on an interval of codegen_iv (mode < FOUR_BAR_N_MODES, else
- * FOUR_BAR_ERR_ARGUMENT); *flags is set, not or-ed. */
+ * FOUR_BAR_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
+ * (a smaller program; the flags are those G's own operations raise). */
 four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

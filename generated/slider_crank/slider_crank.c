@@ -13239,6 +13239,35 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
     *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp23)), codegen_iv_mul(m_2, tmp23)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp25), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(tmp27, tmp30), tmp32), tmp34), tmp36), tmp37), tmp38))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp22, tmp25), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(tmp12, tmp52), codegen_iv_mul(tmp19, tmp49)), codegen_iv_mul(tmp19, tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp20), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp74)), codegen_iv_mul(tmp26, tmp79)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp68)), codegen_iv_mul(tmp27, tmp71)), codegen_iv_mul(tmp30, tmp65)), codegen_iv_mul(tmp30, tmp66)), codegen_iv_mul(tmp30, tmp68)), codegen_iv_mul(tmp30, tmp71)), codegen_iv_mul(tmp32, tmp68)), codegen_iv_mul(tmp32, tmp71)), codegen_iv_mul(tmp33, tmp74)), codegen_iv_mul(tmp33, tmp77)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp34), tmp50)), codegen_iv_mul(tmp34, tmp68)), codegen_iv_mul(tmp34, tmp71)), codegen_iv_mul(tmp35, tmp79)), codegen_iv_mul(tmp36, tmp68)), codegen_iv_mul(tmp36, tmp71)), codegen_iv_mul(tmp37, tmp68)), codegen_iv_mul(tmp37, tmp71)), codegen_iv_mul(tmp38, tmp68)), codegen_iv_mul(tmp38, tmp71)), codegen_iv_mul(tmp39, tmp75)), codegen_iv_mul(tmp40, codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 5))), codegen_iv_mul(tmp42, tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp44), tmp45)), codegen_iv_mul(tmp45, tmp76)), codegen_iv_mul(tmp46, tmp70)), codegen_iv_mul(tmp46, tmp73)), codegen_iv_mul(tmp54, tmp70)), codegen_iv_mul(tmp54, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp55), tmp6)), codegen_iv_mul(tmp57, tmp70)), codegen_iv_mul(tmp57, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp63), tmp64)), codegen_iv_mul(tmp63, tmp69)), codegen_iv_mul(tmp69, tmp75)), codegen_iv_mul(tmp70, tmp72)), codegen_iv_mul(tmp72, tmp73)), codegen_iv_mul(tmp76, tmp78)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp29), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp69), tmp78)), codegen_iv_mul(codegen_iv_mul(tmp11, tmp28), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp18), tmp67)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp42), tmp44)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp27), tmp41)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp40), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp33), tmp66)), codegen_iv_mul(codegen_iv_mul(tmp30, tmp41), tmp59)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp59), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp43, tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp60), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp50), tmp56), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp18), tmp34), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp12), tmp57), tmp58))), tmp39, iv_flags));
 }
 
+/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
+ * Total ops: 62. */
+static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv l = codegen_iv_point(params->l);
+    const codegen_iv e = codegen_iv_point(params->e);
+    const codegen_iv m_1 = codegen_iv_point(params->m_1);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_sin(theta);
+    const codegen_iv tmp2 = codegen_iv_mul(R, tmp1);
+    const codegen_iv tmp3 = codegen_iv_neg(codegen_iv_mul(codegen_iv_sub(codegen_iv_sub(e, l), tmp2), codegen_iv_sub(codegen_iv_add(e, l), tmp2)));
+    const codegen_iv tmp4 = codegen_iv_sqrt(tmp3, iv_flags);
+    const codegen_iv tmp5 = codegen_iv_div(codegen_iv_mul(R, codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(e, tmp0), codegen_iv_mul(tmp0, tmp2)), codegen_iv_mul(tmp1, tmp4))), tmp4, iv_flags);
+    const codegen_iv tmp6 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp7 = codegen_iv_mul(codegen_iv_point(2), x_S);
+    const codegen_iv tmp8 = codegen_iv_sqrt(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_pow(e, 2), tmp3), codegen_iv_pow(x_S, 2)), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_pow(R, 2), codegen_iv_pow(tmp0, 2))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp4), tmp6)), codegen_iv_mul(tmp4, tmp7)), codegen_iv_mul(tmp6, tmp7)), iv_flags);
+    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(F, tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp5), codegen_iv_sub(l_0, tmp8)), codegen_iv_sub(codegen_iv_add(tmp4, tmp6), x_S)), tmp8, iv_flags));
+}
+
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
  * enclosed in outward-rounded interval arithmetic. Total ops: 406. */
 static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
@@ -13328,6 +13357,36 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
     *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
 }
 
+/* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
+ * Total ops: 59. */
+static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv l = codegen_iv_point(params->l);
+    const codegen_iv e = codegen_iv_point(params->e);
+    const codegen_iv m_1 = codegen_iv_point(params->m_1);
+    const codegen_iv m_2 = codegen_iv_point(params->m_2);
+    const codegen_iv k = codegen_iv_point(params->k);
+    const codegen_iv l_0 = codegen_iv_point(params->l_0);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv F = codegen_iv_point(params->F);
+    const codegen_iv T = codegen_iv_point(params->T);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), tmp1);
+    const codegen_iv tmp3 = codegen_iv_sin(theta);
+    const codegen_iv tmp4 = codegen_iv_mul(R, tmp3);
+    const codegen_iv tmp5 = codegen_iv_neg(codegen_iv_mul(codegen_iv_sub(codegen_iv_sub(e, l), tmp4), codegen_iv_sub(codegen_iv_add(e, l), tmp4)));
+    const codegen_iv tmp6 = codegen_iv_sqrt(tmp5, iv_flags);
+    const codegen_iv tmp7 = codegen_iv_div(codegen_iv_mul(R, codegen_iv_add(codegen_iv_sub(codegen_iv_mul(e, tmp0), codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp3, tmp6))), tmp6, iv_flags);
+    const codegen_iv tmp8 = codegen_iv_mul(codegen_iv_point(2), x_S);
+    const codegen_iv tmp9 = codegen_iv_sqrt(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_pow(e, 2), tmp5), codegen_iv_pow(x_S, 2)), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_pow(R, 2), codegen_iv_pow(tmp0, 2))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp1), tmp6)), codegen_iv_mul(tmp1, tmp8)), codegen_iv_mul(tmp6, tmp8)), iv_flags);
+    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(F, tmp7)), codegen_iv_mul(m_1, tmp2)), codegen_iv_mul(m_2, tmp2)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp7), codegen_iv_sub(l_0, tmp9)), codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp6), x_S), codegen_iv_mul(R, tmp0))), tmp9, iv_flags));
+}
+
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags)
@@ -13335,10 +13394,18 @@ slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *par
     *flags = 0u;
     switch (mode) {
     case 0u:
-        enclose_mode_0(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_0(params, theta, g, flags);
+        } else {
+            enclose_mode_0(params, theta, g, dg, flags);
+        }
         return SLIDER_CRANK_OK;
     case 1u:
-        enclose_mode_1(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_1(params, theta, g, flags);
+        } else {
+            enclose_mode_1(params, theta, g, dg, flags);
+        }
         return SLIDER_CRANK_OK;
     default:
         return SLIDER_CRANK_ERR_ARGUMENT;

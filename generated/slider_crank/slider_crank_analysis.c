@@ -311,7 +311,7 @@ static slider_crank_status smooth_near(const slider_crank_params *params, unsign
 }
 
 /* Prove a root of the polynomial route: by the interval Newton test around it (two
- * enclosures, for a root polished to rounding); failing that, intervals around it from
+ * enclosures, the first of G alone, its slope K being known, for a root polished to rounding); failing that, intervals around it from
  * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
  * on the root's mode. */
 static slider_crank_status certify_around(const slider_crank_params *params, unsigned mode,
@@ -319,8 +319,8 @@ static slider_crank_status certify_around(const slider_crank_params *params, uns
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, &e->theta_lo,
-                                              &e->theta_hi, &proven);
+    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, e->K,
+                                              &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return (slider_crank_status)newton;

@@ -145,7 +145,8 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
 /* slider_crank_enclosure on an interval of codegen_iv (mode < SLIDER_CRANK_N_MODES, else
- * SLIDER_CRANK_ERR_ARGUMENT); *flags is set, not or-ed. */
+ * SLIDER_CRANK_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
+ * (a smaller program; the flags are those G's own operations raise). */
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

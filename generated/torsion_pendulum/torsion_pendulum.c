@@ -687,6 +687,23 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(k_t, codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp0, tmp5)), codegen_iv_mul(tmp1, tmp2));
 }
 
+/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
+ * Total ops: 14. */
+static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
+                                 codegen_iv *iv_g, unsigned *iv_flags)
+{
+    (void)iv_flags;
+    const codegen_iv l = codegen_iv_point(params->l);
+    const codegen_iv m = codegen_iv_point(params->m);
+    const codegen_iv m_t = codegen_iv_point(params->m_t);
+    const codegen_iv k_t = codegen_iv_point(params->k_t);
+    const codegen_iv theta_0 = codegen_iv_point(params->theta_0);
+    const codegen_iv F_x = codegen_iv_point(params->F_x);
+    const codegen_iv g = codegen_iv_point(params->g);
+    const codegen_iv tmp0 = codegen_iv_mul(codegen_iv_mul(g, l), codegen_iv_cos(theta));
+    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp0)), codegen_iv_mul(m_t, tmp0)), codegen_iv_mul(codegen_iv_mul(F_x, l), codegen_iv_sin(theta)));
+}
+
 torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags)
@@ -694,7 +711,11 @@ torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum
     *flags = 0u;
     switch (mode) {
     case 0u:
-        enclose_mode_0(params, theta, g, dg, flags);
+        if (dg == NULL) {
+            enclose_value_mode_0(params, theta, g, flags);
+        } else {
+            enclose_mode_0(params, theta, g, dg, flags);
+        }
         return TORSION_PENDULUM_OK;
     default:
         return TORSION_PENDULUM_ERR_ARGUMENT;

@@ -448,23 +448,27 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
 /* Moore's interval Newton test. With 0 outside G'(X) on X = [m - w, m + w], every zero x of G
  * in X satisfies x = m - G(m) / G'(xi) for some xi in X, so it lies in N = m - G([m]) / G'(X);
  * and N inside X proves that X holds exactly one zero. The width comes from the Newton step's
- * own bound, |G([m])| / |G'([m])|, doubled for the spread of G' over X, plus a few ulps of m,
- * and is tried once more sixteen times wider: two enclosures a try, where guessing widths
- * for codegen_certify costs three each. */
+ * own bound, |G([m])| / |G'(m)|, doubled for the spread of G' over X, plus a few ulps of m,
+ * and is tried once more sixteen times wider: two enclosures a try (the one at m of G alone
+ * when the caller knows the slope), where guessing widths for codegen_certify costs three
+ * each. X's enclosure covers m: non-smoothness at m is seen there. */
 int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, unsigned mode,
-                           codegen_real m, codegen_real *lo, codegen_real *hi, int *certified)
+                           codegen_real m, codegen_real slope, codegen_real *lo, codegen_real *hi,
+                           int *certified)
 {
     codegen_iv g_m, dg_m;
     unsigned flags = 0u;
     codegen_real w;
     int attempt, status;
+    const int known = slope != 0 && isfinite(slope);
     *certified = 0;
-    status = enclose_fn(context, mode, codegen_iv_point(m), &g_m, &dg_m, &flags);
+    status = enclose_fn(context, mode, codegen_iv_point(m), &g_m, known ? NULL : &dg_m, &flags);
     if (status != 0 || (flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE)) != 0u
-        || codegen_iv_has_zero(dg_m)) {
+        || (!known && codegen_iv_has_zero(dg_m))) {
         return status;
     }
-    w = CODEGEN_R(2.0) * codegen_fmax(codegen_fabs(g_m.lo), codegen_fabs(g_m.hi)) / codegen_fmin(codegen_fabs(dg_m.lo), codegen_fabs(dg_m.hi))
+    w = CODEGEN_R(2.0) * codegen_fmax(codegen_fabs(g_m.lo), codegen_fabs(g_m.hi))
+          / (known ? codegen_fabs(slope) : codegen_fmin(codegen_fabs(dg_m.lo), codegen_fabs(dg_m.hi)))
         + CODEGEN_R(8.0) * CODEGEN_EPSILON * codegen_fmax(codegen_fabs(m), (codegen_real)1);
     for (attempt = 0; attempt < 2 && !*certified; ++attempt, w *= CODEGEN_R(16.0)) {
         const codegen_iv x = codegen_iv_make(m - w, m + w);

@@ -243,7 +243,8 @@ codegen_iv codegen_iv_sin(codegen_iv a);
 /* ---- Certified isolation of the zeros of G on an interval ---- */
 
 /* Enclosures of G and G' over theta for one assembly mode (or branch) of a mechanism,
- * and the flags its square roots and divisions raised. Returns 0, or a nonzero status that
+ * and the flags its square roots and divisions raised. With dg NULL, G alone (cheaper; the
+ * flags are then those of G's own operations). Returns 0, or a nonzero status that
  * codegen_isolate passes on unchanged (bad parameters, say). */
 typedef int (*codegen_enclosure)(const void *context, unsigned mode, codegen_iv theta,
                                  codegen_iv *g, codegen_iv *dg, unsigned *flags);
@@ -292,9 +293,12 @@ int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mod
 /* *certified = 1 if an interval [*lo, *hi] around m, a few times the distance a Newton step
  * from m can move, provably holds exactly one zero of G, a simple one (as codegen_certify
  * says it), proven by the interval Newton test; else 0 and *lo, *hi untouched. For m within
- * rounding of a simple zero, as polishing leaves it. Returns 0 or the enclosure's status. */
+ * rounding of a simple zero, as polishing leaves it. slope: G'(m) as the caller knows it
+ * (it sizes the interval only; the proof does not rely on it), or 0 if unknown, which costs
+ * an enclosure of G' at m. Returns 0 or the enclosure's status. */
 int codegen_certify_newton(codegen_enclosure enclose, const void *context, unsigned mode,
-                           codegen_real m, codegen_real *lo, codegen_real *hi, int *certified);
+                           codegen_real m, codegen_real slope, codegen_real *lo, codegen_real *hi,
+                           int *certified);
 
 #ifdef __cplusplus
 }

@@ -135,7 +135,10 @@ static int enclosure(const void *context, unsigned mode, codegen_iv t, codegen_i
                      codegen_iv *dg, unsigned *flags)
 {
     const function *f = (const function *)context;
-    codegen_iv d, r;
+    codegen_iv d, r, slope_unwanted;
+    if (dg == NULL) {             /* G alone asked for: G' is computed and dropped */
+        dg = &slope_unwanted;
+    }
     f->count->calls += 1;
     if (mode != f->mode || !(t.lo <= t.hi) || t.lo < f->lo || t.hi > f->hi) {
         f->count->bad += 1;
@@ -289,17 +292,18 @@ static int run_certify(void)
     return 1;
 }
 
-static int run_newton(void)
+/* newton PROBLEM (the slope unknown), or newton_slope SLOPE PROBLEM */
+static int run_newton(int with_slope)
 {
     function f;
     counters count;
     int certified = -1, status;
-    double lo = NAN, hi = NAN;
-    if (!read_problem(&f, &count, NULL)) {
+    double lo = NAN, hi = NAN, slope = 0.0;
+    if ((with_slope && !read_double(&slope)) || !read_problem(&f, &count, NULL)) {
         return 0;
     }
-    status = codegen_certify_newton(enclosure, &f, f.mode, 0.5 * f.lo + 0.5 * f.hi, &lo, &hi,
-                                    &certified);
+    status = codegen_certify_newton(enclosure, &f, f.mode, 0.5 * f.lo + 0.5 * f.hi, slope, &lo,
+                                    &hi, &certified);
     printf("%d %d %ld %ld %a %a\n", status, certified, count.calls, count.bad, lo, hi);
     return 1;
 }
@@ -362,7 +366,9 @@ int main(void)
         } else if (strcmp(op, "certify") == 0) {
             ok = run_certify();
         } else if (strcmp(op, "newton") == 0) {
-            ok = run_newton();
+            ok = run_newton(0);
+        } else if (strcmp(op, "newton_slope") == 0) {
+            ok = run_newton(1);
         } else {
             ok = run_operation(op);
         }
