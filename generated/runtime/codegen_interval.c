@@ -101,30 +101,26 @@ static int enclose(isolation *s, codegen_real lo, codegen_real hi, codegen_iv *g
 }
 
 /* G's sign at theta, if the enclosure decides it (else 0), and G and G' there (midpoints of
- * their enclosures; slope NULL: G alone is enclosed, the cheaper program); a point where G is
- * not smooth or the mechanism may not exist is undecided. */
+ * their enclosures); a point where G is not smooth or the mechanism may not exist is
+ * undecided. */
 static int probe(isolation *s, codegen_real theta, int *sign, codegen_real *value, codegen_real *slope)
 {
     codegen_iv g = {0, 0}, dg = {0, 0};
     unsigned flags;
-    const int status = enclose(s, theta, theta, &g, slope != NULL ? &dg : NULL, &flags);
+    const int status = enclose(s, theta, theta, &g, &dg, &flags);
     *sign = 0;
     *value = CODEGEN_R(0.5) * g.lo + CODEGEN_R(0.5) * g.hi;
-    if (slope != NULL) {
-        *slope = CODEGEN_R(0.5) * dg.lo + CODEGEN_R(0.5) * dg.hi;
-    }
+    *slope = CODEGEN_R(0.5) * dg.lo + CODEGEN_R(0.5) * dg.hi;
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))) {
         *sign = g.lo > 0 ? 1 : g.hi < 0 ? -1 : 0;
     }
     return status;
 }
 
-/* G's sign alone. Every caller asks inside a box whose enclosure of G and G' raised no flag,
- * or at the ends of an undecided run, where G's sign (not G''s smoothness) is the question. */
 static int sign_at(isolation *s, codegen_real theta, int *sign)
 {
-    codegen_real value;
-    return probe(s, theta, sign, &value, NULL);
+    codegen_real value, slope;
+    return probe(s, theta, sign, &value, &slope);
 }
 
 static int known_sign(isolation *s, codegen_real theta, int *sign)
@@ -329,7 +325,7 @@ static codegen_real split_point(codegen_real lo, codegen_real hi)
 /* One box of the subdivision: 0 and *split = 1 when its halves must be examined. */
 static int examine(isolation *s, box *b, codegen_real *mid, int *mid_sign, int *split)
 {
-    codegen_iv g, dg, g_mid;
+    codegen_iv g, dg, g_mid, dg_mid;
     unsigned flags, mid_flags = 0u;
     int status, decided, stop;
     *split = 0;
@@ -341,9 +337,8 @@ static int examine(isolation *s, box *b, codegen_real *mid, int *mid_sign, int *
     }
     g_mid = codegen_iv_whole();
     if (!(flags & SMOOTHNESS_FLAGS)) {
-        /* mean-value form: G(box) lies in G(mid) + G'(box) (box - mid); G' at mid is not
-         * needed, and any flag of G' there is among the box's */
-        status = enclose(s, *mid, *mid, &g_mid, NULL, &mid_flags);
+        /* mean-value form: G(box) lies in G(mid) + G'(box) (box - mid) */
+        status = enclose(s, *mid, *mid, &g_mid, &dg_mid, &mid_flags);
         if (status != 0) {
             return status;
         }
