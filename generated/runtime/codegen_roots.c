@@ -9,7 +9,10 @@
  * and leave "is this root real?" to an arbitrary tolerance on the imaginary part, which fails
  * in exactly the cases that equilibrium polynomials produce (close pairs such as 5e-4 apart,
  * double roots). Here every real root is isolated by sign changes that are certified against a
- * rounding-error bound:
+ * rounding-error bound (1-5, the reference). A faster path is tried first (fast_roots, below):
+ * all roots at once by the Ehrlich-Aberth iteration, proven by inclusion discs, real ones
+ * refined as 3 refines them; it answers only where it can prove that 1-5 would report the same
+ * roots, and leaves the rest (clusters, close or multiple roots) to them.
  *
  * 1. Two charts on bounded intervals, so no root bound is needed and tau = infinity is an
  *    ordinary point: chart A is p(tau) on [-1, 1] (|theta| <= 90 deg); chart B is the reversed
