@@ -568,21 +568,26 @@ static void chorner(const codegen_real *a, int m, int reversed, codegen_real xr,
 
 #define CR_HORNER_ERR(m, mag) (CODEGEN_R(8.0) * (codegen_real)((m) + 1) * CODEGEN_EPSILON * (mag))
 
-/* The Newton correction N = p(z) / p'(z); for |z| > 1 from the reversed polynomial r(y) =
- * y^m p(1/y) at y = 1/z (nothing overflows, whatever |z|): N = z / (m - y r'(y) / r(y)).
+/* chorner at z where |z| <= 1; beyond, of the reversed polynomial r(y) = y^m p(1/y) at y = 1/z
+ * (nothing overflows, whatever |z|). Returns 1 in the second case. */
+static int chorner_at(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *s,
+                      codegen_real *d, codegen_real *mag)
+{
+    const codegen_real z2 = zr * zr + zi * zi;
+    const int reversed = z2 > 1;
+    chorner(a, m, reversed, reversed ? zr / z2 : zr, reversed ? -zi / z2 : zi, s, d, mag);
+    return reversed;
+}
+
+/* The Newton correction N = p(z) / p'(z); for |z| > 1 from r (chorner_at) at y = 1/z:
+ * N = z / (m - y r'(y) / r(y)).
  * *small = 1 when |p(z)| is within Horner's error bound: z is a root to working precision.
  * Returns 0 where the correction does not exist (p'(z) = 0, or not finite). */
 static int newton_ratio(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *nr,
                         codegen_real *ni, int *small)
 {
-    const codegen_real z2 = zr * zr + zi * zi;
-    const int reversed = z2 > 1;
     codegen_real s[2], d[2], mag;
-    if (!reversed) {
-        chorner(a, m, 0, zr, zi, s, d, &mag);
-    } else {
-        chorner(a, m, 1, zr / z2, -zi / z2, s, d, &mag);
-    }
+    const int reversed = chorner_at(a, m, zr, zi, s, d, &mag);
     const codegen_real err = CR_HORNER_ERR(m, mag);
     *small = s[0] * s[0] + s[1] * s[1] <= err * err;
     if (*small) {
@@ -595,7 +600,7 @@ static int newton_ratio(const codegen_real *a, int m, codegen_real zr, codegen_r
     if (!cdiv(d[0], d[1], s[0], s[1], &qr, &qi)) {
         return 0;
     }
-    const codegen_real yr = zr / z2, yi = -zi / z2;
+    const codegen_real z2 = zr * zr + zi * zi, yr = zr / z2, yi = -zi / z2;
     return cdiv(zr, zi, (codegen_real)m - (yr * qr - yi * qi), -(yr * qi + yi * qr), nr, ni);
 }
 
@@ -709,15 +714,9 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
 static codegen_real inclusion_radius(const codegen_real *a, int m, const codegen_real *zr,
                                      const codegen_real *zi, int i)
 {
-    const codegen_real z2 = zr[i] * zr[i] + zi[i] * zi[i];
-    const int reversed = z2 > 1;
-    const codegen_real az = codegen_sqrt(z2);
+    const codegen_real az = codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]);
     codegen_real s[2], d[2], mag;
-    if (!reversed) {
-        chorner(a, m, 0, zr[i], zi[i], s, d, &mag);
-    } else {
-        chorner(a, m, 1, zr[i] / z2, -zi[i] / z2, s, d, &mag);
-    }
+    const int reversed = chorner_at(a, m, zr[i], zi[i], s, d, &mag);
     codegen_real t = (codegen_real)m * (codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag))
                      / codegen_fabs(a[m]);
     for (int j = 0; j < m; ++j) {
@@ -730,8 +729,9 @@ static codegen_real inclusion_radius(const codegen_real *a, int m, const codegen
     return (t == t) ? t : CODEGEN_HUGE;
 }
 
-/* Sign of f at x if certain, else 0: from plain Horner where its error bound decides, else
- * from the compensated value (as level_roots trusts it). */
+/* Sign of f at x if certain, else 0: from plain Horner (the value alone: horner_fd's slope
+ * would cost soft-float firmware as much again) where its error bound decides, else from the
+ * compensated value (as level_roots trusts it). */
 static int certain_sign(const codegen_real *f, int n, codegen_real x)
 {
     codegen_real mag = magnitude(f, n, codegen_fabs(x));
@@ -794,10 +794,8 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
         }
     }
     /* Each real root refined in its chart (as the isolation reports it) within its disc. */
-    for (int i = 0; i < m; ++i) {
-        da[i] = (codegen_real)(i + 1) * a[i + 1];
-        dq[i] = (codegen_real)(i + 1) * q[i + 1];
-    }
+    derivative(a, m, 1, da);
+    derivative(q, m, 1, dq);
     int count = 0;
     for (int i = 0; i < m; ++i) {
         if (zi[i] != 0) {
