@@ -475,12 +475,12 @@ def test_roots_of_both_branches_are_genuine(overrides):
                        1e-7, "extraneous roots")
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "BUG (near-degenerate geometry): H = 0 and a = L - 1e-5 (the spring nearly collapses at "
-    "+-90 deg, r_min = 1e-5 m) with F = 51 N, g = 0: G has clusters of three roots 1.5e-4 rad "
-    "apart at +-90 deg; analyze misses the equilibria at exactly +-90 deg (roots of both "
-    "branches) and reports 89.9914/90.0086 genuine, -90.0090/-89.9910 extraneous."))
 def test_nearly_collapsed_spring():
+    """H = 0 and a = L - 1e-5 (the spring nearly collapses at +-90 deg, r_min = 1e-5 m) with
+    F = 51 N, g = 0: G has clusters of three roots 1.5e-4 rad apart at +-90 deg, roots of both
+    branches, which the root finder reports merged; the search of the other branches around
+    each reported root recovers the equilibria at exactly +-90 deg (once missed, with
+    89.9914/90.0086 genuine and -90.0090/-89.9910 extraneous reported instead)."""
     p = api.example_params(H=0.0, L=1.0, a=0.99999, m_A=1.0, m_B=1.0, m_C=1.0, k=1.0, b=0.0,
                            l_ND=0.0078125, F=51.0, g=0.0)
     genuine_scan = scan(p, +1)

@@ -502,7 +502,7 @@ def _route_sets(name, seed, params_for_seed):
 ROUTE_EXAMPLES = {"doughty": 40, "slider_crank": 25, "four_bar": 10}
 #: The polynomial route's root finder reports roots of sigma closer than this [rad] as one
 #: (README, Known limits); near theta = pi, where tau = tan(theta/2) is large, a pair
-#: 3.4e-5 rad apart is 1.7e-5 apart in 1/tau (test_polynomial_route_merges_a_pair_near_pi).
+#: 3.4e-5 rad apart is 1.7e-5 apart in 1/tau (test_polynomial_route_resolves_a_merged_pair_near_pi).
 PAIR_RESOLUTION = 5e-5
 ROUTE_EXAMPLES_SLOW = {"doughty": 3000, "slider_crank": 2000, "four_bar": 1000}
 
@@ -531,21 +531,42 @@ def test_both_routes_agree(name, params_for_seed):
     _routes_test(name, ROUTE_EXAMPLES[name], params_for_seed)
 
 
-@pytest.mark.xfail(strict=True, reason="the polynomial route's root finder merges a pair of "
-                   "roots of sigma 3.4e-5 rad apart near theta = pi (1.7e-5 apart in 1/tau): "
-                   "an equilibrium of the other assembly mode is lost beside an extraneous "
-                   "root; issue 11's faster isolation of sigma's roots is to resolve it")
-def test_polynomial_route_merges_a_pair_near_pi():
-    """Found by the slow route agreement run (slider_crank, seed 3622). sigma has both roots
-    (mpmath finds 3.1078111011 and 3.1078451459); isolation proves the second, an equilibrium
-    of the other assembly mode; the polynomial route reports only the first, extraneous."""
-    lib = _lib("slider_crank")
-    p = _near_example("slider_crank", np.random.default_rng([SEED, 4, 3622]))
-    proven = [r for r in lib.analyze(p, "isolate").roots if abs(r.theta - 3.10784514585) < 1e-9]
-    assert len(proven) == 1 and proven[0].kind == "other assembly mode" and proven[0].certified
+def _proven_pair(name, p, theta, kind):
+    """The root of kind the isolation route proves at theta, and the polynomial route's roots
+    inside its interval."""
+    lib = _lib(name)
+    proven = [r for r in lib.analyze(p, "isolate").roots if abs(r.theta - theta) < 1e-9]
+    assert len(proven) == 1 and proven[0].kind == kind and proven[0].certified
     poly = lib.analyze(p, "polynomial")
+    return poly, [r for r in poly.roots if proven[0].theta_lo <= r.theta <= proven[0].theta_hi]
+
+
+def test_polynomial_route_resolves_a_merged_pair_near_pi():
+    """Found by the slow route agreement run (slider_crank, seed 3622). sigma has both roots
+    (mpmath finds 3.1078111011 and 3.1078451459), 3.4e-5 rad apart near theta = pi (1.7e-5
+    apart in 1/tau), which the root finder reports as one root, the first, extraneous. The
+    other branches' search around each reported root finds the second, an equilibrium of the
+    other assembly mode that isolation proves."""
+    p = _near_example("slider_crank", np.random.default_rng([SEED, 4, 3622]))
+    poly, inside = _proven_pair("slider_crank", p, 3.10784514585, "other assembly mode")
     assert any(abs(r.theta - 3.1078111011) < 1e-9 and r.kind == "extraneous" for r in poly.roots)
-    assert any(proven[0].theta_lo <= r.theta <= proven[0].theta_hi for r in poly.roots)
+    assert [(r.kind, r.certified) for r in inside] == [("other assembly mode", True)]
+
+
+def test_polynomial_route_resolves_an_equilibrium_beside_another_mode():
+    """Found by the float build's comparison (four_bar, the set 240 of seed 11 within +-50 % of
+    the example): an equilibrium and a root of the other assembly mode 1.8e-5 rad apart, which
+    the root finder reports as one root; classified as the equilibrium, the other was lost."""
+    rng = np.random.default_rng(11)
+    example = _lib("four_bar").example_params()
+    names = list(_dict(example))
+    factors = 1 + 0.5 * rng.uniform(-1, 1, size=(2000, len(names)))[239]
+    p = _lib("four_bar").example_params(**{
+        n: float(np.float32(getattr(example, n) * f)) for n, f in zip(names, factors)})
+    poly, inside = _proven_pair("four_bar", p, 2.8898275604, "other assembly mode")
+    (genuine,) = [r for r in poly.roots if abs(r.theta - 2.8898091797) < 1e-9]
+    assert genuine.kind == "equilibrium" and genuine.certified
+    assert [(r.kind, r.certified) for r in inside] == [("other assembly mode", True)]
 
 
 @pytest.mark.slow

@@ -24,6 +24,10 @@
 /* How far a root the branches call extraneous is searched for a genuine twin [rad]: the root
  * finder reports roots closer than ~2e-5 (in its chart units) as one. */
 #define TWIN_RADIUS CODEGEN_R(2e-5)
+/* How far on each side of a root the finder reports [rad] the other branches are searched for a
+ * root it merged with that one: twice TWIN_RADIUS, as near theta = pi, where the finder's chart
+ * is 1/tau, a merged pair can lie 3.4e-5 rad apart. */
+#define MERGED_RADIUS (CODEGEN_R(2.0) * TWIN_RADIUS)
 /* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
  * polynomial's roots stay on their own branches: no search for a genuine twin of a root
  * the branches call extraneous, and close roots merge only with roots of their own kind. */
@@ -414,33 +418,15 @@ static doughty_status branch_kind(const codegen_real at[STATE_SIZE], doughty_roo
     return DOUGHTY_OK;
 }
 
-/* The zero of G on its own branch nearest theta (a root of another assembly mode, or of a
- * negative length): the polynomial places it only as well as its conditioning allows, and
- * no derivative of the other branches is emitted. A bracket grows outwards from theta until
- * the branch changes sign (within radius), then the Illinois method (regula falsi that
- * halves a stale end's weight: superlinear, and safe inside the bracket) to adjacent doubles. */
-static codegen_real refine_on_branch(const doughty_params *params, codegen_real theta, unsigned branch,
-                               codegen_real radius)
+/* The zero of a branch inside [lo, hi], where it takes the values g_lo and g_hi of opposite
+ * signs: the Illinois method (regula falsi that halves a stale end's weight: superlinear, and
+ * safe inside the bracket) to adjacent doubles, or BRACKET_STEPS steps. */
+static codegen_real solve_on_branch(const doughty_params *params, unsigned branch, codegen_real lo,
+                                    codegen_real hi, codegen_real g_lo, codegen_real g_hi)
 {
-    codegen_real g0, g, lo = theta, hi = theta, g_lo = 0, g_hi = 0, step;
-    int i, side = 0, found = 0;
-    if (!branch_value(params, theta, branch, &g0) || g0 == 0) {
-        return theta;
-    }
-    for (step = BRACKET_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1); step <= radius && !found; step *= CODEGEN_R(4.0)) {
-        if (branch_value(params, theta - step, branch, &g) && (g < 0) != (g0 < 0)) {
-            lo = theta - step;
-            g_lo = g;
-            g_hi = g0;
-            found = 1;
-        } else if (branch_value(params, theta + step, branch, &g) && (g < 0) != (g0 < 0)) {
-            hi = theta + step;
-            g_lo = g0;
-            g_hi = g;
-            found = 1;
-        }
-    }
-    for (i = 0; found && i < BRACKET_STEPS; ++i) {
+    codegen_real g;
+    int i, side = 0;
+    for (i = 0; i < BRACKET_STEPS; ++i) {
         codegen_real mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
         if (!(mid > lo && mid < hi)) {
             mid = lo + CODEGEN_R(0.5) * (hi - lo);
@@ -463,7 +449,68 @@ static codegen_real refine_on_branch(const doughty_params *params, codegen_real 
             side = 1;
         }
     }
-    return !found ? theta : codegen_fabs(g_lo) < codegen_fabs(g_hi) ? lo : hi;
+    return codegen_fabs(g_lo) < codegen_fabs(g_hi) ? lo : hi;
+}
+
+/* The zero of G on its own branch nearest theta (a root of another assembly mode, or of a
+ * negative length): the polynomial places it only as well as its conditioning allows, and
+ * no derivative of the other branches is emitted. A bracket grows outwards from theta until
+ * the branch changes sign (within radius), then solve_on_branch. */
+static codegen_real refine_on_branch(const doughty_params *params, codegen_real theta, unsigned branch,
+                               codegen_real radius)
+{
+    codegen_real g0, g, step;
+    if (!branch_value(params, theta, branch, &g0) || g0 == 0) {
+        return theta;
+    }
+    for (step = BRACKET_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1); step <= radius; step *= CODEGEN_R(4.0)) {
+        if (branch_value(params, theta - step, branch, &g) && (g < 0) != (g0 < 0)) {
+            return solve_on_branch(params, branch, theta - step, theta, g, g0);
+        }
+        if (branch_value(params, theta + step, branch, &g) && (g < 0) != (g0 < 0)) {
+            return solve_on_branch(params, branch, theta, theta + step, g0, g);
+        }
+    }
+    return theta;
+}
+
+/* Roots of the polynomial that the finder merged into the one it reports at theta: every branch
+ * but the one nearest zero at theta that changes sign across theta +- MERGED_RADIUS has a root
+ * there, on the side where it changes sign, which the polynomial shares. Each is found on its
+ * branch and appended to roots[*count..], unless one already listed lies within
+ * MULTIPLE_ROOT_SPREAD of it. The polynomial's distinct real roots number at most its degree,
+ * MAX_ROOTS, so a new one always has room. */
+static void add_merged_roots(const doughty_params *params, codegen_real theta, codegen_real *roots,
+                             int *count)
+{
+    codegen_real at[DOUGHTY_N_BRANCHES], below[DOUGHTY_N_BRANCHES], above[DOUGHTY_N_BRANCHES];
+    unsigned j, nearest = 0u;
+    doughty_equilibrium_branches_kernel(params, theta, at);
+    doughty_equilibrium_branches_kernel(params, theta - MERGED_RADIUS, below);
+    doughty_equilibrium_branches_kernel(params, theta + MERGED_RADIUS, above);
+    if (!all_finite(at, DOUGHTY_N_BRANCHES) || !all_finite(below, DOUGHTY_N_BRANCHES)
+        || !all_finite(above, DOUGHTY_N_BRANCHES)) {
+        return;
+    }
+    for (j = 1u; j < DOUGHTY_N_BRANCHES; ++j) {
+        nearest = codegen_fabs(at[j]) < codegen_fabs(at[nearest]) ? j : nearest;
+    }
+    for (j = 0u; j < DOUGHTY_N_BRANCHES; ++j) {
+        codegen_real root;
+        int k, listed = 0;
+        if (j == nearest || (below[j] < 0) == (above[j] < 0)) {
+            continue;
+        }
+        root = at[j] == 0 ? theta
+             : (below[j] < 0) != (at[j] < 0) ? solve_on_branch(params, j, theta - MERGED_RADIUS, theta, below[j], at[j])
+             : solve_on_branch(params, j, theta, theta + MERGED_RADIUS, at[j], above[j]);
+        for (k = 0; k < *count && !listed; ++k) {
+            listed = codegen_fabs(roots[k] - root) <= MULTIPLE_ROOT_SPREAD;
+        }
+        if (!listed && *count < DOUGHTY_MAX_ROOTS) {
+            roots[(*count)++] = root;
+        }
+    }
 }
 
 /* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
@@ -575,6 +622,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
     doughty_analysis work;
     codegen_real theta[DOUGHTY_MAX_ROOTS], source[DOUGHTY_MAX_ROOTS];
     int i, count, twinned[DOUGHTY_MAX_ROOTS];
+    int found;
     doughty_status status;
     memset(&work, 0, sizeof work);
     status = doughty_sigma(params, work.sigma);
@@ -586,6 +634,10 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
     }
     if (status != DOUGHTY_OK) {
         return status;
+    }
+    /* (In float, MULTIPLE_ROOT_SPREAD is wider than MERGED_RADIUS: nothing to look for.) */
+    for (i = 0, found = count; i < found && !EQUILIBRIA_BY_ISOLATION; ++i) {
+        add_merged_roots(params, theta[i], theta, &count);
     }
     for (i = 0; i < count; ++i) {
         int assembled;
