@@ -2,6 +2,9 @@
 from __future__ import annotations
 
 STACK_TARGET = {"double": 4096, "float": 2048}   # the issue's, for the whole analysis
+#: The entries the targets are for: the analysis in the caller's working memory (which the
+#: issue allows); the firmware measures these.
+ROUTES = ("analyze_work", "isolate_work")
 FLOAT_INSTRUCTIONS_TARGET = 150_000             # the float analysis of the example
 
 
@@ -23,7 +26,7 @@ def _entries(report: dict):
 def _analysis_stack(entry: dict) -> tuple[int, bool, str]:
     """The worst of the two routes: bytes, bounded, which route."""
     routes = {route: entry["stack"]["functions"].get(f"{prefix}_{route}")
-              for prefix in [_prefix(entry)] for route in ("analyze", "isolate")}
+              for prefix in [_prefix(entry)] for route in ROUTES}
     route, worst = max(((r, w) for r, w in routes.items() if w), key=lambda rw: rw[1]["bytes"])
     return worst["bytes"], worst["bounded"], route
 
@@ -53,7 +56,7 @@ def targets(report: dict) -> list[str]:
                 if build == "float" and instructions else "-")
         rows.append([f"`{lib}`", build, f"{_n(worst)}{'' if bounded else ' + recursion'} "
                      f"({route})", _n(limit), over, _n(measured), _n(instructions), goal])
-    return _table(["mechanism", "build", "analysis stack, worst case [B]", "target [B]",
+    return _table(["mechanism", "build", "analysis stack in the caller's working memory, worst case [B]", "target [B]",
                    "stack target", "measured high-water [B]", "analyze [instructions]",
                    "float < 150 k instructions"], rows)
 
@@ -75,15 +78,17 @@ def stack_table(report: dict) -> list[str]:
     for lib, build, entry in _entries(report):
         prefix = _prefix(entry)
         others = {n: f for n, f in entry["stack"]["functions"].items()
-                  if not n.endswith(("_analyze", "_isolate", "_batch"))}
+                  if not n.endswith(("_analyze", "_isolate", "_work", "_batch"))}
         largest = max(others, key=lambda n: others[n]["bytes"])
-        rows.append([f"`{lib}`", build, _stack_cell(entry, f"{prefix}_analyze"),
+        rows.append([f"`{lib}`", build, _stack_cell(entry, f"{prefix}_analyze_work"),
                      _n(entry["measured"].get("analyze", {}).get("stack")),
-                     _stack_cell(entry, f"{prefix}_isolate"),
+                     _stack_cell(entry, f"{prefix}_isolate_work"),
                      _n(entry["measured"].get("isolate", {}).get("stack")),
+                     _stack_cell(entry, f"{prefix}_analyze"), _stack_cell(entry, f"{prefix}_isolate"),
                      f"`{largest.removeprefix(prefix + '_')}` {_n(others[largest]['bytes'])}"])
-    return _table(["mechanism", "build", "analyze: worst case [B]", "measured [B]",
-                   "isolate: worst case [B]", "measured [B]",
+    return _table(["mechanism", "build", "analyze_work: worst case [B]", "measured [B]",
+                   "isolate_work: worst case [B]", "measured [B]",
+                   "analyze (its own workspace) [B]", "isolate (its own workspace) [B]",
                    "largest other public function [B]"], rows)
 
 
@@ -91,7 +96,7 @@ def deepest_paths(report: dict) -> list[str]:
     lines = []
     for lib, entry in report["builds"].get("double", {}).items():
         prefix = _prefix(entry)
-        for route in ("analyze", "isolate"):
+        for route in ROUTES:
             found = entry["stack"]["functions"].get(f"{prefix}_{route}")
             if found:
                 frames = ", ".join(f"{name} {_n(frame)}" for name, frame in found["path"]

@@ -374,6 +374,28 @@ doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *r
  * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
 doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result);
 
+/* The working memory of doughty_analyze and doughty_isolate besides their result: the
+ * _work entries below take it from the caller (static or heap memory, one per thread at a
+ * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
+ * keep one on their stack. Its contents on return are unspecified. */
+typedef struct doughty_workspace {
+    doughty_analysis result;      /* the result until it is complete (*result is written only on success) */
+#ifdef CODEGEN_FLOAT
+    doughty_analysis polynomial;  /* the polynomial route's, which the isolation completes */
+#endif
+    codegen_real roots[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)]; /* the root finder's */
+    codegen_real theta[DOUGHTY_MAX_ROOTS];   /* the roots it found, and more that it merged */
+    codegen_real source[DOUGHTY_MAX_ROOTS];  /* where each studied root came from */
+    int twinned[DOUGHTY_MAX_ROOTS];          /* whether polishing turned it genuine */
+    codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
+    codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+} doughty_workspace;
+/* doughty_analyze and doughty_isolate in the caller's working memory (NULL:
+ * DOUGHTY_ERR_NULL_POINTER): the same results, bit for bit. */
+doughty_status doughty_analyze_work(const doughty_params *params, doughty_analysis *result,
+                                 doughty_workspace *workspace);
+doughty_status doughty_isolate_work(const doughty_params *params, doughty_analysis *result,
+                                 doughty_workspace *workspace);
 /* doughty_analyze and doughty_isolate over count parameter sets; statuses[i] for each. */
 doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses);

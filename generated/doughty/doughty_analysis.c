@@ -617,17 +617,22 @@ static void restore_twins(const doughty_params *params, doughty_equilibrium *roo
     }
 }
 
-static doughty_status analyze_polynomial(const doughty_params *params, doughty_analysis *result)
+/* The polynomial route into *work, in ws's memory. */
+static doughty_status analyze_polynomial(const doughty_params *params, doughty_workspace *ws,
+                                         doughty_analysis *work)
 {
-    doughty_analysis work;
-    codegen_real theta[DOUGHTY_MAX_ROOTS], source[DOUGHTY_MAX_ROOTS];
-    int i, count, twinned[DOUGHTY_MAX_ROOTS];
+    codegen_real *theta = ws->theta, *source = ws->source;
+    int *twinned = ws->twinned;
+    int i, count;
     int found;
     doughty_status status;
-    memset(&work, 0, sizeof work);
-    status = doughty_sigma(params, work.sigma);
+    memset(work, 0, sizeof *work);
+    status = doughty_sigma(params, work->sigma);
     if (status == DOUGHTY_OK) {
-        status = doughty_poly_real_roots(work.sigma, theta, &count);
+        /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
+         * degree below 1, cannot occur) */
+        status = (doughty_status)codegen_poly_real_roots_work(work->sigma, DOUGHTY_DEGREE, theta,
+                                                                  &count, ws->roots);
         if (status == DOUGHTY_ERR_ZERO_POLYNOMIAL) {
             status = DOUGHTY_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
@@ -641,24 +646,23 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_a
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        source[work.n_roots] = theta[i];
-        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work.roots[work.n_roots], &assembled,
-                            &twinned[work.n_roots]);
+        source[work->n_roots] = theta[i];
+        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
+                            &twinned[work->n_roots]);
         if (status == DOUGHTY_ERR_SINGULAR_STATE) {
-            work.singular_theta[work.n_singular++] = theta[i];
+            work->singular_theta[work->n_singular++] = theta[i];
         } else if (status != DOUGHTY_OK) {
             return status;
         } else if (!assembled) {
-            work.unassembled_theta[work.n_unassembled++] = theta[i];
+            work->unassembled_theta[work->n_unassembled++] = theta[i];
         } else {
-            ++work.n_roots;
+            ++work->n_roots;
         }
     }
-    restore_twins(params, work.roots, work.n_roots, source, twinned);
+    restore_twins(params, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
-    sort_roots(work.roots, work.n_roots);
-    work.n_roots = merge_split_roots(work.roots, work.n_roots);
-    *result = work;
+    sort_roots(work->roots, work->n_roots);
+    work->n_roots = merge_split_roots(work->roots, work->n_roots);
     return DOUGHTY_OK;
 }
 
@@ -705,13 +709,15 @@ static doughty_status isolation_range(const doughty_params *params, codegen_real
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static doughty_status isolate_mode(const doughty_params *params, unsigned mode, codegen_real lo,
-                                   codegen_real hi, codegen_real below, doughty_analysis *work)
+                                   codegen_real hi, codegen_real below, doughty_workspace *ws,
+                                   doughty_analysis *work)
 {
-    codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN];
+    codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                         DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count);
+    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+                                              DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count,
+                                              ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return DOUGHTY_ERR_CAPACITY;
     }
@@ -771,39 +777,55 @@ static doughty_status isolate_mode(const doughty_params *params, unsigned mode, 
     return DOUGHTY_OK;
 }
 
-doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result)
+/* The isolation route into ws->result (parameters checked). */
+static doughty_status isolate_into(const doughty_params *params, doughty_workspace *ws)
 {
-    doughty_analysis work;
+    doughty_analysis *work = &ws->result;
     codegen_real lo, hi, below;
     unsigned mode;
     int i;
     doughty_status status;
-    if (params == NULL || result == NULL) {
+    memset(work, 0, sizeof *work);
+    status = isolation_range(params, &lo, &hi, &below);
+    for (mode = 0u; mode < DOUGHTY_N_MODES && status == DOUGHTY_OK; ++mode) {
+        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+    }
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    sort_roots(work->roots, work->n_roots);
+    for (i = 1; i < work->n_uncertain; ++i) { /* insertion sort by lo */
+        int j;
+        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
+            const doughty_interval swap = work->uncertain[j];
+            work->uncertain[j] = work->uncertain[j - 1];
+            work->uncertain[j - 1] = swap;
+        }
+    }
+    return DOUGHTY_OK;
+}
+
+doughty_status doughty_isolate_work(const doughty_params *params, doughty_analysis *result,
+                                 doughty_workspace *workspace)
+{
+    doughty_status status;
+    if (params == NULL || result == NULL || workspace == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
-    if (status != DOUGHTY_OK) {
-        return status;
+    if (status == DOUGHTY_OK) {
+        status = isolate_into(params, workspace);
     }
-    memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi, &below);
-    for (mode = 0u; mode < DOUGHTY_N_MODES && status == DOUGHTY_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, &work);
+    if (status == DOUGHTY_OK) {
+        *result = workspace->result;
     }
-    if (status != DOUGHTY_OK) {
-        return status;
-    }
-    sort_roots(work.roots, work.n_roots);
-    for (i = 1; i < work.n_uncertain; ++i) { /* insertion sort by lo */
-        int j;
-        for (j = i; j > 0 && work.uncertain[j - 1].lo > work.uncertain[j].lo; --j) {
-            const doughty_interval swap = work.uncertain[j];
-            work.uncertain[j] = work.uncertain[j - 1];
-            work.uncertain[j - 1] = swap;
-        }
-    }
-    *result = work;
-    return DOUGHTY_OK;
+    return status;
+}
+
+doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *result)
+{
+    doughty_workspace workspace;
+    return doughty_isolate_work(params, result, &workspace);
 }
 
 #if EQUILIBRIA_BY_ISOLATION
@@ -813,12 +835,12 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
  * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
  * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
  * angles where the mechanism is singular or cannot be assembled. */
-static doughty_status complete_by_isolation(const doughty_params *params,
-                                            const doughty_analysis *polynomial,
-                                            doughty_analysis *result)
+static doughty_status complete_by_isolation(const doughty_params *params, doughty_workspace *ws)
 {
+    const doughty_analysis *polynomial = &ws->polynomial;
+    doughty_analysis *result = &ws->result;
     int i;
-    const doughty_status status = doughty_isolate(params, result);
+    const doughty_status status = isolate_into(params, ws);
     if (status != DOUGHTY_OK) {
         return status;
     }
@@ -839,24 +861,36 @@ static doughty_status complete_by_isolation(const doughty_params *params,
 }
 #endif
 
-doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result)
+doughty_status doughty_analyze_work(const doughty_params *params, doughty_analysis *result,
+                                 doughty_workspace *workspace)
 {
     doughty_status status;
-    if (params == NULL || result == NULL) {
+    if (params == NULL || result == NULL || workspace == NULL) {
         return DOUGHTY_ERR_NULL_POINTER;
     }
     status = doughty_check_params(params);
 #if EQUILIBRIA_BY_ISOLATION
-    {
-        doughty_analysis polynomial;
-        if (status == DOUGHTY_OK) {
-            status = analyze_polynomial(params, &polynomial);
-        }
-        return status != DOUGHTY_OK ? status : complete_by_isolation(params, &polynomial, result);
+    if (status == DOUGHTY_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->polynomial);
+    }
+    if (status == DOUGHTY_OK) {
+        status = complete_by_isolation(params, workspace);
     }
 #else
-    return status != DOUGHTY_OK ? status : analyze_polynomial(params, result);
+    if (status == DOUGHTY_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->result);
+    }
 #endif
+    if (status == DOUGHTY_OK) {
+        *result = workspace->result;
+    }
+    return status;
+}
+
+doughty_status doughty_analyze(const doughty_params *params, doughty_analysis *result)
+{
+    doughty_workspace workspace;
+    return doughty_analyze_work(params, result, &workspace);
 }
 
 doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,

@@ -370,6 +370,28 @@ four_bar_status four_bar_analyze(const four_bar_params *params, four_bar_analysi
  * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
 four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysis *result);
 
+/* The working memory of four_bar_analyze and four_bar_isolate besides their result: the
+ * _work entries below take it from the caller (static or heap memory, one per thread at a
+ * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
+ * keep one on their stack. Its contents on return are unspecified. */
+typedef struct four_bar_workspace {
+    four_bar_analysis result;      /* the result until it is complete (*result is written only on success) */
+#ifdef CODEGEN_FLOAT
+    four_bar_analysis polynomial;  /* the polynomial route's, which the isolation completes */
+#endif
+    codegen_real roots[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)]; /* the root finder's */
+    codegen_real theta[FOUR_BAR_MAX_ROOTS];   /* the roots it found, and more that it merged */
+    codegen_real source[FOUR_BAR_MAX_ROOTS];  /* where each studied root came from */
+    int twinned[FOUR_BAR_MAX_ROOTS];          /* whether polishing turned it genuine */
+    codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
+    codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+} four_bar_workspace;
+/* four_bar_analyze and four_bar_isolate in the caller's working memory (NULL:
+ * FOUR_BAR_ERR_NULL_POINTER): the same results, bit for bit. */
+four_bar_status four_bar_analyze_work(const four_bar_params *params, four_bar_analysis *result,
+                                 four_bar_workspace *workspace);
+four_bar_status four_bar_isolate_work(const four_bar_params *params, four_bar_analysis *result,
+                                 four_bar_workspace *workspace);
 /* four_bar_analyze and four_bar_isolate over count parameter sets; statuses[i] for each. */
 four_bar_status four_bar_analyze_batch(size_t count, const four_bar_params *params,
                                   four_bar_analysis *results, four_bar_status *statuses);

@@ -641,17 +641,22 @@ static void restore_twins(const four_bar_params *params, four_bar_equilibrium *r
     }
 }
 
-static four_bar_status analyze_polynomial(const four_bar_params *params, four_bar_analysis *result)
+/* The polynomial route into *work, in ws's memory. */
+static four_bar_status analyze_polynomial(const four_bar_params *params, four_bar_workspace *ws,
+                                         four_bar_analysis *work)
 {
-    four_bar_analysis work;
-    codegen_real theta[FOUR_BAR_MAX_ROOTS], source[FOUR_BAR_MAX_ROOTS];
-    int i, count, twinned[FOUR_BAR_MAX_ROOTS];
+    codegen_real *theta = ws->theta, *source = ws->source;
+    int *twinned = ws->twinned;
+    int i, count;
     int found;
     four_bar_status status;
-    memset(&work, 0, sizeof work);
-    status = four_bar_sigma(params, work.sigma);
+    memset(work, 0, sizeof *work);
+    status = four_bar_sigma(params, work->sigma);
     if (status == FOUR_BAR_OK) {
-        status = four_bar_poly_real_roots(work.sigma, theta, &count);
+        /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
+         * degree below 1, cannot occur) */
+        status = (four_bar_status)codegen_poly_real_roots_work(work->sigma, FOUR_BAR_DEGREE, theta,
+                                                                  &count, ws->roots);
         if (status == FOUR_BAR_ERR_ZERO_POLYNOMIAL) {
             status = FOUR_BAR_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
@@ -665,24 +670,23 @@ static four_bar_status analyze_polynomial(const four_bar_params *params, four_ba
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        source[work.n_roots] = theta[i];
-        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work.roots[work.n_roots], &assembled,
-                            &twinned[work.n_roots]);
+        source[work->n_roots] = theta[i];
+        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
+                            &twinned[work->n_roots]);
         if (status == FOUR_BAR_ERR_SINGULAR_STATE) {
-            work.singular_theta[work.n_singular++] = theta[i];
+            work->singular_theta[work->n_singular++] = theta[i];
         } else if (status != FOUR_BAR_OK) {
             return status;
         } else if (!assembled) {
-            work.unassembled_theta[work.n_unassembled++] = theta[i];
+            work->unassembled_theta[work->n_unassembled++] = theta[i];
         } else {
-            ++work.n_roots;
+            ++work->n_roots;
         }
     }
-    restore_twins(params, work.roots, work.n_roots, source, twinned);
+    restore_twins(params, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
-    sort_roots(work.roots, work.n_roots);
-    work.n_roots = merge_split_roots(work.roots, work.n_roots);
-    *result = work;
+    sort_roots(work->roots, work->n_roots);
+    work->n_roots = merge_split_roots(work->roots, work->n_roots);
     return FOUR_BAR_OK;
 }
 
@@ -729,13 +733,15 @@ static four_bar_status isolation_range(const four_bar_params *params, codegen_re
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static four_bar_status isolate_mode(const four_bar_params *params, unsigned mode, codegen_real lo,
-                                   codegen_real hi, codegen_real below, four_bar_analysis *work)
+                                   codegen_real hi, codegen_real below, four_bar_workspace *ws,
+                                   four_bar_analysis *work)
 {
-    codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN];
+    codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                         FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN, &count);
+    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+                                              FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN, &count,
+                                              ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return FOUR_BAR_ERR_CAPACITY;
     }
@@ -795,39 +801,55 @@ static four_bar_status isolate_mode(const four_bar_params *params, unsigned mode
     return FOUR_BAR_OK;
 }
 
-four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysis *result)
+/* The isolation route into ws->result (parameters checked). */
+static four_bar_status isolate_into(const four_bar_params *params, four_bar_workspace *ws)
 {
-    four_bar_analysis work;
+    four_bar_analysis *work = &ws->result;
     codegen_real lo, hi, below;
     unsigned mode;
     int i;
     four_bar_status status;
-    if (params == NULL || result == NULL) {
+    memset(work, 0, sizeof *work);
+    status = isolation_range(params, &lo, &hi, &below);
+    for (mode = 0u; mode < FOUR_BAR_N_MODES && status == FOUR_BAR_OK; ++mode) {
+        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+    }
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    sort_roots(work->roots, work->n_roots);
+    for (i = 1; i < work->n_uncertain; ++i) { /* insertion sort by lo */
+        int j;
+        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
+            const four_bar_interval swap = work->uncertain[j];
+            work->uncertain[j] = work->uncertain[j - 1];
+            work->uncertain[j - 1] = swap;
+        }
+    }
+    return FOUR_BAR_OK;
+}
+
+four_bar_status four_bar_isolate_work(const four_bar_params *params, four_bar_analysis *result,
+                                 four_bar_workspace *workspace)
+{
+    four_bar_status status;
+    if (params == NULL || result == NULL || workspace == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
-    if (status != FOUR_BAR_OK) {
-        return status;
+    if (status == FOUR_BAR_OK) {
+        status = isolate_into(params, workspace);
     }
-    memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi, &below);
-    for (mode = 0u; mode < FOUR_BAR_N_MODES && status == FOUR_BAR_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, &work);
+    if (status == FOUR_BAR_OK) {
+        *result = workspace->result;
     }
-    if (status != FOUR_BAR_OK) {
-        return status;
-    }
-    sort_roots(work.roots, work.n_roots);
-    for (i = 1; i < work.n_uncertain; ++i) { /* insertion sort by lo */
-        int j;
-        for (j = i; j > 0 && work.uncertain[j - 1].lo > work.uncertain[j].lo; --j) {
-            const four_bar_interval swap = work.uncertain[j];
-            work.uncertain[j] = work.uncertain[j - 1];
-            work.uncertain[j - 1] = swap;
-        }
-    }
-    *result = work;
-    return FOUR_BAR_OK;
+    return status;
+}
+
+four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysis *result)
+{
+    four_bar_workspace workspace;
+    return four_bar_isolate_work(params, result, &workspace);
 }
 
 #if EQUILIBRIA_BY_ISOLATION
@@ -837,12 +859,12 @@ four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysi
  * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
  * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
  * angles where the mechanism is singular or cannot be assembled. */
-static four_bar_status complete_by_isolation(const four_bar_params *params,
-                                            const four_bar_analysis *polynomial,
-                                            four_bar_analysis *result)
+static four_bar_status complete_by_isolation(const four_bar_params *params, four_bar_workspace *ws)
 {
+    const four_bar_analysis *polynomial = &ws->polynomial;
+    four_bar_analysis *result = &ws->result;
     int i;
-    const four_bar_status status = four_bar_isolate(params, result);
+    const four_bar_status status = isolate_into(params, ws);
     if (status != FOUR_BAR_OK) {
         return status;
     }
@@ -863,24 +885,36 @@ static four_bar_status complete_by_isolation(const four_bar_params *params,
 }
 #endif
 
-four_bar_status four_bar_analyze(const four_bar_params *params, four_bar_analysis *result)
+four_bar_status four_bar_analyze_work(const four_bar_params *params, four_bar_analysis *result,
+                                 four_bar_workspace *workspace)
 {
     four_bar_status status;
-    if (params == NULL || result == NULL) {
+    if (params == NULL || result == NULL || workspace == NULL) {
         return FOUR_BAR_ERR_NULL_POINTER;
     }
     status = four_bar_check_params(params);
 #if EQUILIBRIA_BY_ISOLATION
-    {
-        four_bar_analysis polynomial;
-        if (status == FOUR_BAR_OK) {
-            status = analyze_polynomial(params, &polynomial);
-        }
-        return status != FOUR_BAR_OK ? status : complete_by_isolation(params, &polynomial, result);
+    if (status == FOUR_BAR_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->polynomial);
+    }
+    if (status == FOUR_BAR_OK) {
+        status = complete_by_isolation(params, workspace);
     }
 #else
-    return status != FOUR_BAR_OK ? status : analyze_polynomial(params, result);
+    if (status == FOUR_BAR_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->result);
+    }
 #endif
+    if (status == FOUR_BAR_OK) {
+        *result = workspace->result;
+    }
+    return status;
+}
+
+four_bar_status four_bar_analyze(const four_bar_params *params, four_bar_analysis *result)
+{
+    four_bar_workspace workspace;
+    return four_bar_analyze_work(params, result, &workspace);
 }
 
 four_bar_status four_bar_analyze_batch(size_t count, const four_bar_params *params,

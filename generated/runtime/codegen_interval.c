@@ -62,8 +62,6 @@ codegen_iv codegen_iv_sin(codegen_iv a)
 /* ---- isolation ---- */
 
 #define SMOOTHNESS_FLAGS (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)
-/* Deeper than the ~60 halvings from any interval of doubles down to RESOLUTION. */
-#define STACK_DEPTH 96
 /* Boxes narrower than this many ulps of their ends are not split further. */
 #define RESOLUTION CODEGEN_R(16.0)
 /* Refinement steps (safeguarded Newton: ~5 usually reach rounding). */
@@ -85,10 +83,7 @@ typedef struct isolation {
     unsigned pending_flags;
 } isolation;
 
-typedef struct box {
-    codegen_real lo, hi;
-    int sign_lo, sign_hi;     /* G's decided sign at each end, 0 undecided, or UNKNOWN_SIGN */
-} box;
+typedef codegen_isolation_box box;
 
 static int enclose(isolation *s, codegen_real lo, codegen_real hi, codegen_iv *g, codegen_iv *dg,
                    unsigned *flags)
@@ -216,14 +211,12 @@ static int refine(isolation *s, codegen_real lo, codegen_real hi, int sign_lo)
     return status != 0 ? status : append(s, lo, hi, theta, CODEGEN_ISOLATED_ROOT, 1);
 }
 
-static int flush(isolation *s);
-
-/* Decide [lo, hi] as a whole: 1 in *decided if it holds no zero or one certified zero
- * (then appended), 0 if the enclosures cannot tell. */
-static int decide(isolation *s, box *b, codegen_iv dg, unsigned flags, int *decided)
+/* Whether [lo, hi] is decided as a whole: 1 in *decided if it holds no zero or one, 0 if the
+ * enclosures cannot tell; *zero = 1 if one, proven (G monotone, opposite signs at the ends). */
+static int judge(isolation *s, box *b, codegen_iv dg, unsigned flags, int *decided, int *zero)
 {
     int status;
-    *decided = 0;
+    *decided = *zero = 0;
     if ((flags & SMOOTHNESS_FLAGS) || codegen_iv_has_zero(dg)) {
         return 0;
     }
@@ -232,21 +225,19 @@ static int decide(isolation *s, box *b, codegen_iv dg, unsigned flags, int *deci
         return status;
     }
     *decided = 1;
-    if (b->sign_lo == b->sign_hi) {
-        return 0;
-    }
-    status = flush(s); /* unresolved boxes to the left come first */
-    return status != 0 ? status : refine(s, b->lo, b->hi, b->sign_lo);
+    *zero = b->sign_lo != b->sign_hi;
+    return 0;
 }
 
 /* The pending run of unresolved boxes, merged: certified if the merged interval now
- * decides (a zero on a split point lands here), else a cluster or a singular interval. */
+ * decides (a zero on a split point lands here), else a cluster or a singular interval.
+ * (Nothing is pending while it is decided: no recursion, so the stack it takes is bounded.) */
 static int flush(isolation *s)
 {
     box b;
     codegen_iv g, dg;
     unsigned flags;
-    int status, decided;
+    int status, decided = 0, zero = 0;
     if (!s->pending) {
         return 0;
     }
@@ -256,10 +247,10 @@ static int flush(isolation *s)
     b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
     status = enclose(s, b.lo, b.hi, &g, &dg, &flags);
     if (status == 0) {
-        status = decide(s, &b, dg, flags | s->pending_flags, &decided);
+        status = judge(s, &b, dg, flags | s->pending_flags, &decided, &zero);
     }
     if (status != 0 || decided) {
-        return status;
+        return status != 0 || !zero ? status : refine(s, b.lo, b.hi, b.sign_lo);
     }
     status = end_signs(s, &b);
     return status != 0 ? status
@@ -267,6 +258,18 @@ static int flush(isolation *s)
                   ((flags | s->pending_flags) & SMOOTHNESS_FLAGS) != 0u ? CODEGEN_ISOLATED_SINGULAR
                                                                          : CODEGEN_ISOLATED_CLUSTER,
                   b.sign_lo * b.sign_hi < 0);
+}
+
+/* judge, and a proven zero refined after the unresolved boxes to its left. */
+static int decide(isolation *s, box *b, codegen_iv dg, unsigned flags, int *decided)
+{
+    int zero;
+    int status = judge(s, b, dg, flags, decided, &zero);
+    if (status != 0 || !zero) {
+        return status;
+    }
+    status = flush(s);
+    return status != 0 ? status : refine(s, b->lo, b->hi, b->sign_lo);
 }
 
 static int unresolved(isolation *s, const box *b, unsigned flags)
@@ -383,8 +386,15 @@ static void start(isolation *s, codegen_enclosure enclose_fn, const void *contex
 int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, codegen_real lo,
                     codegen_real hi, codegen_isolated *out, int capacity, int *count)
 {
+    box stack[CODEGEN_ISOLATE_DEPTH];
+    return codegen_isolate_work(enclose_fn, context, mode, lo, hi, out, capacity, count, stack);
+}
+
+int codegen_isolate_work(codegen_enclosure enclose_fn, const void *context, unsigned mode,
+                         codegen_real lo, codegen_real hi, codegen_isolated *out, int capacity,
+                         int *count, codegen_isolation_box *stack)
+{
     isolation s;
-    box stack[STACK_DEPTH];
     int top = 0, status = 0;
     start(&s, enclose_fn, context, mode, out, capacity);
     stack[top].lo = lo;
@@ -399,7 +409,7 @@ int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned 
         if (status != 0 || !split) {
             continue;
         }
-        if (top + 2 > STACK_DEPTH) { /* cannot happen above RESOLUTION; never drop a box */
+        if (top + 2 > CODEGEN_ISOLATE_DEPTH) { /* cannot happen above RESOLUTION; never drop a box */
             status = unresolved(&s, &b, 0u);
             continue;
         }

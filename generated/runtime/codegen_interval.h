@@ -281,9 +281,27 @@ typedef struct codegen_isolated {
  * enclosures of G (natural and mean-value) keep away from 0, certify what is monotone with a
  * sign change, and report what double precision cannot decide as a CLUSTER or SINGULAR
  * interval. Nothing is dropped: every zero of G in [lo, hi] lies in some reported interval.
- * out receives *count entries (at most capacity). Reentrant; stack use ~2 KiB. */
+ * out receives *count entries (at most capacity). Reentrant; its boxes waiting to be
+ * examined (CODEGEN_ISOLATE_DEPTH of them, 2.3 KiB in double) are on the stack:
+ * codegen_isolate_work takes them from the caller. */
 int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mode, codegen_real lo,
                     codegen_real hi, codegen_isolated *out, int capacity, int *count);
+
+/* A box of codegen_isolate's subdivision waiting to be examined. */
+typedef struct codegen_isolation_box {
+    codegen_real lo, hi;
+    int sign_lo, sign_hi;   /* G's decided sign at each end, 0 undecided, or unknown (2) */
+} codegen_isolation_box;
+
+/* Boxes waiting at once: deeper than the ~60 halvings from any interval of doubles down to
+ * the resolution; a box beyond it is reported undecided, never dropped. */
+#define CODEGEN_ISOLATE_DEPTH 96
+
+/* codegen_isolate with its boxes in the caller's memory: stack has room for
+ * CODEGEN_ISOLATE_DEPTH (contents on return unspecified). The same results, bit for bit. */
+int codegen_isolate_work(codegen_enclosure enclose, const void *context, unsigned mode,
+                         codegen_real lo, codegen_real hi, codegen_isolated *out, int capacity,
+                         int *count, codegen_isolation_box *stack);
 
 /* *certified = 1 if [lo, hi] provably holds exactly one zero of G, a simple one (G changes
  * sign at the ends, G' keeps its sign between), else 0. Returns 0 or the enclosure's status. */

@@ -370,6 +370,28 @@ slider_crank_status slider_crank_analyze(const slider_crank_params *params, slid
  * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
 slider_crank_status slider_crank_isolate(const slider_crank_params *params, slider_crank_analysis *result);
 
+/* The working memory of slider_crank_analyze and slider_crank_isolate besides their result: the
+ * _work entries below take it from the caller (static or heap memory, one per thread at a
+ * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
+ * keep one on their stack. Its contents on return are unspecified. */
+typedef struct slider_crank_workspace {
+    slider_crank_analysis result;      /* the result until it is complete (*result is written only on success) */
+#ifdef CODEGEN_FLOAT
+    slider_crank_analysis polynomial;  /* the polynomial route's, which the isolation completes */
+#endif
+    codegen_real roots[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)]; /* the root finder's */
+    codegen_real theta[SLIDER_CRANK_MAX_ROOTS];   /* the roots it found, and more that it merged */
+    codegen_real source[SLIDER_CRANK_MAX_ROOTS];  /* where each studied root came from */
+    int twinned[SLIDER_CRANK_MAX_ROOTS];          /* whether polishing turned it genuine */
+    codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
+    codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+} slider_crank_workspace;
+/* slider_crank_analyze and slider_crank_isolate in the caller's working memory (NULL:
+ * SLIDER_CRANK_ERR_NULL_POINTER): the same results, bit for bit. */
+slider_crank_status slider_crank_analyze_work(const slider_crank_params *params, slider_crank_analysis *result,
+                                 slider_crank_workspace *workspace);
+slider_crank_status slider_crank_isolate_work(const slider_crank_params *params, slider_crank_analysis *result,
+                                 slider_crank_workspace *workspace);
 /* slider_crank_analyze and slider_crank_isolate over count parameter sets; statuses[i] for each. */
 slider_crank_status slider_crank_analyze_batch(size_t count, const slider_crank_params *params,
                                   slider_crank_analysis *results, slider_crank_status *statuses);

@@ -641,17 +641,22 @@ static void restore_twins(const slider_crank_params *params, slider_crank_equili
     }
 }
 
-static slider_crank_status analyze_polynomial(const slider_crank_params *params, slider_crank_analysis *result)
+/* The polynomial route into *work, in ws's memory. */
+static slider_crank_status analyze_polynomial(const slider_crank_params *params, slider_crank_workspace *ws,
+                                         slider_crank_analysis *work)
 {
-    slider_crank_analysis work;
-    codegen_real theta[SLIDER_CRANK_MAX_ROOTS], source[SLIDER_CRANK_MAX_ROOTS];
-    int i, count, twinned[SLIDER_CRANK_MAX_ROOTS];
+    codegen_real *theta = ws->theta, *source = ws->source;
+    int *twinned = ws->twinned;
+    int i, count;
     int found;
     slider_crank_status status;
-    memset(&work, 0, sizeof work);
-    status = slider_crank_sigma(params, work.sigma);
+    memset(work, 0, sizeof *work);
+    status = slider_crank_sigma(params, work->sigma);
     if (status == SLIDER_CRANK_OK) {
-        status = slider_crank_poly_real_roots(work.sigma, theta, &count);
+        /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
+         * degree below 1, cannot occur) */
+        status = (slider_crank_status)codegen_poly_real_roots_work(work->sigma, SLIDER_CRANK_DEGREE, theta,
+                                                                  &count, ws->roots);
         if (status == SLIDER_CRANK_ERR_ZERO_POLYNOMIAL) {
             status = SLIDER_CRANK_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
@@ -665,24 +670,23 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        source[work.n_roots] = theta[i];
-        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work.roots[work.n_roots], &assembled,
-                            &twinned[work.n_roots]);
+        source[work->n_roots] = theta[i];
+        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
+                            &twinned[work->n_roots]);
         if (status == SLIDER_CRANK_ERR_SINGULAR_STATE) {
-            work.singular_theta[work.n_singular++] = theta[i];
+            work->singular_theta[work->n_singular++] = theta[i];
         } else if (status != SLIDER_CRANK_OK) {
             return status;
         } else if (!assembled) {
-            work.unassembled_theta[work.n_unassembled++] = theta[i];
+            work->unassembled_theta[work->n_unassembled++] = theta[i];
         } else {
-            ++work.n_roots;
+            ++work->n_roots;
         }
     }
-    restore_twins(params, work.roots, work.n_roots, source, twinned);
+    restore_twins(params, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
-    sort_roots(work.roots, work.n_roots);
-    work.n_roots = merge_split_roots(work.roots, work.n_roots);
-    *result = work;
+    sort_roots(work->roots, work->n_roots);
+    work->n_roots = merge_split_roots(work->roots, work->n_roots);
     return SLIDER_CRANK_OK;
 }
 
@@ -729,13 +733,15 @@ static slider_crank_status isolation_range(const slider_crank_params *params, co
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static slider_crank_status isolate_mode(const slider_crank_params *params, unsigned mode, codegen_real lo,
-                                   codegen_real hi, codegen_real below, slider_crank_analysis *work)
+                                   codegen_real hi, codegen_real below, slider_crank_workspace *ws,
+                                   slider_crank_analysis *work)
 {
-    codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN];
+    codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                         SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count);
+    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+                                              SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count,
+                                              ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return SLIDER_CRANK_ERR_CAPACITY;
     }
@@ -795,39 +801,55 @@ static slider_crank_status isolate_mode(const slider_crank_params *params, unsig
     return SLIDER_CRANK_OK;
 }
 
-slider_crank_status slider_crank_isolate(const slider_crank_params *params, slider_crank_analysis *result)
+/* The isolation route into ws->result (parameters checked). */
+static slider_crank_status isolate_into(const slider_crank_params *params, slider_crank_workspace *ws)
 {
-    slider_crank_analysis work;
+    slider_crank_analysis *work = &ws->result;
     codegen_real lo, hi, below;
     unsigned mode;
     int i;
     slider_crank_status status;
-    if (params == NULL || result == NULL) {
+    memset(work, 0, sizeof *work);
+    status = isolation_range(params, &lo, &hi, &below);
+    for (mode = 0u; mode < SLIDER_CRANK_N_MODES && status == SLIDER_CRANK_OK; ++mode) {
+        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+    }
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    sort_roots(work->roots, work->n_roots);
+    for (i = 1; i < work->n_uncertain; ++i) { /* insertion sort by lo */
+        int j;
+        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
+            const slider_crank_interval swap = work->uncertain[j];
+            work->uncertain[j] = work->uncertain[j - 1];
+            work->uncertain[j - 1] = swap;
+        }
+    }
+    return SLIDER_CRANK_OK;
+}
+
+slider_crank_status slider_crank_isolate_work(const slider_crank_params *params, slider_crank_analysis *result,
+                                 slider_crank_workspace *workspace)
+{
+    slider_crank_status status;
+    if (params == NULL || result == NULL || workspace == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
-    if (status != SLIDER_CRANK_OK) {
-        return status;
+    if (status == SLIDER_CRANK_OK) {
+        status = isolate_into(params, workspace);
     }
-    memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi, &below);
-    for (mode = 0u; mode < SLIDER_CRANK_N_MODES && status == SLIDER_CRANK_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, &work);
+    if (status == SLIDER_CRANK_OK) {
+        *result = workspace->result;
     }
-    if (status != SLIDER_CRANK_OK) {
-        return status;
-    }
-    sort_roots(work.roots, work.n_roots);
-    for (i = 1; i < work.n_uncertain; ++i) { /* insertion sort by lo */
-        int j;
-        for (j = i; j > 0 && work.uncertain[j - 1].lo > work.uncertain[j].lo; --j) {
-            const slider_crank_interval swap = work.uncertain[j];
-            work.uncertain[j] = work.uncertain[j - 1];
-            work.uncertain[j - 1] = swap;
-        }
-    }
-    *result = work;
-    return SLIDER_CRANK_OK;
+    return status;
+}
+
+slider_crank_status slider_crank_isolate(const slider_crank_params *params, slider_crank_analysis *result)
+{
+    slider_crank_workspace workspace;
+    return slider_crank_isolate_work(params, result, &workspace);
 }
 
 #if EQUILIBRIA_BY_ISOLATION
@@ -837,12 +859,12 @@ slider_crank_status slider_crank_isolate(const slider_crank_params *params, slid
  * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
  * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
  * angles where the mechanism is singular or cannot be assembled. */
-static slider_crank_status complete_by_isolation(const slider_crank_params *params,
-                                            const slider_crank_analysis *polynomial,
-                                            slider_crank_analysis *result)
+static slider_crank_status complete_by_isolation(const slider_crank_params *params, slider_crank_workspace *ws)
 {
+    const slider_crank_analysis *polynomial = &ws->polynomial;
+    slider_crank_analysis *result = &ws->result;
     int i;
-    const slider_crank_status status = slider_crank_isolate(params, result);
+    const slider_crank_status status = isolate_into(params, ws);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
@@ -863,24 +885,36 @@ static slider_crank_status complete_by_isolation(const slider_crank_params *para
 }
 #endif
 
-slider_crank_status slider_crank_analyze(const slider_crank_params *params, slider_crank_analysis *result)
+slider_crank_status slider_crank_analyze_work(const slider_crank_params *params, slider_crank_analysis *result,
+                                 slider_crank_workspace *workspace)
 {
     slider_crank_status status;
-    if (params == NULL || result == NULL) {
+    if (params == NULL || result == NULL || workspace == NULL) {
         return SLIDER_CRANK_ERR_NULL_POINTER;
     }
     status = slider_crank_check_params(params);
 #if EQUILIBRIA_BY_ISOLATION
-    {
-        slider_crank_analysis polynomial;
-        if (status == SLIDER_CRANK_OK) {
-            status = analyze_polynomial(params, &polynomial);
-        }
-        return status != SLIDER_CRANK_OK ? status : complete_by_isolation(params, &polynomial, result);
+    if (status == SLIDER_CRANK_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->polynomial);
+    }
+    if (status == SLIDER_CRANK_OK) {
+        status = complete_by_isolation(params, workspace);
     }
 #else
-    return status != SLIDER_CRANK_OK ? status : analyze_polynomial(params, result);
+    if (status == SLIDER_CRANK_OK) {
+        status = analyze_polynomial(params, workspace, &workspace->result);
+    }
 #endif
+    if (status == SLIDER_CRANK_OK) {
+        *result = workspace->result;
+    }
+    return status;
+}
+
+slider_crank_status slider_crank_analyze(const slider_crank_params *params, slider_crank_analysis *result)
+{
+    slider_crank_workspace workspace;
+    return slider_crank_analyze_work(params, result, &workspace);
 }
 
 slider_crank_status slider_crank_analyze_batch(size_t count, const slider_crank_params *params,

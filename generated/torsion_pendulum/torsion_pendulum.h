@@ -278,6 +278,21 @@ torsion_pendulum_status torsion_pendulum_analyze(const torsion_pendulum_params *
  * decide is listed in uncertain[], never dropped. No extraneous roots arise. */
 torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result);
 
+/* The working memory of torsion_pendulum_analyze and torsion_pendulum_isolate besides their result: the
+ * _work entries below take it from the caller (static or heap memory, one per thread at a
+ * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
+ * keep one on their stack. Its contents on return are unspecified. */
+typedef struct torsion_pendulum_workspace {
+    torsion_pendulum_analysis result;      /* the result until it is complete (*result is written only on success) */
+    codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */
+    codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+} torsion_pendulum_workspace;
+/* torsion_pendulum_analyze and torsion_pendulum_isolate in the caller's working memory (NULL:
+ * TORSION_PENDULUM_ERR_NULL_POINTER): the same results, bit for bit. */
+torsion_pendulum_status torsion_pendulum_analyze_work(const torsion_pendulum_params *params, torsion_pendulum_analysis *result,
+                                 torsion_pendulum_workspace *workspace);
+torsion_pendulum_status torsion_pendulum_isolate_work(const torsion_pendulum_params *params, torsion_pendulum_analysis *result,
+                                 torsion_pendulum_workspace *workspace);
 /* torsion_pendulum_analyze and torsion_pendulum_isolate over count parameter sets; statuses[i] for each. */
 torsion_pendulum_status torsion_pendulum_analyze_batch(size_t count, const torsion_pendulum_params *params,
                                   torsion_pendulum_analysis *results, torsion_pendulum_status *statuses);

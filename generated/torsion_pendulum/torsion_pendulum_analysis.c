@@ -225,13 +225,15 @@ static torsion_pendulum_status isolation_range(const torsion_pendulum_params *pa
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
 static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *params, unsigned mode, codegen_real lo,
-                                   codegen_real hi, codegen_real below, torsion_pendulum_analysis *work)
+                                   codegen_real hi, codegen_real below, torsion_pendulum_workspace *ws,
+                                   torsion_pendulum_analysis *work)
 {
-    codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN];
+    codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate(enclose, params, mode, lo, hi, found,
-                                         TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count);
+    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+                                              TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count,
+                                              ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return TORSION_PENDULUM_ERR_CAPACITY;
     }
@@ -291,44 +293,67 @@ static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *param
     return TORSION_PENDULUM_OK;
 }
 
-torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result)
+/* The isolation route into ws->result (parameters checked). */
+static torsion_pendulum_status isolate_into(const torsion_pendulum_params *params, torsion_pendulum_workspace *ws)
 {
-    torsion_pendulum_analysis work;
+    torsion_pendulum_analysis *work = &ws->result;
     codegen_real lo, hi, below;
     unsigned mode;
     int i;
     torsion_pendulum_status status;
-    if (params == NULL || result == NULL) {
+    memset(work, 0, sizeof *work);
+    status = isolation_range(params, &lo, &hi, &below);
+    for (mode = 0u; mode < TORSION_PENDULUM_N_MODES && status == TORSION_PENDULUM_OK; ++mode) {
+        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+    }
+    if (status != TORSION_PENDULUM_OK) {
+        return status;
+    }
+    sort_roots(work->roots, work->n_roots);
+    for (i = 1; i < work->n_uncertain; ++i) { /* insertion sort by lo */
+        int j;
+        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
+            const torsion_pendulum_interval swap = work->uncertain[j];
+            work->uncertain[j] = work->uncertain[j - 1];
+            work->uncertain[j - 1] = swap;
+        }
+    }
+    return TORSION_PENDULUM_OK;
+}
+
+torsion_pendulum_status torsion_pendulum_isolate_work(const torsion_pendulum_params *params, torsion_pendulum_analysis *result,
+                                 torsion_pendulum_workspace *workspace)
+{
+    torsion_pendulum_status status;
+    if (params == NULL || result == NULL || workspace == NULL) {
         return TORSION_PENDULUM_ERR_NULL_POINTER;
     }
     status = torsion_pendulum_check_params(params);
-    if (status != TORSION_PENDULUM_OK) {
-        return status;
+    if (status == TORSION_PENDULUM_OK) {
+        status = isolate_into(params, workspace);
     }
-    memset(&work, 0, sizeof work);
-    status = isolation_range(params, &lo, &hi, &below);
-    for (mode = 0u; mode < TORSION_PENDULUM_N_MODES && status == TORSION_PENDULUM_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, &work);
+    if (status == TORSION_PENDULUM_OK) {
+        *result = workspace->result;
     }
-    if (status != TORSION_PENDULUM_OK) {
-        return status;
-    }
-    sort_roots(work.roots, work.n_roots);
-    for (i = 1; i < work.n_uncertain; ++i) { /* insertion sort by lo */
-        int j;
-        for (j = i; j > 0 && work.uncertain[j - 1].lo > work.uncertain[j].lo; --j) {
-            const torsion_pendulum_interval swap = work.uncertain[j];
-            work.uncertain[j] = work.uncertain[j - 1];
-            work.uncertain[j - 1] = swap;
-        }
-    }
-    *result = work;
-    return TORSION_PENDULUM_OK;
+    return status;
+}
+
+torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *params, torsion_pendulum_analysis *result)
+{
+    torsion_pendulum_workspace workspace;
+    return torsion_pendulum_isolate_work(params, result, &workspace);
+}
+
+torsion_pendulum_status torsion_pendulum_analyze_work(const torsion_pendulum_params *params, torsion_pendulum_analysis *result,
+                                 torsion_pendulum_workspace *workspace)
+{
+    return torsion_pendulum_isolate_work(params, result, workspace);
 }
 
 torsion_pendulum_status torsion_pendulum_analyze(const torsion_pendulum_params *params, torsion_pendulum_analysis *result)
 {
-    return torsion_pendulum_isolate(params, result);
+    torsion_pendulum_workspace workspace;
+    return torsion_pendulum_analyze_work(params, result, &workspace);
 }
 
 torsion_pendulum_status torsion_pendulum_analyze_batch(size_t count, const torsion_pendulum_params *params,

@@ -233,7 +233,8 @@ ROOT_CODES = ("certified", "genuine", "kind", "stability", "damping")
 
 
 def firmware(folder: Path) -> str:
-    """The test firmware's main for one library: both routes on the example parameters."""
+    """The test firmware's main for one library: both routes on the example parameters, in
+    the caller's working memory (PREFIX_analyze_work, PREFIX_isolate_work)."""
     name = folder.name
     spec = json.loads((folder / f"{name}_api.json").read_text())
     prefix = spec["prefix"]
@@ -278,8 +279,9 @@ def firmware(folder: Path) -> str:
               "    }",
               "}", "",
               "int main(void)", "{",
-              "    /* The results are the caller's memory, not the measured stack. */",
+              "    /* The results and the working memory are the caller's, not the measured stack. */",
               f"    static {prefix}_analysis analysis;",
+              f"    static {prefix}_workspace workspace;",
               f"    {prefix}_params p;",
               "    measurement m;",
               "    unsigned long calibration;",
@@ -291,6 +293,7 @@ def firmware(folder: Path) -> str:
     lines.append(f'    printf("%s\\n", {heading});')
     # the structure's size is the platform's (alignment, size_t): a '# ' measurement
     lines.append(f'    printf("# sizeof({prefix}_analysis) %lu\\n", (unsigned long)sizeof analysis);')
+    lines.append(f'    printf("# sizeof({prefix}_workspace) %lu\\n", (unsigned long)sizeof workspace);')
     lines += ['    printf("# libm fma rounds once: %d\\n", fma_rounds_once());',
               "    calibration = platform_calibration();",
               "    if (calibration != 0) {",
@@ -298,7 +301,7 @@ def firmware(folder: Path) -> str:
               "    }"]
     for route in ("analyze", "isolate"):
         lines += ["    measure_begin();",
-                  f"    status = (int){prefix}_{route}(&p, &analysis);",
+                  f"    status = (int){prefix}_{route}_work(&p, &analysis, &workspace);",
                   "    measure_end(&m);",
                   f'    report("{route}", status, &analysis, &m);',
                   "    failed |= status != 0;"]
