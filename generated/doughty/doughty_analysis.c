@@ -396,22 +396,28 @@ static doughty_status check_state(const codegen_real at[STATE_SIZE], int *assemb
     return DOUGHTY_OK;
 }
 
+/* The branch whose value in g is nearest zero (the first of equals). */
+static unsigned nearest_branch(const codegen_real g[DOUGHTY_N_BRANCHES])
+{
+    unsigned j, best = 0u;
+    for (j = 1u; j < DOUGHTY_N_BRANCHES; ++j) {
+        best = codegen_fabs(g[j]) < codegen_fabs(g[best]) ? j : best;
+    }
+    return best;
+}
+
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
 static doughty_status branch_kind(const codegen_real at[STATE_SIZE], doughty_root_kind *kind,
                                   unsigned *branch)
 {
     const codegen_real *g = at + AT_BRANCH_RESIDUALS;
-    unsigned j, best = 0u;
+    unsigned best;
     const doughty_status status = finite_or(g, DOUGHTY_N_BRANCHES, DOUGHTY_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != DOUGHTY_OK) {
         return status;
     }
-    for (j = 1u; j < DOUGHTY_N_BRANCHES; ++j) {
-        if (codegen_fabs(g[j]) < codegen_fabs(g[best])) {
-            best = j;
-        }
-    }
+    best = nearest_branch(g);
     *branch = best;
     *kind = best == 0u ? DOUGHTY_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? DOUGHTY_EXTRANEOUS : DOUGHTY_OTHER_ASSEMBLY;
@@ -484,7 +490,7 @@ static void add_merged_roots(const doughty_params *params, codegen_real theta, c
                              int *count)
 {
     codegen_real at[DOUGHTY_N_BRANCHES], below[DOUGHTY_N_BRANCHES], above[DOUGHTY_N_BRANCHES];
-    unsigned j, nearest = 0u;
+    unsigned j, nearest;
     doughty_equilibrium_branches_kernel(params, theta, at);
     doughty_equilibrium_branches_kernel(params, theta - MERGED_RADIUS, below);
     doughty_equilibrium_branches_kernel(params, theta + MERGED_RADIUS, above);
@@ -492,9 +498,7 @@ static void add_merged_roots(const doughty_params *params, codegen_real theta, c
         || !all_finite(above, DOUGHTY_N_BRANCHES)) {
         return;
     }
-    for (j = 1u; j < DOUGHTY_N_BRANCHES; ++j) {
-        nearest = codegen_fabs(at[j]) < codegen_fabs(at[nearest]) ? j : nearest;
-    }
+    nearest = nearest_branch(at);
     for (j = 0u; j < DOUGHTY_N_BRANCHES; ++j) {
         codegen_real root;
         int k, listed = 0;

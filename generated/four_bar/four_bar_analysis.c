@@ -419,22 +419,28 @@ static four_bar_status check_state(const codegen_real at[STATE_SIZE], int *assem
     return FOUR_BAR_OK;
 }
 
+/* The branch whose value in g is nearest zero (the first of equals). */
+static unsigned nearest_branch(const codegen_real g[FOUR_BAR_N_BRANCHES])
+{
+    unsigned j, best = 0u;
+    for (j = 1u; j < FOUR_BAR_N_BRANCHES; ++j) {
+        best = codegen_fabs(g[j]) < codegen_fabs(g[best]) ? j : best;
+    }
+    return best;
+}
+
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
 static four_bar_status branch_kind(const codegen_real at[STATE_SIZE], four_bar_root_kind *kind,
                                   unsigned *branch)
 {
     const codegen_real *g = at + AT_BRANCH_RESIDUALS;
-    unsigned j, best = 0u;
+    unsigned best;
     const four_bar_status status = finite_or(g, FOUR_BAR_N_BRANCHES, FOUR_BAR_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    for (j = 1u; j < FOUR_BAR_N_BRANCHES; ++j) {
-        if (codegen_fabs(g[j]) < codegen_fabs(g[best])) {
-            best = j;
-        }
-    }
+    best = nearest_branch(g);
     *branch = best;
     *kind = best == 0u ? FOUR_BAR_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? FOUR_BAR_EXTRANEOUS : FOUR_BAR_OTHER_ASSEMBLY;
@@ -507,7 +513,7 @@ static void add_merged_roots(const four_bar_params *params, codegen_real theta, 
                              int *count)
 {
     codegen_real at[FOUR_BAR_N_BRANCHES], below[FOUR_BAR_N_BRANCHES], above[FOUR_BAR_N_BRANCHES];
-    unsigned j, nearest = 0u;
+    unsigned j, nearest;
     four_bar_equilibrium_branches_kernel(params, theta, at);
     four_bar_equilibrium_branches_kernel(params, theta - MERGED_RADIUS, below);
     four_bar_equilibrium_branches_kernel(params, theta + MERGED_RADIUS, above);
@@ -515,9 +521,7 @@ static void add_merged_roots(const four_bar_params *params, codegen_real theta, 
         || !all_finite(above, FOUR_BAR_N_BRANCHES)) {
         return;
     }
-    for (j = 1u; j < FOUR_BAR_N_BRANCHES; ++j) {
-        nearest = codegen_fabs(at[j]) < codegen_fabs(at[nearest]) ? j : nearest;
-    }
+    nearest = nearest_branch(at);
     for (j = 0u; j < FOUR_BAR_N_BRANCHES; ++j) {
         codegen_real root;
         int k, listed = 0;

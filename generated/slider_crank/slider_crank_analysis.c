@@ -419,22 +419,28 @@ static slider_crank_status check_state(const codegen_real at[STATE_SIZE], int *a
     return SLIDER_CRANK_OK;
 }
 
+/* The branch whose value in g is nearest zero (the first of equals). */
+static unsigned nearest_branch(const codegen_real g[SLIDER_CRANK_N_BRANCHES])
+{
+    unsigned j, best = 0u;
+    for (j = 1u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
+        best = codegen_fabs(g[j]) < codegen_fabs(g[best]) ? j : best;
+    }
+    return best;
+}
+
 /* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
  * same quantity, free of any absolute threshold). */
 static slider_crank_status branch_kind(const codegen_real at[STATE_SIZE], slider_crank_root_kind *kind,
                                   unsigned *branch)
 {
     const codegen_real *g = at + AT_BRANCH_RESIDUALS;
-    unsigned j, best = 0u;
+    unsigned best;
     const slider_crank_status status = finite_or(g, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_EQUILIBRIUM_BRANCHES_FAILURE);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    for (j = 1u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
-        if (codegen_fabs(g[j]) < codegen_fabs(g[best])) {
-            best = j;
-        }
-    }
+    best = nearest_branch(g);
     *branch = best;
     *kind = best == 0u ? SLIDER_CRANK_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? SLIDER_CRANK_EXTRANEOUS : SLIDER_CRANK_OTHER_ASSEMBLY;
@@ -507,7 +513,7 @@ static void add_merged_roots(const slider_crank_params *params, codegen_real the
                              int *count)
 {
     codegen_real at[SLIDER_CRANK_N_BRANCHES], below[SLIDER_CRANK_N_BRANCHES], above[SLIDER_CRANK_N_BRANCHES];
-    unsigned j, nearest = 0u;
+    unsigned j, nearest;
     slider_crank_equilibrium_branches_kernel(params, theta, at);
     slider_crank_equilibrium_branches_kernel(params, theta - MERGED_RADIUS, below);
     slider_crank_equilibrium_branches_kernel(params, theta + MERGED_RADIUS, above);
@@ -515,9 +521,7 @@ static void add_merged_roots(const slider_crank_params *params, codegen_real the
         || !all_finite(above, SLIDER_CRANK_N_BRANCHES)) {
         return;
     }
-    for (j = 1u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
-        nearest = codegen_fabs(at[j]) < codegen_fabs(at[nearest]) ? j : nearest;
-    }
+    nearest = nearest_branch(at);
     for (j = 0u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
         codegen_real root;
         int k, listed = 0;
