@@ -2,10 +2,13 @@
  *
  * benchmarks/run.py (`make bench`) compiles it once per shipped mechanism, with
  *   -DPREFIX=doughty -DPREFIX_UPPER=DOUGHTY -DBENCH_HEADER='"doughty.h"'
- *   -DTHETADDOT=doughty_angular_acceleration -DHAS_POLYNOMIAL=1
+ *   -DKERNELS_HEADER='"doughty_kernels.h"' -DTHETADDOT=doughty_angular_acceleration
+ *   -DHAS_POLYNOMIAL=1
  * and links it with the library and with naive.c, which the runner writes: SymPy's ccode
  * (after sympy.cse) of the same thetaddot and sigma_i the library computes, as
- * naive_thetaddot() and naive_sigma(). Both sides loop over the same inputs, read from
+ * naive_thetaddot() and naive_sigma(). The library is timed twice: through its public
+ * functions, which validate every input on each call, and through the unchecked kernels
+ * behind them (PREFIX_kernels.h), the like-for-like with naive code. Both sides loop over the same inputs, read from
  * files the runner writes:
  *
  *   bench PARAMS N_SETS STATES N_STATES REPEATS MIN_SECONDS OUT
@@ -23,11 +26,13 @@
 #include <time.h>
 
 #include BENCH_HEADER
+#include KERNELS_HEADER
 
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
 #define LIB(name) CAT(PREFIX, name)         /* LIB(_analyze): doughty_analyze */
 #define SIZE(name) CAT(PREFIX_UPPER, name)  /* SIZE(_N_SIGMA): DOUGHTY_N_SIGMA */
+#define THETADDOT_KERNEL CAT(THETADDOT, _kernel)
 #define MAX_REPEATS 64
 
 typedef LIB(_params) params_t;
@@ -122,6 +127,17 @@ static double pass_thetaddot_library(const bench_data *d)
     return sum;
 }
 
+static double pass_thetaddot_kernel(const bench_data *d)
+{
+    double sum = 0.0, out[1];
+    size_t i;
+    for (i = 0; i < d->n_states; ++i) {
+        THETADDOT_KERNEL(&d->params[i % d->n_sets], d->states[2 * i], d->states[2 * i + 1], out);
+        sum += out[0];
+    }
+    return sum;
+}
+
 static double pass_thetaddot_naive(const bench_data *d)
 {
     double sum = 0.0;
@@ -153,6 +169,17 @@ static double pass_sigma_library(const bench_data *d)
     size_t i;
     for (i = 0; i < d->n_sets; ++i) {
         LIB(_sigma)(&d->params[i], sigma);
+        sum += sigma[N_SIGMA / 2];
+    }
+    return sum;
+}
+
+static double pass_sigma_kernel(const bench_data *d)
+{
+    double sum = 0.0, sigma[N_SIGMA];
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i) {
+        LIB(_sigma_kernel)(&d->params[i], sigma);
         sum += sigma[N_SIGMA / 2];
     }
     return sum;
@@ -264,12 +291,14 @@ int main(int argc, char **argv)
     member("analyze_ns", ns_per_item(pass_analyze, &d, d.n_sets), 0);
     member("isolate_ns", ns_per_item(pass_isolate, &d, d.n_sets), 0);
     member("thetaddot_library_ns", ns_per_item(pass_thetaddot_library, &d, d.n_states), 0);
+    member("thetaddot_kernel_ns", ns_per_item(pass_thetaddot_kernel, &d, d.n_states), 0);
     member("thetaddot_naive_ns", ns_per_item(pass_thetaddot_naive, &d, d.n_states), 0);
     member("thetaddot_max_rel_diff", thetaddot_difference(&d), 0);
 #if HAS_POLYNOMIAL
     d.sigma = malloc(d.n_sets * N_SIGMA * sizeof(double));
     if (d.sigma == NULL || write_roots(&d, argv[7]) != 0) return 2;
     member("sigma_library_ns", ns_per_item(pass_sigma_library, &d, d.n_sets), 0);
+    member("sigma_kernel_ns", ns_per_item(pass_sigma_kernel, &d, d.n_sets), 0);
     member("sigma_naive_ns", ns_per_item(pass_sigma_naive, &d, d.n_sets), 0);
     member("sigma_max_rel_diff", sigma_difference(&d), 0);
     member("roots_ns", ns_per_item(pass_roots, &d, d.n_sets), 0);

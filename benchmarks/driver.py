@@ -61,6 +61,7 @@ def start_build(library: Library, naive_source: str, thetaddot: str, folder: Pat
     include = [GENERATED / P, GENERATED / "runtime"]
     sources = [str(c) for f in include for c in sorted(f.glob("*.c"))]
     defines = [f"-DPREFIX={P}", f"-DPREFIX_UPPER={P.upper()}", f'-DBENCH_HEADER="{P}.h"',
+               f'-DKERNELS_HEADER="{P}_kernels.h"',
                f"-DTHETADDOT={thetaddot}", f"-DHAS_POLYNOMIAL={int(library.has_polynomial)}"]
     executable = folder / "bench"
     command = [CC, *CFLAGS, *defines, *(f"-I{f}" for f in include), str(BENCH_C), str(naive),

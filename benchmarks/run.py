@@ -66,12 +66,13 @@ class Sizes:
     min_seconds: float   # shortest C timing sample
     generate: bool       # time the command line's fresh derivation (section 5)
     branch_points: int   # parameter values of each branches run (section 6)
+    throughput_seconds: float  # one thread's work per run when two threads are compared
 
 
 FULL = Sizes(sets=200, repeats=5, states=1000, accuracy_sets=50, min_seconds=0.02,
-             generate=True, branch_points=2000)
+             generate=True, branch_points=2000, throughput_seconds=0.3)
 QUICK = Sizes(sets=12, repeats=3, states=100, accuracy_sets=3, min_seconds=0.002,
-              generate=False, branch_points=100)
+              generate=False, branch_points=100, throughput_seconds=0.02)
 
 
 @dataclass
@@ -177,12 +178,18 @@ def analysis_timings(m: Mechanism, c: driver.CResults, analysed: Any,
         return median_seconds(work, sizes.repeats) / n * 1e6
 
     python = {w: per_set(lambda w=w: m.library.analyze_table(m.table, workers=w)) for w in (1, 2)}
+    # Threads against one on a batch long enough for two threads to pay off (each is started
+    # per call): the sets repeated to about sizes.throughput_seconds of one thread's work.
+    count = max(n, round(sizes.throughput_seconds / (python[1] * 1e-6)))
+    big = np.resize(m.table, count)
+    threads = {w: median_seconds(lambda w=w: m.library.analyze_table(big, workers=w),
+                                 sizes.repeats) for w in (1, 2)}
     c_us = c.timings["analyze_ns"] / 1e3
     numpy_us = per_set(lambda: pipeline.analyze(m.pipeline, columns)) if m.pipeline else None
     return {"sets": n, "ok_sets": int((analysed.statuses == 0).sum()), "route": analysed.method,
             "c_analyze_us": c_us, "c_isolate_us": c.timings["isolate_ns"] / 1e3,
             "python_w1_us": python[1], "python_w2_us": python[2],
-            "w2_over_w1_throughput": python[1] / python[2],
+            "throughput_sets": count, "w2_over_w1_throughput": threads[1] / threads[2],
             "numpy_us": numpy_us, "numpy_over_c": report.ratio(numpy_us, c_us),
             "numpy_over_python": report.ratio(numpy_us, python[1])}
 
@@ -190,8 +197,9 @@ def analysis_timings(m: Mechanism, c: driver.CResults, analysed: Any,
 def kernels(m: Mechanism, c: driver.CResults) -> dict[str, Any]:
     """Section 2: ns per call of thetaddot and sigma, library and naive."""
     t = c.timings
-    keys = ("thetaddot_library_ns", "thetaddot_naive_ns", "thetaddot_max_rel_diff",
-            "sigma_library_ns", "sigma_naive_ns", "sigma_max_rel_diff")
+    keys = ("thetaddot_library_ns", "thetaddot_kernel_ns", "thetaddot_naive_ns",
+            "thetaddot_max_rel_diff", "sigma_library_ns", "sigma_kernel_ns", "sigma_naive_ns",
+            "sigma_max_rel_diff")
     return {"thetaddot": m.thetaddot,
             **{k: t.get(k) for k in keys}}
 
