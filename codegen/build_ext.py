@@ -23,7 +23,8 @@ GENERATED = ROOT / "generated"
 #: True when this file is in a source tree (setup.py beside codegen/), not installed.
 SOURCE_TREE = (ROOT / "setup.py").is_file()
 RUNTIME = "runtime"
-COMPILE_FLAGS = ["-std=c99", "-O2"]
+#: The enclosures inline: the faster form on a host (codegen_interval.h, interval programs).
+COMPILE_FLAGS = ["-std=c99", "-O2", "-DCODEGEN_INLINE_INTERVALS"]
 
 
 def _c_string(text: str) -> str:

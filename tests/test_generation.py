@@ -72,14 +72,17 @@ def test_generated_files_name_their_origin_and_no_timestamp():
         assert "2026" not in text and "UTC" not in text, f"{name} carries a date"
 
 
+@pytest.mark.parametrize("form", ["", "-DCODEGEN_INLINE_INTERVALS"],
+                         ids=["interval-programs", "inline-intervals"])
 @pytest.mark.parametrize("source", sorted(f"{p.parent.name}/{p.name}"
                                           for p in GENERATED.glob("*/*.c")))
-def test_c_compiles_under_strict_flags(source, tmp_path):
+def test_c_compiles_under_strict_flags(source, form, tmp_path):
     cc = os.environ.get("CC", "gcc")
     folder = source.split("/")[0]
     includes = _includes(folder) if folder != generate.RUNTIME else ["-I", str(RUNTIME)]
-    result = subprocess.run([cc, *STRICT, *includes, "-c", str(GENERATED / source),
-                             "-o", str(tmp_path / "x.o")], capture_output=True, text=True)
+    result = subprocess.run([cc, *STRICT, *filter(None, [form]), *includes, "-c",
+                             str(GENERATED / source), "-o", str(tmp_path / "x.o")],
+                            capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
 
 

@@ -23,6 +23,31 @@ from .printer import _temporary_prefix
 _CONSTANT_DIGITS = 40
 
 
+#: The runtime's operations (codegen_iv_operation, codegen_interval.h), in its order.
+OPERATIONS = ("const", "add", "sub", "mul", "div", "neg", "pow", "sqrt", "sin", "cos")
+
+
+@dataclass(frozen=True)
+class IntervalInstruction:
+    operation: str    # one of OPERATIONS
+    destination: int
+    left: int         # a slot; for const, an index into the constants
+    right: int = 0    # a slot; for pow, the exponent
+
+
+@dataclass(frozen=True)
+class IntervalProgram:
+    """The same computation as three-address instructions over slots v[0..n_slots): the
+    inputs first (the parameters as unpacked, then theta), each slot reused once its value
+    is consumed. Constants are (lo, hi) pairs of C text."""
+
+    inputs: tuple[str, ...]    # the names of v[0..], filled by the caller
+    instructions: tuple[IntervalInstruction, ...]
+    constants: tuple[tuple[str, str], ...]
+    outputs: tuple[int, ...]   # the slot of each output
+    n_slots: int
+
+
 @dataclass(frozen=True)
 class IntervalBody:
     """One mode's program: parameters as point intervals, temporaries, then G and G'."""
@@ -32,6 +57,7 @@ class IntervalBody:
     outputs: tuple[str, ...]                  # C expressions of G and G'
     operations: int
     unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
+    program: IntervalProgram | None = None    # the same as instructions for codegen_iv_run
 
 
 def _exact(value: sp.Expr) -> tuple[Fraction, int]:
@@ -74,74 +100,212 @@ def _literal(x: float) -> str:
     return x.hex()
 
 
-class _IntervalPrinter:
+class _Text:
+    """Operations as nested C calls: the inline form of a program."""
+
     def __init__(self, flags: str):
         self._flags = flags
         self.flagged = False  # whether an operation that raises flags was printed
 
-    @property
-    def flags(self) -> str:
-        self.flagged = True
-        return self._flags
+    def symbol(self, name: str) -> str:
+        return name
 
     def constant(self, value: sp.Expr) -> str:
-        lo, hi = enclose_constant(value)
-        flo, fhi = enclose_constant(value, np.float32)
+        lo, hi, flo, fhi = _bounds(value)
         if lo == hi == flo == fhi:  # exact in both types
             return f"codegen_iv_point({_point(lo)})"
         return (f"codegen_iv_make(CODEGEN_BOUND({_literal(lo)}, {_literal(flo)}), "
                 f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)}))")
 
-    def print(self, expr: sp.Expr) -> str:
+    def one(self) -> str:
+        return "codegen_iv_point(1.0)"
+
+    def apply(self, operation: str, *operands: str, flags: bool = False) -> str:
+        extra = [self._flags] if flags else []
+        self.flagged |= flags
+        return f"codegen_iv_{operation}({', '.join([*operands, *extra])})"
+
+    def power(self, operand: str, n: int) -> str:
+        return f"codegen_iv_pow({operand}, {n})"
+
+
+class _Tape:
+    """Operations as instructions over slots: the program form. A value made inside an
+    expression (scratch) is freed when an operation consumes it; a named value (an input or
+    a temporary) when the statement holding its last use is done."""
+
+    def __init__(self, inputs: list[str]):
+        self.slots = {name: i for i, name in enumerate(inputs)}
+        self.size = len(inputs)
+        self.free: list[int] = []
+        self.named = set(range(len(inputs)))
+        self.kept: set[int] = set()  # the outputs' slots
+        self.code: list[IntervalInstruction] = []
+        self.constants: dict[tuple[str, str], int] = {}
+
+    def _take(self, operation: str, left: int, right: int = 0) -> int:
+        slot = self.free.pop() if self.free else self.size
+        self.size = max(self.size, slot + 1)
+        self.code.append(IntervalInstruction(operation, slot, left, right))
+        return slot
+
+    def _consume(self, *slots: int) -> None:
+        for slot in slots:
+            if slot not in self.named and slot not in self.free:
+                self.free.append(slot)
+
+    def release(self, slot: int) -> None:
+        """A named value no statement reads any more (unless it is an output)."""
+        if slot not in self.kept:
+            self.named.discard(slot)
+            self._consume(slot)
+
+    def symbol(self, name: str) -> int:
+        return self.slots[name]
+
+    def constant(self, value: sp.Expr) -> int:
+        lo, hi, flo, fhi = _bounds(value)
+        if lo == hi == flo == fhi:
+            pair = (_point(lo),) * 2
+        else:
+            pair = (f"CODEGEN_BOUND({_literal(lo)}, {_literal(flo)})",
+                    f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)})")
+        return self._take("const", self.constants.setdefault(pair, len(self.constants)))
+
+    def one(self) -> int:
+        return self.constant(sp.S.One)
+
+    def apply(self, operation: str, *operands: int, flags: bool = False) -> int:
+        self._consume(*operands)
+        return self._take(operation, *operands)
+
+    def power(self, operand: int, n: int) -> int:
+        self._consume(operand)
+        return self._take("pow", operand, n)
+
+
+def _on_demand(statements, outputs) -> list:
+    """The statements reordered so that each comes just before the first that reads it (the
+    outputs read in turn): a value is then held from where it is needed, not from where
+    common-subexpression elimination happened to define it, and fewer slots are live."""
+    definitions = dict(statements)
+    order, seen = [], set()
+
+    def need(expr: sp.Expr) -> None:
+        for s in sorted(expr.free_symbols, key=sp.default_sort_key):
+            if s.name in definitions and s.name not in seen:
+                seen.add(s.name)
+                need(definitions[s.name])
+                order.append((s.name, definitions[s.name]))
+
+    for expr in outputs:
+        need(expr)
+    return order
+
+
+def _program(inputs: list[str], statements, outputs) -> IntervalProgram:
+    """statements: (name, expr) in order, then the outputs, as a program over slots."""
+    statements = _on_demand(statements, outputs)
+    tape = _Tape(inputs)
+    writer = _Writer(tape)
+    exprs = [e for _, e in statements] + list(outputs)
+    last = {}  # the statement of each name's last read (names in sorted order: the slots
+    for k, e in enumerate(exprs):  # must not depend on the order of a set)
+        for s in sorted(e.free_symbols, key=sp.default_sort_key):
+            last[s.name] = k
+    for name in list(tape.slots):  # inputs no statement reads
+        if name not in last:
+            tape.release(tape.slots[name])
+
+    def done(k: int) -> None:
+        for name, at in last.items():
+            if at == k and name in tape.slots:
+                tape.release(tape.slots[name])
+
+    for k, (name, expr) in enumerate(statements):
+        slot = writer.write(expr)
+        if slot in tape.named:  # a copy of an earlier value: its own slot, value + 0
+            slot = tape.apply("add", slot, tape.constant(sp.S.Zero))
+        tape.named.add(slot)
+        tape.slots[name] = slot
+        done(k)
+    result = []
+    for k, expr in enumerate(outputs, start=len(statements)):
+        slot = writer.write(expr)
+        tape.named.add(slot)
+        tape.kept.add(slot)  # read by the caller after the last instruction
+        result.append(slot)
+        done(k)
+    return IntervalProgram(tuple(inputs), tuple(tape.code), tuple(tape.constants),
+                           tuple(result), tape.size)
+
+
+def _bounds(value: sp.Expr) -> tuple[float, float, float, float]:
+    """The enclosure of a constant in double, then in float."""
+    return (*enclose_constant(value), *enclose_constant(value, np.float32))
+
+
+class _Writer:
+    """Walks an expression in the interval rules, writing each operation through ``out``
+    (_Text, or _Tape for a program the runtime runs): both see the same operations on the
+    same operands, so the two forms compute the same bounds bit for bit."""
+
+    def __init__(self, out):
+        self.out = out
+
+    def write(self, expr: sp.Expr):
+        out = self.out
         if expr.is_Symbol:
-            return expr.name
+            return out.symbol(expr.name)
         if expr.is_number:
-            return self.constant(expr)
+            return out.constant(expr)
         if expr.is_Add:
             terms = sorted(expr.args, key=sp.default_sort_key)
-            text = self.print(terms[0])
+            total = self.write(terms[0])
             for term in terms[1:]:
                 if term.could_extract_minus_sign():
-                    text = f"codegen_iv_sub({text}, {self.print(-term)})"
+                    total = out.apply("sub", total, self.write(-term))
                 else:
-                    text = f"codegen_iv_add({text}, {self.print(term)})"
-            return text
+                    total = out.apply("add", total, self.write(term))
+            return total
         if expr.is_Mul:
             coefficient, factors = expr.as_coeff_mul()
             if coefficient < 0:
-                return f"codegen_iv_neg({self.print(-expr)})"
+                return out.apply("neg", self.write(-expr))
             parts = ([coefficient] if coefficient != 1 else []) + sorted(
                 factors, key=sp.default_sort_key)
             denominators = [p.base ** -p.exp for p in parts if p.is_Pow and p.exp.is_negative]
             numerators = [p for p in parts if not (p.is_Pow and p.exp.is_negative)]
-            text = self._product(numerators)
+            total = self._product(numerators)
             if denominators:
-                text = f"codegen_iv_div({text}, {self._product(denominators)}, {self.flags})"
-            return text
+                total = out.apply("div", total, self._product(denominators), flags=True)
+            return total
         if expr.is_Pow:
             return self._power(expr.base, expr.exp)
         if isinstance(expr, (sp.sin, sp.cos)):
-            return f"codegen_iv_{type(expr).__name__}({self.print(expr.args[0])})"
+            return out.apply(type(expr).__name__, self.write(expr.args[0]))
         raise ValueError(f"no interval rule for {type(expr).__name__} in {expr}: the certified "
                          "isolation supports +, -, *, /, integer and half-integer powers, "
                          "sin and cos")
 
-    def _product(self, parts) -> str:
+    def _product(self, parts):
         if not parts:
-            return "codegen_iv_point(1.0)"
-        text = self.print(parts[0])
+            return self.out.one()
+        total = self.write(parts[0])
         for part in parts[1:]:
-            text = f"codegen_iv_mul({text}, {self.print(part)})"
-        return text
+            total = self.out.apply("mul", total, self.write(part))
+        return total
 
-    def _power(self, base: sp.Expr, exp: sp.Expr) -> str:
+    def _power(self, base: sp.Expr, exp: sp.Expr):
+        out = self.out
         if exp.is_negative:
-            return f"codegen_iv_div(codegen_iv_point(1.0), {self._power(base, -exp)}, {self.flags})"
+            one = out.one()
+            return out.apply("div", one, self._power(base, -exp), flags=True)
         if exp.is_Integer:
-            return f"codegen_iv_pow({self.print(base)}, {int(exp)})"
+            return out.power(self.write(base), int(exp))
         if exp.is_Rational and exp.q == 2:
-            root = f"codegen_iv_sqrt({self.print(base)}, {self.flags})"
-            return root if exp.p == 1 else f"codegen_iv_pow({root}, {int(exp.p)})"
+            root = out.apply("sqrt", self.write(base), flags=True)
+            return root if exp.p == 1 else out.power(root, int(exp.p))
         raise ValueError(f"no interval rule for the power {exp} in {base ** exp}")
 
 
@@ -152,16 +316,19 @@ def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set
     prefix = _temporary_prefix(used)
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix),
                                    order="canonical")
-    printer = _IntervalPrinter(flags)
+    printer = _Text(flags)
+    writer = _Writer(printer)
     names = {s.name for s in used}
     unknown = names - set(parameters) - inputs
     if unknown:
         raise ValueError(f"symbols {sorted(unknown)} are neither parameters nor inputs")
     operations = sum(sp.count_ops(e) for _, e in replacements) + sum(
         sp.count_ops(e) for e in reduced)
-    temporaries = tuple((str(s), printer.print(e)) for s, e in replacements)
-    outputs = tuple(printer.print(e) for e in reduced)
+    temporaries = tuple((str(s), writer.write(e)) for s, e in replacements)
+    outputs = tuple(writer.write(e) for e in reduced)
+    unpack = tuple(p for p in parameters if p in names)
     return IntervalBody(
-        unpack=tuple(p for p in parameters if p in names),
-        temporaries=temporaries, outputs=outputs, operations=int(operations),
-        unused=tuple(sorted(inputs - names)) + (() if printer.flagged else (flags,)))
+        unpack=unpack, temporaries=temporaries, outputs=outputs, operations=int(operations),
+        unused=tuple(sorted(inputs - names)) + (() if printer.flagged else (flags,)),
+        program=_program([*unpack, *sorted(inputs)],
+                         [(str(s), e) for s, e in replacements], reduced))

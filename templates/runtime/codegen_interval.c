@@ -59,6 +59,49 @@ codegen_iv codegen_iv_sin(codegen_iv a)
     return periodic(a, 1, HALF_PI, -HALF_PI);
 }
 
+void codegen_iv_run(const codegen_iv_instruction *program, size_t count,
+                    const codegen_iv *constants, codegen_iv *v, unsigned *flags)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        const codegen_iv_instruction op = program[i];
+        codegen_iv r;
+        switch ((codegen_iv_operation)op.operation) {
+        case CODEGEN_IV_CONST:
+            r = constants[op.left];
+            break;
+        case CODEGEN_IV_ADD:
+            r = codegen_iv_add(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_IV_SUB:
+            r = codegen_iv_sub(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_IV_MUL:
+            r = codegen_iv_mul(v[op.left], v[op.right]);
+            break;
+        case CODEGEN_IV_DIV:
+            r = codegen_iv_div(v[op.left], v[op.right], flags);
+            break;
+        case CODEGEN_IV_NEG:
+            r = codegen_iv_neg(v[op.left]);
+            break;
+        case CODEGEN_IV_POW:
+            r = codegen_iv_pow(v[op.left], (int)op.right);
+            break;
+        case CODEGEN_IV_SQRT:
+            r = codegen_iv_sqrt(v[op.left], flags);
+            break;
+        case CODEGEN_IV_SIN:
+            r = codegen_iv_sin(v[op.left]);
+            break;
+        default: /* CODEGEN_IV_COS */
+            r = codegen_iv_cos(v[op.left]);
+            break;
+        }
+        v[op.destination] = r; /* after the operands are read: they may be the same slot */
+    }
+}
+
 /* ---- isolation ---- */
 
 #define SMOOTHNESS_FLAGS (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)

@@ -15,6 +15,8 @@
 #ifndef CODEGEN_INTERVAL_H
 #define CODEGEN_INTERVAL_H
 
+#include <stddef.h>
+
 #include "codegen_real.h"
 
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
@@ -239,6 +241,35 @@ static inline codegen_iv codegen_iv_sqrt(codegen_iv a, unsigned *flags)
 /* cos over [lo, hi] and sin (as cos(x - pi/2)) are defined in codegen_interval.c. */
 codegen_iv codegen_iv_cos(codegen_iv a);
 codegen_iv codegen_iv_sin(codegen_iv a);
+
+/* ---- Interval programs ---- */
+
+/* A long enclosure written as nested calls keeps every temporary in its own stack slot
+ * (gcc: 19.6 KB in one frame for the four-bar); as a table of three-address instructions
+ * over caller-provided slots, run by codegen_iv_run, it needs only the slots, reused as soon
+ * as a value is consumed, and far less code. Each instruction calls the operation above
+ * that the nested form calls, so both give the same bounds bit for bit. */
+typedef enum codegen_iv_operation {
+    CODEGEN_IV_CONST, /* v[destination] = constants[left] */
+    CODEGEN_IV_ADD,   /* v[destination] = v[left] + v[right] */
+    CODEGEN_IV_SUB,
+    CODEGEN_IV_MUL,
+    CODEGEN_IV_DIV,   /* raises CODEGEN_IV_POLE */
+    CODEGEN_IV_NEG,   /* v[destination] = -v[left] */
+    CODEGEN_IV_POW,   /* v[destination] = v[left]^right */
+    CODEGEN_IV_SQRT,  /* raises CODEGEN_IV_EDGE, CODEGEN_IV_OUTSIDE */
+    CODEGEN_IV_SIN,
+    CODEGEN_IV_COS
+} codegen_iv_operation;
+
+typedef struct codegen_iv_instruction {
+    unsigned short operation, destination, left, right;
+} codegen_iv_instruction;
+
+/* Runs count instructions in order over the slots v (operands are read before the
+ * destination is written, so they may coincide); flags collects what the operations raise. */
+void codegen_iv_run(const codegen_iv_instruction *program, size_t count,
+                    const codegen_iv *constants, codegen_iv *v, unsigned *flags);
 
 /* ---- Certified isolation of the zeros of G on an interval ---- */
 
