@@ -50,6 +50,7 @@ class RenderedFunction:
     batch_arrays: tuple[tuple[str, str], ...]
     batch_call: tuple[str, ...]
     kernel_signature: str
+    kernel_work_signature: str   # used where the body is a double-double program
     body: PrintedBody
     n_out: int
     offsets: tuple[tuple[str, int], ...]  # where each output starts in the kernel's out[]
@@ -81,12 +82,15 @@ def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = 
     return f"{prefix}_status {prefix}_{f.name}({', '.join(inputs + outputs)})"
 
 
-def kernel_signature(f: CFunction, prefix: str, ctype: str) -> str:
+def kernel_signature(f: CFunction, prefix: str, ctype: str, values: str = "") -> str:
     """The unchecked kernel: the inputs as the public function takes them, the outputs
-    together in one array."""
+    together in one array; with ``values`` (the size of a double-double program's values),
+    the kernel that takes them from the caller (NAME_kernel_work)."""
     inputs, _ = _arguments(f, prefix, ctype)
     n_out = sum(len(o.exprs) for o in f.outputs)
-    return f"void {prefix}_{f.name}_kernel({', '.join(inputs)}, {ctype} out[{n_out}])"
+    name, extra = (f"{f.name}_kernel_work", f", codegen_dd v[{values}]") if values else (
+        f"{f.name}_kernel", "")
+    return f"void {prefix}_{name}({', '.join(inputs)}, {ctype} out[{n_out}]{extra})"
 
 
 def batch_signature(f: CFunction, prefix: str, ctype: str) -> str:
@@ -124,6 +128,8 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         pointer_signature=signature(f, plan.prefix, target.ctype, arrays_as_pointers=True),
         batch_signature=batch_signature(f, plan.prefix, target.ctype),
         kernel_signature=kernel_signature(f, plan.prefix, target.ctype),
+        kernel_work_signature=kernel_signature(
+            f, plan.prefix, target.ctype, f"{P}_{f.name.upper()}_VALUES"),
         batch_arrays=tuple((x.name, x.size) for x in f.inputs + f.outputs),
         batch_call=_batch_call(f, P),
         body=print_body(f, tuple(p[0] for p in plan.parameters), target),

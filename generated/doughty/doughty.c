@@ -1206,35 +1206,39 @@ static const codegen_real sigma_constants[3] = {
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 180. */
-void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13])
+void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13], codegen_dd v[DOUGHTY_SIGMA_VALUES])
 {
     (void)params;
-    {
-        codegen_dd v[31];
-        v[0] = codegen_dd_from(params->H);
-        v[1] = codegen_dd_from(params->L);
-        v[2] = codegen_dd_from(params->a);
-        v[3] = codegen_dd_from(params->m_B);
-        v[4] = codegen_dd_from(params->m_C);
-        v[5] = codegen_dd_from(params->k);
-        v[6] = codegen_dd_from(params->l_ND);
-        v[7] = codegen_dd_from(params->F);
-        v[8] = codegen_dd_from(params->g);
-        codegen_dd_run(sigma_program, 231u, sigma_constants, v);
-        out[0] = codegen_dd_to_double(v[16]);
-        out[1] = codegen_dd_to_double(v[19]);
-        out[2] = codegen_dd_to_double(v[20]);
-        out[3] = codegen_dd_to_double(v[22]);
-        out[4] = codegen_dd_to_double(v[23]);
-        out[5] = codegen_dd_to_double(v[24]);
-        out[6] = codegen_dd_to_double(v[26]);
-        out[7] = codegen_dd_to_double(v[21]);
-        out[8] = codegen_dd_to_double(v[27]);
-        out[9] = codegen_dd_to_double(v[25]);
-        out[10] = codegen_dd_to_double(v[28]);
-        out[11] = codegen_dd_to_double(v[29]);
-        out[12] = codegen_dd_to_double(v[30]);
-    }
+    v[0] = codegen_dd_from(params->H);
+    v[1] = codegen_dd_from(params->L);
+    v[2] = codegen_dd_from(params->a);
+    v[3] = codegen_dd_from(params->m_B);
+    v[4] = codegen_dd_from(params->m_C);
+    v[5] = codegen_dd_from(params->k);
+    v[6] = codegen_dd_from(params->l_ND);
+    v[7] = codegen_dd_from(params->F);
+    v[8] = codegen_dd_from(params->g);
+    codegen_dd_run(sigma_program, 231u, sigma_constants, v);
+    out[0] = codegen_dd_to_double(v[16]);
+    out[1] = codegen_dd_to_double(v[19]);
+    out[2] = codegen_dd_to_double(v[20]);
+    out[3] = codegen_dd_to_double(v[22]);
+    out[4] = codegen_dd_to_double(v[23]);
+    out[5] = codegen_dd_to_double(v[24]);
+    out[6] = codegen_dd_to_double(v[26]);
+    out[7] = codegen_dd_to_double(v[21]);
+    out[8] = codegen_dd_to_double(v[27]);
+    out[9] = codegen_dd_to_double(v[25]);
+    out[10] = codegen_dd_to_double(v[28]);
+    out[11] = codegen_dd_to_double(v[29]);
+    out[12] = codegen_dd_to_double(v[30]);
+}
+
+/* The same with its values on this stack. */
+void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13])
+{
+    codegen_dd v[DOUGHTY_SIGMA_VALUES];
+    doughty_sigma_kernel_work(params, out, v);
 }
 
 /* sigma: eq. (44)-(45). */

@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 
+#include "codegen_dd.h"
 #include "codegen_interval.h"
 #include "codegen_ode.h"
 #include "codegen_runtime.h"
@@ -36,6 +37,7 @@ extern "C" {
 #define DOUGHTY_N_REDUCED 3
 #define DOUGHTY_N_ROOTS 1
 #define DOUGHTY_N_SIGMA 13
+#define DOUGHTY_SIGMA_VALUES 31 /* its double-double program's values */
 
 /* Status codes: DOUGHTY_OK is zero; doughty_status_message() explains the others. */
 typedef enum doughty_status {
@@ -387,6 +389,7 @@ typedef struct doughty_workspace {
     codegen_real theta[DOUGHTY_MAX_ROOTS];   /* the roots it found, and more that it merged */
     codegen_real source[DOUGHTY_MAX_ROOTS];  /* where each studied root came from */
     int twinned[DOUGHTY_MAX_ROOTS];          /* whether polishing turned it genuine */
+    codegen_dd sigma_values[DOUGHTY_SIGMA_VALUES]; /* sigma's double-double program's */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } doughty_workspace;

@@ -631,7 +631,8 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
     int found;
     doughty_status status;
     memset(work, 0, sizeof *work);
-    status = doughty_sigma(params, work->sigma);
+    doughty_sigma_kernel_work(params, work->sigma, ws->sigma_values); /* (params checked) */
+    status = finite_or(work->sigma, DOUGHTY_N_SIGMA, DOUGHTY_SIGMA_FAILURE);
     if (status == DOUGHTY_OK) {
         /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
          * degree below 1, cannot occur) */

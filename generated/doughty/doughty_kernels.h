@@ -104,6 +104,8 @@ void doughty_equilibrium_branches_kernel(const doughty_params *params, codegen_r
 
 /* sigma's outputs into out[13], in order: sigma[DOUGHTY_N_SIGMA]. */
 void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13]);
+/* The same with its double-double values in the caller's memory (the stack then holds none). */
+void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13], codegen_dd v[DOUGHTY_SIGMA_VALUES]);
 #define DOUGHTY_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_SIGMA_FAILURE DOUGHTY_ERR_OVERFLOW

@@ -36028,55 +36028,59 @@ static const codegen_real sigma_constants[16] = {
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 27075. */
-void four_bar_sigma_kernel(const four_bar_params *params, codegen_real out[29])
+void four_bar_sigma_kernel_work(const four_bar_params *params, codegen_real out[29], codegen_dd v[FOUR_BAR_SIGMA_VALUES])
 {
     (void)params;
-    {
-        codegen_dd v[388];
-        v[0] = codegen_dd_from(params->d);
-        v[1] = codegen_dd_from(params->a_2);
-        v[2] = codegen_dd_from(params->a_3);
-        v[3] = codegen_dd_from(params->a_4);
-        v[4] = codegen_dd_from(params->m_2);
-        v[5] = codegen_dd_from(params->m_3);
-        v[6] = codegen_dd_from(params->m_4);
-        v[7] = codegen_dd_from(params->k);
-        v[8] = codegen_dd_from(params->l_0);
-        v[9] = codegen_dd_from(params->x_S);
-        v[10] = codegen_dd_from(params->y_S);
-        v[11] = codegen_dd_from(params->T);
-        v[12] = codegen_dd_from(params->g);
-        codegen_dd_run(sigma_program, 34184u, sigma_constants, v);
-        out[0] = codegen_dd_to_double(v[387]);
-        out[1] = codegen_dd_to_double(v[386]);
-        out[2] = codegen_dd_to_double(v[385]);
-        out[3] = codegen_dd_to_double(v[384]);
-        out[4] = codegen_dd_to_double(v[383]);
-        out[5] = codegen_dd_to_double(v[382]);
-        out[6] = codegen_dd_to_double(v[381]);
-        out[7] = codegen_dd_to_double(v[380]);
-        out[8] = codegen_dd_to_double(v[379]);
-        out[9] = codegen_dd_to_double(v[378]);
-        out[10] = codegen_dd_to_double(v[377]);
-        out[11] = codegen_dd_to_double(v[376]);
-        out[12] = codegen_dd_to_double(v[375]);
-        out[13] = codegen_dd_to_double(v[374]);
-        out[14] = codegen_dd_to_double(v[373]);
-        out[15] = codegen_dd_to_double(v[372]);
-        out[16] = codegen_dd_to_double(v[371]);
-        out[17] = codegen_dd_to_double(v[370]);
-        out[18] = codegen_dd_to_double(v[369]);
-        out[19] = codegen_dd_to_double(v[368]);
-        out[20] = codegen_dd_to_double(v[367]);
-        out[21] = codegen_dd_to_double(v[366]);
-        out[22] = codegen_dd_to_double(v[365]);
-        out[23] = codegen_dd_to_double(v[364]);
-        out[24] = codegen_dd_to_double(v[363]);
-        out[25] = codegen_dd_to_double(v[362]);
-        out[26] = codegen_dd_to_double(v[361]);
-        out[27] = codegen_dd_to_double(v[333]);
-        out[28] = codegen_dd_to_double(v[331]);
-    }
+    v[0] = codegen_dd_from(params->d);
+    v[1] = codegen_dd_from(params->a_2);
+    v[2] = codegen_dd_from(params->a_3);
+    v[3] = codegen_dd_from(params->a_4);
+    v[4] = codegen_dd_from(params->m_2);
+    v[5] = codegen_dd_from(params->m_3);
+    v[6] = codegen_dd_from(params->m_4);
+    v[7] = codegen_dd_from(params->k);
+    v[8] = codegen_dd_from(params->l_0);
+    v[9] = codegen_dd_from(params->x_S);
+    v[10] = codegen_dd_from(params->y_S);
+    v[11] = codegen_dd_from(params->T);
+    v[12] = codegen_dd_from(params->g);
+    codegen_dd_run(sigma_program, 34184u, sigma_constants, v);
+    out[0] = codegen_dd_to_double(v[387]);
+    out[1] = codegen_dd_to_double(v[386]);
+    out[2] = codegen_dd_to_double(v[385]);
+    out[3] = codegen_dd_to_double(v[384]);
+    out[4] = codegen_dd_to_double(v[383]);
+    out[5] = codegen_dd_to_double(v[382]);
+    out[6] = codegen_dd_to_double(v[381]);
+    out[7] = codegen_dd_to_double(v[380]);
+    out[8] = codegen_dd_to_double(v[379]);
+    out[9] = codegen_dd_to_double(v[378]);
+    out[10] = codegen_dd_to_double(v[377]);
+    out[11] = codegen_dd_to_double(v[376]);
+    out[12] = codegen_dd_to_double(v[375]);
+    out[13] = codegen_dd_to_double(v[374]);
+    out[14] = codegen_dd_to_double(v[373]);
+    out[15] = codegen_dd_to_double(v[372]);
+    out[16] = codegen_dd_to_double(v[371]);
+    out[17] = codegen_dd_to_double(v[370]);
+    out[18] = codegen_dd_to_double(v[369]);
+    out[19] = codegen_dd_to_double(v[368]);
+    out[20] = codegen_dd_to_double(v[367]);
+    out[21] = codegen_dd_to_double(v[366]);
+    out[22] = codegen_dd_to_double(v[365]);
+    out[23] = codegen_dd_to_double(v[364]);
+    out[24] = codegen_dd_to_double(v[363]);
+    out[25] = codegen_dd_to_double(v[362]);
+    out[26] = codegen_dd_to_double(v[361]);
+    out[27] = codegen_dd_to_double(v[333]);
+    out[28] = codegen_dd_to_double(v[331]);
+}
+
+/* The same with its values on this stack. */
+void four_bar_sigma_kernel(const four_bar_params *params, codegen_real out[29])
+{
+    codegen_dd v[FOUR_BAR_SIGMA_VALUES];
+    four_bar_sigma_kernel_work(params, out, v);
 }
 
 /* sigma: eq. -. */

@@ -655,7 +655,8 @@ static four_bar_status analyze_polynomial(const four_bar_params *params, four_ba
     int found;
     four_bar_status status;
     memset(work, 0, sizeof *work);
-    status = four_bar_sigma(params, work->sigma);
+    four_bar_sigma_kernel_work(params, work->sigma, ws->sigma_values); /* (params checked) */
+    status = finite_or(work->sigma, FOUR_BAR_N_SIGMA, FOUR_BAR_SIGMA_FAILURE);
     if (status == FOUR_BAR_OK) {
         /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
          * degree below 1, cannot occur) */

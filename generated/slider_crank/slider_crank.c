@@ -12431,50 +12431,54 @@ static const codegen_real sigma_constants[3] = {
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 8850. */
-void slider_crank_sigma_kernel(const slider_crank_params *params, codegen_real out[25])
+void slider_crank_sigma_kernel_work(const slider_crank_params *params, codegen_real out[25], codegen_dd v[SLIDER_CRANK_SIGMA_VALUES])
 {
     (void)params;
-    {
-        codegen_dd v[193];
-        v[0] = codegen_dd_from(params->R);
-        v[1] = codegen_dd_from(params->l);
-        v[2] = codegen_dd_from(params->e);
-        v[3] = codegen_dd_from(params->m_1);
-        v[4] = codegen_dd_from(params->m_2);
-        v[5] = codegen_dd_from(params->k);
-        v[6] = codegen_dd_from(params->l_0);
-        v[7] = codegen_dd_from(params->x_S);
-        v[8] = codegen_dd_from(params->y_S);
-        v[9] = codegen_dd_from(params->F);
-        v[10] = codegen_dd_from(params->T);
-        v[11] = codegen_dd_from(params->g);
-        codegen_dd_run(sigma_program, 11435u, sigma_constants, v);
-        out[0] = codegen_dd_to_double(v[192]);
-        out[1] = codegen_dd_to_double(v[191]);
-        out[2] = codegen_dd_to_double(v[190]);
-        out[3] = codegen_dd_to_double(v[189]);
-        out[4] = codegen_dd_to_double(v[188]);
-        out[5] = codegen_dd_to_double(v[187]);
-        out[6] = codegen_dd_to_double(v[186]);
-        out[7] = codegen_dd_to_double(v[185]);
-        out[8] = codegen_dd_to_double(v[184]);
-        out[9] = codegen_dd_to_double(v[183]);
-        out[10] = codegen_dd_to_double(v[182]);
-        out[11] = codegen_dd_to_double(v[181]);
-        out[12] = codegen_dd_to_double(v[180]);
-        out[13] = codegen_dd_to_double(v[179]);
-        out[14] = codegen_dd_to_double(v[178]);
-        out[15] = codegen_dd_to_double(v[177]);
-        out[16] = codegen_dd_to_double(v[176]);
-        out[17] = codegen_dd_to_double(v[175]);
-        out[18] = codegen_dd_to_double(v[174]);
-        out[19] = codegen_dd_to_double(v[173]);
-        out[20] = codegen_dd_to_double(v[172]);
-        out[21] = codegen_dd_to_double(v[171]);
-        out[22] = codegen_dd_to_double(v[170]);
-        out[23] = codegen_dd_to_double(v[98]);
-        out[24] = codegen_dd_to_double(v[101]);
-    }
+    v[0] = codegen_dd_from(params->R);
+    v[1] = codegen_dd_from(params->l);
+    v[2] = codegen_dd_from(params->e);
+    v[3] = codegen_dd_from(params->m_1);
+    v[4] = codegen_dd_from(params->m_2);
+    v[5] = codegen_dd_from(params->k);
+    v[6] = codegen_dd_from(params->l_0);
+    v[7] = codegen_dd_from(params->x_S);
+    v[8] = codegen_dd_from(params->y_S);
+    v[9] = codegen_dd_from(params->F);
+    v[10] = codegen_dd_from(params->T);
+    v[11] = codegen_dd_from(params->g);
+    codegen_dd_run(sigma_program, 11435u, sigma_constants, v);
+    out[0] = codegen_dd_to_double(v[192]);
+    out[1] = codegen_dd_to_double(v[191]);
+    out[2] = codegen_dd_to_double(v[190]);
+    out[3] = codegen_dd_to_double(v[189]);
+    out[4] = codegen_dd_to_double(v[188]);
+    out[5] = codegen_dd_to_double(v[187]);
+    out[6] = codegen_dd_to_double(v[186]);
+    out[7] = codegen_dd_to_double(v[185]);
+    out[8] = codegen_dd_to_double(v[184]);
+    out[9] = codegen_dd_to_double(v[183]);
+    out[10] = codegen_dd_to_double(v[182]);
+    out[11] = codegen_dd_to_double(v[181]);
+    out[12] = codegen_dd_to_double(v[180]);
+    out[13] = codegen_dd_to_double(v[179]);
+    out[14] = codegen_dd_to_double(v[178]);
+    out[15] = codegen_dd_to_double(v[177]);
+    out[16] = codegen_dd_to_double(v[176]);
+    out[17] = codegen_dd_to_double(v[175]);
+    out[18] = codegen_dd_to_double(v[174]);
+    out[19] = codegen_dd_to_double(v[173]);
+    out[20] = codegen_dd_to_double(v[172]);
+    out[21] = codegen_dd_to_double(v[171]);
+    out[22] = codegen_dd_to_double(v[170]);
+    out[23] = codegen_dd_to_double(v[98]);
+    out[24] = codegen_dd_to_double(v[101]);
+}
+
+/* The same with its values on this stack. */
+void slider_crank_sigma_kernel(const slider_crank_params *params, codegen_real out[25])
+{
+    codegen_dd v[SLIDER_CRANK_SIGMA_VALUES];
+    slider_crank_sigma_kernel_work(params, out, v);
 }
 
 /* sigma: eq. -. */

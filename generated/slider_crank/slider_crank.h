@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 
+#include "codegen_dd.h"
 #include "codegen_interval.h"
 #include "codegen_ode.h"
 #include "codegen_runtime.h"
@@ -36,6 +37,7 @@ extern "C" {
 #define SLIDER_CRANK_N_REDUCED 3
 #define SLIDER_CRANK_N_ROOTS 2
 #define SLIDER_CRANK_N_SIGMA 25
+#define SLIDER_CRANK_SIGMA_VALUES 193 /* its double-double program's values */
 
 /* Status codes: SLIDER_CRANK_OK is zero; slider_crank_status_message() explains the others. */
 typedef enum slider_crank_status {
@@ -383,6 +385,7 @@ typedef struct slider_crank_workspace {
     codegen_real theta[SLIDER_CRANK_MAX_ROOTS];   /* the roots it found, and more that it merged */
     codegen_real source[SLIDER_CRANK_MAX_ROOTS];  /* where each studied root came from */
     int twinned[SLIDER_CRANK_MAX_ROOTS];          /* whether polishing turned it genuine */
+    codegen_dd sigma_values[SLIDER_CRANK_SIGMA_VALUES]; /* sigma's double-double program's */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } slider_crank_workspace;

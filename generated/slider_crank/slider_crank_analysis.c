@@ -655,7 +655,8 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     int found;
     slider_crank_status status;
     memset(work, 0, sizeof *work);
-    status = slider_crank_sigma(params, work->sigma);
+    slider_crank_sigma_kernel_work(params, work->sigma, ws->sigma_values); /* (params checked) */
+    status = finite_or(work->sigma, SLIDER_CRANK_N_SIGMA, SLIDER_CRANK_SIGMA_FAILURE);
     if (status == SLIDER_CRANK_OK) {
         /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
          * degree below 1, cannot occur) */
