@@ -55,7 +55,8 @@ define library_rules
 $(OUT)/$(1)/$(2)/%.o: generated/$(2)/%.c $(wildcard generated/$(2)/*.h generated/runtime/*.h)
 	@mkdir -p $$(@D)
 	$(ARM_CC) $(ARM_CFLAGS) $($(1)_DEFINES) -Igenerated/$(2) -Igenerated/runtime -c $$< -o $$@
-$(OUT)/$(1)/$(2)/main.o: $(OUT)/main_$(2).c embedded/platform.h
+$(OUT)/$(1)/$(2)/main.o: $(OUT)/main_$(2).c embedded/platform.h \
+    $(wildcard generated/$(2)/*.h generated/runtime/*.h)
 	@mkdir -p $$(@D)
 	$(ARM_CC) $(ARM_CFLAGS) $($(1)_DEFINES) -Iembedded -Igenerated/$(2) -Igenerated/runtime \
 	  -c $$< -o $$@
