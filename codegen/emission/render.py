@@ -163,7 +163,8 @@ def _enclosure(plan: Plan) -> dict:
         value = interval_body([sp.sympify(g)], names, {theta}, "iv_flags")   # G alone: cheaper
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
         modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
-    return {"theta": theta, "equation": enclosure.equation, "modes": modes}
+    slots = max(max(m["body"].program.n_slots, m["value"].program.n_slots) for m in modes)
+    return {"theta": theta, "equation": enclosure.equation, "modes": modes, "slots": slots}
 
 
 def _range_centre(plan: Plan, printer) -> str:

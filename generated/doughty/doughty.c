@@ -1649,9 +1649,8 @@ static const codegen_iv enclose_mode_0_constants[3] = {
  * enclosed in outward-rounded interval arithmetic: 104 operations as
  * 110 instructions over 35 slots. */
 static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[35];
     v[0] = codegen_iv_point(params->H);
     v[1] = codegen_iv_point(params->L);
     v[2] = codegen_iv_point(params->a);
@@ -1716,9 +1715,8 @@ static const codegen_iv enclose_value_mode_0_constants[2] = {
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * 36 operations as 38 instructions over 17 slots. */
 static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[17];
     v[0] = codegen_iv_point(params->H);
     v[1] = codegen_iv_point(params->L);
     v[2] = codegen_iv_point(params->a);
@@ -1737,8 +1735,9 @@ static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
 /* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared),
  * enclosed in outward-rounded interval arithmetic. Total ops: 104. */
 static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
     const codegen_iv a = codegen_iv_point(params->a);
@@ -1778,8 +1777,9 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * Total ops: 36. */
 static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
     const codegen_iv a = codegen_iv_point(params->a);
@@ -1797,22 +1797,31 @@ static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
 }
 #endif /* CODEGEN_INLINE_INTERVALS */
 
-doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
-                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                       unsigned *flags)
+doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
     case 0u:
         if (dg == NULL) {
-            enclose_value_mode_0(params, theta, g, flags);
+            enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
-            enclose_mode_0(params, theta, g, dg, flags);
+            enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return DOUGHTY_OK;
     default:
         return DOUGHTY_ERR_ARGUMENT;
     }
+}
+
+doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS];
+    return doughty_enclosure_kernel_work(params, mode, theta, g, dg, flags, slots);
 }
 
 doughty_status doughty_enclosure(const doughty_params *params, unsigned mode, const codegen_real theta[2],

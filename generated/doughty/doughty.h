@@ -37,6 +37,7 @@ extern "C" {
 #define DOUGHTY_N_REDUCED 3
 #define DOUGHTY_N_ROOTS 1
 #define DOUGHTY_N_SIGMA 13
+#define DOUGHTY_ENCLOSURE_SLOTS 35 /* the interval programs' slots */
 #define DOUGHTY_SIGMA_VALUES 31 /* its double-double program's values */
 
 /* Status codes: DOUGHTY_OK is zero; doughty_status_message() explains the others. */
@@ -390,6 +391,7 @@ typedef struct doughty_workspace {
     codegen_real source[DOUGHTY_MAX_ROOTS];  /* where each studied root came from */
     int twinned[DOUGHTY_MAX_ROOTS];          /* whether polishing turned it genuine */
     codegen_dd sigma_values[DOUGHTY_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_iv enclosure_slots[DOUGHTY_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } doughty_workspace;

@@ -256,12 +256,19 @@ static doughty_status linearise(const doughty_params *params, unsigned mode, cod
     return linearise_at(params, mode, theta, at, e);
 }
 
+/* What codegen_isolate and codegen_certify hand back to the enclosures: the parameters, and
+ * the slots the interval programs run in (the workspace's). */
+typedef struct enclosure_context {
+    const doughty_params *params;
+    codegen_iv *slots;
+} enclosure_context;
+
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    return (int)doughty_enclosure_kernel((const doughty_params *)context, mode, theta, g, dg,
-                                        flags);
+    const enclosure_context *c = (const enclosure_context *)context;
+    return (int)doughty_enclosure_kernel_work(c->params, mode, theta, g, dg, flags, c->slots);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -281,12 +288,12 @@ static void sort_roots(doughty_equilibrium *roots, int count)
 
 /* DOUGHTY_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
  * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
-static doughty_status smooth_near(const doughty_params *params, unsigned mode, codegen_real theta)
+static doughty_status smooth_near(const enclosure_context *context, unsigned mode, codegen_real theta)
 {
     const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     codegen_iv g, dg;
     unsigned flags;
-    const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    const int status = enclose(context, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
     return status != 0 ? (doughty_status)status
          : (flags & CODEGEN_IV_POLE) != 0u ? DOUGHTY_ERR_SINGULAR_STATE : DOUGHTY_OK;
 }
@@ -295,19 +302,19 @@ static doughty_status smooth_near(const doughty_params *params, unsigned mode, c
  * enclosures, the first of G alone, its slope K being known, for a root polished to rounding); failing that, intervals around it from
  * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
  * on the root's mode. */
-static doughty_status certify_around(const doughty_params *params, unsigned mode,
+static doughty_status certify_around(const enclosure_context *context, unsigned mode,
                                      doughty_equilibrium *e)
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, e->K,
+    const int newton = codegen_certify_newton(enclose, context, mode, e->theta, e->K,
                                               &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return (doughty_status)newton;
     }
     for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
-        const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
+        const int status = codegen_certify(enclose, context, mode, e->theta - w, e->theta + w,
                                            &proven);
         if (status != 0) {
             return (doughty_status)status;
@@ -522,9 +529,10 @@ static void add_merged_roots(const doughty_params *params, codegen_real theta, c
  * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
  * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
  * mechanism cannot be assembled. */
-static doughty_status study_root(const doughty_params *params, codegen_real theta, int twin_search,
+static doughty_status study_root(const enclosure_context *context, codegen_real theta, int twin_search,
                                  doughty_equilibrium *e, int *assembled, int *twinned)
 {
+    const doughty_params *params = context->params;
     doughty_status status;
     unsigned branch, mode = 0u;
     int declared;
@@ -568,9 +576,9 @@ static doughty_status study_root(const doughty_params *params, codegen_real thet
     e->certified = 0;
     e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != DOUGHTY_EXTRANEOUS) {
-        status = certify_around(params, mode, e);
+        status = certify_around(context, mode, e);
         if (status == DOUGHTY_OK && !e->certified) {
-            status = smooth_near(params, mode, e->theta);
+            status = smooth_near(context, mode, e->theta);
         }
         if (status != DOUGHTY_OK) {
             return status;
@@ -601,7 +609,7 @@ static int merge_split_roots(doughty_equilibrium *roots, int count)
  * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
  * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
  * studied again without the twin search (kept as it was should that fail). */
-static void restore_twins(const doughty_params *params, doughty_equilibrium *roots, int count,
+static void restore_twins(const enclosure_context *context, doughty_equilibrium *roots, int count,
                           const codegen_real *source, int *twinned)
 {
     int i, j;
@@ -611,7 +619,7 @@ static void restore_twins(const doughty_params *params, doughty_equilibrium *roo
                 && codegen_fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
                 doughty_equilibrium own;
                 int assembled, again;
-                if (study_root(params, source[i], 0, &own, &assembled, &again) == DOUGHTY_OK
+                if (study_root(context, source[i], 0, &own, &assembled, &again) == DOUGHTY_OK
                     && assembled && !again) {
                     roots[i] = own;
                 }
@@ -627,6 +635,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
 {
     codegen_real *theta = ws->theta, *source = ws->source;
     int *twinned = ws->twinned;
+    const enclosure_context context = {params, ws->enclosure_slots};
     int i, count;
     int found;
     doughty_status status;
@@ -652,7 +661,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
     for (i = 0; i < count; ++i) {
         int assembled;
         source[work->n_roots] = theta[i];
-        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
+        status = study_root(&context, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
                             &twinned[work->n_roots]);
         if (status == DOUGHTY_ERR_SINGULAR_STATE) {
             work->singular_theta[work->n_singular++] = theta[i];
@@ -664,7 +673,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
             ++work->n_roots;
         }
     }
-    restore_twins(params, work->roots, work->n_roots, source, twinned);
+    restore_twins(&context, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, work->n_roots);
     work->n_roots = merge_split_roots(work->roots, work->n_roots);
@@ -678,10 +687,12 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
  * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
  * sits on the seam, to be found at both ends or at neither. Zeros found at or below
  * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
-static doughty_status isolation_range(const doughty_params *params, codegen_real *lo, codegen_real *hi,
+static doughty_status isolation_range(const enclosure_context *context, codegen_real *lo, codegen_real *hi,
                                       codegen_real *below)
 {
+    const doughty_params *params = context->params; /* (the centre may be a parameter) */
     const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = 0;
+    (void)params;
     int k;
     *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
@@ -692,7 +703,7 @@ static doughty_status isolation_range(const doughty_params *params, codegen_real
         for (mode = 0u; mode < DOUGHTY_N_MODES && decided; ++mode) {
             codegen_iv g, dg;
             unsigned flags;
-            const int status = enclose(params, mode, codegen_iv_make(cut - margin, cut + margin),
+            const int status = enclose(context, mode, codegen_iv_make(cut - margin, cut + margin),
                                        &g, &dg, &flags);
             if (status != 0) {
                 return (doughty_status)status;
@@ -713,14 +724,15 @@ static doughty_status isolation_range(const doughty_params *params, codegen_real
 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
-static doughty_status isolate_mode(const doughty_params *params, unsigned mode, codegen_real lo,
+static doughty_status isolate_mode(const enclosure_context *context, unsigned mode, codegen_real lo,
                                    codegen_real hi, codegen_real below, doughty_workspace *ws,
                                    doughty_analysis *work)
 {
+    const doughty_params *params = context->params;
     codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+    const int isolated = codegen_isolate_work(enclose, context, mode, lo, hi, found,
                                               DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN, &count,
                                               ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
@@ -790,10 +802,11 @@ static doughty_status isolate_into(const doughty_params *params, doughty_workspa
     unsigned mode;
     int i;
     doughty_status status;
+    const enclosure_context context = {params, ws->enclosure_slots};
     memset(work, 0, sizeof *work);
-    status = isolation_range(params, &lo, &hi, &below);
+    status = isolation_range(&context, &lo, &hi, &below);
     for (mode = 0u; mode < DOUGHTY_N_MODES && status == DOUGHTY_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+        status = isolate_mode(&context, mode, lo, hi, below, ws, work);
     }
     if (status != DOUGHTY_OK) {
         return status;

@@ -144,5 +144,10 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);
+/* The same with the interval programs' slots in the caller's memory. */
+doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS]);
 
 #endif /* DOUGHTY_KERNELS_H */

@@ -38340,9 +38340,8 @@ static const codegen_iv enclose_mode_0_constants[14] = {
  * enclosed in outward-rounded interval arithmetic: 727 operations as
  * 832 instructions over 127 slots. */
 static void enclose_mode_0(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[127];
     v[0] = codegen_iv_point(params->d);
     v[1] = codegen_iv_point(params->a_2);
     v[2] = codegen_iv_point(params->a_3);
@@ -38826,9 +38825,8 @@ static const codegen_iv enclose_value_mode_0_constants[11] = {
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * 392 operations as 444 instructions over 65 slots. */
 static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[65];
     v[0] = codegen_iv_point(params->d);
     v[1] = codegen_iv_point(params->a_2);
     v[2] = codegen_iv_point(params->a_3);
@@ -39721,9 +39719,8 @@ static const codegen_iv enclose_mode_1_constants[14] = {
  * enclosed in outward-rounded interval arithmetic: 740 operations as
  * 850 instructions over 119 slots. */
 static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[119];
     v[0] = codegen_iv_point(params->d);
     v[1] = codegen_iv_point(params->a_2);
     v[2] = codegen_iv_point(params->a_3);
@@ -40123,9 +40120,8 @@ static const codegen_iv enclose_value_mode_1_constants[11] = {
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
  * 325 operations as 360 instructions over 74 slots. */
 static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[74];
     v[0] = codegen_iv_point(params->d);
     v[1] = codegen_iv_point(params->a_2);
     v[2] = codegen_iv_point(params->a_3);
@@ -40148,8 +40144,9 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared),
  * enclosed in outward-rounded interval arithmetic. Total ops: 727. */
 static void enclose_mode_0(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
     const codegen_iv a_3 = codegen_iv_point(params->a_3);
@@ -40318,8 +40315,9 @@ static void enclose_mode_0(const four_bar_params *params, codegen_iv theta, code
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * Total ops: 392. */
 static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
     const codegen_iv a_3 = codegen_iv_point(params->a_3);
@@ -40399,8 +40397,9 @@ static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
  * enclosed in outward-rounded interval arithmetic. Total ops: 740. */
 static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
     const codegen_iv a_3 = codegen_iv_point(params->a_3);
@@ -40567,8 +40566,9 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta, code
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
  * Total ops: 325. */
 static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
     const codegen_iv a_3 = codegen_iv_point(params->a_3);
@@ -40662,29 +40662,38 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
 }
 #endif /* CODEGEN_INLINE_INTERVALS */
 
-four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
-                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                       unsigned *flags)
+four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
     case 0u:
         if (dg == NULL) {
-            enclose_value_mode_0(params, theta, g, flags);
+            enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
-            enclose_mode_0(params, theta, g, dg, flags);
+            enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return FOUR_BAR_OK;
     case 1u:
         if (dg == NULL) {
-            enclose_value_mode_1(params, theta, g, flags);
+            enclose_value_mode_1(params, theta, g, flags, slots);
         } else {
-            enclose_mode_1(params, theta, g, dg, flags);
+            enclose_mode_1(params, theta, g, dg, flags, slots);
         }
         return FOUR_BAR_OK;
     default:
         return FOUR_BAR_ERR_ARGUMENT;
     }
+}
+
+four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS];
+    return four_bar_enclosure_kernel_work(params, mode, theta, g, dg, flags, slots);
 }
 
 four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode, const codegen_real theta[2],

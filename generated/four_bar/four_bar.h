@@ -37,6 +37,7 @@ extern "C" {
 #define FOUR_BAR_N_REDUCED 3
 #define FOUR_BAR_N_ROOTS 2
 #define FOUR_BAR_N_SIGMA 29
+#define FOUR_BAR_ENCLOSURE_SLOTS 127 /* the interval programs' slots */
 #define FOUR_BAR_SIGMA_VALUES 388 /* its double-double program's values */
 
 /* Status codes: FOUR_BAR_OK is zero; four_bar_status_message() explains the others. */
@@ -386,6 +387,7 @@ typedef struct four_bar_workspace {
     codegen_real source[FOUR_BAR_MAX_ROOTS];  /* where each studied root came from */
     int twinned[FOUR_BAR_MAX_ROOTS];          /* whether polishing turned it genuine */
     codegen_dd sigma_values[FOUR_BAR_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } four_bar_workspace;

@@ -152,5 +152,10 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
 four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);
+/* The same with the interval programs' slots in the caller's memory. */
+four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS]);
 
 #endif /* FOUR_BAR_KERNELS_H */

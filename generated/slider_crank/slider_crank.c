@@ -13485,9 +13485,8 @@ static const codegen_iv enclose_mode_0_constants[7] = {
  * enclosed in outward-rounded interval arithmetic: 296 operations as
  * 320 instructions over 79 slots. */
 static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[79];
     v[0] = codegen_iv_point(params->R);
     v[1] = codegen_iv_point(params->l);
     v[2] = codegen_iv_point(params->e);
@@ -13583,9 +13582,8 @@ static const codegen_iv enclose_value_mode_0_constants[2] = {
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * 62 operations as 66 instructions over 20 slots. */
 static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[20];
     v[0] = codegen_iv_point(params->R);
     v[1] = codegen_iv_point(params->l);
     v[2] = codegen_iv_point(params->e);
@@ -14061,9 +14059,8 @@ static const codegen_iv enclose_mode_1_constants[7] = {
  * enclosed in outward-rounded interval arithmetic: 406 operations as
  * 441 instructions over 73 slots. */
 static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[73];
     v[0] = codegen_iv_point(params->R);
     v[1] = codegen_iv_point(params->l);
     v[2] = codegen_iv_point(params->e);
@@ -14156,9 +14153,8 @@ static const codegen_iv enclose_value_mode_1_constants[2] = {
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
  * 59 operations as 63 instructions over 20 slots. */
 static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[20];
     v[0] = codegen_iv_point(params->R);
     v[1] = codegen_iv_point(params->l);
     v[2] = codegen_iv_point(params->e);
@@ -14180,8 +14176,9 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared),
  * enclosed in outward-rounded interval arithmetic. Total ops: 296. */
 static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -14281,8 +14278,9 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta, 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * Total ops: 62. */
 static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -14310,8 +14308,9 @@ static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv t
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative),
  * enclosed in outward-rounded interval arithmetic. Total ops: 406. */
 static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -14399,8 +14398,9 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta, 
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
  * Total ops: 59. */
 static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -14427,29 +14427,38 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
 }
 #endif /* CODEGEN_INLINE_INTERVALS */
 
-slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
-                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                       unsigned *flags)
+slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
     case 0u:
         if (dg == NULL) {
-            enclose_value_mode_0(params, theta, g, flags);
+            enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
-            enclose_mode_0(params, theta, g, dg, flags);
+            enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return SLIDER_CRANK_OK;
     case 1u:
         if (dg == NULL) {
-            enclose_value_mode_1(params, theta, g, flags);
+            enclose_value_mode_1(params, theta, g, flags, slots);
         } else {
-            enclose_mode_1(params, theta, g, dg, flags);
+            enclose_mode_1(params, theta, g, dg, flags, slots);
         }
         return SLIDER_CRANK_OK;
     default:
         return SLIDER_CRANK_ERR_ARGUMENT;
     }
+}
+
+slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS];
+    return slider_crank_enclosure_kernel_work(params, mode, theta, g, dg, flags, slots);
 }
 
 slider_crank_status slider_crank_enclosure(const slider_crank_params *params, unsigned mode, const codegen_real theta[2],

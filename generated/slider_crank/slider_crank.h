@@ -37,6 +37,7 @@ extern "C" {
 #define SLIDER_CRANK_N_REDUCED 3
 #define SLIDER_CRANK_N_ROOTS 2
 #define SLIDER_CRANK_N_SIGMA 25
+#define SLIDER_CRANK_ENCLOSURE_SLOTS 79 /* the interval programs' slots */
 #define SLIDER_CRANK_SIGMA_VALUES 193 /* its double-double program's values */
 
 /* Status codes: SLIDER_CRANK_OK is zero; slider_crank_status_message() explains the others. */
@@ -386,6 +387,7 @@ typedef struct slider_crank_workspace {
     codegen_real source[SLIDER_CRANK_MAX_ROOTS];  /* where each studied root came from */
     int twinned[SLIDER_CRANK_MAX_ROOTS];          /* whether polishing turned it genuine */
     codegen_dd sigma_values[SLIDER_CRANK_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } slider_crank_workspace;

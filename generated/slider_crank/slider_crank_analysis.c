@@ -279,12 +279,19 @@ static slider_crank_status linearise(const slider_crank_params *params, unsigned
     return linearise_at(params, mode, theta, at, e);
 }
 
+/* What codegen_isolate and codegen_certify hand back to the enclosures: the parameters, and
+ * the slots the interval programs run in (the workspace's). */
+typedef struct enclosure_context {
+    const slider_crank_params *params;
+    codegen_iv *slots;
+} enclosure_context;
+
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    return (int)slider_crank_enclosure_kernel((const slider_crank_params *)context, mode, theta, g, dg,
-                                        flags);
+    const enclosure_context *c = (const enclosure_context *)context;
+    return (int)slider_crank_enclosure_kernel_work(c->params, mode, theta, g, dg, flags, c->slots);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -304,12 +311,12 @@ static void sort_roots(slider_crank_equilibrium *roots, int count)
 
 /* SLIDER_CRANK_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
  * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
-static slider_crank_status smooth_near(const slider_crank_params *params, unsigned mode, codegen_real theta)
+static slider_crank_status smooth_near(const enclosure_context *context, unsigned mode, codegen_real theta)
 {
     const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     codegen_iv g, dg;
     unsigned flags;
-    const int status = enclose(params, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    const int status = enclose(context, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
     return status != 0 ? (slider_crank_status)status
          : (flags & CODEGEN_IV_POLE) != 0u ? SLIDER_CRANK_ERR_SINGULAR_STATE : SLIDER_CRANK_OK;
 }
@@ -318,19 +325,19 @@ static slider_crank_status smooth_near(const slider_crank_params *params, unsign
  * enclosures, the first of G alone, its slope K being known, for a root polished to rounding); failing that, intervals around it from
  * CERTIFY_START up to CERTIFY_RADIUS, until one has G changing sign and G' keeping its sign
  * on the root's mode. */
-static slider_crank_status certify_around(const slider_crank_params *params, unsigned mode,
+static slider_crank_status certify_around(const enclosure_context *context, unsigned mode,
                                      slider_crank_equilibrium *e)
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, params, mode, e->theta, e->K,
+    const int newton = codegen_certify_newton(enclose, context, mode, e->theta, e->K,
                                               &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return (slider_crank_status)newton;
     }
     for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
-        const int status = codegen_certify(enclose, params, mode, e->theta - w, e->theta + w,
+        const int status = codegen_certify(enclose, context, mode, e->theta - w, e->theta + w,
                                            &proven);
         if (status != 0) {
             return (slider_crank_status)status;
@@ -545,9 +552,10 @@ static void add_merged_roots(const slider_crank_params *params, codegen_real the
  * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
  * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
  * mechanism cannot be assembled. */
-static slider_crank_status study_root(const slider_crank_params *params, codegen_real theta, int twin_search,
+static slider_crank_status study_root(const enclosure_context *context, codegen_real theta, int twin_search,
                                  slider_crank_equilibrium *e, int *assembled, int *twinned)
 {
+    const slider_crank_params *params = context->params;
     slider_crank_status status;
     unsigned branch, mode = 0u;
     int declared;
@@ -592,9 +600,9 @@ static slider_crank_status study_root(const slider_crank_params *params, codegen
     e->certified = 0;
     e->theta_lo = e->theta_hi = e->theta;
     if (e->kind != SLIDER_CRANK_EXTRANEOUS) {
-        status = certify_around(params, mode, e);
+        status = certify_around(context, mode, e);
         if (status == SLIDER_CRANK_OK && !e->certified) {
-            status = smooth_near(params, mode, e->theta);
+            status = smooth_near(context, mode, e->theta);
         }
         if (status != SLIDER_CRANK_OK) {
             return status;
@@ -625,7 +633,7 @@ static int merge_split_roots(slider_crank_equilibrium *roots, int count)
  * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
  * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
  * studied again without the twin search (kept as it was should that fail). */
-static void restore_twins(const slider_crank_params *params, slider_crank_equilibrium *roots, int count,
+static void restore_twins(const enclosure_context *context, slider_crank_equilibrium *roots, int count,
                           const codegen_real *source, int *twinned)
 {
     int i, j;
@@ -635,7 +643,7 @@ static void restore_twins(const slider_crank_params *params, slider_crank_equili
                 && codegen_fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
                 slider_crank_equilibrium own;
                 int assembled, again;
-                if (study_root(params, source[i], 0, &own, &assembled, &again) == SLIDER_CRANK_OK
+                if (study_root(context, source[i], 0, &own, &assembled, &again) == SLIDER_CRANK_OK
                     && assembled && !again) {
                     roots[i] = own;
                 }
@@ -651,6 +659,7 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
 {
     codegen_real *theta = ws->theta, *source = ws->source;
     int *twinned = ws->twinned;
+    const enclosure_context context = {params, ws->enclosure_slots};
     int i, count;
     int found;
     slider_crank_status status;
@@ -676,7 +685,7 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     for (i = 0; i < count; ++i) {
         int assembled;
         source[work->n_roots] = theta[i];
-        status = study_root(params, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
+        status = study_root(&context, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
                             &twinned[work->n_roots]);
         if (status == SLIDER_CRANK_ERR_SINGULAR_STATE) {
             work->singular_theta[work->n_singular++] = theta[i];
@@ -688,7 +697,7 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
             ++work->n_roots;
         }
     }
-    restore_twins(params, work->roots, work->n_roots, source, twinned);
+    restore_twins(&context, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, work->n_roots);
     work->n_roots = merge_split_roots(work->roots, work->n_roots);
@@ -702,10 +711,12 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
  * circle is cut inside an interval where every mode's G keeps away from 0, so that no zero
  * sits on the seam, to be found at both ends or at neither. Zeros found at or below
  * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
-static slider_crank_status isolation_range(const slider_crank_params *params, codegen_real *lo, codegen_real *hi,
+static slider_crank_status isolation_range(const enclosure_context *context, codegen_real *lo, codegen_real *hi,
                                       codegen_real *below)
 {
+    const slider_crank_params *params = context->params; /* (the centre may be a parameter) */
     const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = 0;
+    (void)params;
     int k;
     *below = centre - pi;
     for (k = 0; k < SEAM_TRIES; ++k) {
@@ -716,7 +727,7 @@ static slider_crank_status isolation_range(const slider_crank_params *params, co
         for (mode = 0u; mode < SLIDER_CRANK_N_MODES && decided; ++mode) {
             codegen_iv g, dg;
             unsigned flags;
-            const int status = enclose(params, mode, codegen_iv_make(cut - margin, cut + margin),
+            const int status = enclose(context, mode, codegen_iv_make(cut - margin, cut + margin),
                                        &g, &dg, &flags);
             if (status != 0) {
                 return (slider_crank_status)status;
@@ -737,14 +748,15 @@ static slider_crank_status isolation_range(const slider_crank_params *params, co
 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
-static slider_crank_status isolate_mode(const slider_crank_params *params, unsigned mode, codegen_real lo,
+static slider_crank_status isolate_mode(const enclosure_context *context, unsigned mode, codegen_real lo,
                                    codegen_real hi, codegen_real below, slider_crank_workspace *ws,
                                    slider_crank_analysis *work)
 {
+    const slider_crank_params *params = context->params;
     codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+    const int isolated = codegen_isolate_work(enclose, context, mode, lo, hi, found,
                                               SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN, &count,
                                               ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
@@ -814,10 +826,11 @@ static slider_crank_status isolate_into(const slider_crank_params *params, slide
     unsigned mode;
     int i;
     slider_crank_status status;
+    const enclosure_context context = {params, ws->enclosure_slots};
     memset(work, 0, sizeof *work);
-    status = isolation_range(params, &lo, &hi, &below);
+    status = isolation_range(&context, &lo, &hi, &below);
     for (mode = 0u; mode < SLIDER_CRANK_N_MODES && status == SLIDER_CRANK_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+        status = isolate_mode(&context, mode, lo, hi, below, ws, work);
     }
     if (status != SLIDER_CRANK_OK) {
         return status;

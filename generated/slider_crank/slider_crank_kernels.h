@@ -152,5 +152,10 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);
+/* The same with the interval programs' slots in the caller's memory. */
+slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS]);
 
 #endif /* SLIDER_CRANK_KERNELS_H */

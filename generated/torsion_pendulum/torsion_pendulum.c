@@ -703,9 +703,8 @@ static const codegen_iv enclose_mode_0_constants[1] = {
  * enclosed in outward-rounded interval arithmetic: 21 operations as
  * 22 instructions over 11 slots. */
 static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[11];
     v[0] = codegen_iv_point(params->l);
     v[1] = codegen_iv_point(params->m);
     v[2] = codegen_iv_point(params->m_t);
@@ -744,9 +743,8 @@ static const codegen_iv enclose_value_mode_0_constants[1] = {
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * 14 operations as 15 instructions over 11 slots. */
 static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
-    codegen_iv v[11];
     v[0] = codegen_iv_point(params->l);
     v[1] = codegen_iv_point(params->m);
     v[2] = codegen_iv_point(params->m_t);
@@ -763,8 +761,9 @@ static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared),
  * enclosed in outward-rounded interval arithmetic. Total ops: 21. */
 static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags)
+                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     (void)iv_flags;
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv m = codegen_iv_point(params->m);
@@ -786,8 +785,9 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
  * Total ops: 14. */
 static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags)
+                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
 {
+    (void)v;
     (void)iv_flags;
     const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv m = codegen_iv_point(params->m);
@@ -801,22 +801,31 @@ static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_
 }
 #endif /* CODEGEN_INLINE_INTERVALS */
 
-torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
-                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                       unsigned *flags)
+torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pendulum_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
     case 0u:
         if (dg == NULL) {
-            enclose_value_mode_0(params, theta, g, flags);
+            enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
-            enclose_mode_0(params, theta, g, dg, flags);
+            enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return TORSION_PENDULUM_OK;
     default:
         return TORSION_PENDULUM_ERR_ARGUMENT;
     }
+}
+
+torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
+                                       codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                       unsigned *flags)
+{
+    codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];
+    return torsion_pendulum_enclosure_kernel_work(params, mode, theta, g, dg, flags, slots);
 }
 
 torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const codegen_real theta[2],

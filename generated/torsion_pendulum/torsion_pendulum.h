@@ -33,6 +33,7 @@ extern "C" {
 #define TORSION_PENDULUM_N_POINT_COORDS 2
 #define TORSION_PENDULUM_N_REDUCED 3
 #define TORSION_PENDULUM_N_ROOTS 0
+#define TORSION_PENDULUM_ENCLOSURE_SLOTS 11 /* the interval programs' slots */
 
 /* Status codes: TORSION_PENDULUM_OK is zero; torsion_pendulum_status_message() explains the others. */
 typedef enum torsion_pendulum_status {
@@ -284,6 +285,7 @@ torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *
  * keep one on their stack. Its contents on return are unspecified. */
 typedef struct torsion_pendulum_workspace {
     torsion_pendulum_analysis result;      /* the result until it is complete (*result is written only on success) */
+    codegen_iv enclosure_slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
 } torsion_pendulum_workspace;

@@ -187,12 +187,19 @@ static torsion_pendulum_status linearise(const torsion_pendulum_params *params, 
     return linearise_at(params, mode, theta, at, e);
 }
 
+/* What codegen_isolate and codegen_certify hand back to the enclosures: the parameters, and
+ * the slots the interval programs run in (the workspace's). */
+typedef struct enclosure_context {
+    const torsion_pendulum_params *params;
+    codegen_iv *slots;
+} enclosure_context;
+
 /* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
-    return (int)torsion_pendulum_enclosure_kernel((const torsion_pendulum_params *)context, mode, theta, g, dg,
-                                        flags);
+    const enclosure_context *c = (const enclosure_context *)context;
+    return (int)torsion_pendulum_enclosure_kernel_work(c->params, mode, theta, g, dg, flags, c->slots);
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -212,10 +219,12 @@ static void sort_roots(torsion_pendulum_equilibrium *roots, int count)
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. Zeros found at or below
  * *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
-static torsion_pendulum_status isolation_range(const torsion_pendulum_params *params, codegen_real *lo, codegen_real *hi,
+static torsion_pendulum_status isolation_range(const enclosure_context *context, codegen_real *lo, codegen_real *hi,
                                       codegen_real *below)
 {
+    const torsion_pendulum_params *params = context->params; /* (the centre may be a parameter) */
     const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = params->theta_0;
+    (void)params;
     *below = -CODEGEN_HUGE;
     *lo = centre - pi;
     *hi = centre + pi;
@@ -224,14 +233,15 @@ static torsion_pendulum_status isolation_range(const torsion_pendulum_params *pa
 
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
  * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
-static torsion_pendulum_status isolate_mode(const torsion_pendulum_params *params, unsigned mode, codegen_real lo,
+static torsion_pendulum_status isolate_mode(const enclosure_context *context, unsigned mode, codegen_real lo,
                                    codegen_real hi, codegen_real below, torsion_pendulum_workspace *ws,
                                    torsion_pendulum_analysis *work)
 {
+    const torsion_pendulum_params *params = context->params;
     codegen_isolated *found = ws->found;
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate_work(enclose, params, mode, lo, hi, found,
+    const int isolated = codegen_isolate_work(enclose, context, mode, lo, hi, found,
                                               TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN, &count,
                                               ws->boxes);
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
@@ -301,10 +311,11 @@ static torsion_pendulum_status isolate_into(const torsion_pendulum_params *param
     unsigned mode;
     int i;
     torsion_pendulum_status status;
+    const enclosure_context context = {params, ws->enclosure_slots};
     memset(work, 0, sizeof *work);
-    status = isolation_range(params, &lo, &hi, &below);
+    status = isolation_range(&context, &lo, &hi, &below);
     for (mode = 0u; mode < TORSION_PENDULUM_N_MODES && status == TORSION_PENDULUM_OK; ++mode) {
-        status = isolate_mode(params, mode, lo, hi, below, ws, work);
+        status = isolate_mode(&context, mode, lo, hi, below, ws, work);
     }
     if (status != TORSION_PENDULUM_OK) {
         return status;

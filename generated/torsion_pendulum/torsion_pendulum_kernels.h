@@ -96,5 +96,10 @@ void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *pa
 torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);
+/* The same with the interval programs' slots in the caller's memory. */
+torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pendulum_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS]);
 
 #endif /* TORSION_PENDULUM_KERNELS_H */
