@@ -56,8 +56,8 @@ class IntervalBody:
     temporaries: tuple[tuple[str, str], ...]  # (name, C expression of type codegen_iv)
     outputs: tuple[str, ...]                  # C expressions of G and G'
     operations: int
+    program: IntervalProgram                  # the same as instructions for codegen_iv_run
     unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
-    program: IntervalProgram | None = None    # the same as instructions for codegen_iv_run
 
 
 def _exact(value: sp.Expr) -> tuple[Fraction, int]:
@@ -111,11 +111,8 @@ class _Text:
         return name
 
     def constant(self, value: sp.Expr) -> str:
-        lo, hi, flo, fhi = _bounds(value)
-        if lo == hi == flo == fhi:  # exact in both types
-            return f"codegen_iv_point({_point(lo)})"
-        return (f"codegen_iv_make(CODEGEN_BOUND({_literal(lo)}, {_literal(flo)}), "
-                f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)}))")
+        lo, hi = _bound_texts(value)
+        return f"codegen_iv_point({lo})" if lo == hi else f"codegen_iv_make({lo}, {hi})"
 
     def one(self) -> str:
         return "codegen_iv_point(1.0)"
@@ -164,12 +161,7 @@ class _Tape:
         return self.slots[name]
 
     def constant(self, value: sp.Expr) -> int:
-        lo, hi, flo, fhi = _bounds(value)
-        if lo == hi == flo == fhi:
-            pair = (_point(lo),) * 2
-        else:
-            pair = (f"CODEGEN_BOUND({_literal(lo)}, {_literal(flo)})",
-                    f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)})")
+        pair = _bound_texts(value)
         return self._take("const", self.constants.setdefault(pair, len(self.constants)))
 
     def one(self) -> int:
@@ -184,43 +176,25 @@ class _Tape:
         return self._take("pow", operand, n)
 
 
-def _on_demand(statements, outputs) -> list:
-    """The statements reordered so that each comes just before the first that reads it (the
-    outputs read in turn): a value is then held from where it is needed, not from where
-    common-subexpression elimination happened to define it, and fewer slots are live."""
-    definitions = dict(statements)
-    order, seen = [], set()
-
-    def need(expr: sp.Expr) -> None:
-        for s in sorted(expr.free_symbols, key=sp.default_sort_key):
-            if s.name in definitions and s.name not in seen:
-                seen.add(s.name)
-                need(definitions[s.name])
-                order.append((s.name, definitions[s.name]))
-
-    for expr in outputs:
-        need(expr)
-    return order
-
-
 def _program(inputs: list[str], statements, outputs) -> IntervalProgram:
     """statements: (name, expr) in order, then the outputs, as a program over slots."""
-    statements = _on_demand(statements, outputs)
     tape = _Tape(inputs)
     writer = _Writer(tape)
     exprs = [e for _, e in statements] + list(outputs)
-    last = {}  # the statement of each name's last read (names in sorted order: the slots
-    for k, e in enumerate(exprs):  # must not depend on the order of a set)
-        for s in sorted(e.free_symbols, key=sp.default_sort_key):
+    last = {}  # the statement of each name's last read
+    for k, e in enumerate(exprs):
+        for s in e.free_symbols:
             last[s.name] = k
+    ending: dict[int, list[str]] = {}  # statement -> the names read there for the last time,
+    for name in sorted(last):          # sorted: slots must not follow the order of a set
+        ending.setdefault(last[name], []).append(name)
     for name in list(tape.slots):  # inputs no statement reads
         if name not in last:
             tape.release(tape.slots[name])
 
     def done(k: int) -> None:
-        for name, at in last.items():
-            if at == k and name in tape.slots:
-                tape.release(tape.slots[name])
+        for name in ending.get(k, ()):
+            tape.release(tape.slots[name])
 
     for k, (name, expr) in enumerate(statements):
         slot = writer.write(expr)
@@ -240,9 +214,15 @@ def _program(inputs: list[str], statements, outputs) -> IntervalProgram:
                            tuple(result), tape.size)
 
 
-def _bounds(value: sp.Expr) -> tuple[float, float, float, float]:
-    """The enclosure of a constant in double, then in float."""
-    return (*enclose_constant(value), *enclose_constant(value, np.float32))
+def _bound_texts(value: sp.Expr) -> tuple[str, str]:
+    """A constant's lower and upper bounds as C text; the same text twice (a literal exact
+    in both types) when it is exact in double and in float."""
+    lo, hi = enclose_constant(value)
+    flo, fhi = enclose_constant(value, np.float32)
+    if lo == hi == flo == fhi:
+        return (_point(lo),) * 2
+    return (f"CODEGEN_BOUND({_literal(lo)}, {_literal(flo)})",
+            f"CODEGEN_BOUND({_literal(hi)}, {_literal(fhi)})")
 
 
 class _Writer:

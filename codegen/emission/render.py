@@ -186,6 +186,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         for r in plan.requirements
     ]
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
+    functions = [_rendered(f, plan, target) for f in plan.functions]
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
@@ -211,7 +212,9 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
                                if p[0] in used],
         "requirements": requirement_checks,
-        "functions": [_rendered(f, plan, target) for f in plan.functions],
+        "functions": functions,
+        # sigma as a double-double program, whose values the analysis keeps in its workspace
+        "sigma_values": any(f.name == "sigma" and f.body.program for f in functions),
     }
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
                  f"{prefix}.cdef": "library.cdef.j2"}

@@ -1519,138 +1519,137 @@ doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA]
     return (doughty_status)codegen_poly_real_roots_work(sigma, DOUGHTY_DEGREE, theta, n_roots,
                                                             work);
 }
-/* Each mode's enclosures: by default as interval programs that codegen_iv_run executes over
- * a few slots (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS defined,
- * as nested inline calls (faster on a host: the isolation route ~15 %, but the compiler
- * gives every temporary its own stack slot: up to ~20 KB in one frame). The same bounds
- * bit for bit either way. */
-#ifndef CODEGEN_INLINE_INTERVALS
+/* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
+ * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
+ * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
+ * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
+ * bit either way. */
 
-static const codegen_iv_instruction enclose_mode_0_program[110] = {
-    {CODEGEN_IV_COS, 10, 9, 0},
-    {CODEGEN_IV_MUL, 11, 1, 10},
-    {CODEGEN_IV_SIN, 12, 9, 0},
-    {CODEGEN_IV_POW, 9, 1, 2},
-    {CODEGEN_IV_MUL, 13, 2, 10},
-    {CODEGEN_IV_CONST, 14, 0, 0},
-    {CODEGEN_IV_MUL, 14, 14, 1},
-    {CODEGEN_IV_MUL, 15, 1, 12},
-    {CODEGEN_IV_SUB, 16, 0, 13},
-    {CODEGEN_IV_POW, 16, 16, 2},
-    {CODEGEN_IV_MUL, 17, 2, 12},
-    {CODEGEN_IV_SUB, 17, 15, 17},
-    {CODEGEN_IV_POW, 17, 17, 2},
-    {CODEGEN_IV_ADD, 17, 16, 17},
-    {CODEGEN_IV_SQRT, 16, 17, 0},
-    {CODEGEN_IV_POW, 18, 12, 2},
-    {CODEGEN_IV_MUL, 19, 6, 18},
-    {CODEGEN_IV_POW, 20, 2, 2},
-    {CODEGEN_IV_MUL, 20, 20, 19},
-    {CODEGEN_IV_POW, 21, 10, 2},
-    {CODEGEN_IV_MUL, 22, 19, 21},
-    {CODEGEN_IV_CONST, 23, 1, 0},
-    {CODEGEN_IV_MUL, 23, 23, 20},
-    {CODEGEN_IV_MUL, 24, 0, 13},
-    {CODEGEN_IV_MUL, 25, 9, 17},
-    {CODEGEN_IV_MUL, 26, 2, 14},
-    {CODEGEN_IV_MUL, 27, 26, 17},
-    {CODEGEN_IV_MUL, 28, 6, 21},
-    {CODEGEN_IV_SQRT, 29, 17, 0},
-    {CODEGEN_IV_POW, 29, 29, 3},
-    {CODEGEN_IV_MUL, 30, 9, 29},
-    {CODEGEN_IV_MUL, 31, 26, 29},
-    {CODEGEN_IV_MUL, 26, 7, 11},
-    {CODEGEN_IV_NEG, 26, 26, 0},
-    {CODEGEN_IV_MUL, 32, 1, 8},
-    {CODEGEN_IV_MUL, 32, 32, 3},
-    {CODEGEN_IV_MUL, 32, 32, 10},
-    {CODEGEN_IV_ADD, 32, 26, 32},
-    {CODEGEN_IV_CONST, 26, 2, 0},
-    {CODEGEN_IV_MUL, 26, 26, 1},
-    {CODEGEN_IV_MUL, 26, 26, 8},
-    {CODEGEN_IV_MUL, 26, 26, 4},
-    {CODEGEN_IV_MUL, 26, 26, 10},
-    {CODEGEN_IV_ADD, 26, 32, 26},
-    {CODEGEN_IV_MUL, 32, 5, 12},
-    {CODEGEN_IV_SUB, 33, 6, 16},
-    {CODEGEN_IV_MUL, 33, 32, 33},
-    {CODEGEN_IV_MUL, 32, 0, 2},
-    {CODEGEN_IV_MUL, 34, 10, 9},
-    {CODEGEN_IV_ADD, 34, 32, 34},
-    {CODEGEN_IV_MUL, 32, 13, 14},
-    {CODEGEN_IV_SUB, 32, 34, 32},
-    {CODEGEN_IV_MUL, 32, 33, 32},
-    {CODEGEN_IV_DIV, 32, 32, 16},
-    {CODEGEN_IV_SUB, 32, 26, 32},
-    {CODEGEN_IV_MUL, 16, 7, 15},
-    {CODEGEN_IV_MUL, 14, 8, 3},
-    {CODEGEN_IV_MUL, 14, 14, 15},
-    {CODEGEN_IV_SUB, 14, 16, 14},
-    {CODEGEN_IV_CONST, 16, 2, 0},
-    {CODEGEN_IV_MUL, 16, 16, 8},
-    {CODEGEN_IV_MUL, 16, 16, 4},
-    {CODEGEN_IV_MUL, 16, 16, 15},
-    {CODEGEN_IV_SUB, 16, 14, 16},
-    {CODEGEN_IV_POW, 14, 0, 2},
-    {CODEGEN_IV_MUL, 14, 14, 20},
-    {CODEGEN_IV_POW, 13, 1, 4},
-    {CODEGEN_IV_MUL, 13, 13, 22},
-    {CODEGEN_IV_ADD, 13, 14, 13},
-    {CODEGEN_IV_MUL, 14, 18, 30},
-    {CODEGEN_IV_SUB, 14, 13, 14},
-    {CODEGEN_IV_MUL, 13, 18, 31},
-    {CODEGEN_IV_ADD, 13, 14, 13},
-    {CODEGEN_IV_MUL, 14, 19, 25},
-    {CODEGEN_IV_ADD, 14, 13, 14},
-    {CODEGEN_IV_MUL, 13, 19, 27},
-    {CODEGEN_IV_SUB, 13, 14, 13},
-    {CODEGEN_IV_MUL, 14, 21, 30},
-    {CODEGEN_IV_ADD, 14, 13, 14},
-    {CODEGEN_IV_MUL, 13, 21, 31},
-    {CODEGEN_IV_SUB, 13, 14, 13},
-    {CODEGEN_IV_MUL, 14, 24, 29},
-    {CODEGEN_IV_ADD, 14, 13, 14},
-    {CODEGEN_IV_MUL, 13, 25, 28},
-    {CODEGEN_IV_SUB, 13, 14, 13},
-    {CODEGEN_IV_MUL, 14, 27, 28},
-    {CODEGEN_IV_ADD, 14, 13, 14},
-    {CODEGEN_IV_MUL, 13, 0, 11},
-    {CODEGEN_IV_MUL, 13, 13, 23},
-    {CODEGEN_IV_SUB, 13, 14, 13},
-    {CODEGEN_IV_CONST, 14, 1, 0},
-    {CODEGEN_IV_POW, 12, 1, 3},
-    {CODEGEN_IV_MUL, 12, 14, 12},
-    {CODEGEN_IV_MUL, 12, 12, 2},
-    {CODEGEN_IV_MUL, 12, 12, 22},
-    {CODEGEN_IV_SUB, 12, 13, 12},
-    {CODEGEN_IV_MUL, 13, 6, 24},
-    {CODEGEN_IV_MUL, 13, 13, 17},
-    {CODEGEN_IV_SUB, 13, 12, 13},
-    {CODEGEN_IV_CONST, 12, 0, 0},
-    {CODEGEN_IV_MUL, 12, 12, 19},
-    {CODEGEN_IV_MUL, 12, 12, 24},
-    {CODEGEN_IV_MUL, 12, 12, 9},
-    {CODEGEN_IV_ADD, 12, 13, 12},
-    {CODEGEN_IV_MUL, 13, 21, 23},
-    {CODEGEN_IV_MUL, 13, 13, 9},
-    {CODEGEN_IV_ADD, 13, 12, 13},
-    {CODEGEN_IV_MUL, 13, 5, 13},
-    {CODEGEN_IV_DIV, 13, 13, 29},
-    {CODEGEN_IV_ADD, 13, 16, 13},
-};
-
-static const codegen_iv enclose_mode_0_constants[3] = {
-    {2, 2},
-    {4, 4},
-    {CODEGEN_R(0.5), CODEGEN_R(0.5)}
-};
-
-/* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared),
- * enclosed in outward-rounded interval arithmetic: 104 operations as
- * 110 instructions over 35 slots. */
-static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
+/* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
+ * 104 operations; as a program, 110 instructions over 35 of the slots v. */
+static void enclose_mode_0(const doughty_params *params, codegen_iv theta,
+                           codegen_iv *iv_g,
+                           codegen_iv *iv_dg,
+                           unsigned *iv_flags, codegen_iv *v)
 {
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[110] = {
+        {CODEGEN_IV_COS, 10, 9, 0},
+        {CODEGEN_IV_MUL, 11, 1, 10},
+        {CODEGEN_IV_SIN, 12, 9, 0},
+        {CODEGEN_IV_POW, 9, 1, 2},
+        {CODEGEN_IV_MUL, 13, 2, 10},
+        {CODEGEN_IV_CONST, 14, 0, 0},
+        {CODEGEN_IV_MUL, 14, 14, 1},
+        {CODEGEN_IV_MUL, 15, 1, 12},
+        {CODEGEN_IV_SUB, 16, 0, 13},
+        {CODEGEN_IV_POW, 16, 16, 2},
+        {CODEGEN_IV_MUL, 17, 2, 12},
+        {CODEGEN_IV_SUB, 17, 15, 17},
+        {CODEGEN_IV_POW, 17, 17, 2},
+        {CODEGEN_IV_ADD, 17, 16, 17},
+        {CODEGEN_IV_SQRT, 16, 17, 0},
+        {CODEGEN_IV_SQRT, 18, 17, 0},
+        {CODEGEN_IV_POW, 18, 18, 3},
+        {CODEGEN_IV_POW, 19, 12, 2},
+        {CODEGEN_IV_MUL, 20, 6, 19},
+        {CODEGEN_IV_POW, 21, 2, 2},
+        {CODEGEN_IV_MUL, 21, 21, 20},
+        {CODEGEN_IV_POW, 22, 10, 2},
+        {CODEGEN_IV_MUL, 23, 20, 22},
+        {CODEGEN_IV_CONST, 24, 1, 0},
+        {CODEGEN_IV_MUL, 24, 24, 21},
+        {CODEGEN_IV_MUL, 25, 0, 13},
+        {CODEGEN_IV_MUL, 26, 9, 17},
+        {CODEGEN_IV_MUL, 27, 2, 14},
+        {CODEGEN_IV_MUL, 28, 27, 17},
+        {CODEGEN_IV_MUL, 29, 6, 22},
+        {CODEGEN_IV_MUL, 30, 9, 18},
+        {CODEGEN_IV_MUL, 31, 27, 18},
+        {CODEGEN_IV_MUL, 27, 7, 11},
+        {CODEGEN_IV_NEG, 27, 27, 0},
+        {CODEGEN_IV_MUL, 32, 1, 8},
+        {CODEGEN_IV_MUL, 32, 32, 3},
+        {CODEGEN_IV_MUL, 32, 32, 10},
+        {CODEGEN_IV_ADD, 32, 27, 32},
+        {CODEGEN_IV_CONST, 27, 2, 0},
+        {CODEGEN_IV_MUL, 27, 27, 1},
+        {CODEGEN_IV_MUL, 27, 27, 8},
+        {CODEGEN_IV_MUL, 27, 27, 4},
+        {CODEGEN_IV_MUL, 27, 27, 10},
+        {CODEGEN_IV_ADD, 27, 32, 27},
+        {CODEGEN_IV_MUL, 32, 5, 12},
+        {CODEGEN_IV_SUB, 33, 6, 16},
+        {CODEGEN_IV_MUL, 33, 32, 33},
+        {CODEGEN_IV_MUL, 32, 0, 2},
+        {CODEGEN_IV_MUL, 34, 10, 9},
+        {CODEGEN_IV_ADD, 34, 32, 34},
+        {CODEGEN_IV_MUL, 32, 13, 14},
+        {CODEGEN_IV_SUB, 32, 34, 32},
+        {CODEGEN_IV_MUL, 32, 33, 32},
+        {CODEGEN_IV_DIV, 32, 32, 16},
+        {CODEGEN_IV_SUB, 32, 27, 32},
+        {CODEGEN_IV_MUL, 16, 7, 15},
+        {CODEGEN_IV_MUL, 14, 8, 3},
+        {CODEGEN_IV_MUL, 14, 14, 15},
+        {CODEGEN_IV_SUB, 14, 16, 14},
+        {CODEGEN_IV_CONST, 16, 2, 0},
+        {CODEGEN_IV_MUL, 16, 16, 8},
+        {CODEGEN_IV_MUL, 16, 16, 4},
+        {CODEGEN_IV_MUL, 16, 16, 15},
+        {CODEGEN_IV_SUB, 16, 14, 16},
+        {CODEGEN_IV_POW, 14, 0, 2},
+        {CODEGEN_IV_MUL, 14, 14, 21},
+        {CODEGEN_IV_POW, 13, 1, 4},
+        {CODEGEN_IV_MUL, 13, 13, 23},
+        {CODEGEN_IV_ADD, 13, 14, 13},
+        {CODEGEN_IV_MUL, 14, 19, 30},
+        {CODEGEN_IV_SUB, 14, 13, 14},
+        {CODEGEN_IV_MUL, 13, 19, 31},
+        {CODEGEN_IV_ADD, 13, 14, 13},
+        {CODEGEN_IV_MUL, 14, 20, 26},
+        {CODEGEN_IV_ADD, 14, 13, 14},
+        {CODEGEN_IV_MUL, 13, 20, 28},
+        {CODEGEN_IV_SUB, 13, 14, 13},
+        {CODEGEN_IV_MUL, 14, 22, 30},
+        {CODEGEN_IV_ADD, 14, 13, 14},
+        {CODEGEN_IV_MUL, 13, 22, 31},
+        {CODEGEN_IV_SUB, 13, 14, 13},
+        {CODEGEN_IV_MUL, 14, 25, 18},
+        {CODEGEN_IV_ADD, 14, 13, 14},
+        {CODEGEN_IV_MUL, 13, 26, 29},
+        {CODEGEN_IV_SUB, 13, 14, 13},
+        {CODEGEN_IV_MUL, 14, 28, 29},
+        {CODEGEN_IV_ADD, 14, 13, 14},
+        {CODEGEN_IV_MUL, 13, 0, 11},
+        {CODEGEN_IV_MUL, 13, 13, 24},
+        {CODEGEN_IV_SUB, 13, 14, 13},
+        {CODEGEN_IV_CONST, 14, 1, 0},
+        {CODEGEN_IV_POW, 12, 1, 3},
+        {CODEGEN_IV_MUL, 12, 14, 12},
+        {CODEGEN_IV_MUL, 12, 12, 2},
+        {CODEGEN_IV_MUL, 12, 12, 23},
+        {CODEGEN_IV_SUB, 12, 13, 12},
+        {CODEGEN_IV_MUL, 13, 6, 25},
+        {CODEGEN_IV_MUL, 13, 13, 17},
+        {CODEGEN_IV_SUB, 13, 12, 13},
+        {CODEGEN_IV_CONST, 12, 0, 0},
+        {CODEGEN_IV_MUL, 12, 12, 20},
+        {CODEGEN_IV_MUL, 12, 12, 25},
+        {CODEGEN_IV_MUL, 12, 12, 9},
+        {CODEGEN_IV_ADD, 12, 13, 12},
+        {CODEGEN_IV_MUL, 13, 22, 24},
+        {CODEGEN_IV_MUL, 13, 13, 9},
+        {CODEGEN_IV_ADD, 13, 12, 13},
+        {CODEGEN_IV_MUL, 13, 5, 13},
+        {CODEGEN_IV_DIV, 13, 13, 18},
+        {CODEGEN_IV_ADD, 13, 16, 13},
+    };
+    static const codegen_iv constants[3] = {
+        {2, 2},
+        {4, 4},
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+    };
     v[0] = codegen_iv_point(params->H);
     v[1] = codegen_iv_point(params->L);
     v[2] = codegen_iv_point(params->a);
@@ -1661,82 +1660,10 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     v[7] = codegen_iv_point(params->F);
     v[8] = codegen_iv_point(params->g);
     v[9] = theta;
-    codegen_iv_run(enclose_mode_0_program, 110, enclose_mode_0_constants, v, iv_flags);
+    codegen_iv_run(program, 110, constants, v, iv_flags);
     *iv_g = v[32];
     *iv_dg = v[13];
-}
-
-static const codegen_iv_instruction enclose_value_mode_0_program[38] = {
-    {CODEGEN_IV_COS, 10, 9, 0},
-    {CODEGEN_IV_SIN, 11, 9, 0},
-    {CODEGEN_IV_MUL, 9, 2, 10},
-    {CODEGEN_IV_SUB, 12, 0, 9},
-    {CODEGEN_IV_POW, 12, 12, 2},
-    {CODEGEN_IV_MUL, 13, 1, 11},
-    {CODEGEN_IV_MUL, 14, 2, 11},
-    {CODEGEN_IV_SUB, 14, 13, 14},
-    {CODEGEN_IV_POW, 14, 14, 2},
-    {CODEGEN_IV_ADD, 14, 12, 14},
-    {CODEGEN_IV_SQRT, 14, 14, 0},
-    {CODEGEN_IV_MUL, 12, 7, 1},
-    {CODEGEN_IV_MUL, 12, 12, 10},
-    {CODEGEN_IV_NEG, 12, 12, 0},
-    {CODEGEN_IV_MUL, 13, 1, 8},
-    {CODEGEN_IV_MUL, 13, 13, 3},
-    {CODEGEN_IV_MUL, 13, 13, 10},
-    {CODEGEN_IV_ADD, 13, 12, 13},
-    {CODEGEN_IV_CONST, 12, 0, 0},
-    {CODEGEN_IV_MUL, 12, 12, 1},
-    {CODEGEN_IV_MUL, 12, 12, 8},
-    {CODEGEN_IV_MUL, 12, 12, 4},
-    {CODEGEN_IV_MUL, 12, 12, 10},
-    {CODEGEN_IV_ADD, 12, 13, 12},
-    {CODEGEN_IV_MUL, 13, 5, 11},
-    {CODEGEN_IV_SUB, 15, 6, 14},
-    {CODEGEN_IV_MUL, 15, 13, 15},
-    {CODEGEN_IV_MUL, 13, 0, 2},
-    {CODEGEN_IV_CONST, 16, 1, 0},
-    {CODEGEN_IV_MUL, 16, 16, 1},
-    {CODEGEN_IV_MUL, 16, 16, 9},
-    {CODEGEN_IV_SUB, 16, 13, 16},
-    {CODEGEN_IV_POW, 13, 1, 2},
-    {CODEGEN_IV_MUL, 13, 13, 10},
-    {CODEGEN_IV_ADD, 13, 16, 13},
-    {CODEGEN_IV_MUL, 13, 15, 13},
-    {CODEGEN_IV_DIV, 13, 13, 14},
-    {CODEGEN_IV_SUB, 13, 12, 13},
-};
-
-static const codegen_iv enclose_value_mode_0_constants[2] = {
-    {CODEGEN_R(0.5), CODEGEN_R(0.5)},
-    {2, 2}
-};
-
-/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 36 operations as 38 instructions over 17 slots. */
-static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
-{
-    v[0] = codegen_iv_point(params->H);
-    v[1] = codegen_iv_point(params->L);
-    v[2] = codegen_iv_point(params->a);
-    v[3] = codegen_iv_point(params->m_B);
-    v[4] = codegen_iv_point(params->m_C);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_ND);
-    v[7] = codegen_iv_point(params->F);
-    v[8] = codegen_iv_point(params->g);
-    v[9] = theta;
-    codegen_iv_run(enclose_value_mode_0_program, 38, enclose_value_mode_0_constants, v, iv_flags);
-    *iv_g = v[13];
-}
 #else
-
-/* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared),
- * enclosed in outward-rounded interval arithmetic. Total ops: 104. */
-static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
-{
     (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
@@ -1772,13 +1699,74 @@ static void enclose_mode_0(const doughty_params *params, codegen_iv theta, codeg
     const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp9);
     *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(F, tmp1)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp2), codegen_iv_sub(l_ND, tmp8)), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(H, a), codegen_iv_mul(tmp0, tmp3)), codegen_iv_mul(tmp4, tmp5))), tmp8, iv_flags));
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
+#endif
 }
 
+
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * Total ops: 36. */
+ * 36 operations; as a program, 38 instructions over 17 of the slots v. */
 static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
+                           codegen_iv *iv_g,
+                           unsigned *iv_flags, codegen_iv *v)
 {
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[38] = {
+        {CODEGEN_IV_COS, 10, 9, 0},
+        {CODEGEN_IV_SIN, 11, 9, 0},
+        {CODEGEN_IV_MUL, 9, 2, 10},
+        {CODEGEN_IV_SUB, 12, 0, 9},
+        {CODEGEN_IV_POW, 12, 12, 2},
+        {CODEGEN_IV_MUL, 13, 1, 11},
+        {CODEGEN_IV_MUL, 14, 2, 11},
+        {CODEGEN_IV_SUB, 14, 13, 14},
+        {CODEGEN_IV_POW, 14, 14, 2},
+        {CODEGEN_IV_ADD, 14, 12, 14},
+        {CODEGEN_IV_SQRT, 14, 14, 0},
+        {CODEGEN_IV_MUL, 12, 7, 1},
+        {CODEGEN_IV_MUL, 12, 12, 10},
+        {CODEGEN_IV_NEG, 12, 12, 0},
+        {CODEGEN_IV_MUL, 13, 1, 8},
+        {CODEGEN_IV_MUL, 13, 13, 3},
+        {CODEGEN_IV_MUL, 13, 13, 10},
+        {CODEGEN_IV_ADD, 13, 12, 13},
+        {CODEGEN_IV_CONST, 12, 0, 0},
+        {CODEGEN_IV_MUL, 12, 12, 1},
+        {CODEGEN_IV_MUL, 12, 12, 8},
+        {CODEGEN_IV_MUL, 12, 12, 4},
+        {CODEGEN_IV_MUL, 12, 12, 10},
+        {CODEGEN_IV_ADD, 12, 13, 12},
+        {CODEGEN_IV_MUL, 13, 5, 11},
+        {CODEGEN_IV_SUB, 15, 6, 14},
+        {CODEGEN_IV_MUL, 15, 13, 15},
+        {CODEGEN_IV_MUL, 13, 0, 2},
+        {CODEGEN_IV_CONST, 16, 1, 0},
+        {CODEGEN_IV_MUL, 16, 16, 1},
+        {CODEGEN_IV_MUL, 16, 16, 9},
+        {CODEGEN_IV_SUB, 16, 13, 16},
+        {CODEGEN_IV_POW, 13, 1, 2},
+        {CODEGEN_IV_MUL, 13, 13, 10},
+        {CODEGEN_IV_ADD, 13, 16, 13},
+        {CODEGEN_IV_MUL, 13, 15, 13},
+        {CODEGEN_IV_DIV, 13, 13, 14},
+        {CODEGEN_IV_SUB, 13, 12, 13},
+    };
+    static const codegen_iv constants[2] = {
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+        {2, 2}
+    };
+    v[0] = codegen_iv_point(params->H);
+    v[1] = codegen_iv_point(params->L);
+    v[2] = codegen_iv_point(params->a);
+    v[3] = codegen_iv_point(params->m_B);
+    v[4] = codegen_iv_point(params->m_C);
+    v[5] = codegen_iv_point(params->k);
+    v[6] = codegen_iv_point(params->l_ND);
+    v[7] = codegen_iv_point(params->F);
+    v[8] = codegen_iv_point(params->g);
+    v[9] = theta;
+    codegen_iv_run(program, 38, constants, v, iv_flags);
+    *iv_g = v[13];
+#else
     (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
@@ -1794,8 +1782,9 @@ static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
     const codegen_iv tmp2 = codegen_iv_mul(a, tmp0);
     const codegen_iv tmp3 = codegen_iv_sqrt(codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp2), 2), codegen_iv_pow(codegen_iv_sub(codegen_iv_mul(L, tmp1), codegen_iv_mul(a, tmp1)), 2)), iv_flags);
     *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(F, L), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp1), codegen_iv_sub(l_ND, tmp3)), codegen_iv_add(codegen_iv_sub(codegen_iv_mul(H, a), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), L), tmp2)), codegen_iv_mul(codegen_iv_pow(L, 2), tmp0))), tmp3, iv_flags));
+#endif
 }
-#endif /* CODEGEN_INLINE_INTERVALS */
+
 
 doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsigned mode,
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,

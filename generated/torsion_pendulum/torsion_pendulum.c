@@ -663,48 +663,47 @@ torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulu
     *K = out[4];
     return TORSION_PENDULUM_OK;
 }
-/* Each mode's enclosures: by default as interval programs that codegen_iv_run executes over
- * a few slots (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS defined,
- * as nested inline calls (faster on a host: the isolation route ~15 %, but the compiler
- * gives every temporary its own stack slot: up to ~20 KB in one frame). The same bounds
- * bit for bit either way. */
+/* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
+ * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
+ * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
+ * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
+ * bit either way. */
+
+/* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
+ * 21 operations; as a program, 22 instructions over 11 of the slots v. */
+static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
+                           codegen_iv *iv_g,
+                           codegen_iv *iv_dg,
+                           unsigned *iv_flags, codegen_iv *v)
+{
 #ifndef CODEGEN_INLINE_INTERVALS
-
-static const codegen_iv_instruction enclose_mode_0_program[22] = {
-    {CODEGEN_IV_SIN, 8, 7, 0},
-    {CODEGEN_IV_MUL, 9, 5, 0},
-    {CODEGEN_IV_COS, 5, 7, 0},
-    {CODEGEN_IV_MUL, 10, 6, 0},
-    {CODEGEN_IV_MUL, 6, 2, 10},
-    {CODEGEN_IV_CONST, 2, 0, 0},
-    {CODEGEN_IV_MUL, 2, 2, 1},
-    {CODEGEN_IV_MUL, 2, 2, 10},
-    {CODEGEN_IV_SUB, 1, 7, 4},
-    {CODEGEN_IV_MUL, 1, 3, 1},
-    {CODEGEN_IV_MUL, 10, 8, 9},
-    {CODEGEN_IV_ADD, 10, 1, 10},
-    {CODEGEN_IV_MUL, 1, 5, 6},
-    {CODEGEN_IV_ADD, 1, 10, 1},
-    {CODEGEN_IV_MUL, 10, 5, 2},
-    {CODEGEN_IV_ADD, 10, 1, 10},
-    {CODEGEN_IV_MUL, 4, 8, 6},
-    {CODEGEN_IV_SUB, 4, 3, 4},
-    {CODEGEN_IV_MUL, 7, 8, 2},
-    {CODEGEN_IV_SUB, 7, 4, 7},
-    {CODEGEN_IV_MUL, 4, 9, 5},
-    {CODEGEN_IV_ADD, 4, 7, 4},
-};
-
-static const codegen_iv enclose_mode_0_constants[1] = {
-    {CODEGEN_R(0.5), CODEGEN_R(0.5)}
-};
-
-/* G (eq. -) and its slope G' on assembly mode 0 (as declared),
- * enclosed in outward-rounded interval arithmetic: 21 operations as
- * 22 instructions over 11 slots. */
-static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
-{
+    static const codegen_iv_instruction program[22] = {
+        {CODEGEN_IV_SIN, 8, 7, 0},
+        {CODEGEN_IV_MUL, 9, 5, 0},
+        {CODEGEN_IV_COS, 5, 7, 0},
+        {CODEGEN_IV_MUL, 10, 6, 0},
+        {CODEGEN_IV_MUL, 0, 2, 10},
+        {CODEGEN_IV_CONST, 2, 0, 0},
+        {CODEGEN_IV_MUL, 2, 2, 1},
+        {CODEGEN_IV_MUL, 2, 2, 10},
+        {CODEGEN_IV_SUB, 10, 7, 4},
+        {CODEGEN_IV_MUL, 10, 3, 10},
+        {CODEGEN_IV_MUL, 1, 8, 9},
+        {CODEGEN_IV_ADD, 1, 10, 1},
+        {CODEGEN_IV_MUL, 10, 5, 0},
+        {CODEGEN_IV_ADD, 10, 1, 10},
+        {CODEGEN_IV_MUL, 1, 5, 2},
+        {CODEGEN_IV_ADD, 1, 10, 1},
+        {CODEGEN_IV_MUL, 4, 8, 0},
+        {CODEGEN_IV_SUB, 4, 3, 4},
+        {CODEGEN_IV_MUL, 7, 8, 2},
+        {CODEGEN_IV_SUB, 7, 4, 7},
+        {CODEGEN_IV_MUL, 4, 9, 5},
+        {CODEGEN_IV_ADD, 4, 7, 4},
+    };
+    static const codegen_iv constants[1] = {
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+    };
     v[0] = codegen_iv_point(params->l);
     v[1] = codegen_iv_point(params->m);
     v[2] = codegen_iv_point(params->m_t);
@@ -713,56 +712,10 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
     v[5] = codegen_iv_point(params->F_x);
     v[6] = codegen_iv_point(params->g);
     v[7] = theta;
-    codegen_iv_run(enclose_mode_0_program, 22, enclose_mode_0_constants, v, iv_flags);
-    *iv_g = v[10];
+    codegen_iv_run(program, 22, constants, v, iv_flags);
+    *iv_g = v[1];
     *iv_dg = v[4];
-}
-
-static const codegen_iv_instruction enclose_value_mode_0_program[15] = {
-    {CODEGEN_IV_MUL, 8, 6, 0},
-    {CODEGEN_IV_COS, 9, 7, 0},
-    {CODEGEN_IV_MUL, 9, 8, 9},
-    {CODEGEN_IV_SUB, 6, 7, 4},
-    {CODEGEN_IV_MUL, 6, 3, 6},
-    {CODEGEN_IV_CONST, 8, 0, 0},
-    {CODEGEN_IV_MUL, 8, 8, 1},
-    {CODEGEN_IV_MUL, 8, 8, 9},
-    {CODEGEN_IV_ADD, 8, 6, 8},
-    {CODEGEN_IV_MUL, 6, 2, 9},
-    {CODEGEN_IV_ADD, 6, 8, 6},
-    {CODEGEN_IV_MUL, 8, 5, 0},
-    {CODEGEN_IV_SIN, 10, 7, 0},
-    {CODEGEN_IV_MUL, 10, 8, 10},
-    {CODEGEN_IV_ADD, 10, 6, 10},
-};
-
-static const codegen_iv enclose_value_mode_0_constants[1] = {
-    {CODEGEN_R(0.5), CODEGEN_R(0.5)}
-};
-
-/* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 14 operations as 15 instructions over 11 slots. */
-static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
-{
-    v[0] = codegen_iv_point(params->l);
-    v[1] = codegen_iv_point(params->m);
-    v[2] = codegen_iv_point(params->m_t);
-    v[3] = codegen_iv_point(params->k_t);
-    v[4] = codegen_iv_point(params->theta_0);
-    v[5] = codegen_iv_point(params->F_x);
-    v[6] = codegen_iv_point(params->g);
-    v[7] = theta;
-    codegen_iv_run(enclose_value_mode_0_program, 15, enclose_value_mode_0_constants, v, iv_flags);
-    *iv_g = v[10];
-}
 #else
-
-/* G (eq. -) and its slope G' on assembly mode 0 (as declared),
- * enclosed in outward-rounded interval arithmetic. Total ops: 21. */
-static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta, codegen_iv *iv_g,
-                           codegen_iv *iv_dg, unsigned *iv_flags, codegen_iv *v)
-{
     (void)v;
     (void)iv_flags;
     const codegen_iv l = codegen_iv_point(params->l);
@@ -780,13 +733,48 @@ static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv the
     const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp3);
     *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(tmp0, tmp1)), codegen_iv_mul(tmp2, tmp4)), codegen_iv_mul(tmp2, tmp5));
     *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(k_t, codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp0, tmp5)), codegen_iv_mul(tmp1, tmp2));
+#endif
 }
 
+
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * Total ops: 14. */
+ * 14 operations; as a program, 15 instructions over 11 of the slots v. */
 static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
-                                 codegen_iv *iv_g, unsigned *iv_flags, codegen_iv *v)
+                           codegen_iv *iv_g,
+                           unsigned *iv_flags, codegen_iv *v)
 {
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[15] = {
+        {CODEGEN_IV_MUL, 8, 6, 0},
+        {CODEGEN_IV_COS, 9, 7, 0},
+        {CODEGEN_IV_MUL, 9, 8, 9},
+        {CODEGEN_IV_SUB, 6, 7, 4},
+        {CODEGEN_IV_MUL, 6, 3, 6},
+        {CODEGEN_IV_CONST, 8, 0, 0},
+        {CODEGEN_IV_MUL, 8, 8, 1},
+        {CODEGEN_IV_MUL, 8, 8, 9},
+        {CODEGEN_IV_ADD, 8, 6, 8},
+        {CODEGEN_IV_MUL, 6, 2, 9},
+        {CODEGEN_IV_ADD, 6, 8, 6},
+        {CODEGEN_IV_MUL, 8, 5, 0},
+        {CODEGEN_IV_SIN, 10, 7, 0},
+        {CODEGEN_IV_MUL, 10, 8, 10},
+        {CODEGEN_IV_ADD, 10, 6, 10},
+    };
+    static const codegen_iv constants[1] = {
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+    };
+    v[0] = codegen_iv_point(params->l);
+    v[1] = codegen_iv_point(params->m);
+    v[2] = codegen_iv_point(params->m_t);
+    v[3] = codegen_iv_point(params->k_t);
+    v[4] = codegen_iv_point(params->theta_0);
+    v[5] = codegen_iv_point(params->F_x);
+    v[6] = codegen_iv_point(params->g);
+    v[7] = theta;
+    codegen_iv_run(program, 15, constants, v, iv_flags);
+    *iv_g = v[10];
+#else
     (void)v;
     (void)iv_flags;
     const codegen_iv l = codegen_iv_point(params->l);
@@ -798,8 +786,9 @@ static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_
     const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_mul(codegen_iv_mul(g, l), codegen_iv_cos(theta));
     *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp0)), codegen_iv_mul(m_t, tmp0)), codegen_iv_mul(codegen_iv_mul(F_x, l), codegen_iv_sin(theta)));
+#endif
 }
-#endif /* CODEGEN_INLINE_INTERVALS */
+
 
 torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pendulum_params *params, unsigned mode,
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,
