@@ -162,7 +162,9 @@ def markdown(report: dict) -> str:
         "- *Worst-case stack*: gcc's `-fstack-usage` frames along its `-fcallgraph-info=su` "
         "call graph, walked by `embedded/stack.py`; the C library's and libgcc's functions "
         "(libm, soft double) from the firmware's disassembly; an indirect call may reach any "
-        "function whose address is taken. From the caller's stack pointer, the result "
+        "function whose address the code the entry runs takes (the isolation's `enclose`, not "
+        "the time response's right-hand side: no function pointer enters through the API), or "
+        "a static table holds. From the caller's stack pointer, the result "
         "structure (the caller's memory) not included.",
         "- *Measured high-water*: the stack painted before the call and searched after it.",
         "- *Size*: `arm-none-eabi-size` of each object (text + data: flash); a program links "

@@ -78,10 +78,9 @@ def stack_report(build: Path, lib: str, library_objects: list[Path]) -> dict:
     graph = stack.Graph()
     stack.read_callgraphs(library_objects + sorted((build / "runtime").glob("*.o")), graph)
     stack.read_binary(build / lib / "firmware.elf", graph)
-    worst = stack.worst_stack(graph)
     functions = {}
     for name in public_functions(library_objects):
-        result = worst(name)
+        result = stack.worst_stack(graph, name)
         functions[name] = {"bytes": result.bytes, "bounded": result.bounded,
                            "path": [[stack.short(f), frame] for f, frame in result.path]}
     cycles = cycles_through(graph, list(functions))

@@ -3,10 +3,15 @@
 The library's own functions come from gcc's -fcallgraph-info=su files (NAME.ci: a node per
 function with its frame from -fstack-usage, an edge per call); the C library's and libgcc's
 (sin, fma, __aeabi_dmul, ...: compiled without those flags) from the linked firmware's
-disassembly, each frame the sum of its prologue's pushes and stack adjustments. An indirect
-call may reach every function whose address the objects take (their relocations other than
-calls). worst(f) = frame(f) + the largest worst(callee); a cycle (recursion) or a dynamic
-frame makes it unbounded, and the report says so.
+disassembly, each frame the sum of its prologue's pushes and stack adjustments.
+worst(f) = frame(f) + the largest worst(callee); a cycle (recursion) or a dynamic frame makes
+it unbounded, and the report says so.
+
+An indirect call made while an entry runs may reach a function whose address is taken by code
+that entry runs, or held in static data: with no function pointer among its arguments or in
+the memory they point to (the generated headers declare none), a pointer the call goes through
+can come from nowhere else. The functions an entry runs are found to a fixed point: its direct
+callees, and, where one of them calls indirectly, the functions so reachable.
 """
 from __future__ import annotations
 
@@ -16,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 INDIRECT = "__indirect_call"
+STATIC_DATA = ""   # a taker that is no function: an initialised table, reachable from anywhere
 _NODE = re.compile(r'node: \{ title: "([^"]+)" label: "([^"]*)"')
 _EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
 _FRAME = re.compile(r"\\n(\d+) bytes \(([a-z,]+)\)")
@@ -33,7 +39,8 @@ class Graph:
     frames: dict[str, int] = field(default_factory=dict)      # function -> its frame [B]
     dynamic: set[str] = field(default_factory=set)            # frames of unbounded size
     calls: dict[str, set[str]] = field(default_factory=dict)  # function -> callees
-    address_taken: set[str] = field(default_factory=set)
+    # function -> the functions whose code takes its address (STATIC_DATA: a table holds it)
+    taken_by: dict[str, set[str]] = field(default_factory=dict)
 
     def add_call(self, caller: str, callee: str) -> None:
         self.calls.setdefault(caller, set()).add(callee)
@@ -64,19 +71,30 @@ def read_callgraphs(objects: list[Path], graph: Graph) -> None:
                     graph.dynamic.add(title)
         for caller, callee in _EDGE.findall(text):
             graph.add_call(caller, callee)
-        graph.address_taken |= _address_taken(obj, source, set(graph.frames))
+        for target, takers in _address_taken(obj, source, set(graph.frames)).items():
+            graph.taken_by.setdefault(target, set()).update(takers)
 
 
-def _address_taken(obj: Path, source: str, known: set[str]) -> set[str]:
-    """Functions of obj referred to other than by a call: the targets of indirect calls.
+def _address_taken(obj: Path, source: str, known: set[str]) -> dict[str, set[str]]:
+    """Functions of obj referred to other than by a call (the targets of indirect calls), each
+    with the functions that refer to it: -ffunction-sections gives each function its section,
+    .text.NAME, whose relocations `objdump -r` lists under its name; any other section is data.
     gcc names a static function in the .ci by its file and name; a global one by its name."""
-    relocations = tool("arm-none-eabi-objdump", "-r", str(obj))
-    taken = set()
-    for line in relocations.splitlines():
+    def ours(symbol: str) -> list[str]:
+        return [name for name in (f"{source}:{symbol}", symbol) if name in known]
+
+    taken: dict[str, set[str]] = {}
+    taker = STATIC_DATA
+    for line in tool("arm-none-eabi-objdump", "-r", str(obj)).splitlines():
+        section = re.match(r"RELOCATION RECORDS FOR \[([^\]]+)\]", line)
+        if section:
+            code = section.group(1).removeprefix(".rel").removeprefix(".text.")
+            taker = next(iter(ours(code)), STATIC_DATA) if section.group(1) != code else STATIC_DATA
+            continue
         parts = line.split()
         if len(parts) == 3 and parts[1].startswith("R_ARM") and parts[1] not in _CALLS:
-            symbol = parts[2].removeprefix(".text.")
-            taken |= {name for name in (f"{source}:{symbol}", symbol) if name in known}
+            for name in ours(parts[2].removeprefix(".text.")):
+                taken.setdefault(name, set()).add(taker)
     return taken
 
 
@@ -142,18 +160,41 @@ def read_disassembly(listing: str, graph: Graph) -> None:
                 graph.add_call(function, target.group(1))
 
 
-def worst_stack(graph: Graph):
-    """worst(name) -> Worst, for any function of the graph (depth first, each function once;
-    a call back into a function still being explored is recursion: unbounded)."""
+def runs(graph: Graph, entry: str) -> set[str]:
+    """The functions entry may run, and (as INDIRECT's callees) the targets of its indirect
+    calls: a fixed point, since a target reached may take further addresses."""
+    seen: set[str] = set()
+    todo = [entry]
+    while todo:
+        for name in todo:
+            seen.add(name)
+        todo = [callee for name in todo for callee in graph.calls.get(name, ())
+                if callee not in seen]
+        if INDIRECT in seen:
+            todo += [target for target, takers in graph.taken_by.items()
+                     if target not in seen and takers & (seen | {STATIC_DATA})]
+    return seen
+
+
+def indirect_targets(graph: Graph, entry: str) -> set[str]:
+    """What an indirect call may reach while entry runs (see the module's docstring)."""
+    reach = runs(graph, entry)
+    return {target for target, takers in graph.taken_by.items()
+            if takers & (reach | {STATIC_DATA})}
+
+
+def worst_stack(graph: Graph, entry: str) -> Worst:
+    """The deepest chain from entry (depth first, each function once; a call back into a
+    function still being explored is recursion: unbounded)."""
     known: dict[str, Worst] = {}
     exploring: set[str] = set()
+    targets = indirect_targets(graph, entry)
 
     def worst(name: str) -> Worst:
         if name in known:
             return known[name]
         exploring.add(name)
         if name == INDIRECT:
-            targets = graph.address_taken
             deepest = max((worst(t) for t in sorted(targets)), key=lambda w: w.bytes,
                           default=Worst(0, (), False))
             result = Worst(deepest.bytes, deepest.path, deepest.bounded and bool(targets))
@@ -174,4 +215,4 @@ def worst_stack(graph: Graph):
         exploring.discard(name)
         known[name] = result
         return result
-    return worst
+    return worst(entry)

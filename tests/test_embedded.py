@@ -108,19 +108,31 @@ def _sigma_lines(build: str, lib: str, side: str) -> list[str]:
 def test_worst_stack_adds_the_deepest_chain_and_flags_recursion():
     graph = stack.Graph(frames={"main": 16, "a": 100, "b": 40, "c": 8, "leaf": 24},
                         calls={"main": {"a", "b"}, "a": {"leaf"}, "b": {"c"}, "c": {"b"}})
-    worst = stack.worst_stack(graph)
-    assert worst("main").bytes == 16 + 100 + 24
-    assert [name for name, _ in worst("main").path] == ["main", "a", "leaf"]
-    assert not worst("main").bounded          # b -> c -> b: no bound from the graph
-    assert worst("a").bounded and worst("a").bytes == 124
+    main = stack.worst_stack(graph, "main")
+    assert main.bytes == 16 + 100 + 24
+    assert [name for name, _ in main.path] == ["main", "a", "leaf"]
+    assert not main.bounded                   # b -> c -> b: no bound from the graph
+    assert stack.worst_stack(graph, "a").bounded and stack.worst_stack(graph, "a").bytes == 124
 
 
-def test_indirect_calls_reach_every_function_whose_address_is_taken():
-    graph = stack.Graph(frames={"f": 8, "g": 500, "h": 30},
-                        calls={"f": {stack.INDIRECT}}, address_taken={"g", "h"})
-    assert stack.worst_stack(graph)("f").bytes == 508
+def test_indirect_calls_reach_what_the_entry_or_static_data_takes_the_address_of():
+    # analyze passes isolate's callback `enclose` to `search`, which calls it indirectly;
+    # simulate passes `rhs` to `step`; `handler` sits in a static table
+    graph = stack.Graph(
+        frames={"analyze": 8, "search": 16, "enclose": 100, "simulate": 8, "step": 16,
+                "rhs": 900, "handler": 40},
+        calls={"analyze": {"search"}, "search": {stack.INDIRECT},
+               "simulate": {"step"}, "step": {stack.INDIRECT}},
+        taken_by={"enclose": {"analyze"}, "rhs": {"simulate"}, "handler": {stack.STATIC_DATA}})
+    assert stack.indirect_targets(graph, "analyze") == {"enclose", "handler"}
+    assert stack.worst_stack(graph, "analyze").bytes == 8 + 16 + 100
+    assert stack.worst_stack(graph, "simulate").bytes == 8 + 16 + 900
+    # a function reached only indirectly takes another address: found to a fixed point
+    graph.taken_by["rhs"].add("enclose")
+    assert stack.indirect_targets(graph, "analyze") == {"enclose", "handler", "rhs"}
+    assert stack.worst_stack(graph, "analyze").bytes == 8 + 16 + 900
     nowhere = stack.Graph(frames={"f": 8}, calls={"f": {stack.INDIRECT}})
-    assert not stack.worst_stack(nowhere)("f").bounded   # a target we cannot see
+    assert not stack.worst_stack(nowhere, "f").bounded   # a target we cannot see
 
 
 def test_frames_and_calls_from_a_disassembly():
