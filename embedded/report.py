@@ -48,7 +48,7 @@ def public_functions(objects: list[Path]) -> list[str]:
     for obj in objects:
         for line in stack.tool("arm-none-eabi-nm", "-g", "--defined-only", str(obj)).splitlines():
             _, kind, name = line.split()
-            if kind == "T" and not name.endswith("_kernel"):
+            if kind == "T" and not name.endswith(("_kernel", "_kernel_work")):
                 names.append(name)
     return sorted(names)
 

@@ -432,6 +432,21 @@ def test_nearly_coincident_pairs_keep_their_equilibria():
                        "genuine roots")
 
 
+def test_extraneous_partners_beside_equilibria_are_kept():
+    """Regression (set 30 of a sample within +-50 % of Table 2): an extraneous root 1.4e-7 rad
+    from each equilibrium near +-92.19 deg, farther apart than rounding splits one root but
+    closer than the root finder resolves. A search for a genuine twin of the reported root used
+    to make it the equilibrium and lose its partner (8 roots reported); every one of sigma's
+    certified real roots is reported now."""
+    p = api.example_params(H=0.17943721837083076, L=1.1387905837489576, a=0.18578858160643913,
+                           m_A=0.22156310061456413, m_B=0.09057232945011454,
+                           m_C=10.212338786681782, k=4321.7512794163995, b=1266.0853068966742,
+                           l_ND=0.19614311517829597, F=64.50523046866044, g=12.406959060712785)
+    result = analyze(p)
+    assert len(result.roots) == certified_real_roots(result.sigma) == 10
+    check_against_scan(p, result, scan(p, +1), scan(p, -1))
+
+
 @pytest.mark.parametrize("overrides", [
     # two pairs at +-57.6076 deg (P = 0), 1.4e-6 rad apart
     dict(H=1.0, L=2.0, a=1.875, m_A=1.0, m_B=1.0, m_C=1.0, k=16626.0, b=0.0, l_ND=2.0,

@@ -138,8 +138,8 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         failure=f"{P}_ERR_{'SINGULAR_STATE' if may_be_singular else 'OVERFLOW'}",
         pointer_checks=tuple(a.name for a in f.inputs if a.size)
         + tuple(o.name for o in f.outputs),
-        finite_checks=tuple(f"{a.name}, {P}_{a.size}" if a.size else f"&{a.name}, 1"
-                            for a in f.inputs),
+        finite_checks=tuple(f"all_finite({a.name}, {P}_{a.size})" if a.size
+                            else f"isfinite({a.name})" for a in f.inputs),
         copies=tuple(copies),
         may_be_singular=may_be_singular,
     )

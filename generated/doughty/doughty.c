@@ -677,10 +677,10 @@ doughty_status doughty_dependent_state(const doughty_params *params, codegen_rea
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_dependent_state_kernel(params, theta, theta_d, out);
@@ -735,7 +735,7 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, codege
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_reduced_coefficients_kernel(params, theta, out);
@@ -796,10 +796,10 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, codege
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_angular_acceleration_kernel(params, theta, theta_d, out);
@@ -853,7 +853,7 @@ doughty_status doughty_equilibrium_residual(const doughty_params *params, codege
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_equilibrium_residual_kernel(params, theta, out);
@@ -898,7 +898,7 @@ doughty_status doughty_radicands(const doughty_params *params, codegen_real thet
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_radicands_kernel(params, theta, out);
@@ -952,7 +952,7 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, codege
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_equilibrium_branches_kernel(params, theta, out);
@@ -1322,7 +1322,7 @@ doughty_status doughty_linearisation(const doughty_params *params, codegen_real 
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_linearisation_kernel(params, theta, out);
@@ -1398,7 +1398,7 @@ doughty_status doughty_vibration(const doughty_params *params, codegen_real thet
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_vibration_kernel(params, theta, out);
@@ -1491,7 +1491,7 @@ doughty_status doughty_equilibrium_state(const doughty_params *params, codegen_r
     if (status != DOUGHTY_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return DOUGHTY_ERR_NONFINITE;
     }
     doughty_equilibrium_state_kernel(params, theta, out);
@@ -1509,15 +1509,23 @@ doughty_status doughty_equilibrium_state(const doughty_params *params, codegen_r
     return DOUGHTY_OK;
 }
 
+doughty_status doughty_poly_real_roots_kernel_work(const codegen_real sigma[DOUGHTY_N_SIGMA],
+                                                  codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)])
+{
+    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a
+     * degree below 1) cannot occur. */
+    return (doughty_status)codegen_poly_real_roots_work(sigma, DOUGHTY_DEGREE, theta, n_roots,
+                                                            work);
+}
+
 doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA],
                                        codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots)
 {
     /* Working memory for this degree only (not the largest the runtime accepts): the stack
-     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
-     * other code (a degree below 1) cannot occur. */
+     * a firmware pays. */
     codegen_real work[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)];
-    return (doughty_status)codegen_poly_real_roots_work(sigma, DOUGHTY_DEGREE, theta, n_roots,
-                                                            work);
+    return doughty_poly_real_roots_kernel_work(sigma, theta, n_roots, work);
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as

@@ -388,8 +388,7 @@ typedef struct doughty_workspace {
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)]; /* the root finder's */
     codegen_real theta[DOUGHTY_MAX_ROOTS];   /* the roots it found, and more that it merged */
-    codegen_real source[DOUGHTY_MAX_ROOTS];  /* where each studied root came from */
-    int twinned[DOUGHTY_MAX_ROOTS];          /* whether polishing turned it genuine */
+    unsigned branches[DOUGHTY_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[DOUGHTY_SIGMA_VALUES]; /* sigma's double-double program's */
     codegen_iv enclosure_slots[DOUGHTY_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */

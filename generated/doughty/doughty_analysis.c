@@ -21,16 +21,13 @@
 /* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
  * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
 #define POLISH_RADIUS CODEGEN_R(1e-3)
-/* How far a root the branches call extraneous is searched for a genuine twin [rad]: the root
- * finder reports roots closer than ~2e-5 (in its chart units) as one. */
-#define TWIN_RADIUS CODEGEN_R(2e-5)
 /* How far on each side of a root the finder reports [rad] the other branches are searched for a
- * root it merged with that one: twice TWIN_RADIUS, as near theta = pi, where the finder's chart
- * is 1/tau, a merged pair can lie 3.4e-5 rad apart. */
-#define MERGED_RADIUS (CODEGEN_R(2.0) * TWIN_RADIUS)
+ * root it merged with that one: the finder reports roots closer than ~2e-5 in its chart units
+ * as one, and near theta = pi, where its chart is 1/tau, such a pair can lie 3.4e-5 rad apart. */
+#define MERGED_RADIUS CODEGEN_R(4e-5)
 /* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
- * polynomial's roots stay on their own branches: no search for a genuine twin of a root
- * the branches call extraneous, and close roots merge only with roots of their own kind. */
+ * polynomial's roots stay on their own branches: close roots merge only with roots of their
+ * own kind. */
 #ifdef CODEGEN_FLOAT
 #define EQUILIBRIA_BY_ISOLATION 1
 #else
@@ -378,6 +375,13 @@ static codegen_real wrap(codegen_real theta)
     return theta <= -pi + PI_SNAP ? pi : theta;
 }
 
+/* How far apart two angles are on the circle (pi - 1e-9 and -pi + 1e-9 are 2e-9 apart). */
+static codegen_real angle_between(codegen_real a, codegen_real b)
+{
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692), d = codegen_fabs(a - b);
+    return codegen_fmin(d, codegen_fabs(two_pi - d));
+}
+
 /* Where the square roots stand at theta: DOUGHTY_ERR_SINGULAR_STATE if one of them is zero to
  * working precision (relative to the size of its radicand's terms: a limit position, or a
  * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
@@ -413,10 +417,11 @@ static unsigned nearest_branch(const codegen_real g[DOUGHTY_N_BRANCHES])
     return best;
 }
 
-/* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
- * same quantity, free of any absolute threshold). */
-static doughty_status branch_kind(const codegen_real at[STATE_SIZE], doughty_root_kind *kind,
-                                  unsigned *branch)
+/* Which branch zeroes G at theta: known (< N_BRANCHES: the root was found on it), else the one
+ * where |G| is smallest (a comparison of values of the same quantity, free of any absolute
+ * threshold). */
+static doughty_status branch_kind(const codegen_real at[STATE_SIZE], unsigned known,
+                                  doughty_root_kind *kind, unsigned *branch)
 {
     const codegen_real *g = at + AT_BRANCH_RESIDUALS;
     unsigned best;
@@ -424,7 +429,7 @@ static doughty_status branch_kind(const codegen_real at[STATE_SIZE], doughty_roo
     if (status != DOUGHTY_OK) {
         return status;
     }
-    best = nearest_branch(g);
+    best = known < DOUGHTY_N_BRANCHES ? known : nearest_branch(g);
     *branch = best;
     *kind = best == 0u ? DOUGHTY_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? DOUGHTY_EXTRANEOUS : DOUGHTY_OTHER_ASSEMBLY;
@@ -487,15 +492,20 @@ static codegen_real refine_on_branch(const doughty_params *params, codegen_real 
     return theta;
 }
 
-/* Roots of the polynomial that the finder merged into the one it reports at theta: every branch
- * but the one nearest zero at theta that changes sign across theta +- MERGED_RADIUS has a root
- * there, on the side where it changes sign, which the polynomial shares. Each is found on its
- * branch and appended to roots[*count..], unless one already listed lies within
- * MULTIPLE_ROOT_SPREAD of it. The polynomial's distinct real roots number at most its degree,
- * MAX_ROOTS, so a new one always has room. */
-static void add_merged_roots(const doughty_params *params, codegen_real theta, codegen_real *roots,
-                             int *count)
+/* Roots of the polynomial that the finder merged into the one it reports, roots[source]: every
+ * branch but the one nearest zero there (branches[source]) that changes sign across it
+ * +- MERGED_RADIUS has a root there, on the side where it changes sign, which the polynomial
+ * shares. Each is found on its branch and appended to roots[*count..] (and its branch to
+ * branches[]), unless another root listed lies within MULTIPLE_ROOT_SPREAD of it. One that
+ * close to roots[source] itself is appended all the same: a genuine root ~1e-11 rad from an
+ * extraneous one is kept on its own branch (merge_split_roots then keeps the genuine one),
+ * however the branches' rounding at roots[source] ranks the two. Each root appended is a
+ * further root of the polynomial, or a further multiplicity of one, and those number at most
+ * its degree, MAX_ROOTS: a new one always has room. */
+static void add_merged_roots(const doughty_params *params, int source, codegen_real *roots,
+                             unsigned *branches, int *count)
 {
+    const codegen_real theta = roots[source];
     codegen_real at[DOUGHTY_N_BRANCHES], below[DOUGHTY_N_BRANCHES], above[DOUGHTY_N_BRANCHES];
     unsigned j, nearest;
     doughty_equilibrium_branches_kernel(params, theta, at);
@@ -506,6 +516,7 @@ static void add_merged_roots(const doughty_params *params, codegen_real theta, c
         return;
     }
     nearest = nearest_branch(at);
+    branches[source] = nearest;
     for (j = 0u; j < DOUGHTY_N_BRANCHES; ++j) {
         codegen_real root;
         int k, listed = 0;
@@ -516,42 +527,41 @@ static void add_merged_roots(const doughty_params *params, codegen_real theta, c
              : (below[j] < 0) != (at[j] < 0) ? solve_on_branch(params, j, theta - MERGED_RADIUS, theta, below[j], at[j])
              : solve_on_branch(params, j, theta, theta + MERGED_RADIUS, at[j], above[j]);
         for (k = 0; k < *count && !listed; ++k) {
-            listed = codegen_fabs(roots[k] - root) <= MULTIPLE_ROOT_SPREAD;
+            listed = k != source && angle_between(roots[k], root) <= MULTIPLE_ROOT_SPREAD;
         }
         if (!listed && *count < DOUGHTY_MAX_ROOTS) {
+            branches[*count] = j;
             roots[(*count)++] = root;
         }
     }
 }
 
-/* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
- * together, or (twin_search) a genuine root lies closer than the root finder resolves, G itself
- * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
- * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
- * mechanism cannot be assembled. */
-static doughty_status study_root(const enclosure_context *context, codegen_real theta, int twin_search,
-                                 doughty_equilibrium *e, int *assembled, int *twinned)
+/* One root: classify by the branch it zeroes (known, or see branch_kind), polish, certify, then
+ * linearise. Where branches vanish together, G itself decides, relative to the size of its
+ * contributions. (A genuine root the root finder merged with this one is found by
+ * add_merged_roots.) *assembled = 0 (and nothing else written) where the mechanism cannot be
+ * assembled. */
+static doughty_status study_root(const enclosure_context *context, codegen_real theta, unsigned known,
+                                 doughty_equilibrium *e, int *assembled)
 {
     const doughty_params *params = context->params;
     doughty_status status;
     unsigned branch, mode = 0u;
     int declared;
     codegen_real at[STATE_SIZE], polished;
-    *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
     status = check_state(at, assembled);
     if (status != DOUGHTY_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(at, &e->kind, &branch);
+    status = branch_kind(at, known, &e->kind, &branch);
     if (status != DOUGHTY_OK) {
         return status;
     }
     declared = e->kind == DOUGHTY_EQUILIBRIUM;
     e->genuine = declared;
-    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0,
-                      at);
+    polished = polish(params, theta, declared ? POLISH_RADIUS : 0, at);
     status = linearise_at(params, 0u, polished, at, e);
     if (status != DOUGHTY_OK) {
         return status;
@@ -562,11 +572,10 @@ static doughty_status study_root(const enclosure_context *context, codegen_real 
         return DOUGHTY_ERR_SINGULAR_STATE;
     }
     e->genuine = e->genuine || codegen_fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
-    *twinned = e->genuine && !declared;
     if (e->genuine) {
         e->kind = DOUGHTY_EQUILIBRIUM;
         e->theta = wrap(e->theta);
-    } else { /* no genuine twin: the root itself, on its own branch */
+    } else { /* not G's: the root itself, on its own branch */
         theta = wrap(refine_on_branch(params, theta, branch, BRANCH_RADIUS));
         status = linearise(params, mode, theta, e);
         if (status != DOUGHTY_OK) {
@@ -587,14 +596,21 @@ static doughty_status study_root(const enclosure_context *context, codegen_real 
     return vibrate(e);
 }
 
-/* Merge neighbours closer than MULTIPLE_ROOT_SPREAD (sorted input); a merged root is genuine
- * if either half is. Returns the new count. */
+/* Whether two roots are one that rounding split: closer than MULTIPLE_ROOT_SPREAD on the
+ * circle (and in float, of one kind). */
+static int split_pair(const doughty_equilibrium *a, const doughty_equilibrium *b)
+{
+    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
+        && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
+}
+
+/* Merge split pairs among neighbours (sorted input), the first and the last included: the
+ * circle closes at pi. A merged root is genuine if either half is. Returns the new count. */
 static int merge_split_roots(doughty_equilibrium *roots, int count)
 {
     int i, kept = 0;
     for (i = 0; i < count; ++i) {
-        if (kept > 0 && roots[i].theta - roots[kept - 1].theta <= MULTIPLE_ROOT_SPREAD
-            && (!EQUILIBRIA_BY_ISOLATION || roots[i].kind == roots[kept - 1].kind)) {
+        if (kept > 0 && split_pair(&roots[i], &roots[kept - 1])) {
             if (roots[i].genuine && !roots[kept - 1].genuine) {
                 roots[kept - 1] = roots[i];
             }
@@ -602,39 +618,21 @@ static int merge_split_roots(doughty_equilibrium *roots, int count)
         }
         roots[kept++] = roots[i];
     }
-    return kept;
-}
-
-/* A root the branches put on another branch, that polishing turned into a genuine twin which
- * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
- * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
- * studied again without the twin search (kept as it was should that fail). */
-static void restore_twins(const enclosure_context *context, doughty_equilibrium *roots, int count,
-                          const codegen_real *source, int *twinned)
-{
-    int i, j;
-    for (i = 0; i < count; ++i) {
-        for (j = 0; twinned[i] && j < count; ++j) {
-            if (j != i && !twinned[j] && roots[j].genuine
-                && codegen_fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
-                doughty_equilibrium own;
-                int assembled, again;
-                if (study_root(context, source[i], 0, &own, &assembled, &again) == DOUGHTY_OK
-                    && assembled && !again) {
-                    roots[i] = own;
-                }
-                twinned[i] = 0;
-            }
+    if (kept > 1 && split_pair(&roots[0], &roots[kept - 1])) {
+        if (roots[kept - 1].genuine || !roots[0].genuine) { /* the one nearer pi stays */
+            memmove(roots, roots + 1, (size_t)(kept - 1) * sizeof *roots);
         }
+        --kept;
     }
+    return kept;
 }
 
 /* The polynomial route into *work, in ws's memory. */
 static doughty_status analyze_polynomial(const doughty_params *params, doughty_workspace *ws,
                                          doughty_analysis *work)
 {
-    codegen_real *theta = ws->theta, *source = ws->source;
-    int *twinned = ws->twinned;
+    codegen_real *theta = ws->theta;
+    unsigned *branches = ws->branches;
     const enclosure_context context = {params, ws->enclosure_slots};
     int i, count;
     int found;
@@ -643,10 +641,7 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
     doughty_sigma_kernel_work(params, work->sigma, ws->sigma_values); /* (params checked) */
     status = finite_or(work->sigma, DOUGHTY_N_SIGMA, DOUGHTY_SIGMA_FAILURE);
     if (status == DOUGHTY_OK) {
-        /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
-         * degree below 1, cannot occur) */
-        status = (doughty_status)codegen_poly_real_roots_work(work->sigma, DOUGHTY_DEGREE, theta,
-                                                                  &count, ws->roots);
+        status = doughty_poly_real_roots_kernel_work(work->sigma, theta, &count, ws->roots);
         if (status == DOUGHTY_ERR_ZERO_POLYNOMIAL) {
             status = DOUGHTY_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
@@ -654,15 +649,16 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
     if (status != DOUGHTY_OK) {
         return status;
     }
+    for (i = 0; i < count; ++i) {
+        branches[i] = DOUGHTY_N_BRANCHES; /* each to be told by the branches at it */
+    }
     /* (In float, MULTIPLE_ROOT_SPREAD is wider than MERGED_RADIUS: nothing to look for.) */
     for (i = 0, found = count; i < found && !EQUILIBRIA_BY_ISOLATION; ++i) {
-        add_merged_roots(params, theta[i], theta, &count);
+        add_merged_roots(params, i, theta, branches, &count);
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        source[work->n_roots] = theta[i];
-        status = study_root(&context, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
-                            &twinned[work->n_roots]);
+        status = study_root(&context, theta[i], branches[i], &work->roots[work->n_roots], &assembled);
         if (status == DOUGHTY_ERR_SINGULAR_STATE) {
             work->singular_theta[work->n_singular++] = theta[i];
         } else if (status != DOUGHTY_OK) {
@@ -673,7 +669,6 @@ static doughty_status analyze_polynomial(const doughty_params *params, doughty_w
             ++work->n_roots;
         }
     }
-    restore_twins(&context, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, work->n_roots);
     work->n_roots = merge_split_roots(work->roots, work->n_roots);

@@ -138,6 +138,11 @@ void doughty_equilibrium_state_kernel(const doughty_params *params, codegen_real
 /* A failure of equilibrium_state (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_EQUILIBRIUM_STATE_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
+/* doughty_poly_real_roots with the root finder's working memory from the caller. */
+doughty_status doughty_poly_real_roots_kernel_work(const codegen_real sigma[DOUGHTY_N_SIGMA],
+                                                  codegen_real theta[DOUGHTY_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)]);
+
 /* doughty_enclosure on an interval of codegen_iv (mode < DOUGHTY_N_MODES, else
  * DOUGHTY_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
  * (a smaller program; the flags are those G's own operations raise). */

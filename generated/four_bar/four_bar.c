@@ -686,10 +686,10 @@ four_bar_status four_bar_dependent_state(const four_bar_params *params, codegen_
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_dependent_state_kernel(params, theta, theta_d, out);
@@ -1025,7 +1025,7 @@ four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, cod
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_reduced_coefficients_kernel(params, theta, out);
@@ -1369,10 +1369,10 @@ four_bar_status four_bar_angular_acceleration(const four_bar_params *params, cod
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_angular_acceleration_kernel(params, theta, theta_d, out);
@@ -1514,7 +1514,7 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, cod
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_equilibrium_residual_kernel(params, theta, out);
@@ -1644,7 +1644,7 @@ four_bar_status four_bar_radicands(const four_bar_params *params, codegen_real t
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_radicands_kernel(params, theta, out);
@@ -1821,7 +1821,7 @@ four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, cod
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_equilibrium_branches_kernel(params, theta, out);
@@ -36357,7 +36357,7 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, codegen_re
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_linearisation_kernel(params, theta, out);
@@ -36634,7 +36634,7 @@ four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real t
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_vibration_kernel(params, theta, out);
@@ -37035,7 +37035,7 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codeg
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_mode_linearisation_kernel(params, theta, out);
@@ -37449,7 +37449,7 @@ four_bar_status four_bar_equilibrium_state(const four_bar_params *params, codege
     if (status != FOUR_BAR_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_equilibrium_state_kernel(params, theta, out);
@@ -37467,15 +37467,23 @@ four_bar_status four_bar_equilibrium_state(const four_bar_params *params, codege
     return FOUR_BAR_OK;
 }
 
+four_bar_status four_bar_poly_real_roots_kernel_work(const codegen_real sigma[FOUR_BAR_N_SIGMA],
+                                                  codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)])
+{
+    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a
+     * degree below 1) cannot occur. */
+    return (four_bar_status)codegen_poly_real_roots_work(sigma, FOUR_BAR_DEGREE, theta, n_roots,
+                                                            work);
+}
+
 four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIGMA],
                                        codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots)
 {
     /* Working memory for this degree only (not the largest the runtime accepts): the stack
-     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
-     * other code (a degree below 1) cannot occur. */
+     * a firmware pays. */
     codegen_real work[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)];
-    return (four_bar_status)codegen_poly_real_roots_work(sigma, FOUR_BAR_DEGREE, theta, n_roots,
-                                                            work);
+    return four_bar_poly_real_roots_kernel_work(sigma, theta, n_roots, work);
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as

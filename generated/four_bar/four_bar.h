@@ -384,8 +384,7 @@ typedef struct four_bar_workspace {
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)]; /* the root finder's */
     codegen_real theta[FOUR_BAR_MAX_ROOTS];   /* the roots it found, and more that it merged */
-    codegen_real source[FOUR_BAR_MAX_ROOTS];  /* where each studied root came from */
-    int twinned[FOUR_BAR_MAX_ROOTS];          /* whether polishing turned it genuine */
+    unsigned branches[FOUR_BAR_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[FOUR_BAR_SIGMA_VALUES]; /* sigma's double-double program's */
     codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */

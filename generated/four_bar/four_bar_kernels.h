@@ -146,6 +146,11 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
 /* A failure of equilibrium_state (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_EQUILIBRIUM_STATE_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
+/* four_bar_poly_real_roots with the root finder's working memory from the caller. */
+four_bar_status four_bar_poly_real_roots_kernel_work(const codegen_real sigma[FOUR_BAR_N_SIGMA],
+                                                  codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)]);
+
 /* four_bar_enclosure on an interval of codegen_iv (mode < FOUR_BAR_N_MODES, else
  * FOUR_BAR_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
  * (a smaller program; the flags are those G's own operations raise). */

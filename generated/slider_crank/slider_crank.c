@@ -602,10 +602,10 @@ slider_crank_status slider_crank_dependent_state(const slider_crank_params *para
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_dependent_state_kernel(params, theta, theta_d, out);
@@ -681,7 +681,7 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_reduced_coefficients_kernel(params, theta, out);
@@ -768,10 +768,10 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_angular_acceleration_kernel(params, theta, theta_d, out);
@@ -842,7 +842,7 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_equilibrium_residual_kernel(params, theta, out);
@@ -897,7 +897,7 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, co
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_radicands_kernel(params, theta, out);
@@ -973,7 +973,7 @@ slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params 
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_equilibrium_branches_kernel(params, theta, out);
@@ -12623,7 +12623,7 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_linearisation_kernel(params, theta, out);
@@ -12762,7 +12762,7 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, co
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_vibration_kernel(params, theta, out);
@@ -12930,7 +12930,7 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_mode_linearisation_kernel(params, theta, out);
@@ -13113,7 +13113,7 @@ slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *pa
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_equilibrium_state_kernel(params, theta, out);
@@ -13131,15 +13131,23 @@ slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *pa
     return SLIDER_CRANK_OK;
 }
 
+slider_crank_status slider_crank_poly_real_roots_kernel_work(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
+                                                  codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)])
+{
+    /* The runtime's codes 0..3 are this library's generic codes; its only other code (a
+     * degree below 1) cannot occur. */
+    return (slider_crank_status)codegen_poly_real_roots_work(sigma, SLIDER_CRANK_DEGREE, theta, n_roots,
+                                                            work);
+}
+
 slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
                                        codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots)
 {
     /* Working memory for this degree only (not the largest the runtime accepts): the stack
-     * a firmware pays. The runtime's codes 0..3 are this library's generic codes; its only
-     * other code (a degree below 1) cannot occur. */
+     * a firmware pays. */
     codegen_real work[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)];
-    return (slider_crank_status)codegen_poly_real_roots_work(sigma, SLIDER_CRANK_DEGREE, theta, n_roots,
-                                                            work);
+    return slider_crank_poly_real_roots_kernel_work(sigma, theta, n_roots, work);
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as

@@ -384,8 +384,7 @@ typedef struct slider_crank_workspace {
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)]; /* the root finder's */
     codegen_real theta[SLIDER_CRANK_MAX_ROOTS];   /* the roots it found, and more that it merged */
-    codegen_real source[SLIDER_CRANK_MAX_ROOTS];  /* where each studied root came from */
-    int twinned[SLIDER_CRANK_MAX_ROOTS];          /* whether polishing turned it genuine */
+    unsigned branches[SLIDER_CRANK_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[SLIDER_CRANK_SIGMA_VALUES]; /* sigma's double-double program's */
     codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */

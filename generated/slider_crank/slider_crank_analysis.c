@@ -21,16 +21,13 @@
 /* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
  * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
 #define POLISH_RADIUS CODEGEN_R(1e-3)
-/* How far a root the branches call extraneous is searched for a genuine twin [rad]: the root
- * finder reports roots closer than ~2e-5 (in its chart units) as one. */
-#define TWIN_RADIUS CODEGEN_R(2e-5)
 /* How far on each side of a root the finder reports [rad] the other branches are searched for a
- * root it merged with that one: twice TWIN_RADIUS, as near theta = pi, where the finder's chart
- * is 1/tau, a merged pair can lie 3.4e-5 rad apart. */
-#define MERGED_RADIUS (CODEGEN_R(2.0) * TWIN_RADIUS)
+ * root it merged with that one: the finder reports roots closer than ~2e-5 in its chart units
+ * as one, and near theta = pi, where its chart is 1/tau, such a pair can lie 3.4e-5 rad apart. */
+#define MERGED_RADIUS CODEGEN_R(4e-5)
 /* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
- * polynomial's roots stay on their own branches: no search for a genuine twin of a root
- * the branches call extraneous, and close roots merge only with roots of their own kind. */
+ * polynomial's roots stay on their own branches: close roots merge only with roots of their
+ * own kind. */
 #ifdef CODEGEN_FLOAT
 #define EQUILIBRIA_BY_ISOLATION 1
 #else
@@ -401,6 +398,13 @@ static codegen_real wrap(codegen_real theta)
     return theta <= -pi + PI_SNAP ? pi : theta;
 }
 
+/* How far apart two angles are on the circle (pi - 1e-9 and -pi + 1e-9 are 2e-9 apart). */
+static codegen_real angle_between(codegen_real a, codegen_real b)
+{
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692), d = codegen_fabs(a - b);
+    return codegen_fmin(d, codegen_fabs(two_pi - d));
+}
+
 /* Where the square roots stand at theta: SLIDER_CRANK_ERR_SINGULAR_STATE if one of them is zero to
  * working precision (relative to the size of its radicand's terms: a limit position, or a
  * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
@@ -436,10 +440,11 @@ static unsigned nearest_branch(const codegen_real g[SLIDER_CRANK_N_BRANCHES])
     return best;
 }
 
-/* Which branch zeroes G at theta: the one where |G| is smallest (a comparison of values of the
- * same quantity, free of any absolute threshold). */
-static slider_crank_status branch_kind(const codegen_real at[STATE_SIZE], slider_crank_root_kind *kind,
-                                  unsigned *branch)
+/* Which branch zeroes G at theta: known (< N_BRANCHES: the root was found on it), else the one
+ * where |G| is smallest (a comparison of values of the same quantity, free of any absolute
+ * threshold). */
+static slider_crank_status branch_kind(const codegen_real at[STATE_SIZE], unsigned known,
+                                  slider_crank_root_kind *kind, unsigned *branch)
 {
     const codegen_real *g = at + AT_BRANCH_RESIDUALS;
     unsigned best;
@@ -447,7 +452,7 @@ static slider_crank_status branch_kind(const codegen_real at[STATE_SIZE], slider
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
-    best = nearest_branch(g);
+    best = known < SLIDER_CRANK_N_BRANCHES ? known : nearest_branch(g);
     *branch = best;
     *kind = best == 0u ? SLIDER_CRANK_EQUILIBRIUM
           : (best & LENGTH_BRANCH_BITS) != 0u ? SLIDER_CRANK_EXTRANEOUS : SLIDER_CRANK_OTHER_ASSEMBLY;
@@ -510,15 +515,20 @@ static codegen_real refine_on_branch(const slider_crank_params *params, codegen_
     return theta;
 }
 
-/* Roots of the polynomial that the finder merged into the one it reports at theta: every branch
- * but the one nearest zero at theta that changes sign across theta +- MERGED_RADIUS has a root
- * there, on the side where it changes sign, which the polynomial shares. Each is found on its
- * branch and appended to roots[*count..], unless one already listed lies within
- * MULTIPLE_ROOT_SPREAD of it. The polynomial's distinct real roots number at most its degree,
- * MAX_ROOTS, so a new one always has room. */
-static void add_merged_roots(const slider_crank_params *params, codegen_real theta, codegen_real *roots,
-                             int *count)
+/* Roots of the polynomial that the finder merged into the one it reports, roots[source]: every
+ * branch but the one nearest zero there (branches[source]) that changes sign across it
+ * +- MERGED_RADIUS has a root there, on the side where it changes sign, which the polynomial
+ * shares. Each is found on its branch and appended to roots[*count..] (and its branch to
+ * branches[]), unless another root listed lies within MULTIPLE_ROOT_SPREAD of it. One that
+ * close to roots[source] itself is appended all the same: a genuine root ~1e-11 rad from an
+ * extraneous one is kept on its own branch (merge_split_roots then keeps the genuine one),
+ * however the branches' rounding at roots[source] ranks the two. Each root appended is a
+ * further root of the polynomial, or a further multiplicity of one, and those number at most
+ * its degree, MAX_ROOTS: a new one always has room. */
+static void add_merged_roots(const slider_crank_params *params, int source, codegen_real *roots,
+                             unsigned *branches, int *count)
 {
+    const codegen_real theta = roots[source];
     codegen_real at[SLIDER_CRANK_N_BRANCHES], below[SLIDER_CRANK_N_BRANCHES], above[SLIDER_CRANK_N_BRANCHES];
     unsigned j, nearest;
     slider_crank_equilibrium_branches_kernel(params, theta, at);
@@ -529,6 +539,7 @@ static void add_merged_roots(const slider_crank_params *params, codegen_real the
         return;
     }
     nearest = nearest_branch(at);
+    branches[source] = nearest;
     for (j = 0u; j < SLIDER_CRANK_N_BRANCHES; ++j) {
         codegen_real root;
         int k, listed = 0;
@@ -539,42 +550,41 @@ static void add_merged_roots(const slider_crank_params *params, codegen_real the
              : (below[j] < 0) != (at[j] < 0) ? solve_on_branch(params, j, theta - MERGED_RADIUS, theta, below[j], at[j])
              : solve_on_branch(params, j, theta, theta + MERGED_RADIUS, at[j], above[j]);
         for (k = 0; k < *count && !listed; ++k) {
-            listed = codegen_fabs(roots[k] - root) <= MULTIPLE_ROOT_SPREAD;
+            listed = k != source && angle_between(roots[k], root) <= MULTIPLE_ROOT_SPREAD;
         }
         if (!listed && *count < SLIDER_CRANK_MAX_ROOTS) {
+            branches[*count] = j;
             roots[(*count)++] = root;
         }
     }
 }
 
-/* One root: classify by the branch it zeroes, polish, certify, then linearise. Where branches vanish
- * together, or (twin_search) a genuine root lies closer than the root finder resolves, G itself
- * decides, relative to the size of its contributions; *twinned = 1 when that turned a root of
- * another branch into a genuine one. *assembled = 0 (and nothing else written) where the
- * mechanism cannot be assembled. */
-static slider_crank_status study_root(const enclosure_context *context, codegen_real theta, int twin_search,
-                                 slider_crank_equilibrium *e, int *assembled, int *twinned)
+/* One root: classify by the branch it zeroes (known, or see branch_kind), polish, certify, then
+ * linearise. Where branches vanish together, G itself decides, relative to the size of its
+ * contributions. (A genuine root the root finder merged with this one is found by
+ * add_merged_roots.) *assembled = 0 (and nothing else written) where the mechanism cannot be
+ * assembled. */
+static slider_crank_status study_root(const enclosure_context *context, codegen_real theta, unsigned known,
+                                 slider_crank_equilibrium *e, int *assembled)
 {
     const slider_crank_params *params = context->params;
     slider_crank_status status;
     unsigned branch, mode = 0u;
     int declared;
     codegen_real at[STATE_SIZE], polished;
-    *twinned = 0;
     theta = wrap(theta);
     state_at(params, theta, at);
     status = check_state(at, assembled);
     if (status != SLIDER_CRANK_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(at, &e->kind, &branch);
+    status = branch_kind(at, known, &e->kind, &branch);
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
     declared = e->kind == SLIDER_CRANK_EQUILIBRIUM;
     e->genuine = declared;
-    polished = polish(params, theta, declared ? POLISH_RADIUS : twin_search ? TWIN_RADIUS : 0,
-                      at);
+    polished = polish(params, theta, declared ? POLISH_RADIUS : 0, at);
     status = linearise_at(params, 0u, polished, at, e);
     if (status != SLIDER_CRANK_OK) {
         return status;
@@ -585,11 +595,10 @@ static slider_crank_status study_root(const enclosure_context *context, codegen_
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
     e->genuine = e->genuine || codegen_fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
-    *twinned = e->genuine && !declared;
     if (e->genuine) {
         e->kind = SLIDER_CRANK_EQUILIBRIUM;
         e->theta = wrap(e->theta);
-    } else { /* no genuine twin: the root itself, on its own branch */
+    } else { /* not G's: the root itself, on its own branch */
         theta = wrap(refine_on_branch(params, theta, branch, BRANCH_RADIUS));
         mode = e->kind == SLIDER_CRANK_OTHER_ASSEMBLY ? mode_of_branch[branch] : 0u;
         status = linearise(params, mode, theta, e);
@@ -611,14 +620,21 @@ static slider_crank_status study_root(const enclosure_context *context, codegen_
     return vibrate(e);
 }
 
-/* Merge neighbours closer than MULTIPLE_ROOT_SPREAD (sorted input); a merged root is genuine
- * if either half is. Returns the new count. */
+/* Whether two roots are one that rounding split: closer than MULTIPLE_ROOT_SPREAD on the
+ * circle (and in float, of one kind). */
+static int split_pair(const slider_crank_equilibrium *a, const slider_crank_equilibrium *b)
+{
+    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
+        && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
+}
+
+/* Merge split pairs among neighbours (sorted input), the first and the last included: the
+ * circle closes at pi. A merged root is genuine if either half is. Returns the new count. */
 static int merge_split_roots(slider_crank_equilibrium *roots, int count)
 {
     int i, kept = 0;
     for (i = 0; i < count; ++i) {
-        if (kept > 0 && roots[i].theta - roots[kept - 1].theta <= MULTIPLE_ROOT_SPREAD
-            && (!EQUILIBRIA_BY_ISOLATION || roots[i].kind == roots[kept - 1].kind)) {
+        if (kept > 0 && split_pair(&roots[i], &roots[kept - 1])) {
             if (roots[i].genuine && !roots[kept - 1].genuine) {
                 roots[kept - 1] = roots[i];
             }
@@ -626,39 +642,21 @@ static int merge_split_roots(slider_crank_equilibrium *roots, int count)
         }
         roots[kept++] = roots[i];
     }
-    return kept;
-}
-
-/* A root the branches put on another branch, that polishing turned into a genuine twin which
- * the polynomial also found by itself, would be merged away with that twin: two roots ~1e-5
- * apart, one of each kind, lose the other-branch one. It is its own branch's root after all:
- * studied again without the twin search (kept as it was should that fail). */
-static void restore_twins(const enclosure_context *context, slider_crank_equilibrium *roots, int count,
-                          const codegen_real *source, int *twinned)
-{
-    int i, j;
-    for (i = 0; i < count; ++i) {
-        for (j = 0; twinned[i] && j < count; ++j) {
-            if (j != i && !twinned[j] && roots[j].genuine
-                && codegen_fabs(roots[i].theta - roots[j].theta) <= MULTIPLE_ROOT_SPREAD) {
-                slider_crank_equilibrium own;
-                int assembled, again;
-                if (study_root(context, source[i], 0, &own, &assembled, &again) == SLIDER_CRANK_OK
-                    && assembled && !again) {
-                    roots[i] = own;
-                }
-                twinned[i] = 0;
-            }
+    if (kept > 1 && split_pair(&roots[0], &roots[kept - 1])) {
+        if (roots[kept - 1].genuine || !roots[0].genuine) { /* the one nearer pi stays */
+            memmove(roots, roots + 1, (size_t)(kept - 1) * sizeof *roots);
         }
+        --kept;
     }
+    return kept;
 }
 
 /* The polynomial route into *work, in ws's memory. */
 static slider_crank_status analyze_polynomial(const slider_crank_params *params, slider_crank_workspace *ws,
                                          slider_crank_analysis *work)
 {
-    codegen_real *theta = ws->theta, *source = ws->source;
-    int *twinned = ws->twinned;
+    codegen_real *theta = ws->theta;
+    unsigned *branches = ws->branches;
     const enclosure_context context = {params, ws->enclosure_slots};
     int i, count;
     int found;
@@ -667,10 +665,7 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     slider_crank_sigma_kernel_work(params, work->sigma, ws->sigma_values); /* (params checked) */
     status = finite_or(work->sigma, SLIDER_CRANK_N_SIGMA, SLIDER_CRANK_SIGMA_FAILURE);
     if (status == SLIDER_CRANK_OK) {
-        /* (the runtime's codes 0..3 are this library's generic codes; its only other code, a
-         * degree below 1, cannot occur) */
-        status = (slider_crank_status)codegen_poly_real_roots_work(work->sigma, SLIDER_CRANK_DEGREE, theta,
-                                                                  &count, ws->roots);
+        status = slider_crank_poly_real_roots_kernel_work(work->sigma, theta, &count, ws->roots);
         if (status == SLIDER_CRANK_ERR_ZERO_POLYNOMIAL) {
             status = SLIDER_CRANK_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
@@ -678,15 +673,16 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
     if (status != SLIDER_CRANK_OK) {
         return status;
     }
+    for (i = 0; i < count; ++i) {
+        branches[i] = SLIDER_CRANK_N_BRANCHES; /* each to be told by the branches at it */
+    }
     /* (In float, MULTIPLE_ROOT_SPREAD is wider than MERGED_RADIUS: nothing to look for.) */
     for (i = 0, found = count; i < found && !EQUILIBRIA_BY_ISOLATION; ++i) {
-        add_merged_roots(params, theta[i], theta, &count);
+        add_merged_roots(params, i, theta, branches, &count);
     }
     for (i = 0; i < count; ++i) {
         int assembled;
-        source[work->n_roots] = theta[i];
-        status = study_root(&context, theta[i], !EQUILIBRIA_BY_ISOLATION, &work->roots[work->n_roots], &assembled,
-                            &twinned[work->n_roots]);
+        status = study_root(&context, theta[i], branches[i], &work->roots[work->n_roots], &assembled);
         if (status == SLIDER_CRANK_ERR_SINGULAR_STATE) {
             work->singular_theta[work->n_singular++] = theta[i];
         } else if (status != SLIDER_CRANK_OK) {
@@ -697,7 +693,6 @@ static slider_crank_status analyze_polynomial(const slider_crank_params *params,
             ++work->n_roots;
         }
     }
-    restore_twins(&context, work->roots, work->n_roots, source, twinned);
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, work->n_roots);
     work->n_roots = merge_split_roots(work->roots, work->n_roots);

@@ -146,6 +146,11 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
 /* A failure of equilibrium_state (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
+/* slider_crank_poly_real_roots with the root finder's working memory from the caller. */
+slider_crank_status slider_crank_poly_real_roots_kernel_work(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
+                                                  codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots,
+                                                  codegen_real work[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)]);
+
 /* slider_crank_enclosure on an interval of codegen_iv (mode < SLIDER_CRANK_N_MODES, else
  * SLIDER_CRANK_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
  * (a smaller program; the flags are those G's own operations raise). */

@@ -319,10 +319,10 @@ torsion_pendulum_status torsion_pendulum_dependent_state(const torsion_pendulum_
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_dependent_state_kernel(params, theta, theta_d, out);
@@ -370,7 +370,7 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pend
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_reduced_coefficients_kernel(params, theta, out);
@@ -423,10 +423,10 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    if (!all_finite(&theta_d, 1)) {
+    if (!isfinite(theta_d)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_angular_acceleration_kernel(params, theta, theta_d, out);
@@ -474,7 +474,7 @@ torsion_pendulum_status torsion_pendulum_equilibrium_residual(const torsion_pend
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_equilibrium_residual_kernel(params, theta, out);
@@ -528,7 +528,7 @@ torsion_pendulum_status torsion_pendulum_linearisation(const torsion_pendulum_pa
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_linearisation_kernel(params, theta, out);
@@ -585,7 +585,7 @@ torsion_pendulum_status torsion_pendulum_vibration(const torsion_pendulum_params
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_vibration_kernel(params, theta, out);
@@ -649,7 +649,7 @@ torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulu
     if (status != TORSION_PENDULUM_OK) {
         return status;
     }
-    if (!all_finite(&theta, 1)) {
+    if (!isfinite(theta)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
     torsion_pendulum_equilibrium_state_kernel(params, theta, out);
