@@ -86,10 +86,9 @@ def _address_taken(obj: Path, source: str, known: set[str]) -> dict[str, set[str
     taken: dict[str, set[str]] = {}
     taker = STATIC_DATA
     for line in tool("arm-none-eabi-objdump", "-r", str(obj)).splitlines():
-        section = re.match(r"RELOCATION RECORDS FOR \[([^\]]+)\]", line)
-        if section:
-            code = section.group(1).removeprefix(".rel").removeprefix(".text.")
-            taker = next(iter(ours(code)), STATIC_DATA) if section.group(1) != code else STATIC_DATA
+        section = re.match(r"RELOCATION RECORDS FOR \[\.text\.([^\]]+)\]|RELOCATION RECORDS", line)
+        if section:   # a function's code, or data (.rodata, .data, ...)
+            taker = next(iter(ours(section.group(1))), STATIC_DATA) if section.group(1) else STATIC_DATA
             continue
         parts = line.split()
         if len(parts) == 3 and parts[1].startswith("R_ARM") and parts[1] not in _CALLS:
@@ -160,27 +159,29 @@ def read_disassembly(listing: str, graph: Graph) -> None:
                 graph.add_call(function, target.group(1))
 
 
+def _taken_in(graph: Graph, running: set[str]) -> set[str]:
+    """The functions whose address the running functions take, or a static table holds."""
+    return {target for target, takers in graph.taken_by.items()
+            if takers & (running | {STATIC_DATA})}
+
+
 def runs(graph: Graph, entry: str) -> set[str]:
     """The functions entry may run, and (as INDIRECT's callees) the targets of its indirect
     calls: a fixed point, since a target reached may take further addresses."""
     seen: set[str] = set()
     todo = [entry]
     while todo:
-        for name in todo:
-            seen.add(name)
+        seen.update(todo)
         todo = [callee for name in todo for callee in graph.calls.get(name, ())
                 if callee not in seen]
         if INDIRECT in seen:
-            todo += [target for target, takers in graph.taken_by.items()
-                     if target not in seen and takers & (seen | {STATIC_DATA})]
+            todo += sorted(_taken_in(graph, seen) - seen)
     return seen
 
 
 def indirect_targets(graph: Graph, entry: str) -> set[str]:
     """What an indirect call may reach while entry runs (see the module's docstring)."""
-    reach = runs(graph, entry)
-    return {target for target, takers in graph.taken_by.items()
-            if takers & (reach | {STATIC_DATA})}
+    return _taken_in(graph, runs(graph, entry))
 
 
 def worst_stack(graph: Graph, entry: str) -> Worst:

@@ -378,8 +378,7 @@ static codegen_real wrap(codegen_real theta)
 /* How far apart two angles are on the circle (pi - 1e-9 and -pi + 1e-9 are 2e-9 apart). */
 static codegen_real angle_between(codegen_real a, codegen_real b)
 {
-    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692), d = codegen_fabs(a - b);
-    return codegen_fmin(d, codegen_fabs(two_pi - d));
+    return codegen_fabs(wrap(a - b));
 }
 
 /* Where the square roots stand at theta: DOUGHTY_ERR_SINGULAR_STATE if one of them is zero to
