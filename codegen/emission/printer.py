@@ -101,7 +101,8 @@ class CTarget:
 
 @dataclass(frozen=True)
 class PrintedBody:
-    """Unpacked inputs, const temporaries, and output assignments into ``out``."""
+    """Unpacked inputs, const temporaries, and output assignments into ``out`` (in plain
+    arithmetic the inputs are loaded among the temporaries, where first read: unpack empty)."""
 
     unpack: tuple[tuple[str, str], ...]       # (local name, source expression)
     temporaries: tuple[tuple[str, str], ...]  # (name, C expression)
@@ -157,11 +158,61 @@ def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget
     if function.arithmetic == "double-double":
         return _double_double_body(unpack, replacements, reduced, int(operations))
     return PrintedBody(
-        unpack=tuple((n, src) for n, src in unpack if n != src),
-        temporaries=tuple((str(s), printer.doprint(e)) for s, e in replacements),
+        unpack=(),
+        temporaries=_loaded_on_first_use([(n, src) for n, src in unpack if n != src],
+                                         _calls_first(replacements), printer),
         assignments=tuple(printer.doprint(e) for e in reduced),
         operations=int(operations),
     )
+
+
+def _calls_first(replacements: list) -> list:
+    """The statements in an order that makes each libm call (sin, cos, ...: a function
+    application; sqrt is an instruction) as early as its operands allow, then the rest as
+    they were: fewer values live across a call, each of which would be saved to memory."""
+    position = {symbol: i for i, (symbol, _) in enumerate(replacements)}
+    placed: set = set()
+    order = []
+
+    def place(root) -> None:
+        stack = [(root, False)]
+        while stack:
+            symbol, ready = stack.pop()
+            if symbol in placed:
+                continue
+            if ready:
+                placed.add(symbol)
+                order.append(replacements[position[symbol]])
+                continue
+            stack.append((symbol, True))
+            operands = [f for f in replacements[position[symbol]][1].free_symbols
+                        if f in position and f not in placed]
+            stack.extend((f, False) for f in sorted(operands, key=position.get, reverse=True))
+
+    for symbol, expr in replacements:
+        if expr.atoms(sp.Function):
+            place(symbol)
+    for symbol, _ in replacements:
+        place(symbol)
+    return order
+
+
+def _loaded_on_first_use(unpack, replacements, printer) -> tuple[tuple[str, str], ...]:
+    """The temporaries, each input loaded just before the first one that reads it (or at the
+    end, for the outputs alone): a value loaded before a libm call must be kept across it,
+    in memory, since every floating-point register is the callee's to overwrite."""
+    first_use = {}
+    for index, (_, expr) in enumerate(replacements):
+        for symbol in expr.free_symbols:
+            first_use.setdefault(symbol.name, index)
+    waiting: dict[int, list[tuple[str, str]]] = {}
+    for name, source in unpack:
+        waiting.setdefault(first_use.get(name, len(replacements)), []).append((name, source))
+    statements = []
+    for index, (symbol, expr) in enumerate(replacements):
+        statements += waiting.get(index, [])
+        statements.append((str(symbol), printer.doprint(expr)))
+    return tuple(statements + waiting.get(len(replacements), []))
 
 
 def _double_double_body(unpack, replacements, reduced, operations) -> PrintedBody:
