@@ -163,53 +163,41 @@ static double thetaddot_difference(const bench_data *d)
 }
 
 #if HAS_POLYNOMIAL
-static double pass_sigma_library(const bench_data *d)
-{
-    double sum = 0.0, sigma[N_SIGMA];
-    size_t i;
-    for (i = 0; i < d->n_sets; ++i) {
-        LIB(_sigma)(&d->params[i], sigma);
-        sum += sigma[N_SIGMA / 2];
-    }
-    return sum;
-}
+typedef void (*sigma_fn)(const params_t *p, double *sigma);
 
-static double pass_sigma_kernel(const bench_data *d)
-{
-    double sum = 0.0, sigma[N_SIGMA];
-    size_t i;
-    for (i = 0; i < d->n_sets; ++i) {
-        LIB(_sigma_kernel)(&d->params[i], sigma);
-        sum += sigma[N_SIGMA / 2];
+/* A timed pass over every set through one sigma function (params, out): the checked entry
+ * (its status ignored), its unchecked kernel, the working-precision kernel, naive_sigma. */
+#define SIGMA_PASS(pass, call)                                   \
+    static double pass(const bench_data *d)                      \
+    {                                                            \
+        double sum = 0.0, sigma[N_SIGMA];                        \
+        size_t i;                                                \
+        for (i = 0; i < d->n_sets; ++i) {                        \
+            (void)call(&d->params[i], sigma);                    \
+            sum += sigma[N_SIGMA / 2];                           \
+        }                                                        \
+        return sum;                                              \
     }
-    return sum;
-}
+SIGMA_PASS(pass_sigma_library, LIB(_sigma))
+SIGMA_PASS(pass_sigma_kernel, LIB(_sigma_kernel))
+SIGMA_PASS(pass_sigma_fast, LIB(_sigma_fast_kernel))
+SIGMA_PASS(pass_sigma_naive, naive_sigma)
 
-static double pass_sigma_naive(const bench_data *d)
+/* max_i |other_i - library_i| / max_i |library_i| (other: naive_sigma or the working-precision
+ * kernel): the coefficients span many orders of magnitude and cancel in the low ones, so
+ * each is measured against the largest. */
+static double sigma_difference(const bench_data *d, sigma_fn other)
 {
-    double sum = 0.0, sigma[N_SIGMA];
-    size_t i;
-    for (i = 0; i < d->n_sets; ++i) {
-        naive_sigma(&d->params[i], sigma);
-        sum += sigma[N_SIGMA / 2];
-    }
-    return sum;
-}
-
-/* max_i |naive_i - library_i| / max_i |library_i|: the coefficients span many orders of
- * magnitude and cancel in the low ones, so each is measured against the largest. */
-static double sigma_difference(const bench_data *d)
-{
-    double worst = 0.0, library[N_SIGMA], naive[N_SIGMA], size, diff;
+    double worst = 0.0, library[N_SIGMA], theirs[N_SIGMA], size, diff;
     size_t i;
     int j;
     for (i = 0; i < d->n_sets; ++i) {
         if (LIB(_sigma)(&d->params[i], library) != 0) continue;
-        naive_sigma(&d->params[i], naive);
+        other(&d->params[i], theirs);
         size = diff = 0.0;
         for (j = 0; j < N_SIGMA; ++j) {
             size = fmax(size, fabs(library[j]));
-            diff = fmax(diff, isfinite(naive[j]) ? fabs(naive[j] - library[j]) : INFINITY);
+            diff = fmax(diff, isfinite(theirs[j]) ? fabs(theirs[j] - library[j]) : INFINITY);
         }
         if (size > 0.0) worst = fmax(worst, diff / size);
     }
@@ -299,8 +287,10 @@ int main(int argc, char **argv)
     if (d.sigma == NULL || write_roots(&d, argv[7]) != 0) return 2;
     member("sigma_library_ns", ns_per_item(pass_sigma_library, &d, d.n_sets), 0);
     member("sigma_kernel_ns", ns_per_item(pass_sigma_kernel, &d, d.n_sets), 0);
+    member("sigma_fast_ns", ns_per_item(pass_sigma_fast, &d, d.n_sets), 0);
     member("sigma_naive_ns", ns_per_item(pass_sigma_naive, &d, d.n_sets), 0);
-    member("sigma_max_rel_diff", sigma_difference(&d), 0);
+    member("sigma_max_rel_diff", sigma_difference(&d, naive_sigma), 0);
+    member("sigma_fast_max_rel_diff", sigma_difference(&d, LIB(_sigma_fast_kernel)), 0);
     member("roots_ns", ns_per_item(pass_roots, &d, d.n_sets), 0);
 #endif
     member("checksum", checksum, 1);

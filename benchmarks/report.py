@@ -92,14 +92,17 @@ def kernels_table(results: dict[str, dict[str, Any]]) -> str:
                      num(ratio(k["thetaddot_naive_ns"], k["thetaddot_kernel_ns"])),
                      num(ratio(k["thetaddot_naive_ns"], k["thetaddot_library_ns"])),
                      sci(k["thetaddot_max_rel_diff"]), num(k["sigma_library_ns"]),
-                     num(k["sigma_kernel_ns"]), num(k["sigma_naive_ns"]),
+                     num(k["sigma_kernel_ns"]), num(k.get("sigma_fast_ns")),
+                     num(k["sigma_naive_ns"]),
+                     num(ratio(k["sigma_naive_ns"], k.get("sigma_fast_ns"))),
                      num(ratio(k["sigma_naive_ns"], k["sigma_kernel_ns"])),
-                     sci(k["sigma_max_rel_diff"])])
+                     sci(k.get("sigma_fast_max_rel_diff")), sci(k["sigma_max_rel_diff"])])
     return table(["mechanism", "thetaddot function", "thetaddot checked [ns]",
                   "thetaddot kernel [ns]", "thetaddot naive [ns]", "naive / kernel",
                   "naive / checked", "max rel. difference", "sigma checked [ns]",
-                  "sigma kernel [ns]", "sigma naive [ns]", "naive / kernel",
-                  "max difference / max abs(sigma_i)"], rows)
+                  "sigma kernel [ns]", "sigma_fast kernel [ns]", "sigma naive [ns]",
+                  "naive / sigma_fast", "naive / sigma kernel",
+                  "sigma_fast: max difference / max abs(sigma_i)", "naive: the same"], rows)
 
 
 def roots_table(results: dict[str, dict[str, Any]]) -> str:
@@ -212,12 +215,13 @@ SECTIONS = (
      "two threads have spread out); > 1: two threads do more."),
     ("2. thetaddot and sigma per call against naive SymPy C",
      "The library's functions against `sympy.ccode` of the same expressions after "
-     "`sympy.cse` (double precision; the library computes sigma in double-double), "
-     "compiled with the same flags and called in the same driver over the same inputs "
-     "(states at random angles and rates). Checked: the public function, which validates "
-     "every input on each call; kernel: the unchecked kernel behind it "
-     "(`PREFIX_kernels.h`), which does what the naive code does. naive / kernel > 1: the "
-     "library is faster."),
+     "`sympy.cse` (double precision), compiled with the same flags and called in the same "
+     "driver over the same inputs (states at random angles and rates). Checked: the public "
+     "function, which validates every input on each call; kernel: the unchecked kernel "
+     "behind it (`PREFIX_kernels.h`). sigma is computed in double-double, for the "
+     "cancellation (the difference columns: how far double arithmetic is from it); "
+     "`PREFIX_sigma_fast` is the same coefficients in double, which does what the naive "
+     "code does. naive / kernel > 1: the library is faster."),
     ("3. Root finder against numpy.roots",
      "`PREFIX_poly_real_roots` and `numpy.roots` (one call per polynomial, a root counted "
      "real when abs(imag) <= 1e-8 abs(root)) on the same sigma vectors (the library's)."),

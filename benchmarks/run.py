@@ -198,8 +198,8 @@ def kernels(m: Mechanism, c: driver.CResults) -> dict[str, Any]:
     """Section 2: ns per call of thetaddot and sigma, library and naive."""
     t = c.timings
     keys = ("thetaddot_library_ns", "thetaddot_kernel_ns", "thetaddot_naive_ns",
-            "thetaddot_max_rel_diff", "sigma_library_ns", "sigma_kernel_ns", "sigma_naive_ns",
-            "sigma_max_rel_diff")
+            "thetaddot_max_rel_diff", "sigma_library_ns", "sigma_kernel_ns", "sigma_fast_ns",
+            "sigma_naive_ns", "sigma_max_rel_diff", "sigma_fast_max_rel_diff")
     return {"thetaddot": m.thetaddot,
             **{k: t.get(k) for k in keys}}
 

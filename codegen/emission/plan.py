@@ -244,6 +244,12 @@ def build_plan(d: Derivation) -> Plan:
            "double-double arithmetic: squaring out the roots cancels up to ~13 digits.",
            [], [Output("sigma", eq.polynomial.coefficients, "[as derived]", "N_SIGMA")],
            eq.polynomial.definitions, arithmetic="double-double"),
+        fn("sigma_fast",
+           "sigma in working precision, as plain straight-line code computes it (tens of "
+           "times faster); where a coefficient's terms cancel, its error can far exceed "
+           "rounding of the largest coefficient: the analysis uses sigma.",
+           [], [Output("sigma", eq.polynomial.coefficients, "[as derived]", "N_SIGMA")],
+           eq.polynomial.definitions, parts=("sigma",)),
     ) if eq.polynomial else ()
     other_modes = (
         fn("mode_linearisation",

@@ -1261,6 +1261,80 @@ doughty_status doughty_sigma(const doughty_params *params, codegen_real sigma[DO
     return DOUGHTY_OK;
 }
 
+/* sigma_fast without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 180. */
+void doughty_sigma_fast_kernel(const doughty_params *params, codegen_real out[13])
+{
+    (void)params;
+    {
+        const codegen_real H = params->H;
+        const codegen_real a = params->a;
+        const codegen_real w_0 = ((H - a)*(H - a));
+        const codegen_real L = params->L;
+        const codegen_real w_1 = 2*(H - a)*(H + a) + ((2*L - 2*a)*(2*L - 2*a));
+        const codegen_real w_2 = ((H + a)*(H + a));
+        const codegen_real m_B = params->m_B;
+        const codegen_real m_C = params->m_C;
+        const codegen_real F = params->F;
+        const codegen_real g = params->g;
+        const codegen_real w_3 = -F*L + L*g*m_B + (((codegen_real)1/2))*L*g*m_C;
+        const codegen_real k = params->k;
+        const codegen_real w_4 = 2*k*(H*a + (L*L) - 2*L*a);
+        const codegen_real w_5 = 2*k*(H*a - (L*L) + 2*L*a);
+        const codegen_real w_6 = F*L - L*g*m_B - ((codegen_real)1/2)*L*g*m_C;
+        const codegen_real l_ND = params->l_ND;
+        const codegen_real w_7 = -2*k*l_ND*(H*a + (L*L) - 2*L*a);
+        const codegen_real w_8 = -2*k*l_ND*(H*a - (L*L) + 2*L*a);
+        const codegen_real w_9 = w_0*(w_3*w_3);
+        const codegen_real w_10 = 2*w_0*w_3*w_4;
+        const codegen_real w_11 = w_0*(w_4*w_4) + w_1*(w_3*w_3) - (w_7*w_7);
+        const codegen_real w_12 = 2*w_0*w_3*w_5 + 2*w_1*w_3*w_4;
+        const codegen_real w_13 = w_0*(2*w_3*w_6 + 2*w_4*w_5) + w_1*(w_4*w_4) + w_2*(w_3*w_3) - 2*(w_7*w_7) - 2*w_7*w_8;
+        const codegen_real w_14 = 2*w_0*w_4*w_6 + 2*w_1*w_3*w_5 + 2*w_2*w_3*w_4;
+        const codegen_real w_15 = w_0*(w_5*w_5) + w_1*(2*w_3*w_6 + 2*w_4*w_5) + w_2*(w_4*w_4) - (w_7*w_7) - 4*w_7*w_8 - (w_8*w_8);
+        const codegen_real w_16 = 2*w_0*w_5*w_6 + 2*w_1*w_4*w_6 + 2*w_2*w_3*w_5;
+        const codegen_real w_17 = w_0*(w_6*w_6) + w_1*(w_5*w_5) + w_2*(2*w_3*w_6 + 2*w_4*w_5) - 2*w_7*w_8 - 2*(w_8*w_8);
+        const codegen_real w_18 = 2*w_1*w_5*w_6 + 2*w_2*w_4*w_6;
+        const codegen_real w_19 = w_1*(w_6*w_6) + w_2*(w_5*w_5) - (w_8*w_8);
+        const codegen_real w_20 = 2*w_2*w_5*w_6;
+        const codegen_real w_21 = w_2*(w_6*w_6);
+        out[0] = w_9;
+        out[1] = w_10;
+        out[2] = w_11;
+        out[3] = w_12;
+        out[4] = w_13;
+        out[5] = w_14;
+        out[6] = w_15;
+        out[7] = w_16;
+        out[8] = w_17;
+        out[9] = w_18;
+        out[10] = w_19;
+        out[11] = w_20;
+        out[12] = w_21;
+    }
+}
+
+/* sigma_fast: eq. (44)-(45). */
+doughty_status doughty_sigma_fast(const doughty_params *params, codegen_real sigma[DOUGHTY_N_SIGMA])
+{
+    codegen_real out[13];
+    doughty_status status;
+    if (sigma == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = doughty_check_params(params);
+    if (status != DOUGHTY_OK) {
+        return status;
+    }
+    doughty_sigma_fast_kernel(params, out);
+    if (!all_finite(out, 13)) {
+        return DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(sigma, out + 0, 13);
+    return DOUGHTY_OK;
+}
+
 /* linearisation without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (46)-(53). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 101. */
@@ -2070,6 +2144,22 @@ doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, c
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = doughty_sigma(&params[i], &sigma[i * DOUGHTY_N_SIGMA]);
+        if (first == DOUGHTY_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+doughty_status doughty_sigma_fast_batch(size_t count, const doughty_params *params, codegen_real *sigma, doughty_status *statuses)
+{
+    size_t i;
+    doughty_status first = DOUGHTY_OK;
+    if (params == NULL || statuses == NULL || sigma == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = doughty_sigma_fast(&params[i], &sigma[i * DOUGHTY_N_SIGMA]);
         if (first == DOUGHTY_OK) {
             first = statuses[i];
         }

@@ -215,6 +215,13 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, codege
  */
 doughty_status doughty_sigma(const doughty_params *params, codegen_real sigma[DOUGHTY_N_SIGMA]);
 
+/* sigma in working precision, as plain straight-line code computes it (tens of times faster); where a coefficient's terms cancel, its error can far exceed rounding of the largest coefficient: the analysis uses sigma.
+ * Paper: eq. (44)-(45).
+ * out sigma: [as derived]
+ * Returns DOUGHTY_OK; DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+doughty_status doughty_sigma_fast(const doughty_params *params, codegen_real sigma[DOUGHTY_N_SIGMA]);
+
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * Paper: eq. (46)-(53).
  * in  theta: equilibrium angle theta_E [rad]
@@ -266,6 +273,7 @@ doughty_status doughty_equilibrium_residual_batch(size_t count, const doughty_pa
 doughty_status doughty_radicands_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, doughty_status *statuses);
 doughty_status doughty_equilibrium_branches_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residuals, doughty_status *statuses);
 doughty_status doughty_sigma_batch(size_t count, const doughty_params *params, codegen_real *sigma, doughty_status *statuses);
+doughty_status doughty_sigma_fast_batch(size_t count, const doughty_params *params, codegen_real *sigma, doughty_status *statuses);
 doughty_status doughty_linearisation_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, doughty_status *statuses);
 doughty_status doughty_vibration_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, doughty_status *statuses);
 doughty_status doughty_equilibrium_state_batch(size_t count, const doughty_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, doughty_status *statuses);

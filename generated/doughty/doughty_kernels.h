@@ -110,6 +110,12 @@ void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13
 /* A failure of sigma (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_SIGMA_FAILURE DOUGHTY_ERR_OVERFLOW
 
+/* sigma_fast's outputs into out[13], in order: sigma[DOUGHTY_N_SIGMA]. */
+void doughty_sigma_fast_kernel(const doughty_params *params, codegen_real out[13]);
+#define DOUGHTY_SIGMA_FAST_SIGMA 0
+/* A failure of sigma_fast (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
+#define DOUGHTY_SIGMA_FAST_FAILURE DOUGHTY_ERR_OVERFLOW
+
 /* linearisation's outputs into out[3], in order: M, B, K. */
 void doughty_linearisation_kernel(const doughty_params *params, codegen_real theta, codegen_real out[3]);
 #define DOUGHTY_LINEARISATION_M 0

@@ -204,6 +204,12 @@ four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, cod
  */
 four_bar_status four_bar_sigma(const four_bar_params *params, codegen_real sigma[FOUR_BAR_N_SIGMA]);
 
+/* sigma in working precision, as plain straight-line code computes it (tens of times faster); where a coefficient's terms cancel, its error can far exceed rounding of the largest coefficient: the analysis uses sigma.
+ * out sigma: [as derived]
+ * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+four_bar_status four_bar_sigma_fast(const four_bar_params *params, codegen_real sigma[FOUR_BAR_N_SIGMA]);
+
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
@@ -261,6 +267,7 @@ four_bar_status four_bar_equilibrium_residual_batch(size_t count, const four_bar
 four_bar_status four_bar_radicands_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, four_bar_status *statuses);
 four_bar_status four_bar_equilibrium_branches_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *residuals, four_bar_status *statuses);
 four_bar_status four_bar_sigma_batch(size_t count, const four_bar_params *params, codegen_real *sigma, four_bar_status *statuses);
+four_bar_status four_bar_sigma_fast_batch(size_t count, const four_bar_params *params, codegen_real *sigma, four_bar_status *statuses);
 four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, four_bar_status *statuses);
 four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);

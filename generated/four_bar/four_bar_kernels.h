@@ -110,6 +110,12 @@ void four_bar_sigma_kernel_work(const four_bar_params *params, codegen_real out[
 /* A failure of sigma (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_SIGMA_FAILURE FOUR_BAR_ERR_OVERFLOW
 
+/* sigma_fast's outputs into out[29], in order: sigma[FOUR_BAR_N_SIGMA]. */
+void four_bar_sigma_fast_kernel(const four_bar_params *params, codegen_real out[29]);
+#define FOUR_BAR_SIGMA_FAST_SIGMA 0
+/* A failure of sigma_fast (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
+#define FOUR_BAR_SIGMA_FAST_FAILURE FOUR_BAR_ERR_OVERFLOW
+
 /* linearisation's outputs into out[3], in order: M, B, K. */
 void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[3]);
 #define FOUR_BAR_LINEARISATION_M 0

@@ -204,6 +204,12 @@ slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params 
  */
 slider_crank_status slider_crank_sigma(const slider_crank_params *params, codegen_real sigma[SLIDER_CRANK_N_SIGMA]);
 
+/* sigma in working precision, as plain straight-line code computes it (tens of times faster); where a coefficient's terms cancel, its error can far exceed rounding of the largest coefficient: the analysis uses sigma.
+ * out sigma: [as derived]
+ * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+slider_crank_status slider_crank_sigma_fast(const slider_crank_params *params, codegen_real sigma[SLIDER_CRANK_N_SIGMA]);
+
 /* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
@@ -261,6 +267,7 @@ slider_crank_status slider_crank_equilibrium_residual_batch(size_t count, const 
 slider_crank_status slider_crank_radicands_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, slider_crank_status *statuses);
 slider_crank_status slider_crank_equilibrium_branches_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residuals, slider_crank_status *statuses);
 slider_crank_status slider_crank_sigma_batch(size_t count, const slider_crank_params *params, codegen_real *sigma, slider_crank_status *statuses);
+slider_crank_status slider_crank_sigma_fast_batch(size_t count, const slider_crank_params *params, codegen_real *sigma, slider_crank_status *statuses);
 slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);
 slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, slider_crank_status *statuses);
 slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);

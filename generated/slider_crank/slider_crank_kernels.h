@@ -110,6 +110,12 @@ void slider_crank_sigma_kernel_work(const slider_crank_params *params, codegen_r
 /* A failure of sigma (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_SIGMA_FAILURE SLIDER_CRANK_ERR_OVERFLOW
 
+/* sigma_fast's outputs into out[25], in order: sigma[SLIDER_CRANK_N_SIGMA]. */
+void slider_crank_sigma_fast_kernel(const slider_crank_params *params, codegen_real out[25]);
+#define SLIDER_CRANK_SIGMA_FAST_SIGMA 0
+/* A failure of sigma_fast (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
+#define SLIDER_CRANK_SIGMA_FAST_FAILURE SLIDER_CRANK_ERR_OVERFLOW
+
 /* linearisation's outputs into out[3], in order: M, B, K. */
 void slider_crank_linearisation_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[3]);
 #define SLIDER_CRANK_LINEARISATION_M 0
