@@ -141,8 +141,15 @@ def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget
     used = set().union(*(sp.sympify(e).free_symbols for e in exprs),
                        *(d.free_symbols for _, d in program))
     prefix = _temporary_prefix(used)
-    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix),
+    # The double-double program keeps its definitions as they are (its rounding is
+    # sigma's); plain code shares subexpressions across the definitions too (_calls_first
+    # puts the statements in dependency order).
+    shared = [d for _, d in program] if function.arithmetic != "double-double" else []
+    replacements, reduced = sp.cse(shared + exprs, symbols=sp.numbered_symbols(prefix),
                                    order="canonical")
+    if shared:
+        program = [(s, d) for (s, _), d in zip(program, reduced[:len(shared)])]
+        reduced = reduced[len(shared):]
     replacements = program + replacements
     printer = target.printer
     unpack = [(renamed.get(sp.Symbol(n, real=True), sp.Symbol(n)).name, f"params->{n}")

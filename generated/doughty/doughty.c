@@ -1263,42 +1263,73 @@ doughty_status doughty_sigma(const doughty_params *params, codegen_real sigma[DO
 
 /* sigma_fast without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
- * of the outputs; they may be NaN or infinite. Total ops: 180. */
+ * of the outputs; they may be NaN or infinite. Total ops: 109. */
 void doughty_sigma_fast_kernel(const doughty_params *params, codegen_real out[13])
 {
     (void)params;
     {
         const codegen_real H = params->H;
         const codegen_real a = params->a;
-        const codegen_real w_0 = ((H - a)*(H - a));
+        const codegen_real tmp0 = H - a;
+        const codegen_real w_0 = (tmp0*tmp0);
+        const codegen_real tmp1 = 2*a;
+        const codegen_real tmp2 = H + a;
         const codegen_real L = params->L;
-        const codegen_real w_1 = 2*(H - a)*(H + a) + ((2*L - 2*a)*(2*L - 2*a));
-        const codegen_real w_2 = ((H + a)*(H + a));
+        const codegen_real w_1 = 2*tmp0*tmp2 + ((2*L - tmp1)*(2*L - tmp1));
+        const codegen_real w_2 = (tmp2*tmp2);
+        const codegen_real g = params->g;
+        const codegen_real tmp3 = L*g;
         const codegen_real m_B = params->m_B;
         const codegen_real m_C = params->m_C;
         const codegen_real F = params->F;
-        const codegen_real g = params->g;
-        const codegen_real w_3 = -F*L + L*g*m_B + (((codegen_real)1/2))*L*g*m_C;
+        const codegen_real tmp4 = -F*L + m_B*tmp3 + (((codegen_real)1/2))*m_C*tmp3;
+        const codegen_real w_3 = tmp4;
+        const codegen_real tmp5 = (L*L);
+        const codegen_real tmp6 = H*a;
+        const codegen_real tmp7 = L*tmp1;
         const codegen_real k = params->k;
-        const codegen_real w_4 = 2*k*(H*a + (L*L) - 2*L*a);
-        const codegen_real w_5 = 2*k*(H*a - (L*L) + 2*L*a);
-        const codegen_real w_6 = F*L - L*g*m_B - ((codegen_real)1/2)*L*g*m_C;
+        const codegen_real tmp8 = 2*k;
+        const codegen_real tmp9 = tmp8*(tmp5 + tmp6 - tmp7);
+        const codegen_real w_4 = tmp9;
+        const codegen_real tmp10 = tmp8*(-tmp5 + tmp6 + tmp7);
+        const codegen_real w_5 = tmp10;
+        const codegen_real w_6 = -tmp4;
         const codegen_real l_ND = params->l_ND;
-        const codegen_real w_7 = -2*k*l_ND*(H*a + (L*L) - 2*L*a);
-        const codegen_real w_8 = -2*k*l_ND*(H*a - (L*L) + 2*L*a);
-        const codegen_real w_9 = w_0*(w_3*w_3);
-        const codegen_real w_10 = 2*w_0*w_3*w_4;
-        const codegen_real w_11 = w_0*(w_4*w_4) + w_1*(w_3*w_3) - (w_7*w_7);
-        const codegen_real w_12 = 2*w_0*w_3*w_5 + 2*w_1*w_3*w_4;
-        const codegen_real w_13 = w_0*(2*w_3*w_6 + 2*w_4*w_5) + w_1*(w_4*w_4) + w_2*(w_3*w_3) - 2*(w_7*w_7) - 2*w_7*w_8;
-        const codegen_real w_14 = 2*w_0*w_4*w_6 + 2*w_1*w_3*w_5 + 2*w_2*w_3*w_4;
-        const codegen_real w_15 = w_0*(w_5*w_5) + w_1*(2*w_3*w_6 + 2*w_4*w_5) + w_2*(w_4*w_4) - (w_7*w_7) - 4*w_7*w_8 - (w_8*w_8);
-        const codegen_real w_16 = 2*w_0*w_5*w_6 + 2*w_1*w_4*w_6 + 2*w_2*w_3*w_5;
-        const codegen_real w_17 = w_0*(w_6*w_6) + w_1*(w_5*w_5) + w_2*(2*w_3*w_6 + 2*w_4*w_5) - 2*w_7*w_8 - 2*(w_8*w_8);
-        const codegen_real w_18 = 2*w_1*w_5*w_6 + 2*w_2*w_4*w_6;
-        const codegen_real w_19 = w_1*(w_6*w_6) + w_2*(w_5*w_5) - (w_8*w_8);
-        const codegen_real w_20 = 2*w_2*w_5*w_6;
-        const codegen_real w_21 = w_2*(w_6*w_6);
+        const codegen_real w_7 = -l_ND*tmp9;
+        const codegen_real w_8 = -l_ND*tmp10;
+        const codegen_real tmp11 = (w_3*w_3);
+        const codegen_real w_9 = tmp11*w_0;
+        const codegen_real tmp12 = 2*w_3;
+        const codegen_real tmp13 = tmp12*w_0;
+        const codegen_real w_10 = tmp13*w_4;
+        const codegen_real tmp14 = (w_7*w_7);
+        const codegen_real tmp15 = -tmp14;
+        const codegen_real tmp16 = (w_4*w_4);
+        const codegen_real w_11 = tmp11*w_1 + tmp15 + tmp16*w_0;
+        const codegen_real tmp17 = tmp12*w_1;
+        const codegen_real w_12 = tmp13*w_5 + tmp17*w_4;
+        const codegen_real tmp18 = w_7*w_8;
+        const codegen_real tmp19 = -2*tmp18;
+        const codegen_real tmp20 = 2*w_4;
+        const codegen_real tmp21 = tmp12*w_6 + tmp20*w_5;
+        const codegen_real w_13 = tmp11*w_2 - 2*tmp14 + tmp16*w_1 + tmp19 + tmp21*w_0;
+        const codegen_real tmp22 = w_0*w_6;
+        const codegen_real tmp23 = tmp12*w_2;
+        const codegen_real w_14 = tmp17*w_5 + tmp20*tmp22 + tmp23*w_4;
+        const codegen_real tmp24 = (w_8*w_8);
+        const codegen_real tmp25 = -tmp24;
+        const codegen_real tmp26 = (w_5*w_5);
+        const codegen_real w_15 = tmp15 + tmp16*w_2 - 4*tmp18 + tmp21*w_1 + tmp25 + tmp26*w_0;
+        const codegen_real tmp27 = 2*w_5;
+        const codegen_real tmp28 = w_1*w_6;
+        const codegen_real w_16 = tmp20*tmp28 + tmp22*tmp27 + tmp23*w_5;
+        const codegen_real tmp29 = (w_6*w_6);
+        const codegen_real w_17 = tmp19 + tmp21*w_2 - 2*tmp24 + tmp26*w_1 + tmp29*w_0;
+        const codegen_real tmp30 = w_2*w_6;
+        const codegen_real w_18 = tmp20*tmp30 + tmp27*tmp28;
+        const codegen_real w_19 = tmp25 + tmp26*w_2 + tmp29*w_1;
+        const codegen_real w_20 = tmp27*tmp30;
+        const codegen_real w_21 = tmp29*w_2;
         out[0] = w_9;
         out[1] = w_10;
         out[2] = w_11;
