@@ -129,12 +129,10 @@ static double pass_thetaddot_library(const bench_data *d)
 
 static double pass_thetaddot_kernel(const bench_data *d)
 {
-    double sum = 0.0, out[1];
+    double sum = 0.0;
     size_t i;
-    for (i = 0; i < d->n_states; ++i) {
-        THETADDOT_KERNEL(&d->params[i % d->n_sets], d->states[2 * i], d->states[2 * i + 1], out);
-        sum += out[0];
-    }
+    for (i = 0; i < d->n_states; ++i)
+        sum += THETADDOT_KERNEL(&d->params[i % d->n_sets], d->states[2 * i], d->states[2 * i + 1]);
     return sum;
 }
 

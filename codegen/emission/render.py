@@ -51,6 +51,7 @@ class RenderedFunction:
     batch_call: tuple[str, ...]
     kernel_signature: str
     kernel_work_signature: str   # used where the body is a double-double program
+    returns_value: bool          # the kernel returns its one output (see returns_value)
     body: PrintedBody
     n_out: int
     offsets: tuple[tuple[str, int], ...]  # where each output starts in the kernel's out[]
@@ -82,12 +83,21 @@ def signature(f: CFunction, prefix: str, ctype: str, arrays_as_pointers: bool = 
     return f"{prefix}_status {prefix}_{f.name}({', '.join(inputs + outputs)})"
 
 
+def returns_value(f: CFunction) -> bool:
+    """Whether f's kernel returns its one output rather than writing it through a pointer,
+    which the kernel would have to keep across each libm call (thetaddot: 5 % of its time)."""
+    return sum(len(o.exprs) for o in f.outputs) == 1 and f.arithmetic != "double-double"
+
+
 def kernel_signature(f: CFunction, prefix: str, ctype: str, values: str = "") -> str:
     """The unchecked kernel: the inputs as the public function takes them, the outputs
-    together in one array; with ``values`` (the size of a double-double program's values),
-    the kernel that takes them from the caller (NAME_kernel_work)."""
+    together in one array (one output: returned); with ``values`` (the size of a
+    double-double program's values), the kernel that takes them from the caller
+    (NAME_kernel_work)."""
     inputs, _ = _arguments(f, prefix, ctype)
     n_out = sum(len(o.exprs) for o in f.outputs)
+    if returns_value(f):
+        return f"{ctype} {prefix}_{f.name}_kernel({', '.join(inputs)})"
     name, extra = (f"{f.name}_kernel_work", f", codegen_dd v[{values}]") if values else (
         f"{f.name}_kernel", "")
     return f"void {prefix}_{name}({', '.join(inputs)}, {ctype} out[{n_out}]{extra})"
@@ -134,6 +144,7 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         batch_call=_batch_call(f, P),
         body=print_body(f, tuple(p[0] for p in plan.parameters), target),
         n_out=offset,
+        returns_value=returns_value(f),
         offsets=tuple(offsets),
         failure=f"{P}_ERR_{'SINGULAR_STATE' if may_be_singular else 'OVERFLOW'}",
         pointer_checks=tuple(a.name for a in f.inputs if a.size)

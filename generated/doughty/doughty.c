@@ -749,7 +749,7 @@ doughty_status doughty_reduced_coefficients(const doughty_params *params, codege
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (36). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 63. */
-void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
+codegen_real doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d)
 {
     (void)params;
     (void)theta;
@@ -780,7 +780,7 @@ void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_r
         const codegen_real b = params->b;
         const codegen_real l_ND = params->l_ND;
         const codegen_real F = params->F;
-        out[0] = (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - ((codegen_real)1/2)*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (((codegen_real)1/12))*tmp1 + tmp3*tmp6 + tmp5*tmp6);
+        return (F*L*tmp4 - b*theta_d*(tmp11*tmp11)*tmp3/tmp12 + k*tmp11*tmp2*(l_ND - tmp13)/tmp13 - m_B*tmp7 - ((codegen_real)1/2)*m_C*tmp7 - (theta_d*theta_d)*(m_A*tmp9 - m_B*tmp9))/(m_A*tmp0*tmp3 + m_B*tmp0*tmp5 + (((codegen_real)1/12))*tmp1 + tmp3*tmp6 + tmp5*tmp6);
     }
 }
 
@@ -802,7 +802,7 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, codege
     if (!isfinite(theta_d)) {
         return DOUGHTY_ERR_NONFINITE;
     }
-    doughty_angular_acceleration_kernel(params, theta, theta_d, out);
+    out[0] = doughty_angular_acceleration_kernel(params, theta, theta_d);
     if (!all_finite(out, 1)) {
         return DOUGHTY_ERR_SINGULAR_STATE;
     }

@@ -76,9 +76,8 @@ void doughty_reduced_coefficients_kernel(const doughty_params *params, codegen_r
 /* A failure of reduced_coefficients (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_REDUCED_COEFFICIENTS_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 
-/* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
-#define DOUGHTY_ANGULAR_ACCELERATION_THETA_DD 0
+/* angular_acceleration's output, returned: theta_dd. */
+codegen_real doughty_angular_acceleration_kernel(const doughty_params *params, codegen_real theta, codegen_real theta_d);
 /* A failure of angular_acceleration (a result not finite) is reported as DOUGHTY_ERR_SINGULAR_STATE. */
 #define DOUGHTY_ANGULAR_ACCELERATION_FAILURE DOUGHTY_ERR_SINGULAR_STATE
 

@@ -76,9 +76,8 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
 /* A failure of reduced_coefficients (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_REDUCED_COEFFICIENTS_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
-/* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
-#define FOUR_BAR_ANGULAR_ACCELERATION_THETA_DD 0
+/* angular_acceleration's output, returned: theta_dd. */
+codegen_real four_bar_angular_acceleration_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d);
 /* A failure of angular_acceleration (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_ANGULAR_ACCELERATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 

@@ -695,7 +695,7 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 153. */
-void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
+codegen_real slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d)
 {
     (void)params;
     (void)theta;
@@ -752,7 +752,7 @@ void slider_crank_angular_acceleration_kernel(const slider_crank_params *params,
         const codegen_real b = params->b;
         const codegen_real F = params->F;
         const codegen_real T = params->T;
-        out[0] = (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((((codegen_real)1/2))*R*m_2*tmp17*tmp24*((((codegen_real)1/2))*tmp25*(-tmp29 - tmp33) + tmp36*((((codegen_real)1/2))*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*codegen_sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
+        return (F*tmp26 + T + b*theta_d*tmp21 + k*tmp26*(l_0 - tmp30)*(tmp14 + tmp22 - x_S)/tmp30 - m_1*tmp23 - m_2*tmp23 - (theta_d*theta_d)*((((codegen_real)1/2))*R*m_2*tmp17*tmp24*((((codegen_real)1/2))*tmp25*(-tmp29 - tmp33) + tmp36*((((codegen_real)1/2))*tmp17*tmp35 + tmp34)) + R*m_3*tmp20*tmp24*(tmp25*(-tmp28 - tmp33) + tmp36*(tmp20*tmp35 + tmp34)) - tmp0*tmp19*tmp2*tmp4 - tmp12*tmp22*tmp24*(tmp31 + tmp22*tmp32/(tmp13*codegen_sqrt(tmp13)))))/(m_1*tmp7 + m_2*tmp7 - m_3*tmp21 + (((codegen_real)1/4))*tmp1*tmp3 + (((codegen_real)1/12))*tmp1 - tmp11*tmp12*tmp6 - (tmp17*tmp17)*tmp18*tmp19);
     }
 }
 
@@ -774,7 +774,7 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
     if (!isfinite(theta_d)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_angular_acceleration_kernel(params, theta, theta_d, out);
+    out[0] = slider_crank_angular_acceleration_kernel(params, theta, theta_d);
     if (!all_finite(out, 1)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }

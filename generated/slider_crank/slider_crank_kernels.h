@@ -76,9 +76,8 @@ void slider_crank_reduced_coefficients_kernel(const slider_crank_params *params,
 /* A failure of reduced_coefficients (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_REDUCED_COEFFICIENTS_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
-/* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
-#define SLIDER_CRANK_ANGULAR_ACCELERATION_THETA_DD 0
+/* angular_acceleration's output, returned: theta_dd. */
+codegen_real slider_crank_angular_acceleration_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d);
 /* A failure of angular_acceleration (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_ANGULAR_ACCELERATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 

@@ -17,11 +17,9 @@
 /* y' = (thetadot, thetaddot); context: the validated parameters. */
 static void equation_of_motion(const void *context, codegen_real t, const codegen_real *y, codegen_real *rate)
 {
-    codegen_real out[1];
     (void)t; /* autonomous: the loads are constant */
-    slider_crank_angular_acceleration_kernel((const slider_crank_params *)context, y[0], y[1], out);
     rate[0] = y[1];
-    rate[1] = out[SLIDER_CRANK_ANGULAR_ACCELERATION_THETA_DD];
+    rate[1] = slider_crank_angular_acceleration_kernel((const slider_crank_params *)context, y[0], y[1]);
 }
 
 static slider_crank_status status_of(codegen_ode_status status)

@@ -384,7 +384,7 @@ torsion_pendulum_status torsion_pendulum_reduced_coefficients(const torsion_pend
 /* angular_acceleration without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 33. */
-void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1])
+codegen_real torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d)
 {
     (void)params;
     (void)theta;
@@ -407,7 +407,7 @@ void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params 
         const codegen_real theta_0 = params->theta_0;
         const codegen_real c = params->c;
         const codegen_real F_x = params->F_x;
-        out[0] = (-F_x*l*tmp0 - c*theta_d - k_t*(theta - theta_0) - ((codegen_real)1/2)*m*tmp2 - m_t*tmp2)/((((codegen_real)1/12))*tmp4 + tmp5*tmp6 + tmp5*tmp8 + tmp6*tmp7 + tmp7*tmp8);
+        return (-F_x*l*tmp0 - c*theta_d - k_t*(theta - theta_0) - ((codegen_real)1/2)*m*tmp2 - m_t*tmp2)/((((codegen_real)1/12))*tmp4 + tmp5*tmp6 + tmp5*tmp8 + tmp6*tmp7 + tmp7*tmp8);
     }
 }
 
@@ -429,7 +429,7 @@ torsion_pendulum_status torsion_pendulum_angular_acceleration(const torsion_pend
     if (!isfinite(theta_d)) {
         return TORSION_PENDULUM_ERR_NONFINITE;
     }
-    torsion_pendulum_angular_acceleration_kernel(params, theta, theta_d, out);
+    out[0] = torsion_pendulum_angular_acceleration_kernel(params, theta, theta_d);
     if (!all_finite(out, 1)) {
         return TORSION_PENDULUM_ERR_SINGULAR_STATE;
     }

@@ -52,9 +52,8 @@ void torsion_pendulum_reduced_coefficients_kernel(const torsion_pendulum_params 
 /* A failure of reduced_coefficients (a result not finite) is reported as TORSION_PENDULUM_ERR_OVERFLOW. */
 #define TORSION_PENDULUM_REDUCED_COEFFICIENTS_FAILURE TORSION_PENDULUM_ERR_OVERFLOW
 
-/* angular_acceleration's outputs into out[1], in order: theta_dd. */
-void torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[1]);
-#define TORSION_PENDULUM_ANGULAR_ACCELERATION_THETA_DD 0
+/* angular_acceleration's output, returned: theta_dd. */
+codegen_real torsion_pendulum_angular_acceleration_kernel(const torsion_pendulum_params *params, codegen_real theta, codegen_real theta_d);
 /* A failure of angular_acceleration (a result not finite) is reported as TORSION_PENDULUM_ERR_SINGULAR_STATE. */
 #define TORSION_PENDULUM_ANGULAR_ACCELERATION_FAILURE TORSION_PENDULUM_ERR_SINGULAR_STATE
 

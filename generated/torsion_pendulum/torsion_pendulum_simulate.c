@@ -17,11 +17,9 @@
 /* y' = (thetadot, thetaddot); context: the validated parameters. */
 static void equation_of_motion(const void *context, codegen_real t, const codegen_real *y, codegen_real *rate)
 {
-    codegen_real out[1];
     (void)t; /* autonomous: the loads are constant */
-    torsion_pendulum_angular_acceleration_kernel((const torsion_pendulum_params *)context, y[0], y[1], out);
     rate[0] = y[1];
-    rate[1] = out[TORSION_PENDULUM_ANGULAR_ACCELERATION_THETA_DD];
+    rate[1] = torsion_pendulum_angular_acceleration_kernel((const torsion_pendulum_params *)context, y[0], y[1]);
 }
 
 static torsion_pendulum_status status_of(codegen_ode_status status)
