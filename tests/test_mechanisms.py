@@ -34,7 +34,7 @@ from hypothesis import strategies as st
 from codegen.api import load
 from codegen.derivation import derive
 from codegen.derivation.equilibrium import common_numerator, on_branch
-from codegen.emission.plan import CFunction, build_plan
+from codegen.emission.plan import build_plan, written_out
 from codegen.model import SHIPPED
 from codegen.model import load as load_model
 
@@ -172,7 +172,7 @@ def _exact_program(function, param_values):
 def _rounding_bound(bound_class, symbols: tuple, definitions: tuple, outputs: tuple):
     """The rounding bound of outputs written out in the inputs, once per program: sigma and
     sigma_fast share one, which takes minutes to write out for the four-bar."""
-    return bound_class(symbols, CFunction("", "", "", (), (), definitions).explicit(outputs))
+    return bound_class(symbols, written_out(definitions, outputs))
 
 
 @pytest.mark.parametrize("name, function_name", _plan_cases(),

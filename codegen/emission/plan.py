@@ -47,10 +47,16 @@ class CFunction:
 
     def explicit(self, exprs) -> list[sp.Expr]:
         """Expressions with the program's symbols written out in the inputs."""
-        values: dict[sp.Symbol, sp.Expr] = {}
-        for symbol, definition in self.definitions:
-            values[symbol] = definition.xreplace(values)
-        return [sp.sympify(e).xreplace(values) for e in exprs]
+        return written_out(self.definitions, exprs)
+
+
+def written_out(definitions, exprs) -> list[sp.Expr]:
+    """Expressions in the symbols of a straight-line program (definitions: (symbol,
+    expression) in order), with those symbols written out in the program's inputs."""
+    values: dict[sp.Symbol, sp.Expr] = {}
+    for symbol, definition in definitions:
+        values[symbol] = definition.xreplace(values)
+    return [sp.sympify(e).xreplace(values) for e in exprs]
 
 
 @dataclass(frozen=True)
