@@ -62,8 +62,9 @@ class PositionSolution:
         roots = list(self.roots)
         for radicand in sorted({a.base for a in expr.atoms(sp.Pow) if a.exp == sp.S.Half},
                                key=sp.default_sort_key):
-            # sqrt(n / (s^2 d)) = sqrt(n d) / (s d) for s, d > 0: the root's radicand
-            # stays a polynomial, and square factors of the denominator leave the root.
+            # sqrt(n / (s^2 d)) = sqrt(n d s^2) / (s^2 d) for d > 0 and any sign of s: the
+            # root's radicand stays a polynomial. (sqrt(n d) / (s d) would take |s| = s,
+            # the length of the other sign wherever s < 0.)
             n, den = sp.fraction(sp.together(radicand))
             if not den.has(self.theta):
                 n, den = radicand, sp.S.One
@@ -72,12 +73,13 @@ class PositionSolution:
             coefficient, factors = sp.factor_list(den)
             square = sp.Mul(*(f ** (e // 2) for f, e in factors))
             odd = coefficient * sp.Mul(*(f ** (e % 2) for f, e in factors))
-            known = next((r for r in roots if sp.expand(r.radicand - n * odd) == 0), None)
+            inside = n * odd * square**2
+            known = next((r for r in roots if sp.expand(r.radicand - inside) == 0), None)
             if known is None:
                 known = Root(sp.Symbol(f"rho_{len(roots) + 1}", positive=True),
-                             sp.factor(n * odd), "length", "")
+                             sp.factor(inside), "length", "")
                 roots.append(known)
-            expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square * odd)})
+            expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square**2 * odd)})
         return PositionSolution(self.theta, self.coords, self.positions, tuple(roots),
                                 self.trig), expr
 
