@@ -150,6 +150,9 @@ def generate_table(generate: dict[str, Any], results: dict[str, dict[str, Any]])
         rows = [[command, "all", f"{cli['seconds']:.1f} ({state})"]]
     rows += [["`derive()` in the benchmark's process", f"`{name}`",
               f"{r['derive_seconds']:.1f}"] for name, r in results.items()]
+    rows += [[f"`verify()`: {v['sets']} parameter sets, {v['points']} angles, sigma at "
+              f"{v['zeros']} zeros of G", f"`{name}`", f"{v['seconds']:.2f}"]
+             for name, r in results.items() for v in [r["verify"]]]
     return table(["what", "mechanism", "wall time [s]"], rows)
 
 
@@ -232,8 +235,11 @@ SECTIONS = (
      "references within 1e-4 rad."),
     ("5. Generation time",
      "The command line deriving every shipped mechanism afresh and comparing with "
-     "generated/ without writing (start-up included), and the cold `derive()` of each "
-     "mechanism inside the benchmark."),
+     "generated/ without writing (start-up included; it verifies each plan against its "
+     "model), the cold `derive()` of each mechanism inside the benchmark, and the "
+     "verification alone (`codegen.verification.verify`: the plan's expressions against "
+     "the model's numerics, which generate runs before writing a file). Target: the "
+     "verification adds at most a few seconds to each mechanism's generation."),
     ("6. Branches against one parameter",
      "`lib.branches(NAME, FROM, TO, points=N, workers=W)`: the equilibria at N evenly spaced "
      "values analysed on W threads, joined into branches, every event (fold, pitchfork, "

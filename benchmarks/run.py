@@ -151,7 +151,10 @@ def measure(m: Mechanism, sizes: Sizes) -> dict[str, Any]:
     columns = pipeline.columns(m.table, m.library.PARAMETER_NAMES)
     found = pipeline.analyze(m.pipeline, columns) if m.pipeline else None
     analysed = m.library.analyze_table(m.table)
+    check = m.symbols.verification
     result = {"derive_seconds": m.symbols.derive_seconds,
+              "verify": {"seconds": check.seconds, "sets": check.sets, "points": check.points,
+                         "zeros": check.zeros},
               "analysis": analysis_timings(m, c, analysed, columns, sizes),
               "kernels": kernels(m, c),
               "roots": roots(m, c, sizes) if c.sigma is not None else None,

@@ -18,6 +18,8 @@ import numpy as np
 import sympy as sp
 
 from codegen.derivation import derive
+from codegen.emission.plan import build_plan
+from codegen.verification import Report, verify
 from codegen.model import load as load_model
 
 #: One assignment of a straight-line program: symbol = expression.
@@ -41,6 +43,7 @@ class Symbolic:
     damping: sp.Expr
     stiffness: sp.Expr
     derive_seconds: float               # derive() in this process, cold
+    verification: Report                # generate's check of the plan against the model
 
 
 def symbolic(name: str, parameter_names: Sequence[str]) -> Symbolic:
@@ -49,6 +52,7 @@ def symbolic(name: str, parameter_names: Sequence[str]) -> Symbolic:
     start = time.perf_counter()
     derivation = derive(mechanism)
     seconds = time.perf_counter() - start
+    verification = verify(mechanism, build_plan(derivation))
     by_name = {str(s): s for s in mechanism.symbols}
     if set(by_name) != set(parameter_names):
         raise RuntimeError(f"{name}: the derivation's parameters {sorted(by_name)} are not "
@@ -63,7 +67,7 @@ def symbolic(name: str, parameter_names: Sequence[str]) -> Symbolic:
         if polynomial is not None else None,
         residual=equilibrium.residual, scale=equilibrium.branches[0].scale,
         mass=linearisation.mass, damping=linearisation.damping,
-        stiffness=linearisation.stiffness, derive_seconds=seconds)
+        stiffness=linearisation.stiffness, derive_seconds=seconds, verification=verification)
 
 
 @lru_cache(maxsize=None)

@@ -135,8 +135,9 @@ def _user_library(generate, model: str, out: Path):
     from .model import load
 
     mechanism = load(model)
+    files = generate.emit(mechanism)  # verified against the model before anything is written
     generate.write_folder(out / generate.RUNTIME, generate.runtime())
-    generate.write_folder(out / mechanism.name, generate.emit(mechanism))
+    generate.write_folder(out / mechanism.name, files)
     build_into(out, mechanism.name)
     return load_from(out, mechanism.name)
 

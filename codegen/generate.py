@@ -24,6 +24,7 @@ from .derivation import derive
 from .emission.plan import build_plan
 from .emission.render import render
 from .model import SHIPPED, Mechanism, load
+from .verification import verify
 
 TEMPLATES = resources.templates()
 RUNTIME = "runtime"
@@ -81,11 +82,14 @@ def _present(out: Path) -> set[str]:
 
 
 def emit(mechanism: Mechanism, templates: Path = TEMPLATES) -> dict[str, str]:
-    """File name -> text of one mechanism's library."""
+    """File name -> text of one mechanism's library, once its expressions have been checked
+    against the model (verification.VerificationError, a ValueError, if they disagree)."""
     if sympy.__version__ != TESTED_SYMPY:
         warnings.warn(f"SymPy {sympy.__version__} is not the tested {TESTED_SYMPY}: the "
                       f"generated files may differ from the committed ones", stacklevel=2)
-    return render(build_plan(derive(mechanism)), templates)
+    plan = build_plan(derive(mechanism))
+    verify(mechanism, plan)
+    return render(plan, templates)
 
 
 def runtime(templates: Path = TEMPLATES) -> dict[str, str]:
