@@ -269,6 +269,20 @@ class Library:
             return params
         return dict(zip(self.PARAMETER_NAMES, self._fields(params)))
 
+    def rows(self, function: str, values: Mapping[str, float], inputs: tuple = ()
+             ) -> np.ndarray:
+        """``function`` at one parameter set over equal-length arrays of its scalar inputs,
+        through its batch entry: one row of all its outputs (in order, arrays flattened) per
+        input, NaN where the call reported an error; with no inputs, one row."""
+        count = len(inputs[0]) if inputs else 1
+        table = self.params_array([values] * count)
+        result, statuses = self.FUNCTIONS[function].batch(table, *inputs, raise_on_error=False)
+        parts = result if isinstance(result, tuple) else (result,)
+        rows = np.column_stack([np.reshape(np.asarray(x, dtype=float), (count, -1))
+                                for x in parts])
+        rows[np.asarray(statuses) != self.STATUS["OK"]] = np.nan
+        return rows
+
     def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
                 ) -> analysis.Analysis:
         """Every equilibrium of ``params`` (default: the example), classified and linearised,

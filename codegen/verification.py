@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import mpmath
@@ -83,6 +84,29 @@ def verify(mechanism: Mechanism, plan: Plan) -> Report:
             f"angles of {len(sets)} parameter sets (the closed form is undefined or singular "
             "almost everywhere)")
     return Report(len(sets), points, zeros, time.perf_counter() - start)
+
+
+#: The compiled kernels and the plan's expressions are both evaluated in double: only
+#: rounding separates them, relative to each output's typical size over the range (sigma:
+#: double-double against 40 digits, relative to its largest coefficient).
+COMPILED_TOLERANCE = 1e-8
+SIGMA_TOLERANCE = 1e-13
+COMPILED = ("dependent_state", "equilibrium_residual", "reduced_coefficients",
+            "linearisation", "angular_acceleration", "equilibrium_state", "sigma")
+
+#: call(name, values, inputs): the compiled function ``name`` at the parameters ``values``
+#: over equal-length arrays of its scalar inputs, one row of its outputs per input (NaN
+#: where it reports an error); with no inputs, one row.
+Call = Callable[[str, dict, tuple], np.ndarray]
+
+
+def verify_compiled(mechanism: Mechanism, plan: Plan, call: Call) -> int:
+    """Raise VerificationError unless the compiled library gives the plan's values (what the
+    printer, the templates and the compiler made of them) at every parameter set and angle
+    ``verify`` uses; the number of values compared."""
+    checker = _Checker(mechanism, plan)
+    return sum(checker.check_compiled(values, call) for values in
+               parameter_sets(mechanism, np.random.default_rng(SEED)))
 
 
 # --------------------------------------------------------------------------- parameters
@@ -156,7 +180,6 @@ class _ModelNumerics:
         self.dampers = f([d.length for d in m.dampers])
         self.damping = f([d.coefficient for d in m.dampers])
         self.modes = f(list(m.assembly_modes))
-        self.centre = _numeric(m.symbols, [m.range_centre])
 
     def solve(self, params: list[np.ndarray], theta: np.ndarray, guess: np.ndarray):
         """Newton on the constraints for the dependent coordinates at each theta: (q, ok)."""
@@ -226,13 +249,12 @@ class _Checker:
         self.plan = plan
         self.symbols = mechanism.symbols
         self.name = mechanism.independent
-        self.functions = {name: self._compiled(plan.function(name)) for name in (
-            "dependent_state", "equilibrium_residual", "reduced_coefficients",
-            "linearisation", "angular_acceleration", "radicands") if plan.has(name)}
+        self.functions: dict[str, Callable] = {}
         # sigma's coefficients cancel up to ~13 digits (the library evaluates them in
         # double-double): evaluated here in 40 digits.
         self.sigma = self._compiled(plan.function("sigma"), "mpmath") if plan.has(
             "sigma") else None
+        self.centre = _numeric(self.symbols, [mechanism.range_centre])
 
     def _compiled(self, f: CFunction, modules: str = "numpy"):
         inputs = [s for a in f.inputs for s in a.symbols]
@@ -250,25 +272,77 @@ class _Checker:
                            printer=printer)
 
     def _call(self, name, params, *inputs) -> np.ndarray:
+        if name not in self.functions:
+            self.functions[name] = self._compiled(self.plan.function(name))
         shape = np.broadcast(*inputs).shape if inputs else ()
         with np.errstate(all="ignore"):
             return _broadcast(self.functions[name](*params, *inputs), shape)
+
+    def _sigma(self, params) -> np.ndarray:
+        with mpmath.workdps(40):
+            return np.array([float(c) for c in self.sigma(*(mpmath.mpf(float(x))
+                                                            for x in params))])
+
+    def _angles(self, params) -> np.ndarray:
+        """ANGLES spread over the range (none on a multiple of pi / 2), and two next to its
+        ends."""
+        centre = float(self.centre(*params)[0])
+        fractions = (np.arange(ANGLES) + 0.3819660112501051) / ANGLES
+        return centre - math.pi + 2 * math.pi * np.concatenate([fractions, [0.004, 0.996]])
+
+    def _clear_of_singular_states(self, params, angles) -> np.ndarray:
+        """Where every radicand is well above zero at every angle of a row."""
+        if not self.plan.has("radicands"):
+            return np.ones(angles.shape[0], dtype=bool)
+        rad = self._call("radicands", params, angles)
+        k = rad.shape[-1] // 2
+        return np.all(rad[..., :k] > RADICAND_MARGIN * rad[..., k:],
+                      axis=tuple(range(1, angles.ndim + 1)))
+
+    def check_compiled(self, values: dict[str, float], call: Call) -> int:
+        """The compiled functions against the plan's expressions at one parameter set."""
+        self.values = values
+        params = [np.float64(values[s.name]) for s in self.symbols]
+        theta = self._angles(params)
+        rate = np.random.default_rng(SEED).uniform(-3, 3, theta.shape)
+        clear = self._clear_of_singular_states(params, theta[:, None])
+        compared = 0
+        for name in COMPILED:
+            if not self.plan.has(name):
+                continue
+            f = self.plan.function(name)
+            if name == "sigma":
+                mine, theirs = self._sigma(params)[None, :], call(name, values, ())
+                allowed = SIGMA_TOLERANCE * np.abs(mine).max() + 0 * mine
+                th = theta[:1]
+            else:
+                inputs = tuple(theta if a.symbols[0] == self.plan.enclosure.theta else rate
+                               for a in f.inputs)
+                mine, theirs = self._call(name, params, *inputs), call(name, values, inputs)
+                keep = clear & np.isfinite(mine).all(-1)
+                mine, theirs, th = mine[keep], theirs[keep], theta[keep]
+                typical = np.sqrt(np.mean(mine ** 2, axis=0))
+                allowed = COMPILED_TOLERANCE * (np.abs(mine) + typical)
+            bad = np.argwhere(~(np.abs(theirs - mine) <= allowed))
+            if bad.size:
+                i, k = bad[0]
+                self._fail(f"output {k} of {name}", th[i], f"the compiled library gives "
+                           f"{theirs[i, k]:.15g}, its expression {mine[i, k]:.15g}",
+                           (abs(theirs[i, k] - mine[i, k]), allowed[i, k]),
+                           "the compiled library disagrees with the derivation")
+            compared += mine.size
+        return compared
 
     def check(self, model: _ModelNumerics, values: dict[str, float]) -> tuple[int, int]:
         """Compare at every angle of one parameter set: (angles compared, zeros of G)."""
         self.values = values
         params = [np.float64(values[s.name]) for s in self.symbols]
-        centre = float(model.centre(*params)[0])
-        fractions = (np.arange(ANGLES) + 0.3819660112501051) / ANGLES
-        theta = centre - math.pi + 2 * math.pi * np.concatenate([fractions, [0.004, 0.996]])
+        theta = self._angles(params)
         angles = theta[:, None] + OFFSETS[None, :]
         state = self._call("dependent_state", params, angles, np.ones_like(angles))
         n = len(self.mechanism.coordinates)
         usable = np.isfinite(state).all(axis=(1, 2))
-        if self.plan.has("radicands"):
-            rad = self._call("radicands", params, angles)
-            k = rad.shape[-1] // 2
-            usable &= np.all(rad[..., :k] > RADICAND_MARGIN * rad[..., k:], axis=(1, 2))
+        usable &= self._clear_of_singular_states(params, angles)
         solved, ok = self._solve(model, params, angles, state[..., :n])
         usable &= ok
         if not usable.any():
@@ -385,9 +459,7 @@ class _Checker:
         zeros = ((lo + hi) / 2)[zero]
         if not zeros.size:
             return 0
-        with mpmath.workdps(40):
-            sigma = np.array([float(c) for c in self.sigma(*(mpmath.mpf(float(x))
-                                                               for x in params))])
+        sigma = self._sigma(params)
         tau = np.tan(zeros / 2)
         # sum sigma_i tau^i / (1 + tau^2)^(degree/2): bounded as tau grows (theta near pi)
         powers = tau[:, None] ** np.arange(len(sigma))[None, :]
@@ -417,11 +489,12 @@ class _Checker:
     def _coordinate(self, k: int) -> str:
         return self.mechanism.coordinates[k].name
 
-    def _fail(self, quantity, angle, values, difference):
+    def _fail(self, quantity, angle, values, difference,
+              what="the derivation disagrees with the model"):
         setting = ", ".join(f"{n}={v:.6g}" for n, v in self.values.items())
         gap = (f" (difference {difference[0]:.3g}, allowed {difference[1]:.3g})"
                if difference else "")
         raise VerificationError(
-            f"{self.mechanism.name}: the derivation disagrees with the model: {quantity} at "
+            f"{self.mechanism.name}: {what}: {quantity} at "
             f"{self.name} = {math.degrees(angle):.6f} deg: {values}{gap}; parameters "
             f"{setting}")

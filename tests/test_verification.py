@@ -18,7 +18,8 @@ from codegen.derivation import derive
 from codegen.emission.plan import build_plan
 from codegen.model import SHIPPED, load
 from codegen.model.mechanism import Mechanism
-from codegen.verification import VerificationError, parameter_sets, verify
+from codegen.api import load as load_library
+from codegen.verification import VerificationError, parameter_sets, verify, verify_compiled
 
 
 LEVER_MODEL = '''\
@@ -164,3 +165,24 @@ def test_generate_refuses_a_wrong_derivation_in_one_line_and_writes_nothing(
     assert status == 2
     assert len(err) == 1 and "the derivation disagrees with the model: G at theta = " in err[0]
     assert not out.exists()
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_shipped_library_computes_its_plan(name):
+    """The compiled kernels (printer, templates, compiler) against the plan's expressions."""
+    mechanism = load(name)
+    compared = verify_compiled(mechanism, build_plan(derive(mechanism)),
+                               load_library(name).rows)
+    assert compared > 6 * 74 * 10
+
+
+@pytest.mark.parametrize("function, output", [("equilibrium_residual", 0),
+                                              ("reduced_coefficients", 2),
+                                              ("dependent_state", 3)])
+def test_a_library_built_from_another_plan_is_refused(function, output):
+    mechanism = load("doughty")
+    plan = _perturbed(build_plan(derive(mechanism)), function, output, lambda e: e * 1.001)
+    with pytest.raises(VerificationError, match=f"the compiled library disagrees with the "
+                                                f"derivation: output {output} of {function} "
+                                                "at theta = "):
+        verify_compiled(mechanism, plan, load_library("doughty").rows)
