@@ -255,7 +255,7 @@ def analyze_batch(table: np.ndarray, library: Library, method: Method = "auto"
     of each item (0: OK; ``library.error(status, params)`` explains one)."""
     ffi, P = library.ffi, library.PREFIX
     taken = route(library, method)
-    table = np.ascontiguousarray(table, dtype=library.PARAMS_DTYPE)
+    table = library.table(table)
     results = ffi.new(f"{P}_analysis[]", len(table))
     statuses = np.zeros(len(table), dtype=np.intc)
     entry(library, taken, batch=True)(

@@ -125,7 +125,7 @@ def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer, not {workers!r}")
     taken = analysis.route(library, method)
-    table = np.ascontiguousarray(table, dtype=library.PARAMS_DTYPE)
+    table = library.table(table)
     statuses = np.zeros(len(table), dtype=np.intc)
     bounds = np.linspace(0, len(table), min(workers, max(len(table), 1)) + 1).astype(int)
     parts = [(int(lo), int(hi)) for lo, hi in zip(bounds[:-1], bounds[1:])]

@@ -296,12 +296,12 @@ class Function:
               raise_on_error: bool = True) -> Any:
         """Evaluate over arrays; returns (outputs, statuses) when raise_on_error is False."""
         lib, ffi = self.library, self.library.ffi
-        lengths = [len(params)] if isinstance(params, np.ndarray) else []
+        table = lib.table(params)
+        lengths = [len(table)] if isinstance(params, np.ndarray) else []
         lengths += [np.atleast_2d(a).shape[0] if x.size else np.atleast_1d(a).shape[0]
                     for a, x in zip(args, self.inputs)]
         count = max(lengths, default=1)
-        table = params if isinstance(params, np.ndarray) else lib.params_array([params])
-        table = np.ascontiguousarray(np.broadcast_to(table, (count,)), dtype=lib.PARAMS_DTYPE)
+        table = np.ascontiguousarray(np.broadcast_to(table, (count,)))
         arrays = []
         for value, x in zip(args, self.inputs):
             shape = (count, x.size) if x.size else (count,)

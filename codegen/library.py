@@ -182,6 +182,45 @@ class Library:
         rows = [tuple(self._as_mapping(s)[n] for n in self.PARAMETER_NAMES) for s in sets]
         return np.array(rows, dtype=self.PARAMS_DTYPE)
 
+    def table(self, params: Any) -> np.ndarray:
+        """``params`` as a contiguous params_array, its fields matched by name: a structured
+        array with exactly this library's parameters as fields, each of a floating type, in
+        any order, one-dimensional (zero-dimensional: one set); or one Params or mapping.
+        Anything else (a plain or integer array, a missing, extra or non-float field, a 2-D
+        table, None) is a ValueError saying what is wrong."""
+        if not isinstance(params, np.ndarray):
+            if params is None or not (isinstance(params, Mapping)
+                                      or hasattr(params, "__dataclass_fields__")):
+                raise ValueError(f"params must be a params_array (a structured array with the "
+                                 f"fields {', '.join(self.PARAMETER_NAMES)}), a Params or a "
+                                 f"mapping, not {type(params).__name__}")
+            return self.params_array([params])
+        fields = params.dtype.names
+        if fields is None:
+            raise ValueError(f"a params table must be a structured array with one field per "
+                             f"parameter ({', '.join(self.PARAMETER_NAMES)}), not a plain "
+                             f"{params.dtype} array of shape {params.shape}: use "
+                             f"{self.PREFIX}.params_array(...)")
+        missing = [n for n in self.PARAMETER_NAMES if n not in fields]
+        extra = [n for n in fields if n not in self.EXAMPLE]
+        if missing or extra:
+            raise ValueError("the params table's fields are not the parameters of "
+                             f"{self.PREFIX}: " + "; ".join(
+                                 f"{what} {', '.join(names)}" for what, names in
+                                 (("missing", missing), ("unknown", extra)) if names))
+        wrong = [f"{n} ({params.dtype[n]})" for n in fields
+                 if params.dtype[n].kind != "f" or params.dtype[n].shape]
+        if wrong:
+            raise ValueError(f"params table fields must be floating-point scalars: "
+                             f"{', '.join(wrong)}")
+        if params.ndim > 1:
+            raise ValueError(f"a params table must be one-dimensional (one set per item), "
+                             f"not of shape {params.shape}")
+        table = np.empty(params.shape or (1,), dtype=self.PARAMS_DTYPE)
+        for name in self.PARAMETER_NAMES:
+            table[name] = params[name]
+        return table
+
     def error(self, status: int, params: ParamsLike | None = None, index: int | None = None,
               rerun: Rerun | None = None, inputs: Mapping[str, Any] | None = None
               ) -> LibraryError:

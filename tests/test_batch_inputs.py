@@ -1,0 +1,64 @@
+"""Batch parameter tables are matched by field name, and anything that is not a table of
+this library's parameters is refused in one line (issue 27).
+
+Every entry that takes a table (a function's batch, ``analyze_batch``, ``analyze_table``)
+goes through ``Library.table``; a table with its fields in another order gives the same
+results bit for bit as the library's own layout.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from codegen.api import load
+
+lib = load("doughty")
+NAMES = lib.PARAMETER_NAMES
+
+
+def _sets(count: int = 3) -> np.ndarray:
+    return lib.params_array([lib.example_params(F=100.0 + 10 * i, k=1500.0 + 200 * i)
+                             for i in range(count)])
+
+
+def _reordered(table: np.ndarray, dtype=np.float64) -> np.ndarray:
+    other = np.zeros(len(table), dtype=[(n, dtype) for n in reversed(NAMES)])
+    for name in NAMES:
+        other[name] = table[name]
+    return other
+
+
+def test_fields_in_another_order_give_the_same_results():
+    table = _sets()
+    other = _reordered(table)
+    theta = np.array([0.1, 1.2, -2.0])
+    assert np.array_equal(lib.equilibrium_residual.batch(table, theta).residual,
+                          lib.equilibrium_residual.batch(other, theta).residual)
+    mine, theirs = lib.analyze_table(table), lib.analyze_table(other)
+    assert mine.roots.tobytes() == theirs.roots.tobytes() and mine.roots.size
+    analyses, _ = lib.analyze_batch(other)
+    assert [a.params for a in analyses] == [lib.Params(**{n: float(t[n]) for n in NAMES})
+                                            for t in table]
+
+
+def test_float32_fields_are_widened():
+    table = _sets()
+    narrow = _reordered(table, np.float32)
+    assert lib.table(narrow)["F"].tolist() == table["F"].astype(np.float32).tolist()
+
+
+@pytest.mark.parametrize("bad, words", [
+    (np.zeros((2, len(NAMES))), "not a plain float64 array of shape (2, 11)"),
+    (np.zeros(2, dtype=[(n, np.int64) for n in NAMES]), "floating-point scalars: H (int64)"),
+    (None, "not NoneType"),
+    (np.zeros(2, dtype=[(n, np.float64) for n in NAMES if n != "F"]), "missing F"),
+    (np.zeros(2, dtype=[(n, np.float64) for n in NAMES + ("G",)]), "unknown G"),
+    (np.stack([np.zeros(2, dtype=lib.PARAMS_DTYPE)] * 2), "one-dimensional"),
+])
+def test_anything_else_is_refused_in_one_line(bad, words):
+    for call in (lambda: lib.analyze_table(bad), lambda: lib.analyze_batch(bad),
+                 lambda: lib.linearisation.batch(bad, np.zeros(2))):
+        with pytest.raises(ValueError) as error:
+            call()
+        message = str(error.value)
+        assert words in message and "\n" not in message, message
