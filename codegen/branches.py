@@ -485,6 +485,19 @@ def _check(library: Library, parameter: str, start: float, stop: float, points: 
         raise ValueError(f"points must be an integer of at least 2, not {points!r}")
 
 
+def _tolerance(tolerance: float | None, start: float, stop: float, points: int) -> float:
+    """The bisection's width: the default, or one that is positive, finite and below the
+    samples' spacing (a wider one would settle every bracket untouched: no event located)."""
+    if tolerance is None:
+        return RELATIVE_TOLERANCE * max(abs(start), abs(stop), stop - start)
+    spacing = (stop - start) / (points - 1)
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float, np.floating)) \
+            or not 0 < tolerance < spacing:
+        raise ValueError(f"tolerance: must be positive and below the samples' spacing "
+                         f"({spacing:g}), not {tolerance!r}")
+    return float(tolerance)
+
+
 def branches(library: Library, parameter: str, start: float, stop: float,
              points: int = DEFAULT_POINTS, *, base: ParamsLike | None = None,
              method: analysis.Method = "auto", workers: int | None = None,
@@ -511,8 +524,7 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     periodic = bool(library.SPEC["periodic"])
     previous, changes = _link(samples, periodic)
     branch = joining.labels(previous)
-    tolerance = RELATIVE_TOLERANCE * max(abs(start), abs(stop), stop - start) \
-        if tolerance is None else float(tolerance)
+    tolerance = _tolerance(tolerance, start, stop, points)
     changes_at = [_count_bracket(samples, c) for c in changes]
     rows = samples.rows
     turned = np.flatnonzero((previous >= 0) & (rows["stability"] != rows["stability"][previous]))

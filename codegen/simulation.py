@@ -86,6 +86,23 @@ def _times(t: Sequence[float] | np.ndarray) -> np.ndarray:
     return times
 
 
+#: The largest initial angle [rad] double precision resolves to 1e-9 rad (its spacing
+#: there is 2^-30 rad): beyond, the motion's angle would be rounding.
+MAX_ANGLE = 2.0**22
+#: The largest initial rate [rad/s] whose square (in e1 thetadot^2) stays far from overflow.
+MAX_RATE = 1e150
+
+
+def _check_state(theta0: float, theta_d0: float) -> None:
+    """ValueError naming an initial state beyond what the arithmetic supports."""
+    for name, value, limit, unit in (("theta0", theta0, MAX_ANGLE, "rad"),
+                                     ("theta_d0", theta_d0, MAX_RATE, "rad/s")):
+        if isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(
+                value, bool) and math.isfinite(value) and abs(value) > limit:
+            raise ValueError(f"{name}: {value:g} {unit} is beyond what double precision "
+                             f"resolves (|{name}| <= {limit:.6g} {unit})")
+
+
 def _options(library: Library, rtol: float | None, atol: float | None,
              max_steps: int | None, h_max: float) -> Any:
     """The C options (a pointer), the library's defaults where None; ValueError naming one
@@ -164,6 +181,7 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
     """
     library = library_of_params(params)
     times = _times(t)
+    _check_state(theta0, theta_d0)
     ffi, lib, P = library.ffi, library.lib, library.PREFIX
     options = _options(library, rtol, atol, max_steps, h_max)
     start, advance = getattr(lib, f"{P}_simulation_start"), getattr(lib, f"{P}_simulation_advance")

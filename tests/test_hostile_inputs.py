@@ -1,9 +1,9 @@
-"""Batch parameter tables are matched by field name, and anything that is not a table of
-this library's parameters is refused in one line (issue 27).
+"""Inputs a hostile user gives are refused in one line, never silently used (issue 27).
 
-Every entry that takes a table (a function's batch, ``analyze_batch``, ``analyze_table``)
-goes through ``Library.table``; a table with its fields in another order gives the same
-results bit for bit as the library's own layout.
+Batch parameter tables are matched by field name: every entry that takes a table (a
+function's batch, ``analyze_batch``, ``analyze_table``) goes through ``Library.table``, and a
+table with its fields in another order gives the same results bit for bit as the library's
+own layout. Numerical options beyond what the arithmetic supports are refused.
 """
 from __future__ import annotations
 
@@ -62,3 +62,31 @@ def test_anything_else_is_refused_in_one_line(bad, words):
             call()
         message = str(error.value)
         assert words in message and "\n" not in message, message
+
+
+@pytest.mark.parametrize("tolerance", [1e300, float("inf"), float("nan"), 0.0, -1.0, True])
+def test_a_branch_tolerance_that_would_drop_the_folds_is_refused(tolerance):
+    with pytest.raises(ValueError, match="tolerance: must be positive and below the samples' "
+                                         r"spacing \(4.08163\)"):
+        lib.branches("F", 0.0, 200.0, points=50, tolerance=tolerance)
+
+
+def test_a_tolerance_below_the_spacing_still_locates_the_folds():
+    found = lib.branches("F", -200.0, 300.0, points=200, tolerance=1e-6)
+    assert sum(e.kind == "fold" for e in found.events) == 2
+
+
+@pytest.mark.parametrize("theta0, theta_d0, words", [
+    (1e20, 0.0, "theta0: 1e+20 rad is beyond what double precision resolves"),
+    (-2.0**23, 0.0, "|theta0| <= 4.1943e+06 rad"),
+    (0.1, 1e308, "theta_d0: 1e+308 rad/s is beyond"),
+])
+def test_an_initial_state_beyond_double_precision_is_refused(theta0, theta_d0, words):
+    with pytest.raises(ValueError) as error:
+        lib.simulate(None, theta0, theta_d0, np.linspace(0.0, 1.0, 5))
+    assert words in str(error.value)
+
+
+def test_a_large_but_resolvable_initial_state_runs():
+    trajectory = lib.simulate(None, 2.0**21, 10.0, np.linspace(0.0, 0.01, 3))
+    assert np.isfinite(trajectory.theta).all()
