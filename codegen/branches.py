@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis, folds, joining, sweep
+from . import analysis, files, folds, joining, sweep
 from .library import Library, ParameterSet, ParamsLike
 
 #: What happens at an event (see the module's docstring).
@@ -177,7 +177,7 @@ class Branches:
         path = check_table_path(path)
         if path.suffix.lower() != ".json":
             return sweep.write(self.table(), path, labels=LABELS)
-        path.write_text(json.dumps(self.to_dict(), indent=1) + "\n")
+        files.write_text(path, json.dumps(self.to_dict(), indent=1) + "\n")
         return len(self.points)
 
     def plot(self, path: str | os.PathLike[str]) -> Path:

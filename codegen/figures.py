@@ -9,6 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from . import files
+
 #: The file types a figure can be written as (by the path's suffix).
 FORMATS = (".png", ".svg")
 
@@ -42,6 +44,9 @@ def save(figure: Any, path: str | Path) -> Path:
     """Write ``figure`` to ``path`` (.png at 150 dpi, or .svg) and close it."""
     path = check_path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    figure.savefig(path, dpi=150, bbox_inches="tight")
-    pyplot().close(figure)
+    try:
+        with files.replacing(path, suffix=path.suffix) as scratch:
+            figure.savefig(scratch, dpi=150, bbox_inches="tight", format=path.suffix[1:].lower())
+    finally:
+        pyplot().close(figure)
     return path

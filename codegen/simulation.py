@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from . import figures
+from . import figures, files
 from .analysis import Equilibrium, Method, analyze, library_of_params
 from .errors import LibraryError
 from .library import Library, ParameterSet
@@ -378,9 +378,9 @@ def write(trajectory: Trajectory, path: str | Path, linear: LinearResponse | Non
         raise ValueError(f"{path}: a trajectory is written as {' or '.join(FORMATS)}")
     path.parent.mkdir(parents=True, exist_ok=True)
     if path.suffix.lower() == ".json":
-        path.write_text(json.dumps(to_dict(trajectory, linear), indent=1) + "\n")
+        files.write_text(path, json.dumps(to_dict(trajectory, linear), indent=1) + "\n")
         return path
-    with path.open("w", newline="") as stream:
+    with files.replacing(path) as scratch, scratch.open("w", newline="") as stream:
         write_csv(stream, trajectory, linear)
     return path
 

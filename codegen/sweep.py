@@ -27,7 +27,7 @@ from typing import Any, Literal, TextIO
 
 import numpy as np
 
-from . import analysis
+from . import analysis, files
 from .batch import analyze_table
 from .library import Library, ParamsLike
 
@@ -440,7 +440,8 @@ class Writer:
                              ".csv)")
         if not self.path.parent.is_dir():
             raise ValueError(f"{self.path}: no folder {self.path.parent}")
-        self.partial = self.path.with_name(f".{self.path.name}.partial")
+        files.remove_orphans(self.path)
+        self.partial = files.temporary(self.path, ".partial")  # this writer's alone
         self.rows = 0
         self._sink: Any = None
 
