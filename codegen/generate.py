@@ -15,6 +15,7 @@ import hashlib
 import json
 import sys
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import sympy
@@ -80,12 +81,16 @@ def _present(out: Path) -> set[str]:
     return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS}
 
 
-def emit(mechanism: Mechanism, templates: Path = TEMPLATES) -> dict[str, str]:
-    """File name -> text of one mechanism's library."""
+def emit(mechanism: Mechanism, templates: Path = TEMPLATES,
+         progress: Callable[[str], None] = lambda stage: None) -> dict[str, str]:
+    """File name -> text of one mechanism's library; ``progress`` is told each stage
+    ("deriving: STEP", "emitting C") as it starts."""
     if sympy.__version__ != TESTED_SYMPY:
         warnings.warn(f"SymPy {sympy.__version__} is not the tested {TESTED_SYMPY}: the "
                       f"generated files may differ from the committed ones", stacklevel=2)
-    return render(build_plan(derive(mechanism)), templates)
+    derivation = derive(mechanism, lambda step: progress(f"deriving: {step}"))
+    progress("emitting C")
+    return render(build_plan(derivation), templates)
 
 
 def runtime(templates: Path = TEMPLATES) -> dict[str, str]:
