@@ -26,7 +26,7 @@ RENAMES = {"l": "v", "m": "out", "k": "theta_d", "l_0": "iv_flags", "x_A": "tmp0
 AWKWARD_NAME = "awkward"
 
 
-def awkward_model() -> str:
+def awkward_model(coordinate: str = "lambda_1") -> str:
     text = MODEL.replace('name="spring_pendulum"', f'name="{AWKWARD_NAME}"')
     for old, new in RENAMES.items():
         text = text.replace(f'parameter("{old}",', f'parameter("{new}",')
@@ -40,11 +40,11 @@ def awkward_model() -> str:
         '    parameter("rho_1", "1", "a factor of the stiffness", "1"),\n'
         '    parameter("sin", "1", "a factor of the mass", "1"),\n'
         '    parameter("M_PI", "m", "an offset of the anchor", "0"),\n'
-        ')\nCOORDINATES = (Coordinate("lambda_1"')
+        f')\nCOORDINATES = (Coordinate("{coordinate}"')
     text = text.replace("Spring(k, l_0, distance(tip, (x_A, y_A)))",
                         "Spring(rho_1 * k, l_0, distance(tip, (x_A + M_PI, y_A)))")
     text = text.replace('Body("bar", m,', 'Body("bar", sin * m,')
-    text = text.replace('independent="theta"', 'independent="lambda_1"')
+    text = text.replace('independent="theta"', f'independent="{coordinate}"')
     return text
 
 
@@ -52,15 +52,17 @@ def awkward_model() -> str:
 def folder(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("model_errors")
     (folder / "plain.py").write_text(MODEL)
-    (folder / "awkward.py").write_text(awkward_model())
+    (folder / "awkward.py").write_text(awkward_model())     # the coordinate a multiplier's name
+    (folder / "awkward_theta.py").write_text(awkward_model("theta"))  # theta_d its rate's
     return folder
 
 
-@pytest.fixture(scope="module")
-def awkward(folder):
-    out = codegen(folder, "generate", "--model", "awkward.py", "--out", "lib")
+@pytest.fixture(scope="module", params=["awkward.py", "awkward_theta.py"])
+def awkward(request, folder):
+    out = codegen(folder, "generate", "--model", request.param, "--out",
+                  f"lib_{Path(request.param).stem}")
     assert out.returncode == 0, out.stderr
-    return folder / "lib"
+    return request.param, folder / f"lib_{Path(request.param).stem}"
 
 
 def genuine_angles(folder: Path, model: str) -> list[float]:
@@ -73,10 +75,11 @@ def genuine_angles(folder: Path, model: str) -> list[float]:
 def test_awkward_names_give_the_plain_models_equilibria(folder, awkward):
     plain = genuine_angles(folder, "plain.py")
     assert len(plain) == 4
-    assert genuine_angles(folder, "awkward.py") == pytest.approx(plain, abs=1e-9)
+    assert genuine_angles(folder, awkward[0]) == pytest.approx(plain, abs=1e-9)
 
 
 def test_awkward_names_stay_the_users_in_the_api(awkward):
+    awkward = awkward[1]
     spec = json.loads((awkward / AWKWARD_NAME / f"{AWKWARD_NAME}_api.json").read_text())
     assert [p["name"] for p in spec["parameters"]] == [
         *RENAMES.values(), "rho_1", "sin", "M_PI"]
@@ -86,6 +89,7 @@ def test_awkward_names_stay_the_users_in_the_api(awkward):
 
 
 def test_awkward_names_compile_strictly(awkward, tmp_path):
+    awkward = awkward[1]
     gcc = shutil.which("gcc")
     if gcc is None:
         pytest.skip("gcc not found")
@@ -97,6 +101,20 @@ def test_awkward_names_compile_strictly(awkward, tmp_path):
              "-o", str(tmp_path / f"{source.stem}.o")],
             capture_output=True, text=True, timeout=120)
         assert out.returncode == 0, f"{source.name}:\n{out.stderr}"
+
+
+def test_clashing_names_are_renamed_for_the_derivation_only(folder):
+    """theta_d is the rate of theta, rho_1 a root, v the double-double values...: each is
+    derived under a fresh name; a shipped mechanism keeps every name."""
+    from codegen.derivation.names import internal_names
+    from codegen.model import SHIPPED, load
+
+    renamed = internal_names(load(str(folder / "awkward_theta.py")))
+    assert renamed == {"v": "v_", "out": "out_", "theta_d": "theta_d_",
+                       "iv_flags": "iv_flags_", "params": "params_", "t": "t_",
+                       "rho_1": "rho_1_", "sin": "sin_", "M_PI": "M_PI_"}
+    assert internal_names(load(str(folder / "awkward.py")))["lambda_1"] == "lambda_1_"
+    assert all(internal_names(load(name)) == {} for name in SHIPPED)
 
 
 # --------------------------------------------------------------------------- bad models

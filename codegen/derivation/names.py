@@ -17,7 +17,7 @@ from dataclasses import replace
 import sympy as sp
 
 from ..model import Coordinate, Mechanism, Parameter
-from ..model.names import C_ARGUMENTS, C_TAKEN
+from ..model.names import c_taken
 
 #: Symbols the derivation makes whatever the coordinates are called: time, the Lagrange
 #: multipliers, the position analysis' roots, the elimination's named coefficients.
@@ -32,12 +32,15 @@ def _made_for(coordinate: str) -> set[str]:
             *(f"{letter}_{coordinate}" for letter in "CSXY")}
 
 
-def _clashes(name: str, made: set[str], taken: frozenset) -> bool:
-    return name in taken or name in _FIXED or name in made or bool(_NUMBERED.match(name))
+def _clashes(name: str, made: set[str], argument: bool) -> bool:
+    """Whether a parameter's (or, ``argument``, a coordinate's) name is one the derivation
+    makes (``made`` for the coordinates) or the generated C must not give its local."""
+    return (c_taken(name, argument) or name in _FIXED or name in made
+            or bool(_NUMBERED.match(name)))
 
 
-def _fresh(name: str, used: set[str], made: set[str], taken: frozenset) -> str:
-    while _clashes(name, made, taken) or name in used:
+def _fresh(name: str, used: set[str], made: set[str], argument: bool) -> str:
+    while _clashes(name, made, argument) or name in used:
         name += "_"
     return name
 
@@ -49,15 +52,16 @@ def internal_names(mechanism: Mechanism) -> dict[str, str]:
     others = set()  # the derivation's names of the coordinates renamed so far
     for c in mechanism.coordinates:  # coordinates first: the parameters avoid their names
         made = set().union(*(_made_for(o.name) for o in mechanism.coordinates if o is not c))
-        if _clashes(c.name, made | others, C_TAKEN | C_ARGUMENTS):
+        if _clashes(c.name, made | others, argument=True):
             renamed[c.name] = _fresh(c.name, users | set(renamed.values()), made | others,
-                                     C_TAKEN | C_ARGUMENTS)
+                                     argument=True)
         others |= {renamed.get(c.name, c.name)}
     made = set().union(*(_made_for(n) for n in others))
     for p in mechanism.parameters:
         name = p.symbol.name
-        if _clashes(name, made, C_TAKEN):
-            renamed[name] = _fresh(name, users | set(renamed.values()) | made, made, C_TAKEN)
+        if _clashes(name, made, argument=False):
+            renamed[name] = _fresh(name, users | set(renamed.values()) | made, made,
+                                   argument=False)
     return renamed
 
 

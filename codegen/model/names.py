@@ -90,6 +90,13 @@ def refusal(name: str, prefix: str) -> str | None:
     return None
 
 
+def c_taken(name: str, argument: bool = False) -> bool:
+    """Whether the generated code must call a parameter's local (or, ``argument``, a
+    coordinate's) something else than ``name``: a name of the C library or of the generated
+    code, or the runtime's prefix codegen_."""
+    return name in C_TAKEN or name.startswith("codegen_") or (argument and name in C_ARGUMENTS)
+
+
 def c_identifier(name: str) -> bool:
     """Whether name is a C identifier (ASCII letters, digits and _, no leading digit)."""
     return bool(_IDENTIFIER.match(name)) and name not in C_KEYWORDS
