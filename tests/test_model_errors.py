@@ -144,6 +144,10 @@ BAD = {
     "root_in_body.py": (_edit("inertia=m * l**2 / 12", "inertia=m * sp.sqrt(1 + sp.cos(theta))"),
                         "body 'bar': the square root sqrt(cos(theta(t)) + 1) of an expression "
                         "of the coordinates is not declared: write a length"),
+    "root_in_point.py": (_edit('points={"P": tip}', 'points={"P": (sp.sqrt(2 - sp.cos(theta)), 0)}'),
+                         "point 'P': the square root sqrt(2 - cos(theta(t)))"),
+    "runtime.py": (_edit('name="spring_pendulum"', 'name="runtime"'),
+                   "the mechanism's name 'runtime' is the shared runtime's"),
     "root_in_spring.py": (_edit("Spring(k, l_0, distance(tip, (x_A, y_A)))",
                                 "Spring(k, l_0, sp.sqrt(2 + sp.sin(theta)))"),
                           "spring 1: the square root"),
@@ -155,7 +159,8 @@ def _where(name: str) -> str:
     text = BAD[name][0]
     needle = {"dashed.py": "slotted-lever", "twice.py": 'parameter("k", "N/m"',
               "keyword.py": '"int"', "macro.py": '"NAN"', "undeclared.py": 'Symbol("L")',
-              "root_in_body.py": "sqrt", "root_in_spring.py": "sqrt"}[name]
+              "root_in_body.py": "sqrt", "root_in_spring.py": "sqrt",
+              "root_in_point.py": "sqrt", "runtime.py": 'name="runtime"'}[name]
     return f":{_line(text, needle)}:"
 
 

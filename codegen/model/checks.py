@@ -36,23 +36,26 @@ def check(mechanism: Mechanism, path: Path | None = None) -> None:
             raise ModelError(_located(path, written, message))
 
 
-def _located(path: Path | None, written: str | None, message: str) -> str:
-    """'PATH:LINE: message', the line the first one where ``written`` (a regular expression)
-    matches; 'PATH: message' where none does; the message alone for a shipped model."""
+def _located(path: Path | None, written: tuple[str, ...], message: str) -> str:
+    """'PATH:LINE: message', the line the first one (outside comments) where the first of
+    the regular expressions ``written`` that matches anywhere matches; 'PATH: message' where
+    none does; the message alone for a shipped model."""
     if path is None:
         return message
     try:
-        lines = Path(path).read_text().splitlines()
+        lines = [line.split("#")[0] for line in Path(path).read_text().splitlines()]
     except (OSError, UnicodeDecodeError):
         lines = []
-    number = next((i for i, line in enumerate(lines, 1)
-                   if written and re.search(written, line.split("#")[0])), None)
-    return f"{path}:{number}: {message}" if number else f"{path}: {message}"
+    for pattern in written:
+        number = next((i for i, line in enumerate(lines, 1) if re.search(pattern, line)), None)
+        if number:
+            return f"{path}:{number}: {message}"
+    return f"{path}: {message}"
 
 
-def _quoted(name: str) -> str:
+def _quoted(name: str) -> tuple[str, ...]:
     """Where a name is given as a string (parameter("k", ...), Coordinate("theta", ...))."""
-    return rf"""["']{re.escape(name)}["']"""
+    return (rf"""["']{re.escape(name)}["']""",)
 
 
 def _names(m: Mechanism):
@@ -60,6 +63,9 @@ def _names(m: Mechanism):
         return (f"the mechanism's name {m.name!r} is not a C identifier (it prefixes every C "
                 "name of the library: letters, digits and _, not starting with a digit)",
                 _quoted(m.name))
+    if m.name == "runtime" or m.name.lower().startswith("codegen"):
+        return (f"the mechanism's name {m.name!r} is the shared runtime's (its folder, or its "
+                "prefix codegen): rename it", _quoted(m.name))
     names = [p.symbol.name for p in m.parameters] + [c.name for c in m.coordinates]
     twice = [n for n, k in Counter(names).items() if k > 1]
     if twice:
@@ -111,11 +117,11 @@ def _undeclared(m: Mechanism):
                         key=str):
             if s == TIME:
                 return (f"{where}: the time t appears outside the coordinates (the model is "
-                        "autonomous)", r"\bTIME\b")
+                        "autonomous)", (r"\bTIME\b",))
             hint = (" (a parameter's symbol is the real one parameter() makes: use "
                     "p.symbol)" if s.name in by_name else "")
             return (f"{where}: the symbol {s.name!r} is not a declared parameter{hint}",
-                    _quoted(s.name) + "|" + rf"\b{re.escape(s.name)}\b")
+                    _quoted(s.name) + (rf"\b{re.escape(s.name)}\b",))
     return None
 
 
@@ -145,5 +151,5 @@ def _roots(m: Mechanism):
             text = str(sp.sqrt(power.base))
             text = text if len(text) <= 60 else text[:57] + "..."
             return (f"{where}: the square root {text} of an expression of the coordinates is "
-                    f"not declared: {DECLARE}", r"sqrt")
+                    f"not declared: {DECLARE}", (r"\bsqrt\(", "sqrt"))
     return None
