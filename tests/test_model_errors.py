@@ -144,7 +144,8 @@ BAD = {
     "root_in_body.py": (_edit("inertia=m * l**2 / 12", "inertia=m * sp.sqrt(1 + sp.cos(theta))"),
                         "body 'bar': the square root sqrt(cos(theta(t)) + 1) of an expression "
                         "of the coordinates is not declared: write a length"),
-    "root_in_point.py": (_edit('points={"P": tip}', 'points={"P": (sp.sqrt(2 - sp.cos(theta)), 0)}'),
+    "root_in_point.py": (_edit('points={"P": tip}',
+                               'points={"P": (sp.sqrt(2 - sp.cos(theta)), 0)}'),
                          "point 'P': the square root sqrt(2 - cos(theta(t)))"),
     "runtime.py": (_edit('name="spring_pendulum"', 'name="runtime"'),
                    "the mechanism's name 'runtime' is the shared runtime's"),

@@ -166,7 +166,8 @@ def build_plan(d: Derivation) -> Plan:
                    "N_COORDS")
     multipliers = Input("multipliers", s.multipliers,
                         "Lagrange multipliers lambda_1.. (one per constraint)", "N_CONSTRAINTS")
-    theta = Input(red.theta.name, (red.theta,), f"independent coordinate {d.user.independent} [rad]")
+    theta = Input(red.theta.name, (red.theta,),
+                  f"independent coordinate {d.user.independent} [rad]")
     theta_d = Input(red.theta_d.name, (red.theta_d,), "its rate [rad/s]")
     theta_e = Input(red.theta.name, (red.theta,), "equilibrium angle theta_E [rad]")
     n_roots = len(eq.roots)

@@ -154,7 +154,8 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     program = needed_definitions(function.definitions, exprs)
     clashes = _argument_clashes(function, fields)
     if clashes:
-        symbols = set().union(*(e.free_symbols for e in exprs), *(d.free_symbols for _, d in program))
+        symbols = set().union(*(e.free_symbols for e in exprs),
+                              *(d.free_symbols for _, d in program))
         renamed = {s: sp.Symbol(clashes[s.name], **s.assumptions0) for s in symbols
                    if s.name in clashes}
         exprs = [e.xreplace(renamed) for e in exprs]
