@@ -117,6 +117,13 @@ def test_clashing_names_are_renamed_for_the_derivation_only(folder):
     assert all(internal_names(load(name)) == {} for name in SHIPPED)
 
 
+def test_shipped_mechanisms_pass_the_checks():
+    from codegen.model import SHIPPED, check, load
+
+    for name in SHIPPED:
+        check(load(name))
+
+
 # --------------------------------------------------------------------------- bad models
 
 
