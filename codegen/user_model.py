@@ -46,28 +46,46 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     from .model import load
 
     mechanism = load(str(model))  # checked: a ModelError names the problem before any build
-    key = hashlib.sha256(Path(model).read_bytes() + b"\0" + generate.fingerprint(
-        mechanism.name).encode()).hexdigest()[:32] if Path(model).is_file() else None
+    key = _key(generate, Path(model), mechanism.name)
     folder = Path(out) if out is not None else cache_root() / (key or mechanism.name)
-    if key and not rebuild and _stamp(folder) == key:
-        return load_from(folder, mechanism.name)
-    if out is not None:
-        (folder / STAMP).unlink(missing_ok=True)  # a build interrupted now is not reused
-        _build(generate, mechanism, folder, progress)
-    else:
-        folder.parent.mkdir(parents=True, exist_ok=True)
-        work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
-        try:
-            _build(generate, mechanism, work, progress)
-            if key:
-                (work / STAMP).write_text(key)
-            _replace(work, folder)
-        finally:
-            shutil.rmtree(work, ignore_errors=True)
-        return load_from(folder, mechanism.name)
+    if key is None or rebuild or _stamp(folder) != key:
+        if out is not None:
+            _build_in_place(generate, mechanism, folder, key, progress)
+        else:
+            _build_beside(generate, mechanism, folder, key, progress)
+    return load_from(folder, mechanism.name)
+
+
+def _key(generate, model: Path, name: str) -> str | None:
+    """What a build is made from: the model file's bytes and the package's fingerprint (None
+    for a shipped mechanism named through --model: there is no file)."""
+    if not model.is_file():
+        return None
+    digest = hashlib.sha256(model.read_bytes() + b"\0" + generate.fingerprint(name).encode())
+    return digest.hexdigest()[:32]
+
+
+def _build_in_place(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+    """Build into the caller's folder; the stamp goes first and comes back last, so a build
+    interrupted half way is never taken for a finished one."""
+    (folder / STAMP).unlink(missing_ok=True)
+    _build(generate, mechanism, folder, progress)
     if key:
         (folder / STAMP).write_text(key)
-    return load_from(folder, mechanism.name)
+
+
+def _build_beside(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+    """Build in a temporary folder beside ``folder`` and rename it into place: another run
+    sees the finished entry or none."""
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
+    try:
+        _build(generate, mechanism, work, progress)
+        if key:
+            (work / STAMP).write_text(key)
+        _replace(work, folder)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 def _build(generate, mechanism, folder: Path, progress: Callable[[str], None]) -> None:

@@ -74,6 +74,11 @@ def _names(m: Mechanism):
         why = refusal(name, m.name)
         if why:
             return f"the name {name!r} {why}: rename it", _quoted(name)
+    codes = [r.code for r in m.requirements]
+    for code in codes:  # each names a status, PREFIX_ERR_CODE, of the C enum
+        if not c_identifier(f"E_{code}") or codes.count(code) > 1:
+            return (f"the requirement code {code!r} is not a C identifier's end or names two "
+                    "requirements", _quoted(code))
     coordinates = {c.name for c in m.coordinates}
     for name in (m.independent, *(n for pair in m.polar_pairs for n in pair)):
         if name not in coordinates:
