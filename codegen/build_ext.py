@@ -49,8 +49,13 @@ def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen
     ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
     sources = sorted(folder.glob("*.c")) + sorted((generated / RUNTIME).glob("*.c"))
+    # Python.h (included first) asks for POSIX and GNU extensions, under which <math.h>
+    # defines names plain C99 leaves free, such as M_PI; a parameter of such a name is a
+    # field of NAME_params, so the wrapper undefines it before the header declares the struct.
+    fields = "".join(f"#undef {p['name']}\n" for p in json.loads(spec)["parameters"])
     ffi.set_source(
         f"{package}_native_{name}",
+        f"#include <math.h>\n{fields}"
         f'#include "{name}.h"\n'
         # The wrapper's own metadata: which functions exist and their array sizes.
         f"static const char *codegen_api_spec(void) {{ return {_c_string(spec)}; }}\n",

@@ -7,6 +7,7 @@ was wrong; no traceback reaches the user.
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 import os
 import shutil
@@ -128,31 +129,36 @@ def _generator():
     return generate
 
 
-def _user_library(generate, model: str, out: Path):
-    """Generate and build a user's model into out; its Library."""
-    from .api import load_from
-    from .build_ext import build_into
-    from .model import load
+def _stage(stage: str) -> None:
+    """A model's derivation and build can take minutes: each stage, one line on stderr."""
+    print(stage, file=sys.stderr, flush=True)
 
-    mechanism = load(model)
-    files = generate.emit(mechanism)  # verified against the model before anything is written
-    generate.write_folder(out / generate.RUNTIME, generate.runtime())
-    generate.write_folder(out / mechanism.name, files)
-    build_into(out, mechanism.name)
-    return load_from(out, mechanism.name)
+
+def _checked_mechanism(name: str, known) -> str:
+    """name, if it is one of the known mechanisms; else a ValueError that lists them and
+    suggests the close ones."""
+    if name in known:
+        return name
+    close = difflib.get_close_matches(name, known, n=3, cutoff=0.6)
+    hint = f" (did you mean {' or '.join(close)}?)" if close else ""
+    raise ValueError(f"--mechanism {name}: no such mechanism{hint}; this installation has "
+                     f"{', '.join(known)} (a model file of your own: --model FILE)")
 
 
 def _generate(args) -> int:
     generate = _generator()
     start = time.perf_counter()
     if args.model:
+        from .user_model import library as user_library
+
         out = Path(args.out or "build/codegen")
-        library = _user_library(generate, args.model, out)
+        library = user_library(args.model, out, progress=_stage, rebuild=True)
         print(f"wrote and built {library.PREFIX} ({library.TITLE}) in {out} "
               f"in {time.perf_counter() - start:.1f} s")
         return 0
     out = Path(args.out) if args.out else generate.default_output()
-    names = [args.mechanism] if args.mechanism else list(generate.SHIPPED)
+    names = [_checked_mechanism(args.mechanism, generate.SHIPPED)] if args.mechanism else list(
+        generate.SHIPPED)
     cache = None if args.no_cache else generate.default_cache()
     if args.check:
         diff = generate.stale(out, names, cache=cache)
@@ -191,12 +197,15 @@ def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
 
 def _library(args, build: str | None = None):
     """The library --mechanism or --model names; a model is generated and built into
-    ``build`` (default build/codegen)."""
+    ``build`` (default: the per-user cache, codegen.user_model), or its build there reused."""
     from .api import load
 
     if getattr(args, "model", None):
-        return _user_library(_generator(), args.model, Path(build or "build/codegen"))
-    return load(args.mechanism or DEFAULT_MECHANISM)
+        _generator()  # the generator's dependencies, or a one-line error naming them
+        from .user_model import library as user_library
+
+        return user_library(args.model, build, progress=_stage)
+    return load(_checked_mechanism(args.mechanism or DEFAULT_MECHANISM, shipped()))
 
 
 def _analyze(args) -> int:
@@ -221,7 +230,7 @@ def _sources(args) -> int:
     """Where the C files of a shipped library are, or a copy of them in a folder."""
     from .resources import generated
 
-    name = args.mechanism or DEFAULT_MECHANISM
+    name = _checked_mechanism(args.mechanism or DEFAULT_MECHANISM, shipped())
     root = generated()
     folders = [root / name, root / "runtime"]
     if not folders[0].is_dir():
@@ -474,7 +483,9 @@ def _mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
         return
     which.add_argument("--model", metavar="FILE",
                        help="a model file of your own (Python, defining build() -> Mechanism)"
-                            + ("" if out_help else "; built into build/codegen"))
+                            + ("" if out_help else "; built into the per-user cache "
+                                                    "(~/.cache/mechvib), reused while the "
+                                                    "file and mechvib are unchanged"))
     if out_help is not None:
         verb.add_argument("--out", metavar="DIR", help=out_help)
 
@@ -519,7 +530,8 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
     ana = _verb(verbs, "analyze", "every equilibrium and its vibration (the paper's Table 3)",
                 prog, _analyze)
     _mechanism_options(ana, "with --model: where its library is generated and built "
-                            "(default: build/codegen)")
+                            "(default: the per-user cache ~/.cache/mechvib; a "
+                            "build there or in DIR is reused while the file is unchanged)")
     _set_option(ana)
     ana.add_argument("--json", action="store_true",
                      help="print one JSON object (angles in degrees) instead of the table")
@@ -605,7 +617,7 @@ def parser(prog: str | None = None) -> argparse.ArgumentParser:
 
     sim = _verb(verbs, "simulate", "the motion from an initial state: theta(t) and thetadot(t) "
                 "as CSV or JSON, and a figure", prog, _simulate)
-    _mechanism_options(sim, None)
+    _mechanism_options(sim, None, model=True)
     _set_option(sim)
     sim.add_argument("--theta0", type=float, required=True, metavar="DEG",
                      help="the initial angle [deg]")

@@ -15,13 +15,14 @@ import hashlib
 import json
 import sys
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import sympy
 
 from . import resources
 from .derivation import derive
-from .emission.plan import build_plan
+from .emission.plan import Plan, build_plan
 from .emission.render import render
 from .model import SHIPPED, Mechanism, load
 from .verification import verify
@@ -81,15 +82,33 @@ def _present(out: Path) -> set[str]:
     return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS}
 
 
-def emit(mechanism: Mechanism, templates: Path = TEMPLATES) -> dict[str, str]:
+def emit(mechanism: Mechanism, templates: Path = TEMPLATES,
+         progress: Callable[[str], None] = lambda stage: None) -> dict[str, str]:
     """File name -> text of one mechanism's library, once its expressions have been checked
-    against the model (verification.VerificationError, a ValueError, if they disagree)."""
+    against the model (verification.VerificationError, a ValueError, if they disagree);
+    ``progress`` is told each stage ("deriving: STEP", "verifying", "emitting C") as it
+    starts."""
+    return render(verified_plan(mechanism, progress), templates)
+
+
+def files_of(plan: Plan, templates: Path = TEMPLATES) -> dict[str, str]:
+    """File name -> text of the library of a (verified) plan."""
+    return render(plan, templates)
+
+
+def verified_plan(mechanism: Mechanism, progress: Callable[[str], None] = lambda stage: None
+                  ) -> Plan:
+    """The emission plan of a mechanism, checked against the model before anything is
+    written (see emit)."""
     if sympy.__version__ != TESTED_SYMPY:
         warnings.warn(f"SymPy {sympy.__version__} is not the tested {TESTED_SYMPY}: the "
-                      f"generated files may differ from the committed ones", stacklevel=2)
-    plan = build_plan(derive(mechanism))
-    verify(mechanism, plan)
-    return render(plan, templates)
+                      f"generated files may differ from the committed ones", stacklevel=3)
+    derivation = derive(mechanism, lambda step: progress(f"deriving: {step}"))
+    plan = build_plan(derivation)
+    progress("verifying against the model")
+    verify(derivation.mechanism, plan, derivation.user)
+    progress("emitting C")
+    return plan
 
 
 def runtime(templates: Path = TEMPLATES) -> dict[str, str]:

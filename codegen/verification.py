@@ -67,12 +67,14 @@ class Report:
     seconds: float
 
 
-def verify(mechanism: Mechanism, plan: Plan) -> Report:
-    """Raise VerificationError unless the plan's expressions equal the model's numerics."""
+def verify(mechanism: Mechanism, plan: Plan, user: Mechanism | None = None) -> Report:
+    """Raise VerificationError unless the plan's expressions equal the model's numerics.
+    ``mechanism`` is the one derived, ``user`` the model as written (the same but for
+    renamed names, derivation.names), whose names the messages use."""
     start = time.perf_counter()
     model = _ModelNumerics(mechanism)
     sets = parameter_sets(mechanism, np.random.default_rng(SEED))
-    checker = _Checker(mechanism, plan)
+    checker = _Checker(mechanism, plan, user)
     points = zeros = 0
     for params in sets:
         checked, found = checker.check(model, params)
@@ -94,17 +96,18 @@ SIGMA_TOLERANCE = 1e-13
 COMPILED = ("dependent_state", "equilibrium_residual", "reduced_coefficients",
             "linearisation", "angular_acceleration", "equilibrium_state", "sigma")
 
-#: call(name, values, inputs): the compiled function ``name`` at the parameters ``values``
+#: call(name, self._user_values(), inputs): the compiled function ``name`` at the parameters ``values``
 #: over equal-length arrays of its scalar inputs, one row of its outputs per input (NaN
 #: where it reports an error); with no inputs, one row.
 Call = Callable[[str, dict, tuple], np.ndarray]
 
 
-def verify_compiled(mechanism: Mechanism, plan: Plan, call: Call) -> int:
+def verify_compiled(mechanism: Mechanism, plan: Plan, call: Call,
+                    user: Mechanism | None = None) -> int:
     """Raise VerificationError unless the compiled library gives the plan's values (what the
     printer, the templates and the compiler made of them) at every parameter set and angle
-    ``verify`` uses; the number of values compared."""
-    checker = _Checker(mechanism, plan)
+    ``verify`` uses; the number of values compared. ``call`` takes the user's names."""
+    checker = _Checker(mechanism, plan, user)
     return sum(checker.check_compiled(values, call) for values in
                parameter_sets(mechanism, np.random.default_rng(SEED)))
 
@@ -244,11 +247,15 @@ class _Quantity:
 class _Checker:
     """The plan's functions as numpy functions, compared with the model's numerics."""
 
-    def __init__(self, mechanism: Mechanism, plan: Plan):
+    def __init__(self, mechanism: Mechanism, plan: Plan, user: Mechanism | None):
         self.mechanism = mechanism
         self.plan = plan
         self.symbols = mechanism.symbols
-        self.name = mechanism.independent
+        user = user or mechanism
+        # the user's name of each parameter and coordinate, for messages and the library
+        self.labels = {s.name: u.name for s, u in zip(mechanism.symbols, user.symbols)}
+        self.coordinates = [c.name for c in user.coordinates]
+        self.name = user.independent
         self.functions: dict[str, Callable] = {}
         # sigma's coefficients cancel up to ~13 digits (the library evaluates them in
         # double-double): evaluated here in 40 digits.
@@ -312,13 +319,13 @@ class _Checker:
                 continue
             f = self.plan.function(name)
             if name == "sigma":
-                mine, theirs = self._sigma(params)[None, :], call(name, values, ())
+                mine, theirs = self._sigma(params)[None, :], call(name, self._user_values(), ())
                 allowed = SIGMA_TOLERANCE * np.abs(mine).max() + 0 * mine
                 th = theta[:1]
             else:
                 inputs = tuple(theta if a.symbols[0] == self.plan.enclosure.theta else rate
                                for a in f.inputs)
-                mine, theirs = self._call(name, params, *inputs), call(name, values, inputs)
+                mine, theirs = self._call(name, params, *inputs), call(name, self._user_values(), inputs)
                 keep = clear & np.isfinite(mine).all(-1)
                 mine, theirs, th = mine[keep], theirs[keep], theta[keep]
                 typical = np.sqrt(np.mean(mine ** 2, axis=0))
@@ -487,11 +494,14 @@ class _Checker:
                        f"{model[i]:.12g}", (abs(generated[i] - model[i]), allowed[i]))
 
     def _coordinate(self, k: int) -> str:
-        return self.mechanism.coordinates[k].name
+        return self.coordinates[k]
+
+    def _user_values(self) -> dict[str, float]:
+        return {self.labels[n]: v for n, v in self.values.items()}
 
     def _fail(self, quantity, angle, values, difference,
               what="the derivation disagrees with the model"):
-        setting = ", ".join(f"{n}={v:.6g}" for n, v in self.values.items())
+        setting = ", ".join(f"{n}={v:.6g}" for n, v in self._user_values().items())
         gap = (f" (difference {difference[0]:.3g}, allowed {difference[1]:.3g})"
                if difference else "")
         raise VerificationError(

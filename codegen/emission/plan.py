@@ -119,6 +119,18 @@ class Plan:
     mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
     periodic: bool = True              # theta and theta + 2 pi are the same state
+    # Each parameter's symbol in the expressions and its field of PREFIX_params (the name
+    # the user gave it), in order; they differ where the user's name clashes (derivation/names)
+    fields: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def reads(self) -> tuple[tuple[str, str], ...]:
+        """(symbol, struct field) of each parameter, in order."""
+        return self.fields or tuple((p[0], p[0]) for p in self.parameters)
+
+    def field(self, symbol: str) -> str:
+        """The struct field a parameter's symbol is read from."""
+        return dict(self.reads).get(symbol, symbol)
 
     def function(self, name: str) -> CFunction:
         return next(f for f in self.functions if f.name == name)
@@ -133,7 +145,8 @@ class Plan:
         order = [p[0] for p in self.parameters]
         return generic + tuple(
             Status(f"ERR_{r.code}", len(generic) + i, r.message,
-                   tuple(sorted((s.name for s in r.condition.free_symbols), key=order.index)))
+                   tuple(sorted((self.field(s.name) for s in r.condition.free_symbols),
+                                key=order.index)))
             for i, r in enumerate(self.requirements))
 
 
@@ -146,14 +159,15 @@ def build_plan(d: Derivation) -> Plan:
     kin, dyn, red, eq, lin = d.kinematics, d.dynamics, d.reduction, d.equilibrium, d.linearisation
     fr = d.frozen
     n, c = len(m.coordinates), len(m.constraints)
-    units = _units(m.coordinates)
+    units = _units(d.user.coordinates)
     coords = Input("coords", s.coords, f"generalised coordinates: {units}", "N_COORDS")
     rates = Input("rates", s.rates, "their time derivatives, same order [unit/s]", "N_COORDS")
     accels = Input("accels", s.accels, "their second derivatives, same order [unit/s^2]",
                    "N_COORDS")
     multipliers = Input("multipliers", s.multipliers,
                         "Lagrange multipliers lambda_1.. (one per constraint)", "N_CONSTRAINTS")
-    theta = Input(red.theta.name, (red.theta,), f"independent coordinate {red.theta.name} [rad]")
+    theta = Input(red.theta.name, (red.theta,),
+                  f"independent coordinate {d.user.independent} [rad]")
     theta_d = Input(red.theta_d.name, (red.theta_d,), "its rate [rad/s]")
     theta_e = Input(red.theta.name, (red.theta,), "equilibrium angle theta_E [rad]")
     n_roots = len(eq.roots)
@@ -310,14 +324,16 @@ def build_plan(d: Derivation) -> Plan:
         prefix=m.name,
         title=m.title or m.name,
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
-                         for p in m.parameters),
+                         for p in d.user.parameters),
+        fields=tuple((p.symbol.name, u.symbol.name)
+                     for p, u in zip(m.parameters, d.user.parameters)),
         sizes=sizes,
         requirements=m.requirements,
         singular_state=m.singular_state,
         root_kinds=tuple(r.kind for r in eq.roots),
         mode_of_branch=tuple(_mode_of(branch.signs, lin.modes, eq.roots)
                              for branch in eq.branches),
-        range_centre=str(m.range_centre),
+        range_centre=str(d.user.range_centre),
         periodic=m.periodic,
         enclosure=Enclosure(red.theta,
                             tuple(eq.branch(mode.signs).residual for mode in lin.modes),

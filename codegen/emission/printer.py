@@ -130,14 +130,36 @@ def needed_definitions(definitions, exprs) -> list:
     return kept[::-1]
 
 
-def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget) -> PrintedBody:
-    # A parameter named like one of the function's arguments is unpacked as param_NAME.
+def _argument_clashes(function: CFunction, fields) -> dict[str, str]:
+    """Parameter symbol -> local name, for the parameters named like one of the function's
+    arguments: param_NAME (with underscores added while that is taken too)."""
     arguments = {a.name for a in function.inputs + function.outputs}
-    renamed = {sp.Symbol(n, real=True): sp.Symbol(f"param_{n}", real=True)
-               for n in parameters if n in arguments}
-    exprs = [sp.sympify(e).xreplace(renamed) for o in function.outputs for e in o.exprs]
-    program = [(s, d.xreplace(renamed))
-               for s, d in needed_definitions(function.definitions, exprs)]
+    taken = arguments | {local for local, _ in fields}
+    renamed = {}
+    for local, _ in fields:
+        if local in arguments:
+            name = f"param_{local}"
+            while name in taken:
+                name += "_"
+            taken.add(name)
+            renamed[local] = name
+    return renamed
+
+
+def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
+               target: CTarget) -> PrintedBody:
+    """The body of a function; ``fields`` pairs each parameter's symbol with the field of
+    PREFIX_params it is read from (Plan.fields)."""
+    exprs = [sp.sympify(e) for o in function.outputs for e in o.exprs]
+    program = needed_definitions(function.definitions, exprs)
+    clashes = _argument_clashes(function, fields)
+    if clashes:
+        symbols = set().union(*(e.free_symbols for e in exprs),
+                              *(d.free_symbols for _, d in program))
+        renamed = {s: sp.Symbol(clashes[s.name], **s.assumptions0) for s in symbols
+                   if s.name in clashes}
+        exprs = [e.xreplace(renamed) for e in exprs]
+        program = [(s, d.xreplace(renamed)) for s, d in program]
     used = set().union(*(sp.sympify(e).free_symbols for e in exprs),
                        *(d.free_symbols for _, d in program))
     prefix = _temporary_prefix(used)
@@ -152,9 +174,9 @@ def print_body(function: CFunction, parameters: tuple[str, ...], target: CTarget
         reduced = reduced[len(shared):]
     replacements = program + replacements
     printer = target.printer
-    unpack = [(renamed.get(sp.Symbol(n, real=True), sp.Symbol(n)).name, f"params->{n}")
-              for n in parameters
-              if renamed.get(sp.Symbol(n, real=True), sp.Symbol(n, real=True)) in used]
+    used_names = {s.name for s in used}
+    unpack = [(clashes.get(local, local), f"params->{field}") for local, field in fields
+              if clashes.get(local, local) in used_names]
     used -= {symbol for symbol, _ in program}
     for arg in function.inputs:
         for i, sym in enumerate(arg.symbols):

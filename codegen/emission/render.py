@@ -142,7 +142,7 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
             f, plan.prefix, target.ctype, f"{P}_{f.name.upper()}_VALUES"),
         batch_arrays=tuple((x.name, x.size) for x in f.inputs + f.outputs),
         batch_call=_batch_call(f, P),
-        body=print_body(f, tuple(p[0] for p in plan.parameters), target),
+        body=print_body(f, plan.reads, target),
         n_out=offset,
         returns_value=returns_value(f),
         offsets=tuple(offsets),
@@ -165,7 +165,7 @@ def _enclosure(plan: Plan) -> dict:
     """Each mode's interval programs of G and G' and of G alone, and how the modes are
     labelled."""
     enclosure = plan.enclosure
-    names = tuple(p[0] for p in plan.parameters)
+    names = tuple(symbol for symbol, _ in plan.reads)
     theta = enclosure.theta.name
     assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
     modes = []
@@ -179,8 +179,10 @@ def _enclosure(plan: Plan) -> dict:
 
 
 def _range_centre(plan: Plan, printer) -> str:
-    """The centre of the coordinate's range as C, parameters read from params."""
-    centre = sp.sympify(plan.range_centre)
+    """The centre of the coordinate's range as C, parameters read from params (the text
+    names them as the user does: any name is a symbol here, ``sin`` or ``E`` too)."""
+    fields = [field for _, field in plan.reads]
+    centre = sp.sympify(plan.range_centre, locals={f: sp.Symbol(f) for f in fields})
     return printer.doprint(centre.xreplace(
         {s: sp.Symbol(f"params->{s.name}") for s in centre.free_symbols}))
 
@@ -220,8 +222,9 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "enclosure": _enclosure(plan),
         "periodic": plan.periodic,
         "range_centre": _range_centre(plan, printer),
-        "requirement_unpack": [(p[0], f"params->{p[0]}") for p in plan.parameters
-                               if p[0] in used],
+        "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
+                               if symbol in used],
+        "fields": dict(plan.reads),   # a parameter's symbol -> its field of PREFIX_params
         "requirements": requirement_checks,
         "functions": functions,
         # sigma as a double-double program, whose values the analysis keeps in its workspace

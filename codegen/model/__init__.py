@@ -10,24 +10,23 @@ import importlib.util
 import traceback
 from pathlib import Path
 
+from .checks import ModelError, check
 from .mechanism import (TIME, Body, Coordinate, Damper, Mechanism, Parameter, PointForce,
                         Requirement, Spring, Torque, distance, parameter)
 
 SHIPPED = ("doughty", "slider_crank", "four_bar", "torsion_pendulum")
 
 
-class ModelError(ValueError):
-    """A model file that gives no Mechanism; the message is one line and names the file."""
-
-
 def load(name_or_path: str) -> Mechanism:
-    """A shipped mechanism by name, or the mechanism a model file's build() returns."""
+    """A shipped mechanism by name, or the mechanism a model file's build() returns, checked
+    (checks.py): a ModelError names the first problem in one line."""
     if name_or_path in SHIPPED:
         return importlib.import_module(f"{__name__}.{name_or_path}").build()
     path = Path(name_or_path)
+    if not path.exists():
+        raise ModelError(f"{path}: no such file")
     if path.suffix != ".py" or not path.is_file():
-        raise ValueError(f"{name_or_path!r} is neither a shipped mechanism "
-                         f"({', '.join(SHIPPED)}) nor a model file (.py)")
+        raise ModelError(f"{path}: not a model file (a Python file, NAME.py, defining build())")
     spec = importlib.util.spec_from_file_location(f"codegen_user_model_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     try:
@@ -40,6 +39,7 @@ def load(name_or_path: str) -> Mechanism:
         raise ModelError(f"{path}: a model file defines build() -> Mechanism")
     if not isinstance(mechanism, Mechanism):
         raise ModelError(f"{path}: build() returned {type(mechanism).__name__}, not a Mechanism")
+    check(mechanism, path)
     return mechanism
 
 
@@ -54,6 +54,6 @@ def _failure(path: Path, origin: str, error: Exception) -> str:
     return f"{where}: {type(error).__name__}" + (f": {message.splitlines()[0]}" if message else "")
 
 
-__all__ = ["SHIPPED", "TIME", "Body", "Coordinate", "Damper", "Mechanism", "ModelError",
+__all__ = ["SHIPPED", "TIME", "Body", "check", "Coordinate", "Damper", "Mechanism", "ModelError",
            "Parameter", "PointForce", "Requirement", "Spring", "Torque", "distance", "load",
            "parameter"]

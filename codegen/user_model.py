@@ -1,0 +1,117 @@
+"""Layer 6: a user's model file as a loaded Library, built once and reused.
+
+The library of a model file is generated and built into a folder, and a stamp written last
+records what it was built from: a hash of the model file's bytes and of the package
+(generate.fingerprint: its sources, templates and the SymPy, Jinja2 and Python versions).
+While both are unchanged the folder is loaded as it is. Without a folder of the caller's the
+build goes to the per-user cache, ``$XDG_CACHE_HOME/mechvib/`` (else ``~/.cache/mechvib/``),
+one entry per stamp, built in a temporary folder beside it and renamed into place: another
+run sees a complete entry or none.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+from .api import load_from
+from .library import Library
+
+STAMP = ".mechvib-build"
+
+
+def cache_root() -> Path:
+    """The per-user folder that holds the builds of model files."""
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "mechvib"
+
+
+def _stamp(folder: Path) -> str | None:
+    try:
+        return (folder / STAMP).read_text()
+    except OSError:
+        return None
+
+
+def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
+            progress: Callable[[str], None] = lambda stage: None,
+            rebuild: bool = False) -> Library:
+    """The Library of a model file, built into ``out`` (default: the per-user cache) unless
+    that folder already holds this model's build (``rebuild``: build it anyway). ``progress``
+    is told each stage (deriving: STEP, emitting C, building)."""
+    from . import generate
+    from .model import load
+
+    mechanism = load(str(model))  # checked: a ModelError names the problem before any build
+    key = _key(generate, Path(model), mechanism.name)
+    folder = Path(out) if out is not None else cache_root() / (key or mechanism.name)
+    if key is None or rebuild or _stamp(folder) != key:
+        if out is not None:
+            _build_in_place(generate, mechanism, folder, key, progress)
+        else:
+            _build_beside(generate, mechanism, folder, key, progress)
+    return load_from(folder, mechanism.name)
+
+
+def _key(generate, model: Path, name: str) -> str | None:
+    """What a build is made from: the model file's bytes and the package's fingerprint (None
+    for a shipped mechanism named through --model: there is no file)."""
+    if not model.is_file():
+        return None
+    digest = hashlib.sha256(model.read_bytes() + b"\0" + generate.fingerprint(name).encode())
+    return digest.hexdigest()[:32]
+
+
+def _build_in_place(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+    """Build into the caller's folder; the stamp goes first and comes back last, so a build
+    interrupted half way is never taken for a finished one."""
+    (folder / STAMP).unlink(missing_ok=True)
+    _build(generate, mechanism, folder, progress)
+    if key:
+        (folder / STAMP).write_text(key)
+
+
+def _build_beside(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+    """Build in a temporary folder beside ``folder`` and rename it into place: another run
+    sees the finished entry or none."""
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
+    try:
+        _build(generate, mechanism, work, progress)
+        if key:
+            (work / STAMP).write_text(key)
+        _replace(work, folder)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def _build(generate, mechanism, folder: Path, progress: Callable[[str], None]) -> None:
+    """Generate (checked against the model before a file is written), build, and check the
+    compiled library against the plan it came from."""
+    from .build_ext import build_into
+    from .derivation import derive
+    from .verification import verify_compiled
+
+    plan = generate.verified_plan(mechanism, progress)
+    generate.write_folder(folder / generate.RUNTIME, generate.runtime())
+    generate.write_folder(folder / mechanism.name, generate.files_of(plan))
+    progress("building")
+    build_into(folder, mechanism.name)
+    progress("checking the compiled library")
+    verify_compiled(derive(mechanism).mechanism, plan,
+                    load_from(folder, mechanism.name).rows, mechanism)
+
+
+def _replace(work: Path, folder: Path) -> None:
+    """Rename the finished build into place; where another run put one there first, or an
+    old build of the same name (no stamp: a shipped name) is in the way, that one goes."""
+    try:
+        os.rename(work, folder)
+    except OSError:
+        if _stamp(folder) is not None and _stamp(folder) == _stamp(work):
+            return  # another run built the same entry meanwhile: keep theirs
+        shutil.rmtree(folder, ignore_errors=True)
+        os.rename(work, folder)
