@@ -15,7 +15,7 @@ import sys
 import time
 from pathlib import Path
 
-from . import __version__
+from . import __version__, files
 from .api import shipped
 from .figures import PlotUnavailable
 
@@ -191,7 +191,12 @@ def _number(name: str, text: str) -> float:
 
 
 def _overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
-    """Values as numbers; a ValueError names the parameter (reported as one line)."""
+    """Values as numbers; a ValueError names the parameter (reported as one line), or one
+    given twice (the second would silently win)."""
+    names = [name for name, _ in pairs]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"--set {twice[0]} is given twice")
     return {name: _number(name, value) for name, value in pairs}
 
 
@@ -664,6 +669,7 @@ def main(argv: list[str] | None = None) -> int:
               "environment and shares the import name 'codegen'; use a separate virtual "
               "environment for mechvib", file=sys.stderr)
     args = top.parse_args(argv)
+    files.exit_on_signals()  # SIGTERM, SIGHUP: what is being written is removed, as on error
     if args.verb is None:
         top.print_help(sys.stderr)
         return 2
@@ -679,3 +685,14 @@ def main(argv: list[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # so the interpreter's final flush succeeds
         return 141  # 128 + SIGPIPE, what a shell reports for a tool killed by the signal
+    except OSError as error:  # a folder that cannot be written, a full disk: one line
+        where = f"{error.filename}: " if error.filename else ""
+        print(f"{top.prog}: error: {where}{error.strerror or error}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"{top.prog}: error: not enough memory for this run (fewer sets, or --sample "
+              "with smaller pieces)", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:  # what was being written has been removed
+        print(f"{top.prog}: interrupted", file=sys.stderr)
+        return 130

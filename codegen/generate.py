@@ -21,6 +21,7 @@ from pathlib import Path
 import sympy
 
 from . import resources
+from .files import write_text
 from .derivation import derive
 from .emission.plan import Plan, build_plan
 from .emission.render import render
@@ -63,23 +64,42 @@ def fingerprint(name: str, templates: Path = TEMPLATES) -> str:
 
 
 def _emit_shipped(name: str, templates: Path, cache: Path | None) -> dict[str, str]:
-    """emit(load(name)), or its files from the cache when nothing they are made from changed."""
+    """emit(load(name)), or its files from the cache when nothing they are made from changed
+    and the entry is intact (its checksum holds: a truncated or edited entry is rebuilt)."""
     entry = cache / f"{name}-{fingerprint(name, templates)}.json" if cache else None
-    if entry is not None and entry.is_file():
-        return json.loads(entry.read_text())
+    cached = _read_entry(entry) if entry is not None else None
+    if cached is not None:
+        return cached
     files = emit(load(name), templates)
     if entry is not None:
         entry.parent.mkdir(parents=True, exist_ok=True)
         for old in entry.parent.glob(f"{name}-*.json"):
-            old.unlink()
-        entry.write_text(json.dumps(files))
+            old.unlink(missing_ok=True)
+        text = json.dumps(files, sort_keys=True)
+        write_text(entry, json.dumps({"sha256": _digest(text), "files": text}))
     return files
+
+
+def _digest(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _read_entry(entry: Path) -> dict[str, str] | None:
+    """A cache entry's files, or None when it is missing or damaged."""
+    try:
+        stored = json.loads(entry.read_text())
+        if _digest(stored["files"]) == stored["sha256"]:
+            return json.loads(stored["files"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return None
 
 
 def _present(out: Path) -> set[str]:
     if not out.is_dir():
         return set()
-    return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS}
+    return {p.name for p in out.iterdir() if p.is_file() and p.suffix not in BUILD_BYPRODUCTS
+            and not p.name.startswith(".")}  # the manifest, a write in progress
 
 
 def emit(mechanism: Mechanism, templates: Path = TEMPLATES,
@@ -126,18 +146,34 @@ def emit_all(names=SHIPPED, templates: Path = TEMPLATES, cache: Path | None = No
     return folders
 
 
+#: Each folder generate writes lists the files it wrote there, so that a later run removes
+#: only its own stale files, never one it did not write.
+MANIFEST = ".mechvib-manifest"
+
+
+def _manifest(out: Path) -> set[str]:
+    try:
+        return set(json.loads((out / MANIFEST).read_text()))
+    except (OSError, ValueError, TypeError):
+        return set()
+
+
 def write_folder(out: Path, files: dict[str, str]) -> list[str]:
-    """Write files into out, removing stale ones; the names written (unchanged files are left
-    alone, so their times do not trigger rebuilds)."""
+    """Write files into out (each atomically), removing those an earlier run wrote there
+    that are no longer emitted; the names written (unchanged files are left alone, so their
+    times do not trigger rebuilds). A file generate did not write is never removed."""
     out.mkdir(parents=True, exist_ok=True)
-    for stale_file in _present(out) - set(files):
+    for stale_file in (_manifest(out) & _present(out)) - set(files):
         (out / stale_file).unlink()
     written = []
     for name, text in files.items():
         path = out / name
         if not path.is_file() or path.read_text() != text:
-            path.write_text(text)
+            write_text(path, text)
             written.append(name)
+    manifest = json.dumps(sorted(files)) + "\n"
+    if not (out / MANIFEST).is_file() or (out / MANIFEST).read_text() != manifest:
+        write_text(out / MANIFEST, manifest)
     return sorted(written)
 
 
@@ -157,7 +193,9 @@ def stale(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
     out = default_output() if out is None else Path(out)
     diff = []
     folders = emit_all(names, templates, cache)
-    present = {p.name for p in out.iterdir() if p.is_dir()} if out.is_dir() else set()
+    # every mechanism's folder when all are checked (one left over is stale), else the named
+    present = {p.name for p in out.iterdir() if p.is_dir()} if out.is_dir() and \
+        set(names) == set(SHIPPED) else set()
     for folder in sorted(set(folders) | present):
         files = folders.get(folder, {})
         here = _present(out / folder)

@@ -35,6 +35,9 @@ def load(name_or_path: str) -> Mechanism:
         mechanism = build() if callable(build) else None
     except Exception as error:  # the user's code failed: where and what, no traceback
         raise ModelError(_failure(path, spec.origin, error)) from None
+    except SystemExit as error:  # sys.exit() in a model file: say so, do not just end
+        raise ModelError(f"{path}: the model file called sys.exit({error.code!r}) instead "
+                         "of returning a Mechanism from build()") from None
     if not callable(build):
         raise ModelError(f"{path}: a model file defines build() -> Mechanism")
     if not isinstance(mechanism, Mechanism):

@@ -27,6 +27,12 @@ class ModelError(ValueError):
     """A model that cannot be derived; the message is one line and names the file."""
 
 
+#: The C99 standard headers: a library's header NAME.h beside its sources would hide one.
+STANDARD_HEADERS = frozenset(
+    "assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal "
+    "stdarg stdbool stddef stdint stdio stdlib string tgmath time wchar wctype".split())
+
+
 def check(mechanism: Mechanism, path: Path | None = None) -> None:
     """Raise ModelError for the first problem of the mechanism (read from ``path``)."""
     for problem in (_names, _undeclared, _roots):
@@ -66,6 +72,9 @@ def _names(m: Mechanism):
     if m.name == "runtime" or m.name.lower().startswith("codegen"):
         return (f"the mechanism's name {m.name!r} is the shared runtime's (its folder, or its "
                 "prefix codegen): rename it", _quoted(m.name))
+    if m.name in STANDARD_HEADERS:
+        return (f"the mechanism's name {m.name!r} would make {m.name}.h, which hides the C "
+                f"standard header <{m.name}.h>: rename it", _quoted(m.name))
     names = [p.symbol.name for p in m.parameters] + [c.name for c in m.coordinates]
     twice = [n for n, k in Counter(names).items() if k > 1]
     if twice:
