@@ -37,9 +37,9 @@ def example(mechanism) -> dict[str, float]:
     return {p.symbol.name: float(p.example_value) for p in mechanism.parameters}
 
 
-def angles(mechanism) -> list[float]:
-    centre = float(mechanism.range_centre)
-    return [centre + math.radians(d) for d in OFFSETS_DEG]
+def angles(reference) -> list[float]:
+    """OFFSETS_DEG from the centre of a Reference's range."""
+    return [reference.centre + math.radians(d) for d in OFFSETS_DEG]
 
 
 class PlanValues:

@@ -79,8 +79,10 @@ class Reference:
         self.length_scale = max([abs(v) for v in lengths] + [1e-3])
         self._compile(frozen)
         self._mp_params = [mpmath.mpf(v) for v in self.params]   # exact at any precision
-        self.range = (float(mechanism.range_centre) - math.pi,
-                      float(mechanism.range_centre) + math.pi)
+        values = dict(zip(mechanism.symbols, self.params))
+        #: The range's centre (an expression of the parameters) and the range (centre -+ pi).
+        self.centre = float(sp.sympify(mechanism.range_centre).xreplace(values))
+        self.range = (self.centre - math.pi, self.centre + math.pi)
         rng = np.random.default_rng(seed)
         self._starts = self._random_starts(rng)
 
