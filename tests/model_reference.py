@@ -234,14 +234,35 @@ class Reference:
     # ------------------------------------------------------------------ equilibria
 
     def scan(self, samples: int = 2001):
-        """(thetas, q, G) on a uniform grid over the closed range; G in double (central
-        difference, step 1e-6), NaN where the mechanism cannot be assembled."""
+        """(thetas, q, G) on a uniform grid over the closed range, with extra samples
+        clustering towards each limit of the assembled region (G blows up there, so a zero
+        may lie between the grid's last assembled sample and the limit); G in double
+        (central difference, step 1e-6), NaN where the mechanism cannot be assembled."""
         thetas = np.linspace(*self.range, samples)
         q = self.assemble(thetas)
+        extra = self._towards_limits(thetas, np.all(np.isfinite(q), axis=1))
+        if extra:
+            thetas = np.unique(np.concatenate([thetas, extra]))
+            q = self.assemble(thetas)
         h = 1e-6
         V = [self._call_np("track", thetas + s, self._newton_np(thetas + s, q.copy(), 8, wrap=False)
                            if self.dependent else q)[0] for s in (-h, h)]
         return thetas, q, (V[1] - V[0]) / (2 * h)
+
+    def _towards_limits(self, thetas, ok) -> list[float]:
+        """Samples at 2^-k of the way from each limit (found by bisection) back to the last
+        assembled grid point, k = 1..20."""
+        extra = []
+        for i in np.nonzero(ok[:-1] != ok[1:])[0]:
+            good, bad = (thetas[i], thetas[i + 1]) if ok[i] else (thetas[i + 1], thetas[i])
+            last = good
+            for _ in range(60):
+                mid = 0.5 * (good + bad)
+                if mid in (good, bad):
+                    break
+                good, bad = (mid, bad) if self.assembles(mid) else (good, mid)
+            extra += [good - (good - last) * 2.0**-k for k in range(1, 21)]
+        return extra
 
     def equilibria(self, samples: int = 2001) -> list[float]:
         """Every zero of G in the range found by the scan, refined to ~1e-15 rad, sorted."""
@@ -249,7 +270,7 @@ class Reference:
         finite = np.isfinite(G)
         scale = float(np.median(np.abs(G[finite]))) if finite.any() else 1.0
         roots = []
-        for i in range(samples - 1):
+        for i in range(len(thetas) - 1):
             if not (finite[i] and finite[i + 1]) or np.sign(G[i]) == np.sign(G[i + 1]) != 0:
                 continue
             if G[i + 1] == 0:
