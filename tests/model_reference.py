@@ -16,8 +16,9 @@ Nothing is shared with the derivation (no closed-form elimination, no import fro
 * M = sum m |dc/dtheta|^2 + I (dangle/dtheta)^2 and B = sum c (dl/dtheta)^2, with the same
   central differences of the centres, angles and damper lengths;
 * equilibria: a dense scan of G (double) over the coordinate's range (range_centre - pi,
-  range_centre + pi], every sign change between two assembled samples refined by brentq on
-  the high-precision G, and kept only if G is small there (not a pole or a jump).
+  range_centre + pi], with extra samples clustering towards each limit position, every sign
+  change between two assembled samples refined by brentq on the high-precision G, and kept
+  only if G is small there (not a pole or a jump).
 
 Limitations: a double root (no sign change) or two roots closer than the scan's step are not
 found; angles where Newton finds no solution from any start are taken as unassembled; where
@@ -75,8 +76,8 @@ class Reference:
         self.dependent = [s for s in coords if s != self.theta]
         self.angle_like = np.array([c.unit == "rad" for c in mechanism.coordinates
                                     if frozen[c.function] != self.theta], dtype=bool)
-        lengths = [p for p in self.params_by_unit("m")]
-        self.length_scale = max([abs(v) for v in lengths] + [1e-3])
+        # Newton's tolerances and the spread of its starts: the model's largest length.
+        self.length_scale = max([abs(v) for v in self.params_by_unit("m")] + [1e-3])
         self._compile(frozen)
         self._mp_params = [mpmath.mpf(v) for v in self.params]   # exact at any precision
         values = dict(zip(mechanism.symbols, self.params))
@@ -137,9 +138,10 @@ class Reference:
 
     def _call_np(self, name, theta, q) -> np.ndarray:
         """A compiled list of expressions on arrays: shape (len, *theta.shape)."""
-        out = self._np[name](theta, *np.moveaxis(q, -1, 0), *self.params)
-        return np.array(np.broadcast_arrays(*_flat(out), theta)[:-1]) if _flat(out) else \
-            np.zeros((0, *np.shape(theta)))
+        out = _flat(self._np[name](theta, *np.moveaxis(q, -1, 0), *self.params))
+        if not out:
+            return np.zeros((0, *np.shape(theta)))
+        return np.array(np.broadcast_arrays(*out, theta)[:-1])   # constants to full arrays
 
     def _newton_np(self, theta, q, steps=_NEWTON_STEPS, wrap=True) -> np.ndarray:
         """Newton on the constraints for arrays theta (...), q (..., D); NaN where it fails.
@@ -178,7 +180,8 @@ class Reference:
         if not self.dependent:
             return np.zeros((len(thetas), 0))
         t = np.repeat(thetas[:, None], _STARTS, axis=1)
-        q = self._newton_np(t, np.broadcast_to(self._starts, (*t.shape, len(self.dependent))).copy())
+        starts = np.broadcast_to(self._starts, (*t.shape, len(self.dependent)))
+        q = self._newton_np(t, starts.copy())
         least, ok = self._declared(t, q)
         best = np.argmax(np.where(ok, least, -np.inf), axis=1)
         chosen = q[np.arange(len(thetas)), best]
