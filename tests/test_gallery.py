@@ -10,11 +10,14 @@ For each case (a model file and its parameter values):
 * G (equilibrium_residual), M (e0) and B (e2) of the library equal the reference's at angles in
   every quadrant and near both ends of the range; where the reference cannot assemble the
   mechanism the library reports an error;
+* the roots it labels "other assembly mode" are the reference's zeros of G with the modes
+  negated;
 * the emission plan's expressions (what is printed to C) equal the reference's too: this
   checks the derivation even where the generator refuses to emit it.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import subprocess
@@ -106,17 +109,21 @@ def builds(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def references():
-    """case name -> (mechanism, params, Reference, the reference's equilibria), once each."""
+    """(case name, other=False) -> (mechanism, params, Reference, the reference's
+    equilibria), once each; other: on the other assembly mode (every mode negated)."""
     cache = {}
 
-    def get(case_name: str):
-        if case_name not in cache:
+    def get(case_name: str, other: bool = False):
+        if (case_name, other) not in cache:
             case = CASES[case_name]
             mechanism = load_model(case.model)
             params = dict(example(mechanism), **case.overrides)
+            if other:
+                mechanism = dataclasses.replace(
+                    mechanism, assembly_modes=tuple(-e for e in mechanism.assembly_modes))
             reference = Reference(mechanism, params)
-            cache[case_name] = (mechanism, params, reference, reference.equilibria())
-        return cache[case_name]
+            cache[case_name, other] = (mechanism, params, reference, reference.equilibria())
+        return cache[case_name, other]
 
     return get
 
@@ -148,6 +155,21 @@ def test_equilibria_match_the_reference(case_name, builds, references):
                           {"M": [v.M], "B": [v.B], "K": [v.K]}) == []
     # Nothing the isolation could not decide hides a further equilibrium.
     assert not any(u.sign_change and u.mode == 0 for u in analysis.uncertain)
+
+
+@pytest.mark.parametrize("case_name", [name for name, case in CASES.items()
+                                       if load_model(case.model).assembly_modes])
+def test_other_mode_roots_are_the_other_modes_equilibria(case_name, builds, references):
+    """What analyze labels "other assembly mode" is exactly the zeros of G with every
+    assembly mode negated, certified."""
+    lib = builds(CASES[case_name].model).library()
+    _, _, _, expected = references(case_name, other=True)
+    analysis = lib.analyze(lib.example_params(**CASES[case_name].overrides))
+    found = sorted(r.theta for r in analysis.roots
+                   if r.kind == "other assembly mode" and r.certified)
+    assert len(found) == len(expected), ([math.degrees(t) for t in found],
+                                         [math.degrees(t) for t in expected])
+    assert all(angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected))
 
 
 @pytest.mark.parametrize("case_name", library_cases())
