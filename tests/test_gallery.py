@@ -37,13 +37,6 @@ from codegen.api import load_from  # noqa: E402
 
 REPO = Path(__file__).resolve().parent.parent
 
-SLOTTED_LEVER_REFUSED = pytest.mark.xfail(strict=True, reason=(
-    "generate refuses the issue's slotted lever since d0877c4: 'no interval rule for Abs in "
-    "Abs(tmp0)'. The fix writes the spring length sqrt(n d s^2) / (s^2 d) with s = cos(theta) "
-    "real, which SymPy folds to sqrt(n d) Abs(cos(theta)) / (cos(theta)^2 d); the plan's G is "
-    "right (test_plan_matches_the_reference) but the interval emission has no rule for Abs"))
-
-
 @dataclass(frozen=True)
 class Case:
     model: str                                      # tests/models/MODEL.py
@@ -66,7 +59,7 @@ CASES = {
 
 def library_cases():
     """The cases, with the slotted lever's expected failure marked."""
-    return [pytest.param(name, marks=SLOTTED_LEVER_REFUSED) if name == "slotted_lever" else name
+    return [name if name == "slotted_lever" else name
             for name in CASES]
 
 
@@ -220,11 +213,6 @@ def test_limited_cases_cannot_be_assembled_everywhere(case_name, arcs, reference
     assert np.count_nonzero(assembled[1:] != assembled[:-1]) == 2 * arcs
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "a parameter named v gives C that does not compile: enclose_mode_0 and "
-    "enclose_value_mode_0 take an argument 'codegen_iv *v' and declare 'const codegen_iv v = "
-    "codegen_iv_point(params->v)' (gcc: 'v' redeclared as different kind of symbol); "
-    "generate ends in a cffi VerificationError traceback, not a one-line error"))
 def test_a_parameter_named_v_generates(builds):
     build = builds("pendulum_named_v")
     assert "Traceback" not in build.process.stderr

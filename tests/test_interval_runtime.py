@@ -313,7 +313,7 @@ def test_rational_operations_are_tight(rational_cases):
 
 def test_arithmetic_special_cases(drv):
     """0 * [-inf, inf] = 0; sums with an exact 0 are exact; x / [0, 0], x / [-1, 0],
-    x / [0, 2] are poles; negation is exact; x^2 + y^2 over 2000 random pairs encloses the exact
+    x / [0, 2] are poles; negation and |.| are exact; x^2 + y^2 over 2000 random pairs encloses the exact
     range, starts at exactly 0 where both hold 0, and never below 0 (but where a square
     underflows: test_even_power_of_tiny_is_nonnegative)."""
     cases = [
@@ -336,6 +336,11 @@ def test_arithmetic_special_cases(drv):
         ("sumsq 0 0 -0x1p-1074 0x1p-1074", (0.0, None, 0)),
         ("sumsq -1e-300 1e-300 -1e-200 0", (0.0, None, 0)),
         ("sumsq -inf inf -inf inf", (0.0, INF, 0)),
+        ("abs 0x1p+0 0x1p+1", (1.0, 2.0, 0)),
+        ("abs -0x1p+1 -0x1p+0", (1.0, 2.0, 0)),
+        ("abs -0x1.8p+1 0x1p+0", (0.0, 3.0, 0)),
+        ("abs -0x1p+0 0x1.8p+1", (0.0, 3.0, 0)),
+        ("abs -inf 0", (0.0, INF, 0)),
     ]
     out = drv([c for c, _ in cases])
     for (cmd, want), got in zip(cases, out):
@@ -1113,7 +1118,7 @@ def _sanitizer_script():
         for op in ("add", "sub", "mul", "div", "sumsq"):
             lines.append(f"{op} {h(a[0])} {h(a[1])} {h(b[0])} {h(b[1])}")
         lines.append(f"pow {h(a[0])} {h(a[1])} {int(rng.integers(1, 8))}")
-        for op in ("sqrt", "sin", "cos", "neg"):
+        for op in ("sqrt", "sin", "cos", "neg", "abs"):
             lines.append(f"{op} {h(a[0])} {h(a[1])}")
     zs = [-2.5, -1.75, -1.0, -0.25, 0.5, 1.25, 2.0, 2.75]
     problems = [(-3.0, 3.0, poly(*zs), cap) for cap in (0, 1, 2, 8, 9)]

@@ -24,7 +24,7 @@ _CONSTANT_DIGITS = 40
 
 
 #: The runtime's operations (codegen_iv_operation, codegen_interval.h), in its order.
-OPERATIONS = ("const", "add", "sub", "mul", "div", "neg", "pow", "sqrt", "sin", "cos")
+OPERATIONS = ("const", "add", "sub", "mul", "div", "neg", "pow", "sqrt", "sin", "cos", "abs")
 
 
 @dataclass(frozen=True)
@@ -264,9 +264,11 @@ class _Writer:
             return self._power(expr.base, expr.exp)
         if isinstance(expr, (sp.sin, sp.cos)):
             return out.apply(type(expr).__name__, self.write(expr.args[0]))
+        if isinstance(expr, sp.Abs):  # sqrt(n s^2) written out: sqrt(n) |s|
+            return out.apply("abs", self.write(expr.args[0]))
         raise ValueError(f"no interval rule for {type(expr).__name__} in {expr}: the certified "
                          "isolation supports +, -, *, /, integer and half-integer powers, "
-                         "sin and cos")
+                         "sin, cos and |.|")
 
     def _product(self, parts):
         if not parts:

@@ -94,6 +94,9 @@ void codegen_iv_run(const codegen_iv_instruction *program, size_t count,
         case CODEGEN_IV_SIN:
             r = codegen_iv_sin(v[op.left]);
             break;
+        case CODEGEN_IV_ABS:
+            r = codegen_iv_abs(v[op.left]);
+            break;
         default: /* CODEGEN_IV_COS */
             r = codegen_iv_cos(v[op.left]);
             break;

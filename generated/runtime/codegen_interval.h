@@ -90,6 +90,19 @@ static inline codegen_iv codegen_iv_neg(codegen_iv a)
     return codegen_iv_make(-a.hi, -a.lo);
 }
 
+/* |a|, exact (no rounding): a, -a, or [0, max(-lo, hi)] across zero. It arises where a
+ * length's radicand holds a square factor of a sign (sqrt(n cos^2 theta) = sqrt(n) |cos|). */
+static inline codegen_iv codegen_iv_abs(codegen_iv a)
+{
+    if (a.lo >= 0) {
+        return a;
+    }
+    if (a.hi <= 0) {
+        return codegen_iv_neg(a);
+    }
+    return codegen_iv_make(0, -a.lo > a.hi ? -a.lo : a.hi);
+}
+
 static inline codegen_iv codegen_iv_sub(codegen_iv a, codegen_iv b)
 {
     return codegen_iv_add(a, codegen_iv_neg(b));
@@ -259,7 +272,8 @@ typedef enum codegen_iv_operation {
     CODEGEN_IV_POW,   /* v[destination] = v[left]^right */
     CODEGEN_IV_SQRT,  /* raises CODEGEN_IV_EDGE, CODEGEN_IV_OUTSIDE */
     CODEGEN_IV_SIN,
-    CODEGEN_IV_COS
+    CODEGEN_IV_COS,
+    CODEGEN_IV_ABS    /* v[destination] = |v[left]| */
 } codegen_iv_operation;
 
 typedef struct codegen_iv_instruction {

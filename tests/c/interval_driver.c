@@ -6,7 +6,7 @@
  * Interval operations (a, b intervals given as two doubles lo hi; flags start at 0):
  *   add|sub|mul|div|sumsq  alo ahi blo bhi  ->  lo hi flags      (sumsq: a^2 + b^2)
  *   pow                    alo ahi n        ->  lo hi flags
- *   sqrt|sin|cos|neg       alo ahi          ->  lo hi flags
+ *   sqrt|sin|cos|neg|abs   alo ahi          ->  lo hi flags
  *
  * Isolation and certification of the zeros of a test function G over [lo, hi]:
  *   isolate MODE LO HI CAPACITY FAIL_STATUS FAIL_AFTER FUNCTION
@@ -324,6 +324,8 @@ static int run_operation(const char *op)
         r = codegen_iv_cos(a);
     } else if (strcmp(op, "neg") == 0) {
         r = codegen_iv_neg(a);
+    } else if (strcmp(op, "abs") == 0) {
+        r = codegen_iv_abs(a);
     } else if (strcmp(op, "pow") == 0) {
         if (!read_int(&n) || n < 1) {
             return 0;
