@@ -305,6 +305,11 @@ def _sweep_sets(library, args):
     return sweep.sample(library, args.sample, ranges, base, args.seed)
 
 
+#: Seconds to wait for a scheduler to answer, and then for its first worker (the
+#: environment's MECHVIB_WORKER_WAIT, if set).
+WORKER_WAIT = 30
+
+
 def _dask_client(address: str | None):
     """A context holding a dask.distributed Client of the scheduler at address (None: no
     address, no client)."""
@@ -317,10 +322,18 @@ def _dask_client(address: str | None):
     except ImportError:
         raise ValueError("--scheduler needs dask.distributed: pip install 'mechvib[dask]'"
                          ) from None
+    wait = float(os.environ.get("MECHVIB_WORKER_WAIT", WORKER_WAIT))
     try:
-        return Client(address)
+        client = Client(address, timeout=wait)
     except OSError as error:   # a refused or timed-out connection
         raise ValueError(f"--scheduler {address}: {error}") from None
+    try:
+        client.wait_for_workers(1, timeout=wait)
+    except TimeoutError:  # a scheduler no worker has joined: tasks would wait forever
+        client.close()
+        raise ValueError(f"--scheduler {address}: no worker joined the scheduler within "
+                         f"{wait:g} s") from None
+    return client
 
 
 def _sweep(args) -> int:

@@ -246,9 +246,10 @@ def _distributed(client: Any, parts: list[tuple[int, Any]], arguments: tuple[Any
 
     library, *options = arguments
     if parts and isinstance(parts[0][1], np.ndarray):
-        data = client.scatter([part for _, part in parts])
+        # Each chunk travels inside its task, not scattered ahead: data scattered to one
+        # worker dies with it, while a task that holds its data is run again elsewhere.
         futures = [client.submit(analyze_chunk, library, table, offset, *options, pure=False)
-                   for (offset, _), table in zip(parts, data)]
+                   for offset, table in parts]
     else:
         import dask
 

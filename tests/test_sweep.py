@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 import re
 import subprocess
 import sys
@@ -249,9 +250,10 @@ def test_progress_bar_draws_on_a_terminal_only():
 
 # --------------------------------------------------------------------------- the command
 
-def mechvib(*args, cwd):
+def mechvib(*args, cwd, env_extra=None):
     return subprocess.run([sys.executable, "-m", "codegen", "sweep", *args], cwd=cwd,
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True, timeout=120,
+                          env={**os.environ, **(env_extra or {})})
 
 
 def test_cli_grid_to_csv_is_the_python_sweep(tmp_path):
@@ -351,3 +353,31 @@ def test_cli_scheduler_runs_on_the_cluster(client, tmp_path):
     lib = load("doughty")
     _assert_file_holds(tmp_path / "d.parquet",
                        sw.sweep(lib, sw.grid(lib, {"F": np.linspace(0, 200, 21)})))
+
+
+def test_a_worker_lost_mid_sweep_is_replaced_and_every_row_arrives(client):
+    """Issue 27: chunks travel inside their tasks, so the scheduler runs a lost worker's
+    again elsewhere (scattered chunks died with their worker: FutureCancelledError)."""
+    lib = load("doughty")
+    table = _sets(lib, 6000, 29)
+    local = sw.sweep(lib, table)
+    pieces = sw.stream(lib, table, client=client, chunk=100)
+    first = next(pieces)
+    busy = [w for w, tasks in client.processing().items() if tasks]
+    victim = busy[0] if busy else next(iter(client.scheduler_info()["workers"]))
+    try:
+        client.run(lambda: os._exit(1), workers=[victim])
+    except Exception:  # the worker died answering: expected
+        pass
+    rest = list(pieces)
+    assert np.concatenate([first, *rest]).tobytes() == local.tobytes()
+
+
+def test_cli_scheduler_without_workers_is_one_line(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=0, dashboard_address=None) as empty:
+        out = mechvib("--vary", "F=0:200:21", "--out", "d.csv", "--scheduler",
+                      empty.scheduler_address, cwd=tmp_path,
+                      env_extra={"MECHVIB_WORKER_WAIT": "2"})
+    assert out.returncode == 2 and "no worker joined the scheduler" in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1 and list(tmp_path.iterdir()) == []
