@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
+import tempfile
 from pathlib import Path
 
 from cffi import FFI
@@ -71,9 +73,13 @@ def build_into(out: Path, name: str) -> Path:
     """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*"""
     out = Path(out).resolve()
     ffi = make_builder(name, out, package="")
-    built = ffi.compile(tmpdir=str(out / "build"), verbose=False)
-    target = out / Path(built).name
-    Path(built).replace(target)
+    work = tempfile.mkdtemp(prefix=".build-", dir=out)  # this build's alone
+    try:
+        built = ffi.compile(tmpdir=work, verbose=False)
+        target = out / Path(built).name
+        Path(built).replace(target)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
     return target
 
 

@@ -77,3 +77,21 @@ def exit_on_signals() -> None:
 
 def _raise_exit(number: int, frame: object) -> None:
     raise SystemExit(128 + number)
+
+
+@contextmanager
+def locked(folder: Path) -> Iterator[None]:
+    """Hold the folder's lock (a lock file in it) for the block: concurrent runs that build
+    into the same folder take turns instead of mixing their files."""
+    folder.mkdir(parents=True, exist_ok=True)
+    with open(folder / ".mechvib-lock", "a") as lock:
+        try:
+            import fcntl
+        except ImportError:  # not POSIX: no lock to take
+            yield
+            return
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)

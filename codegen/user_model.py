@@ -17,6 +17,7 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
+from . import files
 from .api import load_from
 from .library import Library
 
@@ -48,12 +49,14 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     mechanism = load(str(model))  # checked: a ModelError names the problem before any build
     key = _key(generate, Path(model), mechanism.name)
     folder = Path(out) if out is not None else cache_root() / (key or mechanism.name)
-    if key is None or rebuild or _stamp(folder) != key:
-        if out is not None:
-            _build_in_place(generate, mechanism, folder, key, progress)
-        else:
+    if out is None:
+        if key is None or rebuild or _stamp(folder) != key:
             _build_beside(generate, mechanism, folder, key, progress)
-    return load_from(folder, mechanism.name)
+        return load_from(folder, mechanism.name)
+    with files.locked(folder):  # another run building into the same folder waits its turn
+        if key is None or rebuild or _stamp(folder) != key:
+            _build_in_place(generate, mechanism, folder, key, progress)
+        return load_from(folder, mechanism.name)
 
 
 def _key(generate, model: Path, name: str) -> str | None:

@@ -149,3 +149,43 @@ def test_the_partial_file_of_a_killed_process_is_removed_by_the_next_write(tmp_p
     live.write_text("busy")
     files.write_text(target, "new")
     assert not orphan.exists() and live.exists() and target.read_text() == "new"
+
+
+def _pendulum(k: str) -> str:
+    """The README's spring pendulum with another example stiffness (the same name)."""
+    model = (REPO / "tests" / "test_user_model.py").read_text()
+    text = model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0]
+    return text.replace('parameter("k", "N/m", "spring stiffness", "20")',
+                        f'parameter("k", "N/m", "spring stiffness", "{k}")')
+
+
+def test_concurrent_analyses_of_two_models_of_one_name_into_one_folder(tmp_path):
+    """Each run prints its own model's equilibria: the builds take turns in the folder."""
+    for k in ("20", "5"):
+        (tmp_path / f"k{k}.py").write_text(_pendulum(k))
+    command = [sys.executable, "-m", "codegen", "analyze", "--json", "--out", "shared"]
+    runs = [subprocess.Popen(command + ["--model", f"k{k}.py"], cwd=tmp_path,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env={**os.environ, "PYTHONPATH": str(REPO)})
+            for k in ("20", "5")]
+    outputs = [run.communicate(timeout=600) for run in runs]
+    assert all(run.returncode == 0 for run in runs), [err for _, err in outputs]
+    ks = [json.loads(out)["params"]["k"] for out, _ in outputs]
+    assert ks == [20.0, 5.0]
+    counts = [sum(r["kind"] == "equilibrium" for r in json.loads(out)["roots"])
+              for out, _ in outputs]
+    assert counts == [4, 2]   # README: k = 20 has four equilibria, k = 5 two
+
+
+def test_concurrent_sweeps_to_one_file_each_write_a_whole_file(tmp_path):
+    command = [sys.executable, "-m", "codegen", "sweep", "--vary", "k=1000:3000:5",
+               "--out", "s.csv", "--workers", "1", "--vary"]
+    runs = [subprocess.Popen(command + [axis], cwd=tmp_path, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True,
+                             env={**os.environ, "PYTHONPATH": str(REPO)})
+            for axis in ("F=0:200:20001", "F=0:100:10001")]
+    outputs = [run.communicate(timeout=600) for run in runs]
+    assert all(run.returncode == 0 for run in runs), [err for _, err in outputs]
+    rows = [int(out.split("Wrote ")[1].split(" rows")[0].replace(",", "")) for out, _ in outputs]
+    assert len((tmp_path / "s.csv").read_text().splitlines()) - 1 in rows
+    assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]
