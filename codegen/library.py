@@ -109,7 +109,7 @@ class Library:
 
     def __reduce__(self) -> tuple[Any, ...]:
         # What refers to a library (its Params, results) pickles it along: by its origin.
-        return (library_of, (self._require_origin(),))
+        return (_unpickled_library, (self._require_origin(),))
 
     def __copy__(self) -> Library:
         return self   # one handle on a compiled module, with no state of its own to copy
@@ -179,7 +179,7 @@ class Library:
     def params_array(self, sets: Iterable[ParamsLike]) -> np.ndarray:
         """A structured array (the C struct's layout: one float64 field per parameter, SI
         units) from an iterable of parameter sets or mappings: the ``params`` of a batch."""
-        rows = [tuple(self._as_mapping(s)[n] for n in self.PARAMETER_NAMES) for s in sets]
+        rows = [tuple(m[n] for n in self.PARAMETER_NAMES) for m in map(self._as_mapping, sets)]
         return np.array(rows, dtype=self.PARAMS_DTYPE)
 
     def table(self, params: Any) -> np.ndarray:
@@ -398,7 +398,34 @@ def library_of(origin: Origin) -> Library:
     raise ValueError(f"unknown library origin {origin!r}")
 
 
-def _params_of(library: Library, values: dict[str, float]) -> ParameterSet:
+def _unpickled_library(origin: Origin) -> Library | Unloadable:
+    """library_of, or, where this process cannot load it, an Unloadable that raises on use."""
+    try:
+        return library_of(origin)
+    except Exception as error:  # noqa: BLE001 - every failure becomes the same report
+        return Unloadable(origin, f"{type(error).__name__}: {error}")
+
+
+class Unloadable:
+    """A library that this process could not load where it was unpickled (a pool's worker
+    whose library folder is gone): each use raises ValueError with the reason. Raising
+    while unpickling instead would end the pool's worker before its task starts, and
+    multiprocessing's pool would wait for that task forever."""
+
+    def __init__(self, origin: Origin, reason: str) -> None:
+        self.origin, self.reason = origin, reason
+
+    def __getattr__(self, name: str) -> Any:
+        raise ValueError(f"the library {self.origin[-1]!r} could not be loaded in this "
+                           f"process (from {self.origin[1]}): {self.reason}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_unpickled_library, (self.origin,))
+
+
+def _params_of(library: Library | Unloadable, values: dict[str, float]) -> Any:
+    if isinstance(library, Unloadable):  # a set whose library is not here: fails on use
+        return type("Params", (), {"library": library, "values": values})()
     return library.Params(**values)
 
 

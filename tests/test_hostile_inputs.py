@@ -90,3 +90,38 @@ def test_an_initial_state_beyond_double_precision_is_refused(theta0, theta_d0, w
 def test_a_large_but_resolvable_initial_state_runs():
     trajectory = lib.simulate(None, 2.0**21, 10.0, np.linspace(0.0, 0.01, 3))
     assert np.isfinite(trajectory.theta).all()
+
+
+def _analyze_set(params):
+    from codegen.analysis import analyze
+    return analyze(params)
+
+
+def test_a_pool_child_that_cannot_load_the_library_reports_it(tmp_path):
+    """A spawn pool's worker unpickles each task's parameters, loading their library; where
+    that folder is gone it gets the error when the task runs (raised while unpickling, it
+    ended the worker, and the pool waited for the task forever)."""
+    import multiprocessing
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from codegen.api import load_from
+
+    repo = Path(__file__).resolve().parent.parent
+    model = (repo / "tests" / "test_user_model.py").read_text()
+    (tmp_path / "mine.py").write_text(model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0])
+    out = tmp_path / "lib"
+    done = subprocess.run([sys.executable, "-m", "codegen", "generate", "--model",
+                           str(tmp_path / "mine.py"), "--out", str(out)], cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    lib = load_from(out, "spring_pendulum")
+    sets = [lib.example_params(k=k) for k in (5.0, 20.0)]
+    shutil.rmtree(out)
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        result = pool.map_async(_analyze_set, sets, chunksize=1)
+        with pytest.raises(ValueError, match="'spring_pendulum' could not be loaded in this "
+                                             "process"):
+            result.get(timeout=120)
