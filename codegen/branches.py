@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from . import analysis, files, folds, joining, sweep
+from .errors import real_number
 from .library import Library, ParameterSet, ParamsLike
 
 #: What happens at an event (see the module's docstring).
@@ -478,6 +479,7 @@ def _check(library: Library, parameter: str, start: float, stop: float, points: 
     if parameter not in library.PARAMETER_NAMES:
         raise ValueError(f"unknown parameter {parameter!r}; {library.PREFIX} has "
                          f"{', '.join(library.PARAMETER_NAMES)}")
+    start, stop = real_number("from", start), real_number("to", stop)
     if not (math.isfinite(start) and math.isfinite(stop) and start < stop):
         raise ValueError(f"{parameter}: the range needs finite from < to, not from {start:g} "
                          f"to {stop:g}")

@@ -77,3 +77,13 @@ def plain(value: Any) -> float | tuple[float, ...]:
     """A float, or a tuple of floats for an array, for an error's values."""
     array = np.asarray(value, dtype=np.float64)
     return float(array) if array.ndim == 0 else tuple(float(x) for x in array.ravel())
+
+
+def real_number(name: str, value: Any) -> float:
+    """value as a float, or a ValueError naming it; bools and strings are not numbers."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        raise ValueError(f"{name}: {value!r} is not a number")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: {value!r} is not a number") from None

@@ -18,6 +18,8 @@ from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
+from .errors import real_number
+
 if TYPE_CHECKING:
     from .library import Library, ParamsLike, Rerun
 
@@ -268,7 +270,7 @@ class Function:
                                      f"{value.shape}")
                 c_args.append(ffi.new("double[]", value.tolist()))
             else:
-                c_args.append(float(value))
+                c_args.append(real_number(x.name, value))
         return c_args
 
     def _outputs(self) -> list[Any]:

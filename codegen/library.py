@@ -27,7 +27,7 @@ from typing import Any, ClassVar, Protocol, cast
 
 import numpy as np
 
-from .errors import LibraryError, plain
+from .errors import LibraryError, plain, real_number
 from .functions import Function, LibraryFunction
 
 #: Where a library came from, to load it again in another process: ("load", NAME) for a
@@ -429,6 +429,15 @@ def _params_of(library: Library | Unloadable, values: dict[str, float]) -> Any:
     return library.Params(**values)
 
 
+def _real_fields(self: Any) -> None:
+    """Every field a float: a number converts (an int, numpy's scalars), anything else is a
+    ValueError naming the parameter (a string or None would fail later, unnamed)."""
+    for name in type(self).library.PARAMETER_NAMES:
+        value = getattr(self, name)
+        if type(value) is not float:
+            object.__setattr__(self, name, real_number(name, value))
+
+
 def _reduce_params(self: ParameterSet) -> tuple[Any, ...]:
     library = type(self).library
     return (_params_of, (library, dict(zip(library.PARAMETER_NAMES, library._fields(self)))))
@@ -450,7 +459,8 @@ def _params_class(library: Library) -> type:
     doc = f"{intro}\n\nFields:\n    " + "\n    ".join(lines) + f"\n\n{usage}"
     cls = make_dataclass(f"{library.PREFIX}_params", [(p["name"], float) for p in spec],
                          frozen=True, namespace={"library": library, "__doc__": doc,
-                                                 "__reduce__": _reduce_params})
+                                                 "__reduce__": _reduce_params,
+                                                 "__post_init__": _real_fields})
     cls.__module__ = library._module_name
     return cls
 

@@ -125,3 +125,21 @@ def test_a_pool_child_that_cannot_load_the_library_reports_it(tmp_path):
         with pytest.raises(ValueError, match="'spring_pendulum' could not be loaded in this "
                                              "process"):
             result.get(timeout=120)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: lib.example_params(F="a"), "F: 'a' is not a number"),
+    (lambda: lib.example_params(k=None), "k: None is not a number"),
+    (lambda: lib.Params(**{**lib.EXAMPLE, "H": True}), "H: True is not a number"),
+    (lambda: lib.linearisation(lib.example_params(), "x"), "theta: 'x' is not a number"),
+    (lambda: lib.branches("F", "a", 3.0), "from: 'a' is not a number"),
+])
+def test_a_value_that_is_not_a_number_is_named(call, words):
+    with pytest.raises(ValueError) as error:
+        call()
+    assert str(error.value) == words
+
+
+def test_numbers_of_other_types_become_floats():
+    params = lib.example_params(F=np.float32(2.5), k=2000)
+    assert (params.F, params.k) == (2.5, 2000.0) and type(params.k) is float
