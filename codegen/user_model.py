@@ -49,14 +49,16 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     mechanism = load(str(model))  # checked: a ModelError names the problem before any build
     key = _key(generate, Path(model), mechanism.name)
     folder = Path(out) if out is not None else cache_root() / (key or mechanism.name)
-    if out is None:
-        if key is None or rebuild or _stamp(folder) != key:
-            _build_beside(generate, mechanism, folder, key, progress)
-        return load_from(folder, mechanism.name)
-    with files.locked(folder):  # another run building into the same folder waits its turn
-        if key is None or rebuild or _stamp(folder) != key:
-            _build_in_place(generate, mechanism, folder, key, progress)
-        return load_from(folder, mechanism.name)
+    if key is None or rebuild or _stamp(folder) != key:
+        # derived and checked against the model before anything is written
+        plan = generate.verified_plan(mechanism, progress)
+        if out is None:
+            _build_beside(generate, mechanism, plan, folder, key, progress)
+        else:
+            with files.locked(folder):  # another run building here waits its turn
+                if key is None or rebuild or _stamp(folder) != key:
+                    _build_in_place(generate, mechanism, plan, folder, key, progress)
+    return load_from(folder, mechanism.name)
 
 
 def _key(generate, model: Path, name: str) -> str | None:
@@ -68,22 +70,24 @@ def _key(generate, model: Path, name: str) -> str | None:
     return digest.hexdigest()[:32]
 
 
-def _build_in_place(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+def _build_in_place(generate, mechanism, plan, folder: Path, key: str | None, progress
+                    ) -> None:
     """Build into the caller's folder; the stamp goes first and comes back last, so a build
     interrupted half way is never taken for a finished one."""
     (folder / STAMP).unlink(missing_ok=True)
-    _build(generate, mechanism, folder, progress)
+    _build(generate, mechanism, plan, folder, progress)
     if key:
-        (folder / STAMP).write_text(key)
+        files.write_text(folder / STAMP, key)
 
 
-def _build_beside(generate, mechanism, folder: Path, key: str | None, progress) -> None:
+def _build_beside(generate, mechanism, plan, folder: Path, key: str | None, progress
+                  ) -> None:
     """Build in a temporary folder beside ``folder`` and rename it into place: another run
     sees the finished entry or none."""
     folder.parent.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
     try:
-        _build(generate, mechanism, work, progress)
+        _build(generate, mechanism, plan, work, progress)
         if key:
             (work / STAMP).write_text(key)
         _replace(work, folder)
@@ -91,14 +95,13 @@ def _build_beside(generate, mechanism, folder: Path, key: str | None, progress) 
         shutil.rmtree(work, ignore_errors=True)
 
 
-def _build(generate, mechanism, folder: Path, progress: Callable[[str], None]) -> None:
-    """Generate (checked against the model before a file is written), build, and check the
-    compiled library against the plan it came from."""
+def _build(generate, mechanism, plan, folder: Path, progress: Callable[[str], None]) -> None:
+    """Write the library of a verified plan, build it, and check the compiled library
+    against the plan it came from."""
     from .build_ext import build_into
     from .derivation import derive
     from .verification import verify_compiled
 
-    plan = generate.verified_plan(mechanism, progress)
     generate.write_folder(folder / generate.RUNTIME, generate.runtime())
     generate.write_folder(folder / mechanism.name, generate.files_of(plan))
     progress("building")
