@@ -143,17 +143,17 @@ def generate_table(generate: dict[str, Any], results: dict[str, dict[str, Any]])
     cli = generate["cli"]
     command = f"`{generate['command']}`"
     if cli is None:
-        rows = [[command, "all", "skipped (--quick)"]]
+        rows = [[command, "all", "skipped (--quick)", "included"]]
     else:
         state = {0: "generated/ current", 1: "generated/ stale"}.get(cli["exit"],
                                                                     f"exit {cli['exit']}")
-        rows = [[command, "all", f"{cli['seconds']:.1f} ({state})"]]
-    rows += [["`derive()` in the benchmark's process", f"`{name}`",
-              f"{r['derive_seconds']:.1f}"] for name, r in results.items()]
-    rows += [[f"`verify()`: {v['sets']} parameter sets, {v['points']} angles, sigma at "
-              f"{v['zeros']} zeros of G", f"`{name}`", f"{v['seconds']:.2f}"]
+        rows = [[command, "all", f"{cli['seconds']:.1f} ({state})", "included"]]
+    rows += [["`derive()` in the benchmark's process, then `verify()`", f"`{name}`",
+              f"{r['derive_seconds']:.1f}",
+              f"{v['seconds']:.2f} ({v['sets']} parameter sets, {v['points']} angles, "
+              f"sigma at {v['zeros']} zeros of G)"]
              for name, r in results.items() for v in [r["verify"]]]
-    return table(["what", "mechanism", "wall time [s]"], rows)
+    return table(["what", "mechanism", "wall time [s]", "verification [s]"], rows)
 
 
 def branches_table(results: dict[str, dict[str, Any]]) -> str:
