@@ -152,7 +152,7 @@ def test_the_partial_file_of_a_killed_process_is_removed_by_the_next_write(tmp_p
 
 
 def _pendulum(k: str) -> str:
-    """The README's spring pendulum with another example stiffness (the same name)."""
+    """The spring pendulum of docs/models.md with another example stiffness (the same name)."""
     model = (REPO / "tests" / "test_user_model.py").read_text()
     text = model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0]
     return text.replace('parameter("k", "N/m", "spring stiffness", "20")',
@@ -174,7 +174,7 @@ def test_concurrent_analyses_of_two_models_of_one_name_into_one_folder(tmp_path)
     assert ks == [20.0, 5.0]
     counts = [sum(r["kind"] == "equilibrium" for r in json.loads(out)["roots"])
               for out, _ in outputs]
-    assert counts == [4, 2]   # README: k = 20 has four equilibria, k = 5 two
+    assert counts == [4, 2]   # docs/models.md: k = 20 has four equilibria, k = 5 two
 
 
 def test_concurrent_sweeps_to_one_file_each_write_a_whole_file(tmp_path):

@@ -501,7 +501,7 @@ def _route_sets(name, seed, params_for_seed):
 
 ROUTE_EXAMPLES = {"doughty": 40, "slider_crank": 25, "four_bar": 10}
 #: The polynomial route's root finder reports roots of sigma closer than this [rad] as one
-#: (README, Known limits); near theta = pi, where tau = tan(theta/2) is large, a pair
+#: (docs/method.md, Known limits); near theta = pi, where tau = tan(theta/2) is large, a pair
 #: 3.4e-5 rad apart is 1.7e-5 apart in 1/tau (test_polynomial_route_resolves_a_merged_pair_near_pi).
 PAIR_RESOLUTION = 5e-5
 ROUTE_EXAMPLES_SLOW = {"doughty": 3000, "slider_crank": 2000, "four_bar": 1000}

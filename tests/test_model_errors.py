@@ -3,7 +3,7 @@
 A model whose parameters are named like the generated C's own variables (v, out, params,
 iv_flags, tmp0), like symbols the derivation makes (theta_d, t, tau, rho_1) or like names of
 the C library (sin, M_PI), with a coordinate named like a Lagrange multiplier (lambda_1),
-generates, builds, compiles strictly and has the same equilibria as the README's model with
+generates, builds, compiles strictly and has the same equilibria as the model of docs/models.md with
 plain names. Every kind of bad model gives one line on stderr and exit status 2, before
 anything is derived or written. ``analyze --model`` builds into the per-user cache once and
 reuses it while the file is unchanged.
@@ -19,7 +19,7 @@ import pytest
 
 from test_user_model import MODEL, NAME, PROG, codegen
 
-#: The README's model with every name replaced by an awkward one; the three extra
+#: The model of docs/models.md with every name replaced by an awkward one; the three extra
 #: parameters are 1 or 0 where they enter, so the mechanics are the same.
 RENAMES = {"l": "v", "m": "out", "k": "theta_d", "l_0": "iv_flags", "x_A": "tmp0",
            "y_A": "params", "c": "t", "g": "tau"}

@@ -1,8 +1,8 @@
 """A user's own model file, outside the package, through the CLI as a user runs it.
 
-The model (a pendulum held by a linear spring from its tip to a fixed anchor, the README's
-"Your own mechanism" walk-through) is written into a temporary folder, generated and built
-once per module with ``python -m codegen generate --model``, and analysed with
+The model (a pendulum held by a linear spring from its tip to a fixed anchor, the walk-through
+of docs/models.md, whose build() the README shows) is written into a temporary folder,
+generated and built once per module with ``python -m codegen generate --model``, and analysed with
 ``python -m codegen analyze --model ... --json``. Its equilibria, M and K are checked against
 an independent computation here (numpy and scipy only, no codegen import): the potential
 V(theta) = m g (l/2) sin(theta) + k/2 (|P - A| - l_0)^2 with P the tip, its zeros of dV/dtheta
@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 REPO = Path(__file__).resolve().parent.parent
 NAME = "spring_pendulum"
 
-# Kept identical to the listing in README.md ("Your own mechanism").
+# Kept identical to the listing in docs/models.md ("An example"); README.md shows its build().
 MODEL = '''\
 """A pendulum held by a linear spring from its tip to a fixed anchor, as data.
 
@@ -123,9 +123,9 @@ def angle_gap(a: float, b: float) -> float:
     return abs(math.remainder(a - b, 2 * math.pi))
 
 
-def test_readme_lists_this_model():
-    """The README's walk-through shows exactly the file these tests run."""
-    section = (REPO / "README.md").read_text().split("## Your own mechanism", 1)[1]
+def test_docs_list_this_model():
+    """The model guide's walk-through (docs/models.md) shows exactly the file these tests run."""
+    section = (REPO / "docs" / "models.md").read_text().split("## An example", 1)[1]
     listing = section.split("```python\n", 1)[1].split("```", 1)[0]
     assert listing == MODEL
 
