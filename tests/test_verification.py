@@ -9,6 +9,7 @@ spring length is sqrt(N(theta)) / |cos(theta)|) is the model the old derivation 
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -22,53 +23,12 @@ from codegen.api import load as load_library
 from codegen.verification import VerificationError, parameter_sets, verify, verify_compiled
 
 
-LEVER_MODEL = '''\
-"""A slotted lever: a collar on a lever pivoted at the origin, pinned to a block on x = d."""
-import sympy as sp
-
-from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, Requirement, Spring,
-                                     distance, parameter)
-
-PARAMETERS = (
-    parameter("l", "m", "lever length", "1"), parameter("m", "kg", "lever mass", "2"),
-    parameter("m_b", "kg", "block mass", "1"), parameter("d", "m", "abscissa of the rail", "0.4"),
-    parameter("k", "N/m", "spring stiffness", "400"),
-    parameter("l_0", "m", "free length of the spring", "0.3"),
-    parameter("x_A", "m", "abscissa of the anchor", "0.9"),
-    parameter("y_A", "m", "ordinate of the anchor", "0.2"),
-    parameter("c", "N s/m", "damper on the block", "5"),
-    parameter("g", "m/s^2", "gravitational acceleration", "9.81"),
-)
-COORDINATES = (Coordinate("theta", "rad", "lever angle"),
-               Coordinate("s", "m", "distance of the collar along the lever"),
-               Coordinate("y", "m", "height of the block"))
-
-
-def build() -> Mechanism:
-    l, m, m_b, d, k, l_0, x_A, y_A, c, g = (p.symbol for p in PARAMETERS)
-    theta, s, y = (q.function for q in COORDINATES)
-    return Mechanism(
-        name="slotted_lever", title="a slotted lever", parameters=PARAMETERS,
-        coordinates=COORDINATES, independent="theta",
-        constraints=(s * sp.cos(theta) - d, s * sp.sin(theta) - y),
-        bodies=(Body("lever", m, (l / 2 * sp.cos(theta), l / 2 * sp.sin(theta)),
-                     inertia=m * l**2 / 12, angle=theta),
-                Body("block", m_b, (d, y))),
-        springs=(Spring(k, l_0, distance((d, y), (x_A, y_A))),),
-        dampers=(Damper(c, y),), forces=(), gravity=g, points={"B": (d, y)},
-        requirements=(
-            Requirement(sp.And(l > 0, d > 0), "LENGTH", "l and d must be positive"),
-            Requirement(sp.And(m >= 0, m_b >= 0), "MASS", "masses must not be negative"),
-            Requirement(sp.And(k >= 0, l_0 >= 0, c >= 0), "SPRING",
-                        "k, l_0 and c must not be negative")),
-    )
-'''
+#: The gallery's model file of the slotted lever (tests/test_gallery.py runs it end to end).
+LEVER = Path(__file__).resolve().parent / "models" / "slotted_lever.py"
 
 
 def slotted_lever() -> Mechanism:
-    namespace: dict = {}
-    exec(LEVER_MODEL, namespace)
-    return namespace["build"]()
+    return load(str(LEVER))
 
 
 @pytest.fixture(scope="module")
@@ -156,7 +116,7 @@ def test_generate_refuses_a_wrong_derivation_in_one_line_and_writes_nothing(
     """The command line as a user meets it: the model file's derivation goes wrong (the
     plan's G flipped on one branch), and generate stops before writing a file."""
     model = tmp_path / "slotted_lever.py"
-    model.write_text(LEVER_MODEL)
+    model.write_bytes(LEVER.read_bytes())
     monkeypatch.setattr(generate, "build_plan", lambda d: _perturbed(
         build_plan(d), "equilibrium_residual", 0, lambda e: -e))
     out = tmp_path / "out"
