@@ -1,6 +1,8 @@
 """Fast unit tests of each generator layer, on small inputs."""
 from __future__ import annotations
 
+import math
+
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
@@ -95,3 +97,29 @@ def test_printer_writes_literals_of_the_library_type():
 def test_printer_parenthesises_logic():
     cond = sp.Or(x > 0, sp.And(y > 0, x < 1))
     assert RealPrinter().doprint(cond) == "(x > 0) || ((y > 0) && (x < 1))"
+
+
+def test_a_length_root_keeps_the_sign_of_its_denominator():
+    """sqrt(n / (s^2 d)) is sqrt(n d s^2) / (s^2 d): right for either sign of s (written
+    sqrt(n d) / (s d) it was the negative length wherever s < 0, issue 26); the sign of d
+    is taken only where every parameter set the requirements allow makes it positive."""
+    from codegen.derivation.positions import NotSolvable, PositionSolution
+
+    e = sp.Symbol("e", real=True)
+    empty = PositionSolution(theta, (), sp.Matrix([]), (), {})
+    # a distance to a point (x, tan(theta)), as a model's constraints give it
+    solution, expr = empty.with_length_roots(sp.sqrt(x**2 + (S / C)**2))
+    (root,) = solution.roots
+    assert sp.expand(root.radicand - (x**2 * C**2 + S**2) * C**2) == 0
+    value = expr.subs(root.symbol, sp.sqrt(root.radicand))
+    for angle, at in ((0.3, 0.7), (2.5, 0.7), (-2.0, -1.3)):
+        exact = math.hypot(at, math.tan(angle))
+        assert abs(float(value.subs({theta: angle, x: at})) - exact) < 1e-12
+    odd = sp.sqrt(x**2 + S**2 / (e * C**2))
+    try:
+        empty.with_length_roots(odd)
+        raise AssertionError("the sign of e was assumed")
+    except NotSolvable as error:
+        assert "requirements" in str(error)
+    declared = PositionSolution(theta, (), sp.Matrix([]), (), {}, (e > 0,))
+    assert declared.with_length_roots(odd)[0].roots

@@ -44,6 +44,8 @@ class PositionSolution:
     positions: sp.Matrix            # q(theta), with root symbols
     roots: tuple[Root, ...]         # in order: a root's radicand uses only earlier roots
     trig: dict                      # cos/sin of each dependent angle, with root symbols
+    # the parameter sets the model allows (its requirements), where a sign is decided
+    requirements: tuple[sp.Basic, ...] = ()
 
     def substitute(self, expr: sp.Expr) -> sp.Expr:
         """An expression of the coordinates as a function of theta and the root symbols:
@@ -68,8 +70,10 @@ class PositionSolution:
             n, den = sp.fraction(sp.together(radicand))
             if not den.has(self.theta):
                 n, den = radicand, sp.S.One
-            elif not _positive_on_samples(den, self.theta, roots):
-                raise NotSolvable(f"cannot tell the sign of {den} under a square root")
+            elif not _positive_on_samples(den, self.theta, roots, self.requirements):
+                raise NotSolvable(f"cannot tell the sign of {den} under a square root: it "
+                                  "must be positive for every parameter set the model's "
+                                  "requirements allow (declare one that makes it so)")
             coefficient, factors = sp.factor_list(den)
             square = sp.Mul(*(f ** (e // 2) for f, e in factors))
             odd = coefficient * sp.Mul(*(f ** (e % 2) for f, e in factors))
@@ -81,7 +85,7 @@ class PositionSolution:
                 roots.append(known)
             expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square**2 * odd)})
         return PositionSolution(self.theta, self.coords, self.positions, tuple(roots),
-                                self.trig), expr
+                                self.trig, self.requirements), expr
 
     def derivative(self, expr: sp.Expr) -> sp.Expr:
         """d/dtheta of an expression in theta and root symbols: d rho/dtheta = R'/(2 rho)."""
@@ -109,13 +113,29 @@ class PositionSolution:
         return expr
 
 
-def _positive_on_samples(expr, theta, roots) -> bool:
-    """expr > 0 at random parameters and angles (a sum of squares, typically)."""
+def _positive_on_samples(expr, theta, roots, requirements=()) -> bool:
+    """expr > 0 at random angles and parameter sets of either sign that meet every
+    requirement (a sum of squares, typically): a sign the model does not guarantee is not
+    assumed."""
+    if expr.free_symbols & {r.symbol for r in roots}:
+        return False
     rng = random.Random(1)
-    symbols = sorted(expr.free_symbols - {theta}, key=sp.default_sort_key)
+    own = expr.free_symbols - {theta}
+    conditions = [c for c in requirements if c.free_symbols & own]
+    symbols = sorted(own.union(*(c.free_symbols for c in conditions)), key=sp.default_sort_key)
     f = sp.lambdify([theta, *symbols], expr)
-    return all(f(rng.uniform(-3.2, 3.2), *(rng.uniform(0.1, 2.0) for _ in symbols)) > 0
-               for _ in range(200)) if not expr.free_symbols & {r.symbol for r in roots} else False
+    allowed = sp.lambdify(symbols, sp.And(*conditions)) if conditions else None
+    checked = 0
+    for _ in range(2000):
+        values = [rng.choice((-1, 1)) * rng.uniform(0.1, 2.0) for _ in symbols]
+        if allowed is not None and not bool(allowed(*values)):
+            continue
+        if not f(rng.uniform(-3.2, 3.2), *values) > 0:
+            return False
+        checked += 1
+        if checked == 200:
+            return True
+    return checked > 0
 
 
 class NotSolvable(ValueError):
@@ -202,7 +222,9 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         elif name in angles:      # (C, S) as solved, not their atan2 numerators
             x, y = known[A], known[B]
         trig[sp.cos(sym[name])], trig[sp.sin(sym[name])] = x, y
-    return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig)
+    return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
+                            tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
+                                  for r in mechanism.requirements))
 
 
 def _order_unit_pairs(unit_pairs, pairs, known):
