@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, PointForce, Spring,
-                                     Torque, distance, parameter)
+from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, PointForce,
+                                     Requirement, Spring, Torque, distance, parameter)
 
 
 class _Parameters:
@@ -51,6 +51,7 @@ def random_mechanism(seed: int, kind: str | None = None) -> Mechanism:
     t, f = theta.function, phi.function
     A = (a * sp.cos(t), a * sp.sin(t))
     crank = _bar("crank", P.draw("m_1", "kg", 0.1, 2.0), (0, 0), A, a, t)
+    lengths = [a, l]   # declared positive: a length that divides a position has a sign
     slider = rng.random() < 0.5 if kind is None else kind == "slider"
     if slider:
         x = Coordinate("x", "m", "slider position")
@@ -70,6 +71,7 @@ def random_mechanism(seed: int, kind: str | None = None) -> Mechanism:
         mode = (d - A[0]) * (B[1] - A[1]) + A[1] * (B[0] - A[0])
         third = _bar("rocker", P.draw("m_3", "kg", 0.1, 2.0), (d, 0), B, b, psi.function)
         third_coordinate = psi
+        lengths += [d, b]
         third_points = [B, _on((d, 0), psi.function, P.draw("r_4", "m", 0, b_value), 0)]
     rod = _bar("rod", P.draw("m_2", "kg", 0.1, 2.0), A, B, l, f)
     size = 3.0 * a_value
@@ -109,5 +111,7 @@ def random_mechanism(seed: int, kind: str | None = None) -> Mechanism:
         gravity=gravity,
         points={},
         assembly_modes=(sign * mode,),
+        requirements=(Requirement(sp.And(*(x > 0 for x in lengths)), "LENGTH_NOT_POSITIVE",
+                                  "link lengths must be positive"),),
         title=f"random {'slider-crank' if slider else 'four-bar'} {seed}",
     )

@@ -120,6 +120,6 @@ def test_a_length_root_keeps_the_sign_of_its_denominator():
         empty.with_length_roots(odd)
         raise AssertionError("the sign of e was assumed")
     except NotSolvable as error:
-        assert "requirements" in str(error)
+        assert "sign of e in a length" in str(error) and "Requirement(" in str(error)
     declared = PositionSolution(theta, (), sp.Matrix([]), (), {}, (e > 0,))
     assert declared.with_length_roots(odd)[0].roots

@@ -70,13 +70,15 @@ class PositionSolution:
             n, den = sp.fraction(sp.together(radicand))
             if not den.has(self.theta):
                 n, den = radicand, sp.S.One
-            elif not _positive_on_samples(den, self.theta, roots, self.requirements):
-                raise NotSolvable(f"cannot tell the sign of {den} under a square root: it "
-                                  "must be positive for every parameter set the model's "
-                                  "requirements allow (declare one that makes it so)")
             coefficient, factors = sp.factor_list(den)
             square = sp.Mul(*(f ** (e // 2) for f, e in factors))
             odd = coefficient * sp.Mul(*(f ** (e % 2) for f, e in factors))
+            if den.has(self.theta) and not self._positive(odd, roots):
+                unknown = [f for f, e in factors if e % 2 and not self._positive(f, roots)]
+                raise NotSolvable(
+                    f"cannot tell the sign of {' * '.join(map(str, unknown)) or odd} in a "
+                    "length's denominator: declare requirements that make it positive for "
+                    "every parameter set (e.g. Requirement(a > 0, ...) for a length a)")
             inside = n * odd * square**2
             known = next((r for r in roots if sp.expand(r.radicand - inside) == 0), None)
             if known is None:
@@ -86,6 +88,9 @@ class PositionSolution:
             expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square**2 * odd)})
         return PositionSolution(self.theta, self.coords, self.positions, tuple(roots),
                                 self.trig, self.requirements), expr
+
+    def _positive(self, expr: sp.Expr, roots) -> bool:
+        return _positive_on_samples(expr, self.theta, roots, self.requirements)
 
     def derivative(self, expr: sp.Expr) -> sp.Expr:
         """d/dtheta of an expression in theta and root symbols: d rho/dtheta = R'/(2 rho)."""

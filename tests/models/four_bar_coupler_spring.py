@@ -7,8 +7,8 @@ from C to the anchor S = (x_S, y_S). A torque T acts on the crank; gravity along
 """
 import sympy as sp
 
-from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, Spring, Torque,
-                                     distance, parameter)
+from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, Requirement, Spring,
+                                     Torque, distance, parameter)
 
 PARAMETERS = (
     parameter("d", "m", "distance between the ground pivots", "0.4"),
@@ -66,4 +66,7 @@ def build() -> Mechanism:
         points={"A": A, "B": B, "C": C},
         # B lies to the left of the directed line from A to O4.
         assembly_modes=((d - A[0]) * (B[1] - A[1]) - (0 - A[1]) * (B[0] - A[0]),),
+        # the coupler's length divides the coupler point's position: its sign is declared
+        requirements=(Requirement(sp.And(d > 0, a_2 > 0, a_3 > 0, a_4 > 0), "LENGTH_NOT_POSITIVE",
+                                  "d, a_2, a_3, a_4 must be positive"),),
     )
