@@ -183,8 +183,14 @@ class Branches:
 
     def plot(self, path: str | os.PathLike[str]) -> Path:
         """The figure (``codegen.branch_figure.plot``): .png or .svg; needs matplotlib."""
-        from .branch_figure import plot
-        return plot(self, path)
+        if figure is None:
+            raise RuntimeError("Branches.plot needs codegen.branch_figure: import codegen.api")
+        return figure(self, path)
+
+
+#: Draws a Branches to a file: ``codegen.branch_figure.plot``, set by codegen.api (the figure
+#: module builds on this one, which therefore cannot import it).
+figure: Callable[[Branches, str | os.PathLike[str]], Path] | None = None
 
 
 def check_table_path(path: str | os.PathLike[str]) -> Path:
