@@ -14,6 +14,9 @@ import shutil
 import sys
 import time
 from pathlib import Path
+from typing import Any, TextIO
+
+from tqdm import tqdm
 
 from . import __version__, files
 from .api import shipped
@@ -336,6 +339,35 @@ def _dask_client(address: str | None):
     return client
 
 
+class ProgressBar:
+    """The ``progress(done, total)`` callback of a sweep, branches or simulation as a tqdm bar
+    on ``stream`` (default stderr), counting ``unit``, only where the stream is a terminal
+    (nothing in a pipe or a file); the line is cleared on ``close()`` or leaving a ``with``.
+    ``options`` go to tqdm."""
+
+    def __init__(self, stream: TextIO | None = None, unit: str = "sets", **options: Any) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.unit, self.options = unit, options
+        self._bar: tqdm | None = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if self._bar is None:   # the total is known at the first call
+            self._bar = tqdm(total=total, unit=self.unit, file=self.stream, disable=None,
+                             leave=False, **self.options)
+        self._bar.total = total
+        self._bar.update(done - self._bar.n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
 def _sweep(args) -> int:
     """Analyse every set, writing the rows as they come; a summary on stdout."""
     from . import sweep
@@ -345,7 +377,7 @@ def _sweep(args) -> int:
     roots = "all" if args.all_roots else "equilibria"
     start, tally = time.perf_counter(), _Tally(library)
     with _dask_client(args.scheduler) as client, sweep.Writer(args.out) as writer, \
-            sweep.ProgressBar() as bar:
+            ProgressBar() as bar:
         for piece in sweep.stream(library, sets, method=args.method, workers=args.workers,
                                   chunk=args.chunk, client=client, progress=bar, roots=roots):
             writer.write(piece)
@@ -372,7 +404,7 @@ def _branches(args) -> int:
     if args.vary in base:
         raise ValueError(f"{args.vary}: given more than once (--vary, --set)")
     library = _library(args)
-    with sweep.ProgressBar() as bar:
+    with ProgressBar() as bar:
         result = branches(library, args.vary, args.start, args.stop, args.points, base=base,
                           method=args.method, workers=args.workers, progress=bar)
     print(branch_summary(result))
@@ -441,7 +473,7 @@ def _simulate(args) -> int:
     params = _library(args).example_params(**_overrides(args.set))
     start = time.perf_counter()
     try:
-        with sweep.ProgressBar(unit="points") as bar:
+        with ProgressBar(unit="points") as bar:
             trajectory = simulation.simulate(
                 params, math.radians(args.theta0), math.radians(args.thetadot0),
                 np.linspace(0.0, args.to, args.points), rtol=args.rtol, atol=args.atol,
