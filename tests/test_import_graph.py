@@ -41,7 +41,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.branch_figure", "codegen.report"),
     ("codegen.api",),
     ("codegen.user_model",),
-    ("codegen.cli",),
+    ("codegen.cli.*",),   # the verbs and what they share; codegen.cli (__init__) too
     ("codegen.__main__",),
 ]
 
@@ -146,7 +146,7 @@ def test_no_import_cycle():
 def test_the_graph_is_read():
     """The parser finds what is known to be there: relative, lazy and TYPE_CHECKING imports."""
     assert ("codegen.library", False) in imports("codegen.analysis")
-    assert ("codegen.generate", False) in imports("codegen.cli")          # inside a function
+    assert ("codegen.generate", False) in imports("codegen.cli.common")   # inside a function
     assert ("codegen", False) in imports("codegen.emission.render")       # from .. import x
     assert ("codegen.model", False) in imports("codegen.derivation.dynamics")
     assert ("codegen.model.mechanism", False) in imports("codegen.derivation.dynamics")

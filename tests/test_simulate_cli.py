@@ -18,7 +18,7 @@ import pytest
 
 from codegen import simulation
 from codegen.api import load
-from codegen.cli import ProgressBar
+from codegen.cli.common import ProgressBar
 
 
 def simulate(*args: str, cwd: Path, env=None) -> subprocess.CompletedProcess:

@@ -17,7 +17,7 @@ from codegen import sweep as sw
 from codegen.analysis import KINDS
 from codegen.api import load
 from codegen.batch import analyze_table
-from codegen.cli import ProgressBar
+from codegen.cli.common import ProgressBar
 
 pa = pytest.importorskip("pyarrow")
 import pyarrow.csv as pacsv  # noqa: E402
