@@ -13,10 +13,109 @@ import importlib.util
 import os
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
+import numpy as np
+
+from . import analysis, batch, branch_figure, branches, library, simulation, sweep
 from .errors import LibraryError
 from .functions import Argument, Function, LibraryFunction
-from .library import Library, ParameterSet, ParamsLike
+from .library import Origin, ParameterSet, ParamsLike
+
+# Branches.plot draws with branch_figure, which builds on branches (so branches cannot
+# import it); every Branches has a Library, and every Library is loaded here.
+branches.figure = branch_figure.plot
+
+
+class Library(library.Library):
+    """A ``codegen.library.Library`` as ``load`` and ``load_from`` give it: what it computes
+    (analyses, simulations, sweeps, branches: modules that build on the library, so its
+    base class cannot call them) as methods, and it pickles, loaded again by its origin."""
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # What refers to a library (its Params, results) pickles it along: by its origin.
+        return (_unpickled_library, (self._require_origin(),))
+
+    def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
+                ) -> analysis.Analysis:
+        """Every equilibrium of ``params`` (default: the example), classified and linearised,
+        by the route ``method`` names: see ``codegen.analysis.analyze``. Angles in radians."""
+        return analysis.analyze(self._params(params), method)
+
+    def analyze_batch(self, table: np.ndarray, method: analysis.Method = "auto"
+                      ) -> tuple[list[analysis.Analysis | None], np.ndarray]:
+        """``analyze`` over a ``params_array``, in C: (analyses, statuses), None where an
+        item failed (its status says why): see ``codegen.analysis.analyze_batch``."""
+        return analysis.analyze_batch(table, self, method)
+
+    def analyze_table(self, table: np.ndarray, method: analysis.Method = "auto",
+                      workers: int = 1) -> Any:
+        """``analyze`` over a ``params_array`` as numpy arrays, one row per root, no Python
+        object per set, on ``workers`` threads: see ``codegen.batch.analyze_table``."""
+        return batch.analyze_table(table, self, method, workers)
+
+    def simulate(self, params: ParamsLike | None, theta0: float, theta_d0: float,
+                 t: Any, **options: Any) -> Any:
+        """The motion from theta0 [rad], theta_d0 [rad/s] at t[0] at every time of ``t`` [s],
+        integrated in C, as numpy arrays (a ``codegen.simulation.Trajectory``: ``.theta``
+        [rad], ``.theta_d`` [rad/s]); ``params`` None is the example. Options (rtol, atol,
+        max_steps, h_max, progress): see ``codegen.simulation.simulate``."""
+        return simulation.simulate(self._params(params), theta0, theta_d0, t, **options)
+
+    def rk4_step(self, params: ParamsLike | None, theta: float, theta_d: float, h: float
+                 ) -> tuple[float, float]:
+        """One fixed Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s]:
+        (theta, theta_d) h later, for real-time loops; see ``codegen.simulation.rk4_step``."""
+        return simulation.rk4_step(self._params(params), theta, theta_d, h)
+
+    def sweep(self, sets: Any, **options: Any) -> np.ndarray:
+        """Every set of ``sets`` (a params_array, e.g. ``codegen.sweep.grid`` or ``sample``)
+        analysed into one table, a row per equilibrium, locally on threads or on Dask:
+        ``codegen.sweep.sweep(self, sets, **options)`` (see it for the options)."""
+        return sweep.sweep(self, sets, **options)
+
+    def branches(self, parameter: str, start: float, stop: float, **options: Any) -> Any:
+        """Every equilibrium as ``parameter`` runs from ``start`` to ``stop`` (its unit),
+        joined into branches, with folds, pitchforks, branch ends and stability changes
+        located by bisection, as a ``codegen.branches.Branches``: ``codegen.branches.
+        branches(self, parameter, start, stop, **options)`` (see it for the options: points,
+        base, method, workers, progress, tolerance). Angles in radians."""
+        return branches.branches(self, parameter, start, stop, **options)
+
+
+def library_of(origin: Origin) -> Library:
+    """The library an origin names, loaded (once per process) as it was the first time."""
+    if origin[0] == "load" and len(origin) == 2:
+        return load(origin[1])
+    if origin[0] == "load_from" and len(origin) == 3:
+        return load_from(origin[1], origin[2])
+    raise ValueError(f"unknown library origin {origin!r}")
+
+
+def _unpickled_library(origin: Origin) -> Library | Unloadable:
+    """library_of, or, where this process cannot load it, an Unloadable that raises on use."""
+    try:
+        return library_of(origin)
+    except Exception as error:  # noqa: BLE001 - every failure becomes the same report
+        return Unloadable(origin, f"{type(error).__name__}: {error}")
+
+
+class Unloadable:
+    """A library that this process could not load where it was unpickled (a pool's worker
+    whose library folder is gone): each use raises ValueError with the reason. Raising
+    while unpickling instead would end the pool's worker before its task starts, and
+    multiprocessing's pool would wait for that task forever."""
+
+    def __init__(self, origin: Origin, reason: str) -> None:
+        self.origin, self.reason = origin, reason
+
+    def __getattr__(self, name: str) -> Any:
+        raise ValueError(f"the library {self.origin[-1]!r} could not be loaded in this "
+                           f"process (from {self.origin[1]}): {self.reason}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_unpickled_library, (self.origin,))
+
 
 NATIVE = "_native_{}"
 

@@ -183,8 +183,14 @@ class Branches:
 
     def plot(self, path: str | os.PathLike[str]) -> Path:
         """The figure (``codegen.branch_figure.plot``): .png or .svg; needs matplotlib."""
-        from .branch_figure import plot
-        return plot(self, path)
+        if figure is None:
+            raise RuntimeError("Branches.plot needs codegen.branch_figure: import codegen.api")
+        return figure(self, path)
+
+
+#: Draws a Branches to a file: ``codegen.branch_figure.plot``, set by codegen.api (the figure
+#: module builds on this one, which therefore cannot import it).
+figure: Callable[[Branches, str | os.PathLike[str]], Path] | None = None
 
 
 def check_table_path(path: str | os.PathLike[str]) -> Path:
@@ -511,7 +517,7 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     (default 1e-12 of the range's magnitude) by bisection. Other parameters: ``base`` (a
     parameter set, or a mapping of some over the example; default the example). ``method``:
     the analysis route; ``workers``: threads (default every CPU); ``progress(done, total)``
-    is called as the samples are analysed (e.g. a ``sweep.ProgressBar``). Angles in radians.
+    is called as the samples are analysed (the CLI draws a progress bar with it). Angles in radians.
 
     Raises ValueError for an unknown parameter or method, a range with from >= to, fewer
     than 2 points, or when every sample fails (the LibraryError of the first).

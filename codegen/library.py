@@ -13,6 +13,10 @@ radians, every quantity SI.
 Parameter sets (``lib.Params``) and multi-output results are picklable: they are rebuilt
 from where their library came from (``api.load(name)`` or ``api.load_from(folder, name)``),
 so they cross process boundaries (multiprocessing, concurrent.futures) and deep-copy.
+
+What is computed with a library (analyses, sweeps, branches, simulations) builds on this
+module, so its methods (``lib.analyze``, ``lib.branches``...) and the pickling by origin are
+those of the subclass ``codegen.api.Library``, the class ``load`` and ``load_from`` give.
 """
 from __future__ import annotations
 
@@ -108,8 +112,10 @@ class Library:
         return f"<Library {self.PREFIX}: {self.TITLE}>"
 
     def __reduce__(self) -> tuple[Any, ...]:
-        # What refers to a library (its Params, results) pickles it along: by its origin.
-        return (_unpickled_library, (self._require_origin(),))
+        # What refers to a library (its Params, results) pickles it along, by its origin:
+        # codegen.api.Library, which loads it again, does; this class cannot import api.
+        raise TypeError(f"cannot pickle the library {self.PREFIX}: only one loaded by "
+                        "codegen.api.load or load_from pickles")
 
     def __copy__(self) -> Library:
         return self   # one handle on a compiled module, with no state of its own to copy
@@ -322,41 +328,6 @@ class Library:
         rows[np.asarray(statuses) != self.STATUS["OK"]] = np.nan
         return rows
 
-    def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
-                ) -> analysis.Analysis:
-        """Every equilibrium of ``params`` (default: the example), classified and linearised,
-        by the route ``method`` names: see ``codegen.analysis.analyze``. Angles in radians."""
-        return analysis.analyze(self._params(params), method)
-
-    def analyze_batch(self, table: np.ndarray, method: analysis.Method = "auto"
-                      ) -> tuple[list[analysis.Analysis | None], np.ndarray]:
-        """``analyze`` over a ``params_array``, in C: (analyses, statuses), None where an
-        item failed (its status says why): see ``codegen.analysis.analyze_batch``."""
-        return analysis.analyze_batch(table, self, method)
-
-    def analyze_table(self, table: np.ndarray, method: analysis.Method = "auto",
-                      workers: int = 1) -> Any:
-        """``analyze`` over a ``params_array`` as numpy arrays, one row per root, no Python
-        object per set, on ``workers`` threads: see ``codegen.batch.analyze_table``."""
-        from .batch import analyze_table  # batch builds on this module
-        return analyze_table(table, self, method, workers)
-
-    def simulate(self, params: ParamsLike | None, theta0: float, theta_d0: float,
-                 t: Any, **options: Any) -> Any:
-        """The motion from theta0 [rad], theta_d0 [rad/s] at t[0] at every time of ``t`` [s],
-        integrated in C, as numpy arrays (a ``codegen.simulation.Trajectory``: ``.theta``
-        [rad], ``.theta_d`` [rad/s]); ``params`` None is the example. Options (rtol, atol,
-        max_steps, h_max, progress): see ``codegen.simulation.simulate``."""
-        from . import simulation  # simulation builds on this module
-        return simulation.simulate(self._params(params), theta0, theta_d0, t, **options)
-
-    def rk4_step(self, params: ParamsLike | None, theta: float, theta_d: float, h: float
-                 ) -> tuple[float, float]:
-        """One fixed Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s]:
-        (theta, theta_d) h later, for real-time loops; see ``codegen.simulation.rk4_step``."""
-        from . import simulation
-        return simulation.rk4_step(self._params(params), theta, theta_d, h)
-
     def _params(self, params: ParamsLike | None) -> ParameterSet:
         """A Params of this library: the example for None, built from a mapping."""
         if params is None:
@@ -365,66 +336,14 @@ class Library:
             return cast(ParameterSet, self.Params(**params))
         return params
 
-    def sweep(self, sets: Any, **options: Any) -> np.ndarray:
-        """Every set of ``sets`` (a params_array, e.g. ``codegen.sweep.grid`` or ``sample``)
-        analysed into one table, a row per equilibrium, locally on threads or on Dask:
-        ``codegen.sweep.sweep(self, sets, **options)`` (see it for the options)."""
-        from .sweep import sweep  # sweep builds on this module
-        return sweep(self, sets, **options)
-
-
-    def branches(self, parameter: str, start: float, stop: float, **options: Any) -> Any:
-        """Every equilibrium as ``parameter`` runs from ``start`` to ``stop`` (its unit),
-        joined into branches, with folds, pitchforks, branch ends and stability changes
-        located by bisection, as a ``codegen.branches.Branches``: ``codegen.branches.
-        branches(self, parameter, start, stop, **options)`` (see it for the options: points,
-        base, method, workers, progress, tolerance). Angles in radians."""
-        from .branches import branches  # branches builds on this module
-        return branches(self, parameter, start, stop, **options)
 
 def _origin_of(module: ModuleType) -> Origin | None:
     name = module.__name__
     return ("load", name[len(_SHIPPED_PREFIX):]) if name.startswith(_SHIPPED_PREFIX) else None
 
 
-def library_of(origin: Origin) -> Library:
-    """The library an origin names, loaded (once per process) as it was the first time."""
-    from . import api
-
-    if origin[0] == "load" and len(origin) == 2:
-        return api.load(origin[1])
-    if origin[0] == "load_from" and len(origin) == 3:
-        return api.load_from(origin[1], origin[2])
-    raise ValueError(f"unknown library origin {origin!r}")
-
-
-def _unpickled_library(origin: Origin) -> Library | Unloadable:
-    """library_of, or, where this process cannot load it, an Unloadable that raises on use."""
-    try:
-        return library_of(origin)
-    except Exception as error:  # noqa: BLE001 - every failure becomes the same report
-        return Unloadable(origin, f"{type(error).__name__}: {error}")
-
-
-class Unloadable:
-    """A library that this process could not load where it was unpickled (a pool's worker
-    whose library folder is gone): each use raises ValueError with the reason. Raising
-    while unpickling instead would end the pool's worker before its task starts, and
-    multiprocessing's pool would wait for that task forever."""
-
-    def __init__(self, origin: Origin, reason: str) -> None:
-        self.origin, self.reason = origin, reason
-
-    def __getattr__(self, name: str) -> Any:
-        raise ValueError(f"the library {self.origin[-1]!r} could not be loaded in this "
-                           f"process (from {self.origin[1]}): {self.reason}")
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (_unpickled_library, (self.origin,))
-
-
-def _params_of(library: Library | Unloadable, values: dict[str, float]) -> Any:
-    if isinstance(library, Unloadable):  # a set whose library is not here: fails on use
+def _params_of(library: Any, values: dict[str, float]) -> Any:
+    if not isinstance(library, Library):  # an api.Unloadable: the set fails on use
         return type("Params", (), {"library": library, "values": values})()
     return library.Params(**values)
 
@@ -464,6 +383,3 @@ def _params_class(library: Library) -> type:
     cls.__module__ = library._module_name
     return cls
 
-
-# analysis imports Library from here: imported last, as a module, so either may come first.
-from . import analysis  # noqa: E402

@@ -16,14 +16,12 @@ from __future__ import annotations
 
 import math
 import os
-import sys
-import time
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Literal, TextIO
+from typing import Any, Literal
 
 import numpy as np
 
@@ -332,77 +330,12 @@ def sweep(library: Library, sets: Any, *, method: analysis.Method = "auto",
     ``codegen.analysis``). Locally, chunks of ``chunk`` sets run one after another, each on
     ``workers`` threads (default: every CPU); with a ``dask.distributed.Client`` (or a dask
     array and a default client), one task per chunk runs on the cluster, on ``workers``
-    threads each (default 1). ``progress(done, total)`` is called as chunks finish (e.g. a
-    ``ProgressBar``). The result does not depend on ``workers``, ``chunk`` or ``client``.
+    threads each (default 1). ``progress(done, total)`` is called as chunks finish (the
+    CLI draws a progress bar with it). The result does not depend on ``workers``, ``chunk`` or ``client``.
     """
     return np.concatenate(list(stream(library, sets, method=method, workers=workers,
                                       chunk=chunk, client=client, progress=progress,
                                       roots=roots)))
-
-
-# --------------------------------------------------------------------------- progress
-
-class ProgressBar:
-    """A progress callback drawing ``[####....] done/total UNIT, rate, ETA`` on one line of
-    ``stream`` (default stderr), redrawn per call, only when the stream is a terminal: in a
-    pipe or a file it writes nothing. ``unit`` names what is counted (default "sets", as a
-    sweep counts; a simulation counts "points"). ``close()`` (or leaving a ``with``) clears
-    the line."""
-
-    def __init__(self, stream: TextIO | None = None, width: int = 24,
-                 clock: Callable[[], float] = time.monotonic, unit: str = "sets") -> None:
-        self.stream = sys.stderr if stream is None else stream
-        self.width, self.clock, self.unit = width, clock, unit
-        self.enabled = _is_terminal(self.stream)
-        self._start: float | None = None
-        self._drawn = 0
-
-    def __call__(self, done: int, total: int) -> None:
-        if not self.enabled:
-            return
-        now = self.clock()
-        if self._start is None:
-            self._start = now
-        self._draw(self.line(done, total, now - self._start))
-
-    def line(self, done: int, total: int, elapsed: float) -> str:
-        """The bar's text after ``elapsed`` seconds."""
-        filled = self.width * done // total if total else self.width
-        rate = done / elapsed if elapsed > 0 else 0.0
-        eta = _duration((total - done) / rate) if rate > 0 else "--:--"
-        return (f"[{'#' * filled}{'.' * (self.width - filled)}] {done:,}/{total:,} {self.unit}  "
-                f"{rate:,.0f} {self.unit}/s  ETA {eta}")
-
-    def _draw(self, text: str) -> None:
-        self.stream.write("\r" + text.ljust(self._drawn))
-        self.stream.flush()
-        self._drawn = len(text)
-
-    def close(self) -> None:
-        """Clear the bar's line."""
-        if self._drawn:
-            self.stream.write("\r" + " " * self._drawn + "\r")
-            self.stream.flush()
-            self._drawn = 0
-
-    def __enter__(self) -> ProgressBar:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
-
-
-def _is_terminal(stream: Any) -> bool:
-    try:
-        return bool(stream.isatty())
-    except (AttributeError, ValueError):   # no isatty, or closed
-        return False
-
-
-def _duration(seconds: float) -> str:
-    minutes, s = divmod(int(round(seconds)), 60)
-    hours, m = divmod(minutes, 60)
-    return f"{hours}:{m:02d}:{s:02d}" if hours else f"{m}:{s:02d}"
 
 
 # --------------------------------------------------------------------------- files

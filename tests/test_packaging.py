@@ -238,6 +238,7 @@ def test_project_metadata():
     assert not [c for c in project["classifiers"] if c.startswith("License ::")]
     assert "urls" not in project  # no public home page
     extras = project["optional-dependencies"]
+    assert "tqdm>=4.60" in project["dependencies"]   # the CLI's progress bars
     assert extras["plot"] == ["matplotlib>=3.7"]
     assert extras["sweep"] == ["pyarrow>=14"]
     assert extras["dask"] == ["dask[distributed]>=2023.1", "pyarrow>=14"]

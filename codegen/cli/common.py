@@ -1,0 +1,161 @@
+"""What the verbs of the command line share: the mechanism options, parsing of
+values, loading the library, the progress bar."""
+from __future__ import annotations
+
+import argparse
+import difflib
+import sys
+from typing import Any, TextIO
+
+from tqdm import tqdm
+
+from ..api import shipped
+
+#: The mechanism a command works on when none is named: the paper's example.
+DEFAULT_MECHANISM = "doughty"
+
+
+def generator():
+    try:  # the generator needs sympy and jinja2; analysis does not
+        from .. import generate
+    except ImportError as error:
+        raise ValueError(f"generate needs the generator's dependencies ({error.name} is "
+                         "missing): pip install 'mechvib[generate]'") from None
+    if not generate.TEMPLATES.is_dir():
+        raise ValueError(f"no templates at {generate.TEMPLATES}: this installation is "
+                         "incomplete")
+    return generate
+
+
+def stage(text: str) -> None:
+    """A model's derivation and build can take minutes: each stage, one line on stderr."""
+    print(text, file=sys.stderr, flush=True)
+
+
+def checked_mechanism(name: str, known) -> str:
+    """name, if it is one of the known mechanisms; else a ValueError that lists them and
+    suggests the close ones."""
+    if name in known:
+        return name
+    close = difflib.get_close_matches(name, known, n=3, cutoff=0.6)
+    hint = f" (did you mean {' or '.join(close)}?)" if close else ""
+    raise ValueError(f"--mechanism {name}: no such mechanism{hint}; this installation has "
+                     f"{', '.join(known)} (a model file of your own: --model FILE)")
+
+
+def assignment(text: str) -> tuple[str, str]:
+    name, sep, value = text.partition("=")
+    if not sep:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    return name.strip(), value.strip()
+
+
+def number(name: str, text: str) -> float:
+    """A number; a ValueError names the parameter (reported as one line)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise ValueError(f"{name}: {text!r} is not a number") from None
+
+
+def overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
+    """Values as numbers; a ValueError names the parameter (reported as one line), or one
+    given twice (the second would silently win)."""
+    names = [name for name, _ in pairs]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"--set {twice[0]} is given twice")
+    return {name: number(name, value) for name, value in pairs}
+
+
+def load_library(args, build: str | None = None):
+    """The library --mechanism or --model names; a model is generated and built into
+    ``build`` (default: the per-user cache, codegen.user_model), or its build there reused."""
+    from ..api import load
+
+    if getattr(args, "model", None):
+        generator()  # the generator's dependencies, or a one-line error naming them
+        from ..user_model import library as user_library
+
+        return user_library(args.model, build, progress=stage)
+    return load(checked_mechanism(args.mechanism or DEFAULT_MECHANISM, shipped()))
+
+
+class ProgressBar:
+    """The ``progress(done, total)`` callback of a sweep, branches or simulation as a tqdm bar
+    on ``stream`` (default stderr), counting ``unit``, only where the stream is a terminal
+    (nothing in a pipe or a file); the line is cleared on ``close()`` or leaving a ``with``.
+    ``options`` go to tqdm."""
+
+    def __init__(self, stream: TextIO | None = None, unit: str = "sets", **options: Any) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.unit, self.options = unit, options
+        self._bar: tqdm | None = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if self._bar is None:   # the total is known at the first call
+            self._bar = tqdm(total=total, unit=self.unit, file=self.stream, disable=None,
+                             leave=False, **self.options)
+        self._bar.total = total
+        self._bar.update(done - self._bar.n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
+                       model: bool = False) -> None:
+    """--mechanism; --model with --out DIR (its help ``out_help``), or --model alone."""
+    which = verb.add_mutually_exclusive_group()
+    which.add_argument("--mechanism", metavar="NAME",
+                       help=f"a shipped mechanism: {', '.join(shipped())} "
+                            f"(default {DEFAULT_MECHANISM})")
+    if out_help is None and not model:
+        return
+    which.add_argument("--model", metavar="FILE",
+                       help="a model file of your own (Python, defining build() -> Mechanism)"
+                            + ("" if out_help else "; built into the per-user cache "
+                                                    "(~/.cache/mechvib), reused while the "
+                                                    "file and mechvib are unchanged"))
+    if out_help is not None:
+        verb.add_argument("--out", metavar="DIR", help=out_help)
+
+
+def set_option(verb: argparse.ArgumentParser,
+                help: str = "override a parameter of the example, in SI units (repeatable)"
+                ) -> None:
+    verb.add_argument("--set", action="append", type=assignment, default=[],
+                      metavar="NAME=VALUE", help=help)
+
+
+def method_option(verb: argparse.ArgumentParser) -> None:
+    verb.add_argument("--method", choices=("auto", "polynomial", "isolate"), default="auto",
+                      help="polynomial: the roots of sigma, classified by branch; isolate: the "
+                           "zeros of G itself, each proven in an interval, with what double "
+                           "precision cannot decide listed as uncertain; auto (default): "
+                           "polynomial where G is algebraic, else isolate")
+
+
+def positive(text: str) -> int:
+    """An argparse type: a positive integer."""
+    if not text.strip().isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return int(text)
+
+
+def verb(verbs, name: str, summary: str, examples: str, prog: str, run
+         ) -> argparse.ArgumentParser:
+    """The subcommand ``name``, which ``run(args)`` carries out; ``examples`` is its epilog,
+    where {prog} stands for the command's name."""
+    verb = verbs.add_parser(name, help=summary, description=summary,
+                            epilog=examples.format(prog=prog),
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    verb.set_defaults(run=run)
+    return verb

@@ -1,0 +1,25 @@
+"""`mechvib list`: the mechanisms this installation has compiled."""
+from __future__ import annotations
+
+from ..api import shipped
+from . import common
+
+EXAMPLES = """\
+examples:
+  {prog} list"""
+
+
+def run(args) -> int:
+    from ..api import load
+
+    for name in shipped():
+        library = load(name)
+        route = "polynomial" if library.has_polynomial else "isolation"
+        print(f"{name:<18} {library.TITLE} ({len(library.PARAMETER_NAMES)} parameters, "
+              f"{route})")
+    return 0
+
+
+def add(verbs, prog: str) -> None:
+    common.verb(verbs, "list", "the mechanisms this installation has compiled", EXAMPLES, prog,
+                run)

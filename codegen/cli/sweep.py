@@ -1,0 +1,175 @@
+"""`mechvib sweep`: a grid or a random sample of parameter sets analysed into a table,
+locally or on a Dask cluster."""
+from __future__ import annotations
+
+import os
+import time
+
+from ..sweep import CHUNK
+from . import common
+
+EXAMPLES = """\
+examples:
+  {prog} sweep --vary F=0:200:101 --vary k=1000:3000:5 --out grid.csv
+  {prog} sweep --sample 1000000 --vary F=0:200 --vary k=1000:3000 --seed 1 --out s.parquet
+  {prog} sweep --vary F=0:200:201 --set b=0 --all-roots --workers 2 --out roots.csv
+  {prog} sweep --sample 10000000 --vary F=0:200 --scheduler tcp://HOST:8786 --out big.parquet
+
+--vary NAME=START:STOP:COUNT makes a grid axis of COUNT values from START to STOP (both
+included); with --sample N, --vary NAME=LO:HI draws each set's NAME uniformly in [LO, HI).
+The other parameters are the example's, or --set's. The file has one row per equilibrium
+(per root with --all-roots), with the set's index, parameters and status; a set that fails
+or has none has one row with an empty theta. Angles in radians there, the rest SI."""
+
+
+def _grid_axis(name: str, spec: str):
+    """START:STOP:COUNT as COUNT values from START to STOP, both included."""
+    import numpy as np
+
+    parts = spec.split(":")
+    if len(parts) != 3:
+        raise ValueError(f"--vary {name}={spec}: a grid axis is NAME=START:STOP:COUNT (NAME=LO:HI "
+                         "is for --sample)")
+    count = parts[2].strip()
+    if not count.isdigit() or int(count) < 1:
+        raise ValueError(f"--vary {name}={spec}: COUNT must be a positive integer")
+    return np.linspace(common.number(name, parts[0]), common.number(name, parts[1]), int(count))
+
+
+def _sample_range(name: str, spec: str) -> tuple[float, float]:
+    """LO:HI as a pair of numbers."""
+    parts = spec.split(":")
+    if len(parts) != 2:
+        raise ValueError(f"--vary {name}={spec}: with --sample, a range is NAME=LO:HI")
+    return common.number(name, parts[0]), common.number(name, parts[1])
+
+
+def _sweep_sets(library, args):
+    """The parameter sets --vary, --sample, --seed and --set describe (a params_array)."""
+    from .. import sweep
+
+    base, names = common.overrides(args.set), [name for name, _ in args.vary]
+    for name in names:
+        if names.count(name) > 1 or name in base:
+            raise ValueError(f"{name}: given more than once (--vary, --set)")
+    if args.sample is None:
+        if args.seed is not None:
+            raise ValueError("--seed is for --sample")
+        return sweep.grid(library, {n: _grid_axis(n, spec) for n, spec in args.vary}, base)
+    ranges = {name: _sample_range(name, spec) for name, spec in args.vary}
+    return sweep.sample(library, args.sample, ranges, base, args.seed)
+
+
+#: Seconds to wait for a scheduler to answer, and then for its first worker (the
+#: environment's MECHVIB_WORKER_WAIT, if set).
+WORKER_WAIT = 30
+
+
+def _dask_client(address: str | None):
+    """A context holding a dask.distributed Client of the scheduler at address (None: no
+    address, no client)."""
+    from contextlib import nullcontext
+
+    if address is None:
+        return nullcontext(None)
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--scheduler needs dask.distributed: pip install 'mechvib[dask]'"
+                         ) from None
+    wait = float(os.environ.get("MECHVIB_WORKER_WAIT", WORKER_WAIT))
+    try:
+        client = Client(address, timeout=wait)
+    except OSError as error:   # a refused or timed-out connection
+        raise ValueError(f"--scheduler {address}: {error}") from None
+    try:
+        client.wait_for_workers(1, timeout=wait)
+    except TimeoutError:  # a scheduler no worker has joined: tasks would wait forever
+        client.close()
+        raise ValueError(f"--scheduler {address}: no worker joined the scheduler within "
+                         f"{wait:g} s") from None
+    return client
+
+
+class _Tally:
+    """What the summary of a sweep counts, piece by piece."""
+
+    def __init__(self, library) -> None:
+        from ..analysis import KINDS, STABILITY
+
+        self.library, self.rows, self.equilibria, self.stable = library, 0, 0, 0
+        self.failed: dict[int, int] = {}
+        self._equilibrium, self._stable = KINDS.index("equilibrium"), STABILITY.index("stable")
+
+    def add(self, piece) -> None:
+        import numpy as np
+
+        self.rows += len(piece)
+        genuine = piece["kind"] == self._equilibrium
+        self.equilibria += int(np.count_nonzero(genuine))
+        self.stable += int(np.count_nonzero(genuine & (piece["stability"] == self._stable)))
+        for status, count in zip(*np.unique(piece["status"][piece["status"] != 0],
+                                            return_counts=True)):
+            self.failed[int(status)] = self.failed.get(int(status), 0) + int(count)
+
+    def summary(self, sets: int, seconds: float, where: str, out: str) -> str:
+        from ..report import paragraph
+
+        names = {v: k for k, v in self.library.STATUS.items()}
+        failed = sum(self.failed.values())
+        why = ", ".join(f"{names.get(s, s)}: {n:,}" for s, n in sorted(self.failed.items()))
+        return paragraph(
+            f"Swept {sets:,} parameter sets of {self.library.TITLE} in {seconds:.1f} s "
+            f"{where} ({sets / max(seconds, 1e-9):,.0f} sets/s). {failed:,} sets failed"
+            + (f" ({why})" if failed else "") + f"; {self.equilibria:,} equilibria found, "
+            f"{self.stable:,} of them stable. Wrote {self.rows:,} rows to {out}.")
+
+
+def run(args) -> int:
+    """Analyse every set, writing the rows as they come; a summary on stdout."""
+    from .. import sweep
+
+    library = common.load_library(args)
+    sets = _sweep_sets(library, args)
+    roots = "all" if args.all_roots else "equilibria"
+    start, tally = time.perf_counter(), _Tally(library)
+    with _dask_client(args.scheduler) as client, sweep.Writer(args.out) as writer, \
+            common.ProgressBar() as bar:
+        for piece in sweep.stream(library, sets, method=args.method, workers=args.workers,
+                                  chunk=args.chunk, client=client, progress=bar, roots=roots):
+            writer.write(piece)
+            tally.add(piece)
+    where = (f"on the Dask cluster at {args.scheduler}" if args.scheduler else
+             f"on {args.workers or os.cpu_count() or 1} threads")
+    print(tally.summary(len(sets), time.perf_counter() - start, where, args.out))
+    return 0
+
+
+def add(verbs, prog: str) -> None:
+    swp = common.verb(verbs, "sweep", "analyse a grid or a random sample of parameter sets "
+                      "into a CSV or Parquet table", EXAMPLES, prog, run)
+    common.mechanism_options(swp, None)
+    swp.add_argument("--vary", action="append", type=common.assignment, required=True,
+                     metavar="NAME=START:STOP:COUNT",
+                     help="a grid axis, COUNT values from START to STOP inclusive; with "
+                          "--sample, NAME=LO:HI, a uniform range (repeatable)")
+    swp.add_argument("--sample", type=common.positive, metavar="N",
+                     help="N random sets instead of a grid")
+    swp.add_argument("--seed", type=int, help="the random seed of --sample")
+    common.set_option(swp, "a parameter held fixed at VALUE instead of the example's, in SI "
+                           "units (repeatable)")
+    swp.add_argument("--out", required=True, metavar="FILE",
+                     help="the table to write: FILE.csv or FILE.parquet (Parquet needs "
+                          "pyarrow: pip install 'mechvib[sweep]')")
+    common.method_option(swp)
+    swp.add_argument("--all-roots", action="store_true",
+                     help="a row per classified root (other assembly modes and extraneous "
+                          "roots too), not only per equilibrium")
+    swp.add_argument("--workers", type=common.positive, metavar="N",
+                     help="threads (default: every CPU; with --scheduler, per task: 1)")
+    swp.add_argument("--chunk", type=common.positive, default=CHUNK, metavar="N",
+                     help=f"sets per chunk: per task on Dask, per progress step (default {CHUNK})")
+    swp.add_argument("--scheduler", metavar="ADDRESS",
+                     help="run one task per chunk on this dask.distributed scheduler (e.g. "
+                          "tcp://host:8786; pip install 'mechvib[dask]'; its workers need "
+                          "mechvib installed)")
