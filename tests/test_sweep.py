@@ -375,7 +375,7 @@ def test_a_worker_lost_mid_sweep_is_replaced_and_every_row_arrives(client):
 
 def test_cli_scheduler_without_workers_is_one_line(tmp_path):
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=0, dashboard_address=None) as empty:
+    with distributed.LocalCluster(n_workers=0, dashboard_address=":0") as empty:
         out = mechvib("--vary", "F=0:200:21", "--out", "d.csv", "--scheduler",
                       empty.scheduler_address, cwd=tmp_path,
                       env_extra={"MECHVIB_WORKER_WAIT": "2"})
