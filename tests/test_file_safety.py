@@ -116,7 +116,8 @@ def test_a_full_disk_leaves_the_old_trajectory(tmp_path, monkeypatch):
     assert [p.name for p in tmp_path.iterdir()] == ["m.csv"]
 
 
-@pytest.mark.parametrize("delay", [0.5, 2.0, 3.5])
+@pytest.mark.parametrize("delay", [2.0, pytest.param(0.5, marks=pytest.mark.slow),
+                                   pytest.param(3.5, marks=pytest.mark.slow)])
 def test_a_sweep_killed_with_sigterm_leaves_the_old_file_or_the_new(tmp_path, delay):
     """Killed at some point of a ~5 s sweep: the old file as it was (and no partial file
     left), or, had it finished, the whole new one."""

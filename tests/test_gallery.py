@@ -57,10 +57,14 @@ CASES = {
 }
 
 
-def library_cases():
-    """The cases, with the slotted lever's expected failure marked."""
-    return [name if name == "slotted_lever" else name
-            for name in CASES]
+#: Built with the slow tests only: about 30 s to generate and build (3.3 MB of C).
+SLOW_MODELS = {"four_bar_coupler_spring"}
+
+
+def library_cases(names=None):
+    """The cases that build a library; those of a slow model marked slow."""
+    return [pytest.param(name, marks=pytest.mark.slow) if CASES[name].model in SLOW_MODELS
+            else name for name in (CASES if names is None else names)]
 
 
 # --------------------------------------------------------------------------- fixtures
@@ -150,8 +154,8 @@ def test_equilibria_match_the_reference(case_name, builds, references):
     assert not any(u.sign_change and u.mode == 0 for u in analysis.uncertain)
 
 
-@pytest.mark.parametrize("case_name", [name for name, case in CASES.items()
-                                       if load_model(case.model).assembly_modes])
+@pytest.mark.parametrize("case_name", library_cases(
+    [name for name, case in CASES.items() if load_model(case.model).assembly_modes]))
 def test_other_mode_roots_are_the_other_modes_equilibria(case_name, builds, references):
     """What analyze labels "other assembly mode" is exactly the zeros of G with every
     assembly mode negated, certified."""
