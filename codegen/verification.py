@@ -192,21 +192,23 @@ class _ModelNumerics:
             return q, ok
         q = np.where(ok[..., None], q, 0.0)
         for _ in range(NEWTON_STEPS):
-            full = self._full(q, theta)
-            residual = _broadcast(self.constraints(*params, *full), theta.shape)
-            jac = _broadcast(self.jacobian(*params, *full), theta.shape).reshape(
-                theta.shape + self.shape)
+            residual, jac = self._linearised(params, q, theta)
             step = np.einsum("...ij,...j->...i", np.linalg.pinv(jac), residual)
             q = q - step
             if np.all(np.abs(step) <= 1e-15 * (1 + np.abs(q))):
                 break
+        residual, jac = self._linearised(params, q, theta)
+        ok &= np.all(np.abs(step) <= 1e-12 * (1 + np.abs(q)), axis=-1)
+        ok &= np.linalg.cond(jac) < CONDITION_LIMIT
+        return q, ok & np.isfinite(residual).all(axis=-1)
+
+    def _linearised(self, params, q: np.ndarray, theta: np.ndarray):
+        """The constraints' residuals and their Jacobian in the dependent coordinates."""
         full = self._full(q, theta)
         residual = _broadcast(self.constraints(*params, *full), theta.shape)
         jac = _broadcast(self.jacobian(*params, *full), theta.shape).reshape(
             theta.shape + self.shape)
-        ok &= np.all(np.abs(step) <= 1e-12 * (1 + np.abs(q)), axis=-1)
-        ok &= np.linalg.cond(jac) < CONDITION_LIMIT
-        return q, ok & np.isfinite(residual).all(axis=-1)
+        return residual, jac
 
     def _full(self, dependent: np.ndarray, theta: np.ndarray) -> list[np.ndarray]:
         """Every coordinate, in the model's order."""
