@@ -14,7 +14,7 @@ import pytest
 from codegen.api import load
 
 api = load("doughty")
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 
 REPO = Path(__file__).resolve().parent.parent
 ROW = re.compile(r"^\s*(-?\d+\.\d{4})\s+(equilibrium|extraneous)\s")

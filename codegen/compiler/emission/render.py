@@ -15,7 +15,7 @@ import json
 import jinja2
 import sympy as sp
 
-from .. import __version__
+from ... import __version__
 from .interval import interval_body
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
