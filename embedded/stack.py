@@ -11,7 +11,11 @@ An indirect call made while an entry runs may reach a function whose address is 
 that entry runs, or held in static data: with no function pointer among its arguments or in
 the memory they point to (the generated headers declare none), a pointer the call goes through
 can come from nowhere else. The functions an entry runs are found to a fixed point: its direct
-callees, and, where one of them calls indirectly, the functions so reachable.
+callees, and, where one of them calls indirectly, the functions so reachable. Of those, a call
+through a pointer named X (read at the call's source position: `model->X(...)`, `s->X(...)`,
+`X(...)`) reaches the ones named X where there are any: the runtime names each callback and
+each codegen_model field after the function a library gives it (`.enclosure = enclosure`);
+where none is named X, it may reach any of them.
 """
 from __future__ import annotations
 
@@ -24,6 +28,9 @@ INDIRECT = "__indirect_call"
 STATIC_DATA = ""   # a taker that is no function: an initialised table, reachable from anywhere
 _NODE = re.compile(r'node: \{ title: "([^"]+)" label: "([^"]*)"')
 _EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
+_INDIRECT_EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "__indirect_call" '
+                            r'label: "([^"]+):(\d+):(\d+)"')
+_CALLEE = re.compile(r"^(?:[A-Za-z_]\w*\s*(?:->|\.)\s*)*([A-Za-z_]\w*)\s*\(")
 _FRAME = re.compile(r"\\n(\d+) bytes \(([a-z,]+)\)")
 _CALLS = {"R_ARM_THM_CALL", "R_ARM_THM_JUMP24", "R_ARM_THM_JUMP19", "R_ARM_CALL",
           "R_ARM_JUMP24", "R_ARM_THM_JUMP11", "R_ARM_THM_JUMP8"}
@@ -69,10 +76,32 @@ def read_callgraphs(objects: list[Path], graph: Graph) -> None:
                 graph.frames[title] = int(frame.group(1))
                 if frame.group(2).startswith("dynamic") and "bounded" not in frame.group(2):
                     graph.dynamic.add(title)
-        for caller, callee in _EDGE.findall(text):
-            graph.add_call(caller, callee)
+        for edge in text.splitlines():
+            call = _EDGE.search(edge)
+            if call is None:
+                continue
+            caller, callee = call.groups()
+            site = _INDIRECT_EDGE.search(edge) if callee == INDIRECT else None
+            graph.add_call(caller, indirect_call(_pointer_name(Path(site[2]), int(site[3]),
+                                                               int(site[4])))
+                           if site else callee)
         for target, takers in _address_taken(obj, source, set(graph.frames)).items():
             graph.taken_by.setdefault(target, set()).update(takers)
+
+
+def indirect_call(pointer: str | None) -> str:
+    """The call graph's name of an indirect call through a pointer so named (None: unknown)."""
+    return f"{INDIRECT}:{pointer}" if pointer else INDIRECT
+
+
+def _pointer_name(source: Path, line: int, column: int) -> str | None:
+    """The name of the pointer an indirect call at source:line:column goes through."""
+    try:
+        text = source.read_text().splitlines()[line - 1][column - 1:]
+    except (OSError, IndexError):
+        return None
+    match = _CALLEE.match(text)
+    return match.group(1) if match else None
 
 
 def _address_taken(obj: Path, source: str, known: set[str]) -> dict[str, set[str]]:
@@ -174,7 +203,7 @@ def runs(graph: Graph, entry: str) -> set[str]:
         seen.update(todo)
         todo = [callee for name in todo for callee in graph.calls.get(name, ())
                 if callee not in seen]
-        if INDIRECT in seen:
+        if any(name.startswith(INDIRECT) for name in seen):
             todo += sorted(_taken_in(graph, seen) - seen)
     return seen
 
@@ -195,10 +224,12 @@ def worst_stack(graph: Graph, entry: str) -> Worst:
         if name in known:
             return known[name]
         exploring.add(name)
-        if name == INDIRECT:
-            deepest = max((worst(t) for t in sorted(targets)), key=lambda w: w.bytes,
+        if name.startswith(INDIRECT):
+            pointer = name[len(INDIRECT) + 1:]
+            reached = {t for t in targets if short(t) == pointer} or targets
+            deepest = max((worst(t) for t in sorted(reached)), key=lambda w: w.bytes,
                           default=Worst(0, (), False))
-            result = Worst(deepest.bytes, deepest.path, deepest.bounded and bool(targets))
+            result = Worst(deepest.bytes, deepest.path, deepest.bounded and bool(reached))
         else:
             frame = graph.frames.get(name)
             bounded = frame is not None and name not in graph.dynamic

@@ -473,13 +473,16 @@ class RuntimeDriverCompiler:
     strict: tuple[str, ...] = ("-std=c99", "-O2", *WARNINGS)
     warnings: tuple[str, ...] = WARNINGS
 
-    def build(self, exe: Path, driver: str, runtime: str, flags=None, defines=()) -> Path:
-        source = RUNTIME / runtime
-        if not source.exists():
-            pytest.skip(f"generated/runtime/{runtime} is missing (run `make generate`)")
+    def build(self, exe: Path, driver: str, runtime: str | tuple[str, ...], flags=None,
+              defines=()) -> Path:
+        sources = [RUNTIME / name for name in ((runtime,) if isinstance(runtime, str) else runtime)]
+        for source in sources:
+            if not source.exists():
+                pytest.skip(f"generated/runtime/{source.name} is missing (run `make generate`)")
         r = subprocess.run([self.cc, *(self.strict if flags is None else flags), *defines,
-                            f"-I{RUNTIME}", str(ROOT / "tests" / "c" / driver), str(source),
-                            "-lm", "-o", str(exe)], capture_output=True, text=True)
+                            f"-I{RUNTIME}", str(ROOT / "tests" / "c" / driver),
+                            *map(str, sources), "-lm", "-o", str(exe)],
+                           capture_output=True, text=True)
         assert r.returncode == 0, f"compilation failed:\n{r.stderr}"
         return exe
 

@@ -135,6 +135,26 @@ def test_indirect_calls_reach_what_the_entry_or_static_data_takes_the_address_of
     assert not stack.worst_stack(nowhere, "f").bounded   # a target we cannot see
 
 
+def test_a_call_through_a_named_pointer_reaches_the_taken_functions_of_that_name(tmp_path):
+    # the runtime calls model->equilibrium_state and its callback enclose; the library's
+    # static table holds both kernels, and a third, heavier one nothing here calls by name
+    source = tmp_path / "runtime.c"
+    source.write_text("int f(void)\n{\n    return model->enclose(c);\n    s->f(x);\n}\n")
+    assert stack._pointer_name(source, 3, 12) == "enclose"
+    assert stack._pointer_name(source, 4, 5) == "f"
+    assert stack._pointer_name(source, 9, 1) is None
+    graph = stack.Graph(
+        frames={"run": 8, "isolate": 16, "lib.c:enclose": 100, "lib.c:equilibrium_state": 900,
+                "step": 16},
+        calls={"run": {"isolate", "step"}, "isolate": {stack.indirect_call("enclose")},
+               "step": {stack.indirect_call("rhs")}},
+        taken_by={"lib.c:enclose": {stack.STATIC_DATA},
+                  "lib.c:equilibrium_state": {stack.STATIC_DATA}})
+    assert stack.worst_stack(graph, "isolate").bytes == 16 + 100
+    # no taken function is named rhs: it may reach any of them
+    assert stack.worst_stack(graph, "step").bytes == 16 + 900
+
+
 def test_frames_and_calls_from_a_disassembly():
     listing = "\n".join([
         "00000100 <sin>:",
