@@ -38,7 +38,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.analysis",),
     ("codegen.batch", "codegen.folds", "codegen.simulation", "codegen.sweep"),
     ("codegen.branches",),
-    ("codegen.branch_figure", "codegen.report"),
+    ("codegen.branch_figure", "codegen.report", "codegen.drawing"),
     ("codegen.api",),
     ("codegen.user_model",),
     ("codegen.cli.*",),   # the verbs and what they share; codegen.cli (__init__) too
