@@ -40,7 +40,7 @@ LABELS = {"equilibrium": "equilibrium", "other assembly mode": "other mode",
 
 #: The table's legend for complex quantities and extraneous roots (docs/python.md has the
 #: same convention for JSON, CSV, Python and C).
-COMPLEX_NOTE = (" A value \"x i\" is imaginary: where K_EQ < 0, omega_n = sqrt(K_EQ/M_EQ) "
+COMPLEX_NOTE = (" A value \"x i\" is imaginary: where K_EQ < 0, omega_n = sqrt(K/M) "
                 "and zeta are (JSON [re, im], Python complex, C arrays [2] of re, im).")
 EXTRANEOUS_NOTE = ("An extraneous root is not an equilibrium: it has no stability, damping or "
                    "vibration (\"-\"; null in JSON and CSV, None in Python).")
