@@ -34,7 +34,7 @@ $(VENV)/.build-requires: | $(PY)
 	touch $@
 
 venv: $(VENV)/.installed  ## make .venv: build requirements, then this package (editable) and its test extras
-$(VENV)/.installed: pyproject.toml setup.py codegen/__init__.py codegen/build_ext.py \
+$(VENV)/.installed: pyproject.toml setup.py codegen/__init__.py codegen/compiler/build.py \
                     $(wildcard generated/*/*) $(VENV)/.build-requires
 	$(INSTALL)
 	touch $@

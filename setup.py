@@ -1,6 +1,6 @@
 # cffi's setuptools hook and the package data below are only reachable from setup();
 # everything else is in pyproject.toml.
-# One extension per library folder in generated/ (see codegen/build_ext.py).
+# One extension per library folder in generated/ (see codegen/compiler/build.py).
 # The wheel (and a non-editable install) also carries, inside the package, the C library of
 # every shipped mechanism and the templates, where codegen.resources finds them:
 #   generated/NAME/*, generated/runtime/*  ->  codegen/data/generated/...
@@ -51,5 +51,5 @@ class build_py_with_data(build_py):
         return outputs + [str(Path(self.build_lib, "codegen", dst)) for _, dst in data_files()]
 
 
-setup(cffi_modules=[f"codegen/build_ext.py:ffi_{name}" for name in LIBRARIES],
+setup(cffi_modules=[f"codegen/compiler/build.py:ffi_{name}" for name in LIBRARIES],
       cmdclass={"build_py": build_py_with_data})

@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from codegen import sweep
-from codegen.branches import EVENTS
-from codegen.library import Library
+from codegen.runtime import sweep
+from codegen.runtime.branches import EVENTS
+from codegen.runtime.library import Library
 
 #: (parameter, from, to) per mechanism: each range holds events.
 CASES = {"doughty": ("F", -200.0, 300.0), "four_bar": ("T", -20.0, 20.0),

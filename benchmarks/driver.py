@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from codegen.library import Library
+from codegen.runtime.library import Library
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"

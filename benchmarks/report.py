@@ -237,7 +237,7 @@ SECTIONS = (
      "The command line deriving every shipped mechanism afresh and comparing with "
      "generated/ without writing (start-up included; it verifies each plan against its "
      "model), the cold `derive()` of each mechanism inside the benchmark, and the "
-     "verification alone (`codegen.verification.verify`: the plan's expressions against "
+     "verification alone (`codegen.compiler.verification.verify`: the plan's expressions against "
      "the model's numerics, which generate runs before writing a file). Target: the "
      "verification adds at most a few seconds to each mechanism's generation."),
     ("6. Branches against one parameter",

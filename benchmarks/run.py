@@ -45,7 +45,7 @@ import pipeline
 import report
 import simulate
 from codegen.api import load, shipped
-from codegen.library import Library
+from codegen.runtime.library import Library
 from symbolic import Symbolic, naive_c, scalar_function, symbolic
 
 HERE = Path(__file__).resolve().parent

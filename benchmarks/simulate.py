@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from codegen.library import Library
-from codegen.simulation import is_stable
+from codegen.runtime.library import Library
+from codegen.runtime.simulation import is_stable
 from symbolic import Symbolic, scalar_function
 
 SPAN = 2.0            # [s]

@@ -17,10 +17,10 @@ from graphlib import TopologicalSorter
 import numpy as np
 import sympy as sp
 
-from codegen.derivation import derive
-from codegen.emission.plan import build_plan
-from codegen.verification import Report, verify
-from codegen.model import load as load_model
+from codegen.compiler.derivation import derive
+from codegen.compiler.emission.plan import build_plan
+from codegen.compiler.verification import Report, verify
+from codegen.compiler.model import load as load_model
 
 #: One assignment of a straight-line program: symbol = expression.
 Assignment = tuple[sp.Symbol, sp.Expr]

@@ -18,8 +18,8 @@ from collections.abc import Callable
 from pathlib import Path
 
 from . import files
-from .api import load_from
-from .library import Library
+from .runtime.api import load_from
+from .runtime.library import Library
 
 STAMP = ".mechvib-build"
 
@@ -43,8 +43,8 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     """The Library of a model file, built into ``out`` (default: the per-user cache) unless
     that folder already holds this model's build (``rebuild``: build it anyway). ``progress``
     is told each stage (deriving: STEP, emitting C, building)."""
-    from . import generate
-    from .model import load
+    from .compiler import generate
+    from .compiler.model import load
 
     mechanism = load(str(model))  # checked: a ModelError names the problem before any build
     key = _key(generate, Path(model), mechanism.name)
@@ -98,9 +98,9 @@ def _build_beside(generate, mechanism, plan, folder: Path, key: str | None, prog
 def _build(generate, mechanism, plan, folder: Path, progress: Callable[[str], None]) -> None:
     """Write the library of a verified plan, build it, and check the compiled library
     against the plan it came from."""
-    from .build_ext import build_into
-    from .derivation import derive
-    from .verification import verify_compiled
+    from .compiler.build import build_into
+    from .compiler.derivation import derive
+    from .compiler.verification import verify_compiled
 
     generate.write_folder(folder / generate.RUNTIME, generate.runtime())
     generate.write_folder(folder / mechanism.name, generate.files_of(plan))

@@ -50,8 +50,8 @@ TABLE2 = api.example_params()
 
 @functools.lru_cache(maxsize=None)
 def _derivation():
-    from codegen.derivation import derive
-    from codegen.model import doughty
+    from codegen.compiler.derivation import derive
+    from codegen.compiler.model import doughty
 
     # derive() caches per Mechanism *object* (identity hash), so build the model once.
     return derive(doughty.build())
@@ -59,7 +59,7 @@ def _derivation():
 
 @functools.lru_cache(maxsize=None)
 def _plan():
-    from codegen.emission.plan import build_plan
+    from codegen.compiler.emission.plan import build_plan
 
     return build_plan(_derivation())
 

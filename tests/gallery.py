@@ -47,8 +47,8 @@ class PlanValues:
     expressions printed to C, evaluated in mpmath at 30 digits."""
 
     def __init__(self, mechanism):
-        from codegen.derivation import derive
-        from codegen.emission.plan import build_plan
+        from codegen.compiler.derivation import derive
+        from codegen.compiler.emission.plan import build_plan
 
         plan = build_plan(derive(mechanism))
         residual = plan.function("equilibrium_residual")

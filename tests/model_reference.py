@@ -3,7 +3,8 @@
 equilibria, from the model's own data only.
 
 Nothing is shared with the derivation (no closed-form elimination, no import from
-``codegen.derivation`` or ``codegen.emission``). The model's expressions are only evaluated:
+``codegen.compiler.derivation`` or ``codegen.compiler.emission``). The model's expressions are
+only evaluated:
 
 * positions: the constraints are solved *numerically* for the dependent coordinates, by
   Newton's method from many fixed pseudo-random starts (vectorised in double), keeping a

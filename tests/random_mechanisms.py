@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from codegen.model.mechanism import (Body, Coordinate, Damper, Mechanism, PointForce,
-                                     Requirement, Spring, Torque, distance, parameter)
+from codegen.compiler.model.mechanism import (Body, Coordinate, Damper, Mechanism,
+                                              PointForce, Requirement, Spring, Torque, distance, parameter)
 
 
 class _Parameters:

@@ -22,15 +22,15 @@ import numpy as np
 import pytest
 
 import codegen
-import codegen.analysis
+import codegen.runtime.analysis
 import codegen.api
-import codegen.branch_figure
-import codegen.branches
-import codegen.folds
-import codegen.joining
-import codegen.library
-import codegen.sweep
-from codegen.analysis import Analysis, Equilibrium, Uncertain, analyze
+import codegen.runtime.branch_figure
+import codegen.runtime.branches
+import codegen.runtime.folds
+import codegen.runtime.joining
+import codegen.runtime.library
+import codegen.runtime.sweep
+from codegen.runtime.analysis import Analysis, Equilibrium, Uncertain, analyze
 from codegen.api import LibraryError, load, load_from, shipped
 
 DOUGHTY = load("doughty")
@@ -152,8 +152,9 @@ def test_library_methods_are_documented_with_units():
     assert "params_array" in inspect.getdoc(lib.analyze_batch)
 
 
-PUBLIC_MODULES = (codegen.library, codegen.analysis, codegen.api, codegen.sweep,
-                  codegen.branches, codegen.folds, codegen.joining, codegen.branch_figure)
+PUBLIC_MODULES = (codegen.runtime.library, codegen.runtime.analysis, codegen.api,
+                  codegen.runtime.sweep, codegen.runtime.branches, codegen.runtime.folds,
+                  codegen.runtime.joining, codegen.runtime.branch_figure)
 
 
 def _public_callables():
@@ -200,8 +201,8 @@ def test_result_dataclasses_have_resolvable_hints_and_radian_docs():
 def test_api_spec_describes_inputs_and_outputs_deterministically():
     import sympy as sp
 
-    from codegen.emission.plan import CFunction, Enclosure, Input, Output, Plan
-    from codegen.emission.render import api_spec
+    from codegen.compiler.emission.plan import CFunction, Enclosure, Input, Output, Plan
+    from codegen.compiler.emission.render import api_spec
 
     x, k = sp.Symbol("x", real=True), sp.Symbol("k", real=True)
     f = CFunction("force", "A spring's force.", "(1)",
@@ -300,7 +301,7 @@ def test_errors_round_trip_with_their_message():
 
 FRESH_PROCESS = """
 import json, pickle, sys
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 sets, analyses, result = pickle.load(open(sys.argv[1], "rb"))
 print(json.dumps({
     "fresh": [analyze(s).to_dict() for s in sets],

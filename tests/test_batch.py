@@ -1,4 +1,4 @@
-"""codegen.batch: the analysis of many sets as structured arrays, over threads, against
+"""codegen.runtime.batch: the analysis of many sets as structured arrays, over threads, against
 analyze() one set at a time."""
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from codegen.analysis import DAMPING, KINDS, STABILITY, analyze
+from codegen.runtime.analysis import DAMPING, KINDS, STABILITY, analyze
 from codegen.api import load
-from codegen import batch
-from codegen.batch import ROOT_DTYPE, analyze_table
+from codegen.runtime import batch
+from codegen.runtime.batch import ROOT_DTYPE, analyze_table
 
 #: (mechanism, route): both routes where G is algebraic, isolation where it is not.
 CASES = [("doughty", "polynomial"), ("doughty", "isolate"), ("slider_crank", "polynomial"),

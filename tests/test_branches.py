@@ -1,4 +1,4 @@
-"""codegen.branches: equilibria followed as one parameter varies.
+"""codegen.runtime.branches: equilibria followed as one parameter varies.
 
 References are independent where they are numerical: the single-set analysis at every
 sample, a scan of the compiled G over the angle on either side of each fold (two zeros on
@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from codegen import folds, joining
-from codegen.analysis import STABILITY, analyze
+from codegen.runtime import folds, joining
+from codegen.runtime.analysis import STABILITY, analyze
 from codegen.api import load
-from codegen.branches import EVENTS, POINTS, Branches, branches
+from codegen.runtime.branches import EVENTS, POINTS, Branches, branches
 
 STABLE, UNSTABLE = STABILITY.index("stable"), STABILITY.index("unstable")
 SAMPLE = POINTS.index("sample")
@@ -310,7 +310,7 @@ def test_the_figure_draws_stable_solid_unstable_dashed_and_labels_units(monkeypa
                                                                          tmp_path):
     """What plot hands to matplotlib: the lines' styles by stability, the axes' labels."""
     pytest.importorskip("matplotlib")
-    from codegen import figures
+    from codegen.runtime import figures
 
     drawn = {}
 
@@ -365,7 +365,7 @@ def test_result_types_have_hints_and_units_in_their_docs():
     import inspect
     import typing
 
-    from codegen.branches import Event
+    from codegen.runtime.branches import Event
 
     for cls in (Branches, Event):
         assert typing.get_type_hints(cls)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 import codegen
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 from codegen.api import load
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -14,7 +14,7 @@ import pytest
 from codegen.api import load
 
 api = load("doughty")
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 
 REPO = Path(__file__).resolve().parent.parent
 ROW = re.compile(r"^\s*(-?\d+\.\d{4})\s+(equilibrium|extraneous)\s")
@@ -294,7 +294,7 @@ def test_sources_prints_the_folders_and_copies_a_library_that_compiles(tmp_path)
     copied = cli("sources", "--mechanism", "four_bar", "--copy", "vendor", cwd=tmp_path)
     assert copied.returncode == 0, copied.stderr
     sources = sorted((tmp_path / "vendor").glob("*.c"))
-    assert {p.name for p in sources} >= {"four_bar.c", "four_bar_analysis.c"}
+    assert {p.name for p in sources} >= {"four_bar.c", "four_bar_model.c"}
     program = tmp_path / "app.c"
     program.write_text('#include "four_bar.h"\nint main(void) { four_bar_params p = {0};\n'
                        '  return four_bar_check_params(&p) == FOUR_BAR_OK; }\n')

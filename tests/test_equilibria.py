@@ -31,7 +31,7 @@ from scipy.optimize import brentq
 from codegen.api import load
 
 api = load("doughty")
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 
 GRID = 20000           # scan points on the circle (spacing 3.1e-4 rad)
 MIN_SEPARATION = 1e-6  # rad; closer root pairs are ill-posed for a scan and are filtered out

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen import sweep
+from codegen.runtime import sweep
 from codegen.api import load, shipped
 from test_runtime_roots import (RUNTIME_CDEF, RUNTIME_SRC, SEED, TEMPLATES, _build,
                                 _degree12_vectors, known_case)

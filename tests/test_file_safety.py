@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from codegen import files, generate
+from codegen import files
+from codegen.compiler import generate
 from codegen.api import load
 
 REPO = Path(__file__).resolve().parent.parent
@@ -104,7 +105,7 @@ def test_a_full_disk_leaves_the_old_trajectory(tmp_path, monkeypatch):
     trajectory = lib.simulate(None, 2.8, 0.0, np.linspace(0.0, 0.05, 2001))
     target = tmp_path / "m.csv"
     target.write_text("t_s,theta_deg,thetadot_deg_s\n0,1,2\n")
-    from codegen import simulation
+    from codegen.runtime import simulation
 
     def full(stream, *args):
         stream.write("t_s,theta")

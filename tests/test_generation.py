@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from codegen import generate
+from codegen.compiler import generate
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
@@ -48,7 +48,7 @@ def _includes(name: str) -> list[str]:
 
 
 def test_every_shipped_mechanism_has_a_library():
-    from codegen.model import SHIPPED
+    from codegen.compiler.model import SHIPPED
 
     assert LIBRARIES == sorted(SHIPPED)
 

@@ -93,7 +93,7 @@ def test_a_large_but_resolvable_initial_state_runs():
 
 
 def _analyze_set(params):
-    from codegen.analysis import analyze
+    from codegen.runtime.analysis import analyze
     return analyze(params)
 
 

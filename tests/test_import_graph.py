@@ -6,8 +6,12 @@ inside a function (a lazy import is still a dependency) and under ``if TYPE_CHEC
 The one allowance: an import under ``if TYPE_CHECKING:`` never runs (its module has
 ``from __future__ import annotations``, checked here, so annotations stay strings), so it
 is left out of the cycle check; it must still point down or sideways like any other.
-``codegen.library`` and ``codegen.functions`` use this: the two are one layer, the compiled
-library, and functions only names the Library type.
+``codegen.runtime.library`` and ``codegen.runtime.functions`` use this: the two are one layer,
+the compiled library, and functions only names the Library type.
+
+The modules that moved (issue 28) keep their old paths as aliases (``codegen/_moved.py``):
+``test_old_paths`` checks that each is the new module itself, that the deprecated ones warn
+and that nothing inside codegen reaches one.
 
 A submodule's import of its parent package (which Python runs first) is not counted: the
 edges are what the source names. ``from X import name`` is an edge to ``X.name`` where that
@@ -16,6 +20,10 @@ is a module of codegen, else to ``X``. A new module has to be placed in ``LAYERS
 from __future__ import annotations
 
 import ast
+import json
+import subprocess
+import sys
+import warnings
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent.parent / "codegen"
@@ -23,26 +31,39 @@ PACKAGE = Path(__file__).resolve().parent.parent / "codegen"
 #: Bottom to top: a module may import from its own layer or one below, never from above.
 #: A name ending in ".*" is every module of that subpackage.
 LAYERS: list[tuple[str, ...]] = [
-    # plumbing, standard library and numpy only (figures imports matplotlib when asked to)
-    ("codegen", "codegen.errors", "codegen.files", "codegen.resources", "codegen.joining",
-     "codegen.figures"),
-    # the compiler side: model -> derivation -> C emission -> verification -> generation
-    ("codegen.model.*",),
-    ("codegen.derivation.*",),
-    ("codegen.emission.*",),
-    ("codegen.verification",),
-    ("codegen.generate",),
-    ("codegen.build_ext",),
-    # the runtime side: one compiled library, then what is computed with it
-    ("codegen.library", "codegen.functions"),
-    ("codegen.analysis",),
-    ("codegen.batch", "codegen.folds", "codegen.simulation", "codegen.sweep"),
-    ("codegen.branches",),
-    ("codegen.branch_figure", "codegen.report", "codegen.drawing"),
-    ("codegen.api",),
+    # plumbing, standard library and numpy only, used by both sides; codegen._moved is the
+    # helper of the old-path aliases at the top
+    ("codegen", "codegen.errors", "codegen.files", "codegen.resources", "codegen._moved"),
+    # codegen/compiler/: model -> derivation -> C emission -> verification -> generation, build
+    ("codegen.compiler",),
+    ("codegen.compiler.model.*",),
+    ("codegen.compiler.derivation.*",),
+    ("codegen.compiler.emission.*",),
+    ("codegen.compiler.verification",),
+    ("codegen.compiler.generate",),
+    ("codegen.compiler.build",),
+    # codegen/runtime/: its helpers (figures imports matplotlib when asked to), one compiled
+    # library, then what is computed with it, then the entry point
+    ("codegen.runtime", "codegen.runtime.joining", "codegen.runtime.figures"),
+    ("codegen.runtime.library", "codegen.runtime.functions"),
+    ("codegen.runtime.analysis",),
+    ("codegen.runtime.batch", "codegen.runtime.folds", "codegen.runtime.simulation",
+     "codegen.runtime.sweep"),
+    ("codegen.runtime.branches",),
+    ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
+    ("codegen.runtime.api",),
+    # a user's model file generated, built and loaded: above both the compiler and the runtime
     ("codegen.user_model",),
-    ("codegen.cli.*",),   # the verbs and what they share; codegen.cli (__init__) too
+    ("codegen.cli.*",),   # the verbs, what they share and report.py; codegen.cli (__init__) too
     ("codegen.__main__",),
+    # the old paths of moved modules (codegen/api.py, codegen/analysis.py, ...): each aliases
+    # its new module (see codegen/_moved.py), so it sits above everything it may name; nothing
+    # in codegen imports one (an import of a shim from below would fail test_no_upward_import)
+    ("codegen.api", "codegen.model", "codegen.analysis", "codegen.batch", "codegen.branch_figure",
+     "codegen.branches", "codegen.build_ext", "codegen.derivation", "codegen.emission",
+     "codegen.figures", "codegen.folds", "codegen.functions", "codegen.generate",
+     "codegen.joining", "codegen.library", "codegen.report", "codegen.simulation",
+     "codegen.sweep", "codegen.verification"),
 ]
 
 
@@ -145,9 +166,60 @@ def test_no_import_cycle():
 
 def test_the_graph_is_read():
     """The parser finds what is known to be there: relative, lazy and TYPE_CHECKING imports."""
-    assert ("codegen.library", False) in imports("codegen.analysis")
-    assert ("codegen.generate", False) in imports("codegen.cli.common")   # inside a function
-    assert ("codegen", False) in imports("codegen.emission.render")       # from .. import x
-    assert ("codegen.model", False) in imports("codegen.derivation.dynamics")
-    assert ("codegen.model.mechanism", False) in imports("codegen.derivation.dynamics")
-    assert ("codegen.branches", True) in imports("codegen.report")
+    assert ("codegen.runtime.library", False) in imports("codegen.runtime.analysis")
+    assert ("codegen.compiler.generate", False) in imports("codegen.cli.common")  # in a function
+    assert ("codegen", False) in imports("codegen.compiler.emission.render")  # from ... import x
+    assert ("codegen.compiler.model", False) in imports("codegen.compiler.derivation.dynamics")
+    assert (("codegen.compiler.model.mechanism", False)
+            in imports("codegen.compiler.derivation.dynamics"))
+    assert ("codegen.runtime.branches", True) in imports("codegen.cli.report")
+    assert ("codegen.runtime.analysis", False) in imports("codegen.analysis")  # an old path
+
+
+#: old path -> new module; the first two are supported public names, the rest deprecated.
+MOVED = {"codegen.api": "codegen.runtime.api", "codegen.model": "codegen.compiler.model",
+         **{f"codegen.{m}": f"codegen.runtime.{m}" for m in (
+             "analysis", "batch", "branch_figure", "branches", "figures", "folds", "functions",
+             "joining", "library", "simulation", "sweep")},
+         **{f"codegen.{m}": f"codegen.compiler.{m}" for m in (
+             "derivation", "emission", "generate", "verification")},
+         "codegen.build_ext": "codegen.compiler.build", "codegen.report": "codegen.cli.report"}
+
+
+def test_old_paths():
+    """Every old path is its new module (the same object, so a monkeypatch through either
+    reaches both); the deprecated ones say where it went; codegen itself uses none of them
+    (importing the runtime, the compiler and the command line warns nothing)."""
+    top = len(LAYERS) - 1
+    assert set(MOVED) == {m for m in MODULES if m.count(".") == 1 and layer_of(m) == top}
+    code = ("import warnings, importlib, json, sys; warnings.simplefilter('always'); "
+            "out = {}\n"
+            "for old, new in json.loads(sys.argv[1]).items():\n"
+            "    with warnings.catch_warnings(record=True) as caught:\n"
+            "        warnings.simplefilter('always')\n"
+            "        module = importlib.import_module(old)\n"
+            "    out[old] = [module is importlib.import_module(new), "
+            "[str(w.message) for w in caught if w.category is DeprecationWarning]]\n"
+            "print(json.dumps(out))")
+    run = subprocess.run([sys.executable, "-c", code, json.dumps(MOVED)], capture_output=True,
+                         text=True, check=True)
+    seen = json.loads(run.stdout)
+    for old, new in MOVED.items():
+        same, warned = seen[old]
+        assert same, old
+        if old in ("codegen.api", "codegen.model"):
+            assert not warned, (old, warned)
+        else:
+            assert any(new in message for message in warned), (old, warned)
+    subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c",
+                    "import codegen.runtime.api, codegen.compiler.generate, codegen.cli, "
+                    "codegen.user_model, codegen.compiler.model.four_bar"], check=True)
+    # a submodule through an old package path is the new one too
+    import codegen.compiler.model.mechanism
+    import codegen.model.mechanism  # noqa: F401
+    assert codegen.model.mechanism is codegen.compiler.model.mechanism
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import codegen.derivation.algebra  # noqa: F401
+        import codegen.compiler.derivation.algebra
+    assert codegen.derivation.algebra is codegen.compiler.derivation.algebra

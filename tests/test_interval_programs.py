@@ -20,7 +20,7 @@ import pytest
 import sympy as sp
 
 from codegen.api import load
-from codegen.emission.interval import interval_body
+from codegen.compiler.emission.interval import interval_body
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"

@@ -103,9 +103,9 @@ def _angle_close(a, b, rel=1e-12, periodic=True):
 def _enclosure_exprs(name):
     """The plan's enclosure expressions compiled for mpmath: for each mode a function
     (theta, *params) -> [G, G', |term| of G..., |term| of G'..., radicands...]."""
-    from codegen.derivation import derive
-    from codegen.emission.plan import build_plan
-    from codegen.model import load as load_model
+    from codegen.compiler.derivation import derive
+    from codegen.compiler.emission.plan import build_plan
+    from codegen.compiler.model import load as load_model
 
     enc = build_plan(derive(load_model(name))).enclosure
     names = _lib(name).PARAMETER_NAMES

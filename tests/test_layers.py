@@ -6,11 +6,11 @@ import math
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from codegen.derivation.algebra import square_roots, tidy
-from codegen.derivation.elimination import eliminate
-from codegen.derivation.positions import Root
-from codegen.derivation.half_angle import to_tau
-from codegen.emission.printer import RealPrinter
+from codegen.compiler.derivation.algebra import square_roots, tidy
+from codegen.compiler.derivation.elimination import eliminate
+from codegen.compiler.derivation.positions import Root
+from codegen.compiler.derivation.half_angle import to_tau
+from codegen.compiler.emission.printer import RealPrinter
 
 theta, tau, x, y = sp.symbols("theta tau x y", real=True)
 S, C = sp.sin(theta), sp.cos(theta)
@@ -103,7 +103,7 @@ def test_a_length_root_keeps_the_sign_of_its_denominator():
     """sqrt(n / (s^2 d)) is sqrt(n d s^2) / (s^2 d): right for either sign of s (written
     sqrt(n d) / (s d) it was the negative length wherever s < 0, issue 26); the sign of d
     is taken only where every parameter set the requirements allow makes it positive."""
-    from codegen.derivation.positions import NotSolvable, PositionSolution
+    from codegen.compiler.derivation.positions import NotSolvable, PositionSolution
 
     e = sp.Symbol("e", real=True)
     empty = PositionSolution(theta, (), sp.Matrix([]), (), {})

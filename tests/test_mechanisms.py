@@ -1,6 +1,6 @@
 """Every shipped mechanism through the same checks (issue 8), none of them typed in.
 
-For each mechanism of ``codegen.model.SHIPPED``:
+For each mechanism of ``codegen.compiler.model.SHIPPED``:
 (a) every compiled function equals its symbolic expression evaluated at 40 digits (sigma:
     exactly, in rationals), to 1e-12 relative or its rounding bound where it cancels;
 (b) positions from ``dependent_state`` close the loops (f(q) = 0, A qdot = 0), and the
@@ -32,11 +32,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from codegen.api import load
-from codegen.derivation import derive
-from codegen.derivation.equilibrium import common_numerator, on_branch
-from codegen.emission.plan import build_plan, written_out
-from codegen.model import SHIPPED
-from codegen.model import load as load_model
+from codegen.compiler.derivation import derive
+from codegen.compiler.derivation.equilibrium import common_numerator, on_branch
+from codegen.compiler.emission.plan import build_plan, written_out
+from codegen.compiler.model import SHIPPED
+from codegen.compiler.model import load as load_model
 
 try:
     import reference_mechanisms as rm

@@ -106,8 +106,8 @@ def test_awkward_names_compile_strictly(awkward, tmp_path):
 def test_clashing_names_are_renamed_for_the_derivation_only(folder):
     """theta_d is the rate of theta, rho_1 a root, v the double-double values...: each is
     derived under a fresh name; a shipped mechanism keeps every name."""
-    from codegen.derivation.names import internal_names
-    from codegen.model import SHIPPED, load
+    from codegen.compiler.derivation.names import internal_names
+    from codegen.compiler.model import SHIPPED, load
 
     renamed = internal_names(load(str(folder / "awkward_theta.py")))
     assert renamed == {"v": "v_", "out": "out_", "theta_d": "theta_d_",
@@ -118,7 +118,7 @@ def test_clashing_names_are_renamed_for_the_derivation_only(folder):
 
 
 def test_shipped_mechanisms_pass_the_checks():
-    from codegen.model import SHIPPED, check, load
+    from codegen.compiler.model import SHIPPED, check, load
 
     for name in SHIPPED:
         check(load(name))

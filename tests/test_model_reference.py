@@ -23,7 +23,7 @@ import reference_mechanisms as hand_written  # noqa: E402
 from gallery import example, load_model  # noqa: E402
 from model_reference import Reference, angle_gap  # noqa: E402
 
-from codegen.model import doughty, four_bar, slider_crank, torsion_pendulum  # noqa: E402
+from codegen.compiler.model import doughty, four_bar, slider_crank, torsion_pendulum  # noqa: E402
 
 SHIPPED = {m.__name__.rsplit(".", 1)[1]: m for m in (doughty, four_bar, slider_crank,
                                                      torsion_pendulum)}

@@ -17,11 +17,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from codegen import api
-from codegen.analysis import analyze
+from codegen.runtime import api
+from codegen.runtime.analysis import analyze
 from codegen.cli import common
-from codegen.drawing import geometry
-from codegen.model import SHIPPED, load
+from codegen.runtime.drawing import geometry
+from codegen.compiler.model import SHIPPED, load
 
 REPO = Path(__file__).resolve().parent.parent
 USER_MODEL = REPO / "tests" / "models" / "two_spring_pendulum.py"

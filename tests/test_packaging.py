@@ -134,7 +134,7 @@ def _fake_tree(tmp_path: Path) -> Path:
     """The Makefile with the files its rules name, and a stand-in virtual environment."""
     tree = tmp_path / "tree"
     for name in ("Makefile", "pyproject.toml", "setup.py", "codegen/__init__.py",
-                 "codegen/build_ext.py", "examples/minimal.c"):
+                 "codegen/compiler/build.py", "examples/minimal.c"):
         (tree / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / name, tree / name)
     shutil.copytree(GENERATED, tree / "generated",
@@ -165,7 +165,7 @@ def test_clean_removes_build_products_and_invalidates_the_install(tmp_path):
     for name in products:
         assert not (tree / name).exists(), f"make clean left {name}"
     assert not (tree / "venv" / ".installed").exists()
-    kept = ["generated/doughty/doughty.c", "codegen/build_ext.py", "venv/bin/python",
+    kept = ["generated/doughty/doughty.c", "codegen/compiler/build.py", "venv/bin/python",
             "venv/.build-requires", "examples/minimal.c"]
     assert all((tree / name).exists() for name in kept)
 
@@ -181,7 +181,7 @@ def test_generate_touching_nothing_does_not_reinstall(tmp_path):
 
 def test_write_folder_leaves_unchanged_files_alone(tmp_path):
     """What makes a second `make generate` cheap for make: no file is rewritten."""
-    from codegen import generate
+    from codegen.compiler import generate
 
     files = {"a.c": "int a;\n", "a.h": "extern int a;\n"}
     generate.write_folder(tmp_path, files)
@@ -295,7 +295,7 @@ def test_resources_in_an_installed_layout(tmp_path):
 def test_generate_default_output(monkeypatch, tmp_path):
     """A checkout writes its generated/; an installed package ./generated, never its own
     folder (site-packages), following the current directory at the time of the call."""
-    from codegen import generate
+    from codegen.compiler import generate
 
     assert generate.TEMPLATES == TEMPLATES
     assert generate.default_output() == GENERATED
@@ -351,7 +351,7 @@ def test_sdist_holds_what_the_wheel_is_built_from(dists):
     assert top == f"mechvib-{codegen.__version__}"
     expected = {str(src.relative_to(ROOT)) for src in _shipped_data().values()}
     expected |= {"LICENSE", "README.md", "pyproject.toml", "setup.py", "codegen/py.typed",
-                 "codegen/build_ext.py", "codegen/resources.py", "CMakeLists.txt",
+                 "codegen/compiler/build.py", "codegen/resources.py", "CMakeLists.txt",
                  "cmake/mechvibConfig.cmake.in", "cmake/mechvib.pc.in"}
     assert expected <= names, sorted(expected - names)
     assert not [n for n in names if n.endswith((".o", ".so"))]
@@ -438,7 +438,7 @@ def installed(dists, tmp_path_factory):
 @pytest.mark.slow
 def test_installed_package_finds_its_copies(installed):
     where = installed.python_json(
-        "import json, codegen, codegen.generate as g, codegen.resources as r; "
+        "import json, codegen, codegen.compiler.generate as g, codegen.resources as r; "
         "print(json.dumps([codegen.__file__, r.in_checkout(), str(r.generated()), "
         "str(r.templates()), str(g.default_output()), str(g.TEMPLATES)]))")
     package = Path(where[0]).parent
@@ -456,7 +456,7 @@ def test_installed_package_finds_its_copies(installed):
 
 @pytest.mark.slow
 def test_installed_package_analyzes(installed):
-    from codegen.analysis import analyze
+    from codegen.runtime.analysis import analyze
     from codegen.api import load
 
     table = installed.run(installed.python, "-m", "codegen", "analyze").stdout
@@ -489,7 +489,7 @@ def test_installed_package_generates_into_the_current_directory(installed):
 
 @pytest.mark.slow
 def test_installed_package_generates_and_builds_a_model(installed):
-    text = (ROOT / "codegen" / "model" / "torsion_pendulum.py").read_text()
+    text = (ROOT / "codegen" / "compiler" / "model" / "torsion_pendulum.py").read_text()
     model = installed.cwd / "my_pendulum.py"
     model.write_text(text.replace("from .mechanism import", "from codegen.model.mechanism import")
                      .replace('name="torsion_pendulum"', 'name="my_pendulum"'))

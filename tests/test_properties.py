@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 from codegen.api import load
 
 api = load("doughty")
-from codegen.analysis import analyze, analyze_batch
+from codegen.runtime.analysis import analyze, analyze_batch
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
 from test_equilibria import min_spring_length  # noqa: E402  (closed form of min r, (34))

@@ -1,7 +1,7 @@
-"""The time response (templates/simulate.c.j2 -> PREFIX_simulate.c, codegen.simulation) of
+"""The time response (templates/simulate.c.j2 -> PREFIX_simulate.c, codegen.runtime.simulation) of
 every shipped mechanism, against references independent of the C: the symbolic derivation
-(codegen.derivation: thetaddot, the damping coefficient e2 and the applied forces' generalised
-force, lambdified) integrated by scipy's solve_ivp (DOP853, rtol 1e-12); the energy balance
+(codegen.compiler.derivation: thetaddot, the damping coefficient e2 and the applied forces'
+generalised force, lambdified) integrated by scipy's solve_ivp (DOP853, rtol 1e-12); the energy balance
 dE/dt = Q_theta thetadot - e2 thetadot^2 along trajectories, by Gauss-Legendre quadrature; and
 small motions about every stable equilibrium against what the linearisation's eigenvalues
 say. Then the C entry points' statuses and untouched outputs, resumption bit for bit, the
@@ -19,12 +19,12 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from codegen import simulation
+from codegen.runtime import simulation
 from codegen.api import load
-from codegen.derivation import derive
+from codegen.compiler.derivation import derive
 from codegen.errors import LibraryError
-from codegen.model import SHIPPED
-from codegen.model import load as load_model
+from codegen.compiler.model import SHIPPED
+from codegen.compiler.model import load as load_model
 
 NAMES = list(SHIPPED)
 #: Loads switched on where the example has none, so that the applied forces do work.

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from codegen import simulation
+from codegen.runtime import simulation
 from codegen.api import load
 from codegen.cli.common import ProgressBar
 

@@ -1,4 +1,4 @@
-"""codegen.sweep and `mechvib sweep`: grids and samples of parameter sets, analysed into one
+"""codegen.runtime.sweep and `mechvib sweep`: grids and samples of parameter sets, analysed into one
 row per root, against batch.analyze_table set by set; written to CSV and Parquet and read
 back; the same bit for bit on any threads, chunks, and on a Dask cluster."""
 from __future__ import annotations
@@ -13,10 +13,10 @@ import sys
 import numpy as np
 import pytest
 
-from codegen import sweep as sw
-from codegen.analysis import KINDS
+from codegen.runtime import sweep as sw
+from codegen.runtime.analysis import KINDS
 from codegen.api import load
-from codegen.batch import analyze_table
+from codegen.runtime.batch import analyze_table
 from codegen.cli.common import ProgressBar
 
 pa = pytest.importorskip("pyarrow")

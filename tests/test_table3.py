@@ -35,7 +35,7 @@ import pytest
 from codegen.api import load
 
 api = load("doughty")
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
 from test_equilibria import (  # noqa: E402

@@ -182,7 +182,7 @@ def test_generate_writes_and_builds_the_library(workdir, generated):
     assert "Traceback" not in generated.stderr
     assert f"wrote and built {NAME}" in generated.stdout
     lib = workdir / "lib"
-    for file in (f"{NAME}.h", f"{NAME}.c", f"{NAME}_analysis.c", f"{NAME}.cdef",
+    for file in (f"{NAME}.h", f"{NAME}.c", f"{NAME}_model.c", f"{NAME}.cdef",
                  f"{NAME}_api.json"):
         assert (lib / NAME / file).is_file(), file
     assert list(lib.glob(f"_native_{NAME}.*")), sorted(p.name for p in lib.iterdir())

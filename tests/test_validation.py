@@ -12,7 +12,7 @@ from codegen.api import load
 
 api = load("doughty")
 ffi, lib = api.ffi, api.lib
-from codegen.analysis import analyze
+from codegen.runtime.analysis import analyze
 
 SENTINEL = 12345.678
 

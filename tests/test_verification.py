@@ -14,13 +14,14 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from codegen import cli, generate
-from codegen.derivation import derive
-from codegen.emission.plan import build_plan
-from codegen.model import SHIPPED, load
-from codegen.model.mechanism import Mechanism
+from codegen import cli
+from codegen.compiler import generate
+from codegen.compiler.derivation import derive
+from codegen.compiler.emission.plan import build_plan
+from codegen.compiler.model import SHIPPED, load
+from codegen.compiler.model.mechanism import Mechanism
 from codegen.api import load as load_library
-from codegen.verification import VerificationError, parameter_sets, verify, verify_compiled
+from codegen.compiler.verification import VerificationError, parameter_sets, verify, verify_compiled
 
 
 #: The gallery's model file of the slotted lever (tests/test_gallery.py runs it end to end).

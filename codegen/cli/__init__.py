@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__, files
-from ..figures import PlotUnavailable
+from ..runtime.figures import PlotUnavailable
 from . import analyze, branches, draw, generate, listing, params, simulate, sources, sweep
 
 #: The verbs, in the order --help lists them.

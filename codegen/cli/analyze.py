@@ -15,8 +15,8 @@ examples:
 def run(args) -> int:
     import json
 
-    from ..analysis import analyze
-    from ..report import paragraph, table
+    from ..runtime.analysis import analyze
+    from .report import paragraph, table
 
     library = common.load_library(args, args.out)
     params = library.example_params(**common.overrides(args.set, library.UNITS))

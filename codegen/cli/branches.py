@@ -1,7 +1,7 @@
 """`mechvib branches`: every equilibrium as one parameter varies."""
 from __future__ import annotations
 
-from ..branches import DEFAULT_POINTS
+from ..runtime.branches import DEFAULT_POINTS
 from . import common
 
 EXAMPLES = """\
@@ -22,9 +22,9 @@ of every branch (.csv, .json or .parquet), --plot the figure (.png or .svg; pip 
 def run(args) -> int:
     """Follow every equilibrium as one parameter varies; a summary on stdout, the table
     and the figure to files."""
-    from .. import branch_figure, figures
-    from ..branches import branches, check_table_path
-    from ..report import branch_summary
+    from ..runtime import branch_figure, figures
+    from ..runtime.branches import branches, check_table_path
+    from .report import branch_summary
 
     if args.plot:   # before the work: a bad path or no matplotlib fails at once
         figures.check_path(args.plot)

@@ -10,7 +10,7 @@ from typing import Any, TextIO
 
 from tqdm import tqdm
 
-from ..api import shipped
+from ..runtime.api import shipped
 
 #: The mechanism a command works on when none is named: the paper's example.
 DEFAULT_MECHANISM = "doughty"
@@ -18,7 +18,7 @@ DEFAULT_MECHANISM = "doughty"
 
 def generator():
     try:  # the generator needs sympy and jinja2; analysis does not
-        from .. import generate
+        from ..compiler import generate
     except ImportError as error:
         raise ValueError(f"generate needs the generator's dependencies ({error.name} is "
                          "missing): pip install 'mechvib[generate]'") from None
@@ -92,7 +92,7 @@ def overrides(pairs: list[tuple[str, str]], units: dict[str, str] | None = None
 def load_library(args, build: str | None = None):
     """The library --mechanism or --model names; a model is generated and built into
     ``build`` (default: the per-user cache, codegen.user_model), or its build there reused."""
-    from ..api import load
+    from ..runtime.api import load
 
     if getattr(args, "model", None):
         generator()  # the generator's dependencies, or a one-line error naming them

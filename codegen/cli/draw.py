@@ -19,11 +19,11 @@ def geometry_of(args):
     """The Geometry the options describe (what the figure draws)."""
     import math
 
-    from ..analysis import analyze
-    from ..drawing import geometry
+    from ..runtime.analysis import analyze
+    from ..runtime.drawing import geometry
 
     common.generator()   # the model is sympy: its dependencies, or a one-line error
-    from ..model import load
+    from ..compiler.model import load
 
     library = common.load_library(args)
     mechanism = load(args.model or common.checked_mechanism(
@@ -40,7 +40,7 @@ def geometry_of(args):
 
 
 def run(args) -> int:
-    from .. import drawing, figures
+    from ..runtime import drawing, figures
 
     figures.check_path(args.output)
     figures.pyplot()   # before the work: no matplotlib fails at once, in one line

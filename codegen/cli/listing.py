@@ -1,7 +1,7 @@
 """`mechvib list`: the mechanisms this installation has compiled."""
 from __future__ import annotations
 
-from ..api import shipped
+from ..runtime.api import shipped
 from . import common
 
 EXAMPLES = """\
@@ -10,7 +10,7 @@ examples:
 
 
 def run(args) -> int:
-    from ..api import load
+    from ..runtime.api import load
 
     for name in shipped():
         library = load(name)

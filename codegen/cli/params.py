@@ -15,7 +15,7 @@ def listing(library) -> str:
     as the command line takes it."""
     import math
 
-    from ..report import paragraph
+    from .report import paragraph
 
     rows = []
     for p in library.SPEC["parameters"]:

@@ -27,7 +27,7 @@ and rad/s)."""
 def _write_trajectory(args, trajectory):
     """CSV on stdout (no file to name), or the --out and --plot files: the files' names,
     and the linearised response drawn beside (None unless --linearised)."""
-    from .. import simulation
+    from ..runtime import simulation
 
     linear = simulation.linearised(trajectory) if args.linearised else None
     if not (args.out or args.plot):
@@ -39,7 +39,7 @@ def _write_trajectory(args, trajectory):
 
 
 def _simulation_summary(trajectory, linear, seconds: float, written: list[str]) -> str:
-    from ..report import paragraph
+    from .report import paragraph
 
     about = ""
     if linear is not None:
@@ -59,7 +59,7 @@ def run(args) -> int:
     """The motion from an initial state: CSV on stdout, or files and a summary."""
     import numpy as np
 
-    from .. import figures, simulation
+    from ..runtime import figures, simulation
 
     if args.plot:
         figures.check_path(args.plot)

@@ -4,7 +4,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..api import shipped
+from ..runtime.api import shipped
 from . import common
 
 EXAMPLES = """\

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import time
 
-from ..sweep import CHUNK
+from ..runtime.sweep import CHUNK
 from . import common
 
 EXAMPLES = """\
@@ -48,7 +48,7 @@ def _sample_range(name: str, spec: str, unit: str | None = None) -> tuple[float,
 
 def _sweep_sets(library, args):
     """The parameter sets --vary, --sample, --seed and --set describe (a params_array)."""
-    from .. import sweep
+    from ..runtime import sweep
 
     units = library.UNITS
     base, names = common.overrides(args.set, units), [name for name, _ in args.vary]
@@ -98,7 +98,7 @@ class _Tally:
     """What the summary of a sweep counts, piece by piece."""
 
     def __init__(self, library) -> None:
-        from ..analysis import KINDS, STABILITY
+        from ..runtime.analysis import KINDS, STABILITY
 
         self.library, self.rows, self.equilibria, self.stable = library, 0, 0, 0
         self.failed: dict[int, int] = {}
@@ -116,7 +116,7 @@ class _Tally:
             self.failed[int(status)] = self.failed.get(int(status), 0) + int(count)
 
     def summary(self, sets: int, seconds: float, where: str, out: str) -> str:
-        from ..report import paragraph
+        from .report import paragraph
 
         names = {v: k for k, v in self.library.STATUS.items()}
         failed = sum(self.failed.values())
@@ -130,7 +130,7 @@ class _Tally:
 
 def run(args) -> int:
     """Analyse every set, writing the rows as they come; a summary on stdout."""
-    from .. import sweep
+    from ..runtime import sweep
 
     library = common.load_library(args)
     sets = _sweep_sets(library, args)

@@ -17,6 +17,7 @@
 
 #include "codegen_dd.h"
 #include "codegen_interval.h"
+#include "codegen_model.h"
 #include "codegen_ode.h"
 #include "codegen_runtime.h"
 
@@ -291,81 +292,38 @@ four_bar_status four_bar_enclosure(const four_bar_params *params, unsigned mode,
 four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIGMA],
                                        codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots);
 
-/* Stability of an equilibrium from M, B, K (M > 0). */
-typedef enum four_bar_stability {
-    FOUR_BAR_STABLE = 0,   /* K > 0, B > 0: perturbations decay */
-    FOUR_BAR_MARGINAL = 1, /* K > 0, B = 0 (undamped), or K = 0 */
-    FOUR_BAR_UNSTABLE = 2  /* K < 0: a perturbation grows */
-} four_bar_stability;
-
-/* Character of the free motion about an equilibrium. */
-typedef enum four_bar_damping {
-    FOUR_BAR_UNDERDAMPED = 0,       /* 0 < zeta < 1 */
-    FOUR_BAR_CRITICALLY_DAMPED = 1, /* zeta = 1 to rounding */
-    FOUR_BAR_OVERDAMPED = 2,        /* zeta > 1 */
-    FOUR_BAR_UNDAMPED = 3,          /* B = 0, K > 0 */
-    FOUR_BAR_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
-} four_bar_damping;
-
-/* What a root is: which branch of the square roots zeroes G there. */
-typedef enum four_bar_root_kind {
-    FOUR_BAR_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
-    FOUR_BAR_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
-    FOUR_BAR_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
-} four_bar_root_kind;
-
-/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
- * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
- * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
-typedef struct four_bar_equilibrium {
-    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
-    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
-    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
-    int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
-    four_bar_root_kind kind;
-    codegen_real residual;        /* G(theta_E) (42) [N m] */
-    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
-                               has |residual| / residual_scale near machine epsilon */
-    codegen_real M;               /* M_EQ [kg m^2] (50) */
-    codegen_real B;               /* B_EQ [N m s] (51) */
-    codegen_real K;               /* K_EQ [N m] (52) */
-    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
-    four_bar_stability stability;
-    four_bar_damping damping;
-} four_bar_equilibrium;
-
-/* What the certified isolation could not decide in double precision. */
-typedef enum four_bar_uncertainty {
-    FOUR_BAR_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
-                             two equilibria closer than double separates, or a near-double
-                             complex pair (none); sign_change = 1 means at least one */
-    FOUR_BAR_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
-                             zero length, a limit position): no equilibrium is claimed there */
-} four_bar_uncertainty;
-
-typedef struct four_bar_interval {
-    codegen_real lo, hi;          /* [rad] */
-    four_bar_uncertainty kind;
-    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
-    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
-                               G is continuous there */
-} four_bar_interval;
+/* The analysis' types are the runtime's (codegen_model.h), under this library's names. */
+typedef codegen_stability four_bar_stability;
+typedef codegen_damping four_bar_damping;
+typedef codegen_root_kind four_bar_root_kind;
+typedef codegen_equilibrium four_bar_equilibrium;
+typedef codegen_uncertainty four_bar_uncertainty;
+typedef codegen_uncertain four_bar_interval;
+#define FOUR_BAR_STABLE CODEGEN_STABLE
+#define FOUR_BAR_MARGINAL CODEGEN_MARGINAL
+#define FOUR_BAR_UNSTABLE CODEGEN_UNSTABLE
+#define FOUR_BAR_UNDERDAMPED CODEGEN_UNDERDAMPED
+#define FOUR_BAR_CRITICALLY_DAMPED CODEGEN_CRITICALLY_DAMPED
+#define FOUR_BAR_OVERDAMPED CODEGEN_OVERDAMPED
+#define FOUR_BAR_UNDAMPED CODEGEN_UNDAMPED
+#define FOUR_BAR_NOT_OSCILLATORY CODEGEN_NOT_OSCILLATORY
+#define FOUR_BAR_EQUILIBRIUM CODEGEN_EQUILIBRIUM
+#define FOUR_BAR_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
+#define FOUR_BAR_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define FOUR_BAR_CLUSTER CODEGEN_CLUSTER
+#define FOUR_BAR_SINGULAR CODEGEN_SINGULAR
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct four_bar_analysis {
     codegen_real sigma[FOUR_BAR_N_SIGMA];             /* sigma_0..sigma_28 (polynomial route; 0 after isolation) */
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
-    four_bar_equilibrium roots[FOUR_BAR_MAX_ROOTS]; /* ascending theta */
+    codegen_equilibrium roots[FOUR_BAR_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     codegen_real singular_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     codegen_real unassembled_theta[FOUR_BAR_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
-    four_bar_interval uncertain[FOUR_BAR_MAX_UNCERTAIN]; /* ascending */
+    codegen_uncertain uncertain[FOUR_BAR_MAX_UNCERTAIN]; /* ascending */
 } four_bar_analysis;
 
 /* The polynomial route: every real root of the polynomial, classified by branch, polished,
@@ -396,6 +354,7 @@ typedef struct four_bar_workspace {
     codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, FOUR_BAR_N_BRANCHES, FOUR_BAR_N_MODES)]; /* states and branch values at work */
 } four_bar_workspace;
 /* four_bar_analyze and four_bar_isolate in the caller's working memory (NULL:
  * FOUR_BAR_ERR_NULL_POINTER): the same results, bit for bit. */

@@ -17,6 +17,7 @@
 
 #include "codegen_dd.h"
 #include "codegen_interval.h"
+#include "codegen_model.h"
 #include "codegen_ode.h"
 #include "codegen_runtime.h"
 
@@ -291,81 +292,38 @@ slider_crank_status slider_crank_enclosure(const slider_crank_params *params, un
 slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
                                        codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots);
 
-/* Stability of an equilibrium from M, B, K (M > 0). */
-typedef enum slider_crank_stability {
-    SLIDER_CRANK_STABLE = 0,   /* K > 0, B > 0: perturbations decay */
-    SLIDER_CRANK_MARGINAL = 1, /* K > 0, B = 0 (undamped), or K = 0 */
-    SLIDER_CRANK_UNSTABLE = 2  /* K < 0: a perturbation grows */
-} slider_crank_stability;
-
-/* Character of the free motion about an equilibrium. */
-typedef enum slider_crank_damping {
-    SLIDER_CRANK_UNDERDAMPED = 0,       /* 0 < zeta < 1 */
-    SLIDER_CRANK_CRITICALLY_DAMPED = 1, /* zeta = 1 to rounding */
-    SLIDER_CRANK_OVERDAMPED = 2,        /* zeta > 1 */
-    SLIDER_CRANK_UNDAMPED = 3,          /* B = 0, K > 0 */
-    SLIDER_CRANK_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
-} slider_crank_damping;
-
-/* What a root is: which branch of the square roots zeroes G there. */
-typedef enum slider_crank_root_kind {
-    SLIDER_CRANK_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
-    SLIDER_CRANK_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
-    SLIDER_CRANK_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
-} slider_crank_root_kind;
-
-/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
- * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
- * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
-typedef struct slider_crank_equilibrium {
-    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
-    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
-    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
-    int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
-    slider_crank_root_kind kind;
-    codegen_real residual;        /* G(theta_E) (42) [N m] */
-    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
-                               has |residual| / residual_scale near machine epsilon */
-    codegen_real M;               /* M_EQ [kg m^2] (50) */
-    codegen_real B;               /* B_EQ [N m s] (51) */
-    codegen_real K;               /* K_EQ [N m] (52) */
-    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
-    slider_crank_stability stability;
-    slider_crank_damping damping;
-} slider_crank_equilibrium;
-
-/* What the certified isolation could not decide in double precision. */
-typedef enum slider_crank_uncertainty {
-    SLIDER_CRANK_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
-                             two equilibria closer than double separates, or a near-double
-                             complex pair (none); sign_change = 1 means at least one */
-    SLIDER_CRANK_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
-                             zero length, a limit position): no equilibrium is claimed there */
-} slider_crank_uncertainty;
-
-typedef struct slider_crank_interval {
-    codegen_real lo, hi;          /* [rad] */
-    slider_crank_uncertainty kind;
-    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
-    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
-                               G is continuous there */
-} slider_crank_interval;
+/* The analysis' types are the runtime's (codegen_model.h), under this library's names. */
+typedef codegen_stability slider_crank_stability;
+typedef codegen_damping slider_crank_damping;
+typedef codegen_root_kind slider_crank_root_kind;
+typedef codegen_equilibrium slider_crank_equilibrium;
+typedef codegen_uncertainty slider_crank_uncertainty;
+typedef codegen_uncertain slider_crank_interval;
+#define SLIDER_CRANK_STABLE CODEGEN_STABLE
+#define SLIDER_CRANK_MARGINAL CODEGEN_MARGINAL
+#define SLIDER_CRANK_UNSTABLE CODEGEN_UNSTABLE
+#define SLIDER_CRANK_UNDERDAMPED CODEGEN_UNDERDAMPED
+#define SLIDER_CRANK_CRITICALLY_DAMPED CODEGEN_CRITICALLY_DAMPED
+#define SLIDER_CRANK_OVERDAMPED CODEGEN_OVERDAMPED
+#define SLIDER_CRANK_UNDAMPED CODEGEN_UNDAMPED
+#define SLIDER_CRANK_NOT_OSCILLATORY CODEGEN_NOT_OSCILLATORY
+#define SLIDER_CRANK_EQUILIBRIUM CODEGEN_EQUILIBRIUM
+#define SLIDER_CRANK_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
+#define SLIDER_CRANK_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define SLIDER_CRANK_CLUSTER CODEGEN_CLUSTER
+#define SLIDER_CRANK_SINGULAR CODEGEN_SINGULAR
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct slider_crank_analysis {
     codegen_real sigma[SLIDER_CRANK_N_SIGMA];             /* sigma_0..sigma_24 (polynomial route; 0 after isolation) */
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
-    slider_crank_equilibrium roots[SLIDER_CRANK_MAX_ROOTS]; /* ascending theta */
+    codegen_equilibrium roots[SLIDER_CRANK_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     codegen_real singular_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     codegen_real unassembled_theta[SLIDER_CRANK_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
-    slider_crank_interval uncertain[SLIDER_CRANK_MAX_UNCERTAIN]; /* ascending */
+    codegen_uncertain uncertain[SLIDER_CRANK_MAX_UNCERTAIN]; /* ascending */
 } slider_crank_analysis;
 
 /* The polynomial route: every real root of the polynomial, classified by branch, polished,
@@ -396,6 +354,7 @@ typedef struct slider_crank_workspace {
     codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_N_MODES)]; /* states and branch values at work */
 } slider_crank_workspace;
 /* slider_crank_analyze and slider_crank_isolate in the caller's working memory (NULL:
  * SLIDER_CRANK_ERR_NULL_POINTER): the same results, bit for bit. */

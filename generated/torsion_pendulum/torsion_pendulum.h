@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "codegen_interval.h"
+#include "codegen_model.h"
 #include "codegen_ode.h"
 
 #ifdef __cplusplus
@@ -193,80 +194,37 @@ torsion_pendulum_status torsion_pendulum_equilibrium_state_batch(size_t count, c
 torsion_pendulum_status torsion_pendulum_enclosure(const torsion_pendulum_params *params, unsigned mode, const codegen_real theta[2],
                                 codegen_real g[2], codegen_real dg[2], unsigned *flags);
 
-/* Stability of an equilibrium from M, B, K (M > 0). */
-typedef enum torsion_pendulum_stability {
-    TORSION_PENDULUM_STABLE = 0,   /* K > 0, B > 0: perturbations decay */
-    TORSION_PENDULUM_MARGINAL = 1, /* K > 0, B = 0 (undamped), or K = 0 */
-    TORSION_PENDULUM_UNSTABLE = 2  /* K < 0: a perturbation grows */
-} torsion_pendulum_stability;
-
-/* Character of the free motion about an equilibrium. */
-typedef enum torsion_pendulum_damping {
-    TORSION_PENDULUM_UNDERDAMPED = 0,       /* 0 < zeta < 1 */
-    TORSION_PENDULUM_CRITICALLY_DAMPED = 1, /* zeta = 1 to rounding */
-    TORSION_PENDULUM_OVERDAMPED = 2,        /* zeta > 1 */
-    TORSION_PENDULUM_UNDAMPED = 3,          /* B = 0, K > 0 */
-    TORSION_PENDULUM_NOT_OSCILLATORY = 4    /* K <= 0: no natural frequency */
-} torsion_pendulum_damping;
-
-/* What a root is: which branch of the square roots zeroes G there. */
-typedef enum torsion_pendulum_root_kind {
-    TORSION_PENDULUM_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
-    TORSION_PENDULUM_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
-    TORSION_PENDULUM_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
-} torsion_pendulum_root_kind;
-
-/* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
- * those of its own assembly mode (of the declared one for an extraneous root). Where M = 0 (no
- * inertia at that angle) omega_n, zeta and the eigenvalues are NaN: undefined. */
-typedef struct torsion_pendulum_equilibrium {
-    codegen_real theta;           /* theta_E [rad], in the coordinate's range */
-    codegen_real theta_lo;        /* an interval [rad] holding theta_E: when certified, exactly one */
-    codegen_real theta_hi;        /*   zero of G lies in it (G changes sign, G' keeps its sign) */
-    int certified;          /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
-    int genuine;            /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
-    torsion_pendulum_root_kind kind;
-    codegen_real residual;        /* G(theta_E) (42) [N m] */
-    codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine root
-                               has |residual| / residual_scale near machine epsilon */
-    codegen_real M;               /* M_EQ [kg m^2] (50) */
-    codegen_real B;               /* B_EQ [N m s] (51) */
-    codegen_real K;               /* K_EQ [N m] (52) */
-    codegen_real omega_n[2];      /* natural frequency, real and imaginary parts [rad/s] (54) */
-    codegen_real zeta[2];         /* damping ratio, real and imaginary parts (55) */
-    codegen_real eigen_re[2];     /* eigenvalues of M s^2 + B s + K = 0, real parts [1/s] */
-    codegen_real eigen_im[2];     /* and imaginary parts [rad/s] */
-    torsion_pendulum_stability stability;
-    torsion_pendulum_damping damping;
-} torsion_pendulum_equilibrium;
-
-/* What the certified isolation could not decide in double precision. */
-typedef enum torsion_pendulum_uncertainty {
-    TORSION_PENDULUM_CLUSTER = 0,  /* G and G' within rounding of 0 throughout: a double root (a fold),
-                             two equilibria closer than double separates, or a near-double
-                             complex pair (none); sign_change = 1 means at least one */
-    TORSION_PENDULUM_SINGULAR = 1  /* G undefined or not smooth somewhere inside (a spring through
-                             zero length, a limit position): no equilibrium is claimed there */
-} torsion_pendulum_uncertainty;
-
-typedef struct torsion_pendulum_interval {
-    codegen_real lo, hi;          /* [rad] */
-    torsion_pendulum_uncertainty kind;
-    unsigned mode;          /* the assembly mode it was found on (0: as declared) */
-    int sign_change;        /* G's sign differs at lo and hi: an odd number of zeros inside if
-                               G is continuous there */
-} torsion_pendulum_interval;
+/* The analysis' types are the runtime's (codegen_model.h), under this library's names. */
+typedef codegen_stability torsion_pendulum_stability;
+typedef codegen_damping torsion_pendulum_damping;
+typedef codegen_root_kind torsion_pendulum_root_kind;
+typedef codegen_equilibrium torsion_pendulum_equilibrium;
+typedef codegen_uncertainty torsion_pendulum_uncertainty;
+typedef codegen_uncertain torsion_pendulum_interval;
+#define TORSION_PENDULUM_STABLE CODEGEN_STABLE
+#define TORSION_PENDULUM_MARGINAL CODEGEN_MARGINAL
+#define TORSION_PENDULUM_UNSTABLE CODEGEN_UNSTABLE
+#define TORSION_PENDULUM_UNDERDAMPED CODEGEN_UNDERDAMPED
+#define TORSION_PENDULUM_CRITICALLY_DAMPED CODEGEN_CRITICALLY_DAMPED
+#define TORSION_PENDULUM_OVERDAMPED CODEGEN_OVERDAMPED
+#define TORSION_PENDULUM_UNDAMPED CODEGEN_UNDAMPED
+#define TORSION_PENDULUM_NOT_OSCILLATORY CODEGEN_NOT_OSCILLATORY
+#define TORSION_PENDULUM_EQUILIBRIUM CODEGEN_EQUILIBRIUM
+#define TORSION_PENDULUM_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
+#define TORSION_PENDULUM_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define TORSION_PENDULUM_CLUSTER CODEGEN_CLUSTER
+#define TORSION_PENDULUM_SINGULAR CODEGEN_SINGULAR
 
 /* Everything Table 1 steps 8-10 say about one parameter set. */
 typedef struct torsion_pendulum_analysis {
     int n_roots;                                    /* regular roots, <= MAX_ROOTS */
-    torsion_pendulum_equilibrium roots[TORSION_PENDULUM_MAX_ROOTS]; /* ascending theta */
+    codegen_equilibrium roots[TORSION_PENDULUM_MAX_ROOTS]; /* ascending theta */
     int n_singular;         /* roots at a singular state (a square root is zero): G is undefined */
     codegen_real singular_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_unassembled;      /* roots where the mechanism cannot be assembled: no equilibrium */
     codegen_real unassembled_theta[TORSION_PENDULUM_MAX_ROOTS]; /* their angles [rad], ascending */
     int n_uncertain;        /* intervals the certified isolation could not decide */
-    torsion_pendulum_interval uncertain[TORSION_PENDULUM_MAX_UNCERTAIN]; /* ascending */
+    codegen_uncertain uncertain[TORSION_PENDULUM_MAX_UNCERTAIN]; /* ascending */
 } torsion_pendulum_analysis;
 
 /* G is not algebraic in cos and sin of the angle, so no polynomial holds its equilibria:
@@ -288,6 +246,7 @@ typedef struct torsion_pendulum_workspace {
     codegen_iv enclosure_slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(5, TORSION_PENDULUM_N_BRANCHES, TORSION_PENDULUM_N_MODES)]; /* states and branch values at work */
 } torsion_pendulum_workspace;
 /* torsion_pendulum_analyze and torsion_pendulum_isolate in the caller's working memory (NULL:
  * TORSION_PENDULUM_ERR_NULL_POINTER): the same results, bit for bit. */

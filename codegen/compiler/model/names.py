@@ -6,7 +6,7 @@ macro of the headers the library (or a program using it) includes, can never be 
 Those names are refused. Every other identifier works: where a name is also one the C
 standard library or the generated code uses for itself (``sin``, ``M_PI``, ``v``, ``out``,
 ``params``), the generated code computes with a local of another name (see
-``codegen.derivation.names``) and only the struct field and the documentation keep the
+``codegen.compiler.derivation.names``) and only the struct field and the documentation keep the
 user's.
 """
 from __future__ import annotations

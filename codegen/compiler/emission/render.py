@@ -15,7 +15,7 @@ import json
 import jinja2
 import sympy as sp
 
-from .. import __version__
+from ... import __version__
 from .interval import interval_body
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
@@ -187,6 +187,26 @@ def _range_centre(plan: Plan, printer) -> str:
         {s: sp.Symbol(f"params->{s.name}") for s in centre.free_symbols}))
 
 
+#: The runtime's name for the failure of each kernel it calls (codegen_model.h), and the
+#: plan's function: only those the plan has are given.
+_FAILURES = (("residual_failure", "equilibrium_residual"),
+             ("linearisation_failure", "linearisation"),
+             ("mode_linearisation_failure", "mode_linearisation"),
+             ("radicands_failure", "radicands"),
+             ("branches_failure", "equilibrium_branches"),
+             ("sigma_failure", "sigma"),
+             ("acceleration_failure", "angular_acceleration"))
+
+
+def _model_layout(plan: Plan, functions: list[RenderedFunction]) -> dict:
+    """What the library's codegen_model says of the fused state kernel's output (its size,
+    and each quantity's field of codegen_state_layout) and of the kernels' failures."""
+    state = next(f for f in functions if f.name == "equilibrium_state")
+    return {"state_size": state.n_out,
+            "state_offsets": [name.lower() for name, _ in state.offsets],
+            "failures": [(field, name) for field, name in _FAILURES if plan.has(name)]}
+
+
 def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
     """File name -> text of every generated file."""
     env = environment(str(template_dir))
@@ -230,11 +250,10 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         # sigma as a double-double program, whose values the analysis keeps in its workspace
         "sigma_values": any(f.name == "sigma" and f.body.program for f in functions),
     }
+    context.update(_model_layout(plan, functions))
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",
-                 f"{prefix}.cdef": "library.cdef.j2"}
-    templates[f"{prefix}_analysis.c"] = "analysis.c.j2"
-    templates[f"{prefix}_kernels.h"] = "kernels.h.j2"
-    templates[f"{prefix}_simulate.c"] = "simulate.c.j2"
+                 f"{prefix}.cdef": "library.cdef.j2", f"{prefix}_kernels.h": "kernels.h.j2",
+                 f"{prefix}_model.c": "model.c.j2"}
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)

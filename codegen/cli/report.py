@@ -1,0 +1,197 @@
+"""Layer 7: an analysis as text for a terminal (the command line prints it).
+
+The default table fits 100 columns: the angle, what the root is, whether it is proven, the
+stiffness and the vibration. ``wide`` adds M_EQ, B_EQ and the eigenvalues. A quantity with no
+meaning for a root (anything but the angle of an extraneous root, omega_n where M = 0) is "-".
+"""
+from __future__ import annotations
+
+import math
+import textwrap
+from dataclasses import dataclass
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Callable
+
+from ..runtime.analysis import KINDS, STABILITY, Analysis, Equilibrium
+
+if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
+    from ..runtime.branches import Branches
+
+WIDTH = 100
+
+
+def _number(x: float, digits: int = 4) -> str:
+    """Fixed decimals like the paper's Table 3, scientific below 1e-2; never a negative zero."""
+    x += 0.0  # -0.0 + 0.0 is +0.0
+    return f"{x:.{digits}f}" if x == 0 or abs(x) >= 1e-2 else f"{x:.{digits}e}"
+
+
+def _complex(z: complex, digits: int = 4) -> str:
+    if z.imag == 0:
+        return _number(z.real, digits)
+    if z.real == 0:
+        return f"{_number(z.imag, digits)} i"
+    return f"{_number(z.real, digits)}{'+' if z.imag >= 0 else '-'}{_number(abs(z.imag), digits)} i"
+
+
+LABELS = {"equilibrium": "equilibrium", "other assembly mode": "other mode",
+          "extraneous": "extraneous"}
+
+
+#: The table's legend for complex quantities and extraneous roots (docs/python.md has the
+#: same convention for JSON, CSV, Python and C).
+COMPLEX_NOTE = (" A value \"x i\" is imaginary: where K_EQ < 0, omega_n = sqrt(K/M) "
+                "and zeta are (JSON [re, im], Python complex, C arrays [2] of re, im).")
+EXTRANEOUS_NOTE = ("An extraneous root is not an equilibrium: it has no stability, damping or "
+                   "vibration (\"-\"; null in JSON and CSV, None in Python).")
+
+
+@dataclass(frozen=True)
+class Column:
+    header: str
+    width: int
+    text: Callable[[Equilibrium], str]
+    physical: bool = True   # "-" for an extraneous root: not a state of the mechanism
+    wide: bool = False      # only in the wide table
+
+
+def _defined(x: float, text: str) -> str:
+    """A value, or "-" where it is undefined (no inertia: NaN)."""
+    return "-" if math.isnan(x) else text
+
+
+COLUMNS = (
+    Column("theta_E [deg]", 13, lambda r: f"{r.theta_deg + 0.0:.4f}", physical=False),
+    Column("kind", 11, lambda r: LABELS[r.kind], physical=False),
+    Column("proof", 9, lambda r: "certified" if r.certified else "-", physical=False),
+    Column("M_EQ", 10, lambda r: _number(r.M), wide=True),
+    Column("B_EQ", 11, lambda r: _number(r.B), wide=True),
+    Column("K_EQ", 11, lambda r: _number(r.K)),
+    Column("omega_n", 12, lambda r: _defined(r.omega_n.real, _complex(r.omega_n))),
+    Column("zeta", 13, lambda r: _defined(r.zeta.real, _complex(r.zeta))),
+    Column("eigenvalues [1/s]", 36, lambda r: _defined(
+        r.eigenvalues[0].real, ", ".join(_complex(z) for z in r.eigenvalues)), wide=True),
+    Column("stability", 9, lambda r: r.stability or "-"),
+    Column("damping", 11, lambda r: r.damping or "-"),
+)
+
+
+def _rows(analysis: Analysis, wide: bool) -> list[str]:
+    columns = [c for c in COLUMNS if wide or not c.wide]
+    head = " ".join(f"{c.header:>{c.width}}" for c in columns)
+    lines = [head, "-" * len(head)]
+    for r in analysis.roots:
+        meaningless = r.kind == "extraneous"
+        lines.append(" ".join(
+            f"{'-' if meaningless and c.physical else c.text(r):>{c.width}}" for c in columns))
+    return lines
+
+
+def paragraph(text: str) -> str:
+    """Prose wrapped to the table's width."""
+    return textwrap.fill(text, WIDTH, break_on_hyphens=False)
+
+
+def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
+    """A table like the paper's Table 3, plus what the paper leaves implicit; ``wide`` adds
+    every column, ``sigma`` the polynomial's coefficients."""
+    lines = _rows(analysis, wide)
+    count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
+    parts = [f"{count['equilibrium']} equilibria"]
+    parts += [f"{count['other assembly mode']} of another assembly mode"] * bool(
+        count["other assembly mode"])
+    parts += [f"{count['extraneous']} extraneous (a negative length)"] * bool(count["extraneous"])
+    parts += [f"{len(analysis.singular)} singular"] * bool(analysis.singular)
+    parts += [f"{len(analysis.unassembled)} where it cannot be assembled"] * bool(
+        analysis.unassembled)
+    parts += [f"{len(analysis.uncertain)} undecided in double precision"] * bool(
+        analysis.uncertain)
+    proven = sum(r.certified for r in analysis.roots)
+    if analysis.method == "polynomial":
+        n = len(analysis.roots) + len(analysis.singular) + len(analysis.unassembled)
+        summary = (f"{n} real roots of the polynomial: {', '.join(parts)}; "
+                   f"{proven} certified by interval enclosures.")
+    else:
+        summary = (f"Certified isolation of the zeros of G: {', '.join(parts)}. Each "
+                   "equilibrium is proven in an interval where G changes sign and G' keeps "
+                   "its sign; none are missed outside the intervals listed.")
+    notes = [summary]
+    for title, angles in (("a square root is zero, so G is undefined", analysis.singular),
+                          ("the mechanism cannot be assembled", analysis.unassembled)):
+        if angles:
+            listed = ", ".join(f"{math.degrees(t) + 0.0:.4f}" for t in angles)
+            notes.append(f"Roots where {title}: {listed} deg.")
+    for u in analysis.uncertain:
+        what = ("G and G' are within rounding of zero (a fold, a pair closer than double "
+                "separates, or none)" if u.kind == "cluster" else
+                "G is undefined or not smooth (a pole or a limit position): no equilibrium "
+                "is claimed")
+        change = "; G changes sign across it: at least one equilibrium" if u.sign_change else ""
+        notes.append(f"Undecided [{u.lo_deg + 0.0:.10f}, {u.hi_deg + 0.0:.10f}] deg "
+                     f"(mode {u.mode}): {what}{change}.")
+    notes.append("Angles in degrees, omega_n in rad/s, zeta dimensionless; M, B and K in SI "
+                 "units of the coordinate." + (COMPLEX_NOTE if any(
+                     r.omega_n.imag for r in analysis.roots) else ""))
+    if count["extraneous"]:
+        notes.append(EXTRANEOUS_NOTE)
+    lines += [""] + [paragraph(n) for n in notes]
+    if sigma and analysis.sigma:
+        lines.append(f"sigma_0..sigma_{len(analysis.sigma) - 1}:")
+        lines += [f"  sigma_{i:<2} = {s + 0.0: .10e}" for i, s in enumerate(analysis.sigma)]
+    elif sigma:
+        lines.append("No sigma: the isolation route works on G itself.")
+    return "\n".join(lines)
+
+
+def _plural(count: int, noun: str) -> str:
+    """'1 fold', '2 folds', '3 branches'."""
+    return f"{count} {noun}" if count == 1 else \
+        f"{count} {noun}{'es' if noun.endswith(('ch', 'sh', 's')) else 's'}"
+
+
+def _stabilities(codes: Sequence[int]) -> str:
+    """The stabilities a branch passes through, in order: 'unstable -> stable'."""
+    seen = [STABILITY[c] for i, c in enumerate(codes) if i == 0 or c != codes[i - 1]]
+    return " -> ".join(seen)
+
+
+def branch_summary(result: Branches) -> str:
+    """The branches of a ``codegen.runtime.branches.Branches`` for a terminal: what was varied,
+    a line per branch (where it runs and its stability), a line per event."""
+    name, unit = result.parameter, result.unit
+    others = ", ".join(f"{k}={v:g}" for k, v in vars(result.base).items() if k != name)
+    kinds = [e.kind for e in result.events]
+    counted = [_plural(result.count, "branch"), *(
+        _plural(kinds.count(k), k) for k in ("fold", "pitchfork") if k in kinds)]
+    lines = [paragraph(
+        f"Equilibria of {result.library.TITLE} as {name} runs from {result.values[0]:g} to "
+        f"{result.values[-1]:g} {unit} over {len(result.values):,} values (the other "
+        f"parameters: {others}; {result.method} route): {', '.join(counted)}."), ""]
+    head = (f"{'branch':>6} {name + ' from':>14} {name + ' to':>14} {'theta_E from [deg]':>19} "
+            f"{'to [deg]':>10}  stability")
+    lines += [head, "-" * len(head)]
+    for number in range(result.count):
+        rows = result.branch(number)
+        ends = [math.degrees(t) + 0.0 for t in rows["theta"][[0, -1]]]
+        lines.append(f"{number:>6} {rows['value'][0]:>14.8g} {rows['value'][-1]:>14.8g} "
+                     f"{ends[0]:>19.4f} {ends[1]:>10.4f}  {_stabilities(rows['stability'])}")
+    if result.events:
+        head = (f"{'event':<16} {name + ' [' + unit + ']':>18} {'theta_E [deg]':>13} "
+                f"{'K_EQ':>12}  branches")
+        lines += ["", head, "-" * len(head)]
+        for e in result.events:
+            where = (f" ({' -> '.join(e.stability)})" if e.kind == "stability change" else
+                     f" (exist {e.side})")
+            lines.append(f"{e.kind:<16} {e.value:>18.10g} {e.theta_deg + 0.0:>13.4f} "
+                         f"{_number(e.K):>12}  {', '.join(map(str, e.branches))}{where}")
+    notes = [f"A fold is where two equilibria meet and vanish, a pitchfork where two meet on a "
+             f"third (K_EQ -> 0 at both); every event is located by bisection to "
+             f"{result.tolerance:.1g} {unit}." if result.events else
+             "No branch ends or changes stability in this range."]
+    if len(result.failed):
+        names = {v: k for k, v in result.library.STATUS.items()}
+        why = sorted({names.get(int(s), str(s)) for s in result.statuses if s != 0})
+        notes.append(f"{len(result.failed):,} values failed ({', '.join(why)}); the branches "
+                     "are joined across them.")
+    notes.append("Angles in degrees; K_EQ in SI units of the coordinate.")
+    return "\n".join(lines + [""] + [paragraph(n) for n in notes])

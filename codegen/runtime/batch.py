@@ -1,0 +1,143 @@
+"""Layer 6: the analysis of many parameter sets as numpy arrays, over threads.
+
+``analyze_table(table, library)`` runs the C batch entry point of the chosen route over a
+``params_array`` and returns one structured array row per root, with the index of its set:
+no Python object is made per set or per root. The C results are read in place through a
+numpy dtype laid out from cffi's description of the C structs. ``workers=N`` splits the
+table into N contiguous chunks run on N threads: cffi releases the GIL around each C call and
+the library has no shared state, so the chunks run in parallel and the result is the same
+for any N.
+"""
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from . import analysis
+from .library import Library
+
+#: One root of one parameter set. Angles [rad]; kind, stability and damping index
+#: analysis.KINDS, STABILITY and DAMPING; omega_n and zeta complex where K < 0.
+ROOT_DTYPE = np.dtype([
+    ("set", np.int64), ("theta", np.float64), ("theta_lo", np.float64),
+    ("theta_hi", np.float64), ("certified", np.bool_), ("kind", np.int8),
+    ("residual", np.float64), ("relative_residual", np.float64),
+    ("M", np.float64), ("B", np.float64), ("K", np.float64),
+    ("omega_n", np.complex128), ("zeta", np.complex128), ("eigenvalues", np.complex128, (2,)),
+    ("stability", np.int8), ("damping", np.int8)])
+
+
+@dataclass(frozen=True)
+class Table:
+    """The analysis of n parameter sets: ``roots`` (ROOT_DTYPE rows, ordered by set, then
+    by angle), ``statuses`` (the C status of each set, 0 = OK; a failed set has no rows),
+    ``counts`` (rows per set) and the route taken."""
+
+    roots: np.ndarray
+    statuses: np.ndarray
+    counts: np.ndarray
+    method: str
+
+    @property
+    def equilibria(self) -> np.ndarray:
+        """The rows that are equilibria of the declared assembly mode."""
+        return self.roots[self.roots["kind"] == analysis.KINDS.index("equilibrium")]
+
+
+def _numpy_type(ffi, ctype) -> np.dtype:
+    """The numpy dtype of a C type, laid out at cffi's offsets (structs nest)."""
+    if ctype.kind == "array":
+        return np.dtype((_numpy_type(ffi, ctype.item), (ctype.length,)))
+    if ctype.kind == "struct":
+        fields = ctype.fields
+        return np.dtype({"names": [n for n, _ in fields],
+                         "formats": [_numpy_type(ffi, f.type) for _, f in fields],
+                         "offsets": [f.offset for _, f in fields],
+                         "itemsize": ffi.sizeof(ctype)})
+    if ctype.kind == "enum" or ctype.cname in ("int", "unsigned int"):
+        return np.dtype(f"{'u' if ctype.cname == 'unsigned int' else 'i'}{ffi.sizeof(ctype)}")
+    if ctype.cname == "double":
+        return np.dtype(np.float64)
+    raise TypeError(f"no numpy type for {ctype.cname}")
+
+
+@lru_cache(maxsize=None)
+def _analysis_dtype(library: Library) -> np.dtype:
+    ffi = library.ffi
+    return _numpy_type(ffi, ffi.typeof(f"{library.PREFIX}_analysis"))
+
+
+#: Sets analysed per C call: the C results of a block (a few kB a set) are read into
+#: rows and the buffer reused, so memory follows the number of roots, not of sets.
+BLOCK = 1024
+
+
+def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """The ROOT_DTYPE rows of a block of C results (sets first, first + 1, ...), and the
+    number of rows of each set."""
+    counts = np.where(statuses == library.STATUS["OK"], c["n_roots"], 0)
+    slots = c["roots"]
+    mask = np.arange(slots.shape[1]) < counts[:, None]
+    # Gathered as opaque records (one copy each), then seen as the C struct again: numpy
+    # gathers a struct with padding field by field, five times slower.
+    found = slots.view(np.dtype((np.void, slots.dtype.itemsize)))[mask].view(slots.dtype)
+    rows = np.empty(len(found), dtype=ROOT_DTYPE)
+    rows["set"] = np.nonzero(mask)[0] + first
+    for name in ("theta", "theta_lo", "theta_hi", "residual", "M", "B", "K", "kind",
+                 "stability", "damping"):
+        rows[name] = found[name]
+    rows["certified"] = found["certified"] != 0
+    scale = found["residual_scale"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rows["relative_residual"] = np.where(scale != 0, np.abs(found["residual"]) / scale, 0.0)
+    rows["omega_n"] = found["omega_n"][:, 0] + 1j * found["omega_n"][:, 1]
+    rows["zeta"] = found["zeta"][:, 0] + 1j * found["zeta"][:, 1]
+    rows["eigenvalues"] = found["eigen_re"] + 1j * found["eigen_im"]
+    return rows, counts
+
+
+def _analyze_range(library: Library, method: str, table: np.ndarray, statuses: np.ndarray,
+                   start: int, stop: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Sets start..stop-1 in blocks through one reused C results buffer (one per thread)."""
+    ffi, P = library.ffi, library.PREFIX
+    entry = analysis.entry(library, method, batch=True)
+    results = ffi.new(f"{P}_analysis[]", min(BLOCK, max(stop - start, 1)))
+    view = np.frombuffer(ffi.buffer(results), dtype=_analysis_dtype(library))
+    c_params = ffi.from_buffer(f"{P}_params[]", table)
+    c_statuses = ffi.from_buffer(f"{P}_status[]", statuses, require_writable=True)
+    blocks = []
+    for first in range(start, stop, BLOCK):
+        n = min(BLOCK, stop - first)
+        entry(n, c_params + first, results, c_statuses + first)
+        blocks.append(_rows(library, view[:n], statuses[first:first + n], first))
+    return blocks
+
+
+def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
+                  workers: int = 1) -> Table:
+    """Every root of every parameter set of ``table`` (a params_array), by the route
+    ``method`` names, as numpy arrays (see Table); ``workers`` threads share the work, each
+    a contiguous part of the table."""
+    if not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a positive integer, not {workers!r}")
+    taken = analysis.route(library, method)
+    table = library.table(table)
+    statuses = np.zeros(len(table), dtype=np.intc)
+    bounds = np.linspace(0, len(table), min(workers, max(len(table), 1)) + 1).astype(int)
+    parts = [(int(lo), int(hi)) for lo, hi in zip(bounds[:-1], bounds[1:])]
+
+    def run(part: tuple[int, int]) -> list[tuple[np.ndarray, np.ndarray]]:
+        return _analyze_range(library, taken, table, statuses, *part)
+
+    if len(parts) == 1:
+        blocks = run(parts[0])
+    else:
+        with ThreadPoolExecutor(len(parts)) as pool:
+            blocks = [b for part in pool.map(run, parts) for b in part]
+    rows = np.concatenate([r for r, _ in blocks]) if blocks else np.empty(0, ROOT_DTYPE)
+    counts = np.concatenate([c for _, c in blocks]) if blocks else np.empty(0, np.int64)
+    return Table(rows, statuses, counts.astype(np.int64), taken)

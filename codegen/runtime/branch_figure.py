@@ -1,0 +1,119 @@
+"""The figure of a ``Branches``: theta_E against the parameter, stable branches solid and
+unstable dashed, the events marked; omega_n and zeta of the stable branches below it.
+
+matplotlib comes through ``codegen.runtime.figures`` (the only module importing it). Angles in
+degrees on the figure; where the coordinate is periodic a branch is drawn unwrapped, so one
+crossing +-180 deg stays one line.
+"""
+from __future__ import annotations
+
+import os
+import textwrap
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import figures
+from .analysis import STABILITY
+from .branches import EVENTS, POINTS, Branches
+
+#: Line style of each stability (analysis.STABILITY order).
+STYLES = {"stable": "-", "marginal": ":", "unstable": "--"}
+#: Marker of each event kind.
+MARKERS = {"fold": ("o", "fold"), "pitchfork": ("s", "pitchfork"), "end": ("x", "branch end"),
+           "stability change": ("D", "stability change")}
+#: Stabilities whose omega_n and zeta are drawn (a real natural frequency: K > 0).
+VIBRATING = (STABILITY.index("stable"), STABILITY.index("marginal"))
+
+
+def _centre(result: Branches) -> float:
+    """The middle of the coordinate's range [rad] (a number or a parameter's name)."""
+    centre = result.library.SPEC["range_centre"]
+    values = vars(result.base)
+    return float(values[centre]) if centre in values else float(centre)
+
+
+def _angles(result: Branches, rows: np.ndarray) -> np.ndarray:
+    """A branch's angles [deg]: unwrapped where periodic, in the turn holding most of it."""
+    theta = rows["theta"]
+    if result.library.SPEC["periodic"] and len(theta):
+        theta = np.unwrap(theta)
+        centre = _centre(result)
+        theta = theta - 2 * np.pi * np.round((np.median(theta) - centre) / (2 * np.pi))
+    return np.degrees(theta)
+
+
+def _runs(codes: np.ndarray) -> list[slice]:
+    """The stretches of equal code, each reaching into the next one's first point, so the
+    line stays joined where the style changes."""
+    edges = np.flatnonzero(np.diff(codes)) + 1
+    starts = np.concatenate([[0], edges])
+    stops = np.concatenate([edges + 1, [len(codes)]])
+    return [slice(int(a), int(min(b, len(codes)))) for a, b in zip(starts, stops)]
+
+
+def _draw_branch(axes: Any, result: Branches, number: int, colour: str) -> None:
+    rows = result.branch(number)
+    value, angle = rows["value"], _angles(result, rows)
+    top, frequency, damping = axes
+    for run in _runs(rows["stability"]):
+        style = STYLES[STABILITY[rows["stability"][run.start]]]
+        top.plot(value[run], angle[run], style, color=colour, linewidth=1.6)
+    vibrating = np.isin(rows["stability"], VIBRATING) & np.isfinite(rows["omega_n"])
+    shown = np.where(vibrating, 1.0, np.nan)   # gaps where the branch does not vibrate
+    frequency.plot(value, rows["omega_n"] * shown, "-", color=colour, linewidth=1.6)
+    damping.plot(value, rows["zeta"] * shown, "-", color=colour, linewidth=1.6)
+    for kind in EVENTS:
+        at = rows["point"] == POINTS.index(kind)
+        if np.any(at):
+            marker, _ = MARKERS[kind]
+            top.plot(value[at], angle[at], marker, color="black", markersize=6,
+                     markerfacecolor="none", zorder=3, clip_on=False)
+
+
+def _legend(top: Any, result: Branches) -> None:
+    """Line styles of the stabilities present, then markers of the events present."""
+    handles = []
+    for name, style in STYLES.items():
+        if np.any(result.points["stability"] == STABILITY.index(name)):
+            handles += top.plot([], [], style, color="dimgray", label=name)
+    for kind in EVENTS:
+        if any(e.kind == kind for e in result.events):
+            marker, label = MARKERS[kind]
+            handles += top.plot([], [], marker, color="black", markerfacecolor="none",
+                                label=label)
+    top.legend(handles=handles, loc="best", fontsize=8, framealpha=0.9)
+
+
+def plot(result: Branches, path: str | os.PathLike[str]) -> Path:
+    """Draw ``result`` to ``path`` (.png or .svg): theta_E [deg] against the parameter,
+    then omega_n [rad/s] and zeta of the branches where they vibrate (K > 0). Raises
+    ValueError for another extension, figures.PlotUnavailable without matplotlib."""
+    path = figures.check_path(path)
+    plt = figures.pyplot()
+    figure, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 7.5),
+                                gridspec_kw={"height_ratios": [2.2, 1, 1]})
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for number in range(result.count):
+        _draw_branch(axes, result, number, colours[number % len(colours)])
+    top, frequency, damping = axes
+    label = f"{result.parameter} [{result.unit}]"
+    top.set_title(textwrap.fill(f"Equilibria of {result.library.TITLE} against "
+                                f"{result.parameter}", 70), fontsize=11)
+    top.set_ylabel(r"$\theta_E$ [deg]")
+    frequency.set_ylabel(r"$\omega_n$ [rad/s]")
+    damping.set_ylabel(r"$\zeta$ [-]")
+    zeta = result.points["zeta"]
+    if np.any(np.isfinite(zeta) & (zeta > 0)):
+        damping.set_yscale("log")   # zeta -> infinity as K -> 0 at a fold
+    damping.set_xlabel(label)
+    marginal = np.any(result.points["stability"] == STABILITY.index("marginal"))
+    frequency.set_title(f"stable {'and marginal ' * bool(marginal)}branches", fontsize=9,
+                        loc="left")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    damping.set_xlim(result.values[0], result.values[-1])
+    _legend(top, result)
+    figure.align_ylabels(axes)
+    return figures.save(figure, path)

@@ -1,0 +1,52 @@
+"""Figures (the optional ``plot`` extra): matplotlib, headless, to PNG or SVG.
+
+Only this module imports matplotlib, and only when a figure is asked for, so the analysis
+and the command line work without it; a missing matplotlib is one clear error that says how
+to install it.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .. import files
+
+#: The file types a figure can be written as (by the path's suffix).
+FORMATS = (".png", ".svg")
+
+INSTALL_HINT = "figures need matplotlib: pip install 'mechvib[plot]'"
+
+
+class PlotUnavailable(RuntimeError):
+    """matplotlib is not installed (the ``plot`` extra)."""
+
+
+def pyplot() -> Any:
+    """matplotlib.pyplot on the non-interactive Agg backend (no screen needed)."""
+    try:
+        import matplotlib
+    except ImportError as error:
+        raise PlotUnavailable(INSTALL_HINT) from error
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def check_path(path: str | Path) -> Path:
+    """``path`` as a Path, if its suffix is a format we write; ValueError otherwise."""
+    path = Path(path)
+    if path.suffix.lower() not in FORMATS:
+        raise ValueError(f"{path}: a figure is written as {' or '.join(FORMATS)}")
+    return path
+
+
+def save(figure: Any, path: str | Path) -> Path:
+    """Write ``figure`` to ``path`` (.png at 150 dpi, or .svg) and close it."""
+    path = check_path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with files.replacing(path, suffix=path.suffix) as scratch:
+            figure.savefig(scratch, dpi=150, bbox_inches="tight", format=path.suffix[1:].lower())
+    finally:
+        pyplot().close(figure)
+    return path

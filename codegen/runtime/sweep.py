@@ -1,0 +1,506 @@
+"""Layer 6: sweeps, the analysis of a grid or a random sample of parameter sets as one table.
+
+``grid(library, axes)`` and ``sample(library, count, ranges)`` make the parameter sets (a
+``params_array``); ``sweep(library, sets)`` analyses them chunk by chunk (``batch.analyze_table``
+on threads, or one task per chunk on a Dask cluster) into one numpy structured array with a
+row per root, the set's index and parameters repeated on it; ``write(table, path)`` writes
+it as CSV or Parquet. ``stream`` gives the same table chunk by chunk, in order, so that a
+sweep larger than memory can be written as it goes (``write(stream(...), path)``).
+
+Every set has at least one row: a set that fails (``status`` != 0) or has no root kept has
+one row with NaN ``theta``, so a table never loses a set. The rows are the same, bit for
+bit, for any number of threads, any chunk size, and locally or on Dask: each chunk is
+analysed by the same deterministic C, and its set indices are offset by where it starts.
+"""
+from __future__ import annotations
+
+import math
+import os
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from . import analysis
+from .. import files
+from .batch import analyze_table
+from .library import Library, ParamsLike
+
+#: Which roots a sweep keeps: the declared mode's equilibria, or every classified root.
+ROOTS = ("equilibria", "all")
+Roots = Literal["equilibria", "all"]
+
+#: Sets per chunk: a task on Dask, a progress step, a write.
+CHUNK = 65536
+
+#: The code of kind, stability and damping on a row without a root (a text column's null).
+NO_ROOT = -1
+
+#: The columns after the parameters'. kind, stability and damping index analysis.KINDS,
+#: STABILITY and DAMPING (NO_ROOT: no root); omega_n and zeta are real, NaN where the root has
+#: no real natural frequency (K <= 0, M = 0, or no root). Angles [rad], the rest SI.
+RESULT_FIELDS = [("status", np.int32), ("theta", np.float64), ("kind", np.int8),
+                 ("certified", np.bool_), ("stability", np.int8), ("damping", np.int8),
+                 ("omega_n", np.float64), ("zeta", np.float64), ("K", np.float64),
+                 ("M", np.float64), ("B", np.float64)]
+
+#: The columns of a table in radians, written to files in degrees as NAME_deg.
+ANGLES = ("theta",)
+
+#: The text of the coded columns, as written to files.
+LABELS = {"kind": analysis.KINDS, "stability": analysis.STABILITY, "damping": analysis.DAMPING}
+
+#: A progress callback: (sets done, sets in all), called as chunks finish.
+Progress = Callable[[int, int], None]
+
+
+# ------------------------------------------------------------------------ parameter sets
+
+def _check_names(library: Library, names: Iterable[str]) -> None:
+    unknown = [n for n in names if n not in library.PARAMETER_NAMES]
+    if unknown:
+        raise ValueError(f"unknown parameter(s): {', '.join(unknown)}; {library.PREFIX} has "
+                         f"{', '.join(library.PARAMETER_NAMES)}")
+
+
+def _filled(library: Library, base: ParamsLike | None, count: int) -> np.ndarray:
+    """``count`` copies of ``base`` (a parameter set, or a mapping of some parameters over
+    the example; default the example) as a params_array."""
+    values = {} if base is None else dict(base if isinstance(base, Mapping) else vars(base))
+    _check_names(library, values)
+    table = np.empty(count, dtype=library.PARAMS_DTYPE)
+    for name in library.PARAMETER_NAMES:
+        table[name] = float(values.get(name, library.EXAMPLE[name]))
+    return table
+
+
+def grid(library: Library, axes: Mapping[str, Sequence[float] | np.ndarray],
+         base: ParamsLike | None = None) -> np.ndarray:
+    """Every combination of the values of ``axes`` (parameter name -> 1-D values, SI units),
+    the other parameters from ``base`` (a parameter set, or a mapping of some parameters;
+    default: the example), as a params_array. The first axis varies slowest (C order of an
+    ``indexing="ij"`` mesh). Raises ValueError naming an unknown parameter or an axis that
+    is not 1-D."""
+    _check_names(library, axes)
+    values = [np.asarray(v, dtype=np.float64) for v in axes.values()]
+    for name, v in zip(axes, values):
+        if v.ndim != 1:
+            raise ValueError(f"{name}: a grid axis is a 1-D array of values, not of shape "
+                             f"{v.shape}")
+    shape = tuple(len(v) for v in values)
+    table = _filled(library, base, math.prod(shape))
+    for name, mesh in zip(axes, np.meshgrid(*values, indexing="ij", sparse=True)):
+        table[name] = np.broadcast_to(mesh, shape).ravel()
+    return table
+
+
+def sample(library: Library, count: int, ranges: Mapping[str, tuple[float, float]],
+           base: ParamsLike | None = None, seed: int | None = None) -> np.ndarray:
+    """``count`` sets drawn uniformly in [lo, hi) for each parameter ``ranges`` names
+    (name -> (lo, hi), SI units; drawn in the mapping's order from
+    ``numpy.random.default_rng(seed)``), the others from ``base`` (as for ``grid``), as a
+    params_array. Raises ValueError naming an unknown parameter or a bad range."""
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
+        raise ValueError(f"count must be a non-negative integer, not {count!r}")
+    _check_names(library, ranges)
+    table = _filled(library, base, int(count))
+    rng = np.random.default_rng(seed)
+    for name, bounds in ranges.items():
+        lo, hi = _range(name, bounds)
+        table[name] = rng.uniform(lo, hi, int(count))
+    return table
+
+
+def _range(name: str, bounds: Any) -> tuple[float, float]:
+    try:
+        lo, hi = (float(b) for b in bounds)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: a range is a pair (lo, hi), not {bounds!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi):
+        raise ValueError(f"{name}: a range needs finite lo <= hi, not ({lo:g}, {hi:g})")
+    return lo, hi
+
+
+def _as_table(library: Library, sets: Any) -> np.ndarray:
+    """sets as a contiguous params_array: fields matched by name (numpy casts structured
+    arrays by position), anything else through ``library.params_array``."""
+    if not isinstance(sets, np.ndarray):
+        return library.params_array(sets)
+    names = sets.dtype.names or ()
+    if sets.ndim != 1 or sorted(names) != sorted(library.PARAMETER_NAMES):
+        raise ValueError(f"sets must be a 1-D structured array with one field per parameter "
+                         f"of {library.PREFIX} ({', '.join(library.PARAMETER_NAMES)}), not "
+                         f"{sets.ndim}-D with fields {', '.join(names) or 'none'}")
+    if sets.dtype == library.PARAMS_DTYPE:
+        return np.ascontiguousarray(sets)
+    table = np.empty(len(sets), dtype=library.PARAMS_DTYPE)
+    for name in library.PARAMETER_NAMES:
+        table[name] = sets[name]
+    return table
+
+
+# --------------------------------------------------------------------------- the table
+
+def parameter_columns(library: Library) -> tuple[str, ...]:
+    """The column of each parameter: its name, or ``param_NAME`` where a result column
+    has that name (a model's parameter called K, say)."""
+    taken = {"set", *(name for name, _ in RESULT_FIELDS)}
+    return tuple(f"param_{n}" if n in taken else n for n in library.PARAMETER_NAMES)
+
+
+@lru_cache(maxsize=None)
+def dtype(library: Library) -> np.dtype:
+    """The dtype of a sweep's rows: ``set`` (the set's index), one float64 column per
+    parameter (``parameter_columns``), then RESULT_FIELDS."""
+    return np.dtype([("set", np.int64)] + [(c, np.float64) for c in parameter_columns(library)]
+                    + RESULT_FIELDS)
+
+
+def _rows(library: Library, table: np.ndarray, result: Any, offset: int, every_root: bool
+          ) -> np.ndarray:
+    """A chunk's rows: each set's kept roots by angle, or one rootless row."""
+    found = result.roots if every_root else result.equilibria
+    kept = np.bincount(found["set"], minlength=len(table))
+    per_set = np.maximum(kept, 1)
+    which = np.repeat(np.arange(len(table)), per_set)
+    rows = np.empty(len(which), dtype=dtype(library))
+    rows["set"] = which + offset
+    for name, column in zip(library.PARAMETER_NAMES, parameter_columns(library)):
+        rows[column] = table[name][which]
+    rows["status"] = result.statuses[which]
+    for name in ("theta", "omega_n", "zeta", "K", "M", "B"):
+        rows[name] = np.nan
+    rows["kind"] = rows["stability"] = rows["damping"] = NO_ROOT
+    rows["certified"] = False
+    # the rows of sets with roots: exactly their roots (usually every row)
+    at = slice(None) if len(found) == len(rows) else np.repeat(kept > 0, per_set)
+    for name in ("theta", "kind", "certified", "stability", "damping", "K", "M", "B"):
+        rows[name][at] = found[name]
+    omega, zeta = found["omega_n"], found["zeta"]
+    real = (omega.imag == 0) & (omega.real > 0)
+    extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
+    for name in ("stability", "damping"):   # not an equilibrium: null in the file
+        rows[name][at] = np.where(extraneous, NO_ROOT, found[name])
+    rows["omega_n"][at] = np.where(real, omega.real, np.nan)
+    rows["zeta"][at] = np.where(real, zeta.real, np.nan)
+    return rows
+
+
+def analyze_chunk(library: Library, table: np.ndarray, offset: int = 0,
+                  method: analysis.Method = "auto", roots: Roots = "equilibria",
+                  workers: int = 1) -> np.ndarray:
+    """The sweep rows of one chunk of sets, whose first set is set ``offset`` of the
+    sweep: what each local step and each Dask task runs (a Library pickles by its origin,
+    so a worker process loads it again)."""
+    table = _as_table(library, table)
+    result = analyze_table(table, library, method, workers)
+    return _rows(library, table, result, offset, roots == "all")
+
+
+# --------------------------------------------------------------------------- running
+
+def _is_dask(sets: Any) -> bool:
+    return type(sets).__module__.startswith("dask.array")
+
+
+def _parts(library: Library, sets: Any, chunk: int) -> tuple[int, list[tuple[int, Any]]]:
+    """(sets in all, [(offset, part)]): slices of ``chunk`` sets, or a dask array's blocks
+    (as dask.delayed objects)."""
+    if _is_dask(sets):
+        sizes = sets.chunks[0]
+        if sets.ndim != 1 or any(math.isnan(s) for s in sizes):
+            raise ValueError("a dask array of sets must be 1-D with known chunk sizes")
+        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
+        return int(sets.shape[0]), list(zip(offsets.tolist(), sets.to_delayed().ravel()))
+    table = _as_table(library, sets)
+    starts = range(0, max(len(table), 1), chunk)   # an empty sweep is one empty chunk
+    return len(table), [(s, table[s:s + chunk]) for s in starts]
+
+
+def _local(library: Library, parts: list[tuple[int, Any]], method: analysis.Method,
+           roots: Roots, workers: int) -> Iterator[np.ndarray]:
+    """Each part's rows in order. The C of the next part runs (on its threads, without the
+    GIL) while this thread makes the rows of one and the caller writes them."""
+    def analyze(table: np.ndarray) -> Any:
+        return analyze_table(table, library, method, workers)
+
+    def finish(offset: int, table: np.ndarray, result: Future[Any]) -> np.ndarray:
+        return _rows(library, table, result.result(), offset, roots == "all")
+
+    with ThreadPoolExecutor(1) as ahead:
+        pending: deque[tuple[int, np.ndarray, Future[Any]]] = deque()
+        for offset, part in parts:
+            table = _as_table(library, part if isinstance(part, np.ndarray) else part.compute())
+            pending.append((offset, table, ahead.submit(analyze, table)))
+            if len(pending) > 1:
+                yield finish(*pending.popleft())
+        while pending:
+            yield finish(*pending.popleft())
+
+
+def _distributed(client: Any, parts: list[tuple[int, Any]], arguments: tuple[Any, ...]
+                 ) -> Iterator[np.ndarray]:
+    """One analyze_chunk task per part on a dask.distributed cluster, gathered in order.
+    ``arguments``: (library, method, roots, workers), passed by position (``workers`` is
+    also a keyword of Client.submit)."""
+    from distributed import as_completed
+
+    library, *options = arguments
+    if parts and isinstance(parts[0][1], np.ndarray):
+        # Each chunk travels inside its task, not scattered ahead: data scattered to one
+        # worker dies with it, while a task that holds its data is run again elsewhere.
+        futures = [client.submit(analyze_chunk, library, table, offset, *options, pure=False)
+                   for offset, table in parts]
+    else:
+        import dask
+
+        task = dask.delayed(analyze_chunk, pure=False)
+        futures = client.compute([task(library, part, offset, *options)
+                                  for offset, part in parts])
+    order = {future.key: i for i, future in enumerate(futures)}
+    done: dict[int, np.ndarray] = {}
+    ready = 0
+    for future in as_completed(futures):
+        done[order[future.key]] = future.result()
+        future.release()
+        while ready in done:
+            yield done.pop(ready)
+            ready += 1
+
+
+def _default_client() -> Any:
+    """The Dask client this process made, if any (what dask.compute would use)."""
+    try:
+        from distributed import default_client
+        return default_client()
+    except (ImportError, ValueError):
+        return None
+
+
+def _positive(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name} must be a positive integer, not {value!r}")
+    return int(value)
+
+
+def stream(library: Library, sets: Any, *, method: analysis.Method = "auto",
+           workers: int | None = None, chunk: int = CHUNK, client: Any = None,
+           progress: Progress | None = None, roots: Roots = "equilibria"
+           ) -> Iterator[np.ndarray]:
+    """``sweep``'s table in consecutive pieces (one per chunk, in order, at least one),
+    for writing a sweep as it runs: ``write(stream(lib, sets), "out.parquet")``. The
+    arguments are ``sweep``'s; they are checked before the first piece is asked for."""
+    analysis.route(library, method)   # an unknown or unavailable route fails now
+    if roots not in ROOTS:
+        raise ValueError(f"roots must be one of {', '.join(ROOTS)}, not {roots!r}")
+    chunk = _positive("chunk", chunk)
+    if workers is not None:
+        workers = _positive("workers", workers)
+    if client is None and _is_dask(sets):
+        client = _default_client()
+    total, parts = _parts(library, sets, chunk)
+    if client is None:
+        pieces = _local(library, parts, method, roots, workers or os.cpu_count() or 1)
+    else:
+        pieces = _distributed(client, parts, (library, method, roots, workers or 1))
+    return _counted(pieces, total, progress)
+
+
+def _counted(pieces: Iterator[np.ndarray], total: int, progress: Progress | None
+             ) -> Iterator[np.ndarray]:
+    """The pieces, reporting the sets done after each (each set of a piece has a row)."""
+    if progress is not None:
+        progress(0, total)
+    done = 0
+    for piece in pieces:
+        done += int(piece["set"][-1] - piece["set"][0]) + 1 if len(piece) else 0
+        if progress is not None:
+            progress(done, total)
+        yield piece
+
+
+def sweep(library: Library, sets: Any, *, method: analysis.Method = "auto",
+          workers: int | None = None, chunk: int = CHUNK, client: Any = None,
+          progress: Progress | None = None, roots: Roots = "equilibria") -> np.ndarray:
+    """Every set of ``sets`` analysed, as one structured array (``dtype(library)``) with a
+    row per root kept, ordered by set, then by angle.
+
+    ``sets``: a params_array (``grid``, ``sample``, ``library.params_array``), anything
+    ``params_array`` takes, or a dask array of its records (one task per block). ``roots``:
+    "equilibria" (the declared mode's) or "all" (every classified root). A failed set
+    (``status`` != 0: ``library.error(status, params)`` explains it) or one without a root
+    kept has one row with NaN theta and ``NO_ROOT`` codes. ``method``: the route (see
+    ``codegen.runtime.analysis``). Locally, chunks of ``chunk`` sets run one after another, each on
+    ``workers`` threads (default: every CPU); with a ``dask.distributed.Client`` (or a dask
+    array and a default client), one task per chunk runs on the cluster, on ``workers``
+    threads each (default 1). ``progress(done, total)`` is called as chunks finish (the
+    CLI draws a progress bar with it). The result does not depend on ``workers``, ``chunk`` or ``client``.
+    """
+    return np.concatenate(list(stream(library, sets, method=method, workers=workers,
+                                      chunk=chunk, client=client, progress=progress,
+                                      roots=roots)))
+
+
+# --------------------------------------------------------------------------- files
+
+FORMATS = (".csv", ".parquet")
+EXTRA = "pip install 'mechvib[sweep]'"
+
+
+def _pyarrow() -> Any:
+    """pyarrow with its csv and parquet modules, or None where it is not installed."""
+    try:
+        import pyarrow
+        import pyarrow.csv
+        import pyarrow.parquet  # noqa: F401 (imported for pyarrow.parquet below)
+    except ImportError:
+        return None
+    return pyarrow
+
+
+class Writer:
+    """Rows written to a .csv or .parquet file piece by piece (``write(rows)``), into a
+    hidden partial file that replaces ``path`` only when the writer closes without an
+    error. Opening checks the extension, the folder and, for Parquet, that pyarrow is
+    installed. ``labels``: the coded columns and their text (default: a sweep's).
+    ``angles``: the columns in radians, written in degrees as NAME_deg (default: theta;
+    ``angle_columns(library)`` adds a mechanism's angle parameters). CSV floats are written
+    shortest round-trip (0.03, not 0.029999999999999999), with or without pyarrow."""
+
+    def __init__(self, path: str | os.PathLike[str],
+                 labels: Mapping[str, Sequence[str]] = LABELS,
+                 angles: Sequence[str] = ANGLES) -> None:
+        self.path = Path(path)
+        self.labels = labels
+        self.angles = tuple(angles)
+        self.format = self.path.suffix.lower()
+        if self.format not in FORMATS:
+            raise ValueError(f"{self.path}: the output must end in .csv or .parquet")
+        self.arrow = _pyarrow()
+        if self.arrow is None and self.format == ".parquet":
+            raise ValueError(f"{self.path}: writing Parquet needs pyarrow: {EXTRA} (or write "
+                             ".csv)")
+        if not self.path.parent.is_dir():
+            raise ValueError(f"{self.path}: no folder {self.path.parent}")
+        files.remove_orphans(self.path)
+        self.partial = files.temporary(self.path, ".partial")  # this writer's alone
+        self.rows = 0
+        self._sink: Any = None
+
+    def write(self, rows: np.ndarray) -> None:
+        """Append sweep rows (a ``stream`` piece or a whole ``sweep`` table)."""
+        rows = in_degrees(rows, self.angles)
+        if self.arrow is None or self.format == ".csv":
+            self._write_text(rows)
+        else:
+            self._write_arrow(rows)
+        self.rows += len(rows)
+
+    def _write_arrow(self, rows: np.ndarray) -> None:
+        table = _arrow_table(self.arrow, rows, self.labels)
+        if self._sink is None:
+            kind = {".csv": self.arrow.csv.CSVWriter,
+                    ".parquet": self.arrow.parquet.ParquetWriter}[self.format]
+            self._sink = kind(str(self.partial), table.schema)
+        self._sink.write_table(table)
+
+    def _write_text(self, rows: np.ndarray) -> None:
+        """CSV without pyarrow, in pyarrow's form (quoted text, true/false, empty nulls)."""
+        if self._sink is None:
+            self._sink = open(self.partial, "w", newline="")
+            self._sink.write(",".join(f'"{name}"' for name in rows.dtype.names) + "\n")
+        columns = [_text_column(rows, name, self.labels) for name in rows.dtype.names]
+        self._sink.writelines(",".join(row) + "\n" for row in zip(*columns))
+
+    def close(self, error: bool = False) -> None:
+        """Finish the file and move it into place (or, after an error, remove it)."""
+        if self._sink is not None:
+            self._sink.close()
+        if error:
+            self.partial.unlink(missing_ok=True)
+        elif self._sink is None:
+            raise ValueError(f"{self.path}: no rows were given to write")
+        else:
+            os.replace(self.partial, self.path)
+
+    def __enter__(self) -> Writer:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        self.close(error=kind is not None)
+
+
+def angle_columns(library: Library) -> tuple[str, ...]:
+    """The columns of a sweep of ``library`` in radians: theta and each angle parameter's."""
+    return ANGLES + tuple(column for name, column in zip(library.PARAMETER_NAMES,
+                                                         parameter_columns(library))
+                          if library.UNITS.get(name) == "rad")
+
+
+def in_degrees(rows: np.ndarray, angles: Sequence[str]) -> np.ndarray:
+    """rows with each column of ``angles`` it has in degrees, renamed NAME_deg (the form of
+    every angle in a file)."""
+    present = [name for name in angles if name in (rows.dtype.names or ())]
+    if not present:
+        return rows
+    names = [f"{n}_deg" if n in present else n for n in rows.dtype.names]
+    out = np.empty(len(rows), np.dtype([(new, rows.dtype[old])
+                                        for new, old in zip(names, rows.dtype.names)]))
+    for new, old in zip(names, rows.dtype.names):
+        out[new] = np.degrees(rows[old]) if old in present else rows[old]
+    return out
+
+
+def _rootless(rows: np.ndarray) -> np.ndarray:
+    """The rows without a root (a sweep's failed or empty sets)."""
+    if "kind" not in rows.dtype.names:
+        return np.zeros(len(rows), dtype=bool)
+    return rows["kind"] == NO_ROOT
+
+
+def _arrow_table(pa: Any, rows: np.ndarray, labels: Mapping[str, Sequence[str]]) -> Any:
+    """Rows as a pyarrow table: coded columns as dictionary text, and where a row has no
+    root, its kind, stability, damping and certified null."""
+    rootless = _rootless(rows)
+    columns = {}
+    for name in rows.dtype.names:
+        values = np.ascontiguousarray(rows[name])
+        if name in labels:
+            codes = pa.array(values, mask=values == NO_ROOT, type=pa.int8())
+            columns[name] = pa.DictionaryArray.from_arrays(codes, pa.array(labels[name]))
+        else:
+            columns[name] = pa.array(values, mask=rootless if name == "certified" else None)
+    return pa.table(columns)
+
+
+def _text_column(rows: np.ndarray, name: str, labels: Mapping[str, Sequence[str]]
+                 ) -> np.ndarray:
+    """One column's CSV fields (shortest round-trip floats)."""
+    values = rows[name]
+    if name in labels:
+        return np.array([f'"{label}"' for label in labels[name]] + [""])[values]
+    if name == "certified":
+        return np.where(_rootless(rows), "", np.where(values, "true", "false"))
+    return values.astype(str)
+
+
+def write(rows: np.ndarray | Iterable[np.ndarray], path: str | os.PathLike[str],
+          labels: Mapping[str, Sequence[str]] = LABELS, angles: Sequence[str] = ANGLES) -> int:
+    """Write a sweep's table (or the pieces of ``stream``) to ``path``: Parquet (``.parquet``,
+    through pyarrow: ``pip install 'mechvib[sweep]'``) or CSV (``.csv``; through pyarrow
+    where installed, else Python's own formatting). kind, stability and damping are written
+    as text; on a row without a root they and certified are null (empty in CSV). Returns
+    the number of rows written. Raises ValueError for another extension, a missing folder,
+    or Parquet without pyarrow; the file appears only once it is complete. ``labels``: the
+    coded columns and their text, for a table other than a sweep's (``codegen.runtime.branches``).
+    The file's angles are in degrees: ``theta`` [rad] of the table is its ``theta_deg``, as
+    is each column of ``angles`` (``angle_columns(library)``: theta and the angle parameters).
+    CSV floats are shortest round-trip."""
+    with Writer(path, labels, angles) as writer:
+        for piece in [rows] if isinstance(rows, np.ndarray) else rows:
+            writer.write(piece)
+    return writer.rows

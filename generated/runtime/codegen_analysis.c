@@ -1,0 +1,976 @@
+/*
+ * codegen_analysis.c -- Table 1 steps 8-10 in one call, by two routes, for any mechanism
+ * described by a codegen_model (codegen_model.h). Hand-written (not generated).
+ *
+ * The polynomial route: every real root of the polynomial in tan(theta/2), each classified by
+ * the branch of the square roots on which G vanishes there (the mechanism as declared, another
+ * assembly mode, or a negative length), equilibria polished by Newton's method on G and
+ * certified by interval enclosures around them, and the vibration at each root.
+ * The isolation route: every zero of G itself on each assembly mode, proven by interval
+ * enclosures of G and G' (codegen_interval.c), and the vibration at each.
+ */
+#include "codegen_model.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "codegen_runtime.h"
+
+#define NEWTON_STEPS 8
+/* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
+ * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
+#define POLISH_RADIUS CODEGEN_R(1e-3)
+/* How far on each side of a root the finder reports [rad] the other branches are searched for a
+ * root it merged with that one: the finder reports roots closer than ~2e-5 in its chart units
+ * as one, and near theta = pi, where its chart is 1/tau, such a pair can lie 3.4e-5 rad apart. */
+#define MERGED_RADIUS CODEGEN_R(4e-5)
+/* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
+ * polynomial's roots stay on their own branches: close roots merge only with roots of their
+ * own kind. */
+#ifdef CODEGEN_FLOAT
+#define EQUILIBRIA_BY_ISOLATION 1
+#else
+#define EQUILIBRIA_BY_ISOLATION 0
+#endif
+/* |G| within this many rounding units of the size of its terms is zero to working precision */
+#define GENUINE_RESIDUAL (CODEGEN_R(32.0) * CODEGEN_EPSILON)
+/* Angles this close to -pi [rad] are pi (see wrap): ~1e-10 rad in double, invisible in any
+ * table, and a few ulps of pi in float. */
+#define PI_SNAP (CODEGEN_SQRT_EPSILON / 128)
+/* A root the branches call genuine whose |G| stays above this relative size after Newton is
+ * the jump of G across r = 0, not an equilibrium (a regular root polishes to ~eps). */
+#define SINGULAR_RESIDUAL CODEGEN_SQRT_EPSILON
+/* Roots closer than this [rad] are one multiple root that rounding split in two: the root
+ * finder itself treats a spread of ~sqrt(8 eps) as a multiple root (codegen_roots.c). */
+#define MULTIPLE_ROOT_SPREAD (8 * CODEGEN_SQRT_EPSILON)
+/* The first half-width [rad, relative to max(|theta|, 1)] tried around a root of another branch,
+ * grown fourfold up to BRANCH_RADIUS [rad], and at most the steps that then reach adjacent
+ * doubles (bisection would need ~60; the Illinois steps typically take ~10). Squaring out
+ * nested roots can cost the polynomial's roots many digits (a slider-crank's other-mode root
+ * comes 5e-4 rad off); the branch value itself is accurate. */
+#define BRACKET_START (512 * CODEGEN_EPSILON)
+#define BRANCH_RADIUS CODEGEN_R(1e-2)
+#define BRACKET_STEPS 64
+/* The first half-width [rad, relative to max(|theta|, 1)] of the intervals that try to prove
+ * an equilibrium of the polynomial route, grown 32-fold up to CERTIFY_RADIUS [rad]: a root
+ * polished to rounding is proven by the first or second. */
+#define CERTIFY_START (1024 * CODEGEN_EPSILON)
+#define CERTIFY_RADIUS (64 * CODEGEN_SQRT_EPSILON)
+/* Where the circle of a periodic coordinate may be cut for isolation: its far end, or up to
+ * SEAM_TRIES steps of SEAM_STEP [rad] before it, the first where G's sign is decided. */
+#define SEAM_STEP CODEGEN_R(0.0390625)
+#define SEAM_TRIES 16
+/* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
+ * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
+#define SEAM_MARGIN (4096 * CODEGEN_EPSILON)
+
+/* A result (NAME_analysis) seen through the model's layout. */
+typedef struct result_view {
+    void *base;
+    codegen_real *sigma;
+    int *n_roots;
+    codegen_equilibrium *roots;
+    int *n_singular;
+    codegen_real *singular_theta;
+    int *n_unassembled;
+    codegen_real *unassembled_theta;
+    int *n_uncertain;
+    codegen_uncertain *uncertain;
+} result_view;
+
+/* One analysis in progress: the model, the validated parameters, and the workspace's parts.
+ * What codegen_isolate and codegen_certify hand back to the enclosures. */
+typedef struct call {
+    const codegen_model *model;
+    const void *params;
+    codegen_iv *slots;           /* where the interval programs run */
+    codegen_real *at_root;       /* the state at a root being studied */
+    codegen_real *at_next;       /* at a Newton step's trial point */
+    codegen_real *at_line;       /* at a root being linearised */
+    codegen_real *g;             /* G on every branch at one angle */
+    codegen_real *merged;        /* ... at a root and either side of it */
+    codegen_real *modes;         /* M, B, K of every mode */
+} call;
+
+static void *field(void *base, size_t offset)
+{
+    return (char *)base + offset;
+}
+
+static result_view results_in(const codegen_model *model, void *base)
+{
+    const codegen_analysis_layout *at = &model->analysis;
+    result_view r;
+    r.base = base;
+    r.sigma = model->sigma != NULL ? (codegen_real *)field(base, at->sigma) : NULL;
+    r.n_roots = (int *)field(base, at->n_roots);
+    r.roots = (codegen_equilibrium *)field(base, at->roots);
+    r.n_singular = (int *)field(base, at->n_singular);
+    r.singular_theta = (codegen_real *)field(base, at->singular_theta);
+    r.n_unassembled = (int *)field(base, at->n_unassembled);
+    r.unassembled_theta = (codegen_real *)field(base, at->unassembled_theta);
+    r.n_uncertain = (int *)field(base, at->n_uncertain);
+    r.uncertain = (codegen_uncertain *)field(base, at->uncertain);
+    return r;
+}
+
+static void clear(const codegen_model *model, const result_view *r)
+{
+    memset(r->base, 0, model->analysis.size);
+}
+
+static int all_finite(const codegen_real *values, int count)
+{
+    int i;
+    for (i = 0; i < count; ++i) {
+        if (!isfinite(values[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int finite_or(const codegen_real *values, int count, int failure)
+{
+    return all_finite(values, count) ? CODEGEN_OK : failure;
+}
+
+static void state_at(const call *c, codegen_real theta, codegen_real *at)
+{
+    c->model->equilibrium_state(c->params, theta, at);
+}
+
+/* G and the size of its terms, as NAME_equilibrium_residual returns them. */
+static int residual_of(const codegen_model *model, const codegen_real *at)
+{
+    return finite_or(at + model->state.residual, 2, model->residual_failure);
+}
+
+/* M, B, K, as NAME_linearisation returns them. */
+static int linearisation_of(const codegen_model *model, const codegen_real *at)
+{
+    return finite_or(at + model->state.m, 3, model->linearisation_failure);
+}
+
+/* The size against which G(theta_E) counts as zero: the sum of the magnitudes of its
+ * contributions (springs, gravity, loads), plus the change of G over the rounding of theta_E
+ * itself, |K| max(|theta|, 1). */
+static int residual_scale(const codegen_model *model, const codegen_real *at, codegen_real theta,
+                          codegen_real k, codegen_real *scale)
+{
+    const int status = residual_of(model, at);
+    if (status == CODEGEN_OK) {
+        *scale = at[model->state.scale] + codegen_fabs(k) * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
+    }
+    return status;
+}
+
+/* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
+ * M K can overflow where B/M and K/M do not. */
+static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_real re[2], codegen_real im[2])
+{
+    const codegen_real half_b = CODEGEN_R(0.5) * (b / m), k_m = k / m;
+    const codegen_real disc = half_b * half_b - k_m;
+    if (disc < 0) {
+        re[0] = re[1] = -half_b;
+        im[0] = codegen_sqrt(-disc);
+        im[1] = -im[0];
+    } else {
+        const codegen_real q = -(half_b + codegen_copysign(codegen_sqrt(disc), half_b));
+        re[0] = q;
+        re[1] = q != 0 ? k_m / q : 0;
+        im[0] = im[1] = 0;
+    }
+}
+
+/* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
+static void frequency(codegen_real m, codegen_real b, codegen_real k, codegen_equilibrium *e)
+{
+    const codegen_real w = codegen_sqrt(codegen_fabs(k) / m);
+    e->omega_n[0] = k >= 0 ? w : 0;
+    e->omega_n[1] = k >= 0 ? 0 : w;
+    e->zeta[0] = e->zeta[1] = 0;
+    if (w == 0) {
+        e->zeta[0] = b > 0 ? CODEGEN_HUGE : 0;
+    } else if (k >= 0) {
+        e->zeta[0] = b / (CODEGEN_R(2.0) * m * w);
+    } else {
+        e->zeta[1] = -b / (CODEGEN_R(2.0) * m * w); /* 1/i = -i */
+    }
+}
+
+static void classify_motion(codegen_real b, codegen_real k, codegen_equilibrium *e)
+{
+    if (k < 0) {
+        e->stability = CODEGEN_UNSTABLE;
+    } else if (k > 0 && b > 0) {
+        e->stability = CODEGEN_STABLE;
+    } else {
+        e->stability = CODEGEN_MARGINAL;
+    }
+    if (k <= 0) {
+        e->damping = CODEGEN_NOT_OSCILLATORY;
+    } else if (b == 0) {
+        e->damping = CODEGEN_UNDAMPED;
+    } else if (codegen_fabs(e->zeta[0] - 1) <= CODEGEN_R(8.0) * CODEGEN_EPSILON) {
+        e->damping = CODEGEN_CRITICALLY_DAMPED;
+    } else {
+        e->damping = e->zeta[0] < 1 ? CODEGEN_UNDERDAMPED : CODEGEN_OVERDAMPED;
+    }
+}
+
+/* The vibration about an equilibrium from its M, B, K. Where M = 0 (no inertia at this angle:
+ * statics need none) omega_n, zeta and the eigenvalues are undefined (NaN); K and B alone
+ * still say whether a perturbation grows. */
+static int vibrate(codegen_equilibrium *e)
+{
+    if (!(e->M > 0)) {
+        e->omega_n[0] = e->omega_n[1] = e->zeta[0] = e->zeta[1] = CODEGEN_NAN;
+        e->eigen_re[0] = e->eigen_re[1] = e->eigen_im[0] = e->eigen_im[1] = CODEGEN_NAN;
+        e->stability = e->K < 0 ? CODEGEN_UNSTABLE
+                     : e->K > 0 && e->B > 0 ? CODEGEN_STABLE : CODEGEN_MARGINAL;
+        e->damping = CODEGEN_NOT_OSCILLATORY;
+        return CODEGEN_OK;
+    }
+    frequency(e->M, e->B, e->K, e);
+    eigenvalues(e->M, e->B, e->K, e->eigen_re, e->eigen_im);
+    if (isnan(e->omega_n[0] + e->omega_n[1] + e->zeta[1] + e->eigen_re[0] + e->eigen_re[1]
+              + e->eigen_im[0]) || isnan(e->zeta[0])) {
+        return CODEGEN_ERR_OVERFLOW; /* (zeta may be +inf on purpose: B > 0, K = 0) */
+    }
+    classify_motion(e->B, e->K, e);
+    return CODEGEN_OK;
+}
+
+/* G on one branch at theta; 0 if it cannot be evaluated there. The branches' own kernel: the
+ * search along one branch needs nothing else. */
+static int branch_value(const call *c, codegen_real theta, unsigned branch, codegen_real *value)
+{
+    codegen_real *g = c->g;
+    c->model->equilibrium_branches(c->params, theta, g);
+    if (!all_finite(g, c->model->n_branches) || !(g[branch] == g[branch])) {
+        return 0;
+    }
+    *value = g[branch];
+    return 1;
+}
+
+/* M, B, K of an assembly mode at theta, G on that mode and the size of G's terms, into e;
+ * at: the state at theta. */
+static int linearise_at(const call *c, unsigned mode, codegen_real theta, const codegen_real *at,
+                        codegen_equilibrium *e)
+{
+    const codegen_model *model = c->model;
+    const codegen_state_layout *s = &model->state;
+    int status;
+    if (mode != 0u) {
+        codegen_real *modes = c->modes;
+        const codegen_real branch = at[s->branch_residuals + (int)model->branch_of_mode[mode]];
+        model->mode_linearisation(c->params, theta, modes);
+        status = finite_or(modes, 3 * model->n_modes, model->mode_linearisation_failure);
+        if (status != CODEGEN_OK) {
+            return status;
+        }
+        e->M = modes[model->mode_m + (int)mode];
+        e->B = modes[model->mode_b + (int)mode];
+        e->K = modes[model->mode_k + (int)mode];
+        if (!all_finite(at + s->branch_residuals, model->n_branches) || !(branch == branch)) {
+            return CODEGEN_ERR_SINGULAR_STATE;
+        }
+        e->residual = branch;
+    } else {
+        status = linearisation_of(model, at);
+        if (status == CODEGEN_OK) {
+            status = residual_of(model, at);
+        }
+        e->M = at[s->m];
+        e->B = at[s->b];
+        e->K = at[s->k];
+        e->residual = at[s->residual];
+    }
+    if (status == CODEGEN_OK) {
+        status = residual_scale(model, at, theta, e->K, &e->residual_scale);
+    }
+    e->theta = theta;
+    return status;
+}
+
+static int linearise(const call *c, unsigned mode, codegen_real theta, codegen_equilibrium *e)
+{
+    state_at(c, theta, c->at_line);
+    return linearise_at(c, mode, theta, c->at_line, e);
+}
+
+/* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
+static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                   codegen_iv *dg, unsigned *flags)
+{
+    const call *c = (const call *)context;
+    return c->model->enclosure(c->params, mode, theta, g, dg, flags, c->slots);
+}
+
+/* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
+static void sort_roots(codegen_equilibrium *roots, int count)
+{
+    int i, j;
+    for (i = 1; i < count; ++i) {
+        for (j = i; j > 0 && roots[j - 1].theta > roots[j].theta; --j) {
+            const codegen_equilibrium swap = roots[j];
+            roots[j] = roots[j - 1];
+            roots[j - 1] = swap;
+        }
+    }
+}
+
+/* ==== The polynomial route ==== */
+
+/* CODEGEN_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
+ * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
+static int smooth_near(const call *c, unsigned mode, codegen_real theta)
+{
+    const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
+    codegen_iv g, dg;
+    unsigned flags;
+    const int status = enclose(c, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    return status != 0 ? status
+         : (flags & CODEGEN_IV_POLE) != 0u ? CODEGEN_ERR_SINGULAR_STATE : CODEGEN_OK;
+}
+
+/* Prove a root of the polynomial route: by the interval Newton test around it (two
+ * enclosures, the first of G alone, its slope K being known, for a root polished to
+ * rounding); failing that, intervals around it from CERTIFY_START up to CERTIFY_RADIUS, until
+ * one has G changing sign and G' keeping its sign on the root's mode. */
+static int certify_around(const call *c, unsigned mode, codegen_equilibrium *e)
+{
+    codegen_real w;
+    int proven = 0;
+    const int newton = codegen_certify_newton(enclose, c, mode, e->theta, e->K,
+                                              &e->theta_lo, &e->theta_hi, &proven);
+    if (newton != 0 || proven) {
+        e->certified = proven;
+        return newton;
+    }
+    for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
+        const int status = codegen_certify(enclose, c, mode, e->theta - w, e->theta + w, &proven);
+        if (status != 0) {
+            return status;
+        }
+        if (proven) {
+            e->certified = 1;
+            e->theta_lo = e->theta - w;
+            e->theta_hi = e->theta + w;
+        }
+    }
+    return CODEGEN_OK;
+}
+
+/* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
+ * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
+ * neighbour farther away than that. A root already zero to working precision is left where it
+ * is (theta = pi stays pi). at: the state at theta on entry, at the result on return. */
+static codegen_real polish(const call *c, codegen_real theta, codegen_real radius, codegen_real *at)
+{
+    const codegen_model *model = c->model;
+    const codegen_state_layout *s = &model->state;
+    const codegen_real start = theta;
+    codegen_real *next_at = c->at_next;
+    int i;
+    if (residual_of(model, at) != CODEGEN_OK) {
+        return theta;
+    }
+    for (i = 0; i < NEWTON_STEPS && at[s->residual] != 0; ++i) {
+        codegen_real next, scale;
+        const codegen_real k = at[s->k];
+        if (linearisation_of(model, at) != CODEGEN_OK || k == 0
+            || residual_scale(model, at, theta, k, &scale) != CODEGEN_OK
+            || codegen_fabs(at[s->residual]) <= GENUINE_RESIDUAL * scale) {
+            break;
+        }
+        next = theta - at[s->residual] / k;
+        if (!(codegen_fabs(next - start) <= radius)) {
+            break;
+        }
+        state_at(c, next, next_at);
+        if (residual_of(model, next_at) != CODEGEN_OK
+            || !(codegen_fabs(next_at[s->residual]) < codegen_fabs(at[s->residual]))) {
+            break;
+        }
+        theta = next;
+        memcpy(at, next_at, (size_t)s->size * sizeof *at);
+    }
+    return theta;
+}
+
+/* Wrap into (-pi, pi]. An angle within PI_SNAP of -pi is the root at tau = infinity seen from
+ * the negative side (a leading coefficient that is a rounding residue puts it ~1e-13 off):
+ * it is reported as pi, where (-pi, pi] puts that root. */
+static codegen_real wrap(codegen_real theta)
+{
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846);
+    if (theta > pi) {
+        theta -= CODEGEN_R(2.0) * pi;
+    } else if (theta <= -pi) {
+        theta += CODEGEN_R(2.0) * pi;
+    }
+    return theta <= -pi + PI_SNAP ? pi : theta;
+}
+
+/* How far apart two angles are on the circle (pi - 1e-9 and -pi + 1e-9 are 2e-9 apart). */
+static codegen_real angle_between(codegen_real a, codegen_real b)
+{
+    return codegen_fabs(wrap(a - b));
+}
+
+/* Where the square roots stand at theta: CODEGEN_ERR_SINGULAR_STATE if one of them is zero to
+ * working precision (relative to the size of its radicand's terms: a limit position, or a
+ * length through zero, where G is undefined); *assembled = 0 if an assembly radicand is below
+ * zero (the mechanism cannot be put together at theta). */
+static int check_state(const codegen_model *model, const codegen_real *at, int *assembled)
+{
+    const codegen_real *values = at + model->state.radicands, *scales = at + model->state.radicand_scales;
+    const codegen_real tolerance = CODEGEN_R(64.0) * CODEGEN_EPSILON * CODEGEN_R(64.0) * CODEGEN_EPSILON;
+    int i, status;
+    *assembled = 1;
+    if (model->n_roots == 0) {
+        return CODEGEN_OK;
+    }
+    status = finite_or(values, 2 * model->n_roots, model->radicands_failure);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    for (i = 0; i < model->n_roots; ++i) {
+        if (codegen_fabs(values[i]) <= tolerance * scales[i]) {
+            return CODEGEN_ERR_SINGULAR_STATE;
+        }
+        if (values[i] < 0) {
+            *assembled = 0;
+        }
+    }
+    return CODEGEN_OK;
+}
+
+/* The branch whose value in g is nearest zero (the first of equals). */
+static unsigned nearest_branch(const codegen_real *g, int n_branches)
+{
+    unsigned j, best = 0u;
+    for (j = 1u; j < (unsigned)n_branches; ++j) {
+        best = codegen_fabs(g[j]) < codegen_fabs(g[best]) ? j : best;
+    }
+    return best;
+}
+
+/* Which branch zeroes G at theta: known (< n_branches: the root was found on it), else the one
+ * where |G| is smallest (a comparison of values of the same quantity, free of any absolute
+ * threshold). */
+static int branch_kind(const codegen_model *model, const codegen_real *at, unsigned known,
+                       codegen_root_kind *kind, unsigned *branch)
+{
+    const codegen_real *g = at + model->state.branch_residuals;
+    unsigned best;
+    int status;
+    if (model->equilibrium_branches == NULL) {
+        *branch = 0u;
+        *kind = CODEGEN_EQUILIBRIUM;
+        return CODEGEN_OK;
+    }
+    status = finite_or(g, model->n_branches, model->branches_failure);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    best = known < (unsigned)model->n_branches ? known : nearest_branch(g, model->n_branches);
+    *branch = best;
+    *kind = best == 0u ? CODEGEN_EQUILIBRIUM
+          : (best & model->length_branch_bits) != 0u ? CODEGEN_EXTRANEOUS : CODEGEN_OTHER_ASSEMBLY;
+    return CODEGEN_OK;
+}
+
+/* The zero of a branch inside [lo, hi], where it takes the values g_lo and g_hi of opposite
+ * signs: the Illinois method (regula falsi that halves a stale end's weight: superlinear, and
+ * safe inside the bracket) to adjacent doubles, or BRACKET_STEPS steps. */
+static codegen_real solve_on_branch(const call *c, unsigned branch, codegen_real lo,
+                                    codegen_real hi, codegen_real g_lo, codegen_real g_hi)
+{
+    codegen_real g;
+    int i, side = 0;
+    for (i = 0; i < BRACKET_STEPS; ++i) {
+        codegen_real mid = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+        if (!(mid > lo && mid < hi)) {
+            mid = lo + CODEGEN_R(0.5) * (hi - lo);
+        }
+        if (!(mid > lo && mid < hi) || !branch_value(c, mid, branch, &g)) {
+            break;
+        }
+        if (g == 0) {
+            return mid;
+        }
+        if ((g < 0) == (g_lo < 0)) {
+            lo = mid;
+            g_lo = g;
+            g_hi *= side < 0 ? CODEGEN_R(0.5) : 1;
+            side = -1;
+        } else {
+            hi = mid;
+            g_hi = g;
+            g_lo *= side > 0 ? CODEGEN_R(0.5) : 1;
+            side = 1;
+        }
+    }
+    return codegen_fabs(g_lo) < codegen_fabs(g_hi) ? lo : hi;
+}
+
+/* The zero of G on its own branch nearest theta (a root of another assembly mode, or of a
+ * negative length): the polynomial places it only as well as its conditioning allows, and
+ * no derivative of the other branches is emitted. A bracket grows outwards from theta until
+ * the branch changes sign (within radius), then solve_on_branch. */
+static codegen_real refine_on_branch(const call *c, codegen_real theta, unsigned branch,
+                                     codegen_real radius)
+{
+    codegen_real g0, g, step;
+    if (!branch_value(c, theta, branch, &g0) || g0 == 0) {
+        return theta;
+    }
+    for (step = BRACKET_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1); step <= radius; step *= CODEGEN_R(4.0)) {
+        if (branch_value(c, theta - step, branch, &g) && (g < 0) != (g0 < 0)) {
+            return solve_on_branch(c, branch, theta - step, theta, g, g0);
+        }
+        if (branch_value(c, theta + step, branch, &g) && (g < 0) != (g0 < 0)) {
+            return solve_on_branch(c, branch, theta, theta + step, g0, g);
+        }
+    }
+    return theta;
+}
+
+/* Roots of the polynomial that the finder merged into the one it reports, roots[source]: every
+ * branch but the one nearest zero there (branches[source]) that changes sign across it
+ * +- MERGED_RADIUS has a root there, on the side where it changes sign, which the polynomial
+ * shares. Each is found on its branch and appended to roots[*count..] (and its branch to
+ * branches[]), unless another root listed lies within MULTIPLE_ROOT_SPREAD of it. One that
+ * close to roots[source] itself is appended all the same: a genuine root ~1e-11 rad from an
+ * extraneous one is kept on its own branch (merge_split_roots then keeps the genuine one),
+ * however the branches' rounding at roots[source] ranks the two. Each root appended is a
+ * further root of the polynomial, or a further multiplicity of one, and those number at most
+ * its degree, max_roots: a new one always has room. */
+static void add_merged_roots(const call *c, int source, codegen_real *roots, unsigned *branches,
+                             int *count)
+{
+    const codegen_model *model = c->model;
+    const int n = model->n_branches;
+    const codegen_real theta = roots[source];
+    codegen_real *at = c->merged, *below = at + n, *above = below + n;
+    unsigned j, nearest;
+    model->equilibrium_branches(c->params, theta, at);
+    model->equilibrium_branches(c->params, theta - MERGED_RADIUS, below);
+    model->equilibrium_branches(c->params, theta + MERGED_RADIUS, above);
+    if (!all_finite(at, n) || !all_finite(below, n) || !all_finite(above, n)) {
+        return;
+    }
+    nearest = nearest_branch(at, n);
+    branches[source] = nearest;
+    for (j = 0u; j < (unsigned)n; ++j) {
+        codegen_real root;
+        int k, listed = 0;
+        if (j == nearest || (below[j] < 0) == (above[j] < 0)) {
+            continue;
+        }
+        root = at[j] == 0 ? theta
+             : (below[j] < 0) != (at[j] < 0) ? solve_on_branch(c, j, theta - MERGED_RADIUS, theta, below[j], at[j])
+             : solve_on_branch(c, j, theta, theta + MERGED_RADIUS, at[j], above[j]);
+        for (k = 0; k < *count && !listed; ++k) {
+            listed = k != source && angle_between(roots[k], root) <= MULTIPLE_ROOT_SPREAD;
+        }
+        if (!listed && *count < model->max_roots) {
+            branches[*count] = j;
+            roots[(*count)++] = root;
+        }
+    }
+}
+
+/* One root: classify by the branch it zeroes (known, or see branch_kind), polish, certify, then
+ * linearise. Where branches vanish together, G itself decides, relative to the size of its
+ * contributions. (A genuine root the root finder merged with this one is found by
+ * add_merged_roots.) *assembled = 0 (and nothing else written) where the mechanism cannot be
+ * assembled. */
+static int study_root(const call *c, codegen_real theta, unsigned known, codegen_equilibrium *e,
+                      int *assembled)
+{
+    const codegen_model *model = c->model;
+    int status, declared;
+    unsigned branch, mode = 0u;
+    codegen_real *at = c->at_root, polished;
+    theta = wrap(theta);
+    state_at(c, theta, at);
+    status = check_state(model, at, assembled);
+    if (status != CODEGEN_OK || !*assembled) {
+        return status;
+    }
+    status = branch_kind(model, at, known, &e->kind, &branch);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    declared = e->kind == CODEGEN_EQUILIBRIUM;
+    e->genuine = declared;
+    polished = polish(c, theta, declared ? POLISH_RADIUS : 0, at);
+    status = linearise_at(c, 0u, polished, at, e);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    if (e->genuine && !(codegen_fabs(e->residual) <= SINGULAR_RESIDUAL * e->residual_scale)) {
+        /* The genuine branch r*G vanishes but Newton cannot bring G near zero: G jumps
+         * here, which it does only where r = 0 (a root the finder placed ~1e-8 off it). */
+        return CODEGEN_ERR_SINGULAR_STATE;
+    }
+    e->genuine = e->genuine || codegen_fabs(e->residual) <= GENUINE_RESIDUAL * e->residual_scale;
+    if (e->genuine) {
+        e->kind = CODEGEN_EQUILIBRIUM;
+        e->theta = wrap(e->theta);
+    } else { /* not G's: the root itself, on its own branch */
+        if (model->equilibrium_branches != NULL) {
+            theta = wrap(refine_on_branch(c, theta, branch, BRANCH_RADIUS));
+        }
+        if (model->mode_of_branch != NULL) {
+            mode = e->kind == CODEGEN_OTHER_ASSEMBLY ? model->mode_of_branch[branch] : 0u;
+        }
+        status = linearise(c, mode, theta, e);
+        if (status != CODEGEN_OK) {
+            return status;
+        }
+    }
+    e->certified = 0;
+    e->theta_lo = e->theta_hi = e->theta;
+    if (e->kind != CODEGEN_EXTRANEOUS) {
+        status = certify_around(c, mode, e);
+        if (status == CODEGEN_OK && !e->certified) {
+            status = smooth_near(c, mode, e->theta);
+        }
+        if (status != CODEGEN_OK) {
+            return status;
+        }
+    }
+    return vibrate(e);
+}
+
+/* Whether two roots are one that rounding split: closer than MULTIPLE_ROOT_SPREAD on the
+ * circle (and in float, of one kind). */
+static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b)
+{
+    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
+        && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
+}
+
+/* Merge split pairs among neighbours (sorted input), the first and the last included: the
+ * circle closes at pi. A merged root is genuine if either half is. Returns the new count. */
+static int merge_split_roots(codegen_equilibrium *roots, int count)
+{
+    int i, kept = 0;
+    for (i = 0; i < count; ++i) {
+        if (kept > 0 && split_pair(&roots[i], &roots[kept - 1])) {
+            if (roots[i].genuine && !roots[kept - 1].genuine) {
+                roots[kept - 1] = roots[i];
+            }
+            continue;
+        }
+        roots[kept++] = roots[i];
+    }
+    if (kept > 1 && split_pair(&roots[0], &roots[kept - 1])) {
+        if (roots[kept - 1].genuine || !roots[0].genuine) { /* the one nearer pi stays */
+            memmove(roots, roots + 1, (size_t)(kept - 1) * sizeof *roots);
+        }
+        --kept;
+    }
+    return kept;
+}
+
+/* The polynomial route into *work, in the workspace's memory. */
+static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
+{
+    const codegen_model *model = c->model;
+    const codegen_workspace_layout *ws = &model->workspace;
+    codegen_real *theta = (codegen_real *)field(workspace, ws->theta);
+    unsigned *branches = (unsigned *)field(workspace, ws->branches);
+    int i, count, found, status;
+    clear(model, work);
+    status = model->sigma(c->params, work->sigma, field(workspace, ws->sigma_values));
+    if (status == CODEGEN_OK) {
+        status = finite_or(work->sigma, model->degree + 1, model->sigma_failure);
+    }
+    if (status == CODEGEN_OK) {
+        /* The runtime's codes 0..3 are the library's generic codes; its only other code (a
+         * degree below 1) cannot occur. */
+        status = (int)codegen_poly_real_roots_work(work->sigma, model->degree, theta, &count,
+                                                   (codegen_real *)field(workspace, ws->roots));
+        if (status == CODEGEN_ERR_ZERO_POLYNOMIAL) {
+            status = CODEGEN_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
+        }
+    }
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    for (i = 0; i < count; ++i) {
+        branches[i] = (unsigned)model->n_branches; /* each to be told by the branches at it */
+    }
+    /* (In float, MULTIPLE_ROOT_SPREAD is wider than MERGED_RADIUS: nothing to look for.) */
+    for (i = 0, found = count; i < found && !EQUILIBRIA_BY_ISOLATION
+                               && model->equilibrium_branches != NULL; ++i) {
+        add_merged_roots(c, i, theta, branches, &count);
+    }
+    for (i = 0; i < count; ++i) {
+        int assembled;
+        status = study_root(c, theta[i], branches[i], &work->roots[*work->n_roots], &assembled);
+        if (status == CODEGEN_ERR_SINGULAR_STATE) {
+            work->singular_theta[(*work->n_singular)++] = theta[i];
+        } else if (status != CODEGEN_OK) {
+            return status;
+        } else if (!assembled) {
+            work->unassembled_theta[(*work->n_unassembled)++] = theta[i];
+        } else {
+            ++*work->n_roots;
+        }
+    }
+    /* Polishing moves roots by rounding-size amounts: keep them sorted. */
+    sort_roots(work->roots, *work->n_roots);
+    *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
+    return CODEGEN_OK;
+}
+
+/* ==== The isolation route ==== */
+
+/* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. A periodic
+ * coordinate's circle is cut inside an interval where every mode's G keeps away from 0, so
+ * that no zero sits on the seam, to be found at both ends or at neither. Zeros found at or
+ * below *below are moved up by 2 pi into the range (-HUGE_VAL: the range is not periodic). */
+static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, codegen_real *below)
+{
+    const codegen_model *model = c->model;
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = model->range_centre(c->params);
+    if (model->periodic) {
+        int k;
+        *below = centre - pi;
+        for (k = 0; k < SEAM_TRIES; ++k) {
+            const codegen_real cut = centre + pi - (codegen_real)k * SEAM_STEP;
+            const codegen_real margin = SEAM_MARGIN * codegen_fmax(codegen_fabs(cut), (codegen_real)1);
+            int decided = 1;
+            unsigned mode;
+            for (mode = 0u; mode < (unsigned)model->n_modes && decided; ++mode) {
+                codegen_iv g, dg;
+                unsigned flags;
+                const int status = enclose(c, mode, codegen_iv_make(cut - margin, cut + margin),
+                                           &g, &dg, &flags);
+                if (status != 0) {
+                    return status;
+                }
+                decided = (flags & CODEGEN_IV_OUTSIDE) != 0u
+                       || ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) == 0u && !codegen_iv_has_zero(g));
+            }
+            if (decided) { /* no zero within margin of the cut: the ends may overlap by that much */
+                *lo = cut - CODEGEN_R(2.0) * pi - CODEGEN_R(0.5) * margin;
+                *hi = cut;
+                return CODEGEN_OK;
+            }
+        }
+    } else {
+        *below = -CODEGEN_HUGE;
+    }
+    *lo = centre - pi;
+    *hi = centre + pi;
+    return CODEGEN_OK;
+}
+
+/* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
+ * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
+static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+                        codegen_real below, void *workspace, const result_view *work)
+{
+    const codegen_model *model = c->model;
+    codegen_isolated *found = (codegen_isolated *)field(workspace, model->workspace.found);
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
+    int i, count;
+    const int isolated = codegen_isolate_work(enclose, c, mode, lo, hi, found,
+                                              model->max_roots + model->max_uncertain, &count,
+                                              (codegen_isolation_box *)field(workspace, model->workspace.boxes));
+    if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
+        return CODEGEN_ERR_CAPACITY;
+    }
+    if (isolated != 0) {
+        return isolated;
+    }
+    if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
+        && found[0].hi == hi) {
+        return CODEGEN_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
+    }
+    for (i = 0; i < count; ++i) {
+        const codegen_real shift = found[i].theta <= below ? two_pi : 0;
+        /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
+        const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
+                                                shift == 0 ? codegen_iv_point(0)
+                                                : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
+                                                                  CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
+        if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
+            codegen_equilibrium *e = &work->roots[*work->n_roots];
+            int status;
+            if (*work->n_roots == model->max_roots) {
+                return CODEGEN_ERR_CAPACITY;
+            }
+            status = linearise(c, mode, found[i].theta + shift, e);
+            if (status == CODEGEN_ERR_SINGULAR_STATE) { /* proven, but K or M undefined */
+                if (*work->n_singular == model->max_roots) {
+                    return CODEGEN_ERR_CAPACITY;
+                }
+                work->singular_theta[(*work->n_singular)++] = found[i].theta + shift;
+                continue;
+            }
+            if (status == CODEGEN_OK) {
+                e->kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
+                e->genuine = mode == 0u;
+                e->certified = 1;
+                e->theta_lo = moved.lo;
+                e->theta_hi = moved.hi;
+                status = vibrate(e);
+            }
+            if (status != CODEGEN_OK) {
+                return status;
+            }
+            ++*work->n_roots;
+        } else {
+            codegen_uncertain *u = &work->uncertain[*work->n_uncertain];
+            if (*work->n_uncertain == model->max_uncertain) {
+                return CODEGEN_ERR_CAPACITY;
+            }
+            u->lo = moved.lo;
+            u->hi = moved.hi;
+            u->kind = found[i].kind == CODEGEN_ISOLATED_CLUSTER ? CODEGEN_CLUSTER : CODEGEN_SINGULAR;
+            u->mode = mode;
+            u->sign_change = found[i].sign_change;
+            ++*work->n_uncertain;
+        }
+    }
+    return CODEGEN_OK;
+}
+
+/* The isolation route into *work (parameters checked). */
+static int isolate_into(const call *c, void *workspace, const result_view *work)
+{
+    const codegen_model *model = c->model;
+    codegen_real lo, hi, below;
+    unsigned mode;
+    int i, status;
+    clear(model, work);
+    status = isolation_range(c, &lo, &hi, &below);
+    for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
+        status = isolate_mode(c, mode, lo, hi, below, workspace, work);
+    }
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    sort_roots(work->roots, *work->n_roots);
+    for (i = 1; i < *work->n_uncertain; ++i) { /* insertion sort by lo */
+        int j;
+        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
+            const codegen_uncertain swap = work->uncertain[j];
+            work->uncertain[j] = work->uncertain[j - 1];
+            work->uncertain[j - 1] = swap;
+        }
+    }
+    return CODEGEN_OK;
+}
+
+#if EQUILIBRIA_BY_ISOLATION
+/* In float, sigma's coefficients carry 24 bits: close pairs of the polynomial's roots (Table
+ * 2's, 5e-4 rad apart) can merge into one root or vanish as a complex pair, so its roots
+ * cannot vouch that no equilibrium is missing. The equilibria come instead from the certified
+ * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
+ * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
+ * angles where the mechanism is singular or cannot be assembled. */
+static int complete_by_isolation(const call *c, void *workspace, const result_view *polynomial,
+                                 const result_view *result)
+{
+    const codegen_model *model = c->model;
+    int i;
+    const int status = isolate_into(c, workspace, result);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    for (i = 0; i < *polynomial->n_roots && *result->n_roots < model->max_roots; ++i) {
+        if (polynomial->roots[i].kind == CODEGEN_EXTRANEOUS) {
+            result->roots[(*result->n_roots)++] = polynomial->roots[i];
+        }
+    }
+    sort_roots(result->roots, *result->n_roots);
+    memcpy(result->sigma, polynomial->sigma, (size_t)(model->degree + 1) * sizeof *result->sigma);
+    *result->n_unassembled = *polynomial->n_unassembled;
+    memcpy(result->unassembled_theta, polynomial->unassembled_theta,
+           (size_t)model->max_roots * sizeof *result->unassembled_theta);
+    for (i = 0; i < *polynomial->n_singular && *result->n_singular < model->max_roots; ++i) {
+        result->singular_theta[(*result->n_singular)++] = polynomial->singular_theta[i];
+    }
+    return CODEGEN_OK;
+}
+#endif
+
+/* One route into the workspace's result (parameters checked). */
+static int run(const call *c, codegen_route route, void *workspace)
+{
+    const codegen_model *model = c->model;
+    const result_view result = results_in(model, field(workspace, model->workspace.result));
+    if (route == CODEGEN_ROUTE_ISOLATION || model->sigma == NULL) {
+        return isolate_into(c, workspace, &result);
+    }
+#if EQUILIBRIA_BY_ISOLATION
+    {
+        const result_view polynomial = results_in(model, field(workspace, model->workspace.polynomial));
+        const int status = analyze_polynomial(c, workspace, &polynomial);
+        return status != CODEGEN_OK ? status : complete_by_isolation(c, workspace, &polynomial, &result);
+    }
+#else
+    return analyze_polynomial(c, workspace, &result);
+#endif
+}
+
+int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
+                         void *result, void *workspace)
+{
+    int status;
+    call c;
+    codegen_real *scratch;
+    if (params == NULL || result == NULL || workspace == NULL) {
+        return CODEGEN_ERR_NULL_POINTER;
+    }
+    status = model->check_params(params);
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    scratch = (codegen_real *)field(workspace, model->workspace.scratch);
+    c.model = model;
+    c.params = params;
+    c.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
+    c.at_root = scratch;
+    c.at_next = c.at_root + model->state.size;
+    c.at_line = c.at_next + model->state.size;
+    c.g = c.at_line + model->state.size;
+    c.merged = c.g + model->n_branches;
+    c.modes = c.merged + 3 * model->n_branches;
+    status = run(&c, route, workspace);
+    if (status == CODEGEN_OK) {
+        memcpy(result, field(workspace, model->workspace.result), model->analysis.size);
+    }
+    return status;
+}
+
+int codegen_analysis_batch(const codegen_model *model, codegen_route route, size_t count,
+                           const void *params, void *results, int *statuses, void *workspace)
+{
+    size_t i;
+    int first = CODEGEN_OK;
+    if (params == NULL || results == NULL || statuses == NULL) {
+        return CODEGEN_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = codegen_analysis_run(model, route, (const char *)params + i * model->params_size,
+                                           (char *)results + i * model->analysis.size, workspace);
+        if (first == CODEGEN_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
