@@ -11,9 +11,6 @@
 
 #include <stddef.h>
 
-/* The runtime returns this library's statuses as int. */
-typedef char doughty_status_is_int[sizeof(doughty_status) == sizeof(int) ? 1 : -1];
-
 /* The kernels, taking the parameters as the runtime passes them. */
 static int check_params(const void *params)
 {
@@ -150,20 +147,34 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
     return doughty_isolate_work(params, result, &workspace);
 }
 
+/* Each set's analysis by one route, its status into statuses[i]; the first failure. */
+static doughty_status batch(codegen_route route, size_t count, const doughty_params *params,
+                         doughty_analysis *results, doughty_status *statuses)
+{
+    doughty_workspace workspace;
+    doughty_status first = DOUGHTY_OK;
+    size_t i;
+    if (params == NULL || results == NULL || statuses == NULL) {
+        return DOUGHTY_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = (doughty_status)codegen_analysis_run(&model, route, &params[i], &results[i],
+                                                           &workspace);
+        first = first == DOUGHTY_OK ? statuses[i] : first;
+    }
+    return first;
+}
+
 doughty_status doughty_analyze_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses)
 {
-    doughty_workspace workspace;
-    return (doughty_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_DEFAULT, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_DEFAULT, count, params, results, statuses);
 }
 
 doughty_status doughty_isolate_batch(size_t count, const doughty_params *params,
                                   doughty_analysis *results, doughty_status *statuses)
 {
-    doughty_workspace workspace;
-    return (doughty_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_ISOLATION, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_ISOLATION, count, params, results, statuses);
 }
 
 doughty_status doughty_simulation_start(doughty_simulation *simulation, const doughty_params *params,

@@ -11,9 +11,6 @@
 
 #include <stddef.h>
 
-/* The runtime returns this library's statuses as int. */
-typedef char four_bar_status_is_int[sizeof(four_bar_status) == sizeof(int) ? 1 : -1];
-
 /* The kernels, taking the parameters as the runtime passes them. */
 static int check_params(const void *params)
 {
@@ -171,20 +168,34 @@ four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysi
     return four_bar_isolate_work(params, result, &workspace);
 }
 
+/* Each set's analysis by one route, its status into statuses[i]; the first failure. */
+static four_bar_status batch(codegen_route route, size_t count, const four_bar_params *params,
+                         four_bar_analysis *results, four_bar_status *statuses)
+{
+    four_bar_workspace workspace;
+    four_bar_status first = FOUR_BAR_OK;
+    size_t i;
+    if (params == NULL || results == NULL || statuses == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = (four_bar_status)codegen_analysis_run(&model, route, &params[i], &results[i],
+                                                           &workspace);
+        first = first == FOUR_BAR_OK ? statuses[i] : first;
+    }
+    return first;
+}
+
 four_bar_status four_bar_analyze_batch(size_t count, const four_bar_params *params,
                                   four_bar_analysis *results, four_bar_status *statuses)
 {
-    four_bar_workspace workspace;
-    return (four_bar_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_DEFAULT, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_DEFAULT, count, params, results, statuses);
 }
 
 four_bar_status four_bar_isolate_batch(size_t count, const four_bar_params *params,
                                   four_bar_analysis *results, four_bar_status *statuses)
 {
-    four_bar_workspace workspace;
-    return (four_bar_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_ISOLATION, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_ISOLATION, count, params, results, statuses);
 }
 
 four_bar_status four_bar_simulation_start(four_bar_simulation *simulation, const four_bar_params *params,

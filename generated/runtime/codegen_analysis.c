@@ -956,21 +956,3 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     }
     return status;
 }
-
-int codegen_analysis_batch(const codegen_model *model, codegen_route route, size_t count,
-                           const void *params, void *results, int *statuses, void *workspace)
-{
-    size_t i;
-    int first = CODEGEN_OK;
-    if (params == NULL || results == NULL || statuses == NULL) {
-        return CODEGEN_ERR_NULL_POINTER;
-    }
-    for (i = 0; i < count; ++i) {
-        statuses[i] = codegen_analysis_run(model, route, (const char *)params + i * model->params_size,
-                                           (char *)results + i * model->analysis.size, workspace);
-        if (first == CODEGEN_OK) {
-            first = statuses[i];
-        }
-    }
-    return first;
-}

@@ -11,9 +11,6 @@
 
 #include <stddef.h>
 
-/* The runtime returns this library's statuses as int. */
-typedef char slider_crank_status_is_int[sizeof(slider_crank_status) == sizeof(int) ? 1 : -1];
-
 /* The kernels, taking the parameters as the runtime passes them. */
 static int check_params(const void *params)
 {
@@ -171,20 +168,34 @@ slider_crank_status slider_crank_isolate(const slider_crank_params *params, slid
     return slider_crank_isolate_work(params, result, &workspace);
 }
 
+/* Each set's analysis by one route, its status into statuses[i]; the first failure. */
+static slider_crank_status batch(codegen_route route, size_t count, const slider_crank_params *params,
+                         slider_crank_analysis *results, slider_crank_status *statuses)
+{
+    slider_crank_workspace workspace;
+    slider_crank_status first = SLIDER_CRANK_OK;
+    size_t i;
+    if (params == NULL || results == NULL || statuses == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = (slider_crank_status)codegen_analysis_run(&model, route, &params[i], &results[i],
+                                                           &workspace);
+        first = first == SLIDER_CRANK_OK ? statuses[i] : first;
+    }
+    return first;
+}
+
 slider_crank_status slider_crank_analyze_batch(size_t count, const slider_crank_params *params,
                                   slider_crank_analysis *results, slider_crank_status *statuses)
 {
-    slider_crank_workspace workspace;
-    return (slider_crank_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_DEFAULT, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_DEFAULT, count, params, results, statuses);
 }
 
 slider_crank_status slider_crank_isolate_batch(size_t count, const slider_crank_params *params,
                                   slider_crank_analysis *results, slider_crank_status *statuses)
 {
-    slider_crank_workspace workspace;
-    return (slider_crank_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_ISOLATION, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_ISOLATION, count, params, results, statuses);
 }
 
 slider_crank_status slider_crank_simulation_start(slider_crank_simulation *simulation, const slider_crank_params *params,

@@ -11,9 +11,6 @@
 
 #include <stddef.h>
 
-/* The runtime returns this library's statuses as int. */
-typedef char torsion_pendulum_status_is_int[sizeof(torsion_pendulum_status) == sizeof(int) ? 1 : -1];
-
 /* The kernels, taking the parameters as the runtime passes them. */
 static int check_params(const void *params)
 {
@@ -123,20 +120,34 @@ torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *
     return torsion_pendulum_isolate_work(params, result, &workspace);
 }
 
+/* Each set's analysis by one route, its status into statuses[i]; the first failure. */
+static torsion_pendulum_status batch(codegen_route route, size_t count, const torsion_pendulum_params *params,
+                         torsion_pendulum_analysis *results, torsion_pendulum_status *statuses)
+{
+    torsion_pendulum_workspace workspace;
+    torsion_pendulum_status first = TORSION_PENDULUM_OK;
+    size_t i;
+    if (params == NULL || results == NULL || statuses == NULL) {
+        return TORSION_PENDULUM_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = (torsion_pendulum_status)codegen_analysis_run(&model, route, &params[i], &results[i],
+                                                           &workspace);
+        first = first == TORSION_PENDULUM_OK ? statuses[i] : first;
+    }
+    return first;
+}
+
 torsion_pendulum_status torsion_pendulum_analyze_batch(size_t count, const torsion_pendulum_params *params,
                                   torsion_pendulum_analysis *results, torsion_pendulum_status *statuses)
 {
-    torsion_pendulum_workspace workspace;
-    return (torsion_pendulum_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_DEFAULT, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_DEFAULT, count, params, results, statuses);
 }
 
 torsion_pendulum_status torsion_pendulum_isolate_batch(size_t count, const torsion_pendulum_params *params,
                                   torsion_pendulum_analysis *results, torsion_pendulum_status *statuses)
 {
-    torsion_pendulum_workspace workspace;
-    return (torsion_pendulum_status)codegen_analysis_batch(&model, CODEGEN_ROUTE_ISOLATION, count, params,
-                                                  results, (int *)statuses, &workspace);
+    return batch(CODEGEN_ROUTE_ISOLATION, count, params, results, statuses);
 }
 
 torsion_pendulum_status torsion_pendulum_simulation_start(torsion_pendulum_simulation *simulation, const torsion_pendulum_params *params,

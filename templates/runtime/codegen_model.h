@@ -7,7 +7,7 @@
  * workspace types, its status codes for failures of each kernel, and its unchecked kernels
  * (NAME_kernels.h) behind pointers that take the parameters as const void *. The library's
  * public entries (NAME_analyze, NAME_isolate, NAME_simulate...) check nothing themselves and
- * call codegen_analysis_run, codegen_analysis_batch and codegen_simulation_* with it, as
+ * call codegen_analysis_run and codegen_simulation_* with it, as
  * acados' solvers call their generated model functions.
  */
 #ifndef CODEGEN_MODEL_H
@@ -184,12 +184,6 @@ typedef enum codegen_route {
  * CODEGEN_OK. Returns a status of the library's. */
 int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
                          void *result, void *workspace);
-
-/* The same over count parameter sets (arrays of NAME_params and NAME_analysis), statuses[i]
- * for each (the library's status type has int's size: checked where the model is made).
- * Returns CODEGEN_OK, or the first failure. */
-int codegen_analysis_batch(const codegen_model *model, codegen_route route, size_t count,
-                           const void *params, void *results, int *statuses, void *workspace);
 
 /* The time response (codegen_ode.h) of thetaddot = f(theta, thetadot): simulation is a
  * NAME_simulation; the statuses and contracts are NAME_simulation_start's, _advance's,
