@@ -16,7 +16,7 @@ The convention, for README.md and every docs/*.md:
 - The temporary folder starts with ``spring_pendulum.py``, the model listed in
   docs/models.md, and ``app.c``, the C program of the README.
 
-A command with ``--plot`` needs matplotlib and one starting with ``cc`` a C compiler: without
+A command with ``--plot``, or ``draw``, needs matplotlib and one starting with ``cc`` a C compiler: without
 them that command is skipped (the test fails instead where CI is set, like need_tools).
 """
 from __future__ import annotations
@@ -121,7 +121,7 @@ def _in_ci() -> bool:
 
 def _missing(command: str) -> str | None:
     """What the command needs that is not installed, or None."""
-    if "--plot" in command:
+    if "--plot" in command or command.split()[1:2] == ["draw"]:
         try:
             import matplotlib  # noqa: F401
         except ImportError:
@@ -230,3 +230,50 @@ def test_readme_model_excerpt_is_the_listed_model():
     excerpt = section(REPO / "README.md", "## Your own mechanism", "python")
     assert len(excerpt.splitlines()) <= 15
     assert excerpt in model_listing()
+
+
+def test_paper_is_cited_alike_in_readme_and_method():
+    """What is known of the paper, and that its bibliographic details are missing, in both."""
+    for path in (REPO / "README.md", REPO / "docs" / "method.md"):
+        text = " ".join(path.read_text().split())
+        for fact in ("10-step method", "Spanish-language journal article",
+                     "a novel approach to analyze the vibrations associated with multibody "
+                     "mechanical systems", "Doughty's two-slider mechanism", "OCR text without its "
+                     "title page"):
+            assert fact in text, f"{path.name}: {fact!r}"
+
+
+def python_scripts(path: Path) -> list[Block]:
+    """The Python blocks of a file that start processes (multiprocessing): run as scripts."""
+    return [b for b in blocks(path) if b.lang == "python" and "multiprocessing" in "\n".join(b.lines)]
+
+
+@pytest.mark.parametrize("path", DOCS, ids=[p.relative_to(REPO).as_posix() for p in DOCS])
+def test_process_pool_snippets_run_as_scripts(path, tmp_path):
+    """A snippet pasted into a script must not hang: a spawn pool needs the __main__ guard."""
+    for block in python_scripts(path):
+        code = "\n".join(block.lines) + "\n"
+        assert 'if __name__ == "__main__":' in code, f"{path.name}:{block.line}: no __main__ guard"
+        script = tmp_path / f"snippet_{block.line}.py"
+        script.write_text(code)
+        run = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                             text=True, timeout=300)
+        assert run.returncode == 0, f"{path.name}:{block.line}: {run.stderr[-2000:]}"
+
+
+def test_cmake_add_subdirectory_lines_build_a_consumer(need_tools, tmp_path):
+    """The two documented lines, in a project outside the checkout, configure and build."""
+    need_tools("cmake", "cc")
+    lines = section(REPO / "docs" / "c-library.md", "## CMake and pkg-config", "cmake")
+    lines = lines.replace("path/to/mechvib", REPO.as_posix())
+    (tmp_path / "app.c").write_text(section(REPO / "README.md", "## The C library", "c"))
+    (tmp_path / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.16)\nproject(consumer C)\n"
+        "add_executable(app app.c)\n" + lines)
+    build = tmp_path / "build"
+    for command in (["cmake", "-S", str(tmp_path), "-B", str(build)],
+                    ["cmake", "--build", str(build), "-j2"]):
+        run = subprocess.run(command, capture_output=True, text=True, timeout=600)
+        assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    app = subprocess.run([str(build / "app")], capture_output=True, text=True, timeout=60)
+    assert app.returncode == 0 and "176.7155 deg" in app.stdout

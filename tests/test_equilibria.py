@@ -559,11 +559,14 @@ def stable_equilibria(result, damping):
 
 
 def test_table2_stable_equilibria():
-    """The three genuine roots with K > 0; 178.8 deg (K > 0 too) is extraneous."""
+    """The three genuine roots with K > 0; 178.8 deg (K > 0 too) is extraneous: not an
+    equilibrium, so it has no stability at all."""
     result = analyze(api.example_params())
     stable = [r for r in result.roots if r.stability == "stable"]
-    assert [r.genuine for r in stable] == [True, True, True, False]
+    assert [r.genuine for r in stable] == [True, True, True]
     assert all(r.K > 0 and r.B > 0 for r in stable)
+    extraneous = [r for r in result.roots if r.kind == "extraneous"]
+    assert len(extraneous) == 4 and {(r.stability, r.damping) for r in extraneous} == {(None, None)}
     assert len(stable_equilibria(result, "overdamped")) == 2
     assert len(stable_equilibria(result, "underdamped")) == 1
 

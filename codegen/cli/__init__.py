@@ -1,7 +1,7 @@
 """Layer 7: the command line (``mechvib``, or ``python -m codegen`` in a checkout).
 
-One module per verb (analyze, generate, sources, list in ``listing``, sweep, branches,
-simulate), each with ``add(verbs, prog)``, which declares its options, and ``run(args)``,
+One module per verb (analyze, generate, sources, list in ``listing``, params, sweep,
+branches, simulate, draw), each with ``add(verbs, prog)``, which declares its options, and ``run(args)``,
 which carries it out and returns an exit status: 0 on success, 1 when a check fails, 2 for
 bad input; ``common`` has what they share. Errors are one line on stderr that names what was
 wrong; no traceback reaches the user.
@@ -15,16 +15,17 @@ from pathlib import Path
 
 from .. import __version__, files
 from ..runtime.figures import PlotUnavailable
-from . import analyze, branches, generate, listing, simulate, sources, sweep
+from . import analyze, branches, draw, generate, listing, params, simulate, sources, sweep
 
 #: The verbs, in the order --help lists them.
-VERBS = (analyze, generate, sources, listing, sweep, branches, simulate)
+VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, draw)
 
 DESCRIPTION = """\
 Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
 vibration analysis, and run that analysis: every equilibrium of one degree of freedom, its
-stability, natural frequency and damping ratio. Angles are printed in degrees (the Python
-API works in radians); everything else is SI."""
+stability, natural frequency and damping ratio. Angles are printed and read in degrees
+(an angle parameter too, or with its unit: 90deg, 1.5708rad; the Python API works in
+radians); everything else is SI."""
 
 EXAMPLES = """\
 examples:
@@ -32,6 +33,8 @@ examples:
   {prog} analyze --set F=0 --set k=1000       the same with two parameters changed
   {prog} analyze --mechanism four_bar --json  another mechanism, as JSON
   {prog} list                                 the mechanisms this installation has
+  {prog} params --mechanism four_bar          its parameters: units, meanings, example values
+  {prog} draw -o doughty.svg                  a drawing of the mechanism at an equilibrium
   {prog} sources --copy mylib/                the C sources, to build into a program
   {prog} generate --model my_model.py         a mechanism of your own, generated and built
   {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets

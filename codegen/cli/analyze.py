@@ -19,7 +19,7 @@ def run(args) -> int:
     from .report import paragraph, table
 
     library = common.load_library(args, args.out)
-    params = library.example_params(**common.overrides(args.set))
+    params = library.example_params(**common.overrides(args.set, library.UNITS))
     result = analyze(params, args.method)
     if args.json:
         print(json.dumps(result.to_dict(), indent=1))

@@ -31,12 +31,15 @@ def run(args) -> int:
         figures.pyplot()
     if args.out:
         check_table_path(args.out)
-    base = common.overrides(args.set)
+    library = common.load_library(args)
+    base = common.overrides(args.set, library.UNITS)
     if args.vary in base:
         raise ValueError(f"{args.vary}: given more than once (--vary, --set)")
-    library = common.load_library(args)
+    unit = library.UNITS.get(args.vary)
+    start, stop = (common.number(f"--{which}", value, unit)
+                   for which, value in (("from", args.start), ("to", args.stop)))
     with common.ProgressBar() as bar:
-        result = branches(library, args.vary, args.start, args.stop, args.points, base=base,
+        result = branches(library, args.vary, start, stop, args.points, base=base,
                           method=args.method, workers=args.workers, progress=bar)
     print(branch_summary(result))
     if args.out:
@@ -53,9 +56,10 @@ def add(verbs, prog: str) -> None:
                       "folds and stability, as a table and a figure", EXAMPLES, prog, run)
     common.mechanism_options(brn, None, model=True)
     brn.add_argument("--vary", required=True, metavar="NAME", help="the parameter to vary")
-    brn.add_argument("--from", dest="start", type=float, required=True, metavar="VALUE",
-                     help="its first value, in its unit")
-    brn.add_argument("--to", dest="stop", type=float, required=True, metavar="VALUE",
+    brn.add_argument("--from", dest="start", required=True, metavar="VALUE",
+                     help="its first value, in its unit (an angle in degrees, or 90deg, "
+                          "1.5708rad)")
+    brn.add_argument("--to", dest="stop", required=True, metavar="VALUE",
                      help="its last value, in its unit (above --from)")
     brn.add_argument("--points", type=common.positive, default=DEFAULT_POINTS, metavar="N",
                      help=f"values sampled, evenly spaced, ends included (default "
@@ -63,7 +67,7 @@ def add(verbs, prog: str) -> None:
     brn.add_argument("--set", action="append", type=common.assignment, default=[],
                      metavar="NAME=VALUE",
                      help="another parameter held at VALUE instead of the example's, in SI "
-                          "units (repeatable)")
+                          f"units (repeatable); {common.ANGLE_HELP}")
     brn.add_argument("--out", metavar="FILE",
                      help="write every point of every branch: FILE.csv, FILE.json or "
                           "FILE.parquet (angles in degrees)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import math
 import sys
 from typing import Any, TextIO
 
@@ -50,22 +51,42 @@ def assignment(text: str) -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
-def number(name: str, text: str) -> float:
-    """A number; a ValueError names the parameter (reported as one line)."""
+#: How an angle parameter (unit rad) is written on the command line: degrees, like every
+#: other angle the command line speaks, or with an explicit unit suffix.
+ANGLE_HELP = "an angle parameter (unit rad) in degrees, or with its unit: 90deg, 1.5708rad"
+
+
+def number(name: str, text: str, unit: str | None = None) -> float:
+    """A number in ``unit`` (a parameter's SI unit); a ValueError names the parameter
+    (reported as one line). Where the unit is rad, the number is in degrees, as every angle
+    of the command line is, unless it ends in ``deg`` or ``rad``; the value returned is in
+    radians."""
+    value, scale = text.strip(), 1.0
+    if unit == "rad":
+        scale = math.pi / 180.0
+        for suffix, factor in (("deg", math.pi / 180.0), ("rad", 1.0)):
+            if value.lower().endswith(suffix):
+                value, scale = value[: -len(suffix)].strip(), factor
+                break
     try:
-        return float(text)
+        number = float(value)
     except ValueError:
-        raise ValueError(f"{name}: {text!r} is not a number") from None
+        what = " (an angle: degrees, or 90deg, 1.5708rad)" if unit == "rad" else ""
+        raise ValueError(f"{name}: {text!r} is not a number{what}") from None
+    return number * scale if scale != 1.0 else number
 
 
-def overrides(pairs: list[tuple[str, str]]) -> dict[str, float]:
-    """Values as numbers; a ValueError names the parameter (reported as one line), or one
-    given twice (the second would silently win)."""
+def overrides(pairs: list[tuple[str, str]], units: dict[str, str] | None = None
+              ) -> dict[str, float]:
+    """Values as numbers in SI units (``units``: each parameter's unit, so that an angle is
+    read in degrees; see ``number``); a ValueError names the parameter (reported as one
+    line), or one given twice (the second would silently win)."""
     names = [name for name, _ in pairs]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise ValueError(f"--set {twice[0]} is given twice")
-    return {name: number(name, value) for name, value in pairs}
+    units = units or {}
+    return {name: number(name, value, units.get(name)) for name, value in pairs}
 
 
 def load_library(args, build: str | None = None):
@@ -132,7 +153,7 @@ def set_option(verb: argparse.ArgumentParser,
                 help: str = "override a parameter of the example, in SI units (repeatable)"
                 ) -> None:
     verb.add_argument("--set", action="append", type=assignment, default=[],
-                      metavar="NAME=VALUE", help=help)
+                      metavar="NAME=VALUE", help=f"{help}; {ANGLE_HELP}")
 
 
 def method_option(verb: argparse.ArgumentParser) -> None:

@@ -38,6 +38,14 @@ LABELS = {"equilibrium": "equilibrium", "other assembly mode": "other mode",
           "extraneous": "extraneous"}
 
 
+#: The table's legend for complex quantities and extraneous roots (docs/python.md has the
+#: same convention for JSON, CSV, Python and C).
+COMPLEX_NOTE = (" A value \"x i\" is imaginary: where K_EQ < 0, omega_n = sqrt(K/M) "
+                "and zeta are (JSON [re, im], Python complex, C arrays [2] of re, im).")
+EXTRANEOUS_NOTE = ("An extraneous root is not an equilibrium: it has no stability, damping or "
+                   "vibration (\"-\"; null in JSON and CSV, None in Python).")
+
+
 @dataclass(frozen=True)
 class Column:
     header: str
@@ -63,8 +71,8 @@ COLUMNS = (
     Column("zeta", 13, lambda r: _defined(r.zeta.real, _complex(r.zeta))),
     Column("eigenvalues [1/s]", 36, lambda r: _defined(
         r.eigenvalues[0].real, ", ".join(_complex(z) for z in r.eigenvalues)), wide=True),
-    Column("stability", 9, lambda r: r.stability),
-    Column("damping", 11, lambda r: r.damping),
+    Column("stability", 9, lambda r: r.stability or "-"),
+    Column("damping", 11, lambda r: r.damping or "-"),
 )
 
 
@@ -122,7 +130,10 @@ def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
         notes.append(f"Undecided [{u.lo_deg + 0.0:.10f}, {u.hi_deg + 0.0:.10f}] deg "
                      f"(mode {u.mode}): {what}{change}.")
     notes.append("Angles in degrees, omega_n in rad/s, zeta dimensionless; M, B and K in SI "
-                 "units of the coordinate.")
+                 "units of the coordinate." + (COMPLEX_NOTE if any(
+                     r.omega_n.imag for r in analysis.roots) else ""))
+    if count["extraneous"]:
+        notes.append(EXTRANEOUS_NOTE)
     lines += [""] + [paragraph(n) for n in notes]
     if sigma and analysis.sigma:
         lines.append(f"sigma_0..sigma_{len(analysis.sigma) - 1}:")

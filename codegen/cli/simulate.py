@@ -74,7 +74,8 @@ def run(args) -> int:
         raise ValueError(f"--to: the end time must be positive and finite, not {args.to!r}")
     if args.points < 2:
         raise ValueError("--points: at least 2 (the start and the end)")
-    params = common.load_library(args).example_params(**common.overrides(args.set))
+    library = common.load_library(args)
+    params = library.example_params(**common.overrides(args.set, library.UNITS))
     start = time.perf_counter()
     try:
         with common.ProgressBar(unit="points") as bar:

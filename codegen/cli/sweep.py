@@ -19,10 +19,11 @@ examples:
 included); with --sample N, --vary NAME=LO:HI draws each set's NAME uniformly in [LO, HI).
 The other parameters are the example's, or --set's. The file has one row per equilibrium
 (per root with --all-roots), with the set's index, parameters and status; a set that fails
-or has none has one row with an empty theta. Angles in radians there, the rest SI."""
+or has none has one row with an empty theta_deg. Angles in degrees there (columns NAME_deg),
+the rest SI; an angle parameter in --vary and --set is in degrees too (or 90deg, 1.5708rad)."""
 
 
-def _grid_axis(name: str, spec: str):
+def _grid_axis(name: str, spec: str, unit: str | None = None):
     """START:STOP:COUNT as COUNT values from START to STOP, both included."""
     import numpy as np
 
@@ -33,30 +34,32 @@ def _grid_axis(name: str, spec: str):
     count = parts[2].strip()
     if not count.isdigit() or int(count) < 1:
         raise ValueError(f"--vary {name}={spec}: COUNT must be a positive integer")
-    return np.linspace(common.number(name, parts[0]), common.number(name, parts[1]), int(count))
+    return np.linspace(common.number(name, parts[0], unit), common.number(name, parts[1], unit),
+                       int(count))
 
 
-def _sample_range(name: str, spec: str) -> tuple[float, float]:
+def _sample_range(name: str, spec: str, unit: str | None = None) -> tuple[float, float]:
     """LO:HI as a pair of numbers."""
     parts = spec.split(":")
     if len(parts) != 2:
         raise ValueError(f"--vary {name}={spec}: with --sample, a range is NAME=LO:HI")
-    return common.number(name, parts[0]), common.number(name, parts[1])
+    return common.number(name, parts[0], unit), common.number(name, parts[1], unit)
 
 
 def _sweep_sets(library, args):
     """The parameter sets --vary, --sample, --seed and --set describe (a params_array)."""
     from ..runtime import sweep
 
-    base, names = common.overrides(args.set), [name for name, _ in args.vary]
+    units = library.UNITS
+    base, names = common.overrides(args.set, units), [name for name, _ in args.vary]
     for name in names:
         if names.count(name) > 1 or name in base:
             raise ValueError(f"{name}: given more than once (--vary, --set)")
     if args.sample is None:
         if args.seed is not None:
             raise ValueError("--seed is for --sample")
-        return sweep.grid(library, {n: _grid_axis(n, spec) for n, spec in args.vary}, base)
-    ranges = {name: _sample_range(name, spec) for name, spec in args.vary}
+        return sweep.grid(library, {n: _grid_axis(n, spec, units.get(n)) for n, spec in args.vary}, base)
+    ranges = {name: _sample_range(name, spec, units.get(name)) for name, spec in args.vary}
     return sweep.sample(library, args.sample, ranges, base, args.seed)
 
 
@@ -133,7 +136,7 @@ def run(args) -> int:
     sets = _sweep_sets(library, args)
     roots = "all" if args.all_roots else "equilibria"
     start, tally = time.perf_counter(), _Tally(library)
-    with _dask_client(args.scheduler) as client, sweep.Writer(args.out) as writer, \
+    with _dask_client(args.scheduler) as client, sweep.Writer(args.out, angles=sweep.angle_columns(library)) as writer, \
             common.ProgressBar() as bar:
         for piece in sweep.stream(library, sets, method=args.method, workers=args.workers,
                                   chunk=args.chunk, client=client, progress=bar, roots=roots):

@@ -17,6 +17,11 @@ two routes:
 carries M, B, K, omega_n, zeta, eigenvalues, stability and damping (omega_n and zeta are NaN
 where M = 0: statics need no inertia).
 
+Complex quantities: omega_n and zeta are complex numbers, imaginary where K < 0 (an
+unstable equilibrium: omega_n = sqrt(K/M)); JSON gives each as [re, im], the table prints
+"25.1746 i". An extraneous root is not an equilibrium: its ``stability`` and ``damping`` are
+None (JSON null).
+
 Units: angles are radians in every field here (``theta``, ``theta_lo``, ``lo``, ...), each
 with a ``..._deg`` property in degrees; ``Analysis.to_dict()`` (the JSON the command line
 prints) gives degrees under ``_deg`` names. Everything else is SI, for a mechanism whose
@@ -43,6 +48,10 @@ KINDS = ("equilibrium", "other assembly mode", "extraneous")
 UNCERTAINTIES = ("cluster", "singular")
 METHODS = ("auto", "polynomial", "isolate")
 
+#: The kind of root that is not an equilibrium (the squared equation's, with a negative
+#: length): its stability and damping are None (JSON null, empty in CSV, "-" in the table).
+NOT_AN_EQUILIBRIUM = "extraneous"
+
 #: A route's name, as ``analyze`` takes it.
 Method = Literal["auto", "polynomial", "isolate"]
 
@@ -68,8 +77,8 @@ class Equilibrium:
                            #   NaN where M = 0
     zeta: complex          # damping ratio B/(2 M omega_n) [1]; NaN where M = 0
     eigenvalues: tuple[complex, complex]  # roots of M s^2 + B s + K [1/s]
-    stability: str         # one of STABILITY
-    damping: str           # one of DAMPING
+    stability: str | None  # one of STABILITY; None for an extraneous root (not an equilibrium)
+    damping: str | None    # one of DAMPING; None for an extraneous root
 
     @property
     def theta_deg(self) -> float:
@@ -184,7 +193,8 @@ def _equilibrium(e: Any) -> Equilibrium:
         M=e.M, B=e.B, K=e.K,
         omega_n=complex(e.omega_n[0], e.omega_n[1]), zeta=complex(e.zeta[0], e.zeta[1]),
         eigenvalues=(complex(e.eigen_re[0], e.eigen_im[0]), complex(e.eigen_re[1], e.eigen_im[1])),
-        stability=STABILITY[e.stability], damping=DAMPING[e.damping],
+        stability=None if KINDS[e.kind] == NOT_AN_EQUILIBRIUM else STABILITY[e.stability],
+        damping=None if KINDS[e.kind] == NOT_AN_EQUILIBRIUM else DAMPING[e.damping],
     )
 
 

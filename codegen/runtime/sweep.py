@@ -48,6 +48,9 @@ RESULT_FIELDS = [("status", np.int32), ("theta", np.float64), ("kind", np.int8),
                  ("omega_n", np.float64), ("zeta", np.float64), ("K", np.float64),
                  ("M", np.float64), ("B", np.float64)]
 
+#: The columns of a table in radians, written to files in degrees as NAME_deg.
+ANGLES = ("theta",)
+
 #: The text of the coded columns, as written to files.
 LABELS = {"kind": analysis.KINDS, "stability": analysis.STABILITY, "damping": analysis.DAMPING}
 
@@ -179,6 +182,9 @@ def _rows(library: Library, table: np.ndarray, result: Any, offset: int, every_r
         rows[name][at] = found[name]
     omega, zeta = found["omega_n"], found["zeta"]
     real = (omega.imag == 0) & (omega.real > 0)
+    extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
+    for name in ("stability", "damping"):   # not an equilibrium: null in the file
+        rows[name][at] = np.where(extraneous, NO_ROOT, found[name])
     rows["omega_n"][at] = np.where(real, omega.real, np.nan)
     rows["zeta"][at] = np.where(real, zeta.real, np.nan)
     return rows
@@ -360,12 +366,17 @@ class Writer:
     """Rows written to a .csv or .parquet file piece by piece (``write(rows)``), into a
     hidden partial file that replaces ``path`` only when the writer closes without an
     error. Opening checks the extension, the folder and, for Parquet, that pyarrow is
-    installed. ``labels``: the coded columns and their text (default: a sweep's)."""
+    installed. ``labels``: the coded columns and their text (default: a sweep's).
+    ``angles``: the columns in radians, written in degrees as NAME_deg (default: theta;
+    ``angle_columns(library)`` adds a mechanism's angle parameters). CSV floats are written
+    shortest round-trip (0.03, not 0.029999999999999999), with or without pyarrow."""
 
     def __init__(self, path: str | os.PathLike[str],
-                 labels: Mapping[str, Sequence[str]] = LABELS) -> None:
+                 labels: Mapping[str, Sequence[str]] = LABELS,
+                 angles: Sequence[str] = ANGLES) -> None:
         self.path = Path(path)
         self.labels = labels
+        self.angles = tuple(angles)
         self.format = self.path.suffix.lower()
         if self.format not in FORMATS:
             raise ValueError(f"{self.path}: the output must end in .csv or .parquet")
@@ -382,7 +393,8 @@ class Writer:
 
     def write(self, rows: np.ndarray) -> None:
         """Append sweep rows (a ``stream`` piece or a whole ``sweep`` table)."""
-        if self.arrow is None:
+        rows = in_degrees(rows, self.angles)
+        if self.arrow is None or self.format == ".csv":
             self._write_text(rows)
         else:
             self._write_arrow(rows)
@@ -422,6 +434,27 @@ class Writer:
         self.close(error=kind is not None)
 
 
+def angle_columns(library: Library) -> tuple[str, ...]:
+    """The columns of a sweep of ``library`` in radians: theta and each angle parameter's."""
+    return ANGLES + tuple(column for name, column in zip(library.PARAMETER_NAMES,
+                                                         parameter_columns(library))
+                          if library.UNITS.get(name) == "rad")
+
+
+def in_degrees(rows: np.ndarray, angles: Sequence[str]) -> np.ndarray:
+    """rows with each column of ``angles`` it has in degrees, renamed NAME_deg (the form of
+    every angle in a file)."""
+    present = [name for name in angles if name in (rows.dtype.names or ())]
+    if not present:
+        return rows
+    names = [f"{n}_deg" if n in present else n for n in rows.dtype.names]
+    out = np.empty(len(rows), np.dtype([(new, rows.dtype[old])
+                                        for new, old in zip(names, rows.dtype.names)]))
+    for new, old in zip(names, rows.dtype.names):
+        out[new] = np.degrees(rows[old]) if old in present else rows[old]
+    return out
+
+
 def _rootless(rows: np.ndarray) -> np.ndarray:
     """The rows without a root (a sweep's failed or empty sets)."""
     if "kind" not in rows.dtype.names:
@@ -456,15 +489,18 @@ def _text_column(rows: np.ndarray, name: str, labels: Mapping[str, Sequence[str]
 
 
 def write(rows: np.ndarray | Iterable[np.ndarray], path: str | os.PathLike[str],
-          labels: Mapping[str, Sequence[str]] = LABELS) -> int:
+          labels: Mapping[str, Sequence[str]] = LABELS, angles: Sequence[str] = ANGLES) -> int:
     """Write a sweep's table (or the pieces of ``stream``) to ``path``: Parquet (``.parquet``,
     through pyarrow: ``pip install 'mechvib[sweep]'``) or CSV (``.csv``; through pyarrow
     where installed, else Python's own formatting). kind, stability and damping are written
     as text; on a row without a root they and certified are null (empty in CSV). Returns
     the number of rows written. Raises ValueError for another extension, a missing folder,
     or Parquet without pyarrow; the file appears only once it is complete. ``labels``: the
-    coded columns and their text, for a table other than a sweep's (``codegen.runtime.branches``)."""
-    with Writer(path, labels) as writer:
+    coded columns and their text, for a table other than a sweep's (``codegen.runtime.branches``).
+    The file's angles are in degrees: ``theta`` [rad] of the table is its ``theta_deg``, as
+    is each column of ``angles`` (``angle_columns(library)``: theta and the angle parameters).
+    CSV floats are shortest round-trip."""
+    with Writer(path, labels, angles) as writer:
         for piece in [rows] if isinstance(rows, np.ndarray) else rows:
             writer.write(piece)
     return writer.rows

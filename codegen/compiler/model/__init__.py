@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .checks import ModelError, check
 from .mechanism import (TIME, Body, Coordinate, Damper, Mechanism, Parameter, PointForce,
-                        Requirement, Spring, Torque, distance, parameter)
+                        Requirement, Sketch, Spring, Torque, distance, parameter)
 
 SHIPPED = ("doughty", "slider_crank", "four_bar", "torsion_pendulum")
 
@@ -58,5 +58,5 @@ def _failure(path: Path, origin: str, error: Exception) -> str:
 
 
 __all__ = ["SHIPPED", "TIME", "Body", "check", "Coordinate", "Damper", "Mechanism", "ModelError",
-           "Parameter", "PointForce", "Requirement", "Spring", "Torque", "distance", "load",
+           "Parameter", "PointForce", "Requirement", "Sketch", "Spring", "Torque", "distance", "load",
            "parameter"]

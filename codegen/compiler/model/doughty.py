@@ -8,7 +8,7 @@ length and direction. Gravity acts along -Y, a force F pushes slider 2 along +Y.
 import sympy as sp
 
 from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
-                        Spring)
+                        Sketch, Spring)
 
 
 
@@ -72,6 +72,11 @@ def build() -> Mechanism:
             Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
             Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
         ),
+        sketch=Sketch(
+            points={"O": (sp.S.Zero, sp.S.Zero), "O'": (H, sp.S.Zero),
+                    "P": (H - r * cos(phi), r * sin(phi))},
+            links=(("A", "B"),), sliders=(("A", sp.S.Zero), ("B", sp.pi / 2)),
+            fixed=("O", "O'"), springs=(("O'", "P"),), angle=("A", sp.pi, sp.pi - theta)),
         singular_state="the spring length r is zero, so its direction is undefined",
         polar_pairs=(("r", "phi"),),
         equations={

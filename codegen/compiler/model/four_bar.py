@@ -7,8 +7,8 @@ S = (x_S, y_S) to B. A torque T acts on the crank; gravity along -Y.
 """
 import sympy as sp
 
-from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, Requirement, Spring,
-                        Torque, distance)
+from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, Requirement, Sketch,
+                        Spring, Torque, distance)
 
 
 
@@ -77,6 +77,10 @@ def build() -> Mechanism:
             Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
             Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
         ),
+        sketch=Sketch(
+            points={"O2": (sp.S.Zero, sp.S.Zero), "O4": (d, sp.S.Zero), "S": (x_S, y_S)},
+            links=(("O2", "A", "B", "O4"),), fixed=("O2", "O4", "S"), springs=(("S", "B"),),
+            angle=("O2", sp.S.Zero, theta)),
         singular_state="the coupler and rocker are aligned (a limit position) or the spring "
                        "length is zero",
     )

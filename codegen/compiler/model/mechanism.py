@@ -87,6 +87,26 @@ class Torque:
     angle: sp.Expr
 
 
+@dataclass(frozen=True)
+class Sketch:
+    """How ``mechvib draw`` draws the mechanism; the derivation never reads it.
+
+    ``points``: named points besides the mechanism's ``points`` (fixed points, attachments),
+    as expressions of the parameters and coordinates; ``links``: bars and bodies, each a
+    polyline through named points; ``sliders``: (point, guide direction [rad]) for a block
+    sliding on a guide; ``fixed``: points fixed to the ground; ``springs``: (point, point)
+    for a spring (with its damper, if any) between two points; ``angle``: (vertex point,
+    direction the angle is measured from [rad], direction of the moving line [rad]), to
+    mark the independent coordinate."""
+
+    points: dict[str, tuple[sp.Expr, sp.Expr]] = field(default_factory=dict)
+    links: tuple[tuple[str, ...], ...] = ()
+    sliders: tuple[tuple[str, sp.Expr], ...] = ()
+    fixed: tuple[str, ...] = ()
+    springs: tuple[tuple[str, str], ...] = ()
+    angle: tuple[str, sp.Expr, sp.Expr] | None = None
+
+
 def distance(p: tuple[sp.Expr, sp.Expr], q: tuple[sp.Expr, sp.Expr]) -> sp.Expr:
     """|p - q|: a *length* root (only its positive sign is physical)."""
     return sp.sqrt((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2)
@@ -142,6 +162,7 @@ class Mechanism:
     periodic: bool = True
     title: str = ""
     equations: dict[str, str] = field(default_factory=dict)
+    sketch: Sketch | None = None  # how `mechvib draw` draws it (None: its points and bodies)
 
     def coordinate(self, name: str) -> sp.Expr:
         return next(c.function for c in self.coordinates if c.name == name)

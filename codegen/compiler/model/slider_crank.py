@@ -9,7 +9,7 @@ on the slider along +X, a torque T on the crank. Gravity along -Y.
 import sympy as sp
 
 from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
-                        Spring, Torque, distance)
+                        Sketch, Spring, Torque, distance)
 
 
 
@@ -75,6 +75,10 @@ def build() -> Mechanism:
             Requirement(k >= 0, "K_NEGATIVE", "k must not be negative"),
             Requirement(b >= 0, "B_NEGATIVE", "b must not be negative"),
         ),
+        sketch=Sketch(
+            points={"O": (sp.S.Zero, sp.S.Zero), "S": (x_S, y_S)},
+            links=(("O", "A", "B"),), sliders=(("B", sp.S.Zero),), fixed=("O", "S"),
+            springs=(("S", "B"),), angle=("O", sp.S.Zero, theta)),
         singular_state="the connecting rod is perpendicular to the slide (a limit position) "
                        "or the spring length is zero",
     )

@@ -8,7 +8,7 @@ winds, so theta ranges over (theta_0 - pi, theta_0 + pi]. There are no constrain
 import sympy as sp
 
 from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
-                        Spring)
+                        Sketch, Spring)
 
 
 
@@ -47,6 +47,8 @@ def build() -> Mechanism:
         gravity=g,
         points={"P": tip},
         range_centre=theta_0,
+        sketch=Sketch(points={"O": (sp.S.Zero, sp.S.Zero)}, links=(("O", "P"),), fixed=("O",),
+                      angle=("O", sp.S.Zero, theta)),
         periodic=False,
         requirements=(
             Requirement(l > 0, "L_NOT_POSITIVE", "l must be positive"),
