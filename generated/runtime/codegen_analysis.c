@@ -66,6 +66,14 @@
  * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
 #define SEAM_MARGIN (4096 * CODEGEN_EPSILON)
 
+/* Each route keeps its own frame (the isolation's stack does not hold the polynomial route's
+ * locals): gcc would otherwise inline both into codegen_analysis_run. */
+#if defined(__GNUC__)
+#define ROUTE __attribute__((noinline))
+#else
+#define ROUTE
+#endif
+
 /* A result (NAME_analysis) seen through the model's layout. */
 typedef struct result_view {
     void *base;
@@ -683,7 +691,7 @@ static int merge_split_roots(codegen_equilibrium *roots, int count)
 }
 
 /* The polynomial route into *work, in the workspace's memory. */
-static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
+ROUTE static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
     const codegen_workspace_layout *ws = &model->workspace;
@@ -849,7 +857,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
 }
 
 /* The isolation route into *work (parameters checked). */
-static int isolate_into(const call *c, void *workspace, const result_view *work)
+ROUTE static int isolate_into(const call *c, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
     codegen_real lo, hi, below;

@@ -131,7 +131,7 @@ typedef struct isolation {
 
 typedef codegen_isolation_box box;
 
-static int enclose(isolation *s, codegen_real lo, codegen_real hi, codegen_iv *g, codegen_iv *dg,
+static int enclose_box(isolation *s, codegen_real lo, codegen_real hi, codegen_iv *g, codegen_iv *dg,
                    unsigned *flags)
 {
     *flags = 0u;
@@ -148,7 +148,7 @@ static int probe(isolation *s, codegen_real theta, int *sign, codegen_real *valu
 {
     codegen_iv g = {0, 0}, dg = {0, 0};
     unsigned flags;
-    const int status = enclose(s, theta, theta, &g, &dg, &flags);
+    const int status = enclose_box(s, theta, theta, &g, &dg, &flags);
     *sign = 0;
     *value = CODEGEN_R(0.5) * g.lo + CODEGEN_R(0.5) * g.hi;
     *slope = CODEGEN_R(0.5) * dg.lo + CODEGEN_R(0.5) * dg.hi;
@@ -291,7 +291,7 @@ static int flush(isolation *s)
     b.lo = s->pending_lo;
     b.hi = s->pending_hi;
     b.sign_lo = b.sign_hi = UNKNOWN_SIGN;
-    status = enclose(s, b.lo, b.hi, &g, &dg, &flags);
+    status = enclose_box(s, b.lo, b.hi, &g, &dg, &flags);
     if (status == 0) {
         status = judge(s, &b, dg, flags | s->pending_flags, &decided, &zero);
     }
@@ -380,14 +380,14 @@ static int examine(isolation *s, box *b, codegen_real *mid, int *mid_sign, int *
     *split = 0;
     *mid = split_point(b->lo, b->hi);
     *mid_sign = UNKNOWN_SIGN;
-    status = enclose(s, b->lo, b->hi, &g, &dg, &flags);
+    status = enclose_box(s, b->lo, b->hi, &g, &dg, &flags);
     if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) || !codegen_iv_has_zero(g)) {
         return status; /* no state of the mechanism, or G kept away from 0 */
     }
     g_mid = codegen_iv_whole();
     if (!(flags & SMOOTHNESS_FLAGS)) {
         /* mean-value form: G(box) lies in G(mid) + G'(box) (box - mid) */
-        status = enclose(s, *mid, *mid, &g_mid, &dg_mid, &mid_flags);
+        status = enclose_box(s, *mid, *mid, &g_mid, &dg_mid, &mid_flags);
         if (status != 0) {
             return status;
         }
@@ -414,10 +414,10 @@ static int examine(isolation *s, box *b, codegen_real *mid, int *mid_sign, int *
     return 0;
 }
 
-static void start(isolation *s, codegen_enclosure enclose_fn, const void *context, unsigned mode,
+static void start(isolation *s, codegen_enclosure enclose, const void *context, unsigned mode,
                   codegen_isolated *out, int capacity)
 {
-    s->enclose = enclose_fn;
+    s->enclose = enclose;
     s->context = context;
     s->mode = mode;
     s->out = out;
@@ -429,20 +429,20 @@ static void start(isolation *s, codegen_enclosure enclose_fn, const void *contex
     s->pending_flags = 0u;
 }
 
-int codegen_isolate(codegen_enclosure enclose_fn, const void *context, unsigned mode, codegen_real lo,
+int codegen_isolate(codegen_enclosure enclose, const void *context, unsigned mode, codegen_real lo,
                     codegen_real hi, codegen_isolated *out, int capacity, int *count)
 {
     box stack[CODEGEN_ISOLATE_DEPTH];
-    return codegen_isolate_work(enclose_fn, context, mode, lo, hi, out, capacity, count, stack);
+    return codegen_isolate_work(enclose, context, mode, lo, hi, out, capacity, count, stack);
 }
 
-int codegen_isolate_work(codegen_enclosure enclose_fn, const void *context, unsigned mode,
+int codegen_isolate_work(codegen_enclosure enclose, const void *context, unsigned mode,
                          codegen_real lo, codegen_real hi, codegen_isolated *out, int capacity,
                          int *count, codegen_isolation_box *stack)
 {
     isolation s;
     int top = 0, status = 0;
-    start(&s, enclose_fn, context, mode, out, capacity);
+    start(&s, enclose, context, mode, out, capacity);
     stack[top].lo = lo;
     stack[top].hi = hi;
     stack[top].sign_lo = stack[top].sign_hi = UNKNOWN_SIGN;
@@ -478,7 +478,7 @@ int codegen_isolate_work(codegen_enclosure enclose_fn, const void *context, unsi
     return status;
 }
 
-int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned mode, codegen_real lo,
+int codegen_certify(codegen_enclosure enclose, const void *context, unsigned mode, codegen_real lo,
                     codegen_real hi, int *certified)
 {
     isolation s;
@@ -487,9 +487,9 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
     unsigned flags;
     codegen_isolated found;
     int status;
-    start(&s, enclose_fn, context, mode, &found, 1);
+    start(&s, enclose, context, mode, &found, 1);
     *certified = 0;
-    status = enclose(&s, lo, hi, &g, &dg, &flags);
+    status = enclose_box(&s, lo, hi, &g, &dg, &flags);
     if (status == 0 && !(flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE))
         && !codegen_iv_has_zero(dg)) {
         b.lo = lo;
@@ -508,7 +508,7 @@ int codegen_certify(codegen_enclosure enclose_fn, const void *context, unsigned 
  * and is tried once more sixteen times wider: two enclosures a try (the one at m of G alone
  * when the caller knows the slope), where guessing widths for codegen_certify costs three
  * each. X's enclosure covers m: non-smoothness at m is seen there. */
-int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, unsigned mode,
+int codegen_certify_newton(codegen_enclosure enclose, const void *context, unsigned mode,
                            codegen_real m, codegen_real slope, codegen_real *lo, codegen_real *hi,
                            int *certified)
 {
@@ -518,7 +518,7 @@ int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, un
     int attempt, status;
     const int known = slope != 0 && isfinite(slope);
     *certified = 0;
-    status = enclose_fn(context, mode, codegen_iv_point(m), &g_m, known ? NULL : &dg_m, &flags);
+    status = enclose(context, mode, codegen_iv_point(m), &g_m, known ? NULL : &dg_m, &flags);
     if (status != 0 || (flags & (SMOOTHNESS_FLAGS | CODEGEN_IV_OUTSIDE)) != 0u
         || (!known && codegen_iv_has_zero(dg_m))) {
         return status;
@@ -530,7 +530,7 @@ int codegen_certify_newton(codegen_enclosure enclose_fn, const void *context, un
         const codegen_iv x = codegen_iv_make(m - w, m + w);
         codegen_iv g_x, dg_x, n;
         flags = 0u;
-        status = enclose_fn(context, mode, x, &g_x, &dg_x, &flags);
+        status = enclose(context, mode, x, &g_x, &dg_x, &flags);
         if (status != 0) {
             return status;
         }

@@ -127,7 +127,7 @@ static codegen_real norm(const codegen_ode_options *o, const codegen_real *x, co
 /* Hairer, Norsett and Wanner's first step: small enough that an Euler step changes y by about
  * 1 % of its tolerance-weighted size, and that its estimated fifth-order error is 1 %. Uses
  * one evaluation (the rate at y0 is in the first stage slot). */
-static codegen_real first_step(codegen_ode_rhs f, const void *context, const codegen_ode_options *o,
+static codegen_real first_step(codegen_ode_rhs rhs, const void *context, const codegen_ode_options *o,
                          codegen_ode_state *s, codegen_real *work)
 {
     const int n = s->n;
@@ -140,7 +140,7 @@ static codegen_real first_step(codegen_ode_rhs f, const void *context, const cod
     for (i = 0; i < n; ++i) {
         trial[i] = y[i] + h0 * rate[i];
     }
-    f(context, s->t + h0, trial, trial_rate);
+    rhs(context, s->t + h0, trial, trial_rate);
     s->evaluations += 1;
     if (!all_finite(trial_rate, n)) {
         return h0;
@@ -155,12 +155,12 @@ static codegen_real first_step(codegen_ode_rhs f, const void *context, const cod
     return codegen_fmin(codegen_fmin(CODEGEN_R(100.0) * h0, h1), o->h_max);
 }
 
-codegen_ode_status codegen_ode_start(codegen_ode_rhs f, const void *context, int n, codegen_real t0,
+codegen_ode_status codegen_ode_start(codegen_ode_rhs rhs, const void *context, int n, codegen_real t0,
                                      const codegen_real *y0, const codegen_ode_options *options,
                                      codegen_ode_state *state, codegen_real *work)
 {
     codegen_real *rate;
-    if (f == NULL || y0 == NULL || options == NULL || state == NULL || work == NULL || n < 1
+    if (rhs == NULL || y0 == NULL || options == NULL || state == NULL || work == NULL || n < 1
         || !isfinite(t0) || !all_finite(y0, n) || !options_valid(options)) {
         return CODEGEN_ODE_BAD_INPUT;
     }
@@ -174,20 +174,20 @@ codegen_ode_status codegen_ode_start(codegen_ode_rhs f, const void *context, int
     copy(work + AT_Y_PREV * n, y0, n);
     copy(work + AT_Y * n, y0, n);
     rate = work + AT_STAGE_RATE(0) * n;
-    f(context, t0, y0, rate);
+    rhs(context, t0, y0, rate);
     if (!all_finite(rate, n)) {
         state->h = 0;
         state->failed = CODEGEN_ODE_NONFINITE;
         return CODEGEN_ODE_NONFINITE;
     }
-    state->h = first_step(f, context, options, state, work);
+    state->h = first_step(rhs, context, options, state, work);
     return CODEGEN_ODE_OK;
 }
 
 /* One trial step of size h from (t, y), whose rate is in the first stage slot: every stage,
  * the new state (in the STAGE slot) and its rate (the last stage). Returns the error norm,
  * or HUGE_VAL with *nonfinite set where a stage is not finite. */
-static codegen_real trial_step(codegen_ode_rhs f, const void *context, const codegen_ode_options *o,
+static codegen_real trial_step(codegen_ode_rhs rhs, const void *context, const codegen_ode_options *o,
                          codegen_ode_state *s, codegen_real *work, codegen_real h, int *nonfinite)
 {
     const int n = s->n;
@@ -203,7 +203,7 @@ static codegen_real trial_step(codegen_ode_rhs f, const void *context, const cod
             }
             stage[i] = y[i] + h * increment;
         }
-        f(context, s->t + NODE[k] * h, stage, rate);
+        rhs(context, s->t + NODE[k] * h, stage, rate);
         s->evaluations += 1;
         if (!all_finite(stage, n) || !all_finite(rate, n)) {
             *nonfinite = 1;
@@ -223,7 +223,7 @@ static codegen_real trial_step(codegen_ode_rhs f, const void *context, const cod
 }
 
 /* Steps until the time reached is at least t_out (no step if it already is). */
-static codegen_ode_status step_to(codegen_ode_rhs f, const void *context,
+static codegen_ode_status step_to(codegen_ode_rhs rhs, const void *context,
                                   const codegen_ode_options *o, codegen_ode_state *s,
                                   codegen_real *work, codegen_real t_out)
 {
@@ -245,7 +245,7 @@ static codegen_ode_status step_to(codegen_ode_rhs f, const void *context,
             copy(work + AT_STAGE_RATE(0) * n, work + AT_STAGE_RATE(STAGES - 1) * n, n);
             stale = 0;
         }
-        error = trial_step(f, context, o, s, work, h, &nonfinite);
+        error = trial_step(rhs, context, o, s, work, h, &nonfinite);
         s->last_nonfinite = nonfinite;
         if (!(error <= 1)) {
             factor = nonfinite ? NONFINITE_SHRINK
@@ -314,7 +314,7 @@ static int times_valid(codegen_real earliest, const codegen_real *times, size_t 
     return 1;
 }
 
-codegen_ode_status codegen_ode_advance(codegen_ode_rhs f, const void *context,
+codegen_ode_status codegen_ode_advance(codegen_ode_rhs rhs, const void *context,
                                        const codegen_ode_options *options,
                                        codegen_ode_state *state, codegen_real *work,
                                        const codegen_real *times, size_t n_times, codegen_real *out,
@@ -324,7 +324,7 @@ codegen_ode_status codegen_ode_advance(codegen_ode_rhs f, const void *context,
     if (reached != NULL) {
         *reached = 0;
     }
-    if (f == NULL || options == NULL || state == NULL || work == NULL
+    if (rhs == NULL || options == NULL || state == NULL || work == NULL
         || (n_times > 0 && (times == NULL || out == NULL))) {
         return CODEGEN_ODE_BAD_INPUT;
     }
@@ -335,7 +335,7 @@ codegen_ode_status codegen_ode_advance(codegen_ode_rhs f, const void *context,
         return CODEGEN_ODE_BAD_INPUT;
     }
     for (i = 0; i < n_times; ++i) {
-        const codegen_ode_status status = step_to(f, context, options, state, work, times[i]);
+        const codegen_ode_status status = step_to(rhs, context, options, state, work, times[i]);
         if (status != CODEGEN_ODE_OK) {
             state->failed = status;
             return status;
@@ -348,7 +348,7 @@ codegen_ode_status codegen_ode_advance(codegen_ode_rhs f, const void *context,
     return CODEGEN_ODE_OK;
 }
 
-codegen_ode_status codegen_ode_solve(codegen_ode_rhs f, const void *context, int n,
+codegen_ode_status codegen_ode_solve(codegen_ode_rhs rhs, const void *context, int n,
                                      const codegen_real *y0, const codegen_real *times, size_t n_times,
                                      const codegen_ode_options *options,
                                      codegen_ode_state *state, codegen_real *work, codegen_real *out,
@@ -361,14 +361,14 @@ codegen_ode_status codegen_ode_solve(codegen_ode_rhs f, const void *context, int
     if (times == NULL || n_times < 1 || !times_valid(times[0], times, n_times)) {
         return CODEGEN_ODE_BAD_INPUT;
     }
-    status = codegen_ode_start(f, context, n, times[0], y0, options, state, work);
+    status = codegen_ode_start(rhs, context, n, times[0], y0, options, state, work);
     if (status != CODEGEN_ODE_OK) {
         return status;
     }
-    return codegen_ode_advance(f, context, options, state, work, times, n_times, out, reached);
+    return codegen_ode_advance(rhs, context, options, state, work, times, n_times, out, reached);
 }
 
-codegen_ode_status codegen_ode_rk4_step(codegen_ode_rhs f, const void *context, int n, codegen_real t,
+codegen_ode_status codegen_ode_rk4_step(codegen_ode_rhs rhs, const void *context, int n, codegen_real t,
                                         const codegen_real *y, codegen_real h, codegen_real *work,
                                         codegen_real *y_next)
 {
@@ -376,7 +376,7 @@ codegen_ode_status codegen_ode_rk4_step(codegen_ode_rhs f, const void *context, 
     static const codegen_real WEIGHTS[4] = {1 / CODEGEN_R(6.0), 1 / CODEGEN_R(3.0), 1 / CODEGEN_R(3.0), 1 / CODEGEN_R(6.0)};
     codegen_real *stage;
     int i, k;
-    if (f == NULL || y == NULL || work == NULL || y_next == NULL || n < 1 || !isfinite(t)
+    if (rhs == NULL || y == NULL || work == NULL || y_next == NULL || n < 1 || !isfinite(t)
         || !isfinite(h) || !all_finite(y, n)) {
         return CODEGEN_ODE_BAD_INPUT;
     }
@@ -386,7 +386,7 @@ codegen_ode_status codegen_ode_rk4_step(codegen_ode_rhs f, const void *context, 
         for (i = 0; i < n; ++i) {
             stage[i] = k == 0 ? y[i] : y[i] + NODES[k] * h * work[(k - 1) * n + i];
         }
-        f(context, t + NODES[k] * h, stage, rate);
+        rhs(context, t + NODES[k] * h, stage, rate);
         if (!all_finite(rate, n)) {
             return CODEGEN_ODE_NONFINITE;
         }

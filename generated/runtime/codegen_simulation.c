@@ -20,7 +20,7 @@ typedef struct motion {
 } motion;
 
 /* y' = (thetadot, thetaddot) */
-static void equation_of_motion(const void *context, codegen_real t, const codegen_real *y, codegen_real *rate)
+static void rhs(const void *context, codegen_real t, const codegen_real *y, codegen_real *rate)
 {
     const motion *m = (const motion *)context;
     (void)t; /* autonomous: the loads are constant */
@@ -86,7 +86,7 @@ int codegen_simulation_start(const codegen_model *model, void *simulation, const
     *p.options = options != NULL ? *options : codegen_ode_defaults();
     m.model = model;
     m.params = p.params;
-    return status_of(model, codegen_ode_start(equation_of_motion, &m, DIMENSION, t0, y0, p.options,
+    return status_of(model, codegen_ode_start(rhs, &m, DIMENSION, t0, y0, p.options,
                                               p.state, p.work));
 }
 
@@ -126,7 +126,7 @@ int codegen_simulation_advance(const codegen_model *model, void *simulation,
     m.params = p.params;
     for (i = 0; i < n_times; ++i) {
         codegen_real y[DIMENSION];
-        status = status_of(model, codegen_ode_advance(equation_of_motion, &m, p.options, p.state,
+        status = status_of(model, codegen_ode_advance(rhs, &m, p.options, p.state,
                                                       p.work, &times[i], 1, y, NULL));
         if (status != CODEGEN_OK) {
             return status;
@@ -182,7 +182,7 @@ int codegen_rk4_step(const codegen_model *model, const void *params, codegen_rea
     }
     m.model = model;
     m.params = params;
-    status = status_of(model, codegen_ode_rk4_step(equation_of_motion, &m, DIMENSION, 0, y, h,
+    status = status_of(model, codegen_ode_rk4_step(rhs, &m, DIMENSION, 0, y, h,
                                                    work, next));
     if (status == CODEGEN_OK) {
         *theta_next = next[0];
