@@ -348,6 +348,7 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
  * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
  * keep one on their stack. Its contents on return are unspecified. */
 typedef struct doughty_workspace {
+    codegen_analysis_call call;        /* the analysis' bookkeeping */
     doughty_analysis result;      /* the result until it is complete (*result is written only on success) */
 #ifdef CODEGEN_FLOAT
     doughty_analysis polynomial;  /* the polynomial route's, which the isolation completes */

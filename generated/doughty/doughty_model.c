@@ -27,11 +27,13 @@ static void equilibrium_branches(const void *params, codegen_real theta, codegen
     doughty_equilibrium_branches_kernel((const doughty_params *)params, theta, out);
 }
 
-static int enclosure(const void *params, unsigned mode, codegen_iv theta, codegen_iv *g,
-                     codegen_iv *dg, unsigned *flags, codegen_iv *slots)
+/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                   codegen_iv *dg, unsigned *flags)
 {
-    return (int)doughty_enclosure_kernel_work((const doughty_params *)params, mode, theta,
-                                                g, dg, flags, slots);
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    return (int)doughty_enclosure_kernel_work((const doughty_params *)c->params, mode, theta,
+                                                g, dg, flags, c->slots);
 }
 
 static int sigma(const void *params, codegen_real *out, void *values)
@@ -85,7 +87,7 @@ static const codegen_model model = {
     .check_params = check_params,
     .equilibrium_state = equilibrium_state,
     .equilibrium_branches = equilibrium_branches,
-    .enclosure = enclosure,
+    .enclose = enclose,
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
@@ -102,6 +104,7 @@ static const codegen_model model = {
         .uncertain = offsetof(doughty_analysis, uncertain),
     },
     .workspace = {
+        .call = offsetof(doughty_workspace, call),
         .result = offsetof(doughty_workspace, result),
 #ifdef CODEGEN_FLOAT
         .polynomial = offsetof(doughty_workspace, polynomial),

@@ -343,6 +343,7 @@ four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysi
  * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
  * keep one on their stack. Its contents on return are unspecified. */
 typedef struct four_bar_workspace {
+    codegen_analysis_call call;        /* the analysis' bookkeeping */
     four_bar_analysis result;      /* the result until it is complete (*result is written only on success) */
 #ifdef CODEGEN_FLOAT
     four_bar_analysis polynomial;  /* the polynomial route's, which the isolation completes */

@@ -343,6 +343,7 @@ slider_crank_status slider_crank_isolate(const slider_crank_params *params, slid
  * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
  * keep one on their stack. Its contents on return are unspecified. */
 typedef struct slider_crank_workspace {
+    codegen_analysis_call call;        /* the analysis' bookkeeping */
     slider_crank_analysis result;      /* the result until it is complete (*result is written only on success) */
 #ifdef CODEGEN_FLOAT
     slider_crank_analysis polynomial;  /* the polynomial route's, which the isolation completes */

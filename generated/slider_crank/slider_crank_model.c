@@ -32,11 +32,13 @@ static void mode_linearisation(const void *params, codegen_real theta, codegen_r
     slider_crank_mode_linearisation_kernel((const slider_crank_params *)params, theta, out);
 }
 
-static int enclosure(const void *params, unsigned mode, codegen_iv theta, codegen_iv *g,
-                     codegen_iv *dg, unsigned *flags, codegen_iv *slots)
+/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                   codegen_iv *dg, unsigned *flags)
 {
-    return (int)slider_crank_enclosure_kernel_work((const slider_crank_params *)params, mode, theta,
-                                                g, dg, flags, slots);
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    return (int)slider_crank_enclosure_kernel_work((const slider_crank_params *)c->params, mode, theta,
+                                                g, dg, flags, c->slots);
 }
 
 static int sigma(const void *params, codegen_real *out, void *values)
@@ -106,7 +108,7 @@ static const codegen_model model = {
     .equilibrium_state = equilibrium_state,
     .equilibrium_branches = equilibrium_branches,
     .mode_linearisation = mode_linearisation,
-    .enclosure = enclosure,
+    .enclose = enclose,
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
@@ -123,6 +125,7 @@ static const codegen_model model = {
         .uncertain = offsetof(slider_crank_analysis, uncertain),
     },
     .workspace = {
+        .call = offsetof(slider_crank_workspace, call),
         .result = offsetof(slider_crank_workspace, result),
 #ifdef CODEGEN_FLOAT
         .polynomial = offsetof(slider_crank_workspace, polynomial),

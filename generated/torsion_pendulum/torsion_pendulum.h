@@ -242,6 +242,7 @@ torsion_pendulum_status torsion_pendulum_isolate(const torsion_pendulum_params *
  * time), so that the stack holds only the calls' frames (README: firmware); the plain entries
  * keep one on their stack. Its contents on return are unspecified. */
 typedef struct torsion_pendulum_workspace {
+    codegen_analysis_call call;        /* the analysis' bookkeeping */
     torsion_pendulum_analysis result;      /* the result until it is complete (*result is written only on success) */
     codegen_iv enclosure_slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */

@@ -22,11 +22,13 @@ static void equilibrium_state(const void *params, codegen_real theta, codegen_re
     torsion_pendulum_equilibrium_state_kernel((const torsion_pendulum_params *)params, theta, out);
 }
 
-static int enclosure(const void *params, unsigned mode, codegen_iv theta, codegen_iv *g,
-                     codegen_iv *dg, unsigned *flags, codegen_iv *slots)
+/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                   codegen_iv *dg, unsigned *flags)
 {
-    return (int)torsion_pendulum_enclosure_kernel_work((const torsion_pendulum_params *)params, mode, theta,
-                                                g, dg, flags, slots);
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    return (int)torsion_pendulum_enclosure_kernel_work((const torsion_pendulum_params *)c->params, mode, theta,
+                                                g, dg, flags, c->slots);
 }
 
 /* The centre of the coordinate's range [rad]. */
@@ -67,7 +69,7 @@ static const codegen_model model = {
     .acceleration_failure = TORSION_PENDULUM_ANGULAR_ACCELERATION_FAILURE,
     .check_params = check_params,
     .equilibrium_state = equilibrium_state,
-    .enclosure = enclosure,
+    .enclose = enclose,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
     .analysis = {
@@ -82,6 +84,7 @@ static const codegen_model model = {
         .uncertain = offsetof(torsion_pendulum_analysis, uncertain),
     },
     .workspace = {
+        .call = offsetof(torsion_pendulum_workspace, call),
         .result = offsetof(torsion_pendulum_workspace, result),
         .enclosure_slots = offsetof(torsion_pendulum_workspace, enclosure_slots),
         .found = offsetof(torsion_pendulum_workspace, found),

@@ -74,33 +74,8 @@
 #define ROUTE
 #endif
 
-/* A result (NAME_analysis) seen through the model's layout. */
-typedef struct result_view {
-    void *base;
-    codegen_real *sigma;
-    int *n_roots;
-    codegen_equilibrium *roots;
-    int *n_singular;
-    codegen_real *singular_theta;
-    int *n_unassembled;
-    codegen_real *unassembled_theta;
-    int *n_uncertain;
-    codegen_uncertain *uncertain;
-} result_view;
-
-/* One analysis in progress: the model, the validated parameters, and the workspace's parts.
- * What codegen_isolate and codegen_certify hand back to the enclosures. */
-typedef struct call {
-    const codegen_model *model;
-    const void *params;
-    codegen_iv *slots;           /* where the interval programs run */
-    codegen_real *at_root;       /* the state at a root being studied */
-    codegen_real *at_next;       /* at a Newton step's trial point */
-    codegen_real *at_line;       /* at a root being linearised */
-    codegen_real *g;             /* G on every branch at one angle */
-    codegen_real *merged;        /* ... at a root and either side of it */
-    codegen_real *modes;         /* M, B, K of every mode */
-} call;
+typedef codegen_analysis_view result_view;
+typedef codegen_analysis_call call;
 
 static void *field(void *base, size_t offset)
 {
@@ -147,7 +122,7 @@ static int finite_or(const codegen_real *values, int count, int failure)
 
 static void state_at(const call *c, codegen_real theta, codegen_real *at)
 {
-    c->model->equilibrium_state(c->params, theta, at);
+    c->model->equilibrium_state(c->enclosure.params, theta, at);
 }
 
 /* G and the size of its terms, as NAME_equilibrium_residual returns them. */
@@ -257,7 +232,7 @@ static int vibrate(codegen_equilibrium *e)
 static int branch_value(const call *c, codegen_real theta, unsigned branch, codegen_real *value)
 {
     codegen_real *g = c->g;
-    c->model->equilibrium_branches(c->params, theta, g);
+    c->model->equilibrium_branches(c->enclosure.params, theta, g);
     if (!all_finite(g, c->model->n_branches) || !(g[branch] == g[branch])) {
         return 0;
     }
@@ -276,7 +251,7 @@ static int linearise_at(const call *c, unsigned mode, codegen_real theta, const 
     if (mode != 0u) {
         codegen_real *modes = c->modes;
         const codegen_real branch = at[s->branch_residuals + (int)model->branch_of_mode[mode]];
-        model->mode_linearisation(c->params, theta, modes);
+        model->mode_linearisation(c->enclosure.params, theta, modes);
         status = finite_or(modes, 3 * model->n_modes, model->mode_linearisation_failure);
         if (status != CODEGEN_OK) {
             return status;
@@ -311,14 +286,6 @@ static int linearise(const call *c, unsigned mode, codegen_real theta, codegen_e
     return linearise_at(c, mode, theta, c->at_line, e);
 }
 
-/* The enclosures of G and G' as codegen_isolate and codegen_certify take them. */
-static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
-                   codegen_iv *dg, unsigned *flags)
-{
-    const call *c = (const call *)context;
-    return c->model->enclosure(c->params, mode, theta, g, dg, flags, c->slots);
-}
-
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
 static void sort_roots(codegen_equilibrium *roots, int count)
 {
@@ -341,7 +308,8 @@ static int smooth_near(const call *c, unsigned mode, codegen_real theta)
     const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
     codegen_iv g, dg;
     unsigned flags;
-    const int status = enclose(c, mode, codegen_iv_make(theta - w, theta + w), &g, &dg, &flags);
+    const int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(theta - w, theta + w),
+                                         &g, &dg, &flags);
     return status != 0 ? status
          : (flags & CODEGEN_IV_POLE) != 0u ? CODEGEN_ERR_SINGULAR_STATE : CODEGEN_OK;
 }
@@ -354,14 +322,14 @@ static int certify_around(const call *c, unsigned mode, codegen_equilibrium *e)
 {
     codegen_real w;
     int proven = 0;
-    const int newton = codegen_certify_newton(enclose, c, mode, e->theta, e->K,
+    const int newton = codegen_certify_newton(c->model->enclose, &c->enclosure, mode, e->theta, e->K,
                                               &e->theta_lo, &e->theta_hi, &proven);
     if (newton != 0 || proven) {
         e->certified = proven;
         return newton;
     }
     for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
-        const int status = codegen_certify(enclose, c, mode, e->theta - w, e->theta + w, &proven);
+        const int status = codegen_certify(c->model->enclose, &c->enclosure, mode, e->theta - w, e->theta + w, &proven);
         if (status != 0) {
             return status;
         }
@@ -568,9 +536,9 @@ static void add_merged_roots(const call *c, int source, codegen_real *roots, uns
     const codegen_real theta = roots[source];
     codegen_real *at = c->merged, *below = at + n, *above = below + n;
     unsigned j, nearest;
-    model->equilibrium_branches(c->params, theta, at);
-    model->equilibrium_branches(c->params, theta - MERGED_RADIUS, below);
-    model->equilibrium_branches(c->params, theta + MERGED_RADIUS, above);
+    model->equilibrium_branches(c->enclosure.params, theta, at);
+    model->equilibrium_branches(c->enclosure.params, theta - MERGED_RADIUS, below);
+    model->equilibrium_branches(c->enclosure.params, theta + MERGED_RADIUS, above);
     if (!all_finite(at, n) || !all_finite(below, n) || !all_finite(above, n)) {
         return;
     }
@@ -699,7 +667,7 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
     unsigned *branches = (unsigned *)field(workspace, ws->branches);
     int i, count, found, status;
     clear(model, work);
-    status = model->sigma(c->params, work->sigma, field(workspace, ws->sigma_values));
+    status = model->sigma(c->enclosure.params, work->sigma, field(workspace, ws->sigma_values));
     if (status == CODEGEN_OK) {
         status = finite_or(work->sigma, model->degree + 1, model->sigma_failure);
     }
@@ -751,7 +719,7 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
 static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, codegen_real *below)
 {
     const codegen_model *model = c->model;
-    const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = model->range_centre(c->params);
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), centre = model->range_centre(c->enclosure.params);
     if (model->periodic) {
         int k;
         *below = centre - pi;
@@ -763,8 +731,9 @@ static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, co
             for (mode = 0u; mode < (unsigned)model->n_modes && decided; ++mode) {
                 codegen_iv g, dg;
                 unsigned flags;
-                const int status = enclose(c, mode, codegen_iv_make(cut - margin, cut + margin),
-                                           &g, &dg, &flags);
+                const int status = model->enclose(&c->enclosure, mode,
+                                                  codegen_iv_make(cut - margin, cut + margin),
+                                                  &g, &dg, &flags);
                 if (status != 0) {
                     return status;
                 }
@@ -794,7 +763,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     codegen_isolated *found = (codegen_isolated *)field(workspace, model->workspace.found);
     const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i, count;
-    const int isolated = codegen_isolate_work(enclose, c, mode, lo, hi, found,
+    const int isolated = codegen_isolate_work(model->enclose, &c->enclosure, mode, lo, hi, found,
                                               model->max_roots + model->max_uncertain, &count,
                                               (codegen_isolation_box *)field(workspace, model->workspace.boxes));
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
@@ -889,13 +858,17 @@ ROUTE static int isolate_into(const call *c, void *workspace, const result_view 
  * cannot vouch that no equilibrium is missing. The equilibria come instead from the certified
  * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
  * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
- * angles where the mechanism is singular or cannot be assembled. */
-static int complete_by_isolation(const call *c, void *workspace, const result_view *polynomial,
-                                 const result_view *result)
+ * angles where the mechanism is singular or cannot be assembled: both routes, then the
+ * polynomial's extras into the isolation's result. */
+ROUTE static int complete_by_isolation(const call *c, void *workspace,
+                                       const result_view *polynomial, const result_view *result)
 {
     const codegen_model *model = c->model;
     int i;
-    const int status = isolate_into(c, workspace, result);
+    int status = analyze_polynomial(c, workspace, polynomial);
+    if (status == CODEGEN_OK) {
+        status = isolate_into(c, workspace, result);
+    }
     if (status != CODEGEN_OK) {
         return status;
     }
@@ -919,19 +892,13 @@ static int complete_by_isolation(const call *c, void *workspace, const result_vi
 /* One route into the workspace's result (parameters checked). */
 static int run(const call *c, codegen_route route, void *workspace)
 {
-    const codegen_model *model = c->model;
-    const result_view result = results_in(model, field(workspace, model->workspace.result));
-    if (route == CODEGEN_ROUTE_ISOLATION || model->sigma == NULL) {
-        return isolate_into(c, workspace, &result);
+    if (route == CODEGEN_ROUTE_ISOLATION || c->model->sigma == NULL) {
+        return isolate_into(c, workspace, &c->result);
     }
 #if EQUILIBRIA_BY_ISOLATION
-    {
-        const result_view polynomial = results_in(model, field(workspace, model->workspace.polynomial));
-        const int status = analyze_polynomial(c, workspace, &polynomial);
-        return status != CODEGEN_OK ? status : complete_by_isolation(c, workspace, &polynomial, &result);
-    }
+    return complete_by_isolation(c, workspace, &c->polynomial, &c->result);
 #else
-    return analyze_polynomial(c, workspace, &result);
+    return analyze_polynomial(c, workspace, &c->result);
 #endif
 }
 
@@ -939,7 +906,7 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
                          void *result, void *workspace)
 {
     int status;
-    call c;
+    call *c;
     codegen_real *scratch;
     if (params == NULL || result == NULL || workspace == NULL) {
         return CODEGEN_ERR_NULL_POINTER;
@@ -948,17 +915,24 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     if (status != CODEGEN_OK) {
         return status;
     }
+    c = (call *)field(workspace, model->workspace.call);
     scratch = (codegen_real *)field(workspace, model->workspace.scratch);
-    c.model = model;
-    c.params = params;
-    c.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
-    c.at_root = scratch;
-    c.at_next = c.at_root + model->state.size;
-    c.at_line = c.at_next + model->state.size;
-    c.g = c.at_line + model->state.size;
-    c.merged = c.g + model->n_branches;
-    c.modes = c.merged + 3 * model->n_branches;
-    status = run(&c, route, workspace);
+    c->model = model;
+    c->enclosure.params = params;
+    c->enclosure.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
+    c->at_root = scratch;
+    c->at_next = c->at_root + model->state.size;
+    c->at_line = c->at_next + model->state.size;
+    c->g = c->at_line + model->state.size;
+    c->merged = c->g + model->n_branches;
+    c->modes = c->merged + 3 * model->n_branches;
+    c->result = results_in(model, field(workspace, model->workspace.result));
+#if EQUILIBRIA_BY_ISOLATION
+    if (model->sigma != NULL) {
+        c->polynomial = results_in(model, field(workspace, model->workspace.polynomial));
+    }
+#endif
+    status = run(c, route, workspace);
     if (status == CODEGEN_OK) {
         memcpy(result, field(workspace, model->workspace.result), model->analysis.size);
     }

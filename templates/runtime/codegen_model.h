@@ -105,6 +105,41 @@ typedef struct codegen_uncertain {
                                      inside if G is continuous there */
 } codegen_uncertain;
 
+/* A result (NAME_analysis) seen through its library's layout. */
+typedef struct codegen_analysis_view {
+    void *base;
+    codegen_real *sigma;
+    int *n_roots;
+    codegen_equilibrium *roots;
+    int *n_singular;
+    codegen_real *singular_theta;
+    int *n_unassembled;
+    codegen_real *unassembled_theta;
+    int *n_uncertain;
+    codegen_uncertain *uncertain;
+} codegen_analysis_view;
+
+/* What the analysis hands a library's enclosure (codegen_model.enclose) as its context: the
+ * validated parameters and the slots its interval programs run in. */
+typedef struct codegen_enclosure_context {
+    const void *params;
+    codegen_iv *slots;
+} codegen_enclosure_context;
+
+/* One analysis in progress, kept in the workspace (the stack then holds only scalars): the
+ * model, the enclosures' context, and the parts of the workspace at work. */
+typedef struct codegen_analysis_call {
+    const struct codegen_model *model;
+    codegen_enclosure_context enclosure;
+    codegen_real *at_root;       /* the state at a root being studied */
+    codegen_real *at_next;       /* at a Newton step's trial point */
+    codegen_real *at_line;       /* at a root being linearised */
+    codegen_real *g;             /* G on every branch at one angle */
+    codegen_real *merged;        /* ... at a root and either side of it */
+    codegen_real *modes;         /* M, B, K of every mode */
+    codegen_analysis_view result, polynomial;
+} codegen_analysis_call;
+
 /* Where the fields of a library's NAME_analysis lie (offsetof; sigma: none without the
  * polynomial route), and its size. */
 typedef struct codegen_analysis_layout {
@@ -115,8 +150,8 @@ typedef struct codegen_analysis_layout {
 /* Where the parts of a library's NAME_workspace lie (offsetof; those of a route the library
  * lacks are unused). scratch holds CODEGEN_ANALYSIS_SCRATCH(state, branches, modes) reals. */
 typedef struct codegen_workspace_layout {
-    size_t result, polynomial, roots, theta, branches, sigma_values, enclosure_slots, found,
-        boxes, scratch;
+    size_t call, result, polynomial, roots, theta, branches, sigma_values, enclosure_slots,
+        found, boxes, scratch;
 } codegen_workspace_layout;
 
 /* The reals of the analysis' scratch: three states, four sets of branch values, and M, B, K
@@ -135,7 +170,7 @@ typedef struct codegen_state_layout {
 
 /* A library's mechanism, as the runtime's analysis and time response see it. Kernels are
  * unchecked: the runtime calls them only with parameters check_params accepted. */
-typedef struct codegen_model {
+struct codegen_model {
     size_t params_size;           /* sizeof(NAME_params) */
     int n_modes;                  /* assembly modes (1: only as declared) */
     int n_roots;                  /* square roots whose radicands the state holds */
@@ -157,9 +192,8 @@ typedef struct codegen_model {
     void (*equilibrium_branches)(const void *params, codegen_real theta, codegen_real *out);
     /* M, B, K of every mode (NULL: a single mode) */
     void (*mode_linearisation)(const void *params, codegen_real theta, codegen_real *out);
-    /* G and G' enclosed over theta on a mode, in the caller's slots */
-    int (*enclosure)(const void *params, unsigned mode, codegen_iv theta, codegen_iv *g,
-                     codegen_iv *dg, unsigned *flags, codegen_iv *slots);
+    /* G and G' enclosed over theta on a mode; context: a codegen_enclosure_context */
+    codegen_enclosure enclose;
     /* the polynomial's coefficients (NULL: no polynomial route); values: its program's memory */
     int (*sigma)(const void *params, codegen_real *sigma, void *values);
     /* the centre of the coordinate's range [rad] */
@@ -170,7 +204,8 @@ typedef struct codegen_model {
     codegen_analysis_layout analysis;
     codegen_workspace_layout workspace;
     codegen_simulation_layout simulation;
-} codegen_model;
+};
+typedef struct codegen_model codegen_model;
 
 /* The two routes of the analysis. */
 typedef enum codegen_route {

@@ -45,6 +45,7 @@ typedef struct analysis {
 } analysis;
 
 typedef struct workspace {
+    codegen_analysis_call call;
     analysis result;
     double roots[CODEGEN_ROOTS_WORK(2)];
     double theta[MAX_ROOTS];
@@ -82,12 +83,11 @@ static void equilibrium_state(const void *p, double theta, double *out)
     out[4] = -q->a * sin(theta) + q->b * cos(theta);
 }
 
-static int enclosure(const void *p, unsigned mode, codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                     unsigned *flags, codegen_iv *slots)
+static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                   codegen_iv *dg, unsigned *flags)
 {
-    const params *q = (const params *)p;
+    const params *q = (const params *)((const codegen_enclosure_context *)context)->params;
     const codegen_iv c = codegen_iv_cos(theta), s = codegen_iv_sin(theta);
-    (void)slots;
     if (mode != 0u) {
         return CODEGEN_ERR_ARGUMENT;
     }
@@ -143,7 +143,7 @@ static codegen_model model_with(int capacity)
     m.acceleration_failure = CODEGEN_ERR_OVERFLOW;
     m.check_params = check_params;
     m.equilibrium_state = equilibrium_state;
-    m.enclosure = enclosure;
+    m.enclose = enclose;
     m.sigma = sigma;
     m.range_centre = range_centre;
     m.angular_acceleration = angular_acceleration;
@@ -157,6 +157,7 @@ static codegen_model model_with(int capacity)
     m.analysis.unassembled_theta = offsetof(analysis, unassembled_theta);
     m.analysis.n_uncertain = offsetof(analysis, n_uncertain);
     m.analysis.uncertain = offsetof(analysis, uncertain);
+    m.workspace.call = offsetof(workspace, call);
     m.workspace.result = offsetof(workspace, result);
     m.workspace.roots = offsetof(workspace, roots);
     m.workspace.theta = offsetof(workspace, theta);
