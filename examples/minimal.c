@@ -1,6 +1,6 @@
 /* Link the generated library into a program of your own:
  *   cc -std=c99 -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
- *      generated/doughty/*.c generated/runtime/*.c -lm -o minimal
+ *      generated/doughty/doughty*.c generated/runtime/codegen*.c -lm -o minimal
  */
 #include <stdio.h>
 
