@@ -335,6 +335,7 @@ def near_table2(draw):
     return api.example_params(**values)
 
 
+@pytest.mark.slow   # 1,500 sets, ~100 s: make test-all (CI)
 @settings(max_examples=1500, deadline=None,
           suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 @given(st.one_of(parameter_sets(), near_table2()))

@@ -22,6 +22,7 @@ def _make(target: str) -> str:
     return result.stdout + result.stderr
 
 
+@pytest.mark.slow   # ~75 s: make test-all (CI) runs it
 def test_sanitizers_report_nothing(need_tools):
     need_tools("gcc")
     out = _make("sanitize")
@@ -35,6 +36,7 @@ def test_sanitizers_report_nothing(need_tools):
     assert "runtime error" not in out and "ERROR: AddressSanitizer" not in out
 
 
+@pytest.mark.slow   # ~3 min: make test-all (CI) runs it
 def test_gcc_clang_and_cppcheck_are_clean(need_tools):
     need_tools("gcc", "clang", "cppcheck")
     out = _make("lint")

@@ -51,6 +51,7 @@ def check_plan_against_reference(seed: int, kind: str) -> None:
     assert mismatches(mine, ref) == [], mechanism.title
 
 
+@pytest.mark.slow   # ~45 s: make test-all (CI)
 @settings(max_examples=4, **SETTINGS)
 @given(SEEDS)
 def test_random_slider_cranks_plan_equals_the_reference(seed):

@@ -407,6 +407,7 @@ def test_reads_exactly_degree_plus_one_coefficients(rt, degree):
         assert list(th[n[0]:degree + pad]) == [7.0] * (degree + pad - n[0])
 
 
+@pytest.mark.slow   # ~50 s under ASan and UBSan: make test-all (CI)
 def test_sanitized_driver(tmp_path, sanitizer):
     """tests/c/roots_driver.c under AddressSanitizer + UBSan: every degree 1..CODEGEN_MAX_DEGREE
     with heap blocks of exactly degree + 1 coefficients and degree roots."""
