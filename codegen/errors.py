@@ -1,4 +1,4 @@
-"""Layer 6: a C library's non-OK status as a Python exception that names its cause."""
+"""A C library's non-OK status as a Python exception that names its cause."""
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping

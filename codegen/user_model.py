@@ -1,4 +1,4 @@
-"""Layer 6: a user's model file as a loaded Library, built once and reused.
+"""A user's model file as a loaded Library, built once and reused.
 
 The library of a model file is generated and built into a folder, and a stamp written last
 records what it was built from: a hash of the model file's bytes and of the package

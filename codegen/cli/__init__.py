@@ -1,4 +1,4 @@
-"""Layer 7: the command line (``mechvib``, or ``python -m codegen`` in a checkout).
+"""The command line (``mechvib``, or ``python -m codegen`` in a checkout).
 
 One module per verb (analyze, generate, sources, list in ``listing``, params, sweep,
 branches, simulate, draw), each with ``add(verbs, prog)``, which declares its options, and ``run(args)``,

@@ -1,4 +1,4 @@
-"""Layer 7: an analysis as text for a terminal (the command line prints it).
+"""An analysis as text for a terminal (the command line prints it).
 
 The default table fits 100 columns: the angle, what the root is, whether it is proven, the
 stiffness and the vibration. ``wide`` adds M_EQ, B_EQ and the eigenvalues. A quantity with no

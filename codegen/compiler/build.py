@@ -1,4 +1,4 @@
-"""Layer 5: build each generated C library into its own cffi (API mode) extension.
+"""Build each generated C library into its own cffi (API mode) extension.
 
 setuptools runs this through ``cffi_modules`` on ``pip install .`` / ``pip install -e .``:
 every folder of generated/ holding a library (NAME/NAME_api.json) becomes the module

@@ -1,4 +1,4 @@
-"""Layer 6: the compiled libraries from Python.
+"""The compiled libraries from Python.
 
 ``load(name)`` gives the ``Library`` of a shipped mechanism (built into the package as
 ``codegen._native_NAME``); ``load_from(folder, name)`` one a user generated and built with

@@ -1,4 +1,4 @@
-"""Layer 6: the analysis of many parameter sets as numpy arrays, over threads.
+"""The analysis of many parameter sets as numpy arrays, over threads.
 
 ``analyze_table(table, library)`` runs the C batch entry point of the chosen route over a
 ``params_array`` and returns one structured array row per root, with the index of its set:

@@ -1,4 +1,4 @@
-"""Layer 6: equilibrium branches, every equilibrium followed as one parameter varies.
+"""Equilibrium branches, every equilibrium followed as one parameter varies.
 
 ``branches(library, "F", 0, 200)`` samples the parameter at ``points`` evenly spaced values
 (the others from the example, or ``base``), analyses every sample in batch (``sweep.sweep``:

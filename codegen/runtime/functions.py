@@ -1,4 +1,4 @@
-"""Layer 6: one C function of a library as a real Python function.
+"""One C function of a library as a real Python function.
 
 ``Function`` calls the C function (one set, or its batch twin over numpy arrays) and makes
 the face ``Library.FUNCTIONS`` holds: a plain function with the C function's name, a

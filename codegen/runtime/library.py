@@ -1,4 +1,4 @@
-"""Layer 6: one compiled mechanism library from Python, with plain floats or numpy batches.
+"""One compiled mechanism library from Python, with plain floats or numpy batches.
 
 A ``Library`` wraps the cffi module built from one mechanism's generated/ folder. Every C
 function of its emission plan is a Python function of the library, by name, e.g.

@@ -1,4 +1,4 @@
-"""Layer 6: sweeps, the analysis of a grid or a random sample of parameter sets as one table.
+"""Sweeps, the analysis of a grid or a random sample of parameter sets as one table.
 
 ``grid(library, axes)`` and ``sample(library, count, ranges)`` make the parameter sets (a
 ``params_array``); ``sweep(library, sets)`` analyses them chunk by chunk (``batch.analyze_table``

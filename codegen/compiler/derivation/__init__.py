@@ -1,4 +1,4 @@
-"""Layer 2: every expression of the method, derived from a mechanism (Table 1)."""
+"""Every expression of the method, derived from a mechanism (Table 1)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -1,4 +1,4 @@
-"""Layer 4a': straight-line polynomial programs as instructions for the runtime's
+"""Straight-line polynomial programs as instructions for the runtime's
 double-double machine (templates/runtime/codegen_dd.c).
 
 Squaring the square roots out of G cancels up to ~13 digits in sigma's low coefficients,

@@ -1,4 +1,4 @@
-"""Layer 4a'': expressions as interval programs for the runtime's outward-rounded arithmetic
+"""Expressions as interval programs for the runtime's outward-rounded arithmetic
 (templates/runtime/codegen_interval.h), for the certified isolation of G's zeros.
 
 Each expression becomes nested calls (codegen_iv_add(a, codegen_iv_mul(b, c))) after one

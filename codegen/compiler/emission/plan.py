@@ -1,4 +1,4 @@
-"""Layer 3: the emission plan -- which C functions exist, their inputs, outputs,
+"""The emission plan -- which C functions exist, their inputs, outputs,
 expressions, units and the paper's equation each one implements.
 
 The plan reads only the derivation. It is the single list that the printer, the

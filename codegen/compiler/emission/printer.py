@@ -1,4 +1,4 @@
-"""Layer 4a: expressions to C statements, through SymPy's C99 printer after one
+"""Expressions to C statements, through SymPy's C99 printer after one
 common-subexpression pass over all outputs of a function.
 
 The C computes in ``codegen_real`` (codegen_real.h): double, or float when the library is

@@ -1,4 +1,4 @@
-"""Layer 4b: the emission plan through Jinja2 templates into C source files.
+"""The emission plan through Jinja2 templates into C source files.
 
 One cached environment with StrictUndefined: a missing template variable is an error,
 never an empty string. Output depends only on the plan, the templates and the

@@ -1,4 +1,4 @@
-"""Layer 1: mechanisms as data.
+"""Mechanisms as data.
 
 ``SHIPPED`` names the mechanisms that come with the package; ``load`` builds one of them, or
 a user's from a Python file that defines ``build() -> Mechanism``.
