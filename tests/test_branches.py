@@ -423,7 +423,7 @@ def test_cli_without_a_fold_says_so(tmp_path):
      "b.pdf: a figure is written as .png or .svg"),
     (("--vary", "F", "--from", "0", "--to", "1", "--points", "1"),
      "points must be an integer of at least 2"),
-    (("--vary", "F", "--from", "x", "--to", "1"), "argument --from: invalid float value"),
+    (("--vary", "F", "--from", "x", "--to", "1"), "--from: 'x' is not a number"),
     (("--mechanism", "torsion_pendulum", "--vary", "k_t", "--from", "0", "--to", "1",
       "--method", "polynomial"), "G is not algebraic"),
 ])

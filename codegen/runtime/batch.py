@@ -21,6 +21,9 @@ from .library import Library
 
 #: One root of one parameter set. Angles [rad]; kind, stability and damping index
 #: analysis.KINDS, STABILITY and DAMPING; omega_n and zeta complex where K < 0.
+#: The stability and damping codes of a root that is no equilibrium (an extraneous root).
+NOT_CLASSIFIED = -1
+
 ROOT_DTYPE = np.dtype([
     ("set", np.int64), ("theta", np.float64), ("theta_lo", np.float64),
     ("theta_hi", np.float64), ("certified", np.bool_), ("kind", np.int8),
@@ -87,9 +90,11 @@ def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
     found = slots.view(np.dtype((np.void, slots.dtype.itemsize)))[mask].view(slots.dtype)
     rows = np.empty(len(found), dtype=ROOT_DTYPE)
     rows["set"] = np.nonzero(mask)[0] + first
-    for name in ("theta", "theta_lo", "theta_hi", "residual", "M", "B", "K", "kind",
-                 "stability", "damping"):
+    for name in ("theta", "theta_lo", "theta_hi", "residual", "M", "B", "K", "kind"):
         rows[name] = found[name]
+    extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
+    for name in ("stability", "damping"):   # an extraneous root is no equilibrium: no code
+        rows[name] = np.where(extraneous, NOT_CLASSIFIED, found[name])
     rows["certified"] = found["certified"] != 0
     scale = found["residual_scale"]
     with np.errstate(divide="ignore", invalid="ignore"):
