@@ -567,9 +567,9 @@ static void add_merged_roots(const call *c, int source, codegen_real *roots, uns
  * linearise. Where branches vanish together, G itself decides, relative to the size of its
  * contributions. (A genuine root the root finder merged with this one is found by
  * add_merged_roots.) *assembled = 0 (and nothing else written) where the mechanism cannot be
- * assembled. */
+ * assembled; *root_mode: the assembly mode the root was studied on. */
 static int study_root(const call *c, codegen_real theta, unsigned known, codegen_equilibrium *e,
-                      int *assembled)
+                      int *assembled, unsigned *root_mode)
 {
     const codegen_model *model = c->model;
     int status, declared;
@@ -615,6 +615,7 @@ static int study_root(const call *c, codegen_real theta, unsigned known, codegen
     }
     e->certified = 0;
     e->theta_lo = e->theta_hi = e->theta;
+    *root_mode = mode;
     if (e->kind != CODEGEN_EXTRANEOUS) {
         status = certify_around(c, mode, e);
         if (status == CODEGEN_OK && !e->certified) {
@@ -627,10 +628,15 @@ static int study_root(const call *c, codegen_real theta, unsigned known, codegen
     return vibrate(e);
 }
 
-/* Whether two roots are one that rounding split: closer than MULTIPLE_ROOT_SPREAD on the
- * circle (and in float, of one kind). */
+/* Whether two roots are one: two proven ones whose intervals overlap, or others that rounding
+ * split, closer than MULTIPLE_ROOT_SPREAD on the circle (and in float, of one kind). */
 static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b)
 {
+    if (a->certified && b->certified) {
+        /* Each interval holds one zero, where G is monotone: overlapping, they hold the same
+         * one (G stays monotone over both); apart, two. */
+        return a->kind == b->kind && a->theta_lo <= b->theta_hi && b->theta_lo <= a->theta_hi;
+    }
     return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
         && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
 }
@@ -658,6 +664,28 @@ static int merge_split_roots(codegen_equilibrium *roots, int count)
     return kept;
 }
 
+static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+                        codegen_real below, int whole, void *workspace, const result_view *work);
+static void sort_uncertain(codegen_uncertain *uncertain, int count);
+
+/* Every zero of G on one mode within POLISH_RADIUS of theta, proven or reported uncertain, into
+ * work: where the polynomial's root could not be proven (a pair closer than the root finder
+ * separates, a near-double complex pair, a root of the other mode where that mode barely
+ * exists) or was called extraneous (a genuine root misranked among the branches at extreme
+ * scales). The window is placed within (-pi - POLISH_RADIUS, pi + POLISH_RADIUS) and its zeros
+ * are reported in (-pi, pi], as the polynomial route reports its roots. */
+static int isolate_window(const call *c, unsigned mode, codegen_real theta, void *workspace,
+                          const result_view *work)
+{
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846);
+    const codegen_real centre = theta + POLISH_RADIUS > pi ? theta - CODEGEN_R(2.0) * pi : theta;
+    return isolate_mode(c, mode, centre - POLISH_RADIUS, centre + POLISH_RADIUS, -pi, 0,
+                        workspace, work);
+}
+
+/* A window to search on every mode (see analyze_polynomial). */
+#define ALL_MODES (~0u)
+
 /* The polynomial route into *work, in the workspace's memory. */
 ROUTE static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
@@ -665,7 +693,7 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
     const codegen_workspace_layout *ws = &model->workspace;
     codegen_real *theta = (codegen_real *)field(workspace, ws->theta);
     unsigned *branches = (unsigned *)field(workspace, ws->branches);
-    int i, count, found, status;
+    int i, count, found, windows, status;
     clear(model, work);
     status = model->sigma(c->enclosure.params, work->sigma, field(workspace, ws->sigma_values));
     if (status == CODEGEN_OK) {
@@ -691,22 +719,41 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
                                && model->equilibrium_branches != NULL; ++i) {
         add_merged_roots(c, i, theta, branches, &count);
     }
-    for (i = 0; i < count; ++i) {
+    for (i = 0, windows = 0; i < count; ++i) {
         int assembled;
-        status = study_root(c, theta[i], branches[i], &work->roots[*work->n_roots], &assembled);
+        unsigned mode;
+        codegen_equilibrium *e = &work->roots[*work->n_roots];
+        status = study_root(c, theta[i], branches[i], e, &assembled, &mode);
         if (status == CODEGEN_ERR_SINGULAR_STATE) {
             work->singular_theta[(*work->n_singular)++] = theta[i];
         } else if (status != CODEGEN_OK) {
             return status;
         } else if (!assembled) {
             work->unassembled_theta[(*work->n_unassembled)++] = theta[i];
-        } else {
+        } else if (e->certified || EQUILIBRIA_BY_ISOLATION) { /* (float: see complete_by_isolation) */
             ++*work->n_roots;
+        } else { /* a window to search, after every root is listed (theta[i] is studied) */
+            theta[windows] = e->theta;
+            branches[windows++] = e->kind == CODEGEN_EXTRANEOUS ? ALL_MODES : mode;
+            *work->n_roots += e->kind == CODEGEN_EXTRANEOUS;
+        }
+    }
+    /* An unproven root: only what G itself proves near it; an extraneous root: and no zero
+     * of G of any mode near it. */
+    for (i = 0; i < windows; ++i) {
+        unsigned mode;
+        for (mode = 0u; mode < (unsigned)model->n_modes; ++mode) {
+            status = branches[i] == ALL_MODES || branches[i] == mode
+                   ? isolate_window(c, mode, theta[i], workspace, work) : CODEGEN_OK;
+            if (status != CODEGEN_OK) {
+                return status;
+            }
         }
     }
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, *work->n_roots);
     *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
+    sort_uncertain(work->uncertain, *work->n_uncertain);
     return CODEGEN_OK;
 }
 
@@ -754,10 +801,25 @@ static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, co
     return CODEGEN_OK;
 }
 
+/* Whether a proven root of this kind whose interval meets [at.lo, at.hi] is listed in work:
+ * both intervals hold one zero where G is monotone, so they hold the same one. */
+static int listed(const result_view *work, codegen_root_kind kind, codegen_iv at)
+{
+    int i;
+    for (i = 0; i < *work->n_roots; ++i) {
+        const codegen_equilibrium *e = &work->roots[i];
+        if (e->certified && e->kind == kind && e->theta_lo <= at.hi && at.lo <= e->theta_hi) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Every zero of G on one mode over [lo, hi], into work: certified roots linearised, the
- * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. */
+ * rest as uncertain intervals. Angles are moved by 2 pi into the range where needed. whole:
+ * [lo, hi] is the whole range (G within rounding of 0 over all of it: every angle). */
 static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
-                        codegen_real below, void *workspace, const result_view *work)
+                        codegen_real below, int whole, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
     codegen_isolated *found = (codegen_isolated *)field(workspace, model->workspace.found);
@@ -772,7 +834,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     if (isolated != 0) {
         return isolated;
     }
-    if (count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
+    if (whole && count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
         return CODEGEN_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
     }
@@ -785,7 +847,11 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                                                                   CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             codegen_equilibrium *e = &work->roots[*work->n_roots];
+            const codegen_root_kind kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
             int status;
+            if (!whole && listed(work, kind, moved)) { /* a window's: proven already */
+                continue;
+            }
             if (*work->n_roots == model->max_roots) {
                 return CODEGEN_ERR_CAPACITY;
             }
@@ -798,7 +864,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                 continue;
             }
             if (status == CODEGEN_OK) {
-                e->kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
+                e->kind = kind;
                 e->genuine = mode == 0u;
                 e->certified = 1;
                 e->theta_lo = moved.lo;
@@ -831,25 +897,31 @@ ROUTE static int isolate_into(const call *c, void *workspace, const result_view 
     const codegen_model *model = c->model;
     codegen_real lo, hi, below;
     unsigned mode;
-    int i, status;
+    int status;
     clear(model, work);
     status = isolation_range(c, &lo, &hi, &below);
     for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
-        status = isolate_mode(c, mode, lo, hi, below, workspace, work);
+        status = isolate_mode(c, mode, lo, hi, below, 1, workspace, work);
     }
     if (status != CODEGEN_OK) {
         return status;
     }
     sort_roots(work->roots, *work->n_roots);
-    for (i = 1; i < *work->n_uncertain; ++i) { /* insertion sort by lo */
-        int j;
-        for (j = i; j > 0 && work->uncertain[j - 1].lo > work->uncertain[j].lo; --j) {
-            const codegen_uncertain swap = work->uncertain[j];
-            work->uncertain[j] = work->uncertain[j - 1];
-            work->uncertain[j - 1] = swap;
+    sort_uncertain(work->uncertain, *work->n_uncertain);
+    return CODEGEN_OK;
+}
+
+/* Sort uncertain intervals by lo (insertion sort). */
+static void sort_uncertain(codegen_uncertain *uncertain, int count)
+{
+    int i, j;
+    for (i = 1; i < count; ++i) {
+        for (j = i; j > 0 && uncertain[j - 1].lo > uncertain[j].lo; --j) {
+            const codegen_uncertain swap = uncertain[j];
+            uncertain[j] = uncertain[j - 1];
+            uncertain[j - 1] = swap;
         }
     }
-    return CODEGEN_OK;
 }
 
 #if EQUILIBRIA_BY_ISOLATION
