@@ -801,6 +801,32 @@ static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, co
     return CODEGEN_OK;
 }
 
+/* [lo, hi], moved up by 2 pi if up, outward-rounded: 2 pi is enclosed, and so is each sum. */
+static codegen_iv moved_up(codegen_real lo, codegen_real hi, int up)
+{
+    return codegen_iv_add(codegen_iv_make(lo, hi),
+                          !up ? codegen_iv_point(0)
+                          : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
+                                            CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
+}
+
+/* An interval the isolation could not decide, into work. */
+static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
+                         codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
+{
+    codegen_uncertain *u = &work->uncertain[*work->n_uncertain];
+    if (*work->n_uncertain == model->max_uncertain) {
+        return CODEGEN_ERR_CAPACITY;
+    }
+    u->lo = lo;
+    u->hi = hi;
+    u->kind = kind;
+    u->mode = mode;
+    u->sign_change = sign_change;
+    ++*work->n_uncertain;
+    return CODEGEN_OK;
+}
+
 /* Whether a proven root of this kind whose interval meets [at.lo, at.hi] is listed in work:
  * both intervals hold one zero where G is monotone, so they hold the same one. */
 static int listed(const result_view *work, codegen_root_kind kind, codegen_iv at)
@@ -828,6 +854,11 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     const int isolated = codegen_isolate_work(model->enclose, &c->enclosure, mode, lo, hi, found,
                                               model->max_roots + model->max_uncertain, &count,
                                               (codegen_isolation_box *)field(workspace, model->workspace.boxes));
+    if (!whole && (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET)) {
+        /* a window the isolation cannot settle (G' unbounded near a pole): undecided */
+        const codegen_iv window = moved_up(lo, hi, lo <= below);
+        return add_uncertain(model, work, window.lo, window.hi, CODEGEN_SINGULAR, mode, 0);
+    }
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
         return CODEGEN_ERR_CAPACITY;
     }
@@ -840,11 +871,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     }
     for (i = 0; i < count; ++i) {
         const codegen_real shift = found[i].theta <= below ? two_pi : 0;
-        /* the interval moves outward-rounded: 2 pi is enclosed, and so is each sum */
-        const codegen_iv moved = codegen_iv_add(codegen_iv_make(found[i].lo, found[i].hi),
-                                                shift == 0 ? codegen_iv_point(0)
-                                                : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
-                                                                  CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
+        const codegen_iv moved = moved_up(found[i].lo, found[i].hi, shift != 0);
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             codegen_equilibrium *e = &work->roots[*work->n_roots];
             const codegen_root_kind kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
@@ -876,16 +903,12 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
             }
             ++*work->n_roots;
         } else {
-            codegen_uncertain *u = &work->uncertain[*work->n_uncertain];
-            if (*work->n_uncertain == model->max_uncertain) {
-                return CODEGEN_ERR_CAPACITY;
+            const int status = add_uncertain(model, work, moved.lo, moved.hi,
+                                             found[i].kind == CODEGEN_ISOLATED_CLUSTER ? CODEGEN_CLUSTER
+                                             : CODEGEN_SINGULAR, mode, found[i].sign_change);
+            if (status != CODEGEN_OK) {
+                return status;
             }
-            u->lo = moved.lo;
-            u->hi = moved.hi;
-            u->kind = found[i].kind == CODEGEN_ISOLATED_CLUSTER ? CODEGEN_CLUSTER : CODEGEN_SINGULAR;
-            u->mode = mode;
-            u->sign_change = found[i].sign_change;
-            ++*work->n_uncertain;
         }
     }
     return CODEGEN_OK;
