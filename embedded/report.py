@@ -32,8 +32,9 @@ def sizes(objects: dict[str, Path]) -> dict[str, dict[str, int]]:
 
 
 def object_groups(build: Path, lib: str) -> dict[str, Path]:
-    """The library's objects by what they hold: its functions, its analysis, and each part
-    of the runtime (roots, interval, dd: codegen_NAME.c)."""
+    """The library's objects by what they hold: its functions, its model (the descriptor and
+    the public entries), and each part of the runtime (analysis, roots, interval, dd...:
+    codegen_NAME.c)."""
     groups = {}
     for obj in sorted((build / lib).glob(f"{lib}*.o")):
         groups[obj.stem.removeprefix(lib).lstrip("_") or "functions"] = obj

@@ -74,8 +74,8 @@ def test_the_worst_case_stack_covers_what_the_firmware_used(report):
 @pytest.mark.slow
 def test_code_size_is_reported_per_group(report):
     for _, lib, entry in _entries(report):
-        assert {"functions", "analysis", "runtime roots", "runtime interval",
-                "runtime dd"} <= set(entry["size"]), lib
+        assert {"functions", "model", "runtime analysis", "runtime simulation", "runtime roots",
+                "runtime interval", "runtime dd"} <= set(entry["size"]), lib
         assert all(size["text"] > 0 for size in entry["size"].values())
 
 
