@@ -2,8 +2,9 @@
 equilibria. A root of the polynomial that could not be proven, and the neighbourhood of every
 extraneous root, are searched by the certified isolation of G itself (on the root's mode; on
 every mode near an extraneous root), so what the polynomial route reports as an equilibrium is
-proven, and a genuine root the branches misranked is found. The reference is the isolation
-route, which shares only the enclosures of G with it.
+proven, and a genuine root the branches misranked is found; so are the critical points of the
+polynomial where it vanishes to rounding (a multiple root the root finder sees as a complex
+pair). The reference is the isolation route, which shares only the enclosures of G with it.
 """
 from __future__ import annotations
 
@@ -59,10 +60,26 @@ def test_equilibria_the_branches_misrank_at_extreme_scales_are_found():
     assert _same_equilibria(auto, isolate)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 29, open: with k = F = 0 every root of sigma is "
-                   "double and the root finder returns them as complex pairs; the isolation "
-                   "route finds them")
 def test_a_slider_crank_without_its_spring_and_force_keeps_its_equilibria():
+    # k = F = 0 leaves no square root in G: every root of sigma is multiple, and rounding
+    # turns them into complex pairs. The equilibria are where the crank torque T balances the
+    # weights: cos(theta) = 2 T / ((m_1 + m_2) g R), in each assembly mode (issue 29).
     library = api.load("slider_crank")
-    params = library.example_params(k=0.0, F=0.0, T=0.1)
-    assert _same_equilibria(analyze(params, "auto"), analyze(params, "isolate"))
+    ex = library.EXAMPLE
+    for torque in np.linspace(0.0, 0.9, 200):
+        params = library.example_params(k=0.0, F=0.0, T=float(torque))
+        auto = analyze(params, "auto")
+        ratio = 2 * torque / ((ex["m_1"] + ex["m_2"]) * ex["g"] * ex["R"])
+        expected = [] if ratio > 1 else sorted({-math.acos(ratio), math.acos(ratio)})
+        for kind in EQUILIBRIUM_KINDS:
+            found = sorted(r.theta for r in auto.roots if r.kind == kind)
+            undecided = [(u.lo, u.hi) for u in auto.uncertain]
+            # each expected equilibrium listed, or (at the fold) inside an uncertain interval
+            for theta in expected:
+                assert (any(abs(t - theta) < 1e-9 for t in found)
+                        or any(lo - 1e-9 <= theta <= hi + 1e-9 for lo, hi in undecided)), (
+                    torque, kind, theta, found, undecided)
+            # and nothing listed elsewhere
+            assert all(any(abs(t - theta) < 1e-9 for theta in expected) for t in found), (
+                torque, kind, found, expected)
+        assert all(r.certified for r in auto.roots if r.kind in EQUILIBRIUM_KINDS)

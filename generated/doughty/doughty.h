@@ -354,6 +354,7 @@ typedef struct doughty_workspace {
     doughty_analysis polynomial;  /* the polynomial route's, which the isolation completes */
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)]; /* the root finder's */
+    codegen_real critical[2 * DOUGHTY_DEGREE]; /* the polynomial's derivative and its roots */
     codegen_real theta[DOUGHTY_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[DOUGHTY_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[DOUGHTY_SIGMA_VALUES]; /* sigma's double-double program's */

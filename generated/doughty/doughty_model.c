@@ -110,6 +110,7 @@ static const codegen_model model = {
         .polynomial = offsetof(doughty_workspace, polynomial),
 #endif
         .roots = offsetof(doughty_workspace, roots),
+        .critical = offsetof(doughty_workspace, critical),
         .theta = offsetof(doughty_workspace, theta),
         .branches = offsetof(doughty_workspace, branches),
         .sigma_values = offsetof(doughty_workspace, sigma_values),

@@ -349,6 +349,7 @@ typedef struct four_bar_workspace {
     four_bar_analysis polynomial;  /* the polynomial route's, which the isolation completes */
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)]; /* the root finder's */
+    codegen_real critical[2 * FOUR_BAR_DEGREE]; /* the polynomial's derivative and its roots */
     codegen_real theta[FOUR_BAR_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[FOUR_BAR_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[FOUR_BAR_SIGMA_VALUES]; /* sigma's double-double program's */

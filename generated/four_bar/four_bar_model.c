@@ -131,6 +131,7 @@ static const codegen_model model = {
         .polynomial = offsetof(four_bar_workspace, polynomial),
 #endif
         .roots = offsetof(four_bar_workspace, roots),
+        .critical = offsetof(four_bar_workspace, critical),
         .theta = offsetof(four_bar_workspace, theta),
         .branches = offsetof(four_bar_workspace, branches),
         .sigma_values = offsetof(four_bar_workspace, sigma_values),

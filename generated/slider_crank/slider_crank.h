@@ -349,6 +349,7 @@ typedef struct slider_crank_workspace {
     slider_crank_analysis polynomial;  /* the polynomial route's, which the isolation completes */
 #endif
     codegen_real roots[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)]; /* the root finder's */
+    codegen_real critical[2 * SLIDER_CRANK_DEGREE]; /* the polynomial's derivative and its roots */
     codegen_real theta[SLIDER_CRANK_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[SLIDER_CRANK_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[SLIDER_CRANK_SIGMA_VALUES]; /* sigma's double-double program's */

@@ -131,6 +131,7 @@ static const codegen_model model = {
         .polynomial = offsetof(slider_crank_workspace, polynomial),
 #endif
         .roots = offsetof(slider_crank_workspace, roots),
+        .critical = offsetof(slider_crank_workspace, critical),
         .theta = offsetof(slider_crank_workspace, theta),
         .branches = offsetof(slider_crank_workspace, branches),
         .sigma_values = offsetof(slider_crank_workspace, sigma_values),

@@ -683,6 +683,64 @@ static int isolate_window(const call *c, unsigned mode, codegen_real theta, void
                         workspace, work);
 }
 
+/* How close to zero, in rounding units of the size of its terms, the polynomial must be at a
+ * critical point for a multiple root to be suspected there (its coefficients carry a few
+ * rounding errors, squaring out the roots amplifies them, and the evaluation adds some). */
+#define MULTIPLE_ROOT_RESIDUAL (CODEGEN_R(1024.0) * CODEGEN_EPSILON)
+
+/* sum s[i] tau^i at tau = tan(theta/2) against the sum of its terms' magnitudes, from the
+ * chart where |tau| <= 1 (sum s[i] u^(degree - i), u = 1/tau, beyond): whether it is zero to
+ * within MULTIPLE_ROOT_RESIDUAL of that size. */
+static int polynomial_vanishes(const codegen_real *s, int degree, codegen_real theta)
+{
+    const codegen_real tau = codegen_tan(CODEGEN_R(0.5) * theta);
+    const int reversed = !(codegen_fabs(tau) <= 1);
+    const codegen_real x = reversed ? 1 / tau : tau;
+    codegen_real value = 0, size = 0;
+    int i;
+    for (i = 0; i <= degree; ++i) {
+        const codegen_real a = s[reversed ? i : degree - i];
+        value = value * x + a;
+        size = size * codegen_fabs(x) + codegen_fabs(a);
+    }
+    return codegen_fabs(value) <= MULTIPLE_ROOT_RESIDUAL * size;
+}
+
+/* The angles where the polynomial may have a real root of even multiplicity that it does not
+ * show: every root of sigma is double where a part is removed and no square root is left in
+ * G, and rounding turns such roots into complex pairs, which the root finder rightly does not
+ * report. Such a root is a critical point of sigma (a root of sigma', of odd multiplicity, so
+ * real) where sigma is zero to rounding: these angles, *count of them at *suspects (the
+ * workspace's). */
+static int suspect_multiple_roots(const call *c, void *workspace, const result_view *work,
+                                  codegen_real **suspects, int *count)
+{
+    const codegen_model *model = c->model;
+    const int degree = model->degree;
+    codegen_real *slope = (codegen_real *)field(workspace, model->workspace.critical);
+    codegen_real *points = slope + degree;
+    int i, n = 0, status;
+    *suspects = points;
+    *count = 0;
+    if (degree < 2) {
+        return CODEGEN_OK;
+    }
+    for (i = 0; i < degree; ++i) {
+        slope[i] = (codegen_real)(i + 1) * work->sigma[i + 1];
+    }
+    status = (int)codegen_poly_real_roots_work(slope, degree - 1, points, &n,
+                                               (codegen_real *)field(workspace, model->workspace.roots));
+    if (status == CODEGEN_ERR_ZERO_POLYNOMIAL) {
+        return CODEGEN_OK; /* sigma constant: it has no root, multiple or not */
+    }
+    for (i = 0; i < n && status == CODEGEN_OK; ++i) {
+        if (polynomial_vanishes(work->sigma, degree, points[i])) {
+            points[(*count)++] = points[i];
+        }
+    }
+    return status;
+}
+
 /* A window to search on every mode (see analyze_polynomial). */
 #define ALL_MODES (~0u)
 
@@ -748,6 +806,21 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
             if (status != CODEGEN_OK) {
                 return status;
             }
+        }
+    }
+    if (!EQUILIBRIA_BY_ISOLATION) { /* a suspected multiple root, likewise (float: see
+                                       complete_by_isolation) */
+        codegen_real *suspects;
+        int n_suspects;
+        status = suspect_multiple_roots(c, workspace, work, &suspects, &n_suspects);
+        for (i = 0; i < n_suspects && status == CODEGEN_OK; ++i) {
+            unsigned mode;
+            for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
+                status = isolate_window(c, mode, suspects[i], workspace, work);
+            }
+        }
+        if (status != CODEGEN_OK) {
+            return status;
         }
     }
     /* Polishing moves roots by rounding-size amounts: keep them sorted. */

@@ -150,8 +150,8 @@ typedef struct codegen_analysis_layout {
 /* Where the parts of a library's NAME_workspace lie (offsetof; those of a route the library
  * lacks are unused). scratch holds CODEGEN_ANALYSIS_SCRATCH(state, branches, modes) reals. */
 typedef struct codegen_workspace_layout {
-    size_t call, result, polynomial, roots, theta, branches, sigma_values, enclosure_slots,
-        found, boxes, scratch;
+    size_t call, result, polynomial, roots, critical, theta, branches, sigma_values,
+        enclosure_slots, found, boxes, scratch;
 } codegen_workspace_layout;
 
 /* The reals of the analysis' scratch: three states, four sets of branch values, and M, B, K

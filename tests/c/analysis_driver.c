@@ -48,6 +48,7 @@ typedef struct workspace {
     codegen_analysis_call call;
     analysis result;
     double roots[CODEGEN_ROOTS_WORK(2)];
+    double critical[4];
     double theta[MAX_ROOTS];
     unsigned branches[MAX_ROOTS];
     codegen_iv slots[1];
@@ -160,6 +161,7 @@ static codegen_model model_with(int capacity)
     m.workspace.call = offsetof(workspace, call);
     m.workspace.result = offsetof(workspace, result);
     m.workspace.roots = offsetof(workspace, roots);
+    m.workspace.critical = offsetof(workspace, critical);
     m.workspace.theta = offsetof(workspace, theta);
     m.workspace.branches = offsetof(workspace, branches);
     m.workspace.enclosure_slots = offsetof(workspace, slots);
