@@ -628,6 +628,22 @@ static int study_root(const call *c, codegen_real theta, unsigned known, codegen
     return vibrate(e);
 }
 
+/* Whether [alo, ahi] and [blo, bhi] overlap on the circle: as they are, or one of them 2 pi
+ * away (a root near pi may be written near -pi), up to the rounding of 2 pi's addition. */
+static int meet(codegen_real alo, codegen_real ahi, codegen_real blo, codegen_real bhi)
+{
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
+    const codegen_real slack = CODEGEN_R(16.0) * CODEGEN_EPSILON;
+    int k;
+    for (k = -1; k <= 1; ++k) {
+        const codegen_real shift = (codegen_real)k * two_pi, tolerance = k != 0 ? slack : 0;
+        if (alo <= bhi + shift + tolerance && blo + shift <= ahi + tolerance) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Whether two roots are one: two proven ones whose intervals overlap, or others that rounding
  * split, closer than MULTIPLE_ROOT_SPREAD on the circle (and in float, of one kind). */
 static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b)
@@ -635,7 +651,7 @@ static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b
     if (a->certified && b->certified) {
         /* Each interval holds one zero, where G is monotone: overlapping, they hold the same
          * one (G stays monotone over both); apart, two. */
-        return a->kind == b->kind && a->theta_lo <= b->theta_hi && b->theta_lo <= a->theta_hi;
+        return a->kind == b->kind && meet(a->theta_lo, a->theta_hi, b->theta_lo, b->theta_hi);
     }
     return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
         && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
@@ -796,6 +812,10 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
             *work->n_roots += e->kind == CODEGEN_EXTRANEOUS;
         }
     }
+    /* Polishing moves roots by rounding-size amounts: keep them sorted, each once, before the
+     * windows add what they prove. */
+    sort_roots(work->roots, *work->n_roots);
+    *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
     /* An unproven root: only what G itself proves near it; an extraneous root: and no zero
      * of G of any mode near it. */
     for (i = 0; i < windows; ++i) {
@@ -823,7 +843,6 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
             return status;
         }
     }
-    /* Polishing moves roots by rounding-size amounts: keep them sorted. */
     sort_roots(work->roots, *work->n_roots);
     *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
     sort_uncertain(work->uncertain, *work->n_uncertain);
@@ -907,7 +926,7 @@ static int listed(const result_view *work, codegen_root_kind kind, codegen_iv at
     int i;
     for (i = 0; i < *work->n_roots; ++i) {
         const codegen_equilibrium *e = &work->roots[i];
-        if (e->certified && e->kind == kind && e->theta_lo <= at.hi && at.lo <= e->theta_hi) {
+        if (e->certified && e->kind == kind && meet(e->theta_lo, e->theta_hi, at.lo, at.hi)) {
             return 1;
         }
     }
