@@ -921,7 +921,7 @@ static int add_uncertain(const codegen_model *model, const result_view *work, co
 
 /* Whether a proven root of this kind whose interval meets [at.lo, at.hi] is listed in work:
  * both intervals hold one zero where G is monotone, so they hold the same one. */
-static int listed(const result_view *work, codegen_root_kind kind, codegen_iv at)
+static int already_proven(const result_view *work, codegen_root_kind kind, codegen_iv at)
 {
     int i;
     for (i = 0; i < *work->n_roots; ++i) {
@@ -968,7 +968,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
             codegen_equilibrium *e = &work->roots[*work->n_roots];
             const codegen_root_kind kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
             int status;
-            if (!whole && listed(work, kind, moved)) { /* a window's: proven already */
+            if (!whole && already_proven(work, kind, moved)) { /* a window's: proven already */
                 continue;
             }
             if (*work->n_roots == model->max_roots) {
