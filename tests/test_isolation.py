@@ -634,7 +634,7 @@ def _covered(analysis, z, slack=SLACK, kinds=("certified", "uncertain")):
                                         for u in analysis.uncertain)
 
 
-def _check_doughty_isolation(p, zeros=(), near=None, jump_slack=SLACK):
+def _check_doughty_isolation(p, zeros=(), near=None, jump_slack=SLACK, method="isolate"):
     """Nothing invented, nothing dropped, against the references.
 
     Invented: every certified interval has G changing sign at its ends, by the closed form
@@ -643,8 +643,12 @@ def _check_doughty_isolation(p, zeros=(), near=None, jump_slack=SLACK):
     of the reference's scan, every zero in ``zeros``, and every sign change of G across an
     angle where r = 0, lies in a certified or uncertain interval (the jumps: singular).
     ``near``: (centre, offsets) for a 60-digit local scan whose sign changes count too.
-    ``jump_slack``: how far from an angle where r = 0 a certified interval must stay."""
-    analysis = DOUGHTY.analyze(p, "isolate")
+    ``jump_slack``: how far from an angle where r = 0 a certified interval must stay.
+    ``method``: the route; the default one ("auto") adds extraneous roots, which are no
+    equilibria and are left out, and lists the angles where r = 0 at a root apart."""
+    analysis = DOUGHTY.analyze(p, method)
+    if method != "isolate":
+        analysis = dataclasses.replace(analysis, roots=analysis.equilibria)
     g, values = _doughty_g(p), _dict(p)
     where = (values, analysis.roots, analysis.uncertain)
     jumps = _spring_jumps(p)
@@ -680,8 +684,9 @@ def _check_doughty_isolation(p, zeros=(), near=None, jump_slack=SLACK):
             left, right = g(j - mpmath.mpf(10) ** -40), g(j + mpmath.mpf(10) ** -40)
         if left is not None and right is not None and left * right < 0:
             assert any(u.kind == "singular" and _inside(j, u.lo, u.hi, SLACK)
-                       for u in analysis.uncertain), ("jump across r = 0 dropped", where,
-                                                      float(j), left, right)
+                       for u in analysis.uncertain) or any(
+                abs(math.remainder(t - float(j), TWO_PI)) <= SLACK for t in analysis.singular), (
+                "jump across r = 0 dropped", where, float(j), left, right)
     return analysis, reference
 
 
@@ -704,20 +709,26 @@ def test_doughty_closed_form_g_equals_the_reference():
             assert abs(ours - ref) <= 1e-20 * scale, (values, t, ours, ref)
 
 
+SPRING_THROUGH_ZERO = dict(
+    factors=st.lists(_factor(), min_size=8, max_size=8), h=st.floats(-0.95, 0.95),
+    l_ND=st.one_of(st.just(0.0), st.floats(0.0, 0.3)), F=st.floats(-300.0, 300.0),
+    method=st.sampled_from(["isolate", "auto"]))
+
+
 @settings(max_examples=30, deadline=None)
-@given(factors=st.lists(_factor(), min_size=8, max_size=8), h=st.floats(-0.95, 0.95),
-       l_ND=st.one_of(st.just(0.0), st.floats(0.0, 0.3)), F=st.floats(-300.0, 300.0))
-def test_doughty_spring_through_zero_length(factors, h, l_ND, F):
+@given(**SPRING_THROUGH_ZERO)
+def test_doughty_spring_through_zero_length(factors, h, l_ND, F, method):
     """(a) a = L: P runs along the X axis, r = |H - L cos(theta)| is 0 at cos = H/L, where G
     jumps by 2 k l_ND L |sin|. No certified root within 1e-9 rad of it; a sign change across
-    it is reported as a singular interval. (l_ND = 0: no jump, and a root may lie there.)"""
+    it is reported as a singular interval (by the default route: an interval, or the angle
+    listed as singular). (l_ND = 0: no jump, and a root may lie there.)"""
     example = DOUGHTY.example_params()
     names = ("L", "m_A", "m_B", "m_C", "k", "b", "g", "l_ND")
     values = {n: getattr(example, n) * f for n, f in zip(names, factors)}
     values.update(a=values["L"], H=h * values["L"], l_ND=l_ND, F=F)
     p = DOUGHTY.example_params(**values)
     assert len(_spring_zero_angles(p)) == 2
-    analysis, _ = _check_doughty_isolation(p)
+    analysis, _ = _check_doughty_isolation(p, method=method)
     for r in analysis.roots:
         for j in _spring_jumps(p):
             assert abs(math.remainder(r.theta - float(j), TWO_PI)) > SLACK, (values, r)
@@ -791,8 +802,8 @@ def _fold_case(seed, which, log_gap):
     return p, pair
 
 
-def _check_fold_pair(p, pair):
-    analysis, _ = _check_doughty_isolation(p, zeros=pair)
+def _check_fold_pair(p, pair, method="isolate"):
+    analysis, _ = _check_doughty_isolation(p, zeros=pair, method=method)
     for u in analysis.uncertain:
         if _inside(pair[0], u.lo, u.hi) and _inside(pair[1], u.lo, u.hi):
             assert not u.sign_change, ("two zeros, sign change claimed", _dict(p), u)
@@ -816,6 +827,18 @@ def test_doughty_close_pairs_at_folds(seed, which, log_gap):
     case = _fold_case(seed, which, log_gap)
     assume(case is not None)
     _check_fold_pair(*case)
+
+
+@settings(max_examples=30, deadline=None)
+@given(**FOLD_DRAWS)
+def test_the_default_route_at_close_pairs_invents_and_drops_nothing(seed, which, log_gap):
+    """Issue 29: the same pairs by the default route, which once listed their midpoint as an
+    equilibrium: every equilibrium it lists is proven (G changes sign across it), and both
+    zeros lie in a listed interval, certified or uncertain."""
+    case = _fold_case(seed, which, log_gap)
+    assume(case is not None)
+    analysis, _ = _check_fold_pair(*case, method="auto")
+    assert all(r.certified for r in analysis.roots)
 
 
 def _collapsing_spring(factors, side, eps, log_offset, offset_sign, l_ND):
