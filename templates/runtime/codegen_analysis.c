@@ -684,19 +684,29 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                         codegen_real below, int whole, void *workspace, const result_view *work);
 static void sort_uncertain(codegen_uncertain *uncertain, int count);
 
-/* Every zero of G on one mode within POLISH_RADIUS of theta, proven or reported uncertain, into
- * work: where the polynomial's root could not be proven (a pair closer than the root finder
- * separates, a near-double complex pair, a root of the other mode where that mode barely
- * exists) or was called extraneous (a genuine root misranked among the branches at extreme
+/* A window to search on every mode. */
+#define ALL_MODES (~0u)
+
+/* Every zero of G on one mode (modes, or on ALL_MODES) within POLISH_RADIUS of theta, proven
+ * or reported uncertain, into work: where the polynomial's root could not be proven (a pair
+ * closer than the root finder separates, a near-double complex pair, a root of the other
+ * mode where that mode barely exists) or was called extraneous (a genuine root misranked among the branches at extreme
  * scales). The window is placed within (-pi - POLISH_RADIUS, pi + POLISH_RADIUS) and its zeros
  * are reported in (-pi, pi], as the polynomial route reports its roots. */
-static int isolate_window(const call *c, unsigned mode, codegen_real theta, void *workspace,
+static int isolate_window(const call *c, unsigned modes, codegen_real theta, void *workspace,
                           const result_view *work)
 {
     const codegen_real pi = CODEGEN_R(3.14159265358979323846);
     const codegen_real centre = theta + POLISH_RADIUS > pi ? theta - CODEGEN_R(2.0) * pi : theta;
-    return isolate_mode(c, mode, centre - POLISH_RADIUS, centre + POLISH_RADIUS, -pi, 0,
-                        workspace, work);
+    unsigned mode;
+    int status = CODEGEN_OK;
+    for (mode = 0u; mode < (unsigned)c->model->n_modes && status == CODEGEN_OK; ++mode) {
+        if (modes == ALL_MODES || modes == mode) {
+            status = isolate_mode(c, mode, centre - POLISH_RADIUS, centre + POLISH_RADIUS, -pi,
+                                  0, workspace, work);
+        }
+    }
+    return status;
 }
 
 /* How close to zero, in rounding units of the size of its terms, the polynomial must be at a
@@ -757,9 +767,6 @@ static int suspect_multiple_roots(const call *c, void *workspace, const result_v
     return status;
 }
 
-/* A window to search on every mode (see analyze_polynomial). */
-#define ALL_MODES (~0u)
-
 /* The polynomial route into *work, in the workspace's memory. */
 ROUTE static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
@@ -818,30 +825,20 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
     *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
     /* An unproven root: only what G itself proves near it; an extraneous root: and no zero
      * of G of any mode near it. */
-    for (i = 0; i < windows; ++i) {
-        unsigned mode;
-        for (mode = 0u; mode < (unsigned)model->n_modes; ++mode) {
-            status = branches[i] == ALL_MODES || branches[i] == mode
-                   ? isolate_window(c, mode, theta[i], workspace, work) : CODEGEN_OK;
-            if (status != CODEGEN_OK) {
-                return status;
-            }
-        }
+    for (i = 0, status = CODEGEN_OK; i < windows && status == CODEGEN_OK; ++i) {
+        status = isolate_window(c, branches[i], theta[i], workspace, work);
     }
-    if (!EQUILIBRIA_BY_ISOLATION) { /* a suspected multiple root, likewise (float: see
-                                       complete_by_isolation) */
+    if (status == CODEGEN_OK && !EQUILIBRIA_BY_ISOLATION) { /* a suspected multiple root,
+                                                  likewise (float: see complete_by_isolation) */
         codegen_real *suspects;
         int n_suspects;
         status = suspect_multiple_roots(c, workspace, work, &suspects, &n_suspects);
         for (i = 0; i < n_suspects && status == CODEGEN_OK; ++i) {
-            unsigned mode;
-            for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
-                status = isolate_window(c, mode, suspects[i], workspace, work);
-            }
+            status = isolate_window(c, ALL_MODES, suspects[i], workspace, work);
         }
-        if (status != CODEGEN_OK) {
-            return status;
-        }
+    }
+    if (status != CODEGEN_OK) {
+        return status;
     }
     sort_roots(work->roots, *work->n_roots);
     *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
