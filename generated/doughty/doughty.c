@@ -963,249 +963,151 @@ doughty_status doughty_equilibrium_branches(const doughty_params *params, codege
     return DOUGHTY_OK;
 }
 
-/* sigma as 231 double-double instructions over v[31]
+/* sigma as 133 double-double instructions over v[24]
  * (v[0..8]: H, L, a, m_B, m_C, k, l_ND, F, g); codegen_dd_run executes them. */
-static const codegen_dd_instruction sigma_program[231] = {
-    {CODEGEN_DD_SUB, 9, 0, 2},
-    {CODEGEN_DD_SUB, 10, 0, 2},
-    {CODEGEN_DD_MUL, 10, 9, 10}, /* w_0 */
-    {CODEGEN_DD_CONST, 9, 0, 0},
-    {CODEGEN_DD_SUB, 11, 0, 2},
-    {CODEGEN_DD_MUL, 11, 9, 11},
-    {CODEGEN_DD_ADD, 9, 0, 2},
-    {CODEGEN_DD_MUL, 9, 11, 9},
+static const codegen_dd_instruction sigma_program[133] = {
+    {CODEGEN_DD_SUB, 9, 0, 2}, /* tmp0 */
+    {CODEGEN_DD_MUL, 10, 9, 9}, /* w_0 */
     {CODEGEN_DD_CONST, 11, 0, 0},
-    {CODEGEN_DD_MUL, 11, 11, 1},
-    {CODEGEN_DD_CONST, 12, 0, 0},
-    {CODEGEN_DD_MUL, 12, 12, 2},
-    {CODEGEN_DD_SUB, 12, 11, 12},
-    {CODEGEN_DD_CONST, 11, 0, 0},
-    {CODEGEN_DD_MUL, 11, 11, 1},
+    {CODEGEN_DD_MUL, 11, 11, 2}, /* tmp1 */
+    {CODEGEN_DD_ADD, 12, 0, 2}, /* tmp2 */
     {CODEGEN_DD_CONST, 13, 0, 0},
-    {CODEGEN_DD_MUL, 13, 13, 2},
-    {CODEGEN_DD_SUB, 13, 11, 13},
-    {CODEGEN_DD_MUL, 13, 12, 13},
-    {CODEGEN_DD_ADD, 13, 9, 13}, /* w_1 */
-    {CODEGEN_DD_ADD, 9, 0, 2},
-    {CODEGEN_DD_ADD, 12, 0, 2},
-    {CODEGEN_DD_MUL, 12, 9, 12}, /* w_2 */
-    {CODEGEN_DD_MUL, 9, 7, 1},
-    {CODEGEN_DD_NEG, 9, 9, 0},
-    {CODEGEN_DD_MUL, 11, 1, 8},
-    {CODEGEN_DD_MUL, 11, 11, 3},
-    {CODEGEN_DD_ADD, 11, 9, 11},
-    {CODEGEN_DD_CONST, 9, 1, 0},
-    {CODEGEN_DD_MUL, 9, 9, 1},
-    {CODEGEN_DD_MUL, 9, 9, 8},
-    {CODEGEN_DD_MUL, 9, 9, 4},
-    {CODEGEN_DD_ADD, 9, 11, 9}, /* w_3 */
-    {CODEGEN_DD_CONST, 11, 0, 0},
-    {CODEGEN_DD_MUL, 11, 11, 5},
-    {CODEGEN_DD_MUL, 14, 1, 1},
-    {CODEGEN_DD_MUL, 15, 0, 2},
-    {CODEGEN_DD_ADD, 15, 14, 15},
+    {CODEGEN_DD_MUL, 13, 13, 9},
+    {CODEGEN_DD_MUL, 13, 13, 12},
     {CODEGEN_DD_CONST, 14, 0, 0},
     {CODEGEN_DD_MUL, 14, 14, 1},
-    {CODEGEN_DD_MUL, 14, 14, 2},
-    {CODEGEN_DD_SUB, 14, 15, 14},
-    {CODEGEN_DD_MUL, 14, 11, 14}, /* w_4 */
-    {CODEGEN_DD_CONST, 11, 0, 0},
-    {CODEGEN_DD_MUL, 11, 11, 5},
-    {CODEGEN_DD_MUL, 15, 1, 1},
-    {CODEGEN_DD_NEG, 15, 15, 0},
-    {CODEGEN_DD_MUL, 16, 0, 2},
-    {CODEGEN_DD_ADD, 16, 15, 16},
+    {CODEGEN_DD_SUB, 14, 14, 11},
     {CODEGEN_DD_CONST, 15, 0, 0},
     {CODEGEN_DD_MUL, 15, 15, 1},
-    {CODEGEN_DD_MUL, 15, 15, 2},
-    {CODEGEN_DD_ADD, 15, 16, 15},
-    {CODEGEN_DD_MUL, 15, 11, 15}, /* w_5 */
-    {CODEGEN_DD_MUL, 11, 7, 1},
-    {CODEGEN_DD_MUL, 16, 1, 8},
-    {CODEGEN_DD_MUL, 16, 16, 3},
-    {CODEGEN_DD_SUB, 16, 11, 16},
-    {CODEGEN_DD_CONST, 11, 1, 0},
-    {CODEGEN_DD_MUL, 11, 11, 1},
-    {CODEGEN_DD_MUL, 11, 11, 8},
-    {CODEGEN_DD_MUL, 11, 11, 4},
-    {CODEGEN_DD_SUB, 11, 16, 11}, /* w_6 */
-    {CODEGEN_DD_CONST, 16, 0, 0},
-    {CODEGEN_DD_MUL, 16, 16, 5},
-    {CODEGEN_DD_MUL, 16, 16, 6},
-    {CODEGEN_DD_MUL, 17, 1, 1},
-    {CODEGEN_DD_MUL, 18, 0, 2},
-    {CODEGEN_DD_ADD, 18, 17, 18},
-    {CODEGEN_DD_CONST, 17, 0, 0},
-    {CODEGEN_DD_MUL, 17, 17, 1},
-    {CODEGEN_DD_MUL, 17, 17, 2},
-    {CODEGEN_DD_SUB, 17, 18, 17},
-    {CODEGEN_DD_MUL, 17, 16, 17},
-    {CODEGEN_DD_NEG, 17, 17, 0}, /* w_7 */
-    {CODEGEN_DD_CONST, 16, 0, 0},
-    {CODEGEN_DD_MUL, 16, 16, 5},
-    {CODEGEN_DD_MUL, 16, 16, 6},
-    {CODEGEN_DD_MUL, 18, 1, 1},
-    {CODEGEN_DD_NEG, 18, 18, 0},
-    {CODEGEN_DD_MUL, 19, 0, 2},
-    {CODEGEN_DD_ADD, 19, 18, 19},
+    {CODEGEN_DD_SUB, 15, 15, 11},
+    {CODEGEN_DD_MUL, 15, 14, 15},
+    {CODEGEN_DD_ADD, 15, 13, 15}, /* w_1 */
+    {CODEGEN_DD_MUL, 9, 12, 12}, /* w_2 */
+    {CODEGEN_DD_MUL, 12, 1, 8}, /* tmp3 */
+    {CODEGEN_DD_MUL, 8, 7, 1},
+    {CODEGEN_DD_NEG, 8, 8, 0},
+    {CODEGEN_DD_MUL, 13, 3, 12},
+    {CODEGEN_DD_ADD, 13, 8, 13},
+    {CODEGEN_DD_CONST, 8, 1, 0},
+    {CODEGEN_DD_MUL, 8, 8, 4},
+    {CODEGEN_DD_MUL, 8, 8, 12},
+    {CODEGEN_DD_ADD, 8, 13, 8}, /* tmp4 */
+    {CODEGEN_DD_CONST, 12, 2, 0},
+    {CODEGEN_DD_ADD, 12, 8, 12}, /* w_3 */
+    {CODEGEN_DD_MUL, 4, 1, 1}, /* tmp5 */
+    {CODEGEN_DD_MUL, 3, 0, 2}, /* tmp6 */
+    {CODEGEN_DD_MUL, 2, 1, 11}, /* tmp7 */
+    {CODEGEN_DD_CONST, 11, 0, 0},
+    {CODEGEN_DD_MUL, 11, 11, 5}, /* tmp8 */
+    {CODEGEN_DD_ADD, 5, 4, 3},
+    {CODEGEN_DD_SUB, 5, 5, 2},
+    {CODEGEN_DD_MUL, 5, 11, 5}, /* tmp9 */
+    {CODEGEN_DD_CONST, 1, 2, 0},
+    {CODEGEN_DD_ADD, 1, 5, 1}, /* w_4 */
+    {CODEGEN_DD_NEG, 0, 4, 0},
+    {CODEGEN_DD_ADD, 0, 0, 3},
+    {CODEGEN_DD_ADD, 0, 0, 2},
+    {CODEGEN_DD_MUL, 0, 11, 0}, /* tmp10 */
+    {CODEGEN_DD_CONST, 11, 2, 0},
+    {CODEGEN_DD_ADD, 11, 0, 11}, /* w_5 */
+    {CODEGEN_DD_NEG, 2, 8, 0}, /* w_6 */
+    {CODEGEN_DD_MUL, 8, 6, 5},
+    {CODEGEN_DD_NEG, 8, 8, 0}, /* w_7 */
+    {CODEGEN_DD_MUL, 5, 6, 0},
+    {CODEGEN_DD_NEG, 5, 5, 0}, /* w_8 */
+    {CODEGEN_DD_MUL, 0, 12, 12}, /* tmp11 */
+    {CODEGEN_DD_MUL, 6, 0, 10}, /* w_9 */
+    {CODEGEN_DD_CONST, 3, 0, 0},
+    {CODEGEN_DD_MUL, 3, 3, 12}, /* tmp12 */
+    {CODEGEN_DD_MUL, 12, 3, 10}, /* tmp13 */
+    {CODEGEN_DD_MUL, 4, 12, 1}, /* w_10 */
+    {CODEGEN_DD_MUL, 7, 8, 8}, /* tmp14 */
+    {CODEGEN_DD_NEG, 13, 7, 0}, /* tmp15 */
+    {CODEGEN_DD_MUL, 14, 1, 1}, /* tmp16 */
+    {CODEGEN_DD_MUL, 16, 0, 15},
+    {CODEGEN_DD_ADD, 16, 13, 16},
+    {CODEGEN_DD_MUL, 17, 14, 10},
+    {CODEGEN_DD_ADD, 17, 16, 17}, /* w_11 */
+    {CODEGEN_DD_MUL, 16, 3, 15}, /* tmp17 */
+    {CODEGEN_DD_MUL, 18, 12, 11},
+    {CODEGEN_DD_MUL, 19, 16, 1},
+    {CODEGEN_DD_ADD, 19, 18, 19}, /* w_12 */
+    {CODEGEN_DD_MUL, 12, 8, 5}, /* tmp18 */
+    {CODEGEN_DD_CONST, 8, 0, 0},
+    {CODEGEN_DD_MUL, 8, 8, 12},
+    {CODEGEN_DD_NEG, 8, 8, 0}, /* tmp19 */
     {CODEGEN_DD_CONST, 18, 0, 0},
-    {CODEGEN_DD_MUL, 18, 18, 1},
-    {CODEGEN_DD_MUL, 18, 18, 2},
-    {CODEGEN_DD_ADD, 18, 19, 18},
-    {CODEGEN_DD_MUL, 18, 16, 18},
-    {CODEGEN_DD_NEG, 18, 18, 0}, /* w_8 */
-    {CODEGEN_DD_MUL, 16, 9, 9},
-    {CODEGEN_DD_MUL, 16, 10, 16}, /* w_9 */
-    {CODEGEN_DD_CONST, 19, 0, 0},
-    {CODEGEN_DD_MUL, 19, 19, 10},
-    {CODEGEN_DD_MUL, 19, 19, 9},
-    {CODEGEN_DD_MUL, 19, 19, 14}, /* w_10 */
-    {CODEGEN_DD_MUL, 20, 17, 17},
+    {CODEGEN_DD_MUL, 18, 18, 1}, /* tmp20 */
+    {CODEGEN_DD_MUL, 20, 3, 2},
+    {CODEGEN_DD_MUL, 21, 18, 11},
+    {CODEGEN_DD_ADD, 21, 20, 21}, /* tmp21 */
+    {CODEGEN_DD_CONST, 20, 0, 0},
+    {CODEGEN_DD_MUL, 20, 20, 7},
     {CODEGEN_DD_NEG, 20, 20, 0},
-    {CODEGEN_DD_MUL, 21, 14, 14},
-    {CODEGEN_DD_MUL, 21, 10, 21},
-    {CODEGEN_DD_ADD, 21, 20, 21},
-    {CODEGEN_DD_MUL, 20, 9, 9},
-    {CODEGEN_DD_MUL, 20, 13, 20},
-    {CODEGEN_DD_ADD, 20, 21, 20}, /* w_11 */
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 21, 21, 10},
-    {CODEGEN_DD_MUL, 21, 21, 9},
-    {CODEGEN_DD_MUL, 21, 21, 15},
-    {CODEGEN_DD_CONST, 22, 0, 0},
-    {CODEGEN_DD_MUL, 22, 22, 13},
-    {CODEGEN_DD_MUL, 22, 22, 9},
-    {CODEGEN_DD_MUL, 22, 22, 14},
-    {CODEGEN_DD_ADD, 22, 21, 22}, /* w_12 */
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 23, 17, 17},
-    {CODEGEN_DD_MUL, 23, 21, 23},
-    {CODEGEN_DD_NEG, 23, 23, 0},
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 21, 21, 9},
-    {CODEGEN_DD_MUL, 21, 21, 11},
-    {CODEGEN_DD_CONST, 24, 0, 0},
-    {CODEGEN_DD_MUL, 24, 24, 14},
-    {CODEGEN_DD_MUL, 24, 24, 15},
-    {CODEGEN_DD_ADD, 24, 21, 24},
-    {CODEGEN_DD_MUL, 24, 10, 24},
-    {CODEGEN_DD_ADD, 24, 23, 24},
-    {CODEGEN_DD_MUL, 23, 14, 14},
-    {CODEGEN_DD_MUL, 23, 13, 23},
-    {CODEGEN_DD_ADD, 23, 24, 23},
-    {CODEGEN_DD_MUL, 24, 9, 9},
-    {CODEGEN_DD_MUL, 24, 12, 24},
-    {CODEGEN_DD_ADD, 24, 23, 24},
-    {CODEGEN_DD_CONST, 23, 0, 0},
-    {CODEGEN_DD_MUL, 23, 23, 17},
-    {CODEGEN_DD_MUL, 23, 23, 18},
-    {CODEGEN_DD_SUB, 23, 24, 23}, /* w_13 */
-    {CODEGEN_DD_CONST, 24, 0, 0},
-    {CODEGEN_DD_MUL, 24, 24, 10},
-    {CODEGEN_DD_MUL, 24, 24, 14},
-    {CODEGEN_DD_MUL, 24, 24, 11},
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 21, 21, 13},
-    {CODEGEN_DD_MUL, 21, 21, 9},
-    {CODEGEN_DD_MUL, 21, 21, 15},
-    {CODEGEN_DD_ADD, 21, 24, 21},
-    {CODEGEN_DD_CONST, 24, 0, 0},
-    {CODEGEN_DD_MUL, 24, 24, 12},
-    {CODEGEN_DD_MUL, 24, 24, 9},
-    {CODEGEN_DD_MUL, 24, 24, 14},
-    {CODEGEN_DD_ADD, 24, 21, 24}, /* w_14 */
-    {CODEGEN_DD_MUL, 21, 17, 17},
-    {CODEGEN_DD_NEG, 21, 21, 0},
-    {CODEGEN_DD_MUL, 25, 18, 18},
-    {CODEGEN_DD_SUB, 25, 21, 25},
-    {CODEGEN_DD_MUL, 21, 15, 15},
-    {CODEGEN_DD_MUL, 21, 10, 21},
-    {CODEGEN_DD_ADD, 21, 25, 21},
-    {CODEGEN_DD_CONST, 25, 0, 0},
-    {CODEGEN_DD_MUL, 25, 25, 9},
-    {CODEGEN_DD_MUL, 25, 25, 11},
-    {CODEGEN_DD_CONST, 26, 0, 0},
-    {CODEGEN_DD_MUL, 26, 26, 14},
-    {CODEGEN_DD_MUL, 26, 26, 15},
-    {CODEGEN_DD_ADD, 26, 25, 26},
-    {CODEGEN_DD_MUL, 26, 13, 26},
-    {CODEGEN_DD_ADD, 26, 21, 26},
-    {CODEGEN_DD_MUL, 21, 14, 14},
-    {CODEGEN_DD_MUL, 21, 12, 21},
-    {CODEGEN_DD_ADD, 21, 26, 21},
-    {CODEGEN_DD_CONST, 26, 2, 0},
-    {CODEGEN_DD_MUL, 26, 26, 17},
-    {CODEGEN_DD_MUL, 26, 26, 18},
-    {CODEGEN_DD_SUB, 26, 21, 26}, /* w_15 */
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 21, 21, 10},
-    {CODEGEN_DD_MUL, 21, 21, 15},
-    {CODEGEN_DD_MUL, 21, 21, 11},
-    {CODEGEN_DD_CONST, 25, 0, 0},
-    {CODEGEN_DD_MUL, 25, 25, 13},
-    {CODEGEN_DD_MUL, 25, 25, 14},
-    {CODEGEN_DD_MUL, 25, 25, 11},
-    {CODEGEN_DD_ADD, 25, 21, 25},
-    {CODEGEN_DD_CONST, 21, 0, 0},
-    {CODEGEN_DD_MUL, 21, 21, 12},
-    {CODEGEN_DD_MUL, 21, 21, 9},
-    {CODEGEN_DD_MUL, 21, 21, 15},
-    {CODEGEN_DD_ADD, 21, 25, 21}, /* w_16 */
-    {CODEGEN_DD_CONST, 25, 0, 0},
-    {CODEGEN_DD_MUL, 27, 18, 18},
-    {CODEGEN_DD_MUL, 27, 25, 27},
-    {CODEGEN_DD_NEG, 27, 27, 0},
-    {CODEGEN_DD_MUL, 25, 11, 11},
-    {CODEGEN_DD_MUL, 25, 10, 25},
-    {CODEGEN_DD_ADD, 25, 27, 25},
-    {CODEGEN_DD_MUL, 27, 15, 15},
-    {CODEGEN_DD_MUL, 27, 13, 27},
-    {CODEGEN_DD_ADD, 27, 25, 27},
-    {CODEGEN_DD_CONST, 25, 0, 0},
-    {CODEGEN_DD_MUL, 25, 25, 9},
-    {CODEGEN_DD_MUL, 25, 25, 11},
-    {CODEGEN_DD_CONST, 28, 0, 0},
-    {CODEGEN_DD_MUL, 28, 28, 14},
-    {CODEGEN_DD_MUL, 28, 28, 15},
-    {CODEGEN_DD_ADD, 28, 25, 28},
-    {CODEGEN_DD_MUL, 28, 12, 28},
-    {CODEGEN_DD_ADD, 28, 27, 28},
-    {CODEGEN_DD_CONST, 27, 0, 0},
-    {CODEGEN_DD_MUL, 27, 27, 17},
-    {CODEGEN_DD_MUL, 27, 27, 18},
-    {CODEGEN_DD_SUB, 27, 28, 27}, /* w_17 */
-    {CODEGEN_DD_CONST, 28, 0, 0},
-    {CODEGEN_DD_MUL, 28, 28, 13},
-    {CODEGEN_DD_MUL, 28, 28, 15},
-    {CODEGEN_DD_MUL, 28, 28, 11},
-    {CODEGEN_DD_CONST, 25, 0, 0},
-    {CODEGEN_DD_MUL, 25, 25, 12},
-    {CODEGEN_DD_MUL, 25, 25, 14},
-    {CODEGEN_DD_MUL, 25, 25, 11},
-    {CODEGEN_DD_ADD, 25, 28, 25}, /* w_18 */
-    {CODEGEN_DD_MUL, 28, 18, 18},
-    {CODEGEN_DD_NEG, 28, 28, 0},
-    {CODEGEN_DD_MUL, 29, 11, 11},
-    {CODEGEN_DD_MUL, 29, 13, 29},
-    {CODEGEN_DD_ADD, 29, 28, 29},
-    {CODEGEN_DD_MUL, 28, 15, 15},
-    {CODEGEN_DD_MUL, 28, 12, 28},
-    {CODEGEN_DD_ADD, 28, 29, 28}, /* w_19 */
-    {CODEGEN_DD_CONST, 29, 0, 0},
-    {CODEGEN_DD_MUL, 29, 29, 12},
-    {CODEGEN_DD_MUL, 29, 29, 15},
-    {CODEGEN_DD_MUL, 29, 29, 11}, /* w_20 */
-    {CODEGEN_DD_MUL, 30, 11, 11},
-    {CODEGEN_DD_MUL, 30, 12, 30}, /* w_21 */
+    {CODEGEN_DD_ADD, 20, 20, 8},
+    {CODEGEN_DD_MUL, 22, 0, 9},
+    {CODEGEN_DD_ADD, 22, 20, 22},
+    {CODEGEN_DD_MUL, 20, 14, 15},
+    {CODEGEN_DD_ADD, 20, 22, 20},
+    {CODEGEN_DD_MUL, 22, 21, 10},
+    {CODEGEN_DD_ADD, 22, 20, 22}, /* w_13 */
+    {CODEGEN_DD_MUL, 7, 10, 2}, /* tmp22 */
+    {CODEGEN_DD_MUL, 0, 3, 9}, /* tmp23 */
+    {CODEGEN_DD_MUL, 3, 16, 11},
+    {CODEGEN_DD_MUL, 20, 18, 7},
+    {CODEGEN_DD_ADD, 20, 3, 20},
+    {CODEGEN_DD_MUL, 3, 0, 1},
+    {CODEGEN_DD_ADD, 3, 20, 3}, /* w_14 */
+    {CODEGEN_DD_MUL, 1, 5, 5}, /* tmp24 */
+    {CODEGEN_DD_NEG, 5, 1, 0}, /* tmp25 */
+    {CODEGEN_DD_MUL, 16, 11, 11}, /* tmp26 */
+    {CODEGEN_DD_CONST, 20, 3, 0},
+    {CODEGEN_DD_MUL, 20, 20, 12},
+    {CODEGEN_DD_SUB, 20, 13, 20},
+    {CODEGEN_DD_ADD, 20, 20, 5},
+    {CODEGEN_DD_MUL, 23, 14, 9},
+    {CODEGEN_DD_ADD, 23, 20, 23},
+    {CODEGEN_DD_MUL, 20, 21, 15},
+    {CODEGEN_DD_ADD, 20, 23, 20},
+    {CODEGEN_DD_MUL, 23, 16, 10},
+    {CODEGEN_DD_ADD, 23, 20, 23}, /* w_15 */
+    {CODEGEN_DD_CONST, 12, 0, 0},
+    {CODEGEN_DD_MUL, 12, 12, 11}, /* tmp27 */
+    {CODEGEN_DD_MUL, 14, 15, 2}, /* tmp28 */
+    {CODEGEN_DD_MUL, 13, 18, 14},
+    {CODEGEN_DD_MUL, 20, 7, 12},
+    {CODEGEN_DD_ADD, 20, 13, 20},
+    {CODEGEN_DD_MUL, 13, 0, 11},
+    {CODEGEN_DD_ADD, 13, 20, 13}, /* w_16 */
+    {CODEGEN_DD_MUL, 11, 2, 2}, /* tmp29 */
+    {CODEGEN_DD_CONST, 0, 0, 0},
+    {CODEGEN_DD_MUL, 0, 0, 1},
+    {CODEGEN_DD_SUB, 0, 8, 0},
+    {CODEGEN_DD_MUL, 7, 21, 9},
+    {CODEGEN_DD_ADD, 7, 0, 7},
+    {CODEGEN_DD_MUL, 0, 16, 15},
+    {CODEGEN_DD_ADD, 0, 7, 0},
+    {CODEGEN_DD_MUL, 7, 11, 10},
+    {CODEGEN_DD_ADD, 7, 0, 7}, /* w_17 */
+    {CODEGEN_DD_MUL, 10, 9, 2}, /* tmp30 */
+    {CODEGEN_DD_MUL, 2, 18, 10},
+    {CODEGEN_DD_MUL, 1, 12, 14},
+    {CODEGEN_DD_ADD, 1, 2, 1}, /* w_18 */
+    {CODEGEN_DD_MUL, 14, 16, 9},
+    {CODEGEN_DD_ADD, 14, 5, 14},
+    {CODEGEN_DD_MUL, 18, 11, 15},
+    {CODEGEN_DD_ADD, 18, 14, 18}, /* w_19 */
+    {CODEGEN_DD_MUL, 15, 12, 10}, /* w_20 */
+    {CODEGEN_DD_MUL, 10, 11, 9}, /* w_21 */
 };
 
-static const codegen_real sigma_constants[3] = {
-    2.0, 0.5, 4.0
+static const codegen_real sigma_constants[4] = {
+    2.0, 0.5, 0.0, 4.0
 };
 
 /* sigma without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (44)-(45). Writes out[] in the order
- * of the outputs; they may be NaN or infinite. Total ops: 180. */
+ * of the outputs; they may be NaN or infinite. Total ops: 109. */
 void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13], codegen_dd v[DOUGHTY_SIGMA_VALUES])
 {
     (void)params;
@@ -1218,20 +1120,71 @@ void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13
     v[6] = codegen_dd_from(params->l_ND);
     v[7] = codegen_dd_from(params->F);
     v[8] = codegen_dd_from(params->g);
-    codegen_dd_run(sigma_program, 231u, sigma_constants, v);
-    out[0] = codegen_dd_to_double(v[16]);
-    out[1] = codegen_dd_to_double(v[19]);
-    out[2] = codegen_dd_to_double(v[20]);
-    out[3] = codegen_dd_to_double(v[22]);
-    out[4] = codegen_dd_to_double(v[23]);
-    out[5] = codegen_dd_to_double(v[24]);
-    out[6] = codegen_dd_to_double(v[26]);
-    out[7] = codegen_dd_to_double(v[21]);
-    out[8] = codegen_dd_to_double(v[27]);
-    out[9] = codegen_dd_to_double(v[25]);
-    out[10] = codegen_dd_to_double(v[28]);
-    out[11] = codegen_dd_to_double(v[29]);
-    out[12] = codegen_dd_to_double(v[30]);
+    codegen_dd_run(sigma_program, 133u, sigma_constants, v);
+    out[0] = codegen_dd_to_double(v[6]);
+    out[1] = codegen_dd_to_double(v[4]);
+    out[2] = codegen_dd_to_double(v[17]);
+    out[3] = codegen_dd_to_double(v[19]);
+    out[4] = codegen_dd_to_double(v[22]);
+    out[5] = codegen_dd_to_double(v[3]);
+    out[6] = codegen_dd_to_double(v[23]);
+    out[7] = codegen_dd_to_double(v[13]);
+    out[8] = codegen_dd_to_double(v[7]);
+    out[9] = codegen_dd_to_double(v[1]);
+    out[10] = codegen_dd_to_double(v[18]);
+    out[11] = codegen_dd_to_double(v[15]);
+    out[12] = codegen_dd_to_double(v[10]);
+}
+
+/* The same with a bound on each output's error, bound[i] >= |out[i] - the exact value|. */
+void doughty_sigma_bounds_kernel_work(const doughty_params *params, codegen_real out[13], codegen_real bound[13], codegen_dd v[DOUGHTY_SIGMA_VALUES], codegen_real e[DOUGHTY_SIGMA_VALUES])
+{
+    (void)params;
+    v[0] = codegen_dd_from(params->H);
+    e[0] = 0;
+    v[1] = codegen_dd_from(params->L);
+    e[1] = 0;
+    v[2] = codegen_dd_from(params->a);
+    e[2] = 0;
+    v[3] = codegen_dd_from(params->m_B);
+    e[3] = 0;
+    v[4] = codegen_dd_from(params->m_C);
+    e[4] = 0;
+    v[5] = codegen_dd_from(params->k);
+    e[5] = 0;
+    v[6] = codegen_dd_from(params->l_ND);
+    e[6] = 0;
+    v[7] = codegen_dd_from(params->F);
+    e[7] = 0;
+    v[8] = codegen_dd_from(params->g);
+    e[8] = 0;
+    codegen_dd_run_bounded(sigma_program, 133u, sigma_constants, v, e);
+    out[0] = codegen_dd_to_double(v[6]);
+    bound[0] = codegen_dd_output_bound(out[0], e[6]);
+    out[1] = codegen_dd_to_double(v[4]);
+    bound[1] = codegen_dd_output_bound(out[1], e[4]);
+    out[2] = codegen_dd_to_double(v[17]);
+    bound[2] = codegen_dd_output_bound(out[2], e[17]);
+    out[3] = codegen_dd_to_double(v[19]);
+    bound[3] = codegen_dd_output_bound(out[3], e[19]);
+    out[4] = codegen_dd_to_double(v[22]);
+    bound[4] = codegen_dd_output_bound(out[4], e[22]);
+    out[5] = codegen_dd_to_double(v[3]);
+    bound[5] = codegen_dd_output_bound(out[5], e[3]);
+    out[6] = codegen_dd_to_double(v[23]);
+    bound[6] = codegen_dd_output_bound(out[6], e[23]);
+    out[7] = codegen_dd_to_double(v[13]);
+    bound[7] = codegen_dd_output_bound(out[7], e[13]);
+    out[8] = codegen_dd_to_double(v[7]);
+    bound[8] = codegen_dd_output_bound(out[8], e[7]);
+    out[9] = codegen_dd_to_double(v[1]);
+    bound[9] = codegen_dd_output_bound(out[9], e[1]);
+    out[10] = codegen_dd_to_double(v[18]);
+    bound[10] = codegen_dd_output_bound(out[10], e[18]);
+    out[11] = codegen_dd_to_double(v[15]);
+    bound[11] = codegen_dd_output_bound(out[11], e[15]);
+    out[12] = codegen_dd_to_double(v[10]);
+    bound[12] = codegen_dd_output_bound(out[12], e[10]);
 }
 
 /* The same with its values on this stack. */

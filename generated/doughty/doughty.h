@@ -39,7 +39,7 @@ extern "C" {
 #define DOUGHTY_N_ROOTS 1
 #define DOUGHTY_N_SIGMA 13
 #define DOUGHTY_ENCLOSURE_SLOTS 35 /* the interval programs' slots */
-#define DOUGHTY_SIGMA_VALUES 31 /* its double-double program's values */
+#define DOUGHTY_SIGMA_VALUES 24 /* its double-double program's values */
 
 /* Status codes: DOUGHTY_OK is zero; doughty_status_message() explains the others. */
 typedef enum doughty_status {
@@ -350,14 +350,14 @@ doughty_status doughty_isolate(const doughty_params *params, doughty_analysis *r
 typedef struct doughty_workspace {
     codegen_analysis_call call;        /* the analysis' bookkeeping */
     doughty_analysis result;      /* the result until it is complete (*result is written only on success) */
-#ifdef CODEGEN_FLOAT
-    doughty_analysis polynomial;  /* the polynomial route's, which the isolation completes */
-#endif
+    doughty_analysis polynomial;  /* the polynomial's roots, where the isolation completes them */
     codegen_real roots[CODEGEN_ROOTS_WORK(DOUGHTY_DEGREE)]; /* the root finder's */
-    codegen_real critical[2 * DOUGHTY_DEGREE]; /* the polynomial's derivative and its roots */
+    codegen_root_span spans[DOUGHTY_DEGREE]; /* where the polynomial's real roots may lie */
+    codegen_real sigma_bound[DOUGHTY_DEGREE + 1]; /* a bound on each coefficient's error */
     codegen_real theta[DOUGHTY_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[DOUGHTY_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[DOUGHTY_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_real sigma_errors[DOUGHTY_SIGMA_VALUES]; /* and their error bounds */
     codegen_iv enclosure_slots[DOUGHTY_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */

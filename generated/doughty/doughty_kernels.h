@@ -105,6 +105,9 @@ void doughty_equilibrium_branches_kernel(const doughty_params *params, codegen_r
 void doughty_sigma_kernel(const doughty_params *params, codegen_real out[13]);
 /* The same with its double-double values in the caller's memory (the stack then holds none). */
 void doughty_sigma_kernel_work(const doughty_params *params, codegen_real out[13], codegen_dd v[DOUGHTY_SIGMA_VALUES]);
+/* The same with a rigorous bound on each output's error, bound[i] >= |out[i] - its exact
+ * value| (codegen_dd_run_bounded); e: the values' error bounds. */
+void doughty_sigma_bounds_kernel_work(const doughty_params *params, codegen_real out[13], codegen_real bound[13], codegen_dd v[DOUGHTY_SIGMA_VALUES], codegen_real e[DOUGHTY_SIGMA_VALUES]);
 #define DOUGHTY_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as DOUGHTY_ERR_OVERFLOW. */
 #define DOUGHTY_SIGMA_FAILURE DOUGHTY_ERR_OVERFLOW

@@ -36,9 +36,15 @@ static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen
                                                 g, dg, flags, c->slots);
 }
 
-static int sigma(const void *params, codegen_real *out, void *values)
+static int sigma(const void *params, codegen_real *out, codegen_real *bound, void *values,
+                 codegen_real *errors)
 {
-    doughty_sigma_kernel_work((const doughty_params *)params, out, (codegen_dd *)values);
+    if (bound != NULL) {
+        doughty_sigma_bounds_kernel_work((const doughty_params *)params, out, bound,
+                                         (codegen_dd *)values, errors);
+    } else {
+        doughty_sigma_kernel_work((const doughty_params *)params, out, (codegen_dd *)values);
+    }
     return CODEGEN_OK; /* (the runtime checks that the coefficients are finite) */
 }
 
@@ -106,14 +112,14 @@ static const codegen_model model = {
     .workspace = {
         .call = offsetof(doughty_workspace, call),
         .result = offsetof(doughty_workspace, result),
-#ifdef CODEGEN_FLOAT
         .polynomial = offsetof(doughty_workspace, polynomial),
-#endif
         .roots = offsetof(doughty_workspace, roots),
-        .critical = offsetof(doughty_workspace, critical),
+        .spans = offsetof(doughty_workspace, spans),
+        .sigma_bound = offsetof(doughty_workspace, sigma_bound),
         .theta = offsetof(doughty_workspace, theta),
         .branches = offsetof(doughty_workspace, branches),
         .sigma_values = offsetof(doughty_workspace, sigma_values),
+        .sigma_errors = offsetof(doughty_workspace, sigma_errors),
         .enclosure_slots = offsetof(doughty_workspace, enclosure_slots),
         .found = offsetof(doughty_workspace, found),
         .boxes = offsetof(doughty_workspace, boxes),

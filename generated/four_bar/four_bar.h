@@ -39,7 +39,7 @@ extern "C" {
 #define FOUR_BAR_N_ROOTS 2
 #define FOUR_BAR_N_SIGMA 29
 #define FOUR_BAR_ENCLOSURE_SLOTS 127 /* the interval programs' slots */
-#define FOUR_BAR_SIGMA_VALUES 388 /* its double-double program's values */
+#define FOUR_BAR_SIGMA_VALUES 128 /* its double-double program's values */
 
 /* Status codes: FOUR_BAR_OK is zero; four_bar_status_message() explains the others. */
 typedef enum four_bar_status {
@@ -345,14 +345,14 @@ four_bar_status four_bar_isolate(const four_bar_params *params, four_bar_analysi
 typedef struct four_bar_workspace {
     codegen_analysis_call call;        /* the analysis' bookkeeping */
     four_bar_analysis result;      /* the result until it is complete (*result is written only on success) */
-#ifdef CODEGEN_FLOAT
-    four_bar_analysis polynomial;  /* the polynomial route's, which the isolation completes */
-#endif
+    four_bar_analysis polynomial;  /* the polynomial's roots, where the isolation completes them */
     codegen_real roots[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)]; /* the root finder's */
-    codegen_real critical[2 * FOUR_BAR_DEGREE]; /* the polynomial's derivative and its roots */
+    codegen_root_span spans[FOUR_BAR_DEGREE]; /* where the polynomial's real roots may lie */
+    codegen_real sigma_bound[FOUR_BAR_DEGREE + 1]; /* a bound on each coefficient's error */
     codegen_real theta[FOUR_BAR_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[FOUR_BAR_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[FOUR_BAR_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_real sigma_errors[FOUR_BAR_SIGMA_VALUES]; /* and their error bounds */
     codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */

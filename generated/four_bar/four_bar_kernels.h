@@ -105,6 +105,9 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
 void four_bar_sigma_kernel(const four_bar_params *params, codegen_real out[29]);
 /* The same with its double-double values in the caller's memory (the stack then holds none). */
 void four_bar_sigma_kernel_work(const four_bar_params *params, codegen_real out[29], codegen_dd v[FOUR_BAR_SIGMA_VALUES]);
+/* The same with a rigorous bound on each output's error, bound[i] >= |out[i] - its exact
+ * value| (codegen_dd_run_bounded); e: the values' error bounds. */
+void four_bar_sigma_bounds_kernel_work(const four_bar_params *params, codegen_real out[29], codegen_real bound[29], codegen_dd v[FOUR_BAR_SIGMA_VALUES], codegen_real e[FOUR_BAR_SIGMA_VALUES]);
 #define FOUR_BAR_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as FOUR_BAR_ERR_OVERFLOW. */
 #define FOUR_BAR_SIGMA_FAILURE FOUR_BAR_ERR_OVERFLOW

@@ -41,9 +41,15 @@ static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen
                                                 g, dg, flags, c->slots);
 }
 
-static int sigma(const void *params, codegen_real *out, void *values)
+static int sigma(const void *params, codegen_real *out, codegen_real *bound, void *values,
+                 codegen_real *errors)
 {
-    four_bar_sigma_kernel_work((const four_bar_params *)params, out, (codegen_dd *)values);
+    if (bound != NULL) {
+        four_bar_sigma_bounds_kernel_work((const four_bar_params *)params, out, bound,
+                                         (codegen_dd *)values, errors);
+    } else {
+        four_bar_sigma_kernel_work((const four_bar_params *)params, out, (codegen_dd *)values);
+    }
     return CODEGEN_OK; /* (the runtime checks that the coefficients are finite) */
 }
 
@@ -127,14 +133,14 @@ static const codegen_model model = {
     .workspace = {
         .call = offsetof(four_bar_workspace, call),
         .result = offsetof(four_bar_workspace, result),
-#ifdef CODEGEN_FLOAT
         .polynomial = offsetof(four_bar_workspace, polynomial),
-#endif
         .roots = offsetof(four_bar_workspace, roots),
-        .critical = offsetof(four_bar_workspace, critical),
+        .spans = offsetof(four_bar_workspace, spans),
+        .sigma_bound = offsetof(four_bar_workspace, sigma_bound),
         .theta = offsetof(four_bar_workspace, theta),
         .branches = offsetof(four_bar_workspace, branches),
         .sigma_values = offsetof(four_bar_workspace, sigma_values),
+        .sigma_errors = offsetof(four_bar_workspace, sigma_errors),
         .enclosure_slots = offsetof(four_bar_workspace, enclosure_slots),
         .found = offsetof(four_bar_workspace, found),
         .boxes = offsetof(four_bar_workspace, boxes),

@@ -118,3 +118,66 @@ void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
         }
     }
 }
+
+/* u^2, the unit of a double-double operation's error, and how much a bound computed in
+ * working precision is raised to stay an upper bound (a few roundings of u each). */
+#define DD_UNIT2 (CODEGEN_R(0.25) * CODEGEN_EPSILON * CODEGEN_EPSILON)
+#define DD_UP (1 + CODEGEN_R(4.0) * CODEGEN_EPSILON)
+
+static codegen_real dd_size(codegen_dd a)
+{
+    return codegen_fabs(a.hi) + codegen_fabs(a.lo);
+}
+
+void codegen_dd_run_bounded(const codegen_dd_instruction *program, size_t count,
+                            const codegen_real *constants, codegen_dd *v, codegen_real *e)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        const codegen_dd_instruction op = program[i];
+        codegen_dd a, b;
+        codegen_real ea, eb, sa, sb, error = 0;
+        if (op.operation == CODEGEN_DD_CONST) {
+            v[op.destination] = codegen_dd_from(constants[op.left]);
+            e[op.destination] = 0;
+            continue;
+        }
+        a = v[op.left];
+        b = v[op.right];
+        ea = e[op.left];
+        eb = e[op.right];
+        sa = dd_size(a);
+        sb = dd_size(b);
+        switch ((codegen_dd_operation)op.operation) {
+        case CODEGEN_DD_CONST:
+            break;
+        case CODEGEN_DD_ADD:
+        case CODEGEN_DD_SUB:
+            v[op.destination] = op.operation == CODEGEN_DD_ADD ? codegen_dd_add(a, b) : codegen_dd_sub(a, b);
+            error = ea + eb + CODEGEN_R(6.0) * DD_UNIT2 * (sa + sb);
+            break;
+        case CODEGEN_DD_MUL:
+            v[op.destination] = codegen_dd_mul(a, b);
+            error = sa * eb + sb * ea + ea * eb + CODEGEN_R(16.0) * DD_UNIT2 * sa * sb;
+            break;
+        case CODEGEN_DD_DIV:
+            v[op.destination] = codegen_dd_div(a, b);
+            /* |a~/b~ - a/b| <= (e_a + |a~/b~| e_b) / (|b~| - e_b) */
+            error = sb > eb ? (ea + dd_size(v[op.destination]) * eb) / ((sb - eb) / DD_UP)
+                                  + CODEGEN_R(32.0) * DD_UNIT2 * dd_size(v[op.destination])
+                            : CODEGEN_HUGE;
+            break;
+        case CODEGEN_DD_NEG:
+            v[op.destination] = codegen_dd_neg(a);
+            error = ea;
+            break;
+        }
+        /* + the smallest normal: the last bits a result near underflow loses */
+        e[op.destination] = error == 0 ? 0 : error * DD_UP + CODEGEN_REAL_MIN;
+    }
+}
+
+codegen_real codegen_dd_output_bound(codegen_real out, codegen_real error)
+{
+    return (error + CODEGEN_R(0.5) * CODEGEN_EPSILON * codegen_fabs(out)) * DD_UP + CODEGEN_REAL_MIN;
+}

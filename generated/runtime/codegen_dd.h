@@ -54,4 +54,19 @@ typedef struct codegen_dd_instruction {
 void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
                     const codegen_real *constants, codegen_dd *v);
 
+/* codegen_dd_run (the same values, bit for bit) with a running error bound: e[slot] receives
+ * an upper bound on |v[slot] - the exact value of what the program computes in slot|, given
+ * e[] on entry for the caller's inputs (0: exact). The constants are exact (the generator
+ * emits only dyadic ones of 24 bits or fewer). Each operation's own error is bounded
+ * relative to its operands' size (Joldes, Muller & Popescu, 2017: at most 3 u^2 for the sum,
+ * below 8 u^2 for the product, u = CODEGEN_EPSILON / 2; a factor 2 more is allowed, and 4 for
+ * the quotient), and the operands' errors are carried through to first order and beyond. A
+ * quotient whose divisor's bound reaches its size gets an infinite bound. */
+void codegen_dd_run_bounded(const codegen_dd_instruction *program, size_t count,
+                            const codegen_real *constants, codegen_dd *v, codegen_real *e);
+
+/* An upper bound on the error of out = codegen_dd_to_double(value) as an approximation of
+ * the exact value within error of value. */
+codegen_real codegen_dd_output_bound(codegen_real out, codegen_real error);
+
 #endif /* CODEGEN_DD_H */

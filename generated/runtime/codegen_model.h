@@ -150,8 +150,8 @@ typedef struct codegen_analysis_layout {
 /* Where the parts of a library's NAME_workspace lie (offsetof; those of a route the library
  * lacks are unused). scratch holds CODEGEN_ANALYSIS_SCRATCH(state, branches, modes) reals. */
 typedef struct codegen_workspace_layout {
-    size_t call, result, polynomial, roots, critical, theta, branches, sigma_values,
-        enclosure_slots, found, boxes, scratch;
+    size_t call, result, polynomial, roots, spans, sigma_bound, theta, branches, sigma_values,
+        sigma_errors, enclosure_slots, found, boxes, scratch;
 } codegen_workspace_layout;
 
 /* The reals of the analysis' scratch: three states, four sets of branch values, and M, B, K
@@ -194,8 +194,11 @@ struct codegen_model {
     void (*mode_linearisation)(const void *params, codegen_real theta, codegen_real *out);
     /* G and G' enclosed over theta on a mode; context: a codegen_enclosure_context */
     codegen_enclosure enclose;
-    /* the polynomial's coefficients (NULL: no polynomial route); values: its program's memory */
-    int (*sigma)(const void *params, codegen_real *sigma, void *values);
+    /* the polynomial's coefficients (NULL: no polynomial route) and, unless bound is NULL, a
+     * bound on each one's error (CODEGEN_HUGE where there is none); values and errors: its
+     * program's memory */
+    int (*sigma)(const void *params, codegen_real *sigma, codegen_real *bound, void *values,
+                 codegen_real *errors);
     /* the centre of the coordinate's range [rad] */
     codegen_real (*range_centre)(const void *params);
     /* thetaddot at (theta, thetadot) */

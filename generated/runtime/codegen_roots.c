@@ -708,17 +708,34 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
     return left == 0;
 }
 
+/* The sum of bound[k] |x|^k for p's chart at z (bound[m - k] |y|^k, y = 1/z, where chorner_at
+ * takes the reversed polynomial): what the coefficients' errors can add to |p(z)| there. */
+static codegen_real bound_sum(const codegen_real *bound, int m, int reversed, codegen_real ax)
+{
+    codegen_real t = 0;
+    for (int k = 0; k <= m; ++k) {
+        t = t * ax + bound[reversed ? k : m - k];
+    }
+    return t;
+}
+
 /* The radius of D_i (above), an upper bound: |p(z_i)| bounded by Horner's value plus its error
  * bound, the product's own rounding covered by a factor 2. For |z_i| > 1, |p(z_i)| = |z_i|^m
- * |r(1/z_i)|, the factors |z_i| taken one per quotient so that nothing overflows. */
-static codegen_real inclusion_radius(const codegen_real *a, int m, const codegen_real *zr,
-                                     const codegen_real *zi, int i)
+ * |r(1/z_i)|, the factors |z_i| taken one per quotient so that nothing overflows. bound: NULL,
+ * or a bound on each coefficient's error, which then widens D_i to hold the roots of every
+ * polynomial within those bounds (|p(z_i)| grows by at most sum bound_k |z_i|^k, and |a_m| is
+ * at least |a_m| - bound_m, which the caller keeps positive). */
+static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *bound, int m,
+                                     const codegen_real *zr, const codegen_real *zi, int i)
 {
     const codegen_real az = codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]);
     codegen_real s[2], d[2], mag;
     const int reversed = chorner_at(a, m, zr[i], zi[i], s, d, &mag);
-    codegen_real t = (codegen_real)m * (codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag))
-                     / codegen_fabs(a[m]);
+    const codegen_real ax = reversed ? 1 / az : az;
+    const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
+    const codegen_real lead = bound != NULL ? codegen_fabs(a[m]) - bound[m] : codegen_fabs(a[m]);
+    codegen_real t = (codegen_real)m * (codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag) + widen)
+                     / lead;
     for (int j = 0; j < m; ++j) {
         if (j != i) {
             const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
@@ -726,7 +743,7 @@ static codegen_real inclusion_radius(const codegen_real *a, int m, const codegen
         }
     }
     t = CODEGEN_R(2.0) * (reversed ? t * az : t) + CODEGEN_REAL_MIN;
-    return (t == t) ? t : CODEGEN_HUGE;
+    return (t == t && lead > 0) ? t : CODEGEN_HUGE;
 }
 
 /* Sign of f at x if certain, else 0: from plain Horner (the value alone: horner_fd's slope
@@ -768,7 +785,7 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
         }
     }
     for (int i = 0; i < m; ++i) {
-        rad[i] = inclusion_radius(a, m, zr, zi, i);
+        rad[i] = inclusion_radius(a, NULL, m, zr, zi, i);
     }
     /* Disjoint discs; real roots, and non-real ones from the axis, farther apart in chart
      * units (distances over max(1, |tau|)^2 are at most those in u = 1 / tau) than rule 5's
@@ -819,6 +836,199 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
     }
     *n = count;
     return 1;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Spans: where the real roots of every polynomial within bounds on its coefficients may lie
+ * (codegen_runtime.h). The same iteration and discs as the fast path, the discs widened by the
+ * coefficients' bounds; nothing is refined, nothing falls back: the caller decides what each
+ * span holds (the analysis, by enclosures of G on it).
+ * ------------------------------------------------------------------------------------------ */
+
+/* How far a span's ends are moved out [rad, relative to |theta| + 1]: atan and atan2 within a
+ * few ulps (the libms the library supports are within one or two). */
+#define SPAN_WIDEN (CODEGEN_R(16.0) * CODEGEN_EPSILON)
+
+/* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) theta_of_u. */
+static codegen_real span_theta(codegen_real x, int reversed)
+{
+    return reversed ? theta_of_u(x) : CODEGEN_R(2.0) * codegen_atan(x);
+}
+
+/* Starting points for all m roots: aberth_start's, then any left (roots at 0, where trailing
+ * coefficients vanish) on a small circle. */
+static void span_start(const codegen_real *b, int m, codegen_real *zr, codegen_real *zi,
+                       codegen_real *hull)
+{
+    int first = 0;
+    codegen_real cr = 1, ci = 0;
+    while (b[first] == 0) {
+        ++first;
+    }
+    aberth_start(b, m, zr, zi, hull);
+    for (int n = m - first; n < m; ++n) {
+        const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
+        ci = cr * CR_ROT_S + ci * CR_ROT_C;
+        cr = nc;
+        zr[n] = CODEGEN_R(0x1p-20) * cr;
+        zi[n] = CODEGEN_R(0x1p-20) * ci;
+    }
+}
+
+/* The label of i's set (union-find over discs that meet, labels stored as reals). */
+static int span_find(codegen_real *label, int i)
+{
+    while ((int)label[i] != i) {
+        label[i] = label[(int)label[i]];
+        i = (int)label[i];
+    }
+    return i;
+}
+
+codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const codegen_real *bound,
+                                             int degree, codegen_root_span *spans, int *n_spans,
+                                             codegen_real *work)
+{
+    const codegen_real two_pi = CODEGEN_R(2.0) * CR_PI;
+    const int m = degree;
+    codegen_real amax = 0;
+    int e, n = 0;
+    if (degree < 1) {
+        return CODEGEN_ROOTS_ERR_DEGREE;
+    }
+    if (sigma == NULL || bound == NULL || spans == NULL || n_spans == NULL || work == NULL) {
+        return CODEGEN_ROOTS_ERR_NULL_POINTER;
+    }
+    codegen_real *const b = work, *const db = b + (m + 1), *const zr = db + (m + 1), *const zi = zr + m;
+    codegen_real *const rad = zi + m, *const scratch = rad + m, *const label = scratch + (m + 1);
+    codegen_real *const seg_lo = label + m, *const seg_hi = seg_lo + m, *const seg_of = seg_hi + m;
+    for (int i = 0; i <= m; ++i) {
+        if (!isfinite(sigma[i]) || !isfinite(bound[i]) || !(bound[i] >= 0)) {
+            return CODEGEN_ROOTS_UNPROVEN;
+        }
+        amax = codegen_fmax(amax, codegen_fabs(sigma[i]));
+    }
+    if (amax == 0) {
+        return CODEGEN_ROOTS_UNPROVEN;
+    }
+    /* The chart whose leading coefficient is certainly not 0: tau, or u = 1/tau. Scaled by a
+     * power of two (exact; a bound that would lose bits below the smallest normal is raised). */
+    (void)codegen_frexp(amax, &e);
+    const int reversed = !(codegen_fabs(sigma[m]) > CODEGEN_R(2.0) * bound[m]);
+    if (reversed && !(codegen_fabs(sigma[0]) > CODEGEN_R(2.0) * bound[0])) {
+        return CODEGEN_ROOTS_UNPROVEN;
+    }
+    for (int i = 0; i <= m; ++i) {
+        const int k = reversed ? m - i : i;
+        b[i] = codegen_ldexp(sigma[k], -e);
+        db[i] = bound[k] > 0 ? codegen_ldexp(bound[k], -e) + CODEGEN_REAL_MIN : 0;
+    }
+    span_start(b, m, zr, zi, scratch);
+    if (!aberth(b, m, zr, zi, scratch)) {
+        return CODEGEN_ROOTS_UNPROVEN;
+    }
+    for (int i = 0; i < m; ++i) {
+        if (codegen_fabs(zi[i]) <= CODEGEN_SQRT_EPSILON * codegen_fabs(zr[i])) {
+            zi[i] = 0; /* (any centres would do: a pair so moved gives two discs that meet) */
+        }
+    }
+    for (int i = 0; i < m; ++i) {
+        rad[i] = inclusion_radius(b, db, m, zr, zi, i);
+        if (!(rad[i] < CODEGEN_HUGE) || !isfinite(zr[i]) || !isfinite(zi[i])) {
+            return CODEGEN_ROOTS_UNPROVEN;
+        }
+        label[i] = (codegen_real)i;
+    }
+    for (int i = 0; i < m; ++i) { /* discs that meet, one set */
+        for (int j = i + 1; j < m; ++j) {
+            const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
+            if (codegen_sqrt(dr * dr + di * di) <= (rad[i] + rad[j]) * (1 + CODEGEN_EPSILON)) {
+                label[span_find(label, i)] = (codegen_real)span_find(label, j);
+            }
+        }
+    }
+    /* The real segments of the discs that reach the axis, sorted by their low ends. */
+    for (int i = 0; i < m; ++i) {
+        if (codegen_fabs(zi[i]) <= rad[i]) {
+            int j = n++;
+            const codegen_real lo = zr[i] - rad[i];
+            while (j > 0 && seg_lo[j - 1] > lo) {
+                seg_lo[j] = seg_lo[j - 1];
+                seg_hi[j] = seg_hi[j - 1];
+                seg_of[j] = seg_of[j - 1];
+                --j;
+            }
+            seg_lo[j] = lo;
+            seg_hi[j] = zr[i] + rad[i];
+            seg_of[j] = (codegen_real)i;
+        }
+    }
+    /* Overlapping segments, one span; each in theta, its ends moved out. */
+    int count = 0;
+    for (int i = 0; i < n;) {
+        const int disc = (int)seg_of[i];
+        codegen_real lo = seg_lo[i], hi = seg_hi[i];
+        int discs = 1, alone = 1;
+        for (++i; i < n && seg_lo[i] <= hi; ++i, ++discs) {
+            hi = codegen_fmax(hi, seg_hi[i]);
+        }
+        for (int j = 0; j < m && alone; ++j) {
+            alone = j == disc || span_find(label, j) != span_find(label, disc);
+        }
+        codegen_root_span *sp = &spans[count++];
+        sp->simple = discs == 1 && alone && zi[disc] == 0;
+        if (!reversed) {
+            sp->lo = span_theta(lo, 0);
+            sp->hi = span_theta(hi, 0);
+        } else if (lo > 0 || hi < 0) { /* theta falls as u rises, on either side of u = 0 */
+            sp->lo = span_theta(hi, 1);
+            sp->hi = span_theta(lo, 1);
+        } else { /* across u = 0: theta = pi */
+            sp->lo = hi > 0 ? span_theta(hi, 1) : CR_PI;
+            sp->hi = lo < 0 ? span_theta(lo, 1) + two_pi : CR_PI;
+        }
+        sp->lo -= SPAN_WIDEN * (codegen_fabs(sp->lo) + 1);
+        sp->hi += SPAN_WIDEN * (codegen_fabs(sp->hi) + 1);
+        sp->theta = span_theta(zr[disc], reversed);
+        if (sp->lo <= -CR_PI) { /* written across pi */
+            sp->lo += two_pi;
+            sp->hi += two_pi;
+        }
+        if (sp->theta < sp->lo) {
+            sp->theta += two_pi;
+        }
+        sp->theta = codegen_fmin(codegen_fmax(sp->theta, sp->lo), sp->hi);
+    }
+    /* Sorted by lo (the reversed chart's and the moved ones are out of order), then spans
+     * that meet, on the circle too, made one. */
+    for (int i = 1; i < count; ++i) {
+        const codegen_root_span t = spans[i];
+        int j = i - 1;
+        while (j >= 0 && spans[j].lo > t.lo) {
+            spans[j + 1] = spans[j];
+            --j;
+        }
+        spans[j + 1] = t;
+    }
+    n = 0;
+    for (int i = 0; i < count; ++i) {
+        if (n > 0 && spans[i].lo <= spans[n - 1].hi) {
+            spans[n - 1].hi = codegen_fmax(spans[n - 1].hi, spans[i].hi);
+            spans[n - 1].simple = 0;
+        } else {
+            spans[n++] = spans[i];
+        }
+    }
+    while (n > 1 && spans[0].lo + two_pi <= spans[n - 1].hi) {
+        spans[n - 1].hi = codegen_fmax(spans[n - 1].hi, spans[0].hi + two_pi);
+        spans[n - 1].simple = 0;
+        for (int i = 1; i < n; ++i) {
+            spans[i - 1] = spans[i];
+        }
+        --n;
+    }
+    *n_spans = n;
+    return CODEGEN_ROOTS_OK;
 }
 
 /* The contracts are in codegen_runtime.h. Outputs are written only on success. */

@@ -39,7 +39,7 @@ extern "C" {
 #define SLIDER_CRANK_N_ROOTS 2
 #define SLIDER_CRANK_N_SIGMA 25
 #define SLIDER_CRANK_ENCLOSURE_SLOTS 79 /* the interval programs' slots */
-#define SLIDER_CRANK_SIGMA_VALUES 193 /* its double-double program's values */
+#define SLIDER_CRANK_SIGMA_VALUES 98 /* its double-double program's values */
 
 /* Status codes: SLIDER_CRANK_OK is zero; slider_crank_status_message() explains the others. */
 typedef enum slider_crank_status {
@@ -345,14 +345,14 @@ slider_crank_status slider_crank_isolate(const slider_crank_params *params, slid
 typedef struct slider_crank_workspace {
     codegen_analysis_call call;        /* the analysis' bookkeeping */
     slider_crank_analysis result;      /* the result until it is complete (*result is written only on success) */
-#ifdef CODEGEN_FLOAT
-    slider_crank_analysis polynomial;  /* the polynomial route's, which the isolation completes */
-#endif
+    slider_crank_analysis polynomial;  /* the polynomial's roots, where the isolation completes them */
     codegen_real roots[CODEGEN_ROOTS_WORK(SLIDER_CRANK_DEGREE)]; /* the root finder's */
-    codegen_real critical[2 * SLIDER_CRANK_DEGREE]; /* the polynomial's derivative and its roots */
+    codegen_root_span spans[SLIDER_CRANK_DEGREE]; /* where the polynomial's real roots may lie */
+    codegen_real sigma_bound[SLIDER_CRANK_DEGREE + 1]; /* a bound on each coefficient's error */
     codegen_real theta[SLIDER_CRANK_MAX_ROOTS];   /* the roots it found, and more that it merged */
     unsigned branches[SLIDER_CRANK_MAX_ROOTS];    /* the branch each is a root of (N_BRANCHES: unknown) */
     codegen_dd sigma_values[SLIDER_CRANK_SIGMA_VALUES]; /* sigma's double-double program's */
+    codegen_real sigma_errors[SLIDER_CRANK_SIGMA_VALUES]; /* and their error bounds */
     codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */

@@ -105,6 +105,9 @@ void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params,
 void slider_crank_sigma_kernel(const slider_crank_params *params, codegen_real out[25]);
 /* The same with its double-double values in the caller's memory (the stack then holds none). */
 void slider_crank_sigma_kernel_work(const slider_crank_params *params, codegen_real out[25], codegen_dd v[SLIDER_CRANK_SIGMA_VALUES]);
+/* The same with a rigorous bound on each output's error, bound[i] >= |out[i] - its exact
+ * value| (codegen_dd_run_bounded); e: the values' error bounds. */
+void slider_crank_sigma_bounds_kernel_work(const slider_crank_params *params, codegen_real out[25], codegen_real bound[25], codegen_dd v[SLIDER_CRANK_SIGMA_VALUES], codegen_real e[SLIDER_CRANK_SIGMA_VALUES]);
 #define SLIDER_CRANK_SIGMA_SIGMA 0
 /* A failure of sigma (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
 #define SLIDER_CRANK_SIGMA_FAILURE SLIDER_CRANK_ERR_OVERFLOW

@@ -41,9 +41,15 @@ static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen
                                                 g, dg, flags, c->slots);
 }
 
-static int sigma(const void *params, codegen_real *out, void *values)
+static int sigma(const void *params, codegen_real *out, codegen_real *bound, void *values,
+                 codegen_real *errors)
 {
-    slider_crank_sigma_kernel_work((const slider_crank_params *)params, out, (codegen_dd *)values);
+    if (bound != NULL) {
+        slider_crank_sigma_bounds_kernel_work((const slider_crank_params *)params, out, bound,
+                                         (codegen_dd *)values, errors);
+    } else {
+        slider_crank_sigma_kernel_work((const slider_crank_params *)params, out, (codegen_dd *)values);
+    }
     return CODEGEN_OK; /* (the runtime checks that the coefficients are finite) */
 }
 
@@ -127,14 +133,14 @@ static const codegen_model model = {
     .workspace = {
         .call = offsetof(slider_crank_workspace, call),
         .result = offsetof(slider_crank_workspace, result),
-#ifdef CODEGEN_FLOAT
         .polynomial = offsetof(slider_crank_workspace, polynomial),
-#endif
         .roots = offsetof(slider_crank_workspace, roots),
-        .critical = offsetof(slider_crank_workspace, critical),
+        .spans = offsetof(slider_crank_workspace, spans),
+        .sigma_bound = offsetof(slider_crank_workspace, sigma_bound),
         .theta = offsetof(slider_crank_workspace, theta),
         .branches = offsetof(slider_crank_workspace, branches),
         .sigma_values = offsetof(slider_crank_workspace, sigma_values),
+        .sigma_errors = offsetof(slider_crank_workspace, sigma_errors),
         .enclosure_slots = offsetof(slider_crank_workspace, enclosure_slots),
         .found = offsetof(slider_crank_workspace, found),
         .boxes = offsetof(slider_crank_workspace, boxes),

@@ -22,18 +22,6 @@
 /* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
  * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
 #define POLISH_RADIUS CODEGEN_R(1e-3)
-/* How far on each side of a root the finder reports [rad] the other branches are searched for a
- * root it merged with that one: the finder reports roots closer than ~2e-5 in its chart units
- * as one, and near theta = pi, where its chart is 1/tau, such a pair can lie 3.4e-5 rad apart. */
-#define MERGED_RADIUS CODEGEN_R(4e-5)
-/* In float the equilibria come from the isolation of G (see complete_by_isolation), and the
- * polynomial's roots stay on their own branches: close roots merge only with roots of their
- * own kind. */
-#ifdef CODEGEN_FLOAT
-#define EQUILIBRIA_BY_ISOLATION 1
-#else
-#define EQUILIBRIA_BY_ISOLATION 0
-#endif
 /* |G| within this many rounding units of the size of its terms is zero to working precision */
 #define GENUINE_RESIDUAL (CODEGEN_R(32.0) * CODEGEN_EPSILON)
 /* Angles this close to -pi [rad] are pi (see wrap): ~1e-10 rad in double, invisible in any
@@ -53,11 +41,6 @@
 #define BRACKET_START (512 * CODEGEN_EPSILON)
 #define BRANCH_RADIUS CODEGEN_R(1e-2)
 #define BRACKET_STEPS 64
-/* The first half-width [rad, relative to max(|theta|, 1)] of the intervals that try to prove
- * an equilibrium of the polynomial route, grown 32-fold up to CERTIFY_RADIUS [rad]: a root
- * polished to rounding is proven by the first or second. */
-#define CERTIFY_START (1024 * CODEGEN_EPSILON)
-#define CERTIFY_RADIUS (64 * CODEGEN_SQRT_EPSILON)
 /* Where the circle of a periodic coordinate may be cut for isolation: its far end, or up to
  * SEAM_TRIES steps of SEAM_STEP [rad] before it, the first where G's sign is decided. */
 #define SEAM_STEP CODEGEN_R(0.0390625)
@@ -301,47 +284,6 @@ static void sort_roots(codegen_equilibrium *roots, int count)
 
 /* ==== The polynomial route ==== */
 
-/* CODEGEN_ERR_SINGULAR_STATE if G may be undefined within CERTIFY_START of theta (a pole:
- * the spring through zero length, where G jumps and the polynomial has a root), else OK. */
-static int smooth_near(const call *c, unsigned mode, codegen_real theta)
-{
-    const codegen_real w = CERTIFY_START * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
-    codegen_iv g, dg;
-    unsigned flags;
-    const int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(theta - w, theta + w),
-                                         &g, &dg, &flags);
-    return status != 0 ? status
-         : (flags & CODEGEN_IV_POLE) != 0u ? CODEGEN_ERR_SINGULAR_STATE : CODEGEN_OK;
-}
-
-/* Prove a root of the polynomial route: by the interval Newton test around it (two
- * enclosures, the first of G alone, its slope K being known, for a root polished to
- * rounding); failing that, intervals around it from CERTIFY_START up to CERTIFY_RADIUS, until
- * one has G changing sign and G' keeping its sign on the root's mode. */
-static int certify_around(const call *c, unsigned mode, codegen_equilibrium *e)
-{
-    codegen_real w;
-    int proven = 0;
-    const int newton = codegen_certify_newton(c->model->enclose, &c->enclosure, mode, e->theta, e->K,
-                                              &e->theta_lo, &e->theta_hi, &proven);
-    if (newton != 0 || proven) {
-        e->certified = proven;
-        return newton;
-    }
-    for (w = CERTIFY_START * codegen_fmax(codegen_fabs(e->theta), (codegen_real)1); w <= CERTIFY_RADIUS && !proven; w *= CODEGEN_R(32.0)) {
-        const int status = codegen_certify(c->model->enclose, &c->enclosure, mode, e->theta - w, e->theta + w, &proven);
-        if (status != 0) {
-            return status;
-        }
-        if (proven) {
-            e->certified = 1;
-            e->theta_lo = e->theta - w;
-            e->theta_hi = e->theta + w;
-        }
-    }
-    return CODEGEN_OK;
-}
-
 /* Newton's method on G(theta) = 0, whose derivative is K_EQ. A step is kept only while it
  * shrinks |G| and stays within radius of the start, so polishing cannot move a root onto a
  * neighbour farther away than that. A root already zero to working precision is left where it
@@ -518,58 +460,12 @@ static codegen_real refine_on_branch(const call *c, codegen_real theta, unsigned
     return theta;
 }
 
-/* Roots of the polynomial that the finder merged into the one it reports, roots[source]: every
- * branch but the one nearest zero there (branches[source]) that changes sign across it
- * +- MERGED_RADIUS has a root there, on the side where it changes sign, which the polynomial
- * shares. Each is found on its branch and appended to roots[*count..] (and its branch to
- * branches[]), unless another root listed lies within MULTIPLE_ROOT_SPREAD of it. One that
- * close to roots[source] itself is appended all the same: a genuine root ~1e-11 rad from an
- * extraneous one is kept on its own branch (merge_split_roots then keeps the genuine one),
- * however the branches' rounding at roots[source] ranks the two. Each root appended is a
- * further root of the polynomial, or a further multiplicity of one, and those number at most
- * its degree, max_roots: a new one always has room. */
-static void add_merged_roots(const call *c, int source, codegen_real *roots, unsigned *branches,
-                             int *count)
-{
-    const codegen_model *model = c->model;
-    const int n = model->n_branches;
-    const codegen_real theta = roots[source];
-    codegen_real *at = c->merged, *below = at + n, *above = below + n;
-    unsigned j, nearest;
-    model->equilibrium_branches(c->enclosure.params, theta, at);
-    model->equilibrium_branches(c->enclosure.params, theta - MERGED_RADIUS, below);
-    model->equilibrium_branches(c->enclosure.params, theta + MERGED_RADIUS, above);
-    if (!all_finite(at, n) || !all_finite(below, n) || !all_finite(above, n)) {
-        return;
-    }
-    nearest = nearest_branch(at, n);
-    branches[source] = nearest;
-    for (j = 0u; j < (unsigned)n; ++j) {
-        codegen_real root;
-        int k, listed = 0;
-        if (j == nearest || (below[j] < 0) == (above[j] < 0)) {
-            continue;
-        }
-        root = at[j] == 0 ? theta
-             : (below[j] < 0) != (at[j] < 0) ? solve_on_branch(c, j, theta - MERGED_RADIUS, theta, below[j], at[j])
-             : solve_on_branch(c, j, theta, theta + MERGED_RADIUS, at[j], above[j]);
-        for (k = 0; k < *count && !listed; ++k) {
-            listed = k != source && angle_between(roots[k], root) <= MULTIPLE_ROOT_SPREAD;
-        }
-        if (!listed && *count < model->max_roots) {
-            branches[*count] = j;
-            roots[(*count)++] = root;
-        }
-    }
-}
-
-/* One root: classify by the branch it zeroes (known, or see branch_kind), polish, certify, then
- * linearise. Where branches vanish together, G itself decides, relative to the size of its
- * contributions. (A genuine root the root finder merged with this one is found by
- * add_merged_roots.) *assembled = 0 (and nothing else written) where the mechanism cannot be
- * assembled; *root_mode: the assembly mode the root was studied on. */
-static int study_root(const call *c, codegen_real theta, unsigned known, codegen_equilibrium *e,
-                      int *assembled, unsigned *root_mode)
+/* One root of the polynomial where the spans cannot be proven (the isolation lists the
+ * equilibria; complete_by_isolation keeps the extraneous roots from here): classify by the
+ * branch it zeroes (see branch_kind), polish, then linearise. Where branches vanish together,
+ * G itself decides, relative to the size of its contributions. *assembled = 0 (and nothing
+ * else written) where the mechanism cannot be assembled. */
+static int study_root(const call *c, codegen_real theta, codegen_equilibrium *e, int *assembled)
 {
     const codegen_model *model = c->model;
     int status, declared;
@@ -581,7 +477,7 @@ static int study_root(const call *c, codegen_real theta, unsigned known, codegen
     if (status != CODEGEN_OK || !*assembled) {
         return status;
     }
-    status = branch_kind(model, at, known, &e->kind, &branch);
+    status = branch_kind(model, at, (unsigned)model->n_branches, &e->kind, &branch);
     if (status != CODEGEN_OK) {
         return status;
     }
@@ -615,16 +511,6 @@ static int study_root(const call *c, codegen_real theta, unsigned known, codegen
     }
     e->certified = 0;
     e->theta_lo = e->theta_hi = e->theta;
-    *root_mode = mode;
-    if (e->kind != CODEGEN_EXTRANEOUS) {
-        status = certify_around(c, mode, e);
-        if (status == CODEGEN_OK && !e->certified) {
-            status = smooth_near(c, mode, e->theta);
-        }
-        if (status != CODEGEN_OK) {
-            return status;
-        }
-    }
     return vibrate(e);
 }
 
@@ -653,8 +539,7 @@ static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b
          * one (G stays monotone over both); apart, two. */
         return a->kind == b->kind && meet(a->theta_lo, a->theta_hi, b->theta_lo, b->theta_hi);
     }
-    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
-        && (!EQUILIBRIA_BY_ISOLATION || a->kind == b->kind);
+    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD && a->kind == b->kind;
 }
 
 /* Merge split pairs among neighbours (sorted input), the first and the last included: the
@@ -684,99 +569,294 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                         codegen_real below, int whole, void *workspace, const result_view *work);
 static void sort_uncertain(codegen_uncertain *uncertain, int count);
 
-/* A window to search on every mode. */
-#define ALL_MODES (~0u)
+/* What one mode's G has on a span. */
+typedef enum span_outcome {
+    SPAN_NO_ZERO = 0,  /* proven: no zero of G on this mode */
+    SPAN_ONE_ZERO = 1, /* proven: exactly one */
+    SPAN_UNDECIDED = 2 /* the enclosures cannot tell: the isolation searches it */
+} span_outcome;
 
-/* Every zero of G on one mode (modes, or on ALL_MODES) within POLISH_RADIUS of theta, proven
- * or reported uncertain, into work: where the polynomial's root could not be proven (a pair
- * closer than the root finder separates, a near-double complex pair, a root of the other
- * mode where that mode barely exists) or was called extraneous (a genuine root misranked among the branches at extreme
- * scales). The window is placed within (-pi - POLISH_RADIUS, pi + POLISH_RADIUS) and its zeros
- * are reported in (-pi, pi], as the polynomial route reports its roots. */
-static int isolate_window(const call *c, unsigned modes, codegen_real theta, void *workspace,
-                          const result_view *work)
+/* On a simple span (exactly one root of the polynomial in [lo, hi], simple): whether G of one
+ * mode vanishes there. Every zero of G on any mode is a root of the polynomial (the product of
+ * G's numerators over every branch, elimination.py), so G has at most one zero in the span,
+ * a simple one; where G is continuous on the span (its enclosure is finite: no pole, every
+ * square root defined) it has one exactly where it changes sign between the ends. */
+static int span_zeros(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+                      span_outcome *outcome)
 {
-    const codegen_real pi = CODEGEN_R(3.14159265358979323846);
-    const codegen_real centre = theta + POLISH_RADIUS > pi ? theta - CODEGEN_R(2.0) * pi : theta;
-    unsigned mode;
-    int status = CODEGEN_OK;
-    for (mode = 0u; mode < (unsigned)c->model->n_modes && status == CODEGEN_OK; ++mode) {
-        if (modes == ALL_MODES || modes == mode) {
-            status = isolate_mode(c, mode, centre - POLISH_RADIUS, centre + POLISH_RADIUS, -pi,
-                                  0, workspace, work);
-        }
+    codegen_iv g, g_lo, g_hi;
+    unsigned flags, flags_lo, flags_hi;
+    int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(lo, hi), &g, NULL, &flags);
+    *outcome = SPAN_UNDECIDED;
+    if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) != 0u) { /* OUTSIDE: no state on the span */
+        *outcome = SPAN_NO_ZERO;
+        return status;
     }
-    return status;
-}
-
-/* How close to zero, in rounding units of the size of its terms, the polynomial must be at a
- * critical point for a multiple root to be suspected there (its coefficients carry a few
- * rounding errors, squaring out the roots amplifies them, and the evaluation adds some). */
-#define MULTIPLE_ROOT_RESIDUAL (CODEGEN_R(1024.0) * CODEGEN_EPSILON)
-
-/* sum s[i] tau^i at tau = tan(theta/2) against the sum of its terms' magnitudes, from the
- * chart where |tau| <= 1 (sum s[i] u^(degree - i), u = 1/tau, beyond): whether it is zero to
- * within MULTIPLE_ROOT_RESIDUAL of that size. */
-static int polynomial_vanishes(const codegen_real *s, int degree, codegen_real theta)
-{
-    const codegen_real tau = codegen_tan(CODEGEN_R(0.5) * theta);
-    const int reversed = !(codegen_fabs(tau) <= 1);
-    const codegen_real x = reversed ? 1 / tau : tau;
-    codegen_real value = 0, size = 0;
-    int i;
-    for (i = 0; i <= degree; ++i) {
-        const codegen_real a = s[reversed ? i : degree - i];
-        value = value * x + a;
-        size = size * codegen_fabs(x) + codegen_fabs(a);
-    }
-    return codegen_fabs(value) <= MULTIPLE_ROOT_RESIDUAL * size;
-}
-
-/* The angles where the polynomial may have a real root of even multiplicity that it does not
- * show: every root of sigma is double where a part is removed and no square root is left in
- * G, and rounding turns such roots into complex pairs, which the root finder rightly does not
- * report. Such a root is a critical point of sigma (a root of sigma', of odd multiplicity, so
- * real) where sigma is zero to rounding: these angles, *count of them at *suspects (the
- * workspace's). */
-static int suspect_multiple_roots(const call *c, void *workspace, const result_view *work,
-                                  codegen_real **suspects, int *count)
-{
-    const codegen_model *model = c->model;
-    const int degree = model->degree;
-    codegen_real *slope = (codegen_real *)field(workspace, model->workspace.critical);
-    codegen_real *points = slope + degree;
-    int i, n = 0, status;
-    *suspects = points;
-    *count = 0;
-    if (degree < 2) {
+    if ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) != 0u) {
         return CODEGEN_OK;
     }
-    for (i = 0; i < degree; ++i) {
-        slope[i] = (codegen_real)(i + 1) * work->sigma[i + 1];
+    if (!codegen_iv_has_zero(g)) {
+        *outcome = SPAN_NO_ZERO;
+        return CODEGEN_OK;
     }
-    status = (int)codegen_poly_real_roots_work(slope, degree - 1, points, &n,
-                                               (codegen_real *)field(workspace, model->workspace.roots));
-    if (status == CODEGEN_ERR_ZERO_POLYNOMIAL) {
-        return CODEGEN_OK; /* sigma constant: it has no root, multiple or not */
+    status = c->model->enclose(&c->enclosure, mode, codegen_iv_point(lo), &g_lo, NULL, &flags_lo);
+    if (status == 0) {
+        status = c->model->enclose(&c->enclosure, mode, codegen_iv_point(hi), &g_hi, NULL, &flags_hi);
     }
-    for (i = 0; i < n && status == CODEGEN_OK; ++i) {
-        if (polynomial_vanishes(work->sigma, degree, points[i])) {
-            points[(*count)++] = points[i];
+    if (status != 0 || (flags_lo | flags_hi) != 0u) {
+        return status;
+    }
+    if ((g_lo.lo > 0 && g_hi.hi < 0) || (g_lo.hi < 0 && g_hi.lo > 0)) {
+        *outcome = SPAN_ONE_ZERO;
+    } else if ((g_lo.lo > 0 && g_hi.lo > 0) || (g_lo.hi < 0 && g_hi.hi < 0)) {
+        *outcome = SPAN_NO_ZERO;
+    }
+    return CODEGEN_OK;
+}
+
+static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+                        codegen_real below, int whole, void *workspace, const result_view *work);
+static void sort_uncertain(codegen_uncertain *uncertain, int count);
+static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
+                         codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change);
+
+/* Every zero of G on one mode in a span, by the certified isolation, into work: a span that
+ * holds theta = pi is searched from below -pi, and its zeros are reported in (-pi, pi]. */
+static int isolate_span(const call *c, unsigned mode, const codegen_root_span *s, void *workspace,
+                        const result_view *work)
+{
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), two_pi = CODEGEN_R(2.0) * pi;
+    const codegen_real shift = s->hi > pi ? two_pi : 0;
+    return isolate_mode(c, mode, s->lo - shift, s->hi - shift, -pi, 0, workspace, work);
+}
+
+/* A proven zero of the declared mode moved to theta = 0 or pi where its interval holds that
+ * angle and G is zero there to working precision, as polish leaves a root (symmetric
+ * mechanisms have their equilibria exactly there, and a table shows pi, not its
+ * neighbour), and linearised there. */
+static int exact_angle(const call *c, codegen_equilibrium *e)
+{
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846);
+    const codegen_model *model = c->model;
+    const codegen_real hi = e->theta_hi, lo = e->theta_lo;
+    const codegen_real candidate = lo <= 0 && hi >= 0 ? 0 : lo <= pi && hi >= pi ? pi : e->theta;
+    codegen_real *at = c->at_next, scale;
+    codegen_equilibrium moved = *e;
+    if (candidate == e->theta || e->kind != CODEGEN_EQUILIBRIUM || !e->certified) {
+        return CODEGEN_OK;
+    }
+    state_at(c, candidate, at);
+    if (linearisation_of(model, at) != CODEGEN_OK
+        || residual_scale(model, at, candidate, at[model->state.k], &scale) != CODEGEN_OK
+        || !(codegen_fabs(at[model->state.residual]) <= GENUINE_RESIDUAL * scale)
+        || linearise_at(c, 0u, candidate, at, &moved) != CODEGEN_OK || vibrate(&moved) != CODEGEN_OK) {
+        return CODEGEN_OK; /* stays where it was proven and linearised */
+    }
+    *e = moved;
+    return CODEGEN_OK;
+}
+
+/* The proven zero of G on a mode in a simple span, into work: polished (the declared mode by
+ * Newton's method, another on its own branch) without leaving the span, and linearised. */
+static int add_span_zero(const call *c, unsigned mode, const codegen_root_span *s,
+                         const result_view *work)
+{
+    const codegen_model *model = c->model;
+    const codegen_real pi = CODEGEN_R(3.14159265358979323846), two_pi = CODEGEN_R(2.0) * pi;
+    const codegen_real width = s->hi - s->lo;
+    codegen_equilibrium *e = &work->roots[*work->n_roots];
+    codegen_real theta;
+    int status;
+    if (*work->n_roots == model->max_roots) {
+        return CODEGEN_ERR_CAPACITY;
+    }
+    if (mode == 0u) {
+        state_at(c, s->theta, c->at_root);
+        theta = polish(c, s->theta, width, c->at_root);
+    } else {
+        theta = refine_on_branch(c, s->theta, model->branch_of_mode[mode], width);
+    }
+    if (!(theta >= s->lo && theta <= s->hi)) {
+        theta = s->theta;
+    }
+    /* reported in (-pi, pi], with the span moved alike */
+    const codegen_real shift = theta > pi ? two_pi : 0;
+    status = linearise(c, mode, theta - shift, e);
+    if (status == CODEGEN_ERR_SINGULAR_STATE) { /* proven, but K or M undefined there */
+        if (*work->n_singular == model->max_roots) {
+            return CODEGEN_ERR_CAPACITY;
+        }
+        work->singular_theta[(*work->n_singular)++] = theta - shift;
+        return CODEGEN_OK;
+    }
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    e->kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
+    e->genuine = mode == 0u;
+    e->certified = 1;
+    e->theta_lo = s->lo - shift;
+    e->theta_hi = s->hi - shift;
+    status = vibrate(e);
+    if (status == CODEGEN_OK) {
+        ++*work->n_roots;
+    }
+    return status;
+}
+
+/* The root of the polynomial in a simple span that is no zero of G on any mode (every mode
+ * proven free of zeros there): listed where the mechanism cannot be assembled, or as an
+ * extraneous root (a negative length), found on its own branch within the span. */
+static int add_span_extraneous(const call *c, const codegen_root_span *s, unsigned branch,
+                               int assembled, const result_view *work)
+{
+    const codegen_model *model = c->model;
+    codegen_equilibrium *e = &work->roots[*work->n_roots];
+    codegen_real theta = s->theta;
+    int status;
+    if (!assembled) {
+        if (*work->n_unassembled < model->max_roots) {
+            work->unassembled_theta[(*work->n_unassembled)++] = wrap(theta);
+        }
+        return CODEGEN_OK;
+    }
+    if (*work->n_roots == model->max_roots) {
+        return CODEGEN_ERR_CAPACITY;
+    }
+    if (model->equilibrium_branches != NULL) {
+        theta = refine_on_branch(c, theta, branch, s->hi - s->lo);
+        theta = theta >= s->lo && theta <= s->hi ? theta : s->theta;
+    }
+    status = linearise(c, 0u, wrap(theta), e);
+    if (status == CODEGEN_OK) {
+        e->kind = CODEGEN_EXTRANEOUS;
+        e->genuine = 0;
+        e->certified = 0;
+        e->theta_lo = e->theta_hi = e->theta;
+        status = vibrate(e);
+    }
+    if (status == CODEGEN_OK) {
+        ++*work->n_roots;
+    } else if (status == CODEGEN_ERR_SINGULAR_STATE && *work->n_singular < model->max_roots) {
+        work->singular_theta[(*work->n_singular)++] = wrap(theta);
+        status = CODEGEN_OK;
+    }
+    return status;
+}
+
+/* A simple span: the one root of the polynomial in it is a zero of G on the mode whose
+ * branch is nearest zero there, tried first, or on another mode, or on none (span_zeros on
+ * each until one has it: at most one can); a mode the enclosures cannot decide is searched by
+ * the isolation, unless another mode is proven to have the zero. */
+static int study_simple_span(const call *c, const codegen_root_span *s, void *workspace,
+                             const result_view *work)
+{
+    const codegen_model *model = c->model;
+    codegen_real *at = c->at_root;
+    codegen_root_kind kind;
+    unsigned branch, first, k, undecided = 0u;
+    int assembled, status;
+    state_at(c, s->theta, at);
+    status = check_state(model, at, &assembled);
+    if (status == CODEGEN_ERR_SINGULAR_STATE) { /* a limit position, a length through 0 */
+        status = CODEGEN_OK;
+        for (k = 0u; k < (unsigned)model->n_modes && status == CODEGEN_OK; ++k) {
+            status = isolate_span(c, k, s, workspace, work);
+        }
+        return status;
+    }
+    if (status == CODEGEN_OK) {
+        status = branch_kind(model, at, (unsigned)model->n_branches, &kind, &branch);
+    }
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    first = kind == CODEGEN_OTHER_ASSEMBLY ? model->mode_of_branch[branch] : 0u;
+    for (k = 0u; k < (unsigned)model->n_modes; ++k) {
+        const unsigned mode = k == 0u ? first : k <= first ? k - 1u : k;
+        span_outcome outcome;
+        status = span_zeros(c, mode, s->lo, s->hi, &outcome);
+        if (status != CODEGEN_OK) {
+            return status;
+        }
+        if (outcome == SPAN_ONE_ZERO) {
+            return add_span_zero(c, mode, s, work);
+        }
+        undecided |= outcome == SPAN_UNDECIDED ? 1u << mode : 0u;
+    }
+    if (undecided == 0u) {
+        return add_span_extraneous(c, s, branch, assembled, work);
+    }
+    for (k = 0u; k < (unsigned)model->n_modes && status == CODEGEN_OK; ++k) {
+        if ((undecided >> k) & 1u) {
+            status = isolate_span(c, k, s, workspace, work);
         }
     }
     return status;
 }
 
-/* The polynomial route into *work, in the workspace's memory. */
-ROUTE static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
+/* The polynomial route into *work: sigma with a bound on each coefficient's error, every
+ * real root of every polynomial within those bounds enclosed in spans (codegen_roots.c), and
+ * each span decided by enclosures of G (study_simple_span), or searched by the certified
+ * isolation of G on every mode (a cluster, a complex pair near the axis). Every zero of G on
+ * every mode is a root of the polynomial, so outside the spans there is none: every
+ * equilibrium listed is proven and none is missed. *proven = 0 (and nothing meant by *work)
+ * where the spans cannot be proven: then complete_by_isolation answers. */
+ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_view *work,
+                                  int *proven)
+{
+    const codegen_model *model = c->model;
+    const codegen_workspace_layout *ws = &model->workspace;
+    codegen_real *bound = (codegen_real *)field(workspace, ws->sigma_bound);
+    codegen_root_span *spans = (codegen_root_span *)field(workspace, ws->spans);
+    int i, n, status;
+    *proven = 0;
+    clear(model, work);
+    status = model->sigma(c->enclosure.params, work->sigma, bound, field(workspace, ws->sigma_values),
+                          (codegen_real *)field(workspace, ws->sigma_errors));
+    if (status == CODEGEN_OK) {
+        status = finite_or(work->sigma, model->degree + 1, model->sigma_failure);
+    }
+    if (status != CODEGEN_OK
+        || codegen_poly_root_spans(work->sigma, bound, model->degree, spans, &n,
+                                   (codegen_real *)field(workspace, ws->roots)) != CODEGEN_ROOTS_OK) {
+        return status;
+    }
+    *proven = 1;
+    for (i = 0; i < n && status == CODEGEN_OK; ++i) {
+        unsigned mode;
+        if (spans[i].simple) {
+            status = study_simple_span(c, &spans[i], workspace, work);
+            continue;
+        }
+        for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
+            status = isolate_span(c, mode, &spans[i], workspace, work);
+        }
+    }
+    for (i = 0; i < *work->n_roots && status == CODEGEN_OK; ++i) {
+        status = exact_angle(c, &work->roots[i]);
+    }
+    if (status != CODEGEN_OK) {
+        return status;
+    }
+    sort_roots(work->roots, *work->n_roots);
+    *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
+    sort_uncertain(work->uncertain, *work->n_uncertain);
+    return CODEGEN_OK;
+}
+
+/* The polynomial's roots where the spans cannot be proven, into *work: each classified and
+ * linearised (study_root), none proven; complete_by_isolation takes the equilibria from the
+ * isolation of G and the rest from here. */
+static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
     const codegen_workspace_layout *ws = &model->workspace;
     codegen_real *theta = (codegen_real *)field(workspace, ws->theta);
-    unsigned *branches = (unsigned *)field(workspace, ws->branches);
-    int i, count, found, windows, status;
+    int i, count, status;
     clear(model, work);
-    status = model->sigma(c->enclosure.params, work->sigma, field(workspace, ws->sigma_values));
+    status = model->sigma(c->enclosure.params, work->sigma, NULL, field(workspace, ws->sigma_values),
+                          NULL);
     if (status == CODEGEN_OK) {
         status = finite_or(work->sigma, model->degree + 1, model->sigma_failure);
     }
@@ -789,52 +869,17 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
             status = CODEGEN_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
         }
     }
-    if (status != CODEGEN_OK) {
-        return status;
-    }
-    for (i = 0; i < count; ++i) {
-        branches[i] = (unsigned)model->n_branches; /* each to be told by the branches at it */
-    }
-    /* (In float, MULTIPLE_ROOT_SPREAD is wider than MERGED_RADIUS: nothing to look for.) */
-    for (i = 0, found = count; i < found && !EQUILIBRIA_BY_ISOLATION
-                               && model->equilibrium_branches != NULL; ++i) {
-        add_merged_roots(c, i, theta, branches, &count);
-    }
-    for (i = 0, windows = 0; i < count; ++i) {
+    for (i = 0; i < count && status == CODEGEN_OK; ++i) {
         int assembled;
-        unsigned mode;
         codegen_equilibrium *e = &work->roots[*work->n_roots];
-        status = study_root(c, theta[i], branches[i], e, &assembled, &mode);
+        status = study_root(c, theta[i], e, &assembled);
         if (status == CODEGEN_ERR_SINGULAR_STATE) {
             work->singular_theta[(*work->n_singular)++] = theta[i];
-        } else if (status != CODEGEN_OK) {
-            return status;
-        } else if (!assembled) {
+            status = CODEGEN_OK;
+        } else if (status == CODEGEN_OK && !assembled) {
             work->unassembled_theta[(*work->n_unassembled)++] = theta[i];
-        } else if (e->certified || EQUILIBRIA_BY_ISOLATION) { /* (float: see complete_by_isolation) */
+        } else if (status == CODEGEN_OK) {
             ++*work->n_roots;
-        } else { /* a window to search, after every root is listed (theta[i] is studied) */
-            theta[windows] = e->theta;
-            branches[windows++] = e->kind == CODEGEN_EXTRANEOUS ? ALL_MODES : mode;
-            *work->n_roots += e->kind == CODEGEN_EXTRANEOUS;
-        }
-    }
-    /* Polishing moves roots by rounding-size amounts: keep them sorted, each once, before the
-     * windows add what they prove. */
-    sort_roots(work->roots, *work->n_roots);
-    *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
-    /* An unproven root: only what G itself proves near it; an extraneous root: and no zero
-     * of G of any mode near it. */
-    for (i = 0, status = CODEGEN_OK; i < windows && status == CODEGEN_OK; ++i) {
-        status = isolate_window(c, branches[i], theta[i], workspace, work);
-    }
-    if (status == CODEGEN_OK && !EQUILIBRIA_BY_ISOLATION) { /* a suspected multiple root,
-                                                  likewise (float: see complete_by_isolation) */
-        codegen_real *suspects;
-        int n_suspects;
-        status = suspect_multiple_roots(c, workspace, work, &suspects, &n_suspects);
-        for (i = 0; i < n_suspects && status == CODEGEN_OK; ++i) {
-            status = isolate_window(c, ALL_MODES, suspects[i], workspace, work);
         }
     }
     if (status != CODEGEN_OK) {
@@ -842,10 +887,8 @@ ROUTE static int analyze_polynomial(const call *c, void *workspace, const result
     }
     sort_roots(work->roots, *work->n_roots);
     *work->n_roots = merge_split_roots(work->roots, *work->n_roots);
-    sort_uncertain(work->uncertain, *work->n_uncertain);
     return CODEGEN_OK;
 }
-
 /* ==== The isolation route ==== */
 
 /* The interval to isolate on: the coordinate's range, (centre - pi, centre + pi]. A periodic
@@ -1036,14 +1079,12 @@ static void sort_uncertain(codegen_uncertain *uncertain, int count)
     }
 }
 
-#if EQUILIBRIA_BY_ISOLATION
-/* In float, sigma's coefficients carry 24 bits: close pairs of the polynomial's roots (Table
- * 2's, 5e-4 rad apart) can merge into one root or vanish as a complex pair, so its roots
- * cannot vouch that no equilibrium is missing. The equilibria come instead from the certified
- * isolation of G itself, in float with rigorous bounds, which drops none and lists what float
- * cannot decide in uncertain[]; the polynomial route adds sigma, its extraneous roots, and the
- * angles where the mechanism is singular or cannot be assembled: both routes, then the
- * polynomial's extras into the isolation's result. */
+/* Where the spans cannot be proven (the iteration does not converge; both the leading and the
+ * trailing coefficient of the polynomial may vanish; sigma has no error bound): the
+ * equilibria come from the certified isolation of G itself, which drops none and lists what
+ * working precision cannot decide in uncertain[]; the polynomial's roots add sigma, its
+ * extraneous roots, and the angles where the mechanism is singular or cannot be assembled:
+ * both, then the polynomial's extras into the isolation's result. */
 ROUTE static int complete_by_isolation(const call *c, void *workspace,
                                        const result_view *polynomial, const result_view *result)
 {
@@ -1071,7 +1112,6 @@ ROUTE static int complete_by_isolation(const call *c, void *workspace,
     }
     return CODEGEN_OK;
 }
-#endif
 
 /* One route into the workspace's result (parameters checked). */
 static int run(const call *c, codegen_route route, void *workspace)
@@ -1079,11 +1119,12 @@ static int run(const call *c, codegen_route route, void *workspace)
     if (route == CODEGEN_ROUTE_ISOLATION || c->model->sigma == NULL) {
         return isolate_into(c, workspace, &c->result);
     }
-#if EQUILIBRIA_BY_ISOLATION
+    int proven;
+    const int status = analyze_by_spans(c, workspace, &c->result, &proven);
+    if (status != CODEGEN_OK || proven) {
+        return status;
+    }
     return complete_by_isolation(c, workspace, &c->polynomial, &c->result);
-#else
-    return analyze_polynomial(c, workspace, &c->result);
-#endif
 }
 
 int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
@@ -1111,11 +1152,9 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     c->merged = c->g + model->n_branches;
     c->modes = c->merged + 3 * model->n_branches;
     c->result = results_in(model, field(workspace, model->workspace.result));
-#if EQUILIBRIA_BY_ISOLATION
     if (model->sigma != NULL) {
         c->polynomial = results_in(model, field(workspace, model->workspace.polynomial));
     }
-#endif
     status = run(c, route, workspace);
     if (status == CODEGEN_OK) {
         memcpy(result, field(workspace, model->workspace.result), model->analysis.size);

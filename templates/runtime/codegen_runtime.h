@@ -26,7 +26,8 @@ typedef enum codegen_roots_status {
     CODEGEN_ROOTS_ERR_NULL_POINTER = 1,
     CODEGEN_ROOTS_ERR_NONFINITE = 2,
     CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL = 3,
-    CODEGEN_ROOTS_ERR_DEGREE = 4
+    CODEGEN_ROOTS_ERR_DEGREE = 4,
+    CODEGEN_ROOTS_UNPROVEN = 5  /* codegen_poly_root_spans only: no proof (see there) */
 } codegen_roots_status;
 
 /* Real roots of sum_{i=0}^{degree} sigma[i] tau^i as theta = 2 atan(tau) in (-pi, pi], ascending,
@@ -63,6 +64,36 @@ codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int
 codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *sigma, int degree,
                                                             codegen_real *theta, int *n_roots,
                                                             codegen_real *work);
+
+/* Where the real roots of a polynomial known only to within bounds on its coefficients may
+ * lie: an interval of angles theta = 2 atan(tau) [rad], lo <= hi, lo in (-pi - 1e-9, pi];
+ * one that holds theta = pi has lo < pi < hi (hi up to lo + 2 pi): read hi - 2 pi beyond pi. */
+typedef struct codegen_root_span {
+    codegen_real lo, hi;
+    codegen_real theta;  /* the simple root's approximation (where simple), in [lo, hi] */
+    int simple;          /* 1: exactly one root lies in [lo, hi], real and simple; 0: any
+                            number, none included (a cluster, or a complex pair near the axis) */
+} codegen_root_span;
+
+/* The values of working memory codegen_poly_root_spans needs for a degree. */
+#define CODEGEN_SPANS_WORK(degree) (12 * (degree) + 8)
+
+/* Every real root of every polynomial sum c_i tau^i with |c_i - sigma[i]| <= bound[i], enclosed
+ * in spans: the Ehrlich-Aberth iteration's approximations, then inclusion discs (Braess &
+ * Hadeler; a connected union of k discs holds exactly k roots) widened by the coefficients'
+ * bounds and by the evaluation's rounding, so that every polynomial within the bounds has all
+ * its roots in them. A disc that misses the real axis proves that no real root lies there;
+ * the discs that meet it give the spans, sorted by lo, disjoint on the circle; a span is
+ * simple where it comes from one disc that meets no other, centred on the axis. theta = pi
+ * (tau = infinity) is covered too: from the reversed polynomial's discs where the leading
+ * coefficient may vanish. spans: room for degree; work: CODEGEN_SPANS_WORK(degree) values.
+ * Returns CODEGEN_ROOTS_OK, CODEGEN_ROOTS_ERR_DEGREE (degree < 1), or
+ * CODEGEN_ROOTS_UNPROVEN where it cannot prove its answer (the iteration does not converge;
+ * the leading and the trailing coefficients may both vanish; a coefficient is not finite):
+ * then nothing is meant by the spans. */
+codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const codegen_real *bound,
+                                             int degree, codegen_root_span *spans, int *n_spans,
+                                             codegen_real *work);
 
 #ifdef __cplusplus
 }

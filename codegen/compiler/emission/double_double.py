@@ -125,7 +125,16 @@ class _Assembler:
 def assemble(inputs, statements, outputs) -> Program:
     """inputs: names; statements: (name, expr) in order; outputs: expressions."""
     asm = _Assembler(inputs)
-    for name, expr in statements:
+    # A named value's slot is free again after the last statement that reads it (the
+    # outputs' operands are kept to the end): shared subexpressions are many, short-lived.
+    last_read: dict[str, int] = {}
+    for i, (_, expr) in enumerate(statements):
+        for symbol in sp.sympify(expr).free_symbols:
+            last_read[symbol.name] = i
+    for expr in outputs:
+        for symbol in sp.sympify(expr).free_symbols:
+            last_read[symbol.name] = len(statements)
+    for i, (name, expr) in enumerate(statements):
         slot = asm.value(expr)
         if slot in asm.named:  # a plain copy of an earlier value: its own slot, slot + 0
             slot = asm.binary("ADD", expr, sp.S.Zero)
@@ -133,6 +142,11 @@ def assemble(inputs, statements, outputs) -> Program:
         asm.slots[name] = slot
         last = asm.code[-1]
         asm.code[-1] = Instruction(last.operation, last.destination, last.left, last.right, name)
+        for symbol in sorted(sp.sympify(expr).free_symbols | {sp.Symbol(name)}, key=str):
+            if last_read.get(symbol.name, i) == i and symbol.name in asm.slots:
+                freed = asm.slots[symbol.name]
+                asm.named.discard(freed)
+                asm.release(freed, asm.named)
     result = []
     for expr in outputs:
         slot = asm.value(expr)

@@ -163,10 +163,11 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     used = set().union(*(sp.sympify(e).free_symbols for e in exprs),
                        *(d.free_symbols for _, d in program))
     prefix = _temporary_prefix(used)
-    # The double-double program keeps its definitions as they are (its rounding is
-    # sigma's); plain code shares subexpressions across the definitions too (_calls_first
-    # puts the statements in dependency order).
-    shared = [d for _, d in program] if function.arithmetic != "double-double" else []
+    # Subexpressions are shared across the definitions too, in plain and double-double
+    # arithmetic alike (_calls_first puts the statements in dependency order): the
+    # elimination's definitions repeat many products, and a double-double operation costs
+    # tens of plain ones.
+    shared = [d for _, d in program]
     replacements, reduced = sp.cse(shared + exprs, symbols=sp.numbered_symbols(prefix),
                                    order="canonical")
     if shared:
@@ -185,7 +186,7 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     operations = (sum(sp.count_ops(e) for _, e in replacements)
                   + sum(sp.count_ops(e) for e in reduced))
     if function.arithmetic == "double-double":
-        return _double_double_body(unpack, replacements, reduced, int(operations))
+        return _double_double_body(unpack, _calls_first(replacements), reduced, int(operations))
     return PrintedBody(
         unpack=(),
         temporaries=_loaded_on_first_use([(n, src) for n, src in unpack if n != src],

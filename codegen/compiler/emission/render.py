@@ -51,6 +51,7 @@ class RenderedFunction:
     batch_call: tuple[str, ...]
     kernel_signature: str
     kernel_work_signature: str   # used where the body is a double-double program
+    kernel_bounds_signature: str  # the same with a bound on each output's error
     returns_value: bool          # the kernel returns its one output (see returns_value)
     body: PrintedBody
     n_out: int
@@ -103,6 +104,15 @@ def kernel_signature(f: CFunction, prefix: str, ctype: str, values: str = "") ->
     return f"void {prefix}_{name}({', '.join(inputs)}, {ctype} out[{n_out}]{extra})"
 
 
+def kernel_bounds_signature(f: CFunction, prefix: str, ctype: str, values: str) -> str:
+    """A double-double program's kernel that also bounds each output's error (bound[]), its
+    values and their error bounds in the caller's memory (NAME_bounds_kernel_work)."""
+    inputs, _ = _arguments(f, prefix, ctype)
+    n_out = sum(len(o.exprs) for o in f.outputs)
+    return (f"void {prefix}_{f.name}_bounds_kernel_work({', '.join(inputs)}, {ctype} out[{n_out}], "
+            f"{ctype} bound[{n_out}], codegen_dd v[{values}], {ctype} e[{values}])")
+
+
 def batch_signature(f: CFunction, prefix: str, ctype: str) -> str:
     args = ["size_t count", f"const {prefix}_params *params"]
     args += [f"const {ctype} *{a.name}" for a in f.inputs]
@@ -139,6 +149,8 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         batch_signature=batch_signature(f, plan.prefix, target.ctype),
         kernel_signature=kernel_signature(f, plan.prefix, target.ctype),
         kernel_work_signature=kernel_signature(
+            f, plan.prefix, target.ctype, f"{P}_{f.name.upper()}_VALUES"),
+        kernel_bounds_signature=kernel_bounds_signature(
             f, plan.prefix, target.ctype, f"{P}_{f.name.upper()}_VALUES"),
         batch_arrays=tuple((x.name, x.size) for x in f.inputs + f.outputs),
         batch_call=_batch_call(f, P),
