@@ -576,23 +576,26 @@ typedef enum span_outcome {
     SPAN_UNDECIDED = 2 /* the enclosures cannot tell: the isolation searches it */
 } span_outcome;
 
-/* On a simple span (exactly one root of the polynomial in [lo, hi], simple): whether G of one
- * mode vanishes there. Every zero of G on any mode is a root of the polynomial (the product of
- * G's numerators over every branch, elimination.py), so G has at most one zero in the span,
- * a simple one; where G is continuous on the span (its enclosure is finite: no pole, every
- * square root defined) it has one exactly where it changes sign between the ends. */
-static int span_zeros(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
-                      span_outcome *outcome)
+/* Whether G of one mode vanishes in [lo, hi], an interval that holds at most one root of the
+ * polynomial, a simple one. Every zero of G on any mode is a root of the polynomial (the
+ * product of G's numerators over every branch, elimination.py), so G has at most one zero
+ * there, simple; where G is continuous on [lo, hi] (its enclosure is finite: no pole, every
+ * square root defined) it has one exactly where it changes sign between the ends. *smooth = 0
+ * where a pole or a square root's edge may lie inside (no interval around it will do). */
+static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+                     span_outcome *outcome, int *smooth)
 {
     codegen_iv g, g_lo, g_hi;
     unsigned flags, flags_lo, flags_hi;
     int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(lo, hi), &g, NULL, &flags);
     *outcome = SPAN_UNDECIDED;
-    if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) != 0u) { /* OUTSIDE: no state on the span */
+    *smooth = 1;
+    if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) != 0u) { /* OUTSIDE: no state on [lo, hi] */
         *outcome = SPAN_NO_ZERO;
         return status;
     }
     if ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) != 0u) {
+        *smooth = 0;
         return CODEGEN_OK;
     }
     if (!codegen_iv_has_zero(g)) {
@@ -614,9 +617,27 @@ static int span_zeros(const call *c, unsigned mode, codegen_real lo, codegen_rea
     return CODEGEN_OK;
 }
 
-static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
-                        codegen_real below, int whole, void *workspace, const result_view *work);
-static void sort_uncertain(codegen_uncertain *uncertain, int count);
+/* Whether G of one mode vanishes in a simple span: sign_test on the span, then, while G's
+ * signs at the ends are within rounding of 0, on intervals grown 64-fold about it within
+ * its free interval, which holds no other root of the polynomial (the zero of G, if any, is
+ * the span's root all the same: in [lo, hi]). */
+static int span_zeros(const call *c, unsigned mode, const codegen_root_span *s,
+                      span_outcome *outcome)
+{
+    codegen_real lo = s->lo, hi = s->hi;
+    for (;;) {
+        int smooth;
+        const int status = sign_test(c, mode, lo, hi, outcome, &smooth);
+        if (status != CODEGEN_OK || *outcome != SPAN_UNDECIDED || !smooth
+            || (lo <= s->free_lo && hi >= s->free_hi)) {
+            return status;
+        }
+        const codegen_real grow = CODEGEN_R(64.0) * (hi - lo);
+        lo = codegen_fmax(s->free_lo, lo - grow);
+        hi = codegen_fmin(s->free_hi, hi + grow);
+    }
+}
+
 static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change);
 
@@ -775,7 +796,7 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     for (k = 0u; k < (unsigned)model->n_modes; ++k) {
         const unsigned mode = k == 0u ? first : k <= first ? k - 1u : k;
         span_outcome outcome;
-        status = span_zeros(c, mode, s->lo, s->hi, &outcome);
+        status = span_zeros(c, mode, s, &outcome);
         if (status != CODEGEN_OK) {
             return status;
         }

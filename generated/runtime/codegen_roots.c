@@ -719,14 +719,16 @@ static codegen_real bound_sum(const codegen_real *bound, int m, int reversed, co
     return t;
 }
 
-/* The radius of D_i (above), an upper bound: |p(z_i)| bounded by Horner's value plus its error
- * bound, the product's own rounding covered by a factor 2. For |z_i| > 1, |p(z_i)| = |z_i|^m
+/* The radius of D_i (above), an upper bound: |p(z_i)| bounded by value if it is not negative
+ * (in the chart chorner_at takes), else by Horner's value plus its error bound; the product's
+ * own rounding covered by a factor 2. For |z_i| > 1, |p(z_i)| = |z_i|^m
  * |r(1/z_i)|, the factors |z_i| taken one per quotient so that nothing overflows. bound: NULL,
  * or a bound on each coefficient's error, which then widens D_i to hold the roots of every
  * polynomial within those bounds (|p(z_i)| grows by at most sum bound_k |z_i|^k, and |a_m| is
  * at least |a_m| - bound_m, which the caller keeps positive). */
 static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *bound, int m,
-                                     const codegen_real *zr, const codegen_real *zi, int i)
+                                     const codegen_real *zr, const codegen_real *zi, int i,
+                                     codegen_real value)
 {
     const codegen_real az = codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]);
     codegen_real s[2], d[2], mag;
@@ -734,8 +736,10 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
     const codegen_real ax = reversed ? 1 / az : az;
     const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
     const codegen_real lead = bound != NULL ? codegen_fabs(a[m]) - bound[m] : codegen_fabs(a[m]);
-    codegen_real t = (codegen_real)m * (codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag) + widen)
-                     / lead;
+    if (!(value >= 0)) {
+        value = codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag);
+    }
+    codegen_real t = (codegen_real)m * (value + widen) / lead;
     for (int j = 0; j < m; ++j) {
         if (j != i) {
             const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
@@ -785,7 +789,7 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
         }
     }
     for (int i = 0; i < m; ++i) {
-        rad[i] = inclusion_radius(a, NULL, m, zr, zi, i);
+        rad[i] = inclusion_radius(a, NULL, m, zr, zi, i, -1);
     }
     /* Disjoint discs; real roots, and non-real ones from the axis, farther apart in chart
      * units (distances over max(1, |tau|)^2 are at most those in u = 1 / tau) than rule 5's
@@ -849,10 +853,65 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
  * few ulps (the libms the library supports are within one or two). */
 #define SPAN_WIDEN (CODEGEN_R(16.0) * CODEGEN_EPSILON)
 
-/* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) theta_of_u. */
+/* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) 2 atan(1/u),
+ * in [-pi, pi] (u -> 0 from below is -pi: a span's end, not pi). */
 static codegen_real span_theta(codegen_real x, int reversed)
 {
-    return reversed ? theta_of_u(x) : CODEGEN_R(2.0) * codegen_atan(x);
+    return !reversed ? CODEGEN_R(2.0) * codegen_atan(x)
+         : x >= 0 ? CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, x)
+                  : -CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, -x);
+}
+
+/* A real root's approximation x of f (degree n >= 1; |x| <= 1 in the caller's chart) polished
+ * by Newton's method on compensated values while |f| falls: to rounding, so that its disc is
+ * as narrow as the coefficients' bounds allow (the iteration stops at plain Horner's error). */
+static codegen_real polish_real(const codegen_real *f, const codegen_real *df, int n, codegen_real x)
+{
+    codegen_real mag, v = eval(f, n, x, &mag);
+    for (int it = 0; it < 4 && v != 0; ++it) {
+        const codegen_real d = eval(df, n - 1, x, &mag);
+        if (d == 0) {
+            break;
+        }
+        const codegen_real xn = x - v / d;
+        const codegen_real vn = eval(f, n, xn, &mag);
+        if (!(codegen_fabs(vn) < codegen_fabs(v))) {
+            break;
+        }
+        x = xn;
+        v = vn;
+    }
+    return x;
+}
+
+/* An upper bound on |f(x)| from the compensated value (see eval: within u |f| + gamma_2n^2 of
+ * the magnitude sum; gamma_2n <= 2 n eps here, and the sum's own rounding a factor 2). */
+static codegen_real real_value_bound(const codegen_real *f, int n, codegen_real x)
+{
+    codegen_real mag;
+    const codegen_real v = eval(f, n, x, &mag);
+    const codegen_real g = CODEGEN_R(2.0) * (codegen_real)n * CODEGEN_EPSILON;
+    return (codegen_fabs(v) + CODEGEN_R(2.0) * g * g * mag) * (1 + CODEGEN_R(2.0) * CODEGEN_EPSILON)
+           + CODEGEN_REAL_MIN;
+}
+
+/* [*tlo, *thi]: the angles of the chart interval [lo, hi], moved out by SPAN_WIDEN; one that
+ * holds theta = pi (u = 0 in the reversed chart) has *tlo < pi < *thi. */
+static void chart_to_theta(codegen_real lo, codegen_real hi, int reversed, codegen_real *tlo,
+                           codegen_real *thi)
+{
+    if (!reversed) {
+        *tlo = span_theta(lo, 0);
+        *thi = span_theta(hi, 0);
+    } else if (lo > 0 || hi < 0) { /* theta falls as u rises, on either side of u = 0 */
+        *tlo = span_theta(hi, 1);
+        *thi = span_theta(lo, 1);
+    } else { /* across u = 0: theta = pi */
+        *tlo = hi > 0 ? span_theta(hi, 1) : CR_PI;
+        *thi = lo < 0 ? span_theta(lo, 1) + CODEGEN_R(2.0) * CR_PI : CR_PI;
+    }
+    *tlo -= SPAN_WIDEN * (codegen_fabs(*tlo) + 1);
+    *thi += SPAN_WIDEN * (codegen_fabs(*thi) + 1);
 }
 
 /* Starting points for all m roots: aberth_start's, then any left (roots at 0, where trailing
@@ -902,6 +961,7 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
     codegen_real *const b = work, *const db = b + (m + 1), *const zr = db + (m + 1), *const zi = zr + m;
     codegen_real *const rad = zi + m, *const scratch = rad + m, *const label = scratch + (m + 1);
     codegen_real *const seg_lo = label + m, *const seg_hi = seg_lo + m, *const seg_of = seg_hi + m;
+    codegen_real *const q = seg_of + m, *const dp = q + (m + 1), *const dq = dp + m;
     for (int i = 0; i <= m; ++i) {
         if (!isfinite(sigma[i]) || !isfinite(bound[i]) || !(bound[i] >= 0)) {
             return CODEGEN_ROOTS_UNPROVEN;
@@ -932,8 +992,29 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
             zi[i] = 0; /* (any centres would do: a pair so moved gives two discs that meet) */
         }
     }
+    derivative(b, m, 1, dp);
+    for (int i = 0; i <= m; ++i) {
+        q[m - i] = b[i];
+    }
+    derivative(q, m, 1, dq);
     for (int i = 0; i < m; ++i) {
-        rad[i] = inclusion_radius(b, db, m, zr, zi, i);
+        codegen_real value = -1;
+        if (zi[i] == 0) { /* polished, and its value bounded, in the chart of inclusion_radius */
+            const int far = codegen_fabs(zr[i]) > 1;
+            const codegen_real x = polish_real(far ? q : b, far ? dq : dp, m, far ? 1 / zr[i] : zr[i]);
+            const codegen_real moved = far ? 1 / x : x;
+            codegen_real nearest = CODEGEN_HUGE;
+            for (int j = 0; j < m; ++j) {
+                if (j != i) {
+                    nearest = codegen_fmin(nearest, codegen_fabs(zr[j] - zr[i]) + codegen_fabs(zi[j]));
+                }
+            }
+            /* kept where it stays closer to its start than to any other centre (the two halves
+             * of a double root would otherwise meet, and a disc needs distinct centres) */
+            zr[i] = codegen_fabs(moved - zr[i]) < CODEGEN_R(0.25) * nearest ? moved : zr[i];
+            value = real_value_bound(far ? q : b, m, far ? 1 / zr[i] : zr[i]);
+        }
+        rad[i] = inclusion_radius(b, db, m, zr, zi, i, value);
         if (!(rad[i] < CODEGEN_HUGE) || !isfinite(zr[i]) || !isfinite(zi[i])) {
             return CODEGEN_ROOTS_UNPROVEN;
         }
@@ -977,27 +1058,44 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
         }
         codegen_root_span *sp = &spans[count++];
         sp->simple = discs == 1 && alone && zi[disc] == 0;
-        if (!reversed) {
-            sp->lo = span_theta(lo, 0);
-            sp->hi = span_theta(hi, 0);
-        } else if (lo > 0 || hi < 0) { /* theta falls as u rises, on either side of u = 0 */
-            sp->lo = span_theta(hi, 1);
-            sp->hi = span_theta(lo, 1);
-        } else { /* across u = 0: theta = pi */
-            sp->lo = hi > 0 ? span_theta(hi, 1) : CR_PI;
-            sp->hi = lo < 0 ? span_theta(lo, 1) + two_pi : CR_PI;
+        chart_to_theta(lo, hi, reversed, &sp->lo, &sp->hi);
+        sp->theta = reversed ? theta_of_u(zr[disc]) : span_theta(zr[disc], 0);
+        sp->free_lo = sp->lo;
+        sp->free_hi = sp->hi;
+        if (sp->simple) { /* the disc grown to half its distance from every other disc */
+            codegen_real grown = CODEGEN_HUGE;
+            for (int j = 0; j < m; ++j) {
+                if (j != disc) {
+                    const codegen_real dr = zr[disc] - zr[j], di = zi[disc] - zi[j];
+                    grown = codegen_fmin(grown, CODEGEN_R(0.5) * (codegen_sqrt(dr * dr + di * di) - rad[j]));
+                }
+            }
+            grown = codegen_fmin(grown, codegen_fmax((codegen_real)1, codegen_fabs(zr[disc])));
+            if (grown > rad[disc]) {
+                chart_to_theta(zr[disc] - grown, zr[disc] + grown, reversed, &sp->free_lo, &sp->free_hi);
+            }
         }
-        sp->lo -= SPAN_WIDEN * (codegen_fabs(sp->lo) + 1);
-        sp->hi += SPAN_WIDEN * (codegen_fabs(sp->hi) + 1);
-        sp->theta = span_theta(zr[disc], reversed);
         if (sp->lo <= -CR_PI) { /* written across pi */
             sp->lo += two_pi;
             sp->hi += two_pi;
+        }
+        { /* the grown span written as this one is (either may be written across pi) */
+            codegen_real shift = 0;
+            while (sp->free_lo + shift > sp->lo) {
+                shift -= two_pi;
+            }
+            while (sp->free_lo + shift + two_pi <= sp->lo) {
+                shift += two_pi;
+            }
+            sp->free_lo += shift;
+            sp->free_hi += shift;
         }
         if (sp->theta < sp->lo) {
             sp->theta += two_pi;
         }
         sp->theta = codegen_fmin(codegen_fmax(sp->theta, sp->lo), sp->hi);
+        sp->free_lo = codegen_fmin(sp->free_lo, sp->lo);
+        sp->free_hi = codegen_fmax(sp->free_hi, sp->hi);
     }
     /* Sorted by lo (the reversed chart's and the moved ones are out of order), then spans
      * that meet, on the circle too, made one. */
@@ -1026,6 +1124,18 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
             spans[i - 1] = spans[i];
         }
         --n;
+    }
+    for (int i = 0; i < n; ++i) { /* each grown span within its neighbours' gaps */
+        const codegen_root_span *below = &spans[i > 0 ? i - 1 : n - 1], *above = &spans[i + 1 < n ? i + 1 : 0];
+        codegen_root_span *sp = &spans[i];
+        const codegen_real floor = n == 1 ? sp->hi - two_pi : i > 0 ? below->hi : below->hi - two_pi;
+        const codegen_real ceiling = n == 1 ? sp->lo + two_pi : i + 1 < n ? above->lo : above->lo + two_pi;
+        sp->free_lo = codegen_fmax(sp->free_lo, CODEGEN_R(0.5) * (floor + sp->lo));
+        sp->free_hi = codegen_fmin(sp->free_hi, CODEGEN_R(0.5) * (sp->hi + ceiling));
+        if (!sp->simple) {
+            sp->free_lo = sp->lo;
+            sp->free_hi = sp->hi;
+        }
     }
     *n_spans = n;
     return CODEGEN_ROOTS_OK;

@@ -71,12 +71,14 @@ codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *
 typedef struct codegen_root_span {
     codegen_real lo, hi;
     codegen_real theta;  /* the simple root's approximation (where simple), in [lo, hi] */
+    codegen_real free_lo, free_hi; /* where simple: a wider interval [rad] holding no other
+                            root of any polynomial within the bounds (else lo, hi) */
     int simple;          /* 1: exactly one root lies in [lo, hi], real and simple; 0: any
                             number, none included (a cluster, or a complex pair near the axis) */
 } codegen_root_span;
 
 /* The values of working memory codegen_poly_root_spans needs for a degree. */
-#define CODEGEN_SPANS_WORK(degree) (12 * (degree) + 8)
+#define CODEGEN_SPANS_WORK(degree) (16 * (degree) + 16)
 
 /* Every real root of every polynomial sum c_i tau^i with |c_i - sigma[i]| <= bound[i], enclosed
  * in spans: the Ehrlich-Aberth iteration's approximations, then inclusion discs (Braess &

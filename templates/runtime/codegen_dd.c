@@ -33,7 +33,8 @@ static codegen_dd two_sum(codegen_real a, codegen_real b)
     return r;
 }
 
-codegen_dd codegen_dd_add(codegen_dd a, codegen_dd b)
+/* The operations, inline in both runners; the public functions call them. */
+static inline codegen_dd dd_add(codegen_dd a, codegen_dd b)
 {
     codegen_dd s = two_sum(a.hi, b.hi);
     const codegen_dd t = two_sum(a.lo, b.lo);
@@ -41,16 +42,16 @@ codegen_dd codegen_dd_add(codegen_dd a, codegen_dd b)
     return quick_two_sum(s.hi, s.lo + t.lo);
 }
 
-codegen_dd codegen_dd_neg(codegen_dd a)
+static inline codegen_dd dd_neg(codegen_dd a)
 {
     a.hi = -a.hi;
     a.lo = -a.lo;
     return a;
 }
 
-codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
+static inline codegen_dd dd_sub(codegen_dd a, codegen_dd b)
 {
-    return codegen_dd_add(a, codegen_dd_neg(b));
+    return dd_add(a, dd_neg(b));
 }
 
 /* a * b - p exactly, for p = fl(a * b) (no underflow). Hardware fma, or Dekker's
@@ -70,19 +71,44 @@ static codegen_real product_error(codegen_real a, codegen_real b, codegen_real p
     return codegen_fma(a, b, -p);
 }
 
-codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
+static inline codegen_dd dd_mul(codegen_dd a, codegen_dd b)
 {
     const codegen_real p = a.hi * b.hi;
     const codegen_real e = product_error(a.hi, b.hi, p) + (a.hi * b.lo + a.lo * b.hi);
     return quick_two_sum(p, e);
 }
 
-codegen_dd codegen_dd_div(codegen_dd a, codegen_dd b)
+static inline codegen_dd dd_div(codegen_dd a, codegen_dd b)
 {
     const codegen_real q1 = a.hi / b.hi;
-    const codegen_dd r = codegen_dd_sub(a, codegen_dd_mul(b, codegen_dd_from(q1)));
+    const codegen_dd r = dd_sub(a, dd_mul(b, codegen_dd_from(q1)));
     const codegen_real q2 = r.hi / b.hi;
     return quick_two_sum(q1, q2);
+}
+
+codegen_dd codegen_dd_add(codegen_dd a, codegen_dd b)
+{
+    return dd_add(a, b);
+}
+
+codegen_dd codegen_dd_sub(codegen_dd a, codegen_dd b)
+{
+    return dd_sub(a, b);
+}
+
+codegen_dd codegen_dd_neg(codegen_dd a)
+{
+    return dd_neg(a);
+}
+
+codegen_dd codegen_dd_mul(codegen_dd a, codegen_dd b)
+{
+    return dd_mul(a, b);
+}
+
+codegen_dd codegen_dd_div(codegen_dd a, codegen_dd b)
+{
+    return dd_div(a, b);
 }
 
 codegen_real codegen_dd_to_double(codegen_dd a)
@@ -101,19 +127,19 @@ void codegen_dd_run(const codegen_dd_instruction *program, size_t count,
             v[op.destination] = codegen_dd_from(constants[op.left]);
             break;
         case CODEGEN_DD_ADD:
-            v[op.destination] = codegen_dd_add(v[op.left], v[op.right]);
+            v[op.destination] = dd_add(v[op.left], v[op.right]);
             break;
         case CODEGEN_DD_SUB:
-            v[op.destination] = codegen_dd_sub(v[op.left], v[op.right]);
+            v[op.destination] = dd_sub(v[op.left], v[op.right]);
             break;
         case CODEGEN_DD_MUL:
-            v[op.destination] = codegen_dd_mul(v[op.left], v[op.right]);
+            v[op.destination] = dd_mul(v[op.left], v[op.right]);
             break;
         case CODEGEN_DD_DIV:
-            v[op.destination] = codegen_dd_div(v[op.left], v[op.right]);
+            v[op.destination] = dd_div(v[op.left], v[op.right]);
             break;
         case CODEGEN_DD_NEG:
-            v[op.destination] = codegen_dd_neg(v[op.left]);
+            v[op.destination] = dd_neg(v[op.left]);
             break;
         }
     }
@@ -153,22 +179,22 @@ void codegen_dd_run_bounded(const codegen_dd_instruction *program, size_t count,
             break;
         case CODEGEN_DD_ADD:
         case CODEGEN_DD_SUB:
-            v[op.destination] = op.operation == CODEGEN_DD_ADD ? codegen_dd_add(a, b) : codegen_dd_sub(a, b);
+            v[op.destination] = op.operation == CODEGEN_DD_ADD ? dd_add(a, b) : dd_sub(a, b);
             error = ea + eb + CODEGEN_R(6.0) * DD_UNIT2 * (sa + sb);
             break;
         case CODEGEN_DD_MUL:
-            v[op.destination] = codegen_dd_mul(a, b);
+            v[op.destination] = dd_mul(a, b);
             error = sa * eb + sb * ea + ea * eb + CODEGEN_R(16.0) * DD_UNIT2 * sa * sb;
             break;
         case CODEGEN_DD_DIV:
-            v[op.destination] = codegen_dd_div(a, b);
+            v[op.destination] = dd_div(a, b);
             /* |a~/b~ - a/b| <= (e_a + |a~/b~| e_b) / (|b~| - e_b) */
             error = sb > eb ? (ea + dd_size(v[op.destination]) * eb) / ((sb - eb) / DD_UP)
                                   + CODEGEN_R(32.0) * DD_UNIT2 * dd_size(v[op.destination])
                             : CODEGEN_HUGE;
             break;
         case CODEGEN_DD_NEG:
-            v[op.destination] = codegen_dd_neg(a);
+            v[op.destination] = dd_neg(a);
             error = ea;
             break;
         }

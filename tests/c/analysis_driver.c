@@ -47,8 +47,10 @@ typedef struct analysis {
 typedef struct workspace {
     codegen_analysis_call call;
     analysis result;
+    analysis polynomial;
     double roots[CODEGEN_ROOTS_WORK(2)];
-    double critical[4];
+    codegen_root_span spans[2];
+    double sigma_bound[3];
     double theta[MAX_ROOTS];
     unsigned branches[MAX_ROOTS];
     codegen_iv slots[1];
@@ -103,13 +105,20 @@ static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen
     return CODEGEN_OK;
 }
 
-static int sigma(const void *p, double *out, void *values)
+/* The coefficients, each one rounding from the exact value (2 b exactly): bound u |out|,
+ * raised a little to stay an upper bound. */
+static int sigma(const void *p, double *out, double *bound, void *values, double *errors)
 {
     const params *q = (const params *)p;
+    int i;
     (void)values;
+    (void)errors;
     out[0] = q->a + q->c;
     out[1] = 2 * q->b;
     out[2] = q->c - q->a;
+    for (i = 0; bound != NULL && i < 3; ++i) {
+        bound[i] = i == 1 ? 0 : 0x1.0000000000001p-53 * fabs(out[i]);
+    }
     return CODEGEN_OK;
 }
 
@@ -160,8 +169,10 @@ static codegen_model model_with(int capacity)
     m.analysis.uncertain = offsetof(analysis, uncertain);
     m.workspace.call = offsetof(workspace, call);
     m.workspace.result = offsetof(workspace, result);
+    m.workspace.polynomial = offsetof(workspace, polynomial);
     m.workspace.roots = offsetof(workspace, roots);
-    m.workspace.critical = offsetof(workspace, critical);
+    m.workspace.spans = offsetof(workspace, spans);
+    m.workspace.sigma_bound = offsetof(workspace, sigma_bound);
     m.workspace.theta = offsetof(workspace, theta);
     m.workspace.branches = offsetof(workspace, branches);
     m.workspace.enclosure_slots = offsetof(workspace, slots);
