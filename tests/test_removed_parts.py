@@ -232,6 +232,16 @@ def _inside(theta, lo, hi):
     return lo <= t <= hi
 
 
+def _same_zero(isolated, root):
+    """Whether root (auto's) is the isolation's certified zero: the isolation's point in its
+    interval, or its certified interval inside the isolation's (each holds exactly one zero,
+    so the inner one's is the outer one's, whichever route placed its point better)."""
+    if _inside(isolated.theta, root.theta_lo, root.theta_hi):
+        return True
+    return root.certified and _inside(root.theta_lo, isolated.theta_lo, isolated.theta_hi) \
+        and _inside(root.theta_hi, isolated.theta_lo, isolated.theta_hi)
+
+
 def _undecided(analysis, root):
     """Whether root lies in an uncertain interval of analysis on the root's mode."""
     mode = EQUILIBRIUM_KINDS[root.kind]
@@ -292,8 +302,8 @@ def _disagreements(auto, isolate):
               "leaves undecided" for r in only_isolate if not _undecided(auto, r)]
     for r in isolate_roots:
         if r.certified and not (
-                any(a.kind == r.kind and _inside(r.theta, a.theta_lo, a.theta_hi)
-                    for a in auto_roots) or _undecided(auto, r)):
+                any(a.kind == r.kind and _same_zero(r, a) for a in auto_roots)
+                or _undecided(auto, r)):
             found.append(f"the isolation's certified {r.kind} at {r.theta!r} lies in no "
                          "interval of auto's of its kind, proven or uncertain")
     return found
@@ -415,17 +425,7 @@ def test_default_route_gives_the_isolations_equilibria_with_a_load_removed_or_th
     _check_sets(name, _group_sets(name, ACTING, np.random.default_rng(seed)))
 
 
-@pytest.mark.parametrize("name", [
-    "doughty",
-    pytest.param("slider_crank", marks=pytest.mark.xfail(strict=STRICT, reason=(
-        "library bug: with the spring removed (k = 0) the default route drops equilibria "
-        "of the other assembly mode, lists one at +-pi/2 twice, or refuses the set with "
-        "ERR_OVERFLOW (k = F = T = 0); see FAILING_SETS"))),
-    pytest.param("four_bar", marks=pytest.mark.xfail(strict=STRICT, reason=(
-        "library bug: with the spring removed (k = 0, or S at O4 so that it keeps its "
-        "length) the default route drops equilibria of the other assembly mode; see "
-        "FAILING_SETS"))),
-])
+@pytest.mark.parametrize("name", MECHANISMS)
 @settings(max_examples=30, **PROPERTY)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_default_route_gives_the_isolations_equilibria_with_the_spring_removed(name, seed):
@@ -461,12 +461,8 @@ SLOW_DRAWS = {
     ("four_bar", ACTING): 250, ("four_bar", REMOVED): 120,
 }
 SLOW_XFAIL = {
-    ("slider_crank", REMOVED): "library bug: the default route drops equilibria of the "
-    "other assembly mode, lists one at +-pi/2 twice, or overflows (see FAILING_SETS)",
     ("slider_crank", ON_THE_SLIDE): "library bug of the reference: the isolation returns "
     "ERR_CAPACITY with the spring through zero length on the slide",
-    ("four_bar", REMOVED): "library bug: the default route drops equilibria of the other "
-    "assembly mode (see FAILING_SETS)",
 }
 
 
@@ -493,9 +489,10 @@ FOUR_BAR_EXAMPLE = dict(d=0.4, a_2=0.12, a_3=0.35, a_4=0.3, m_2=0.4, m_3=1.0, m_
                         k=1500.0, l_0=0.2, x_S=0.1, y_S=0.45, b=30.0, T=0.0, g=9.81)
 SLIDER_CRANK_EXAMPLE = dict(R=0.1, l=0.3, e=0.02, m_1=0.5, m_2=1.2, m_3=2.0, k=2000.0, l_0=0.25,
                             x_S=0.45, y_S=0.2, b=40.0, F=-30.0, T=0.0, g=9.81)
-DROPS_OTHER_MODE = ("the default route drops an equilibrium of the other assembly mode that "
-                    "the isolation proves (it lists the root of sigma as extraneous, "
+DROPS_OTHER_MODE = ("the default route dropped an equilibrium of the other assembly mode that "
+                    "the isolation proves (it listed the root of sigma as extraneous, "
                     "uncertified)")
+REFERENCE_REFUSES = "library bug of the reference"
 
 #: Sets the runs above found failing: (id, name, family, values, what goes wrong). The
 #: values are exact (repr of the doubles drawn).
@@ -528,14 +525,14 @@ FAILING_SETS = [
           m_1=0.8986218393615201, m_2=2.1897329889802046, m_3=2.826408870686893, k=0.0,
           l_0=0.5146573822871237, x_S=0.34477533657049236, y_S=0.16657650883189837,
           b=31.413298854312504, F=0.0, T=0.0, g=4.560815269980268),
-     "the default route refuses the set with ERR_OVERFLOW (R, l, k, x_S, F: a result is too "
+     "the default route refused the set with ERR_OVERFLOW (R, l, k, x_S, F: a result is too "
      "large to represent) where the isolation proves the equilibria at +-pi/2 of both modes"),
     ("slider_crank-k_F_T_0-listed_twice", "slider_crank", "k = F = T = 0",
      dict(R=0.05820452561382781, l=0.7421395123546451, e=0.012083276266090529,
           m_1=0.8997259776924335, m_2=0.7143745648385331, m_3=1.9088306033542428, k=0.0,
           l_0=0.2259797648905268, x_S=0.21292322671805167, y_S=0.1131565796563505,
           b=23.770111105827453, F=0.0, T=0.0, g=4.996353942536421),
-     "the default route lists the equilibria at -pi/2 and at +pi/2 twice each (two "
+     "the default route listed the equilibria at -pi/2 and at +pi/2 twice each (two "
      "certified intervals that overlap, their angles 2.8e-15 rad apart), the isolation once"),
     ("slider_crank-S_on_the_slide-k_F_T_0-invented", "slider_crank",
      "y_S = e (S on the slide, within the slider's reach), k = F = T = 0",
@@ -543,11 +540,10 @@ FAILING_SETS = [
           m_1=0.40292747352990116, m_2=0.6703817973554558, m_3=1.1808783187119969, k=0.0,
           l_0=0.1007034380471252, x_S=0.34923045792466223, y_S=0.021443244770733373,
           b=91.75651922624141, F=0.0, T=0.0, g=8.28730911107916),
-     "the default route lists a certified equilibrium of the other assembly mode at "
+     "library bug of the reference: the isolation refuses the set (ERR_CAPACITY); the "
+     "default route once listed a certified equilibrium of the other assembly mode at "
      "-1.22837 rad, in [-1.94130, -0.51544] (where the declared mode's spring has zero "
-     "length; the reference's G there is 0.242 N m, relative residual 0.22), whose interval "
-     "holds the other mode's zero at -pi/2 it lists as well; it lists +pi/2 twice; and the "
-     "isolation refuses the set (ERR_CAPACITY)"),
+     "length; the reference's G there is 0.242 N m), and +pi/2 twice"),
     ("slider_crank-S_on_the_slide-near", "slider_crank",
      "y_S = e (S on the slide, 1.04e-5 m out of the slider's reach)",
      dict(R=0.1676501621001648, l=0.1873684665572676, e=0.020038259222681234,
@@ -572,12 +568,38 @@ def test_the_pinned_examples_are_the_libraries_examples():
 
 
 @pytest.mark.parametrize("name, label, values", [
-    pytest.param(name, label, values, id=ident, marks=pytest.mark.xfail(
-        strict=True, reason=f"{reason}: {name}.Params(**{values!r})"))
+    pytest.param(name, label, values, id=ident, marks=[pytest.mark.xfail(
+        strict=True, reason=f"{reason}: {name}.Params(**{values!r})")]
+        if reason.startswith(REFERENCE_REFUSES) else [])
     for ident, name, label, values, reason in FAILING_SETS])
-def test_pinned_sets_where_the_default_route_disagrees(name, label, values):
+def test_pinned_sets_where_the_default_route_disagreed(name, label, values):
+    """Each set where the default route once disagreed with the isolation now agrees with it;
+    where the isolation itself cannot answer, a strict xfail (see the next test)."""
     failure = _failure(name, label, values)
     assert failure is None, failure
+
+
+@pytest.mark.parametrize("ident, name, values", [
+    (ident, name, values) for ident, name, _, values, reason in FAILING_SETS
+    if reason.startswith(REFERENCE_REFUSES)])
+def test_where_the_isolation_refuses_the_default_route_invents_nothing(ident, name, values):
+    """Where the reference route returns ERR_CAPACITY (the spring through zero length on the
+    slide), every equilibrium the default route lists is certified and is a zero of the
+    independent reference's G (tests/reference_mechanisms.py), which changes sign across its
+    interval on its assembly mode."""
+    try:
+        import reference_mechanisms as rm
+    except ImportError:  # pytest's importlib mode
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import reference_mechanisms as rm
+    auto = analyze(_lib(name).Params(**values), "auto")
+    reference = rm.REFERENCES[name]
+    assert _equilibria(auto)
+    for r in _equilibria(auto):
+        assert r.certified, (ident, r)
+        mode = reference.MODES[EQUILIBRIUM_KINDS[r.kind]]
+        ends = [reference.generalized_force(values, t, mode) for t in (r.theta_lo, r.theta_hi)]
+        assert ends[0] * ends[1] <= 0, (ident, r, ends)
 
 
 def test_the_isolation_is_right_where_the_default_route_drops_equilibria():
