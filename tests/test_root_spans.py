@@ -21,7 +21,7 @@ from test_runtime_roots import RUNTIME_CDEF, RUNTIME_SRC, TEMPLATES, _build
 
 CDEF = RUNTIME_CDEF.replace("CODEGEN_ROOTS_ERR_DEGREE = 4",
                             "CODEGEN_ROOTS_ERR_DEGREE = 4, CODEGEN_ROOTS_UNPROVEN = 5") + """
-typedef struct codegen_root_span { double lo, hi; double theta; double free_lo, free_hi; int simple; } codegen_root_span;
+typedef struct codegen_root_span { double lo, hi; double theta; double free_lo, free_hi, reach_lo, reach_hi; int simple; } codegen_root_span;
 codegen_roots_status codegen_poly_root_spans(const double *sigma, const double *bound, int degree,
                                              codegen_root_span *spans, int *n_spans,
                                              double *work);

@@ -71,8 +71,12 @@ codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *
 typedef struct codegen_root_span {
     codegen_real lo, hi;
     codegen_real theta;  /* the simple root's approximation (where simple), in [lo, hi] */
-    codegen_real free_lo, free_hi; /* where simple: a wider interval [rad] holding no other
-                            root of any polynomial within the bounds (else lo, hi) */
+    codegen_real free_lo, free_hi; /* around [lo, hi], within the gaps to the next spans;
+                            where simple, no other root of any polynomial within the bounds
+                            lies in it */
+    codegen_real reach_lo, reach_hi; /* around [lo, hi], far enough out that G's signs at
+                            its ends are decided next to a simple zero of G in the span
+                            (~4e-7 rad in double); it may meet other spans */
     int simple;          /* 1: exactly one root lies in [lo, hi], real and simple; 0: any
                             number, none included (a cluster, or a complex pair near the axis) */
 } codegen_root_span;

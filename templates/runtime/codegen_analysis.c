@@ -22,6 +22,14 @@
 /* How far Newton may move a root the branches call genuine [rad]: the polynomial's roots are
  * far more accurate than this, and the closest distinct roots (Table 2's pairs) farther. */
 #define POLISH_RADIUS CODEGEN_R(1e-3)
+/* Roots of different kinds this close are one (a root of two branches at once, kept as the
+ * equilibrium) in double; in float MULTIPLE_ROOT_SPREAD is ~3e-3 rad, and only roots of one
+ * kind merge. */
+#ifdef CODEGEN_FLOAT
+#define MERGE_ACROSS_KINDS 0
+#else
+#define MERGE_ACROSS_KINDS 1
+#endif
 /* |G| within this many rounding units of the size of its terms is zero to working precision */
 #define GENUINE_RESIDUAL (CODEGEN_R(32.0) * CODEGEN_EPSILON)
 /* Angles this close to -pi [rad] are pi (see wrap): ~1e-10 rad in double, invisible in any
@@ -539,7 +547,8 @@ static int split_pair(const codegen_equilibrium *a, const codegen_equilibrium *b
          * one (G stays monotone over both); apart, two. */
         return a->kind == b->kind && meet(a->theta_lo, a->theta_hi, b->theta_lo, b->theta_hi);
     }
-    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD && a->kind == b->kind;
+    return angle_between(a->theta, b->theta) <= MULTIPLE_ROOT_SPREAD
+        && (MERGE_ACROSS_KINDS || a->kind == b->kind);
 }
 
 /* Merge split pairs among neighbours (sorted input), the first and the last included: the
@@ -640,15 +649,19 @@ static int span_zeros(const call *c, unsigned mode, const codegen_root_span *s,
 
 static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change);
+static int already_proven(const result_view *work, codegen_root_kind kind, codegen_iv at);
+static int extraneous_listed(const codegen_model *model, const result_view *work, codegen_real theta);
 
-/* Every zero of G on one mode in a span, by the certified isolation, into work: a span that
- * holds theta = pi is searched from below -pi, and its zeros are reported in (-pi, pi]. */
+/* Every zero of G on one mode within a span's reach (which holds the span, and may hold zeros
+ * of the spans beside it, listed once: see already_proven and merge_split_roots), by the
+ * certified isolation, into work: a reach that holds theta = pi is searched from below -pi,
+ * and its zeros are reported in (-pi, pi]. */
 static int isolate_span(const call *c, unsigned mode, const codegen_root_span *s, void *workspace,
                         const result_view *work)
 {
     const codegen_real pi = CODEGEN_R(3.14159265358979323846), two_pi = CODEGEN_R(2.0) * pi;
-    const codegen_real shift = s->hi > pi ? two_pi : 0;
-    return isolate_mode(c, mode, s->lo - shift, s->hi - shift, -pi, 0, workspace, work);
+    const codegen_real shift = s->reach_hi > pi ? two_pi : 0;
+    return isolate_mode(c, mode, s->reach_lo - shift, s->reach_hi - shift, -pi, 0, workspace, work);
 }
 
 /* A proven zero of the declared mode moved to theta = 0 or pi where its interval holds that
@@ -659,13 +672,19 @@ static int exact_angle(const call *c, codegen_equilibrium *e)
 {
     const codegen_real pi = CODEGEN_R(3.14159265358979323846);
     const codegen_model *model = c->model;
-    const codegen_real hi = e->theta_hi, lo = e->theta_lo;
-    const codegen_real candidate = lo <= 0 && hi >= 0 ? 0 : lo <= pi && hi >= pi ? pi : e->theta;
-    codegen_real *at = c->at_next, scale;
-    codegen_equilibrium moved = *e;
+    codegen_real *at = c->at_next, scale, candidate;
+    codegen_equilibrium moved;
+    if (e->theta <= -pi + PI_SNAP) { /* pi, where (-pi, pi] puts it (see wrap) */
+        e->theta += CODEGEN_R(2.0) * pi;
+        e->theta_lo += CODEGEN_R(2.0) * pi;
+        e->theta_hi += CODEGEN_R(2.0) * pi;
+    }
+    candidate = e->theta_lo <= 0 && e->theta_hi >= 0 ? 0
+              : e->theta_lo <= pi && e->theta_hi >= pi ? pi : e->theta;
     if (candidate == e->theta || e->kind != CODEGEN_EQUILIBRIUM || !e->certified) {
         return CODEGEN_OK;
     }
+    moved = *e;
     state_at(c, candidate, at);
     if (linearisation_of(model, at) != CODEGEN_OK
         || residual_scale(model, at, candidate, at[model->state.k], &scale) != CODEGEN_OK
@@ -686,8 +705,13 @@ static int add_span_zero(const call *c, unsigned mode, const codegen_root_span *
     const codegen_real pi = CODEGEN_R(3.14159265358979323846), two_pi = CODEGEN_R(2.0) * pi;
     const codegen_real width = s->hi - s->lo;
     codegen_equilibrium *e = &work->roots[*work->n_roots];
+    const codegen_real shift_span = s->hi > pi ? two_pi : 0;
     codegen_real theta;
     int status;
+    if (already_proven(work, mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY,
+                       codegen_iv_make(s->lo - shift_span, s->hi - shift_span))) {
+        return CODEGEN_OK; /* proven by the isolation within a neighbour's reach */
+    }
     if (*work->n_roots == model->max_roots) {
         return CODEGEN_ERR_CAPACITY;
     }
@@ -741,8 +765,8 @@ static int add_span_extraneous(const call *c, const codegen_root_span *s, unsign
         }
         return CODEGEN_OK;
     }
-    if (*work->n_roots == model->max_roots) {
-        return CODEGEN_ERR_CAPACITY;
+    if (extraneous_listed(model, work, wrap(theta))) {
+        return CODEGEN_OK;
     }
     if (model->equilibrium_branches != NULL) {
         theta = refine_on_branch(c, theta, branch, s->hi - s->lo);
@@ -781,6 +805,9 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     status = check_state(model, at, &assembled);
     if (status == CODEGEN_ERR_SINGULAR_STATE) { /* a limit position, a length through 0 */
         status = CODEGEN_OK;
+        if (*work->n_singular < model->max_roots) {
+            work->singular_theta[(*work->n_singular)++] = wrap(s->theta);
+        }
         for (k = 0u; k < (unsigned)model->n_modes && status == CODEGEN_OK; ++k) {
             status = isolate_span(c, k, s, workspace, work);
         }
@@ -816,6 +843,113 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     return status;
 }
 
+/* Whether theta lies in a span that is not simple. */
+static int in_cluster(const codegen_root_span *spans, int n, codegen_real theta)
+{
+    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
+    int i;
+    for (i = 0; i < n; ++i) {
+        if (!spans[i].simple && ((theta >= spans[i].lo && theta <= spans[i].hi)
+                                 || (theta + two_pi >= spans[i].lo && theta + two_pi <= spans[i].hi))) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether an extraneous root at theta would be merged with one listed (see split_pair), or
+ * the result is full: extraneous roots are listed for what they say of the polynomial, and
+ * never at the cost of a failure. */
+static int extraneous_listed(const codegen_model *model, const result_view *work, codegen_real theta)
+{
+    int i;
+    for (i = 0; i < *work->n_roots; ++i) {
+        if ((MERGE_ACROSS_KINDS || work->roots[i].kind == CODEGEN_EXTRANEOUS)
+            && angle_between(work->roots[i].theta, theta) <= MULTIPLE_ROOT_SPREAD) {
+            return 1;
+        }
+    }
+    return *work->n_roots == model->max_roots;
+}
+
+/* The roots of a negative length in a span that is not simple: each branch with a negative
+ * length that changes sign across its free interval has one there (its partner root beside an
+ * equilibrium, closer than the root finder resolves, is found so). Values in working
+ * precision: an extraneous root is no equilibrium, and proves nothing. */
+static int list_cluster_lengths(const call *c, const codegen_root_span *s, const result_view *work)
+{
+    const codegen_model *model = c->model;
+    unsigned j;
+    for (j = 1u; j < (unsigned)model->n_branches && model->equilibrium_branches != NULL; ++j) {
+        codegen_real g_lo, g_hi, root;
+        codegen_equilibrium *e = &work->roots[*work->n_roots];
+        int status;
+        if ((j & model->length_branch_bits) == 0u || !branch_value(c, s->free_lo, j, &g_lo)
+            || !branch_value(c, s->free_hi, j, &g_hi) || (g_lo < 0) == (g_hi < 0)) {
+            continue;
+        }
+        root = wrap(solve_on_branch(c, j, s->free_lo, s->free_hi, g_lo, g_hi));
+        if (extraneous_listed(model, work, root)) {
+            continue;
+        }
+        status = linearise(c, 0u, root, e);
+        if (status == CODEGEN_OK) {
+            e->kind = CODEGEN_EXTRANEOUS;
+            e->genuine = e->certified = 0;
+            e->theta_lo = e->theta_hi = e->theta;
+            status = vibrate(e);
+        }
+        if (status == CODEGEN_OK) {
+            ++*work->n_roots;
+        } else if (status != CODEGEN_ERR_SINGULAR_STATE) {
+            return status;
+        }
+    }
+    return CODEGEN_OK;
+}
+
+/* The roots of the polynomial in spans that are not simple, as the root finder places them
+ * and study_root classifies them, where they are no equilibrium: extraneous, where the
+ * mechanism cannot be assembled, or singular (the equilibria there are the isolation's);
+ * and the roots of a negative length there that the finder merged with a neighbour. */
+static int list_cluster_roots(const call *c, void *workspace, const result_view *work,
+                              const codegen_root_span *spans, int n)
+{
+    const codegen_model *model = c->model;
+    codegen_real *theta = (codegen_real *)field(workspace, model->workspace.theta);
+    int i, count, status;
+    if ((int)codegen_poly_real_roots_work(work->sigma, model->degree, theta, &count,
+                                          (codegen_real *)field(workspace, model->workspace.roots))
+        != CODEGEN_OK) {
+        count = 0; /* (every zero of G is accounted for already) */
+    }
+    for (i = 0, status = CODEGEN_OK; i < n && status == CODEGEN_OK; ++i) {
+        if (!spans[i].simple) {
+            status = list_cluster_lengths(c, &spans[i], work);
+        }
+    }
+    for (i = 0; i < count && status == CODEGEN_OK; ++i) {
+        int assembled;
+        codegen_equilibrium *e = &work->roots[*work->n_roots];
+        if (!in_cluster(spans, n, theta[i]) || *work->n_roots == model->max_roots) {
+            continue;
+        }
+        status = study_root(c, theta[i], e, &assembled);
+        if (status == CODEGEN_ERR_SINGULAR_STATE || (status == CODEGEN_OK && !assembled)) {
+            int *listed = status == CODEGEN_OK ? work->n_unassembled : work->n_singular;
+            codegen_real *at = status == CODEGEN_OK ? work->unassembled_theta : work->singular_theta;
+            if (*listed < model->max_roots) {
+                at[(*listed)++] = wrap(theta[i]);
+            }
+            status = CODEGEN_OK;
+        } else if (status == CODEGEN_OK && e->kind == CODEGEN_EXTRANEOUS
+                   && !extraneous_listed(model, work, e->theta)) {
+            ++*work->n_roots;
+        }
+    }
+    return status;
+}
+
 /* The polynomial route into *work: sigma with a bound on each coefficient's error, every
  * real root of every polynomial within those bounds enclosed in spans (codegen_roots.c), and
  * each span decided by enclosures of G (study_simple_span), or searched by the certified
@@ -830,7 +964,7 @@ ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_v
     const codegen_workspace_layout *ws = &model->workspace;
     codegen_real *bound = (codegen_real *)field(workspace, ws->sigma_bound);
     codegen_root_span *spans = (codegen_root_span *)field(workspace, ws->spans);
-    int i, n, status;
+    int i, n, clusters, status;
     *proven = 0;
     clear(model, work);
     status = model->sigma(c->enclosure.params, work->sigma, bound, field(workspace, ws->sigma_values),
@@ -844,7 +978,7 @@ ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_v
         return status;
     }
     *proven = 1;
-    for (i = 0; i < n && status == CODEGEN_OK; ++i) {
+    for (i = 0, clusters = 0; i < n && status == CODEGEN_OK; ++i) {
         unsigned mode;
         if (spans[i].simple) {
             status = study_simple_span(c, &spans[i], workspace, work);
@@ -853,6 +987,10 @@ ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_v
         for (mode = 0u; mode < (unsigned)model->n_modes && status == CODEGEN_OK; ++mode) {
             status = isolate_span(c, mode, &spans[i], workspace, work);
         }
+        ++clusters;
+    }
+    if (status == CODEGEN_OK && clusters > 0) {
+        status = list_cluster_roots(c, workspace, work, spans, n);
     }
     for (i = 0; i < *work->n_roots && status == CODEGEN_OK; ++i) {
         status = exact_angle(c, &work->roots[i]);

@@ -853,6 +853,30 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
  * few ulps (the libms the library supports are within one or two). */
 #define SPAN_WIDEN (CODEGEN_R(16.0) * CODEGEN_EPSILON)
 
+/* How far [rad, relative to |theta| + 1] a span that is not simple reaches out on each side
+ * for the isolation that searches it: a zero of G within a span of rounding width (a root of
+ * the polynomial that is double because two branches vanish there, as at theta = pi where a
+ * force balances gravity) is proven by G's signs this far from it. */
+#define SPAN_REACH (CODEGEN_R(16.0) * CODEGEN_SQRT_EPSILON)
+
+static codegen_real span_reach_lo(const codegen_root_span *s)
+{
+    return s->simple ? s->lo : s->lo - SPAN_REACH * (codegen_fabs(s->lo) + 1);
+}
+
+static codegen_real span_reach_hi(const codegen_root_span *s)
+{
+    return s->simple ? s->hi : s->hi + SPAN_REACH * (codegen_fabs(s->hi) + 1);
+}
+
+/* b (moved by shift) joined to a: one span, not simple. */
+static void join_spans(codegen_root_span *a, const codegen_root_span *b, codegen_real shift)
+{
+    a->lo = codegen_fmin(a->lo, b->lo + shift);
+    a->hi = codegen_fmax(a->hi, b->hi + shift);
+    a->simple = 0;
+}
+
 /* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) 2 atan(1/u),
  * in [-pi, pi] (u -> 0 from below is -pi: a span's end, not pi). */
 static codegen_real span_theta(codegen_real x, int reversed)
@@ -1108,33 +1132,43 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
         }
         spans[j + 1] = t;
     }
-    n = 0;
-    for (int i = 0; i < count; ++i) {
-        if (n > 0 && spans[i].lo <= spans[n - 1].hi) {
-            spans[n - 1].hi = codegen_fmax(spans[n - 1].hi, spans[i].hi);
-            spans[n - 1].simple = 0;
-        } else {
-            spans[n++] = spans[i];
+    /* Spans whose reaches meet are one (not simple); a span that is not simple reaches out by
+     * SPAN_REACH, so that the isolation of its free interval meets no other span. */
+    n = count;
+    for (int merged = 1; merged && n > 0;) {
+        merged = 0;
+        for (int i = 0; i + 1 < n && !merged; ++i) {
+            merged = span_reach_hi(&spans[i]) >= span_reach_lo(&spans[i + 1]);
+            if (merged) {
+                join_spans(&spans[i], &spans[i + 1], 0);
+                for (int j = i + 2; j < n; ++j) {
+                    spans[j - 1] = spans[j];
+                }
+                --n;
+            }
+        }
+        if (!merged && n > 1 && span_reach_lo(&spans[0]) + two_pi <= span_reach_hi(&spans[n - 1])) {
+            join_spans(&spans[n - 1], &spans[0], two_pi); /* across pi */
+            for (int j = 1; j < n; ++j) {
+                spans[j - 1] = spans[j];
+            }
+            --n;
+            merged = 1;
         }
     }
-    while (n > 1 && spans[0].lo + two_pi <= spans[n - 1].hi) {
-        spans[n - 1].hi = codegen_fmax(spans[n - 1].hi, spans[0].hi + two_pi);
-        spans[n - 1].simple = 0;
-        for (int i = 1; i < n; ++i) {
-            spans[i - 1] = spans[i];
-        }
-        --n;
-    }
-    for (int i = 0; i < n; ++i) { /* each grown span within its neighbours' gaps */
+    for (int i = 0; i < n; ++i) { /* each grown simple span within its neighbours' gaps */
         const codegen_root_span *below = &spans[i > 0 ? i - 1 : n - 1], *above = &spans[i + 1 < n ? i + 1 : 0];
         codegen_root_span *sp = &spans[i];
         const codegen_real floor = n == 1 ? sp->hi - two_pi : i > 0 ? below->hi : below->hi - two_pi;
         const codegen_real ceiling = n == 1 ? sp->lo + two_pi : i + 1 < n ? above->lo : above->lo + two_pi;
-        sp->free_lo = codegen_fmax(sp->free_lo, CODEGEN_R(0.5) * (floor + sp->lo));
-        sp->free_hi = codegen_fmin(sp->free_hi, CODEGEN_R(0.5) * (sp->hi + ceiling));
+        sp->reach_lo = sp->lo - SPAN_REACH * (codegen_fabs(sp->lo) + 1);
+        sp->reach_hi = sp->hi + SPAN_REACH * (codegen_fabs(sp->hi) + 1);
         if (!sp->simple) {
-            sp->free_lo = sp->lo;
-            sp->free_hi = sp->hi;
+            sp->free_lo = sp->reach_lo;
+            sp->free_hi = sp->reach_hi;
+        } else {
+            sp->free_lo = codegen_fmax(sp->free_lo, CODEGEN_R(0.5) * (floor + sp->lo));
+            sp->free_hi = codegen_fmin(sp->free_hi, CODEGEN_R(0.5) * (sp->hi + ceiling));
         }
     }
     *n_spans = n;
