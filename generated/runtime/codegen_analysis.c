@@ -784,9 +784,8 @@ static int add_span_extraneous(const call *c, const codegen_root_span *s, unsign
         ++*work->n_roots;
     } else if (status == CODEGEN_ERR_SINGULAR_STATE && *work->n_singular < model->max_roots) {
         work->singular_theta[(*work->n_singular)++] = wrap(theta);
-        status = CODEGEN_OK;
     }
-    return status;
+    return CODEGEN_OK; /* (an extraneous root whose vibration overflows is not listed) */
 }
 
 /* A simple span: the one root of the polynomial in it is a zero of G on the mode whose
@@ -901,9 +900,7 @@ static int list_cluster_lengths(const call *c, const codegen_root_span *s, const
         }
         if (status == CODEGEN_OK) {
             ++*work->n_roots;
-        } else if (status != CODEGEN_ERR_SINGULAR_STATE) {
-            return status;
-        }
+        } /* else not listed: an extraneous root's vibration is no result to fail on */
     }
     return CODEGEN_OK;
 }
@@ -946,6 +943,7 @@ static int list_cluster_roots(const call *c, void *workspace, const result_view 
                    && !extraneous_listed(model, work, e->theta)) {
             ++*work->n_roots;
         }
+        status = CODEGEN_OK; /* a root that cannot be studied is not listed: no equilibrium */
     }
     return status;
 }
