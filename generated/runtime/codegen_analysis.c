@@ -1010,7 +1010,7 @@ static int analyze_polynomial(const call *c, void *workspace, const result_view 
     const codegen_model *model = c->model;
     const codegen_workspace_layout *ws = &model->workspace;
     codegen_real *theta = (codegen_real *)field(workspace, ws->theta);
-    int i, count, status;
+    int i, count = 0, status;
     clear(model, work);
     status = model->sigma(c->enclosure.params, work->sigma, NULL, field(workspace, ws->sigma_values),
                           NULL);
