@@ -938,7 +938,6 @@ static int list_cluster_roots(const call *c, void *workspace, const result_view 
             if (*listed < model->max_roots) {
                 at[(*listed)++] = wrap(theta[i]);
             }
-            status = CODEGEN_OK;
         } else if (status == CODEGEN_OK && e->kind == CODEGEN_EXTRANEOUS
                    && !extraneous_listed(model, work, e->theta)) {
             ++*work->n_roots;
