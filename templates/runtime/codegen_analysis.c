@@ -477,7 +477,7 @@ static int study_root(const call *c, codegen_real theta, codegen_equilibrium *e,
 {
     const codegen_model *model = c->model;
     int status, declared;
-    unsigned branch, mode = 0u;
+    unsigned branch;
     codegen_real *at = c->at_root, polished;
     theta = wrap(theta);
     state_at(c, theta, at);
@@ -509,9 +509,8 @@ static int study_root(const call *c, codegen_real theta, codegen_equilibrium *e,
         if (model->equilibrium_branches != NULL) {
             theta = wrap(refine_on_branch(c, theta, branch, BRANCH_RADIUS));
         }
-        if (model->mode_of_branch != NULL) {
-            mode = e->kind == CODEGEN_OTHER_ASSEMBLY ? model->mode_of_branch[branch] : 0u;
-        }
+        const unsigned mode = model->mode_of_branch != NULL && e->kind == CODEGEN_OTHER_ASSEMBLY
+                            ? model->mode_of_branch[branch] : 0u;
         status = linearise(c, mode, theta, e);
         if (status != CODEGEN_OK) {
             return status;
