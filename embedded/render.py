@@ -5,7 +5,9 @@ STACK_TARGET = {"double": 4096, "float": 2048}   # the issue's, for the whole an
 #: The entries the targets are for: the analysis in the caller's working memory (which the
 #: issue allows); the firmware measures these.
 ROUTES = ("analyze_work", "isolate_work")
-FLOAT_INSTRUCTIONS_TARGET = 150_000             # the float analysis of the example
+#: Instructions of the default analysis of the example (issue 29 sets them for Table 2, the
+#: paper's mechanism; every library is held to them here).
+INSTRUCTIONS_TARGET = {"double": 3_000_000, "float": 500_000}
 
 
 def _n(value) -> str:
@@ -51,14 +53,14 @@ def targets(report: dict) -> list[str]:
         over = f"{worst / limit:.1f}x over" if worst > limit else "met"
         measured = max(entry["measured"].get(r, {}).get("stack", 0) for r in ("analyze", "isolate"))
         instructions = entry["measured"].get("analyze", {}).get("instructions")
-        goal = (("met" if instructions <= FLOAT_INSTRUCTIONS_TARGET else
-                 f"{instructions / FLOAT_INSTRUCTIONS_TARGET:.0f}x over")
-                if build == "float" and instructions else "-")
+        budget = INSTRUCTIONS_TARGET[build]
+        goal = ("-" if not instructions else "met" if instructions <= budget
+                else f"{instructions / budget:.1f}x over")
         rows.append([f"`{lib}`", build, f"{_n(worst)}{'' if bounded else ' + recursion'} "
                      f"({route})", _n(limit), over, _n(measured), _n(instructions), goal])
     return _table(["mechanism", "build", "analysis stack in the caller's working memory, worst case [B]", "target [B]",
                    "stack target", "measured high-water [B]", "analyze [instructions]",
-                   "float < 150 k instructions"], rows)
+                   "instructions target (double < 3 M, float < 500 k)"], rows)
 
 
 def size_table(report: dict) -> list[str]:

@@ -146,11 +146,18 @@ def read_binary(elf: Path, graph: Graph) -> None:
     read_disassembly(tool("arm-none-eabi-objdump", "-d", "--no-show-raw-insn", str(elf)),
                       graph)
     by_address: dict[int, list[str]] = {}
+    absolute: set[str] = set()
     for line in tool("arm-none-eabi-nm", str(elf)).splitlines():
         parts = line.split()
         if len(parts) == 3 and parts[1] in "TtWw":
             address, _, name = parts
             by_address.setdefault(int(address, 16) & ~1, []).append(name)
+        elif len(parts) == 3 and parts[1] in "Aa":
+            absolute.add(parts[2])
+    # objdump names a branch target after the nearest symbol, and an absolute one (the linker
+    # script's STACK_SIZE = 0x40000) may be nearest to code at that address: not a call
+    for callees in graph.calls.values():
+        callees -= absolute
     for names in by_address.values():
         labelled = [name for name in names if name in graph.frames]
         for name in names:

@@ -841,14 +841,12 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     return status;
 }
 
-/* Whether theta lies in a span that is not simple. */
+/* Whether theta lies in a span that is not simple (on the circle: see meet). */
 static int in_cluster(const codegen_root_span *spans, int n, codegen_real theta)
 {
-    const codegen_real two_pi = CODEGEN_R(6.28318530717958647692);
     int i;
     for (i = 0; i < n; ++i) {
-        if (!spans[i].simple && ((theta >= spans[i].lo && theta <= spans[i].hi)
-                                 || (theta + two_pi >= spans[i].lo && theta + two_pi <= spans[i].hi))) {
+        if (!spans[i].simple && meet(theta, theta, spans[i].lo, spans[i].hi)) {
             return 1;
         }
     }

@@ -469,11 +469,19 @@ static int chart_roots(const codegen_real *c, int m, const int *ends_in, int *en
     return nc;
 }
 
-/* theta = 2 atan(1/u) in (-pi, pi]; u = 0 (tau = infinity) is pi. The two branches avoid the
- * cancellation of subtracting 2 pi. */
+/* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) 2 atan(1/u),
+ * in [-pi, pi] (u -> 0 from below is -pi: a span's end, not pi). */
+static codegen_real span_theta(codegen_real x, int reversed)
+{
+    return !reversed ? CODEGEN_R(2.0) * codegen_atan(x)
+         : x >= 0 ? CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, x)
+                  : -CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, -x);
+}
+
+/* theta = 2 atan(1/u) in (-pi, pi]; u = 0 (tau = infinity) is pi. */
 static codegen_real theta_of_u(codegen_real u)
 {
-    const codegen_real t = (u >= 0) ? CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, u) : -CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, -u);
+    const codegen_real t = span_theta(u, 1);
     return (t <= -CR_PI) ? CR_PI : t;
 }
 
@@ -875,15 +883,6 @@ static void join_spans(codegen_root_span *a, const codegen_root_span *b, codegen
     a->lo = codegen_fmin(a->lo, b->lo + shift);
     a->hi = codegen_fmax(a->hi, b->hi + shift);
     a->simple = 0;
-}
-
-/* theta of a chart's x: 2 atan(tau), or for the reversed chart (x = u = 1/tau) 2 atan(1/u),
- * in [-pi, pi] (u -> 0 from below is -pi: a span's end, not pi). */
-static codegen_real span_theta(codegen_real x, int reversed)
-{
-    return !reversed ? CODEGEN_R(2.0) * codegen_atan(x)
-         : x >= 0 ? CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, x)
-                  : -CODEGEN_R(2.0) * codegen_atan2((codegen_real)1, -x);
 }
 
 /* A real root's approximation x of f (degree n >= 1; |x| <= 1 in the caller's chart) polished
