@@ -160,6 +160,10 @@ class RootPolynomial:
                                for m, t in self.terms.items()}, self.n)
 
 
+class NotPolynomial(ValueError):
+    """G is not a polynomial in the roots and sin/cos of theta: no polynomial route."""
+
+
 def to_root_polynomial(expr: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...]) -> RootPolynomial:
     """A polynomial in cos(theta), sin(theta) and the root symbols, structured."""
     n = len(roots)
@@ -187,7 +191,7 @@ def to_root_polynomial(expr: sp.Expr, theta: sp.Symbol, roots: tuple[Root, ...])
             for _ in range(int(e.exp)):
                 result = result * base
             return result
-        raise ValueError(f"not a polynomial in the roots and sin/cos of {theta}: {e}")
+        raise NotPolynomial(f"not a polynomial in the roots and sin/cos of {theta}: {e}")
 
     return walk(expr)
 

@@ -7,7 +7,9 @@ equilibria of another assembly); flipping a length gives a negative length (extr
 When G is algebraic in cos(theta), sin(theta) after its roots, eliminating the roots
 (elimination.py) gives one polynomial in tau = tan(theta/2) whose real roots are the zeros
 of G on every branch; evaluating G on each branch tells them apart. When theta also
-stands alone in G (a torsion spring), no polynomial holds it: ``polynomial`` is None.
+stands alone in G (a torsion spring), or G is not a polynomial in its roots (a root in a
+denominator of another's radicand), no polynomial is derived: ``polynomial`` is None, the
+reason is in ``no_polynomial``, and the library analyses by the certified isolation of G.
 """
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .elimination import Polynomial, eliminate
+from .elimination import NotPolynomial, Polynomial, eliminate
 from .positions import Root
 
 
@@ -38,6 +40,7 @@ class Equilibrium:
     polynomial: Polynomial | None   # (45) generalised; None when G is transcendental
     radicands: tuple[sp.Expr, ...]  # of every root on the declared branch, roots written out
     radicand_scales: tuple[sp.Expr, ...]  # sum of |terms| of each radicand
+    no_polynomial: str = ""         # why ``polynomial`` is None (empty when it is derived)
 
     def branch(self, signs: tuple[int, ...]) -> Branch:
         return next(b for b in self.branches if b.signs == signs)
@@ -92,7 +95,7 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
         branches.append(Branch(signs, on_branch(residual, roots, signs),
                                sum((sp.Abs(on_branch(t, roots, signs)) for t in terms), sp.S.Zero)))
     declared = (1,) * len(roots)
-    polynomial = None
+    polynomial, no_polynomial = None, f"{theta} enters G other than through its sine and cosine"
     if is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
             is_algebraic(r.radicand, theta) for r in roots):
         numerator, denominators = common_numerator(terms)
@@ -100,12 +103,17 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
         # G is undefined where a denominator vanishes: its factors hold no equilibrium.
         spurious = tuple(f for f in denominators
                          if f.has(theta) and not f.free_symbols & root_symbols)
-        polynomial = eliminate(numerator, theta, roots, parameters, spurious)
+        try:
+            polynomial, no_polynomial = eliminate(numerator, theta, roots, parameters,
+                                                  spurious), ""
+        except NotPolynomial as refusal:
+            no_polynomial = str(refusal)
     return Equilibrium(
         residual=on_branch(residual, roots, declared),
         roots=roots, branches=tuple(branches), polynomial=polynomial,
         radicands=tuple(on_branch(r.radicand, roots, declared) for r in roots),
         radicand_scales=tuple(on_branch(_magnitude(r.radicand), roots, declared) for r in roots),
+        no_polynomial=no_polynomial,
     )
 
 

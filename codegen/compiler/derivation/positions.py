@@ -201,6 +201,7 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         known = {u: reduce_trig(v.subs(solved), theta) for u, v in known.items()} | solved
         angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
+    known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
     for name in names:
         s = sym[name]
@@ -232,6 +233,25 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
                                   for r in mechanism.requirements))
 
 
+def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) -> dict:
+    """The linear unknowns from the normal equations A^T A u = A^T b of the constraints, once
+    every angle is solved, where the elimination left one divided by a function of theta: a
+    collar's distance along a bar at angle theta, solved from one component, is 0/0 where
+    that component's coefficient vanishes; its projection on the bar is exact everywhere."""
+    if not linear or not any(sp.fraction(sp.together(known.get(u, u)))[1].has(theta)
+                             for u in linear):
+        return known
+    rows = [sp.expand(e.xreplace({v: x for v, x in known.items() if v not in linear}))
+            for e in eqs]
+    A = sp.Matrix([[row.coeff(u) for u in linear] for row in rows])
+    b = sp.Matrix([-row.xreplace({u: 0 for u in linear}) for row in rows])
+    normal = (A.T * A).applyfunc(lambda x: reduce_trig(x, theta))
+    if normal.free_symbols & set(linear) or reduce_trig(normal.det(), theta) == 0:
+        return known
+    solved = normal.LUsolve(A.T * b)
+    return known | {u: reduce_trig(sp.together(x), theta) for u, x in zip(linear, solved)}
+
+
 def _order_unit_pairs(unit_pairs, pairs, known):
     """Free pairs (some of C, S not determined by linear elimination), in order."""
     return [n for n in unit_pairs if any(v not in known for v in pairs[n])]
@@ -258,6 +278,11 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
     for v in (C, S):
         if v in known and not (known[v].free_symbols & free):
             return (sp.S.Zero, sp.S.One, known[v]) if v is S else (sp.S.One, sp.S.Zero, known[v])
+    for v, w in ((C, S), (S, C)):   # the elimination left one of the pair in terms of the other
+        if v in known and known[v].free_symbols & free == {w}:
+            line = sp.Poly(sp.expand(v - known[v]), C, S)
+            if line.total_degree() == 1:
+                return line.coeff_monomial(C), line.coeff_monomial(S), -line.coeff_monomial(1)
     for other in unit_pairs:
         if other == name or any(v not in known for v in pairs[other]):
             continue

@@ -267,7 +267,7 @@ class _Writer:
         if isinstance(expr, sp.Abs):  # sqrt(n s^2) written out: sqrt(n) |s|
             return out.apply("abs", self.write(expr.args[0]))
         raise ValueError(f"no interval rule for {type(expr).__name__} in {expr}: the certified "
-                         "isolation supports +, -, *, /, integer and half-integer powers, "
+                         "isolation supports +, -, *, /, integer powers and powers p/2^k, "
                          "sin, cos and |.|")
 
     def _product(self, parts):
@@ -285,8 +285,10 @@ class _Writer:
             return out.apply("div", one, self._power(base, -exp), flags=True)
         if exp.is_Integer:
             return out.power(self.write(base), int(exp))
-        if exp.is_Rational and exp.q == 2:
-            root = out.apply("sqrt", self.write(base), flags=True)
+        if exp.is_Rational and exp.q & (exp.q - 1) == 0:   # q = 2^k: k nested square roots
+            root = self.write(base)
+            for _ in range(exp.q.bit_length() - 1):
+                root = out.apply("sqrt", root, flags=True)
             return root if exp.p == 1 else out.power(root, int(exp.p))
         raise ValueError(f"no interval rule for the power {exp} in {base ** exp}")
 
