@@ -54,6 +54,16 @@ CASES = {
     "slider_crank_limited": Case("slider_crank_rod_spring", {"l": 0.12, "e": 0.05}),
     # A rod shorter than the crank: two assembled arcs, around 0 and 180 deg, four limits.
     "slider_crank_short_rod": Case("slider_crank_rod_spring", {"l": 0.09, "e": 0.0, "k": 200.0}),
+    # Issue 30: a pin sliding in a rotating slot (a length root in another's radicand: G is no
+    # polynomial in its roots, the library analyses by the isolation alone) ...
+    "whitworth": Case("whitworth"),
+    "whitworth_no_torque": Case("whitworth", {"T": 0.0, "k": 50.0}),
+    # ... and a collar on a bar held by a link from a ground pin (a dyad whose elimination
+    # leaves one of the link's cosine and sine in terms of the other).
+    "collar_on_link": Case("collar_on_link"),
+    "collar_on_link_torque": Case("collar_on_link", {"T": 3.0, "y_G": -0.35}),
+    # a pin G farther than the link reaches: the collar cannot be assembled on part of the range
+    "collar_on_link_far_pin": Case("collar_on_link", {"x_G": 0.3, "y_G": -0.45}),
 }
 
 

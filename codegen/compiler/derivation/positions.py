@@ -341,8 +341,11 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
             if None in values or not own(th, *values) > 0:
                 continue
             r = mpmath.sqrt(own(th, *values))
-            holds = {s: bool(tests) and all(t(th, s, *values, r) > 0 for t in tests)
-                     for s in (1, -1)}
+            try:
+                holds = {s: bool(tests) and all(t(th, s, *values, r) > 0 for t in tests)
+                         for s in (1, -1)}
+            except ZeroDivisionError:   # a coordinate the elimination divided for: 0/0 here
+                continue
             if holds[1] != holds[-1]:
                 votes.add(1 if holds[1] else -1)
     if len(votes) != 1:
