@@ -33,13 +33,28 @@ def tidy(expr: sp.Expr, step: Callable[[sp.Expr], sp.Expr] = sp.factor) -> sp.Ex
 
 def reduce_trig(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
     """A rational function of cos(theta), sin(theta) with sin^2 replaced by 1 - cos^2 in its
-    numerator and denominator (so each is at most linear in sin), then factored."""
+    numerator and denominator (so each is at most linear in sin), then factored up to
+    TIDY_LIMIT operations (beyond, a chain of dyads' nested expressions, factoring takes
+    minutes)."""
     c, s = sp.Dummy("c"), sp.Dummy("s")
     held = sp.together(expr.subs({sp.cos(theta): c, sp.sin(theta): s}))
     num, den = sp.fraction(held)
     unit = sp.Poly(s**2 + c**2 - 1, s)
+    factor = sp.factor if sp.count_ops(expr) <= TIDY_LIMIT else (lambda e: e)
 
     def reduced(part):
-        return sp.factor(sp.Poly(sp.expand(part), s).rem(unit).as_expr())
+        return factor(sp.Poly(sp.expand(part), s).rem(unit).as_expr())
 
     return (reduced(num) / reduced(den)).subs({c: sp.cos(theta), s: sp.sin(theta)})
+
+
+def expand_angle_sums(expr: sp.Expr, angles) -> sp.Expr:
+    """cos and sin of a sum that holds a coordinate (a second arm at phi + beta) written in
+    the coordinate's own cos and sin: the position analysis solves for those."""
+    angles = set(angles)
+
+    def compound(e) -> bool:
+        return (isinstance(e, (sp.sin, sp.cos)) and not e.args[0].is_Symbol
+                and bool(e.args[0].free_symbols & angles))
+
+    return expr.replace(compound, lambda e: sp.expand_trig(e)) if expr.has(*angles) else expr

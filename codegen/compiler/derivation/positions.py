@@ -18,13 +18,14 @@ one for which its mode conditions hold.
 """
 from __future__ import annotations
 
+import itertools
 import random
 from dataclasses import dataclass
 
 import sympy as sp
 
 from ..model import Mechanism
-from .algebra import reduce_trig
+from .algebra import expand_angle_sums, reduce_trig
 
 
 @dataclass(frozen=True)
@@ -51,6 +52,7 @@ class PositionSolution:
         """An expression of the coordinates as a function of theta and the root symbols:
         cos and sin of dependent angles from the closed form (never cos(atan2(..)))."""
         angles = {a.args[0] for a in self.trig}
+        expr = expand_angle_sums(expr, self.coords)
         for root in expr.atoms(sp.Pow):   # a distance: sin^2 + cos^2 = 1 for every angle
             if root.exp == sp.S.Half:
                 radicand = root.base
@@ -156,7 +158,8 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     names = [c.name for c in mechanism.coordinates]
     sym = dict(zip(names, coords))
     theta = sym[mechanism.independent]
-    eqs = [sp.expand(e) for e in constraints]
+    declared, names = names, sorted(names)   # the declaration's order never changes the result
+    eqs = [sp.expand(expand_angle_sums(e, coords)) for e in constraints]
     polar = {length: angle for length, angle in mechanism.polar_pairs}
     polar_angles = set(polar.values())
     linear: dict[str, sp.Symbol] = {}        # coordinate -> its linear unknown
@@ -183,27 +186,10 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         polar_symbols = {sym[n] for n in polar}
         if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
             raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
-    solution = sp.linsolve(eqs, unknowns) if unknowns else {()}
-    if not solution:
-        raise NotSolvable("the constraints have no solution for general parameters")
-    (values,) = solution
-    known = {u: v for u, v in zip(unknowns, values) if v != u}
-    roots: list[Root] = []
-    angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
-    for name in _order_unit_pairs(unit_pairs, pairs, known):
-        C, S = pairs[name]
-        line = _line_of(C, S, name, unit_pairs, pairs, known)
-        P, Q, W = _normalised(line, theta)
-        rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots)
-        norm = reduce_trig(P**2 + Q**2, theta)
-        roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name))
-        solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
-        known = {u: reduce_trig(v.subs(solved), theta) for u, v in known.items()} | solved
-        angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
+    known, roots, angles = _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
-    for name in names:
+    for name in declared:
         s = sym[name]
         if name == mechanism.independent:
             result.append(s)
@@ -252,9 +238,72 @@ def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) ->
     return known | {u: reduce_trig(sp.together(x), theta) for u, x in zip(linear, solved)}
 
 
-def _order_unit_pairs(unit_pairs, pairs, known):
+def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs):
+    """Every unit pair solved: (known values of the unknowns, roots, atan2 numerators).
+
+    The linear elimination keeps some pairs (its pivots) in terms of the others, the free
+    pairs; each free pair is then solved on a line (see _line_of), in the first order in
+    which each has one once the pairs before it are solved. A chain of dyads (a six-bar)
+    needs the pivots to be one pair of each dyad: the pairs are taken as pivots in every
+    order, sorted by name first (a single loop's first order is its only one), until every
+    free pair finds its line."""
+    refusal = None
+    for order in itertools.permutations(unit_pairs):
+        pivots_first = [v for name in order for v in pairs[name]]
+        unknowns = (list(linear.values()) + pivots_first
+                    + [v for name, p in pairs.items() if name not in unit_pairs for v in p])
+        solution = sp.linsolve(eqs, unknowns) if unknowns else {()}
+        if not solution:
+            raise NotSolvable("the constraints have no solution for general parameters")
+        (values,) = solution
+        known = {u: v for u, v in zip(unknowns, values) if v != u}
+        try:
+            return _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs)
+        except NoLine as no_line:
+            refusal = refusal or no_line
+    raise refusal
+
+
+def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
+    roots: list[Root] = []
+    angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
+    pending = _free_pairs(unit_pairs, pairs, known)
+    while pending:
+        for name in pending:
+            C, S = pairs[name]
+            line = _line_of(C, S, name, unit_pairs, pairs, known)
+            if line is not None:
+                break
+        else:
+            raise NoLine(f"no closed form for the angle{'s' if len(pending) > 1 else ''} "
+                         f"{', '.join(pending)}: each dyad (two links, or a link and a slide) "
+                         "must join two known joints; a loop of more unknowns (a class-III "
+                         "group) has none")
+        driving = [r.coordinate for r in roots if any(x.has(r.symbol) for x in line)]
+        if driving:
+            raise NotSolvable(
+                f"the angle {name} belongs to a dyad driven by the dyad of {driving[0]} (a "
+                "chain of dyads, as in a six-bar): not supported yet, its closed form grows "
+                "too large to derive in reasonable time")
+        P, Q, W = _normalised(line, theta)
+        rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
+        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots)
+        norm = reduce_trig(P**2 + Q**2, theta)
+        roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name))
+        solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
+        known = {u: reduce_trig(v.subs(solved), theta) for u, v in known.items()} | solved
+        angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
+        pending = _free_pairs(unit_pairs, pairs, known)
+    return known, roots, angles
+
+
+def _free_pairs(unit_pairs, pairs, known):
     """Free pairs (some of C, S not determined by linear elimination), in order."""
     return [n for n in unit_pairs if any(v not in known for v in pairs[n])]
+
+
+class NoLine(NotSolvable):
+    """A free pair meets no line: the pivots of the elimination were not one per dyad."""
 
 
 def _normalised(line, theta):
@@ -268,12 +317,22 @@ def _normalised(line, theta):
 
 def compact(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
     """The shorter of expr factored as it stands or after reducing sin^2 + cos^2 = 1: a
-    product form stays accurate near its zeros (a dyad's limit positions)."""
-    return min((sp.factor(expr), reduce_trig(expr, theta)), key=sp.count_ops)
+    product form stays accurate near its zeros (a dyad's limit positions). A large one (a
+    dyad driven by another's root: its radicand holds that root) is not factored: SymPy's
+    multivariate factorisation takes minutes on it."""
+    reduced = reduce_trig(expr, theta)
+    if sp.count_ops(expr) > COMPACT_LIMIT:
+        return reduced
+    return min((sp.factor(expr), reduced), key=sp.count_ops)
+
+
+#: Operations beyond which compact does not factor (the shipped dyads have under 100).
+COMPACT_LIMIT = 400
 
 
 def _line_of(C, S, name, unit_pairs, pairs, known):
-    """(P, Q, W) with P C + Q S = W, from the free pair's own solved half or a radical line."""
+    """(P, Q, W) with P C + Q S = W, from the free pair's own solved half or a radical line;
+    None where no line holds the pair yet."""
     free = {v for n in unit_pairs for v in pairs[n] if v not in known}
     for v in (C, S):
         if v in known and not (known[v].free_symbols & free):
@@ -301,7 +360,7 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
             continue
         P, Q = line.coeff_monomial(C), line.coeff_monomial(S)
         return tuple(sp.factor(x) for x in (P, Q, -line.coeff_monomial(1)))
-    raise NotSolvable(f"no line found for the angle {name}: not a dyad of the supported kinds")
+    return None
 
 
 def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots):
@@ -320,9 +379,12 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
     sign = sp.Symbol("sign")
     cs = {C: (P * W - sign * Q * rho) / norm, S: (Q * W + sign * P * rho) / norm}
     point = {**{u: v.subs(cs) for u, v in known.items()}, **cs}
-    conditions = [sp.sympify(c).subs(mechanism.freezer()).subs(to_unknowns).subs(point)
-                  for c in mechanism.assembly_modes]
-    conditions = [c for c in conditions if c.has(sign)]
+    coords = tuple(mechanism.freezer().values())
+    conditions = [expand_angle_sums(sp.sympify(c).subs(mechanism.freezer()), coords)
+                  .subs(to_unknowns).subs(point) for c in mechanism.assembly_modes]
+    # a condition on a dyad not solved yet (its unknowns still free) is for a later sign
+    decided = {theta, sign, rho, *(r.symbol for r in roots), *mechanism.symbols}
+    conditions = [c for c in conditions if c.has(sign) and c.free_symbols <= decided]
     example = mechanism.example()
     args = [theta, sign] + [r.symbol for r in roots] + [rho]
     radicands = [sp.lambdify([theta] + [r.symbol for r in roots[:i]], r.radicand.subs(example),

@@ -34,9 +34,25 @@ class Reduction:
     solution: PositionSolution  # q(theta) with its square roots, their kinds
     positions: sp.Matrix   # q(theta), (30), (31), (34), roots written out
     velocities: sp.Matrix  # S(theta) thetadot, (32), (35)
-    equation: sp.Expr      # the reduced equation of motion, (36), as projected
     e_in_roots: tuple[sp.Expr, ...]  # e0, e1, e2 of (36)-(39) in the root symbols
     static_terms: tuple[sp.Expr, ...]  # G's contributions in the root symbols, summing to G
+    free_motion: sp.Matrix  # Lagrange's equations without the multipliers' forces (frozen)
+    accels: tuple[sp.Symbol, ...]   # the state's symbols, for ``equation``
+    rates: tuple[sp.Symbol, ...]
+    coords: tuple[sp.Symbol, ...]
+
+    @cached_property
+    def equation(self) -> sp.Expr:
+        """The reduced equation of motion (36), as projected: S^T times Lagrange's equations
+        along the motion. Derived when asked (the paper's form is checked against it): its
+        second derivatives of the explicit positions are costly for a chain of dyads."""
+        S = self.positions.diff(self.theta)
+        onto_theta = {
+            **dict(zip(self.accels, S * self.theta_dd + S.diff(self.theta) * self.theta_d**2)),
+            **dict(zip(self.rates, S * self.theta_d)),
+            **dict(zip(self.coords, self.positions)),
+        }
+        return (S.T * self.free_motion.subs(onto_theta, simultaneous=True))[0]
 
     @cached_property
     def e(self) -> tuple[sp.Expr, ...]:
@@ -68,13 +84,7 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     solution = solve_positions(mechanism, state.coords, constraints)
     positions = solution.explicit(solution.positions)
     S = positions.diff(theta)
-    onto_theta = {
-        **dict(zip(state.accels, S * theta_dd + S.diff(theta) * theta_d**2)),
-        **dict(zip(state.rates, S * theta_d)),
-        **dict(zip(state.coords, positions)),
-    }
-    free_motion = dynamics.residual().subs({m: 0 for m in state.multipliers})
-    equation = (S.T * free_motion.subs(freezer).subs(onto_theta, simultaneous=True))[0]
+    free_motion = dynamics.residual().subs({m: 0 for m in state.multipliers}).subs(freezer)
 
     def along(expr: sp.Expr) -> sp.Expr:
         """A coordinate expression as a function of theta and the roots."""
@@ -108,6 +118,7 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     terms = tuple(slope(p) for p in contributions(mechanism))
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd, solution=solution,
-        positions=positions, velocities=S * theta_d, equation=equation,
-        e_in_roots=(e0, e1, e2), static_terms=terms,
+        positions=positions, velocities=S * theta_d,
+        e_in_roots=(e0, e1, e2), static_terms=terms, free_motion=free_motion,
+        accels=tuple(state.accels), rates=tuple(state.rates), coords=tuple(state.coords),
     )

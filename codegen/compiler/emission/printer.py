@@ -109,6 +109,7 @@ class PrintedBody:
     assignments: tuple[str, ...]              # C expression of out[i]
     operations: int
     program: Program | None = None            # double-double: run by the runtime's machine
+    unpack_errors: tuple[str, ...] = ()       # double-double: a bound on each input's error
 
 
 def _temporary_prefix(used: set[sp.Symbol]) -> str:
@@ -163,6 +164,9 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     used = set().union(*(sp.sympify(e).free_symbols for e in exprs),
                        *(d.free_symbols for _, d in program))
     prefix = _temporary_prefix(used)
+    computed: list[tuple[str, str]] = []
+    if function.arithmetic == "double-double":
+        exprs, program, computed = _parameter_functions(exprs, program, fields, clashes, used)
     # Subexpressions are shared across the definitions too, in plain and double-double
     # arithmetic alike (_calls_first puts the statements in dependency order): the
     # elimination's definitions repeat many products, and a double-double operation costs
@@ -186,7 +190,8 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     operations = (sum(sp.count_ops(e) for _, e in replacements)
                   + sum(sp.count_ops(e) for e in reduced))
     if function.arithmetic == "double-double":
-        return _double_double_body(unpack, _calls_first(replacements), reduced, int(operations))
+        return _double_double_body(unpack + computed, _calls_first(replacements), reduced,
+                                   int(operations), len(unpack))
     return PrintedBody(
         unpack=(),
         temporaries=_loaded_on_first_use([(n, src) for n, src in unpack if n != src],
@@ -245,12 +250,42 @@ def _loaded_on_first_use(unpack, replacements, printer) -> tuple[tuple[str, str]
     return tuple(statements + waiting.get(len(replacements), []))
 
 
-def _double_double_body(unpack, replacements, reduced, operations) -> PrintedBody:
-    """The inputs in v[0..], then the program's instructions; out[i] from its slot."""
+#: What libm's sin and cos may be off by (docs/method.md: two ulps), as an error bound.
+LIBM_ERROR = "(CODEGEN_R(2.0) * CODEGEN_EPSILON * codegen_fabs({value}) + CODEGEN_REAL_TRUE_MIN)"
+
+
+def _parameter_functions(exprs, program, fields, clashes, used):
+    """sin and cos of a parameter (a bracket's angle) as inputs of a double-double program,
+    computed by libm in working precision (their error bound is libm's, see LIBM_ERROR):
+    (exprs, program, [(input name, C source)])."""
+    field_of = {clashes.get(local, local): field for local, field in fields}
+    atoms = sorted({a for e in [*exprs, *(d for _, d in program)]
+                    for a in e.atoms(sp.sin, sp.cos)
+                    if a.args[0].is_Symbol and a.args[0].name in field_of},
+                   key=sp.default_sort_key)
+    taken = {x.name for x in used}
+    inputs = {}
+    for atom in atoms:
+        name = f"{type(atom).__name__}_{atom.args[0].name}"
+        while name in taken:
+            name += "_"
+        taken.add(name)
+        inputs[atom] = sp.Symbol(name, real=True)
+    computed = [(inputs[a].name, f"codegen_{type(a).__name__}(params->{field_of[a.args[0].name]})")
+                for a in atoms]
+    return ([e.xreplace(inputs) for e in exprs], [(s, d.xreplace(inputs)) for s, d in program],
+            computed)
+
+
+def _double_double_body(unpack, replacements, reduced, operations, exact) -> PrintedBody:
+    """The inputs in v[0..] (the first ``exact`` of them exact, the others libm's values),
+    then the program's instructions; out[i] from its slot."""
     program = assemble([n for n, _ in unpack], [(str(s), e) for s, e in replacements],
                        reduced)
     return PrintedBody(
         unpack=tuple((f"v[{i}]", f"codegen_dd_from({src})")
                      for i, (_, src) in enumerate(unpack)),
         temporaries=(), operations=operations, program=program,
-        assignments=tuple(f"codegen_dd_to_double(v[{slot}])" for slot in program.outputs))
+        assignments=tuple(f"codegen_dd_to_double(v[{slot}])" for slot in program.outputs),
+        unpack_errors=tuple("0" if i < exact else LIBM_ERROR.format(value=f"v[{i}].hi")
+                            for i in range(len(unpack))))
