@@ -69,7 +69,8 @@ def _derive(user: Mechanism, progress: Callable[[str], None]) -> Derivation:
                                  dynamics, freezer)                    # step 7, reduced
     progress("equilibrium polynomial")
     equilibrium = derive_equilibrium(reduction.static_terms, reduction.theta,   # step 8
-                                     reduction.solution.roots, mechanism.symbols)
+                                     reduction.solution.roots, mechanism.symbols,
+                                     reduction.solution.definitions)
     progress("linearisation")
     linearisation = derive_linearisation(reduction)                    # steps 9-10
     return Derivation(mechanism, state, freezer, kinematics, dynamics, reduction,

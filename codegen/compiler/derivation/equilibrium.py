@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .elimination import NotPolynomial, Polynomial, eliminate
-from .positions import Root
+from .positions import Definition, Root, write_out
 
 
 @dataclass(frozen=True)
@@ -50,13 +50,11 @@ class Equilibrium:
         return self.polynomial.explicit() if self.polynomial else ()
 
 
-def on_branch(expr: sp.Expr, roots: tuple[Root, ...], signs: tuple[int, ...]) -> sp.Expr:
-    """expr (in root symbols) with root i taken as signs[i] * sqrt(R_i), nested as needed."""
-    flip = {r.symbol: s * r.symbol for r, s in zip(roots, signs)}
-    result = expr.xreplace(flip)
-    for r in reversed(roots):
-        result = result.xreplace({r.symbol: sp.sqrt(r.radicand.xreplace(flip))})
-    return result
+def on_branch(expr: sp.Expr, roots: tuple[Root, ...], signs: tuple[int, ...],
+              definitions: tuple[Definition, ...] = ()) -> sp.Expr:
+    """expr (in root symbols) with root i taken as signs[i] * sqrt(R_i), nested as needed,
+    and every definition written out on that branch."""
+    return write_out(expr, roots, definitions, signs)
 
 
 def common_numerator(terms: tuple[sp.Expr, ...]) -> tuple[sp.Expr, tuple[sp.Expr, ...]]:
@@ -86,17 +84,25 @@ def is_algebraic(expr: sp.Expr, theta: sp.Symbol) -> bool:
 
 
 def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tuple[Root, ...],
-                       parameters: tuple[sp.Symbol, ...]) -> Equilibrium:
-    """``terms``: G's contributions in the root symbols."""
+                       parameters: tuple[sp.Symbol, ...],
+                       definitions: tuple[Definition, ...] = ()) -> Equilibrium:
+    """``terms``: G's contributions in the root symbols (and a chain's definitions)."""
     residual = sum(terms, sp.S.Zero)
     branches = []
     for j in range(2 ** len(roots)):  # branch j: root i negative where bit i of j is set
         signs = tuple(-1 if j >> i & 1 else 1 for i in range(len(roots)))
-        branches.append(Branch(signs, on_branch(residual, roots, signs),
-                               sum((sp.Abs(on_branch(t, roots, signs)) for t in terms), sp.S.Zero)))
+        # (Abs simplifies its argument by expanding it: minutes on a chain's written-out
+        # terms, which are left as they are)
+        branches.append(Branch(signs, on_branch(residual, roots, signs, definitions),
+                               sum((sp.Abs(on_branch(t, roots, signs, definitions),
+                                           evaluate=not definitions)
+                                    for t in terms), sp.S.Zero)))
     declared = (1,) * len(roots)
     polynomial, no_polynomial = None, f"{theta} enters G other than through its sine and cosine"
-    if is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
+    if definitions:
+        no_polynomial = ("a chain of dyads: the elimination of its nested assembly roots is "
+                         "not derived")
+    elif is_algebraic(residual.subs({r.symbol: 1 for r in roots}), theta) and all(
             is_algebraic(r.radicand, theta) for r in roots):
         numerator, denominators = common_numerator(terms)
         root_symbols = {r.symbol for r in roots}
@@ -109,10 +115,11 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
         except NotPolynomial as refusal:
             no_polynomial = str(refusal)
     return Equilibrium(
-        residual=on_branch(residual, roots, declared),
+        residual=on_branch(residual, roots, declared, definitions),
         roots=roots, branches=tuple(branches), polynomial=polynomial,
-        radicands=tuple(on_branch(r.radicand, roots, declared) for r in roots),
-        radicand_scales=tuple(on_branch(_magnitude(r.radicand), roots, declared) for r in roots),
+        radicands=tuple(on_branch(r.radicand, roots, declared, definitions) for r in roots),
+        radicand_scales=tuple(on_branch(_magnitude(r.radicand), roots, declared, definitions)
+                              for r in roots),
         no_polynomial=no_polynomial,
     )
 

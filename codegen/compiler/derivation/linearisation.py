@@ -67,7 +67,7 @@ def derive_linearisation(reduction: Reduction) -> Linearisation:
     roots = solution.roots
     e0, _, e2 = reduction.e_in_roots
     return Linearisation(tuple(
-        Mode(signs, *(on_branch(x, roots, signs) for x in (e0, e2, slope)))
+        Mode(signs, *(on_branch(x, roots, signs, solution.definitions) for x in (e0, e2, slope)))
         for signs in mode_signs(tuple(r.kind for r in roots))))
 
 

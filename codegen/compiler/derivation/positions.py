@@ -39,6 +39,36 @@ class Root:
 
 
 @dataclass(frozen=True)
+class Definition:
+    """A named intermediate value of a chain of dyads: the cosine or sine of an angle a later
+    dyad is driven by, kept a symbol so that the later dyad's closed form stays small."""
+
+    symbol: sp.Symbol
+    expr: sp.Expr           # in theta, the parameters and earlier roots' and values' symbols
+    after: int              # how many roots precede it (its expr uses those)
+
+
+def in_order(roots, definitions) -> list:
+    """Roots and definitions in the order each may use the ones before it."""
+    steps: list = []
+    for i, root in enumerate(roots):
+        steps += [d for d in definitions if d.after == i] + [root]
+    return steps + [d for d in definitions if d.after >= len(roots)]
+
+
+def write_out(expr, roots, definitions=(), signs=None):
+    """expr with every root symbol replaced by signs[i] sqrt(radicand) (+ without signs) and
+    every definition by its value, innermost last (nested as needed)."""
+    flip = {r.symbol: s * r.symbol for r, s in zip(roots, signs)} if signs else {}
+    result = expr.xreplace(flip)
+    for step in reversed(in_order(roots, definitions)):
+        value = (sp.sqrt(step.radicand.xreplace(flip)) if isinstance(step, Root)
+                 else step.expr.xreplace(flip))
+        result = result.xreplace({step.symbol: value})
+    return result
+
+
+@dataclass(frozen=True)
 class PositionSolution:
     theta: sp.Symbol
     coords: tuple[sp.Symbol, ...]
@@ -47,6 +77,7 @@ class PositionSolution:
     trig: dict                      # cos/sin of each dependent angle, with root symbols
     # the parameter sets the model allows (its requirements), where a sign is decided
     requirements: tuple[sp.Basic, ...] = ()
+    definitions: tuple[Definition, ...] = ()   # a chain of dyads' intermediate values
 
     def substitute(self, expr: sp.Expr) -> sp.Expr:
         """An expression of the coordinates as a function of theta and the root symbols:
@@ -89,16 +120,24 @@ class PositionSolution:
                 roots.append(known)
             expr = expr.xreplace({sp.sqrt(radicand): known.symbol / (square**2 * odd)})
         return PositionSolution(self.theta, self.coords, self.positions, tuple(roots),
-                                self.trig, self.requirements), expr
+                                self.trig, self.requirements, self.definitions), expr
 
     def _positive(self, expr: sp.Expr, roots) -> bool:
-        return _positive_on_samples(expr, self.theta, roots, self.requirements)
+        return _positive_on_samples(expr, self.theta, [*roots, *self.definitions],
+                                    self.requirements)
+
+    @property
+    def steps(self) -> list:
+        """The roots and definitions in order (see in_order)."""
+        return in_order(self.roots, self.definitions)
 
     def derivative(self, expr: sp.Expr) -> sp.Expr:
-        """d/dtheta of an expression in theta and root symbols: d rho/dtheta = R'/(2 rho)."""
+        """d/dtheta of an expression in theta and root symbols: d rho/dtheta = R'/(2 rho),
+        a definition's by the chain rule."""
         rates: dict[sp.Symbol, sp.Expr] = {}
-        for r in self.roots:
-            rates[r.symbol] = self._partial(r.radicand, rates) / (2 * r.symbol)
+        for step in self.steps:
+            rates[step.symbol] = (self._partial(step.radicand, rates) / (2 * step.symbol)
+                                  if isinstance(step, Root) else self._partial(step.expr, rates))
         return self._partial(expr, rates)
 
     def _partial(self, expr, rates):
@@ -114,10 +153,9 @@ class PositionSolution:
         return {r.symbol: sp.sqrt(r.radicand) for r in self.roots}
 
     def explicit(self, expr):
-        """expr with every root symbol replaced by its square root (nested as needed)."""
-        for r in reversed(self.roots):
-            expr = expr.xreplace({r.symbol: sp.sqrt(r.radicand)})
-        return expr
+        """expr with every root symbol replaced by its square root and every definition by
+        its value (nested as needed)."""
+        return write_out(expr, self.roots, self.definitions)
 
 
 def _positive_on_samples(expr, theta, roots, requirements=()) -> bool:
@@ -186,7 +224,8 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         polar_symbols = {sym[n] for n in polar}
         if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
             raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
-    known, roots, angles = _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs)
+    known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear, pairs,
+                                                      unit_pairs)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
     for name in declared:
@@ -216,7 +255,7 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         trig[sp.cos(sym[name])], trig[sp.sin(sym[name])] = x, y
     return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
                             tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
-                                  for r in mechanism.requirements))
+                                  for r in mechanism.requirements), tuple(definitions))
 
 
 def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) -> dict:
@@ -265,7 +304,12 @@ def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs):
 
 
 def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
+    """Each free pair on its line, in turn. Where pairs are still pending after one is solved
+    (a chain: the next dyad is driven by this one), its cosine and sine stay symbols,
+    Definitions, in the values that wait for the pending pairs: substituted, they would
+    multiply the size of every later dyad's closed form."""
     roots: list[Root] = []
+    definitions: list[Definition] = []
     angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
     pending = _free_pairs(unit_pairs, pairs, known)
     while pending:
@@ -280,21 +324,25 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
                          "must join two known joints; a loop of more unknowns (a class-III "
                          "group) has none")
         driving = [r.coordinate for r in roots if any(x.has(r.symbol) for x in line)]
-        if driving:
+        if driving:   # an assembly root inside a line: its closed form would not stay small
             raise NotSolvable(
-                f"the angle {name} belongs to a dyad driven by the dyad of {driving[0]} (a "
-                "chain of dyads, as in a six-bar): not supported yet, its closed form grows "
-                "too large to derive in reasonable time")
+                f"the angle {name} belongs to a dyad driven by the dyad of {driving[0]} in a "
+                "way not supported yet: its closed form grows too large to derive")
         P, Q, W = _normalised(line, theta)
         rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots)
+        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
+                               definitions)
         norm = reduce_trig(P**2 + Q**2, theta)
         roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
-        known = {u: reduce_trig(v.subs(solved), theta) for u, v in known.items()} | solved
+        later = {v for n in pending if n != name for v in pairs[n] if v not in known}
+        if later:
+            definitions += [Definition(v, value, len(roots)) for v, value in solved.items()]
+        known = {u: v if v.free_symbols & later else reduce_trig(v.subs(solved), theta)
+                 for u, v in known.items()} | solved
         angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
         pending = _free_pairs(unit_pairs, pairs, known)
-    return known, roots, angles
+    return known, roots, angles, definitions
 
 
 def _free_pairs(unit_pairs, pairs, known):
@@ -363,7 +411,8 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
     return None
 
 
-def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots):
+def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
+                   definitions=()):
     """+1 or -1: the sign of the root for which the model's assembly-mode conditions hold.
 
     A condition is an expression of the coordinates that is positive in the declared mode.
@@ -382,22 +431,25 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
     coords = tuple(mechanism.freezer().values())
     conditions = [expand_angle_sums(sp.sympify(c).subs(mechanism.freezer()), coords)
                   .subs(to_unknowns).subs(point) for c in mechanism.assembly_modes]
+    steps = in_order(roots, definitions)
     # a condition on a dyad not solved yet (its unknowns still free) is for a later sign
-    decided = {theta, sign, rho, *(r.symbol for r in roots), *mechanism.symbols}
+    decided = {theta, sign, rho, *(s.symbol for s in steps), *mechanism.symbols}
     conditions = [c for c in conditions if c.has(sign) and c.free_symbols <= decided]
     example = mechanism.example()
-    args = [theta, sign] + [r.symbol for r in roots] + [rho]
-    radicands = [sp.lambdify([theta] + [r.symbol for r in roots[:i]], r.radicand.subs(example),
-                             "mpmath") for i, r in enumerate(roots)]
-    own = sp.lambdify([theta] + [r.symbol for r in roots], (norm - W**2).subs(example), "mpmath")
+    names = [s.symbol for s in steps]
+    args = [theta, sign] + names + [rho]
+    earlier = [sp.lambdify([theta] + names[:i], (s.radicand if isinstance(s, Root) else s.expr)
+                           .subs(example), "mpmath") for i, s in enumerate(steps)]
+    own = sp.lambdify([theta] + names, (norm - W**2).subs(example), "mpmath")
     tests = [sp.lambdify(args, c.subs(example), "mpmath") for c in conditions]
     votes = set()
     with mpmath.workdps(30):
         for th in mpmath.linspace(-mpmath.pi, mpmath.pi, 61)[1:]:
             values = []
-            for rad in radicands:
-                values.append(rad(th, *values))
-                values[-1] = mpmath.sqrt(values[-1]) if values[-1] > 0 else None
+            for step, value in zip(steps, earlier):
+                values.append(value(th, *values))
+                if isinstance(step, Root):
+                    values[-1] = mpmath.sqrt(values[-1]) if values[-1] > 0 else None
                 if values[-1] is None:
                     break
             if None in values or not own(th, *values) > 0:
