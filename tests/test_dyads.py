@@ -129,7 +129,7 @@ def test_a_loop_of_more_unknown_angles_than_a_dyad_is_refused_by_name(tmp_path):
     model = tmp_path / "five_bar.py"
     model.write_text(FIVE_BAR)
     message = _one_line_refusal(_generate(model, tmp_path))
-    assert re.search(r"no closed form for the angles (chi|phi|psi), (chi|phi|psi)", message)
+    assert "no closed form for the angles chi, phi, psi" in message
 
 
 def _six_bar_positions():

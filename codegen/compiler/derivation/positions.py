@@ -319,8 +319,11 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
             if line is not None:
                 break
         else:
-            raise NoLine(f"no closed form for the angle{'s' if len(pending) > 1 else ''} "
-                         f"{', '.join(pending)}: each dyad (two links, or a link and a slide) "
+            free = {v for n in pending for v in pairs[n] if v not in known}
+            loop = [n for n in unit_pairs if n in pending
+                    or any(known[v].free_symbols & free for v in pairs[n])]
+            raise NoLine(f"no closed form for the angle{'s' if len(loop) > 1 else ''} "
+                         f"{', '.join(loop)}: each dyad (two links, or a link and a slide) "
                          "must join two known joints; a loop of more unknowns (a class-III "
                          "group) has none")
         driving = [r.coordinate for r in roots if any(x.has(r.symbol) for x in line)]
