@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..model import Mechanism
-from .algebra import expand_angle_sums, reduce_trig
+from .algebra import TIDY_LIMIT, expand_angle_sums, reduce_trig
 
 
 @dataclass(frozen=True)
@@ -368,17 +368,13 @@ def _normalised(line, theta):
 
 def compact(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
     """The shorter of expr factored as it stands or after reducing sin^2 + cos^2 = 1: a
-    product form stays accurate near its zeros (a dyad's limit positions). A large one (a
-    dyad driven by another's root: its radicand holds that root) is not factored: SymPy's
-    multivariate factorisation takes minutes on it."""
+    product form stays accurate near its zeros (a dyad's limit positions). One beyond
+    TIDY_LIMIT operations is not factored, as reduce_trig does not factor it: SymPy's
+    multivariate factorisation takes minutes on such radicands."""
     reduced = reduce_trig(expr, theta)
-    if sp.count_ops(expr) > COMPACT_LIMIT:
+    if sp.count_ops(expr) > TIDY_LIMIT:
         return reduced
     return min((sp.factor(expr), reduced), key=sp.count_ops)
-
-
-#: Operations beyond which compact does not factor (the shipped dyads have under 100).
-COMPACT_LIMIT = 400
 
 
 def _line_of(C, S, name, unit_pairs, pairs, known):

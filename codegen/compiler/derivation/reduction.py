@@ -33,24 +33,27 @@ class Reduction:
     theta_dd: sp.Symbol
     solution: PositionSolution  # q(theta) with its square roots, their kinds
     positions: sp.Matrix   # q(theta), (30), (31), (34), roots written out
-    velocities: sp.Matrix  # S(theta) thetadot, (32), (35)
+    slopes: sp.Matrix      # S(theta) = dq/dtheta
     e_in_roots: tuple[sp.Expr, ...]  # e0, e1, e2 of (36)-(39) in the root symbols
     static_terms: tuple[sp.Expr, ...]  # G's contributions in the root symbols, summing to G
     free_motion: sp.Matrix  # Lagrange's equations without the multipliers' forces (frozen)
-    accels: tuple[sp.Symbol, ...]   # the state's symbols, for ``equation``
-    rates: tuple[sp.Symbol, ...]
-    coords: tuple[sp.Symbol, ...]
+    state: StateSymbols     # the symbols ``equation`` replaces along the motion
+
+    @property
+    def velocities(self) -> sp.Matrix:
+        """S(theta) thetadot, (32), (35)."""
+        return self.slopes * self.theta_d
 
     @cached_property
     def equation(self) -> sp.Expr:
         """The reduced equation of motion (36), as projected: S^T times Lagrange's equations
         along the motion. Derived when asked (the paper's form is checked against it): its
         second derivatives of the explicit positions are costly for a chain of dyads."""
-        S = self.positions.diff(self.theta)
+        S, theta, theta_d = self.slopes, self.theta, self.theta_d
         onto_theta = {
-            **dict(zip(self.accels, S * self.theta_dd + S.diff(self.theta) * self.theta_d**2)),
-            **dict(zip(self.rates, S * self.theta_d)),
-            **dict(zip(self.coords, self.positions)),
+            **dict(zip(self.state.accels, S * self.theta_dd + S.diff(theta) * theta_d**2)),
+            **dict(zip(self.state.rates, S * theta_d)),
+            **dict(zip(self.state.coords, self.positions)),
         }
         return (S.T * self.free_motion.subs(onto_theta, simultaneous=True))[0]
 
@@ -118,7 +121,6 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     terms = tuple(slope(p) for p in contributions(mechanism))
     return Reduction(
         theta=theta, theta_d=theta_d, theta_dd=theta_dd, solution=solution,
-        positions=positions, velocities=S * theta_d,
-        e_in_roots=(e0, e1, e2), static_terms=terms, free_motion=free_motion,
-        accels=tuple(state.accels), rates=tuple(state.rates), coords=tuple(state.coords),
+        positions=positions, slopes=S, e_in_roots=(e0, e1, e2), static_terms=terms,
+        free_motion=free_motion, state=state,
     )
