@@ -12,6 +12,8 @@ For each case (a model file and its parameter values):
   mechanism the library reports an error;
 * the roots it labels "other assembly mode" are the reference's zeros of G with the modes
   negated;
+* the mode is the one the model declares at each case's values, not at the example's (a
+  slide inclined the other way);
 * the emission plan's expressions (what is printed to C) equal the reference's too: this
   checks the derivation even where the generator refuses to emit it.
 """
@@ -41,6 +43,10 @@ REPO = Path(__file__).resolve().parent.parent
 class Case:
     model: str                                      # tests/models/MODEL.py
     overrides: dict = field(default_factory=dict)   # changed from the model's example values
+    # The declared assembly mode is the other sign of the closed form at these values than at
+    # the example: the library's functions of one angle (the closed form as derived, mode 0)
+    # are then the other mode's, while the analysis names each mode as declared.
+    flipped: bool = False
 
 
 CASES = {
@@ -67,6 +73,10 @@ CASES = {
     # ... and a chain of dyads: a four-bar whose rocker drives a second four-bar (two nested
     # assembly modes; no polynomial: the isolation analyses it).
     "watt_six_bar": Case("watt_six_bar"),
+    # ... and "the slider below the crank pin" on a slide inclined either way: which sign of
+    # the rod's root is declared depends on the inclination's sign (decided for each set).
+    "inclined_slider_crank": Case("inclined_slider_crank"),
+    "inclined_slider_crank_down": Case("inclined_slider_crank", {"alpha": -1.0}, flipped=True),
 }
 
 
@@ -189,7 +199,7 @@ def test_other_mode_roots_are_the_other_modes_equilibria(case_name, builds, refe
 @pytest.mark.parametrize("case_name", library_cases())
 def test_G_M_B_match_the_reference_across_the_range(case_name, builds, references):
     lib = builds(CASES[case_name].model).library()
-    mechanism, params, reference, _ = references(case_name)
+    mechanism, params, reference, _ = references(case_name, other=CASES[case_name].flipped)
     p = lib.example_params(**CASES[case_name].overrides)
     mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}
     for theta in angles(reference):
@@ -211,7 +221,8 @@ def test_G_M_B_match_the_reference_across_the_range(case_name, builds, reference
                                        if case.model not in LIBRARY_ONLY])
 def test_plan_matches_the_reference(case_name, references):
     """The expressions printed to C (the plan) against the reference, in high precision."""
-    mechanism, params, reference, _ = references(case_name)
+    _, params, reference, _ = references(case_name, other=CASES[case_name].flipped)
+    mechanism, _, _, _ = references(case_name)
     plan = PlanValues(mechanism)
     mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}
     for theta in angles(reference):
@@ -239,3 +250,28 @@ def test_a_parameter_named_v_generates(builds):
     build = builds("pendulum_named_v")
     assert "Traceback" not in build.process.stderr
     assert build.process.returncode == 0, build.process.stderr[-2000:]
+
+
+def test_a_state_no_declared_mode_holds_in_is_reported_undecided(builds):
+    """A level slide (alpha = 0): "the slider below the crank pin" holds for both signs of the
+    rod's root or for neither, so no equilibrium is of a declared mode. Each is still proven,
+    and reported as such, never as the declared mode's or the other's; in batches too."""
+    from codegen.runtime.batch import UNDECIDED_MODE, analyze_table
+
+    lib = builds("inclined_slider_crank").library()
+    level = lib.example_params(alpha=0.0)
+    analysis = lib.analyze(level)
+    zeros = [r for r in analysis.roots if r.kind != "extraneous"]
+    assert zeros and all(r.kind == "mode undecided" and r.mode is None and r.certified
+                         and not r.genuine for r in zeros), analysis.roots
+    assert analysis.equilibria == ()
+    assert [r["mode"] for r in analysis.to_dict()["roots"] if r["kind"] != "extraneous"] == \
+        [None] * len(zeros)
+    tilted = lib.example_params(alpha=-1.0)
+    table = analyze_table(lib.params_array([level, tilted]), lib)
+    rows = table.roots[table.roots["kind"] != 2]
+    assert set(rows[rows["set"] == 0]["mode"]) == {UNDECIDED_MODE}
+    assert set(rows[rows["set"] == 1]["mode"]) == {0, 1}
+    assert [r.mode for r in lib.analyze(tilted).roots if r.kind != "extraneous"] == \
+        [0 if r.kind == "equilibrium" else 1
+         for r in lib.analyze(tilted).roots if r.kind != "extraneous"]

@@ -35,7 +35,7 @@ def _complex(z: complex, digits: int = 4) -> str:
 
 
 LABELS = {"equilibrium": "equilibrium", "other assembly mode": "other mode",
-          "extraneous": "extraneous"}
+          "extraneous": "extraneous", "mode undecided": "mode ?"}
 
 
 #: The table's legend for complex quantities and extraneous roots (docs/python.md has the
@@ -101,6 +101,8 @@ def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
     parts += [f"{count['other assembly mode']} of another assembly mode"] * bool(
         count["other assembly mode"])
     parts += [f"{count['extraneous']} extraneous (a negative length)"] * bool(count["extraneous"])
+    parts += [f"{count['mode undecided']} in no declared assembly mode"] * bool(
+        count["mode undecided"])
     parts += [f"{len(analysis.singular)} singular"] * bool(analysis.singular)
     parts += [f"{len(analysis.unassembled)} where it cannot be assembled"] * bool(
         analysis.unassembled)
@@ -128,7 +130,7 @@ def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
                 "is claimed")
         change = "; G changes sign across it: at least one equilibrium" if u.sign_change else ""
         notes.append(f"Undecided [{u.lo_deg + 0.0:.10f}, {u.hi_deg + 0.0:.10f}] deg "
-                     f"(mode {u.mode}): {what}{change}.")
+                     f"(mode {'undecided' if u.mode is None else u.mode}): {what}{change}.")
     notes.append("Angles in degrees, omega_n in rad/s, zeta dimensionless; M, B and K in SI "
                  "units of the coordinate." + (COMPLEX_NOTE if any(
                      r.omega_n.imag for r in analysis.roots) else ""))

@@ -44,7 +44,7 @@ from .library import Library, ParameterSet
 # The C enums' values, in order (templates/analysis.h.j2).
 STABILITY = ("stable", "marginal", "unstable")
 DAMPING = ("underdamped", "critical", "overdamped", "undamped", "none")
-KINDS = ("equilibrium", "other assembly mode", "extraneous")
+KINDS = ("equilibrium", "other assembly mode", "extraneous", "mode undecided")
 UNCERTAINTIES = ("cluster", "singular")
 METHODS = ("auto", "polynomial", "isolate")
 
@@ -67,7 +67,11 @@ class Equilibrium:
     theta_hi: float        #   one zero in it (G changes sign, G' keeps its sign) [rad]
     certified: bool        # proven to exist, in [theta_lo, theta_hi]
     genuine: bool          # an equilibrium of the declared mode (kind == "equilibrium")
-    kind: str              # one of KINDS
+    kind: str              # one of KINDS: "mode undecided" where the model's assembly-mode
+                           #   conditions do not place the state in a mode (checked for each
+                           #   parameter set: which sign of a root is declared can change)
+    mode: int | None       # its assembly mode as declared: 0 the declared one, bit i set where
+                           #   the i-th dyad is assembled the other way; None: undecided
     residual: float        # G(theta_E) [N m]
     relative_residual: float  # |G(theta_E)| over the size of its terms [1]
     M: float               # M_EQ, the inertia at theta_E [kg m^2]
@@ -106,7 +110,7 @@ class Uncertain:
     kind: str              # "cluster": G and G' within rounding of 0 (a fold, a pair too close
                            # to separate, or a near-double complex pair: none); "singular":
                            # G undefined or not smooth inside (a pole, a limit position)
-    mode: int              # the assembly mode it was found on (0: as declared)
+    mode: int | None       # the assembly mode at its middle, as Equilibrium.mode
     sign_change: bool      # G changes sign across it: an odd number of zeros if G is continuous
 
     @property
@@ -168,6 +172,7 @@ class Analysis:
             "sigma": list(self.sigma),
             "roots": [{
                 "theta_deg": r.theta_deg, "genuine": r.genuine, "kind": r.kind,
+                "mode": r.mode,
                 "certified": r.certified,
                 "theta_interval_deg": [r.theta_lo_deg, r.theta_hi_deg],
                 "residual": r.residual,
@@ -184,11 +189,17 @@ class Analysis:
         }
 
 
-def _equilibrium(e: Any) -> Equilibrium:
+def _mode(mode: int, library: Library) -> int | None:
+    """A mode number from C (N_MODES: undecided) as Python's (None: undecided)."""
+    return None if mode >= library.modes else int(mode)
+
+
+def _equilibrium(e: Any, library: Library) -> Equilibrium:
     scale = e.residual_scale
     return Equilibrium(
         theta=e.theta, theta_lo=e.theta_lo, theta_hi=e.theta_hi, certified=bool(e.certified),
-        genuine=bool(e.genuine), kind=KINDS[e.kind], residual=e.residual,
+        genuine=bool(e.genuine), kind=KINDS[e.kind], mode=_mode(e.mode, library),
+        residual=e.residual,
         relative_residual=abs(e.residual) / scale if scale else 0.0,
         M=e.M, B=e.B, K=e.K,
         omega_n=complex(e.omega_n[0], e.omega_n[1]), zeta=complex(e.zeta[0], e.zeta[1]),
@@ -200,10 +211,12 @@ def _equilibrium(e: Any) -> Equilibrium:
 
 def _from_c(params: ParameterSet, result: Any, method: str) -> Analysis:
     return Analysis(params, tuple(result.sigma) if method == "polynomial" else (),
-                    tuple(_equilibrium(result.roots[i]) for i in range(result.n_roots)),
+                    tuple(_equilibrium(result.roots[i], params.library)
+                          for i in range(result.n_roots)),
                     tuple(result.singular_theta[i] for i in range(result.n_singular)),
                     tuple(result.unassembled_theta[i] for i in range(result.n_unassembled)),
-                    tuple(Uncertain(u.lo, u.hi, UNCERTAINTIES[u.kind], int(u.mode),
+                    tuple(Uncertain(u.lo, u.hi, UNCERTAINTIES[u.kind],
+                                    _mode(u.mode, params.library),
                                     bool(u.sign_change))
                           for u in (result.uncertain[i] for i in range(result.n_uncertain))),
                     method)

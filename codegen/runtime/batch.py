@@ -23,10 +23,12 @@ from .library import Library
 #: analysis.KINDS, STABILITY and DAMPING; omega_n and zeta complex where K < 0.
 #: The stability and damping codes of a root that is no equilibrium (an extraneous root).
 NOT_CLASSIFIED = -1
+#: The mode of a root whose state the model's assembly-mode conditions place in no mode.
+UNDECIDED_MODE = -1
 
 ROOT_DTYPE = np.dtype([
     ("set", np.int64), ("theta", np.float64), ("theta_lo", np.float64),
-    ("theta_hi", np.float64), ("certified", np.bool_), ("kind", np.int8),
+    ("theta_hi", np.float64), ("certified", np.bool_), ("kind", np.int8), ("mode", np.int16),
     ("residual", np.float64), ("relative_residual", np.float64),
     ("M", np.float64), ("B", np.float64), ("K", np.float64),
     ("omega_n", np.complex128), ("zeta", np.complex128), ("eigenvalues", np.complex128, (2,)),
@@ -96,6 +98,7 @@ def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
     for name in ("stability", "damping"):   # an extraneous root is no equilibrium: no code
         rows[name] = np.where(extraneous, NOT_CLASSIFIED, found[name])
     rows["certified"] = found["certified"] != 0
+    rows["mode"] = np.where(found["mode"] < library.modes, found["mode"], UNDECIDED_MODE)
     scale = found["residual_scale"]
     with np.errstate(divide="ignore", invalid="ignore"):
         rows["relative_residual"] = np.where(scale != 0, np.abs(found["residual"]) / scale, 0.0)

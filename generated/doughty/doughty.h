@@ -29,10 +29,12 @@ extern "C" {
 #define DOUGHTY_MAX_ROOTS 12
 #define DOUGHTY_MAX_UNCERTAIN 16
 #define DOUGHTY_N_BRANCHES 2
+#define DOUGHTY_N_CONDITIONS 0
 #define DOUGHTY_N_CONSTRAINTS 4
 #define DOUGHTY_N_COORDS 5
 #define DOUGHTY_N_JACOBIAN 20
 #define DOUGHTY_N_MODES 1
+#define DOUGHTY_N_MODE_CONDITIONS 0
 #define DOUGHTY_N_PARAMS 11
 #define DOUGHTY_N_POINT_COORDS 6
 #define DOUGHTY_N_REDUCED 3
@@ -315,6 +317,7 @@ typedef codegen_uncertain doughty_interval;
 #define DOUGHTY_EQUILIBRIUM CODEGEN_EQUILIBRIUM
 #define DOUGHTY_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
 #define DOUGHTY_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define DOUGHTY_MODE_UNDECIDED CODEGEN_MODE_UNDECIDED
 #define DOUGHTY_CLUSTER CODEGEN_CLUSTER
 #define DOUGHTY_SINGULAR CODEGEN_SINGULAR
 
@@ -361,7 +364,7 @@ typedef struct doughty_workspace {
     codegen_iv enclosure_slots[DOUGHTY_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
-    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(9, DOUGHTY_N_BRANCHES, DOUGHTY_N_MODES)]; /* states and branch values at work */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(9, DOUGHTY_N_BRANCHES, DOUGHTY_N_MODES, DOUGHTY_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } doughty_workspace;
 /* doughty_analyze and doughty_isolate in the caller's working memory (NULL:
  * DOUGHTY_ERR_NULL_POINTER): the same results, bit for bit. */

@@ -8652,6 +8652,76 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codeg
     return FOUR_BAR_OK;
 }
 
+/* assembly_conditions without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 75. */
+void four_bar_assembly_conditions_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[4])
+{
+    (void)params;
+    (void)theta;
+    {
+        const codegen_real a_2 = params->a_2;
+        const codegen_real tmp4 = a_2*codegen_cos(theta);
+        const codegen_real tmp13 = codegen_sin(theta);
+        const codegen_real a_4 = params->a_4;
+        const codegen_real tmp0 = (a_4*a_4);
+        const codegen_real tmp1 = (a_2*a_2);
+        const codegen_real d = params->d;
+        const codegen_real tmp2 = (d*d);
+        const codegen_real a_3 = params->a_3;
+        const codegen_real tmp3 = (a_3*a_3);
+        const codegen_real tmp5 = 2*d*tmp4;
+        const codegen_real tmp6 = tmp1 + tmp2 - tmp3 - tmp5;
+        const codegen_real tmp7 = -tmp0 - tmp6;
+        const codegen_real tmp8 = d - tmp4;
+        const codegen_real tmp9 = 2*a_4;
+        const codegen_real tmp10 = tmp8*tmp9;
+        const codegen_real tmp11 = a_3*tmp9;
+        const codegen_real tmp12 = codegen_sqrt(-(-tmp0 + tmp11 + tmp6)*(-tmp0 + tmp1 - tmp11 + tmp2 - tmp3 - tmp5));
+        const codegen_real tmp14 = a_2*tmp13;
+        const codegen_real tmp15 = tmp14*tmp9;
+        const codegen_real tmp16 = tmp12*tmp15;
+        const codegen_real tmp17 = 4*tmp0;
+        const codegen_real tmp18 = 1/((tmp1*(tmp13*tmp13)*tmp17 + tmp17*(tmp8*tmp8)));
+        const codegen_real tmp19 = a_4*tmp18;
+        const codegen_real tmp20 = d - tmp4;
+        const codegen_real tmp21 = tmp14*(tmp19*(tmp10*tmp7 + tmp16) + tmp20);
+        const codegen_real tmp22 = tmp15*tmp7;
+        const codegen_real tmp23 = tmp10*tmp12;
+        const codegen_real tmp24 = tmp8*(a_4*tmp18*(-tmp22 + tmp23) - tmp14);
+        const codegen_real tmp25 = tmp14*(tmp19*(2*a_4*tmp7*tmp8 - tmp16) + tmp20);
+        const codegen_real tmp26 = tmp8*(a_4*tmp18*(-tmp22 - tmp23) - tmp14);
+        out[0] = tmp21 + tmp24;
+        out[1] = tmp25 + tmp26;
+        out[2] = codegen_fabs(tmp21) + codegen_fabs(tmp24);
+        out[3] = codegen_fabs(tmp25) + codegen_fabs(tmp26);
+    }
+}
+
+/* assembly_conditions: eq. -. */
+four_bar_status four_bar_assembly_conditions(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_MODE_CONDITIONS], codegen_real scales[FOUR_BAR_N_MODE_CONDITIONS])
+{
+    codegen_real out[4];
+    four_bar_status status;
+    if (values == NULL || scales == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    status = four_bar_check_params(params);
+    if (status != FOUR_BAR_OK) {
+        return status;
+    }
+    if (!isfinite(theta)) {
+        return FOUR_BAR_ERR_NONFINITE;
+    }
+    four_bar_assembly_conditions_kernel(params, theta, out);
+    if (!all_finite(out, 4)) {
+        return FOUR_BAR_ERR_SINGULAR_STATE;
+    }
+    copy_out(values, out + 0, 2);
+    copy_out(scales, out + 2, 2);
+    return FOUR_BAR_OK;
+}
+
 /* equilibrium_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 1314. */
@@ -12602,6 +12672,22 @@ four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_p
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = four_bar_mode_linearisation(&params[i], theta[i], &M[i * FOUR_BAR_N_MODES], &B[i * FOUR_BAR_N_MODES], &K[i * FOUR_BAR_N_MODES]);
+        if (first == FOUR_BAR_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+four_bar_status four_bar_assembly_conditions_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, four_bar_status *statuses)
+{
+    size_t i;
+    four_bar_status first = FOUR_BAR_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || values == NULL || scales == NULL) {
+        return FOUR_BAR_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = four_bar_assembly_conditions(&params[i], theta[i], &values[i * FOUR_BAR_N_MODE_CONDITIONS], &scales[i * FOUR_BAR_N_MODE_CONDITIONS]);
         if (first == FOUR_BAR_OK) {
             first = statuses[i];
         }

@@ -29,10 +29,12 @@ extern "C" {
 #define FOUR_BAR_MAX_ROOTS 28
 #define FOUR_BAR_MAX_UNCERTAIN 16
 #define FOUR_BAR_N_BRANCHES 4
+#define FOUR_BAR_N_CONDITIONS 1
 #define FOUR_BAR_N_CONSTRAINTS 2
 #define FOUR_BAR_N_COORDS 3
 #define FOUR_BAR_N_JACOBIAN 6
 #define FOUR_BAR_N_MODES 2
+#define FOUR_BAR_N_MODE_CONDITIONS 2
 #define FOUR_BAR_N_PARAMS 14
 #define FOUR_BAR_N_POINT_COORDS 4
 #define FOUR_BAR_N_REDUCED 3
@@ -237,6 +239,14 @@ four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real t
  */
 four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codegen_real theta, codegen_real M[FOUR_BAR_N_MODES], codegen_real B[FOUR_BAR_N_MODES], codegen_real K[FOUR_BAR_N_MODES]);
 
+/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set.
+ * in  theta: independent coordinate theta [rad]
+ * out values: [as declared]
+ * out scales: [as declared]
+ * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ */
+four_bar_status four_bar_assembly_conditions(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_MODE_CONDITIONS], codegen_real scales[FOUR_BAR_N_MODE_CONDITIONS]);
+
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
  * in  theta: equilibrium angle theta_E [rad]
  * out residual: G [N m]
@@ -272,6 +282,7 @@ four_bar_status four_bar_sigma_fast_batch(size_t count, const four_bar_params *p
 four_bar_status four_bar_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);
 four_bar_status four_bar_vibration_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, four_bar_status *statuses);
 four_bar_status four_bar_mode_linearisation_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, four_bar_status *statuses);
+four_bar_status four_bar_assembly_conditions_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, four_bar_status *statuses);
 four_bar_status four_bar_equilibrium_state_batch(size_t count, const four_bar_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, four_bar_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
@@ -310,6 +321,7 @@ typedef codegen_uncertain four_bar_interval;
 #define FOUR_BAR_EQUILIBRIUM CODEGEN_EQUILIBRIUM
 #define FOUR_BAR_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
 #define FOUR_BAR_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define FOUR_BAR_MODE_UNDECIDED CODEGEN_MODE_UNDECIDED
 #define FOUR_BAR_CLUSTER CODEGEN_CLUSTER
 #define FOUR_BAR_SINGULAR CODEGEN_SINGULAR
 
@@ -356,7 +368,7 @@ typedef struct four_bar_workspace {
     codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
-    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, FOUR_BAR_N_BRANCHES, FOUR_BAR_N_MODES)]; /* states and branch values at work */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, FOUR_BAR_N_BRANCHES, FOUR_BAR_N_MODES, FOUR_BAR_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } four_bar_workspace;
 /* four_bar_analyze and four_bar_isolate in the caller's working memory (NULL:
  * FOUR_BAR_ERR_NULL_POINTER): the same results, bit for bit. */

@@ -141,6 +141,13 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
 /* A failure of mode_linearisation (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_MODE_LINEARISATION_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
+/* assembly_conditions's outputs into out[4], in order: values[FOUR_BAR_N_MODE_CONDITIONS], scales[FOUR_BAR_N_MODE_CONDITIONS]. */
+void four_bar_assembly_conditions_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[4]);
+#define FOUR_BAR_ASSEMBLY_CONDITIONS_VALUES 0
+#define FOUR_BAR_ASSEMBLY_CONDITIONS_SCALES 2
+/* A failure of assembly_conditions (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
+#define FOUR_BAR_ASSEMBLY_CONDITIONS_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
+
 /* equilibrium_state's outputs into out[13], in order: residual, scale, M, B, K, branch_residuals[FOUR_BAR_N_BRANCHES], radicands[FOUR_BAR_N_ROOTS], radicand_scales[FOUR_BAR_N_ROOTS]. */
 void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[13]);
 #define FOUR_BAR_EQUILIBRIUM_STATE_RESIDUAL 0

@@ -32,6 +32,11 @@ static void mode_linearisation(const void *params, codegen_real theta, codegen_r
     four_bar_mode_linearisation_kernel((const four_bar_params *)params, theta, out);
 }
 
+static void assembly_conditions(const void *params, codegen_real theta, codegen_real *out)
+{
+    four_bar_assembly_conditions_kernel((const four_bar_params *)params, theta, out);
+}
+
 /* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
@@ -77,6 +82,11 @@ static const unsigned branch_of_mode[FOUR_BAR_N_MODES] = {
     0u, 1u
 };
 
+/* The bit of the mode number (the assembly root) each assembly-mode condition decides. */
+static const unsigned condition_bit[FOUR_BAR_N_CONDITIONS] = {
+    0u
+};
+
 static const codegen_model model = {
     .params_size = sizeof(four_bar_params),
     .n_modes = FOUR_BAR_N_MODES,
@@ -89,6 +99,8 @@ static const codegen_model model = {
     .length_branch_bits = 2u, /* root assembly, length */
     .mode_of_branch = mode_of_branch,
     .branch_of_mode = branch_of_mode,
+    .n_conditions = FOUR_BAR_N_CONDITIONS,
+    .condition_bit = condition_bit,
     .state = {
         .size = 13,
         .residual = FOUR_BAR_EQUILIBRIUM_STATE_RESIDUAL,
@@ -106,6 +118,7 @@ static const codegen_model model = {
     .residual_failure = FOUR_BAR_EQUILIBRIUM_RESIDUAL_FAILURE,
     .linearisation_failure = FOUR_BAR_LINEARISATION_FAILURE,
     .mode_linearisation_failure = FOUR_BAR_MODE_LINEARISATION_FAILURE,
+    .conditions_failure = FOUR_BAR_ASSEMBLY_CONDITIONS_FAILURE,
     .radicands_failure = FOUR_BAR_RADICANDS_FAILURE,
     .branches_failure = FOUR_BAR_EQUILIBRIUM_BRANCHES_FAILURE,
     .sigma_failure = FOUR_BAR_SIGMA_FAILURE,
@@ -114,6 +127,7 @@ static const codegen_model model = {
     .equilibrium_state = equilibrium_state,
     .equilibrium_branches = equilibrium_branches,
     .mode_linearisation = mode_linearisation,
+    .assembly_conditions = assembly_conditions,
     .enclose = enclose,
     .sigma = sigma,
     .range_centre = range_centre,

@@ -4397,6 +4397,51 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
     return SLIDER_CRANK_OK;
 }
 
+/* assembly_conditions without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 13. */
+void slider_crank_assembly_conditions_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4])
+{
+    (void)params;
+    (void)theta;
+    {
+        const codegen_real R = params->R;
+        const codegen_real tmp0 = R*codegen_sin(theta);
+        const codegen_real l = params->l;
+        const codegen_real e = params->e;
+        const codegen_real tmp1 = codegen_sqrt(-(e - l - tmp0)*(e + l - tmp0));
+        const codegen_real tmp2 = -tmp1;
+        out[0] = tmp1;
+        out[1] = tmp2;
+        out[2] = codegen_fabs(tmp1);
+        out[3] = codegen_fabs(tmp2);
+    }
+}
+
+/* assembly_conditions: eq. -. */
+slider_crank_status slider_crank_assembly_conditions(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_MODE_CONDITIONS], codegen_real scales[SLIDER_CRANK_N_MODE_CONDITIONS])
+{
+    codegen_real out[4];
+    slider_crank_status status;
+    if (values == NULL || scales == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    status = slider_crank_check_params(params);
+    if (status != SLIDER_CRANK_OK) {
+        return status;
+    }
+    if (!isfinite(theta)) {
+        return SLIDER_CRANK_ERR_NONFINITE;
+    }
+    slider_crank_assembly_conditions_kernel(params, theta, out);
+    if (!all_finite(out, 4)) {
+        return SLIDER_CRANK_ERR_OVERFLOW;
+    }
+    copy_out(values, out + 0, 2);
+    copy_out(scales, out + 2, 2);
+    return SLIDER_CRANK_OK;
+}
+
 /* equilibrium_state without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 420. */
@@ -6217,6 +6262,22 @@ slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const sl
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = slider_crank_mode_linearisation(&params[i], theta[i], &M[i * SLIDER_CRANK_N_MODES], &B[i * SLIDER_CRANK_N_MODES], &K[i * SLIDER_CRANK_N_MODES]);
+        if (first == SLIDER_CRANK_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+slider_crank_status slider_crank_assembly_conditions_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, slider_crank_status *statuses)
+{
+    size_t i;
+    slider_crank_status first = SLIDER_CRANK_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || values == NULL || scales == NULL) {
+        return SLIDER_CRANK_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = slider_crank_assembly_conditions(&params[i], theta[i], &values[i * SLIDER_CRANK_N_MODE_CONDITIONS], &scales[i * SLIDER_CRANK_N_MODE_CONDITIONS]);
         if (first == SLIDER_CRANK_OK) {
             first = statuses[i];
         }

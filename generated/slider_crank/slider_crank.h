@@ -29,10 +29,12 @@ extern "C" {
 #define SLIDER_CRANK_MAX_ROOTS 24
 #define SLIDER_CRANK_MAX_UNCERTAIN 16
 #define SLIDER_CRANK_N_BRANCHES 4
+#define SLIDER_CRANK_N_CONDITIONS 1
 #define SLIDER_CRANK_N_CONSTRAINTS 2
 #define SLIDER_CRANK_N_COORDS 3
 #define SLIDER_CRANK_N_JACOBIAN 6
 #define SLIDER_CRANK_N_MODES 2
+#define SLIDER_CRANK_N_MODE_CONDITIONS 2
 #define SLIDER_CRANK_N_PARAMS 14
 #define SLIDER_CRANK_N_POINT_COORDS 4
 #define SLIDER_CRANK_N_REDUCED 3
@@ -237,6 +239,14 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, co
  */
 slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real M[SLIDER_CRANK_N_MODES], codegen_real B[SLIDER_CRANK_N_MODES], codegen_real K[SLIDER_CRANK_N_MODES]);
 
+/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set.
+ * in  theta: independent coordinate theta [rad]
+ * out values: [as declared]
+ * out scales: [as declared]
+ * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+slider_crank_status slider_crank_assembly_conditions(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_MODE_CONDITIONS], codegen_real scales[SLIDER_CRANK_N_MODE_CONDITIONS]);
+
 /* Everything the analysis evaluates at one angle, in one pass: G and the size of its terms (as equilibrium_residual), M, B, K (as linearisation), G on every branch (as equilibrium_branches) and the radicands with their scales (as radicands).
  * in  theta: equilibrium angle theta_E [rad]
  * out residual: G [N m]
@@ -272,6 +282,7 @@ slider_crank_status slider_crank_sigma_fast_batch(size_t count, const slider_cra
 slider_crank_status slider_crank_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);
 slider_crank_status slider_crank_vibration_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n, slider_crank_status *statuses);
 slider_crank_status slider_crank_mode_linearisation_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *M, codegen_real *B, codegen_real *K, slider_crank_status *statuses);
+slider_crank_status slider_crank_assembly_conditions_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *values, codegen_real *scales, slider_crank_status *statuses);
 slider_crank_status slider_crank_equilibrium_state_batch(size_t count, const slider_crank_params *params, const codegen_real *theta, codegen_real *residual, codegen_real *scale, codegen_real *M, codegen_real *B, codegen_real *K, codegen_real *branch_residuals, codegen_real *radicands, codegen_real *radicand_scales, slider_crank_status *statuses);
 
 /* Enclosures of G (the static generalised force, [N m] or [N]) and of its slope G' over the
@@ -310,6 +321,7 @@ typedef codegen_uncertain slider_crank_interval;
 #define SLIDER_CRANK_EQUILIBRIUM CODEGEN_EQUILIBRIUM
 #define SLIDER_CRANK_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
 #define SLIDER_CRANK_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define SLIDER_CRANK_MODE_UNDECIDED CODEGEN_MODE_UNDECIDED
 #define SLIDER_CRANK_CLUSTER CODEGEN_CLUSTER
 #define SLIDER_CRANK_SINGULAR CODEGEN_SINGULAR
 
@@ -356,7 +368,7 @@ typedef struct slider_crank_workspace {
     codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
-    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_N_MODES)]; /* states and branch values at work */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_N_MODES, SLIDER_CRANK_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } slider_crank_workspace;
 /* slider_crank_analyze and slider_crank_isolate in the caller's working memory (NULL:
  * SLIDER_CRANK_ERR_NULL_POINTER): the same results, bit for bit. */

@@ -141,6 +141,13 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
 /* A failure of mode_linearisation (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_MODE_LINEARISATION_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
+/* assembly_conditions's outputs into out[4], in order: values[SLIDER_CRANK_N_MODE_CONDITIONS], scales[SLIDER_CRANK_N_MODE_CONDITIONS]. */
+void slider_crank_assembly_conditions_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[4]);
+#define SLIDER_CRANK_ASSEMBLY_CONDITIONS_VALUES 0
+#define SLIDER_CRANK_ASSEMBLY_CONDITIONS_SCALES 2
+/* A failure of assembly_conditions (a result not finite) is reported as SLIDER_CRANK_ERR_OVERFLOW. */
+#define SLIDER_CRANK_ASSEMBLY_CONDITIONS_FAILURE SLIDER_CRANK_ERR_OVERFLOW
+
 /* equilibrium_state's outputs into out[13], in order: residual, scale, M, B, K, branch_residuals[SLIDER_CRANK_N_BRANCHES], radicands[SLIDER_CRANK_N_ROOTS], radicand_scales[SLIDER_CRANK_N_ROOTS]. */
 void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, codegen_real theta, codegen_real out[13]);
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_RESIDUAL 0

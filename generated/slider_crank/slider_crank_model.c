@@ -32,6 +32,11 @@ static void mode_linearisation(const void *params, codegen_real theta, codegen_r
     slider_crank_mode_linearisation_kernel((const slider_crank_params *)params, theta, out);
 }
 
+static void assembly_conditions(const void *params, codegen_real theta, codegen_real *out)
+{
+    slider_crank_assembly_conditions_kernel((const slider_crank_params *)params, theta, out);
+}
+
 /* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
@@ -77,6 +82,11 @@ static const unsigned branch_of_mode[SLIDER_CRANK_N_MODES] = {
     0u, 1u
 };
 
+/* The bit of the mode number (the assembly root) each assembly-mode condition decides. */
+static const unsigned condition_bit[SLIDER_CRANK_N_CONDITIONS] = {
+    0u
+};
+
 static const codegen_model model = {
     .params_size = sizeof(slider_crank_params),
     .n_modes = SLIDER_CRANK_N_MODES,
@@ -89,6 +99,8 @@ static const codegen_model model = {
     .length_branch_bits = 2u, /* root assembly, length */
     .mode_of_branch = mode_of_branch,
     .branch_of_mode = branch_of_mode,
+    .n_conditions = SLIDER_CRANK_N_CONDITIONS,
+    .condition_bit = condition_bit,
     .state = {
         .size = 13,
         .residual = SLIDER_CRANK_EQUILIBRIUM_STATE_RESIDUAL,
@@ -106,6 +118,7 @@ static const codegen_model model = {
     .residual_failure = SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_FAILURE,
     .linearisation_failure = SLIDER_CRANK_LINEARISATION_FAILURE,
     .mode_linearisation_failure = SLIDER_CRANK_MODE_LINEARISATION_FAILURE,
+    .conditions_failure = SLIDER_CRANK_ASSEMBLY_CONDITIONS_FAILURE,
     .radicands_failure = SLIDER_CRANK_RADICANDS_FAILURE,
     .branches_failure = SLIDER_CRANK_EQUILIBRIUM_BRANCHES_FAILURE,
     .sigma_failure = SLIDER_CRANK_SIGMA_FAILURE,
@@ -114,6 +127,7 @@ static const codegen_model model = {
     .equilibrium_state = equilibrium_state,
     .equilibrium_branches = equilibrium_branches,
     .mode_linearisation = mode_linearisation,
+    .assembly_conditions = assembly_conditions,
     .enclose = enclose,
     .sigma = sigma,
     .range_centre = range_centre,

@@ -26,10 +26,12 @@ extern "C" {
 #define TORSION_PENDULUM_MAX_ROOTS 32
 #define TORSION_PENDULUM_MAX_UNCERTAIN 16
 #define TORSION_PENDULUM_N_BRANCHES 1
+#define TORSION_PENDULUM_N_CONDITIONS 0
 #define TORSION_PENDULUM_N_CONSTRAINTS 0
 #define TORSION_PENDULUM_N_COORDS 1
 #define TORSION_PENDULUM_N_JACOBIAN 0
 #define TORSION_PENDULUM_N_MODES 1
+#define TORSION_PENDULUM_N_MODE_CONDITIONS 0
 #define TORSION_PENDULUM_N_PARAMS 8
 #define TORSION_PENDULUM_N_POINT_COORDS 2
 #define TORSION_PENDULUM_N_REDUCED 3
@@ -212,6 +214,7 @@ typedef codegen_uncertain torsion_pendulum_interval;
 #define TORSION_PENDULUM_EQUILIBRIUM CODEGEN_EQUILIBRIUM
 #define TORSION_PENDULUM_OTHER_ASSEMBLY CODEGEN_OTHER_ASSEMBLY
 #define TORSION_PENDULUM_EXTRANEOUS CODEGEN_EXTRANEOUS
+#define TORSION_PENDULUM_MODE_UNDECIDED CODEGEN_MODE_UNDECIDED
 #define TORSION_PENDULUM_CLUSTER CODEGEN_CLUSTER
 #define TORSION_PENDULUM_SINGULAR CODEGEN_SINGULAR
 
@@ -247,7 +250,7 @@ typedef struct torsion_pendulum_workspace {
     codegen_iv enclosure_slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
-    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(5, TORSION_PENDULUM_N_BRANCHES, TORSION_PENDULUM_N_MODES)]; /* states and branch values at work */
+    codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(5, TORSION_PENDULUM_N_BRANCHES, TORSION_PENDULUM_N_MODES, TORSION_PENDULUM_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } torsion_pendulum_workspace;
 /* torsion_pendulum_analyze and torsion_pendulum_isolate in the caller's working memory (NULL:
  * TORSION_PENDULUM_ERR_NULL_POINTER): the same results, bit for bit. */

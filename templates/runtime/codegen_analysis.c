@@ -56,6 +56,10 @@
 /* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
  * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
 #define SEAM_MARGIN (4096 * CODEGEN_EPSILON)
+/* An assembly-mode condition within this much of the size of its terms is zero (the dyad
+ * between its modes, or a condition that does not tell them apart there): the mode is not
+ * decided. Far above the conditions' rounding, far below any assembly a user draws. */
+#define CONDITION_MARGIN CODEGEN_SQRT_EPSILON
 
 /* Each route keeps its own frame (the isolation's stack does not hold the polynomial route's
  * locals): gcc would otherwise inline both into codegen_analysis_run. */
@@ -268,6 +272,7 @@ static int linearise_at(const call *c, unsigned mode, codegen_real theta, const 
         status = residual_scale(model, at, theta, e->K, &e->residual_scale);
     }
     e->theta = theta;
+    e->mode = mode; /* as found; assign_modes names it as the model declares its modes */
     return status;
 }
 
@@ -1266,18 +1271,101 @@ ROUTE static int complete_by_isolation(const call *c, void *workspace,
     return CODEGEN_OK;
 }
 
+/* The sign of a condition: 1 (holds), -1 (fails) or 0 (within CONDITION_MARGIN of 0, or
+ * not finite: that mode cannot be assembled there). */
+static int condition_sign(codegen_real value, codegen_real scale)
+{
+    const codegen_real margin = CONDITION_MARGIN * scale;
+    return value > margin ? 1 : value < -margin ? -1 : 0;
+}
+
+/* Whether every condition of one dyad (mode bit) holds on a mode (1), one fails (-1), or
+ * neither is certain (0). */
+static int dyad_holds(const codegen_model *model, const codegen_real *conditions,
+                      unsigned mode, unsigned bit)
+{
+    const int n = model->n_conditions, offset = (int)mode * n;
+    const codegen_real *scales = conditions + model->n_modes * n;
+    int k, all = 1;
+    for (k = 0; k < n; ++k) {
+        if (model->condition_bit[k] == bit) {
+            const int sign = condition_sign(conditions[offset + k], scales[offset + k]);
+            if (sign < 0) {
+                return -1;
+            }
+            all = all && sign > 0;
+        }
+    }
+    return all;
+}
+
+/* The assembly mode, as the model declares its modes, of the state at theta on the sign
+ * choice `found` (the mode its closed form was evaluated on): for each dyad, its conditions
+ * must hold with its root's sign as found and fail with it flipped (then the dyad is as
+ * declared), or the reverse (then it is the other way). Which sign is which can change with
+ * the parameters (a slide's inclination, a pivot on either side), so it is decided here, for
+ * each set and state. model->n_modes where a dyad's conditions decide neither way. */
+static unsigned declared_mode(const call *c, unsigned found, codegen_real theta)
+{
+    const codegen_model *model = c->model;
+    unsigned bit, mode = 0u;
+    if (model->assembly_conditions == NULL) {
+        return found;
+    }
+    model->assembly_conditions(c->enclosure.params, theta, c->conditions);
+    for (bit = 0u; (1u << bit) < (unsigned)model->n_modes; ++bit) {
+        const int as_found = dyad_holds(model, c->conditions, found, bit);
+        const int flipped = dyad_holds(model, c->conditions, found ^ (1u << bit), bit);
+        if (as_found == -1 && flipped == 1) {
+            mode |= 1u << bit;           /* this dyad the other way */
+        } else if (!(as_found == 1 && flipped == -1)) {
+            return (unsigned)model->n_modes;
+        }
+    }
+    return mode;
+}
+
+/* Every root and uncertain interval of a result, named by the mode its state is in as the
+ * model declares the modes (see declared_mode); roots of no declared mode are of kind
+ * CODEGEN_MODE_UNDECIDED. */
+static void assign_modes(const call *c, const result_view *r)
+{
+    const codegen_model *model = c->model;
+    int i;
+    for (i = 0; i < *r->n_roots; ++i) {
+        codegen_equilibrium *e = &r->roots[i];
+        if (e->kind == CODEGEN_EXTRANEOUS) {
+            e->mode = 0u;
+            continue;
+        }
+        e->mode = declared_mode(c, e->mode, e->theta);
+        e->kind = e->mode == 0u ? CODEGEN_EQUILIBRIUM
+                : e->mode < (unsigned)model->n_modes ? CODEGEN_OTHER_ASSEMBLY
+                : CODEGEN_MODE_UNDECIDED;
+        e->genuine = e->kind == CODEGEN_EQUILIBRIUM;
+    }
+    for (i = 0; i < *r->n_uncertain; ++i) {
+        codegen_uncertain *u = &r->uncertain[i];
+        u->mode = declared_mode(c, u->mode, u->lo + CODEGEN_R(0.5) * (u->hi - u->lo));
+    }
+}
+
 /* One route into the workspace's result (parameters checked). */
 static int run(const call *c, codegen_route route, void *workspace)
 {
+    int status, proven;
     if (route == CODEGEN_ROUTE_ISOLATION || c->model->sigma == NULL) {
-        return isolate_into(c, workspace, &c->result);
+        status = isolate_into(c, workspace, &c->result);
+    } else {
+        status = analyze_by_spans(c, workspace, &c->result, &proven);
+        if (status == CODEGEN_OK && !proven) {
+            status = complete_by_isolation(c, workspace, &c->polynomial, &c->result);
+        }
     }
-    int proven;
-    const int status = analyze_by_spans(c, workspace, &c->result, &proven);
-    if (status != CODEGEN_OK || proven) {
-        return status;
+    if (status == CODEGEN_OK) {
+        assign_modes(c, &c->result);
     }
-    return complete_by_isolation(c, workspace, &c->polynomial, &c->result);
+    return status;
 }
 
 int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
@@ -1304,6 +1392,7 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     c->g = c->at_line + model->state.size;
     c->merged = c->g + model->n_branches;
     c->modes = c->merged + 3 * model->n_branches;
+    c->conditions = c->modes + 3 * model->n_modes;
     c->result = results_in(model, field(workspace, model->workspace.result));
     if (model->sigma != NULL) {
         c->polynomial = results_in(model, field(workspace, model->workspace.polynomial));

@@ -60,7 +60,10 @@ typedef enum codegen_damping {
 typedef enum codegen_root_kind {
     CODEGEN_EQUILIBRIUM = 0,    /* G = 0 as declared: an equilibrium */
     CODEGEN_OTHER_ASSEMBLY = 1, /* G = 0 in another assembly mode: an equilibrium of that mode */
-    CODEGEN_EXTRANEOUS = 2      /* G = 0 only with a negative length: not an equilibrium */
+    CODEGEN_EXTRANEOUS = 2,     /* G = 0 only with a negative length: not an equilibrium */
+    CODEGEN_MODE_UNDECIDED = 3  /* G = 0 in a state the model's assembly-mode conditions do not
+                                   place in a mode (one is within rounding of 0 there, or holds
+                                   in both or neither): an equilibrium of no declared mode */
 } codegen_root_kind;
 
 /* One root of G (or of the polynomial) and the vibration about it, (46)-(55); M, B, K are
@@ -74,6 +77,9 @@ typedef struct codegen_equilibrium {
     int certified;                /* 1: the equilibrium is proven, in [theta_lo, theta_hi] */
     int genuine;                  /* 1: an equilibrium of the declared mode (kind EQUILIBRIUM) */
     codegen_root_kind kind;
+    unsigned mode;                /* its assembly mode, decided at run time by the model's
+                                     conditions: 0 the declared one, bit i set where the i-th
+                                     dyad is assembled the other way; n_modes: undecided */
     codegen_real residual;        /* G(theta_E) (42) [N m] */
     codegen_real residual_scale;  /* size of the contributions to G at theta_E [N m]; a genuine
                                      root has |residual| / residual_scale near machine epsilon */
@@ -100,7 +106,7 @@ typedef enum codegen_uncertainty {
 typedef struct codegen_uncertain {
     codegen_real lo, hi;          /* [rad] */
     codegen_uncertainty kind;
-    unsigned mode;                /* the assembly mode it was found on (0: as declared) */
+    unsigned mode;                /* the assembly mode at its middle, as codegen_equilibrium's */
     int sign_change;              /* G's sign differs at lo and hi: an odd number of zeros
                                      inside if G is continuous there */
 } codegen_uncertain;
@@ -137,6 +143,7 @@ typedef struct codegen_analysis_call {
     codegen_real *g;             /* G on every branch at one angle */
     codegen_real *merged;        /* ... at a root and either side of it */
     codegen_real *modes;         /* M, B, K of every mode */
+    codegen_real *conditions;    /* the assembly-mode conditions of every mode, and scales */
     codegen_analysis_view result, polynomial;
 } codegen_analysis_call;
 
@@ -148,15 +155,17 @@ typedef struct codegen_analysis_layout {
 } codegen_analysis_layout;
 
 /* Where the parts of a library's NAME_workspace lie (offsetof; those of a route the library
- * lacks are unused). scratch holds CODEGEN_ANALYSIS_SCRATCH(state, branches, modes) reals. */
+ * lacks are unused). scratch holds CODEGEN_ANALYSIS_SCRATCH(state, branches, modes,
+ * conditions) reals. */
 typedef struct codegen_workspace_layout {
     size_t call, result, polynomial, roots, spans, sigma_bound, theta, branches, sigma_values,
         sigma_errors, enclosure_slots, found, boxes, scratch;
 } codegen_workspace_layout;
 
-/* The reals of the analysis' scratch: three states, four sets of branch values, and M, B, K
- * of every mode. */
-#define CODEGEN_ANALYSIS_SCRATCH(state, branches, modes) (3 * (state) + 4 * (branches) + 3 * (modes))
+/* The reals of the analysis' scratch: three states, four sets of branch values, M, B, K of
+ * every mode, and the assembly-mode conditions of every mode with their scales. */
+#define CODEGEN_ANALYSIS_SCRATCH(state, branches, modes, conditions) \
+    (3 * (state) + 4 * (branches) + 3 * (modes) + 2 * (conditions))
 
 /* Where the fields of a library's NAME_simulation lie. */
 typedef struct codegen_simulation_layout {
@@ -180,11 +189,13 @@ struct codegen_model {
     int periodic;                 /* the coordinate is an angle on the circle */
     unsigned length_branch_bits;  /* branches (bit i: root i negative) with a negative length */
     const unsigned *mode_of_branch, *branch_of_mode; /* NULL with a single mode */
+    int n_conditions;             /* the model's assembly-mode conditions (0: none) */
+    const unsigned *condition_bit; /* the mode bit each decides */
     codegen_state_layout state;
     int mode_m, mode_b, mode_k;   /* where each mode's M, B, K start in mode_linearisation's output */
     /* the status of each kernel's failure (a result not finite) */
     int residual_failure, linearisation_failure, mode_linearisation_failure, radicands_failure,
-        branches_failure, sigma_failure, acceleration_failure;
+        branches_failure, sigma_failure, acceleration_failure, conditions_failure;
     int (*check_params)(const void *params);
     /* G, its scale, M, B, K, G on every branch and the radicands at theta: out[state.size] */
     void (*equilibrium_state)(const void *params, codegen_real theta, codegen_real *out);
@@ -192,6 +203,9 @@ struct codegen_model {
     void (*equilibrium_branches)(const void *params, codegen_real theta, codegen_real *out);
     /* M, B, K of every mode (NULL: a single mode) */
     void (*mode_linearisation)(const void *params, codegen_real theta, codegen_real *out);
+    /* every condition on every mode, then their scales: out[2 * n_modes * n_conditions]
+     * (NULL: no conditions) */
+    void (*assembly_conditions)(const void *params, codegen_real theta, codegen_real *out);
     /* G and G' enclosed over theta on a mode; context: a codegen_enclosure_context */
     codegen_enclosure enclose;
     /* the polynomial's coefficients (NULL: no polynomial route) and, unless bound is NULL, a

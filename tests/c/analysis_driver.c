@@ -56,7 +56,7 @@ typedef struct workspace {
     codegen_iv slots[1];
     codegen_isolated found[MAX_ROOTS + MAX_UNCERTAIN];
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];
-    double scratch[CODEGEN_ANALYSIS_SCRATCH(STATE, 1, 1)];
+    double scratch[CODEGEN_ANALYSIS_SCRATCH(STATE, 1, 1, 0)];
 } workspace;
 
 typedef struct simulation {

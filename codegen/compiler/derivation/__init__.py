@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+import sympy as sp
 from sympy.core import random as sympy_random
 
 from ..model import Mechanism
@@ -11,6 +12,7 @@ from .dynamics import Dynamics, derive_dynamics
 from .equilibrium import Equilibrium, derive_equilibrium
 from .kinematics import Kinematics, derive_kinematics
 from .names import internal
+from .positions import branch_program
 from .linearisation import Linearisation, derive_linearisation
 from .reduction import Reduction, derive_reduction
 from .state import StateSymbols
@@ -35,6 +37,20 @@ class Derivation:
 
     def frozen(self, expr):
         return expr.subs(self.freezer)
+
+    @property
+    def program(self) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """A chain of dyads' straight-line program on every branch, which its expressions
+        are written in (positions.write_out); () for any other mechanism."""
+        solution = self.reduction.solution
+        if not solution.definitions:
+            return ()
+        steps = {}   # branches share the steps before the roots they differ in
+        for branch in self.equilibrium.branches:
+            for symbol, value in branch_program(solution.roots, solution.definitions,
+                                                branch.signs):
+                steps.setdefault(symbol, value)
+        return tuple(steps.items())
 
 
 #: SymPy's multivariate factorisation (Wang's algorithm) draws random evaluation points; an

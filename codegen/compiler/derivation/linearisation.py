@@ -27,6 +27,10 @@ class Mode:
     mass: sp.Expr
     damping: sp.Expr
     stiffness: sp.Expr
+    # the model's assembly-mode conditions as they stand on this mode (each positive where
+    # its dyad is assembled as declared), and the sizes of their terms
+    conditions: tuple[sp.Expr, ...] = ()
+    condition_scales: tuple[sp.Expr, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -34,6 +38,8 @@ class Linearisation:
     #: every assembly mode, the declared one first; mode j flips assembly root i when bit i
     #: of j is set (counting assembly roots only)
     modes: tuple[Mode, ...]
+    #: for each condition of a Mode, the bit of the mode number its dyad's sign sets
+    condition_bits: tuple[int, ...] = ()
 
     @property
     def mass(self) -> sp.Expr:
@@ -66,9 +72,26 @@ def derive_linearisation(reduction: Reduction) -> Linearisation:
     slope = sum((tidy(solution.derivative(t)) for t in reduction.static_terms), sp.S.Zero)
     roots = solution.roots
     e0, _, e2 = reduction.e_in_roots
-    return Linearisation(tuple(
-        Mode(signs, *(on_branch(x, roots, signs, solution.definitions) for x in (e0, e2, slope)))
-        for signs in mode_signs(tuple(r.kind for r in roots))))
+    assembly = [r for r in roots if r.kind == "assembly"]
+    conditions = [c for r in assembly for c in r.conditions]
+
+    def on(signs, x):
+        return on_branch(x, roots, signs, solution.definitions)
+
+    return Linearisation(
+        tuple(Mode(signs, *(on(signs, x) for x in (e0, e2, slope)),
+                   conditions=tuple(on(signs, c) for c in conditions),
+                   condition_scales=tuple(_terms_size(c, lambda t: on(signs, t))
+                                          for c in conditions))
+              for signs in mode_signs(tuple(r.kind for r in roots))),
+        condition_bits=tuple(bit for bit, r in enumerate(assembly) for _ in r.conditions))
+
+
+def _terms_size(expr: sp.Expr, on_mode) -> sp.Expr:
+    """Sum of |term| over expr's terms as written, each on a mode (not expanded, nor
+    simplified by Abs: a chain's conditions are large): what a condition's rounding is
+    measured against."""
+    return sp.Add(*(sp.Abs(on_mode(t), evaluate=False) for t in sp.Add.make_args(expr)))
 
 
 def mode_signs(kinds: tuple[str, ...]) -> list[tuple[int, ...]]:

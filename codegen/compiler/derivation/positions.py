@@ -36,6 +36,10 @@ class Root:
     radicand: sp.Expr       # in theta and the parameters (and earlier roots' symbols)
     kind: str
     coordinate: str         # the coordinate whose solution introduced it
+    # an assembly root's share of the model's assembly-mode conditions (those its sign
+    # decides), in the root symbols: each positive in the declared mode, where this root is
+    # +sqrt(radicand); the library evaluates them at run time on each mode
+    conditions: tuple[sp.Expr, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -58,7 +62,12 @@ def in_order(roots, definitions) -> list:
 
 def write_out(expr, roots, definitions=(), signs=None):
     """expr with every root symbol replaced by signs[i] sqrt(radicand) (+ without signs) and
-    every definition by its value, innermost last (nested as needed)."""
+    every definition by its value, innermost last (nested as needed). A chain of dyads (with
+    definitions) is not written out: its expressions stay in the symbols of its branch's
+    straight-line program (branch_program), which the library computes once per angle;
+    written out, they are too large to print or check in reasonable time."""
+    if definitions:
+        return expr.xreplace(_program_symbols(roots, definitions, signs))
     flip = {r.symbol: s * r.symbol for r, s in zip(roots, signs)} if signs else {}
     result = expr.xreplace(flip)
     for step in reversed(in_order(roots, definitions)):
@@ -66,6 +75,40 @@ def write_out(expr, roots, definitions=(), signs=None):
                  else step.expr.xreplace(flip))
         result = result.xreplace({step.symbol: value})
     return result
+
+
+def _program_names(roots, definitions, signs) -> dict:
+    """Each root and definition symbol -> its name in one branch's program: a step's value
+    depends on the signs of the roots before it, which its name spells (NAME_pm for +, -;
+    the steps before any root keep their names)."""
+    names, before = {}, ""
+    for step in in_order(roots, definitions):
+        names[step.symbol] = sp.Symbol(f"{step.symbol.name}_{before}" if before
+                                       else step.symbol.name, **step.symbol.assumptions0)
+        if isinstance(step, Root):
+            before += "p" if signs[len(before)] > 0 else "m"
+    return names
+
+
+def _program_symbols(roots, definitions, signs=None) -> dict:
+    """Each root and definition symbol -> what stands for it on one branch (a root taken
+    negative there: minus its program's symbol)."""
+    signs = signs or (1,) * len(roots)
+    names = _program_names(roots, definitions, signs)
+    return names | {r.symbol: s * names[r.symbol] for r, s in zip(roots, signs)}
+
+
+def branch_program(roots, definitions, signs=None) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+    """A chain's roots and definitions on one branch (signs of the roots; all positive
+    without) as a straight-line program: (symbol, value in earlier symbols) in order, each
+    root the non-negative sqrt of its radicand, its sign carried where it is used."""
+    signs = signs or (1,) * len(roots)
+    names = _program_names(roots, definitions, signs)
+    symbols = _program_symbols(roots, definitions, signs)
+    return tuple((names[step.symbol],
+                  sp.sqrt(step.radicand.xreplace(symbols)) if isinstance(step, Root)
+                  else step.expr.xreplace(symbols))
+                 for step in in_order(roots, definitions))
 
 
 @dataclass(frozen=True)
@@ -333,10 +376,11 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
                 "way not supported yet: its closed form grows too large to derive")
         P, Q, W = _normalised(line, theta)
         rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-        sigma = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
-                               definitions)
+        sigma, conditions = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W,
+                                           rho, roots, definitions)
         norm = reduce_trig(P**2 + Q**2, theta)
-        roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name))
+        roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name,
+                          conditions))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         later = {v for n in pending if n != name for v in pairs[n] if v not in known}
         if later:
@@ -412,11 +456,13 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
 
 def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
                    definitions=()):
-    """+1 or -1: the sign of the root for which the model's assembly-mode conditions hold.
+    """(+1 or -1, conditions): the sign of the root for which the model's assembly-mode
+    conditions hold, and those conditions with the root taken as that sign times rho.
 
     A condition is an expression of the coordinates that is positive in the declared mode.
     It is evaluated (30 digits) at the example parameters, at angles where every radicand so
-    far is positive; the answer must be the same at every such angle."""
+    far is positive; the answer must be the same at every such angle. (Which sign that is
+    may differ for other parameters: the library checks the conditions again for each set.)"""
     import mpmath
 
     to_unknowns = {}
@@ -424,7 +470,7 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
         to_unknowns[sp.cos(sym[name])] = A
         to_unknowns[sp.sin(sym[name])] = B
     norm = P**2 + Q**2
-    sign = sp.Symbol("sign")
+    sign = sp.Dummy("sign")
     cs = {C: (P * W - sign * Q * rho) / norm, S: (Q * W + sign * P * rho) / norm}
     point = {**{u: v.subs(cs) for u, v in known.items()}, **cs}
     coords = tuple(mechanism.freezer().values())
@@ -464,4 +510,5 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
     if len(votes) != 1:
         state = "ambiguous" if votes else "not decided by any assembly-mode condition"
         raise NotSolvable(f"the assembly mode of {C.name[2:]} is {state}")
-    return votes.pop()
+    sigma = votes.pop()
+    return sigma, tuple(c.xreplace({sign: sigma}) for c in conditions)

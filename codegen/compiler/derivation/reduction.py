@@ -48,7 +48,10 @@ class Reduction:
     def equation(self) -> sp.Expr:
         """The reduced equation of motion (36), as projected: S^T times Lagrange's equations
         along the motion. Derived when asked (the paper's form is checked against it): its
-        second derivatives of the explicit positions are costly for a chain of dyads."""
+        second derivatives of the explicit positions are costly for a chain of dyads, whose
+        expressions are in its program's symbols (see positions.write_out): not derived."""
+        if self.solution.definitions:
+            raise NotImplementedError("the projected equation of a chain of dyads")
         S, theta, theta_d = self.slopes, self.theta, self.theta_d
         onto_theta = {
             **dict(zip(self.state.accels, S * self.theta_dd + S.diff(theta) * theta_d**2)),
@@ -86,7 +89,9 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     theta, theta_d, theta_dd = state.coords[index], state.rates[index], state.accels[index]
     solution = solve_positions(mechanism, state.coords, constraints)
     positions = solution.explicit(solution.positions)
-    S = positions.diff(theta)
+    # (a chain's positions are in its program's symbols: S by the chain rule through them)
+    S = (positions.diff(theta) if not solution.definitions else
+         solution.positions.applyfunc(lambda q: solution.explicit(solution.derivative(q))))
     free_motion = dynamics.residual().subs({m: 0 for m in state.multipliers}).subs(freezer)
 
     def along(expr: sp.Expr) -> sp.Expr:

@@ -17,7 +17,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from .printer import _temporary_prefix
+from .printer import _temporary_prefix, in_dependency_order, needed_definitions
 
 #: digits for enclosing irrational constants; far beyond double's 17
 _CONSTANT_DIGITS = 40
@@ -294,15 +294,22 @@ class _Writer:
 
 
 def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set[str],
-                  flags: str) -> IntervalBody:
-    """exprs (in the parameters and ``inputs``) as one interval program."""
-    used = set().union(*(e.free_symbols for e in exprs))
+                  flags: str, definitions=()) -> IntervalBody:
+    """exprs (in the parameters and ``inputs``, and the symbols of ``definitions``, a
+    straight-line program: (symbol, expression) in order) as one interval program."""
+    program = needed_definitions(definitions, exprs)
+    shared = [d for _, d in program]
+    used = set().union(*(e.free_symbols for e in exprs), *(d.free_symbols for d in shared))
     prefix = _temporary_prefix(used)
-    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix),
+    replacements, reduced = sp.cse(shared + list(exprs), symbols=sp.numbered_symbols(prefix),
                                    order="canonical")
+    if program:   # the program's steps, their subexpressions shared, in dependency order
+        replacements = in_dependency_order(
+            [(symbol, d) for (symbol, _), d in zip(program, reduced)] + replacements)
+        reduced = reduced[len(program):]
     printer = _Text(flags)
     writer = _Writer(printer)
-    names = {s.name for s in used}
+    names = {s.name for s in used} - {symbol.name for symbol, _ in program}
     unknown = names - set(parameters) - inputs
     if unknown:
         raise ValueError(f"symbols {sorted(unknown)} are neither parameters nor inputs")

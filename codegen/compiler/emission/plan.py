@@ -103,6 +103,8 @@ class Enclosure:
     residuals: tuple[sp.Expr, ...]  # G on mode k, roots written out
     slopes: tuple[sp.Expr, ...]     # dG/dtheta on mode k (K_EQ's expression)
     equation: str = ""
+    # the straight-line program the expressions are written in (a chain's; see CFunction)
+    definitions: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -117,6 +119,7 @@ class Plan:
     enclosure: Enclosure               # G and G' of every mode, for the certified isolation
     root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
     mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
+    condition_bits: tuple[int, ...] = ()  # the mode bit each assembly-mode condition decides
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
     periodic: bool = True              # theta and theta + 2 pi are the same state
     # Each parameter's symbol in the expressions and its field of PREFIX_params (the name
@@ -176,7 +179,9 @@ def build_plan(d: Derivation) -> Plan:
     def vec(M) -> tuple:
         return tuple(fr(e) for e in M)
 
-    def fn(key: str, summary: str, inputs, outputs, definitions=(),
+    program = d.program   # a chain's steps, which its expressions are written in
+
+    def fn(key: str, summary: str, inputs, outputs, definitions=program,
            arithmetic="double", parts=()) -> CFunction:
         """A function; one fused from others (parts) implements their equations."""
         equation = ", ".join(e for e in (m.equations.get(k, "") for k in parts or (key,)) if e)
@@ -281,6 +286,19 @@ def build_plan(d: Derivation) -> Plan:
                                                 ("B", "damping", "B_EQ [N m s]"),
                                                 ("K", "stiffness", "K_EQ [N m]"))]),
     ) if len(lin.modes) > 1 else ()
+    n_conditions = len(lin.condition_bits)
+    declared_modes = (
+        fn("assembly_conditions",
+           "The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: "
+           "condition k on mode j, numbered as mode_linearisation's), each positive where its "
+           "dyad is assembled as declared, and the sizes of their terms: which mode a state "
+           "is in, as declared, for any parameter set.",
+           [theta], [Output("values", tuple(c for mode in lin.modes for c in mode.conditions),
+                            "[as declared]", "N_MODE_CONDITIONS"),
+                     Output("scales", tuple(c for mode in lin.modes
+                                            for c in mode.condition_scales),
+                            "[as declared]", "N_MODE_CONDITIONS")]),
+    ) if len(lin.modes) > 1 and n_conditions else ()
     dynamics_at_rest = (
         fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
            [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
@@ -315,7 +333,8 @@ def build_plan(d: Derivation) -> Plan:
     sizes = {"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
              "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
              "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
-             "N_MODES": len(lin.modes)}
+             "N_MODES": len(lin.modes), "N_CONDITIONS": n_conditions,
+             "N_MODE_CONDITIONS": n_conditions * len(lin.modes)}
     sizes |= {"MAX_ROOTS": eq.polynomial.degree if eq.polynomial else ISOLATION_CAPACITY,
               "MAX_UNCERTAIN": UNCERTAIN_CAPACITY}
     if eq.polynomial:
@@ -333,14 +352,15 @@ def build_plan(d: Derivation) -> Plan:
         root_kinds=tuple(r.kind for r in eq.roots),
         mode_of_branch=tuple(_mode_of(branch.signs, lin.modes, eq.roots)
                              for branch in eq.branches),
+        condition_bits=lin.condition_bits,
         range_centre=str(d.user.range_centre),
         periodic=m.periodic,
         enclosure=Enclosure(red.theta,
                             tuple(eq.branch(mode.signs).residual for mode in lin.modes),
                             tuple(mode.stiffness for mode in lin.modes),
-                            m.equations.get("equilibrium_residual", "")),
+                            m.equations.get("equilibrium_residual", ""), program),
         functions=(constrained + general + branched + polynomial + dynamics_at_rest + other_modes
-                   + fused),
+                   + declared_modes + fused),
     )
 
 

@@ -205,6 +205,14 @@ def _calls_first(replacements: list) -> list:
     """The statements in an order that makes each libm call (sin, cos, ...: a function
     application; sqrt is an instruction) as early as its operands allow, then the rest as
     they were: fewer values live across a call, each of which would be saved to memory."""
+    return in_dependency_order(replacements, [symbol for symbol, expr in replacements
+                                              if expr.atoms(sp.Function)])
+
+
+def in_dependency_order(replacements: list, first=()) -> list:
+    """(symbol, expression) statements ordered so that each follows the ones it reads: the
+    statements ``first`` names as early as their operands allow, then the rest as they
+    were."""
     position = {symbol: i for i, (symbol, _) in enumerate(replacements)}
     placed: set = set()
     order = []
@@ -224,9 +232,8 @@ def _calls_first(replacements: list) -> list:
                         if f in position and f not in placed]
             stack.extend((f, False) for f in sorted(operands, key=position.get, reverse=True))
 
-    for symbol, expr in replacements:
-        if expr.atoms(sp.Function):
-            place(symbol)
+    for symbol in first:
+        place(symbol)
     for symbol, _ in replacements:
         place(symbol)
     return order

@@ -182,12 +182,22 @@ def _enclosure(plan: Plan) -> dict:
     assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
     modes = []
     for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
-        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags")
-        value = interval_body([sp.sympify(g)], names, {theta}, "iv_flags")   # G alone: cheaper
+        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags",
+                             enclosure.definitions)
+        value = interval_body([sp.sympify(g)], names, {theta}, "iv_flags",   # G alone: cheaper
+                              enclosure.definitions)
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
         modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
     slots = max(max(m["body"].program.n_slots, m["value"].program.n_slots) for m in modes)
-    return {"theta": theta, "equation": enclosure.equation, "modes": modes, "slots": slots}
+    instructions = sum(len(m[k].program.instructions) for m in modes for k in ("body", "value"))
+    return {"theta": theta, "equation": enclosure.equation, "modes": modes, "slots": slots,
+            "inline": instructions <= INLINE_INSTRUCTIONS}
+
+
+#: Interval programs (every mode's, in all) up to this many instructions are also written as
+#: inline code, for CODEGEN_INLINE_INTERVALS: a four-bar's 2 500 compile in seconds; a
+#: six-bar's 17 000 took gcc -O2 40 s (of 5 s for the rest of its library).
+INLINE_INSTRUCTIONS = 8000
 
 
 def _range_centre(plan: Plan, printer) -> str:
@@ -204,6 +214,7 @@ def _range_centre(plan: Plan, printer) -> str:
 _FAILURES = (("residual_failure", "equilibrium_residual"),
              ("linearisation_failure", "linearisation"),
              ("mode_linearisation_failure", "mode_linearisation"),
+             ("conditions_failure", "assembly_conditions"),
              ("radicands_failure", "radicands"),
              ("branches_failure", "equilibrium_branches"),
              ("sigma_failure", "sigma"),
@@ -232,6 +243,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
     ]
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
     functions = [_rendered(f, plan, target) for f in plan.functions]
+    enclosure = _enclosure(plan)
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
@@ -249,9 +261,11 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "length_bits": sum(1 << j for j, k in enumerate(plan.root_kinds) if k == "length"),
         "mode_of_branch": plan.mode_of_branch,
         "other_modes": plan.has("mode_linearisation"),
+        "condition_bits": plan.condition_bits if plan.has("assembly_conditions") else (),
         "branch_of_mode": [plan.mode_of_branch.index(k) if plan.mode_of_branch else 0
                            for k in range(plan.sizes["N_MODES"])],
-        "enclosure": _enclosure(plan),
+        "enclosure": enclosure,
+        "inline_intervals": enclosure["inline"],
         "periodic": plan.periodic,
         "range_centre": _range_centre(plan, printer),
         "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
