@@ -196,3 +196,39 @@ def test_one_rk4_step_is_the_classical_formula(driver):
     expected = y + step / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
     assert int(words[0]) == OK
     assert [float.fromhex(w) for w in words[1:]] == pytest.approx(list(expected), abs=1e-15)
+
+
+EQUILIBRIUM, OTHER_ASSEMBLY, MODE_UNDECIDED = 0, 1, 3
+
+
+def analyze_modes(driver, a, b, c, w):
+    """The isolation route on the driver's two-mode model (mode 1: b negated), whose
+    assembly-mode condition is w on mode 0 and -w on mode 1: [(theta, kind, mode, genuine,
+    certified)]."""
+    words = driver([f"modes {h(a)} {h(b)} {h(c)} {h(1.0)} {h(0.5)} {h(w)}"])[0]
+    assert int(words[0]) == OK
+    fields = words[2:]
+    return [(float.fromhex(fields[i]), *map(int, fields[i + 1:i + 5]))
+            for i in range(0, 5 * int(words[1]), 5)]
+
+
+@pytest.mark.parametrize("w", [1.0, -1.0, 0.0])
+def test_each_equilibrium_is_named_by_the_mode_its_conditions_declare(driver, w):
+    """The runtime names a root's mode by the model's conditions at it, not by the sign
+    choice it was found on: a condition that flips sign (a parameter set where the other
+    sign is the declared mode) swaps the names; one that holds on neither leaves the mode
+    undecided (never the declared mode's equilibrium), each root still proven."""
+    a, b, c = 1.0, 0.5, 0.2
+    found = analyze_modes(driver, a, b, c, w)
+    on_mode_0, on_mode_1 = reference_roots(a, b, c), reference_roots(a, -b, c)
+    assert len(found) == len(on_mode_0) + len(on_mode_1) == 4
+    for theta, kind, mode, genuine, certified in found:
+        sign_choice = 0 if any(abs(theta - t) < 1e-12 for t in on_mode_0) else 1
+        assert any(abs(theta - t) < 1e-12 for t in (on_mode_0, on_mode_1)[sign_choice])
+        assert certified == 1
+        if w == 0:
+            assert (kind, mode, genuine) == (MODE_UNDECIDED, 2, 0)
+        else:
+            declared = sign_choice if w > 0 else 1 - sign_choice
+            assert (mode, kind, genuine) == (declared, (EQUILIBRIUM, OTHER_ASSEMBLY)[declared],
+                                             int(declared == 0))

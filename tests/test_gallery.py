@@ -77,15 +77,22 @@ CASES = {
     # the rod's root is declared depends on the inclination's sign (decided for each set).
     "inclined_slider_crank": Case("inclined_slider_crank"),
     "inclined_slider_crank_down": Case("inclined_slider_crank", {"alpha": -1.0}, flipped=True),
+    # ... and a Stephenson-III six-bar: the first four-bar's coupler drives the second dyad.
+    "stephenson_six_bar": Case("stephenson_six_bar"),
 }
 
 
-#: Built with the slow tests only: about 30 s to generate and build (3.3 MB of C); the six-bar
-#: about 4.5 minutes (2 MB of C).
-SLOW_MODELS = {"four_bar_coupler_spring", "watt_six_bar"}
+#: Built with the slow tests only: about 30 s to generate and build (3.3 MB of C); the six-bars
+#: about 1 and 2 minutes (1.8 MB of C each).
+SLOW_MODELS = {"four_bar_coupler_spring", "watt_six_bar", "stephenson_six_bar"}
 #: Checked through the library alone: the plan test would derive it again in the test's
 #: process, minutes for the six-bar, for what the library's tests already compare.
-LIBRARY_ONLY = {"watt_six_bar"}
+LIBRARY_ONLY = {"watt_six_bar", "stephenson_six_bar"}
+#: Derived, verified and built, its functions checked against the reference, but not yet
+#: analysed: the interval enclosures of its G are too wide for the isolation to decide (G
+#: over [0.1, 0.1001] rad encloses [-1142, 437] N m), so the analysis ends with a capacity
+#: error. Issue 30's note has the figures.
+NOT_ANALYSED = {"stephenson_six_bar"}
 
 
 def library_cases(names=None):
@@ -133,21 +140,22 @@ def builds(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def references():
-    """(case name, other=False) -> (mechanism, params, Reference, the reference's
-    equilibria), once each; other: on the other assembly mode (every mode negated)."""
+    """(case name, mode=0) -> (mechanism, params, Reference, the reference's equilibria),
+    once each; mode: the assembly mode as the library numbers it (the i-th dyad's
+    assembly-mode expression negated where bit i is set)."""
     cache = {}
 
-    def get(case_name: str, other: bool = False):
-        if (case_name, other) not in cache:
+    def get(case_name: str, mode: int = 0):
+        if (case_name, mode) not in cache:
             case = CASES[case_name]
             mechanism = load_model(case.model)
             params = dict(example(mechanism), **case.overrides)
-            if other:
-                mechanism = dataclasses.replace(
-                    mechanism, assembly_modes=tuple(-e for e in mechanism.assembly_modes))
+            if mode:
+                mechanism = dataclasses.replace(mechanism, assembly_modes=tuple(
+                    -e if mode >> i & 1 else e for i, e in enumerate(mechanism.assembly_modes)))
             reference = Reference(mechanism, params)
-            cache[case_name, other] = (mechanism, params, reference, reference.equilibria())
-        return cache[case_name, other]
+            cache[case_name, mode] = (mechanism, params, reference, reference.equilibria())
+        return cache[case_name, mode]
 
     return get
 
@@ -163,7 +171,8 @@ def test_generate_builds_the_library(case_name, builds):
     assert "Traceback" not in build.process.stderr
 
 
-@pytest.mark.parametrize("case_name", library_cases())
+@pytest.mark.parametrize("case_name", library_cases(
+    [name for name in CASES if name not in NOT_ANALYSED]))
 def test_equilibria_match_the_reference(case_name, builds, references):
     lib = builds(CASES[case_name].model).library()
     mechanism, params, reference, expected = references(case_name)
@@ -182,24 +191,29 @@ def test_equilibria_match_the_reference(case_name, builds, references):
 
 
 @pytest.mark.parametrize("case_name", library_cases(
-    [name for name, case in CASES.items() if len(load_model(case.model).assembly_modes) == 1]))
+    [name for name, case in CASES.items() if load_model(case.model).assembly_modes
+     and name not in NOT_ANALYSED]))
 def test_other_mode_roots_are_the_other_modes_equilibria(case_name, builds, references):
-    """What analyze labels "other assembly mode" is exactly the zeros of G with every
-    assembly mode negated, certified."""
+    """What analyze labels "other assembly mode" with mode j is exactly the zeros of G with
+    the assembly-mode expressions of j's dyads negated, certified: every mode of every dyad
+    (a six-bar's four)."""
     lib = builds(CASES[case_name].model).library()
-    _, _, _, expected = references(case_name, other=True)
     analysis = lib.analyze(lib.example_params(**CASES[case_name].overrides))
-    found = sorted(r.theta for r in analysis.roots
-                   if r.kind == "other assembly mode" and r.certified)
-    assert len(found) == len(expected), ([math.degrees(t) for t in found],
-                                         [math.degrees(t) for t in expected])
-    assert all(angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected))
+    assert {r.kind for r in analysis.roots} <= {"equilibrium", "other assembly mode",
+                                                "extraneous"}
+    for mode in range(1, lib.modes):
+        _, _, _, expected = references(case_name, mode)
+        found = sorted(r.theta for r in analysis.roots if r.mode == mode and r.certified
+                       and r.kind == "other assembly mode")
+        assert len(found) == len(expected), (mode, [math.degrees(t) for t in found],
+                                             [math.degrees(t) for t in expected])
+        assert all(angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected)), mode
 
 
 @pytest.mark.parametrize("case_name", library_cases())
 def test_G_M_B_match_the_reference_across_the_range(case_name, builds, references):
     lib = builds(CASES[case_name].model).library()
-    mechanism, params, reference, _ = references(case_name, other=CASES[case_name].flipped)
+    mechanism, params, reference, _ = references(case_name, int(CASES[case_name].flipped))
     p = lib.example_params(**CASES[case_name].overrides)
     mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}
     for theta in angles(reference):
@@ -221,7 +235,7 @@ def test_G_M_B_match_the_reference_across_the_range(case_name, builds, reference
                                        if case.model not in LIBRARY_ONLY])
 def test_plan_matches_the_reference(case_name, references):
     """The expressions printed to C (the plan) against the reference, in high precision."""
-    _, params, reference, _ = references(case_name, other=CASES[case_name].flipped)
+    _, params, reference, _ = references(case_name, int(CASES[case_name].flipped))
     mechanism, _, _, _ = references(case_name)
     plan = PlanValues(mechanism)
     mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}

@@ -13,6 +13,11 @@
  *   simulate A B C M D THETA0 THETA_D0 COUNT T..   -> STATUS REACHED [THETA THETA_D]..
  *   rk4 A B C M D H THETA THETA_D                  -> STATUS THETA THETA_D
  *   null                                           -> the statuses of calls with NULL pointers
+ *   modes A B C M D W                              -> the isolation route on a two-mode model:
+ *       mode 0's G as above, mode 1's a cos(theta) - b sin(theta) + c, and one assembly-mode
+ *       condition, W on mode 0 and -W on mode 1 (W > 0: mode 0 is the declared one; W < 0:
+ *       mode 1; W = 0: neither)
+ *       -> STATUS N_ROOTS [THETA KIND MODE GENUINE CERTIFIED]..
  */
 #include "codegen_model.h"
 #include "codegen_runtime.h"
@@ -26,10 +31,11 @@
 #define MAX_ROOTS 4
 #define MAX_UNCERTAIN 4
 #define STATE 5
+#define MODES_STATE 7 /* and G on both modes' branches */
 #define ERR_MASS 12 /* this mechanism's own status: m must be positive */
 
 typedef struct params {
-    double a, b, c, m, d, centre;
+    double a, b, c, m, d, centre, w;
 } params;
 
 typedef struct analysis {
@@ -56,7 +62,7 @@ typedef struct workspace {
     codegen_iv slots[1];
     codegen_isolated found[MAX_ROOTS + MAX_UNCERTAIN];
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];
-    double scratch[CODEGEN_ANALYSIS_SCRATCH(STATE, 1, 1, 0)];
+    double scratch[CODEGEN_ANALYSIS_SCRATCH(MODES_STATE, 2, 2, 1)];
 } workspace;
 
 typedef struct simulation {
@@ -186,6 +192,81 @@ static codegen_model model_with(int capacity)
     return m;
 }
 
+/* The two-mode model: mode 1 is mode 0 with b negated. */
+static double g_mode(const params *q, unsigned mode, double theta)
+{
+    return q->a * cos(theta) + (mode == 0u ? q->b : -q->b) * sin(theta) + q->c;
+}
+
+static void modes_state(const void *p, double theta, double *out)
+{
+    equilibrium_state(p, theta, out);
+    out[5] = g_mode((const params *)p, 0u, theta);
+    out[6] = g_mode((const params *)p, 1u, theta);
+}
+
+static void modes_linearisation(const void *p, double theta, double *out)
+{
+    const params *q = (const params *)p;
+    out[0] = out[1] = q->m;
+    out[2] = out[3] = q->d;
+    out[4] = -q->a * sin(theta) + q->b * cos(theta);
+    out[5] = -q->a * sin(theta) - q->b * cos(theta);
+}
+
+static int modes_enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
+                         codegen_iv *dg, unsigned *flags)
+{
+    const params *q = (const params *)((const codegen_enclosure_context *)context)->params;
+    const codegen_iv c = codegen_iv_cos(theta), s = codegen_iv_sin(theta);
+    const double b = mode == 0u ? q->b : -q->b;
+    if (mode > 1u) {
+        return CODEGEN_ERR_ARGUMENT;
+    }
+    *flags = 0u;
+    *g = codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(q->a), c),
+                                       codegen_iv_mul(codegen_iv_point(b), s)),
+                        codegen_iv_point(q->c));
+    if (dg != NULL) {
+        *dg = codegen_iv_sub(codegen_iv_mul(codegen_iv_point(b), c),
+                             codegen_iv_mul(codegen_iv_point(q->a), s));
+    }
+    return CODEGEN_OK;
+}
+
+/* The condition on each mode, then their scales. */
+static void modes_conditions(const void *p, double theta, double *out)
+{
+    const params *q = (const params *)p;
+    (void)theta;
+    out[0] = q->w;
+    out[1] = -q->w;
+    out[2] = out[3] = fabs(q->w);
+}
+
+static codegen_model two_mode_model(void)
+{
+    static const unsigned identity[2] = {0u, 1u}, bit[1] = {0u};
+    codegen_model m = model_with(MAX_ROOTS);
+    m.n_modes = m.n_branches = 2;
+    m.degree = 0;
+    m.sigma = NULL;
+    m.mode_of_branch = m.branch_of_mode = identity;
+    m.n_conditions = 1;
+    m.condition_bit = bit;
+    m.state.size = MODES_STATE;
+    m.state.branch_residuals = 5;
+    m.mode_m = 0;
+    m.mode_b = 2;
+    m.mode_k = 4;
+    m.mode_linearisation_failure = m.branches_failure = m.conditions_failure = CODEGEN_ERR_OVERFLOW;
+    m.equilibrium_state = modes_state;
+    m.mode_linearisation = modes_linearisation;
+    m.assembly_conditions = modes_conditions;
+    m.enclose = modes_enclose;
+    return m;
+}
+
 static double next(void)
 {
     const char *word = strtok(NULL, " \n");
@@ -201,6 +282,7 @@ static params read_params(int with_centre)
     p.m = next();
     p.d = next();
     p.centre = with_centre ? next() : 0.0;
+    p.w = 0.0;
     return p;
 }
 
@@ -228,6 +310,24 @@ static void analyze(void)
         printf(" %a %a %d", result.uncertain[i].lo, result.uncertain[i].hi, (int)result.uncertain[i].kind);
     }
     printf(" %a %a %a\n", result.sigma[0], result.sigma[1], result.sigma[2]);
+}
+
+static void modes(void)
+{
+    const codegen_model model = two_mode_model();
+    params p = read_params(0);
+    analysis result;
+    workspace ws;
+    int i, status;
+    p.w = next();
+    memset(&result, 0, sizeof result);
+    status = codegen_analysis_run(&model, CODEGEN_ROUTE_ISOLATION, &p, &result, &ws);
+    printf("%d %d", status, result.n_roots);
+    for (i = 0; i < result.n_roots; ++i) {
+        const codegen_equilibrium *e = &result.roots[i];
+        printf(" %a %d %u %d %d", e->theta, (int)e->kind, e->mode, e->genuine, e->certified);
+    }
+    printf("\n");
 }
 
 static void simulate(void)
@@ -265,7 +365,7 @@ static void rk4(void)
 static void null_pointers(void)
 {
     const codegen_model model = model_with(MAX_ROOTS);
-    const params p = {1, 0, 0, 1, 1, 0};
+    const params p = {1, 0, 0, 1, 1, 0, 0};
     analysis result;
     workspace ws;
     simulation s;
@@ -290,6 +390,8 @@ int main(void)
             simulate();
         } else if (strcmp(command, "rk4") == 0) {
             rk4();
+        } else if (strcmp(command, "modes") == 0) {
+            modes();
         } else if (strcmp(command, "null") == 0) {
             null_pointers();
         } else {

@@ -118,10 +118,21 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
         residual=on_branch(residual, roots, declared, definitions),
         roots=roots, branches=tuple(branches), polynomial=polynomial,
         radicands=tuple(on_branch(r.radicand, roots, declared, definitions) for r in roots),
-        radicand_scales=tuple(on_branch(_magnitude(r.radicand), roots, declared, definitions)
-                              for r in roots),
+        radicand_scales=tuple(on_branch(_radicand_scale(r, expand=not definitions),
+                                        roots, declared, definitions) for r in roots),
         no_polynomial=no_polynomial,
     )
+
+
+def _radicand_scale(root: Root, expand: bool) -> sp.Expr:
+    """The size a radicand's rounding is measured against: the magnitudes of its expanded
+    terms; a chain's radicands are too large to expand (minutes): P^2 + Q^2 + W^2 of an
+    assembly root's P^2 + Q^2 - W^2, a length's terms as they stand."""
+    if expand:
+        return _magnitude(root.radicand)
+    if root.scale is not None:
+        return root.scale
+    return sum((sp.Abs(t, evaluate=False) for t in sp.Add.make_args(root.radicand)), sp.S.Zero)
 
 
 def _magnitude(expr: sp.Expr) -> sp.Expr:

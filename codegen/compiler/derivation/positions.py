@@ -40,6 +40,9 @@ class Root:
     # decides), in the root symbols: each positive in the declared mode, where this root is
     # +sqrt(radicand); the library evaluates them at run time on each mode
     conditions: tuple[sp.Expr, ...] = ()
+    # P^2 + Q^2 + W^2 of an assembly root's radicand P^2 + Q^2 - W^2: the size its rounding
+    # is measured against, without expanding a chain's large radicand (None: expand it)
+    scale: sp.Expr | None = None
 
 
 @dataclass(frozen=True)
@@ -204,21 +207,29 @@ class PositionSolution:
 def _positive_on_samples(expr, theta, roots, requirements=()) -> bool:
     """expr > 0 at random angles and parameter sets of either sign that meet every
     requirement (a sum of squares, typically): a sign the model does not guarantee is not
-    assumed."""
+    assumed. A chain's definitions (the cosine and sine of a driving angle: C_x, S_x) are
+    sampled as the cosine and sine of any angle, which they are."""
+    angles = {}
+    for step in roots:
+        if isinstance(step, Definition) and step.symbol in expr.free_symbols:
+            name = step.symbol.name
+            angle = angles.setdefault(name[2:], sp.Dummy(f"angle_{name[2:]}"))
+            expr = expr.xreplace({step.symbol: (sp.cos if name[0] == "C" else sp.sin)(angle)})
     if expr.free_symbols & {r.symbol for r in roots}:
         return False
     rng = random.Random(1)
-    own = expr.free_symbols - {theta}
+    own = expr.free_symbols - {theta} - set(angles.values())
     conditions = [c for c in requirements if c.free_symbols & own]
     symbols = sorted(own.union(*(c.free_symbols for c in conditions)), key=sp.default_sort_key)
-    f = sp.lambdify([theta, *symbols], expr)
+    f = sp.lambdify([theta, *symbols, *angles.values()], expr)
     allowed = sp.lambdify(symbols, sp.And(*conditions)) if conditions else None
     checked = 0
     for _ in range(2000):
         values = [rng.choice((-1, 1)) * rng.uniform(0.1, 2.0) for _ in symbols]
         if allowed is not None and not bool(allowed(*values)):
             continue
-        if not f(rng.uniform(-3.2, 3.2), *values) > 0:
+        if not f(rng.uniform(-3.2, 3.2), *values,
+                 *(rng.uniform(-3.2, 3.2) for _ in angles)) > 0:
             return False
         checked += 1
         if checked == 200:
@@ -380,7 +391,7 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
                                            rho, roots, definitions)
         norm = reduce_trig(P**2 + Q**2, theta)
         roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name,
-                          conditions))
+                          conditions, norm + W**2))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         later = {v for n in pending if n != name for v in pairs[n] if v not in known}
         if later:
