@@ -118,7 +118,6 @@ static const codegen_model model = {
     .residual_failure = FOUR_BAR_EQUILIBRIUM_RESIDUAL_FAILURE,
     .linearisation_failure = FOUR_BAR_LINEARISATION_FAILURE,
     .mode_linearisation_failure = FOUR_BAR_MODE_LINEARISATION_FAILURE,
-    .conditions_failure = FOUR_BAR_ASSEMBLY_CONDITIONS_FAILURE,
     .radicands_failure = FOUR_BAR_RADICANDS_FAILURE,
     .branches_failure = FOUR_BAR_EQUILIBRIUM_BRANCHES_FAILURE,
     .sigma_failure = FOUR_BAR_SIGMA_FAILURE,

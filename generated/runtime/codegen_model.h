@@ -195,7 +195,7 @@ struct codegen_model {
     int mode_m, mode_b, mode_k;   /* where each mode's M, B, K start in mode_linearisation's output */
     /* the status of each kernel's failure (a result not finite) */
     int residual_failure, linearisation_failure, mode_linearisation_failure, radicands_failure,
-        branches_failure, sigma_failure, acceleration_failure, conditions_failure;
+        branches_failure, sigma_failure, acceleration_failure;
     int (*check_params)(const void *params);
     /* G, its scale, M, B, K, G on every branch and the radicands at theta: out[state.size] */
     void (*equilibrium_state)(const void *params, codegen_real theta, codegen_real *out);

@@ -118,7 +118,6 @@ static const codegen_model model = {
     .residual_failure = SLIDER_CRANK_EQUILIBRIUM_RESIDUAL_FAILURE,
     .linearisation_failure = SLIDER_CRANK_LINEARISATION_FAILURE,
     .mode_linearisation_failure = SLIDER_CRANK_MODE_LINEARISATION_FAILURE,
-    .conditions_failure = SLIDER_CRANK_ASSEMBLY_CONDITIONS_FAILURE,
     .radicands_failure = SLIDER_CRANK_RADICANDS_FAILURE,
     .branches_failure = SLIDER_CRANK_EQUILIBRIUM_BRANCHES_FAILURE,
     .sigma_failure = SLIDER_CRANK_SIGMA_FAILURE,

@@ -259,7 +259,7 @@ static codegen_model two_mode_model(void)
     m.mode_m = 0;
     m.mode_b = 2;
     m.mode_k = 4;
-    m.mode_linearisation_failure = m.branches_failure = m.conditions_failure = CODEGEN_ERR_OVERFLOW;
+    m.mode_linearisation_failure = m.branches_failure = CODEGEN_ERR_OVERFLOW;
     m.equilibrium_state = modes_state;
     m.mode_linearisation = modes_linearisation;
     m.assembly_conditions = modes_conditions;

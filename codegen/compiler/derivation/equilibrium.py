@@ -130,9 +130,13 @@ def _radicand_scale(root: Root, expand: bool) -> sp.Expr:
     assembly root's P^2 + Q^2 - W^2, a length's terms as they stand."""
     if expand:
         return _magnitude(root.radicand)
-    if root.scale is not None:
-        return root.scale
-    return sum((sp.Abs(t, evaluate=False) for t in sp.Add.make_args(root.radicand)), sp.S.Zero)
+    return root.scale if root.scale is not None else terms_size(root.radicand)
+
+
+def terms_size(expr: sp.Expr, on=lambda term: term) -> sp.Expr:
+    """Sum of |term| over expr's terms as written, each taken ``on`` a branch first (not
+    expanded, nor simplified by Abs: a chain's expressions are large)."""
+    return sp.Add(*(sp.Abs(on(t), evaluate=False) for t in sp.Add.make_args(expr)))
 
 
 def _magnitude(expr: sp.Expr) -> sp.Expr:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .algebra import tidy
-from .equilibrium import on_branch
+from .equilibrium import on_branch, terms_size
 from .reduction import Reduction
 
 
@@ -81,17 +81,10 @@ def derive_linearisation(reduction: Reduction) -> Linearisation:
     return Linearisation(
         tuple(Mode(signs, *(on(signs, x) for x in (e0, e2, slope)),
                    conditions=tuple(on(signs, c) for c in conditions),
-                   condition_scales=tuple(_terms_size(c, lambda t: on(signs, t))
+                   condition_scales=tuple(terms_size(c, lambda t: on(signs, t))
                                           for c in conditions))
               for signs in mode_signs(tuple(r.kind for r in roots))),
         condition_bits=tuple(bit for bit, r in enumerate(assembly) for _ in r.conditions))
-
-
-def _terms_size(expr: sp.Expr, on_mode) -> sp.Expr:
-    """Sum of |term| over expr's terms as written, each on a mode (not expanded, nor
-    simplified by Abs: a chain's conditions are large): what a condition's rounding is
-    measured against."""
-    return sp.Add(*(sp.Abs(on_mode(t), evaluate=False) for t in sp.Add.make_args(expr)))
 
 
 def mode_signs(kinds: tuple[str, ...]) -> list[tuple[int, ...]]:

@@ -70,7 +70,9 @@ def write_out(expr, roots, definitions=(), signs=None):
     straight-line program (branch_program), which the library computes once per angle;
     written out, they are too large to print or check in reasonable time."""
     if definitions:
-        return expr.xreplace(_program_symbols(roots, definitions, signs))
+        signs = signs or (1,) * len(roots)
+        names = _program_names(roots, definitions, signs)
+        return expr.xreplace(_program_symbols(roots, names, signs))
     flip = {r.symbol: s * r.symbol for r, s in zip(roots, signs)} if signs else {}
     result = expr.xreplace(flip)
     for step in reversed(in_order(roots, definitions)):
@@ -93,11 +95,9 @@ def _program_names(roots, definitions, signs) -> dict:
     return names
 
 
-def _program_symbols(roots, definitions, signs=None) -> dict:
-    """Each root and definition symbol -> what stands for it on one branch (a root taken
-    negative there: minus its program's symbol)."""
-    signs = signs or (1,) * len(roots)
-    names = _program_names(roots, definitions, signs)
+def _program_symbols(roots, names, signs) -> dict:
+    """Each root and definition symbol -> what stands for it on one branch (its program's
+    name; a root taken negative there: minus it)."""
     return names | {r.symbol: s * names[r.symbol] for r, s in zip(roots, signs)}
 
 
@@ -107,7 +107,7 @@ def branch_program(roots, definitions, signs=None) -> tuple[tuple[sp.Symbol, sp.
     root the non-negative sqrt of its radicand, its sign carried where it is used."""
     signs = signs or (1,) * len(roots)
     names = _program_names(roots, definitions, signs)
-    symbols = _program_symbols(roots, definitions, signs)
+    symbols = _program_symbols(roots, names, signs)
     return tuple((names[step.symbol],
                   sp.sqrt(step.radicand.xreplace(symbols)) if isinstance(step, Root)
                   else step.expr.xreplace(symbols))

@@ -17,7 +17,8 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from .printer import _temporary_prefix, in_dependency_order, needed_definitions
+from .printer import (_temporary_prefix, in_dependency_order, needed_definitions,
+                      shared_with_program)
 
 #: digits for enclosing irrational constants; far beyond double's 17
 _CONSTANT_DIGITS = 40
@@ -298,15 +299,10 @@ def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set
     """exprs (in the parameters and ``inputs``, and the symbols of ``definitions``, a
     straight-line program: (symbol, expression) in order) as one interval program."""
     program = needed_definitions(definitions, exprs)
-    shared = [d for _, d in program]
-    used = set().union(*(e.free_symbols for e in exprs), *(d.free_symbols for d in shared))
-    prefix = _temporary_prefix(used)
-    replacements, reduced = sp.cse(shared + list(exprs), symbols=sp.numbered_symbols(prefix),
-                                   order="canonical")
-    if program:   # the program's steps, their subexpressions shared, in dependency order
-        replacements = in_dependency_order(
-            [(symbol, d) for (symbol, _), d in zip(program, reduced)] + replacements)
-        reduced = reduced[len(program):]
+    used = set().union(*(e.free_symbols for e in exprs), *(d.free_symbols for _, d in program))
+    replacements, reduced = shared_with_program(program, exprs, _temporary_prefix(used))
+    if program:
+        replacements = in_dependency_order(replacements)
     printer = _Text(flags)
     writer = _Writer(printer)
     names = {s.name for s in used} - {symbol.name for symbol, _ in program}

@@ -131,6 +131,19 @@ def needed_definitions(definitions, exprs) -> list:
     return kept[::-1]
 
 
+def shared_with_program(program, exprs, prefix: str) -> tuple[list, list]:
+    """One CSE over a straight-line program's steps and the expressions: (the steps, their
+    subexpressions shared, then the common subexpressions; the expressions reduced). The
+    statements are not in dependency order (in_dependency_order puts them so). Sharing
+    across the steps pays in plain and double-double arithmetic alike: the elimination's
+    definitions repeat many products, and a double-double operation costs tens of plain
+    ones."""
+    replacements, reduced = sp.cse([d for _, d in program] + list(exprs),
+                                   symbols=sp.numbered_symbols(prefix), order="canonical")
+    steps = [(symbol, d) for (symbol, _), d in zip(program, reduced)]
+    return steps + replacements, reduced[len(program):]
+
+
 def _argument_clashes(function: CFunction, fields) -> dict[str, str]:
     """Parameter symbol -> local name, for the parameters named like one of the function's
     arguments: param_NAME (with underscores added while that is taken too)."""
@@ -167,17 +180,8 @@ def print_body(function: CFunction, fields: tuple[tuple[str, str], ...],
     computed: list[tuple[str, str]] = []
     if function.arithmetic == "double-double":
         exprs, program, computed = _parameter_functions(exprs, program, fields, clashes, used)
-    # Subexpressions are shared across the definitions too, in plain and double-double
-    # arithmetic alike (_calls_first puts the statements in dependency order): the
-    # elimination's definitions repeat many products, and a double-double operation costs
-    # tens of plain ones.
-    shared = [d for _, d in program]
-    replacements, reduced = sp.cse(shared + exprs, symbols=sp.numbered_symbols(prefix),
-                                   order="canonical")
-    if shared:
-        program = [(s, d) for (s, _), d in zip(program, reduced[:len(shared)])]
-        reduced = reduced[len(shared):]
-    replacements = program + replacements
+    # (_calls_first puts the statements in dependency order)
+    replacements, reduced = shared_with_program(program, exprs, prefix)
     printer = target.printer
     used_names = {s.name for s in used}
     unpack = [(clashes.get(local, local), f"params->{field}") for local, field in fields

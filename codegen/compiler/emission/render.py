@@ -214,7 +214,6 @@ def _range_centre(plan: Plan, printer) -> str:
 _FAILURES = (("residual_failure", "equilibrium_residual"),
              ("linearisation_failure", "linearisation"),
              ("mode_linearisation_failure", "mode_linearisation"),
-             ("conditions_failure", "assembly_conditions"),
              ("radicands_failure", "radicands"),
              ("branches_failure", "equilibrium_branches"),
              ("sigma_failure", "sigma"),
@@ -261,7 +260,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "length_bits": sum(1 << j for j, k in enumerate(plan.root_kinds) if k == "length"),
         "mode_of_branch": plan.mode_of_branch,
         "other_modes": plan.has("mode_linearisation"),
-        "condition_bits": plan.condition_bits if plan.has("assembly_conditions") else (),
+        "condition_bits": plan.condition_bits,
         "branch_of_mode": [plan.mode_of_branch.index(k) if plan.mode_of_branch else 0
                            for k in range(plan.sizes["N_MODES"])],
         "enclosure": enclosure,
