@@ -201,11 +201,11 @@ def test_one_rk4_step_is_the_classical_formula(driver):
 EQUILIBRIUM, OTHER_ASSEMBLY, MODE_UNDECIDED = 0, 1, 3
 
 
-def analyze_modes(driver, a, b, c, w):
+def analyze_modes(driver, a, b, c, w, absent=0.0):
     """The isolation route on the driver's two-mode model (mode 1: b negated), whose
-    assembly-mode condition is w on mode 0 and -w on mode 1: [(theta, kind, mode, genuine,
-    certified)]."""
-    words = driver([f"modes {h(a)} {h(b)} {h(c)} {h(1.0)} {h(0.5)} {h(w)}"])[0]
+    assembly-mode condition is w on mode 0 and -w on mode 1 (``absent``: mode 0 exists
+    nowhere): [(theta, kind, mode, genuine, certified)]."""
+    words = driver([f"modes {h(a)} {h(b)} {h(c)} {h(1.0)} {h(0.5)} {h(w)} {h(absent)}"])[0]
     assert int(words[0]) == OK
     fields = words[2:]
     return [(float.fromhex(fields[i]), *map(int, fields[i + 1:i + 5]))
@@ -232,3 +232,17 @@ def test_each_equilibrium_is_named_by_the_mode_its_conditions_declare(driver, w)
             declared = sign_choice if w > 0 else 1 - sign_choice
             assert (mode, kind, genuine) == (declared, (EQUILIBRIUM, OTHER_ASSEMBLY)[declared],
                                              int(declared == 0))
+
+
+def test_a_mode_is_linearised_where_another_mode_does_not_exist(driver):
+    """In a chain of dyads one mode may exist where another does not (its radicand below 0,
+    its values NaN): each root of the mode that exists is still proven and linearised from
+    that mode's own values (they were read with every other mode's, and the root listed as
+    singular)."""
+    a, b, c = 1.0, 0.5, 0.2
+    found = analyze_modes(driver, a, b, c, w=-1.0, absent=1.0)
+    on_mode_1 = reference_roots(a, -b, c)
+    assert len(found) == len(on_mode_1) == 2
+    for (theta, kind, mode, genuine, certified), expected in zip(found, sorted(on_mode_1)):
+        assert abs(theta - expected) < 1e-12
+        assert (kind, mode, genuine, certified) == (EQUILIBRIUM, 0, 1, 1)

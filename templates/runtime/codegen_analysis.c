@@ -228,7 +228,7 @@ static int branch_value(const call *c, codegen_real theta, unsigned branch, code
 {
     codegen_real *g = c->g;
     c->model->equilibrium_branches(c->enclosure.params, theta, g);
-    if (!all_finite(g, c->model->n_branches) || !(g[branch] == g[branch])) {
+    if (!isfinite(g[branch])) {   /* (another branch may not exist here: not read) */
         return 0;
     }
     *value = g[branch];
@@ -247,14 +247,16 @@ static int linearise_at(const call *c, unsigned mode, codegen_real theta, const 
         codegen_real *modes = c->modes;
         const codegen_real branch = at[s->branch_residuals + (int)model->branch_of_mode[mode]];
         model->mode_linearisation(c->enclosure.params, theta, modes);
-        status = finite_or(modes, 3 * model->n_modes, model->mode_linearisation_failure);
-        if (status != CODEGEN_OK) {
-            return status;
-        }
         e->M = modes[model->mode_m + (int)mode];
         e->B = modes[model->mode_b + (int)mode];
         e->K = modes[model->mode_k + (int)mode];
-        if (!all_finite(at + s->branch_residuals, model->n_branches) || !(branch == branch)) {
+        /* this mode's values only: in a chain of dyads another mode may not exist here */
+        status = isfinite(e->M) && isfinite(e->B) && isfinite(e->K)
+                 ? CODEGEN_OK : model->mode_linearisation_failure;
+        if (status != CODEGEN_OK) {
+            return status;
+        }
+        if (!isfinite(branch)) {
             return CODEGEN_ERR_SINGULAR_STATE;
         }
         e->residual = branch;

@@ -13,10 +13,11 @@
  *   simulate A B C M D THETA0 THETA_D0 COUNT T..   -> STATUS REACHED [THETA THETA_D]..
  *   rk4 A B C M D H THETA THETA_D                  -> STATUS THETA THETA_D
  *   null                                           -> the statuses of calls with NULL pointers
- *   modes A B C M D W                              -> the isolation route on a two-mode model:
+ *   modes A B C M D W X                            -> the isolation route on a two-mode model:
  *       mode 0's G as above, mode 1's a cos(theta) - b sin(theta) + c, and one assembly-mode
  *       condition, W on mode 0 and -W on mode 1 (W > 0: mode 0 is the declared one; W < 0:
- *       mode 1; W = 0: neither)
+ *       mode 1; W = 0: neither); X != 0: mode 0 exists nowhere (its values NaN, as a chain
+ *       of dyads' mode is where its own radicand is negative)
  *       -> STATUS N_ROOTS [THETA KIND MODE GENUINE CERTIFIED]..
  */
 #include "codegen_model.h"
@@ -35,7 +36,7 @@
 #define ERR_MASS 12 /* this mechanism's own status: m must be positive */
 
 typedef struct params {
-    double a, b, c, m, d, centre, w;
+    double a, b, c, m, d, centre, w, absent;
 } params;
 
 typedef struct analysis {
@@ -100,7 +101,7 @@ static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen
     if (mode != 0u) {
         return CODEGEN_ERR_ARGUMENT;
     }
-    *flags = 0u;
+    *flags = mode == 0u && q->absent != 0 ? CODEGEN_IV_OUTSIDE : 0u;
     *g = codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(q->a), c),
                                        codegen_iv_mul(codegen_iv_point(q->b), s)),
                         codegen_iv_point(q->c));
@@ -201,7 +202,7 @@ static double g_mode(const params *q, unsigned mode, double theta)
 static void modes_state(const void *p, double theta, double *out)
 {
     equilibrium_state(p, theta, out);
-    out[5] = g_mode((const params *)p, 0u, theta);
+    out[5] = ((const params *)p)->absent != 0 ? NAN : g_mode((const params *)p, 0u, theta);
     out[6] = g_mode((const params *)p, 1u, theta);
 }
 
@@ -212,6 +213,9 @@ static void modes_linearisation(const void *p, double theta, double *out)
     out[2] = out[3] = q->d;
     out[4] = -q->a * sin(theta) + q->b * cos(theta);
     out[5] = -q->a * sin(theta) - q->b * cos(theta);
+    if (q->absent != 0) {
+        out[0] = out[2] = out[4] = NAN;
+    }
 }
 
 static int modes_enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
@@ -223,7 +227,7 @@ static int modes_enclose(const void *context, unsigned mode, codegen_iv theta, c
     if (mode > 1u) {
         return CODEGEN_ERR_ARGUMENT;
     }
-    *flags = 0u;
+    *flags = mode == 0u && q->absent != 0 ? CODEGEN_IV_OUTSIDE : 0u;
     *g = codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(q->a), c),
                                        codegen_iv_mul(codegen_iv_point(b), s)),
                         codegen_iv_point(q->c));
@@ -282,7 +286,7 @@ static params read_params(int with_centre)
     p.m = next();
     p.d = next();
     p.centre = with_centre ? next() : 0.0;
-    p.w = 0.0;
+    p.w = p.absent = 0.0;
     return p;
 }
 
@@ -320,6 +324,7 @@ static void modes(void)
     workspace ws;
     int i, status;
     p.w = next();
+    p.absent = next();
     memset(&result, 0, sizeof result);
     status = codegen_analysis_run(&model, CODEGEN_ROUTE_ISOLATION, &p, &result, &ws);
     printf("%d %d", status, result.n_roots);
@@ -365,7 +370,7 @@ static void rk4(void)
 static void null_pointers(void)
 {
     const codegen_model model = model_with(MAX_ROOTS);
-    const params p = {1, 0, 0, 1, 1, 0, 0};
+    const params p = {1, 0, 0, 1, 1, 0, 0, 0};
     analysis result;
     workspace ws;
     simulation s;

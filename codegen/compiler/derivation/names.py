@@ -29,7 +29,7 @@ def _made_for(coordinate: str) -> set[str]:
     """The symbols the derivation makes for one coordinate: its rate and acceleration, and
     the unknowns of the position analysis (cos and sin, or Cartesian components)."""
     return {f"{coordinate}_d", f"{coordinate}_dd",
-            *(f"{letter}_{coordinate}" for letter in "CSXY")}
+            *(f"{letter}_{coordinate}" for letter in "CSXYUV")}
 
 
 def _clashes(name: str, made: set[str], argument: bool) -> bool:

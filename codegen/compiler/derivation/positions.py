@@ -298,14 +298,15 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
             x, y = angles.get(name, (known[pairs[name][0]], known[pairs[name][1]]))
             result.append(sp.atan2(y, x))
     trig = {}
+    defined = {d.symbol for d in definitions}
     for name, (A, B) in pairs.items():
         x, y = angles.get(name, (known[A], known[B]))
         if name in polar_angles:  # cos = X / length, sin = Y / length
             length = next(r.symbol for r in roots if r.coordinate == next(
                 l for l, a in polar.items() if a == name))
             x, y = x / length, y / length
-        elif name in angles:      # (C, S) as solved, not their atan2 numerators
-            x, y = known[A], known[B]
+        elif name in angles:      # (C, S) as solved (a chain's: their symbols), not the
+            x, y = (A, B) if A in defined else (known[A], known[B])   # atan2 numerators
         trig[sp.cos(sym[name])], trig[sp.sin(sym[name])] = x, y
     return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
                             tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
@@ -367,9 +368,10 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
     angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
     pending = _free_pairs(unit_pairs, pairs, known)
     while pending:
+        program = {s.symbol for s in [*roots, *definitions]}
         for name in pending:
             C, S = pairs[name]
-            line = _line_of(C, S, name, unit_pairs, pairs, known)
+            line, centre = _line_of(C, S, name, unit_pairs, pairs, known, program)
             if line is not None:
                 break
         else:
@@ -385,6 +387,7 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
             raise NotSolvable(
                 f"the angle {name} belongs to a dyad driven by the dyad of {driving[0]} in a "
                 "way not supported yet: its closed form grows too large to derive")
+        definitions += [Definition(symbol, value, len(roots)) for symbol, value in centre]
         P, Q, W = _normalised(line, theta)
         rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
         sigma, conditions = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W,
@@ -394,10 +397,15 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
                           conditions, norm + W**2))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         later = {v for n in pending if n != name for v in pairs[n] if v not in known}
-        if later:
+        if later or centre or any(x.free_symbols & program for x in (P, Q, W)):
+            # a dyad of a chain (driving a later one, or driven): its cosine and sine stay
+            # symbols in everything solved from them, so each later value is a short form
+            # of them (its interval enclosure then stays tight, too)
             definitions += [Definition(v, value, len(roots)) for v, value in solved.items()]
-        known = {u: v if v.free_symbols & later else reduce_trig(v.subs(solved), theta)
-                 for u, v in known.items()} | solved
+            known = known | solved
+        else:
+            known = {u: v if v.free_symbols & later else reduce_trig(v.subs(solved), theta)
+                     for u, v in known.items()} | solved
         angles[name] = (P * W - sigma * Q * rho, Q * W + sigma * P * rho)
         pending = _free_pairs(unit_pairs, pairs, known)
     return known, roots, angles, definitions
@@ -432,23 +440,30 @@ def compact(expr: sp.Expr, theta: sp.Symbol) -> sp.Expr:
     return min((sp.factor(expr), reduced), key=sp.count_ops)
 
 
-def _line_of(C, S, name, unit_pairs, pairs, known):
-    """(P, Q, W) with P C + Q S = W, from the free pair's own solved half or a radical line;
-    None where no line holds the pair yet."""
+def _line_of(C, S, name, unit_pairs, pairs, known, program=frozenset()):
+    """((P, Q, W), centre) with P C + Q S = W, from the free pair's own solved half or a
+    radical line; (None, ()) where no line holds the pair yet. ``centre``: the definitions
+    (symbol, value) the line is written in, where the circle it comes from is centred on a
+    point an earlier dyad of a chain (``program``: its symbols) places."""
     free = {v for n in unit_pairs for v in pairs[n] if v not in known}
     for v in (C, S):
         if v in known and not (known[v].free_symbols & free):
-            return (sp.S.Zero, sp.S.One, known[v]) if v is S else (sp.S.One, sp.S.Zero, known[v])
+            return ((sp.S.Zero, sp.S.One, known[v]) if v is S
+                    else (sp.S.One, sp.S.Zero, known[v])), ()
     for v, w in ((C, S), (S, C)):   # the elimination left one of the pair in terms of the other
         if v in known and known[v].free_symbols & free == {w}:
             line = sp.Poly(sp.expand(v - known[v]), C, S)
             if line.total_degree() == 1:
-                return line.coeff_monomial(C), line.coeff_monomial(S), -line.coeff_monomial(1)
+                return (line.coeff_monomial(C), line.coeff_monomial(S),
+                        -line.coeff_monomial(1)), ()
     for other in unit_pairs:
         if other == name or any(v not in known for v in pairs[other]):
             continue
         A, B = pairs[other]
-        circle = sp.expand(known[A] ** 2 + known[B] ** 2 - 1)
+        centre = _centre(name, C, S, (known[A], known[B]), program)
+        x, y = (known[A], known[B]) if not centre else (
+            _affine(known[A], C, S, centre[0][0]), _affine(known[B], C, S, centre[1][0]))
+        circle = sp.expand(x ** 2 + y ** 2 - 1)
         if not circle.free_symbols & {C, S} or circle.free_symbols & (free - {C, S}):
             continue
         poly = sp.Poly(circle, C, S)
@@ -461,8 +476,27 @@ def _line_of(C, S, name, unit_pairs, pairs, known):
         if line.total_degree() > 1:
             continue
         P, Q = line.coeff_monomial(C), line.coeff_monomial(S)
-        return tuple(sp.factor(x) for x in (P, Q, -line.coeff_monomial(1)))
-    return None
+        return tuple(sp.factor(x) for x in (P, Q, -line.coeff_monomial(1))), centre
+    return None, ()
+
+
+def _centre(name, C, S, parts, program) -> tuple:
+    """A circle (x, y) affine in (C, S), centred where a chain's earlier dyad puts a joint
+    (its constant parts in that dyad's symbols): those parts as definitions U_name, V_name,
+    so that the line, and the root's radicand, are short forms of them (written out, they
+    are polynomials of thousands of terms whose interval enclosures overestimate ~1e3x);
+    () for any other circle."""
+    rests = [p.xreplace({C: 0, S: 0}) for p in parts]
+    if not any(r.free_symbols & program for r in rests) or not all(
+            not (p.diff(v)).free_symbols & {C, S} for p in parts for v in (C, S)):
+        return ()
+    return tuple((sp.Symbol(f"{letter}_{name}", real=True), rest)
+                 for letter, rest in zip("UV", rests))
+
+
+def _affine(part, C, S, symbol):
+    """part, affine in (C, S), with its constant part named by symbol."""
+    return symbol + C * part.diff(C) + S * part.diff(S)
 
 
 def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
