@@ -49,7 +49,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.runtime.analysis",),
     ("codegen.runtime.batch", "codegen.runtime.folds", "codegen.runtime.simulation",
      "codegen.runtime.sweep"),
-    ("codegen.runtime.branches",),
+    ("codegen.runtime.branches", "codegen.runtime.response"),
     ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
     ("codegen.runtime.api",),
     # a user's model file generated, built and loaded: above both the compiler and the runtime

@@ -15,10 +15,10 @@ from pathlib import Path
 
 from .. import __version__, files
 from ..runtime.figures import PlotUnavailable
-from . import analyze, branches, draw, generate, listing, params, simulate, sources, sweep
+from . import analyze, branches, draw, frf, generate, listing, params, simulate, sources, sweep
 
 #: The verbs, in the order --help lists them.
-VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, draw)
+VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, frf, draw)
 
 DESCRIPTION = """\
 Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
@@ -40,7 +40,8 @@ examples:
   {prog} sweep --vary F=0:200:101 --out f.csv one row per equilibrium of 101 sets
   {prog} branches --vary F --from -200 --to 300 --plot f.png
                                               every equilibrium as F varies, folds located
-  {prog} simulate --theta0 160 --to 2 --plot theta.png   the motion from 160 deg"""
+  {prog} simulate --theta0 160 --to 2 --plot theta.png   the motion from 160 deg
+  {prog} frf --equilibrium 5 --plot frf.png   the frequency response about an equilibrium"""
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors: 'PROG: error: MESSAGE (see PROG --help)'."""

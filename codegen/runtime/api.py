@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis, batch, branch_figure, branches, library, simulation, sweep
+from . import analysis, batch, branch_figure, branches, library, response, simulation, sweep
 from ..errors import LibraryError
 from .functions import Argument, Function, LibraryFunction
 from .library import Origin, ParameterSet, ParamsLike
@@ -67,6 +67,16 @@ class Library(library.Library):
         """One fixed Runge-Kutta step (order 4) of h [s] from theta [rad], theta_d [rad/s]:
         (theta, theta_d) h later, for real-time loops; see ``codegen.runtime.simulation.rk4_step``."""
         return simulation.rk4_step(self._params(params), theta, theta_d, h)
+
+    def frequency_response(self, params: ParamsLike | None = None, omega: Any = None,
+                           **options: Any) -> Any:
+        """The receptance H(omega) = 1 / (K - omega^2 M + i omega B) [rad/(N m)] about a stable
+        equilibrium of ``params`` (default: the example; the first stable equilibrium, or
+        ``equilibrium=i`` of ``analyze(params).equilibria``) at ``omega`` [rad/s] (default:
+        0 to 3 omega_n), computed in C, as a ``codegen.runtime.response.FrequencyResponse``
+        (``.omega``, ``.H``, ``.amplitude``, ``.phase``, ``.natural_frequency``); options:
+        see ``codegen.runtime.response.frequency_response``."""
+        return response.frequency_response(self._params(params), omega, **options)
 
     def sweep(self, sets: Any, **options: Any) -> np.ndarray:
         """Every set of ``sets`` (a params_array, e.g. ``codegen.runtime.sweep.grid`` or ``sample``)

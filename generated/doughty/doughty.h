@@ -434,6 +434,19 @@ doughty_status doughty_simulate(const doughty_params *params, codegen_real theta
 doughty_status doughty_rk4_step(const doughty_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
                               codegen_real *theta_next, codegen_real *theta_d_next);
 
+/* The frequency response about theta [rad] (an equilibrium, for the response to mean small
+ * vibrations): the receptance H(omega) = 1 / (K - omega^2 M + i omega B) of
+ * doughty_linearisation's M [kg m^2], B [N m s], K [N m] there, at count circular
+ * frequencies omega[i] [rad/s]: H_re[i] + i H_im[i] [rad/(N m)] is the complex amplitude of
+ * theta's vibration per unit amplitude of a harmonic torque on it at omega[i] (|H| the
+ * amplitude, atan2(H_im, H_re) the phase lag, negative). Returns DOUGHTY_OK;
+ * DOUGHTY_ERR_NULL_POINTER; the parameters' status (doughty_check_params);
+ * DOUGHTY_ERR_NONFINITE (theta or an omega[i] NaN or infinite); DOUGHTY_ERR_SINGULAR_STATE
+ * (M, B or K not finite at theta); DOUGHTY_ERR_OVERFLOW (an undamped resonance: omega[i]^2 M = K
+ * with B = 0). */
+doughty_status doughty_frequency_response(const doughty_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im);
+
 #ifdef __cplusplus
 }
 #endif

@@ -219,3 +219,11 @@ doughty_status doughty_rk4_step(const doughty_params *params, codegen_real h, co
     return (doughty_status)codegen_rk4_step(&model, params, h, theta, theta_d, theta_next,
                                             theta_d_next);
 }
+
+doughty_status doughty_frequency_response(const doughty_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
+{
+    codegen_real state[9];
+    return (doughty_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
+                                                      H_im, state);
+}

@@ -438,6 +438,19 @@ four_bar_status four_bar_simulate(const four_bar_params *params, codegen_real th
 four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
                               codegen_real *theta_next, codegen_real *theta_d_next);
 
+/* The frequency response about theta [rad] (an equilibrium, for the response to mean small
+ * vibrations): the receptance H(omega) = 1 / (K - omega^2 M + i omega B) of
+ * four_bar_linearisation's M [kg m^2], B [N m s], K [N m] there, at count circular
+ * frequencies omega[i] [rad/s]: H_re[i] + i H_im[i] [rad/(N m)] is the complex amplitude of
+ * theta's vibration per unit amplitude of a harmonic torque on it at omega[i] (|H| the
+ * amplitude, atan2(H_im, H_re) the phase lag, negative). Returns FOUR_BAR_OK;
+ * FOUR_BAR_ERR_NULL_POINTER; the parameters' status (four_bar_check_params);
+ * FOUR_BAR_ERR_NONFINITE (theta or an omega[i] NaN or infinite); FOUR_BAR_ERR_SINGULAR_STATE
+ * (M, B or K not finite at theta); FOUR_BAR_ERR_OVERFLOW (an undamped resonance: omega[i]^2 M = K
+ * with B = 0). */
+four_bar_status four_bar_frequency_response(const four_bar_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im);
+
 #ifdef __cplusplus
 }
 #endif

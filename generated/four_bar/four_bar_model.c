@@ -253,3 +253,11 @@ four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h,
     return (four_bar_status)codegen_rk4_step(&model, params, h, theta, theta_d, theta_next,
                                             theta_d_next);
 }
+
+four_bar_status four_bar_frequency_response(const four_bar_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
+{
+    codegen_real state[13];
+    return (four_bar_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
+                                                      H_im, state);
+}

@@ -254,6 +254,14 @@ int codegen_rk4_step(const codegen_model *model, const void *params, codegen_rea
                      codegen_real theta, codegen_real theta_d, codegen_real *theta_next,
                      codegen_real *theta_d_next);
 
+/* The receptance H(omega) = 1 / (K - omega^2 M + i omega B) of the declared mode's
+ * linearisation at theta, at count circular frequencies omega[i] [rad/s] (any finite value:
+ * H(-omega) is H(omega)'s conjugate) into H_re[i], H_im[i]; state: state.size reals of
+ * working memory. The statuses and contracts are NAME_frequency_response's (NAME.h). */
+int codegen_frequency_response(const codegen_model *model, const void *params, codegen_real theta,
+                               size_t count, const codegen_real *omega, codegen_real *H_re,
+                               codegen_real *H_im, codegen_real *state);
+
 #ifdef __cplusplus
 }
 #endif

@@ -438,6 +438,19 @@ slider_crank_status slider_crank_simulate(const slider_crank_params *params, cod
 slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
                               codegen_real *theta_next, codegen_real *theta_d_next);
 
+/* The frequency response about theta [rad] (an equilibrium, for the response to mean small
+ * vibrations): the receptance H(omega) = 1 / (K - omega^2 M + i omega B) of
+ * slider_crank_linearisation's M [kg m^2], B [N m s], K [N m] there, at count circular
+ * frequencies omega[i] [rad/s]: H_re[i] + i H_im[i] [rad/(N m)] is the complex amplitude of
+ * theta's vibration per unit amplitude of a harmonic torque on it at omega[i] (|H| the
+ * amplitude, atan2(H_im, H_re) the phase lag, negative). Returns SLIDER_CRANK_OK;
+ * SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status (slider_crank_check_params);
+ * SLIDER_CRANK_ERR_NONFINITE (theta or an omega[i] NaN or infinite); SLIDER_CRANK_ERR_SINGULAR_STATE
+ * (M, B or K not finite at theta); SLIDER_CRANK_ERR_OVERFLOW (an undamped resonance: omega[i]^2 M = K
+ * with B = 0). */
+slider_crank_status slider_crank_frequency_response(const slider_crank_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im);
+
 #ifdef __cplusplus
 }
 #endif

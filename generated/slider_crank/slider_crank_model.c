@@ -253,3 +253,11 @@ slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, cod
     return (slider_crank_status)codegen_rk4_step(&model, params, h, theta, theta_d, theta_next,
                                             theta_d_next);
 }
+
+slider_crank_status slider_crank_frequency_response(const slider_crank_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
+{
+    codegen_real state[13];
+    return (slider_crank_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
+                                                      H_im, state);
+}

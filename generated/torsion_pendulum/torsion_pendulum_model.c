@@ -185,3 +185,11 @@ torsion_pendulum_status torsion_pendulum_rk4_step(const torsion_pendulum_params 
     return (torsion_pendulum_status)codegen_rk4_step(&model, params, h, theta, theta_d, theta_next,
                                             theta_d_next);
 }
+
+torsion_pendulum_status torsion_pendulum_frequency_response(const torsion_pendulum_params *params, codegen_real theta, size_t count,
+                                        const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
+{
+    codegen_real state[5];
+    return (torsion_pendulum_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
+                                                      H_im, state);
+}

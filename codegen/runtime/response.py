@@ -1,0 +1,207 @@
+"""The frequency response about a stable equilibrium: how far the mechanism swings when a
+harmonic torque drives it, against the forcing frequency (the picture that keeps a machine's
+running speeds away from resonance).
+
+``frequency_response(params)`` takes a stable equilibrium of ``params`` (the analysis'
+first, or the one ``equilibrium`` indexes) and evaluates the receptance
+H(omega) = 1 / (K - omega^2 M + i omega B) of its linearisation in the library's C
+(``PREFIX_frequency_response``: the runtime's codegen_response.c and codegen_modal.c) at
+every circular frequency asked for, by default from 0 to three times the natural frequency.
+It returns a ``FrequencyResponse``: omega [rad/s] and H [rad/(N m)] as numpy arrays, with
+the amplitude |H|, the phase and the equilibrium's natural frequency and damping ratio.
+``figure``/``plot`` draw amplitude and phase against the forcing frequency [Hz] with the
+natural frequency marked; ``write`` saves the table as CSV or JSON.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import figures
+from .. import files
+from .analysis import Equilibrium, Method, analyze, library_of_params
+from .library import Library, ParameterSet
+from .simulation import is_stable
+
+#: The file types ``write`` writes (by the path's suffix).
+FORMATS = (".csv", ".json")
+
+#: The default table: this many frequencies, from 0 to UPTO times the natural frequency.
+POINTS = 801
+UPTO = 3.0
+
+
+@dataclass(frozen=True, eq=False)
+class FrequencyResponse:
+    """The receptance H = 1 / (K - omega^2 M + i omega B) [rad/(N m)] about ``equilibrium``
+    (its M, B, K) at the circular frequencies omega [rad/s]."""
+
+    params: ParameterSet
+    equilibrium: Equilibrium
+    omega: np.ndarray
+    H: np.ndarray
+
+    @property
+    def library(self) -> Library:
+        return type(self.params).library
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """The forcing frequencies [Hz]."""
+        return self.omega / (2 * math.pi)
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """|H| [rad/(N m)]: the swing per unit torque amplitude."""
+        return np.abs(self.H)
+
+    @property
+    def phase(self) -> np.ndarray:
+        """arg H [rad], in [-pi, 0] for omega >= 0: how far the swing lags the torque."""
+        return np.angle(self.H)
+
+    @property
+    def natural_frequency(self) -> float:
+        """The undamped natural frequency omega_n / (2 pi) [Hz] of the equilibrium."""
+        return float(self.equilibrium.omega_n.real) / (2 * math.pi)
+
+    @property
+    def peak(self) -> tuple[float, float]:
+        """(frequency [Hz], |H| [rad/(N m)]) of the largest amplitude in the table."""
+        i = int(np.argmax(self.amplitude))
+        return float(self.frequency[i]), float(self.amplitude[i])
+
+
+def about(params: ParameterSet, equilibrium: int | None = None, method: Method = "auto"
+          ) -> Equilibrium:
+    """The equilibrium of ``params`` the response is taken about: the ``equilibrium``-th of
+    ``analyze(params, method).equilibria`` (ValueError unless it is stable), or the first
+    stable one (ValueError if there is none)."""
+    found = analyze(params, method).equilibria
+    if equilibrium is None:
+        stable = [e for e in found if is_stable(e)]
+        if not stable:
+            raise ValueError("no stable equilibrium for these parameters: there is no "
+                             "steady response to a harmonic torque")
+        return stable[0]
+    if not 0 <= equilibrium < len(found):
+        raise ValueError(f"equilibrium {equilibrium}: these parameters have {len(found)} "
+                         f"equilibria (0 to {len(found) - 1})")
+    e = found[equilibrium]
+    if not is_stable(e):
+        raise ValueError(f"equilibrium {equilibrium} (theta_E = {math.degrees(e.theta):.4f} "
+                         f"deg) is {e.stability}: it has no steady response to a harmonic torque")
+    return e
+
+
+def receptance(params: ParameterSet, theta: float, omega: np.ndarray) -> np.ndarray:
+    """H(omega) [rad/(N m)] of the linearisation at theta [rad], in C, as a complex array."""
+    library = library_of_params(params)
+    omega = np.ascontiguousarray(omega, dtype=np.float64)
+    re, im = np.empty_like(omega), np.empty_like(omega)
+    ffi = library.ffi
+    entry = getattr(library.lib, f"{library.PREFIX}_frequency_response")
+
+    def call(values: Any, re: np.ndarray = re, im: np.ndarray = im) -> int:
+        return int(entry(library._c_params(values), theta, omega.size,
+                         ffi.from_buffer("double[]", omega), ffi.from_buffer("double[]", re),
+                         ffi.from_buffer("double[]", im)))
+
+    library.check(call(params), params, rerun=lambda values: call(
+        values, np.empty_like(omega), np.empty_like(omega)), inputs={"theta": theta})
+    return re + 1j * im
+
+
+def frequency_response(params: ParameterSet, omega: Any = None, equilibrium: int | None = None,
+                       method: Method = "auto", points: int = POINTS, upto: float = UPTO
+                       ) -> FrequencyResponse:
+    """The receptance about a stable equilibrium of ``params`` (see ``about``) at ``omega``
+    [rad/s] (default: ``points`` frequencies from 0 to ``upto`` times its natural frequency)."""
+    e = about(params, equilibrium, method)
+    if omega is None:
+        if points < 2 or not upto > 0:
+            raise ValueError("points: at least 2; upto: positive")
+        omega = np.linspace(0.0, upto * float(e.omega_n.real), points)
+    omega = np.array(omega, dtype=np.float64).ravel()
+    if not np.all(np.isfinite(omega)) or np.any(omega < 0):
+        raise ValueError("omega: finite frequencies >= 0 [rad/s]")
+    return FrequencyResponse(params, e, omega, receptance(params, e.theta, omega))
+
+
+# --------------------------------------------------------------------------- figure, files
+
+def figure(response: FrequencyResponse) -> Any:
+    """|H| (logarithmic) above the phase [deg] against the forcing frequency [Hz], the
+    natural frequency marked; a matplotlib Figure. Raises figures.PlotUnavailable without
+    matplotlib."""
+    plt = figures.pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
+                                      constrained_layout=True)
+    f = response.frequency
+    e = response.equilibrium
+    top.semilogy(f, response.amplitude, color="C0")
+    bottom.plot(f, np.degrees(response.phase), color="C0")
+    for axes in (top, bottom):
+        axes.axvline(response.natural_frequency, color="C3", linestyle="--", linewidth=1,
+                     label=rf"$f_n$ = {response.natural_frequency:.4g} Hz")
+        axes.grid(True, which="both", alpha=0.3)
+    top.set_ylabel("|H| [rad/(N m)]")
+    bottom.set_ylabel("phase [deg]")
+    bottom.set_xlabel("forcing frequency [Hz]")
+    top.set_title(rf"{response.library.TITLE}: about $\theta_E$ = {math.degrees(e.theta):.4f} deg "
+                  rf"($\zeta$ = {e.zeta.real:.3g})", fontsize=10)
+    top.legend(loc="best", fontsize=8)
+    return fig
+
+
+def plot(response: FrequencyResponse, path: str | Path) -> Path:
+    """``figure`` written to ``path`` (.png or .svg); the path."""
+    figures.check_path(path)
+    return figures.save(figure(response), path)
+
+
+def to_dict(response: FrequencyResponse) -> dict[str, Any]:
+    """JSON-ready: frequencies in Hz and rad/s, H as amplitude, phase [deg] and parts."""
+    e = response.equilibrium
+    return {
+        "mechanism": response.library.PREFIX, "params": asdict(response.params),
+        "equilibrium": {"theta_deg": math.degrees(e.theta), "M": e.M, "B": e.B, "K": e.K,
+                        "natural_frequency_hz": response.natural_frequency,
+                        "zeta": float(e.zeta.real)},
+        "frequency_hz": response.frequency.tolist(), "omega": response.omega.tolist(),
+        "amplitude": response.amplitude.tolist(),
+        "phase_deg": np.degrees(response.phase).tolist(),
+        "H_re": response.H.real.tolist(), "H_im": response.H.imag.tolist(),
+    }
+
+
+COLUMNS = ("frequency_hz", "omega", "amplitude", "phase_deg", "H_re", "H_im")
+
+
+def write_csv(stream: Any, response: FrequencyResponse) -> None:
+    """A row per frequency: COLUMNS (Hz, rad/s, rad/(N m), deg, rad/(N m), rad/(N m))."""
+    writer = csv.writer(stream, lineterminator="\n")
+    writer.writerow(COLUMNS)
+    for row in zip(response.frequency, response.omega, response.amplitude,
+                   np.degrees(response.phase), response.H.real, response.H.imag):
+        writer.writerow([repr(float(x)) for x in row])
+
+
+def write(response: FrequencyResponse, path: str | Path) -> Path:
+    """The table as .csv (``write_csv``) or .json (``to_dict``)."""
+    path = Path(path)
+    if path.suffix.lower() not in FORMATS:
+        raise ValueError(f"{path}: a frequency response is written as {' or '.join(FORMATS)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix.lower() == ".json":
+        files.write_text(path, json.dumps(to_dict(response), indent=1) + "\n")
+        return path
+    with files.replacing(path) as scratch, scratch.open("w", newline="") as stream:
+        write_csv(stream, response)
+    return path
