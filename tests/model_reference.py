@@ -46,6 +46,11 @@ WORK_DPS = 75
 STEP_DIGITS = 20
 
 _STARTS = 16          # Newton starts per angle in double
+#: where none of them reaches the declared mode, this many per dependent coordinate's
+#: doubling, up to 1024 (a chain of three dyads has 8 solutions, some reached by few starts)
+_RETRY_STARTS = 16
+#: (asked for a few angles at a time; a scan follows its solutions from neighbour to neighbour)
+_RETRY_ANGLES = 4
 _NEWTON_STEPS = 40
 
 
@@ -86,7 +91,9 @@ class Reference:
         self.centre = float(sp.sympify(mechanism.range_centre).xreplace(values))
         self.range = (self.centre - math.pi, self.centre + math.pi)
         rng = np.random.default_rng(seed)
-        self._starts = self._random_starts(rng)
+        self._starts = self._random_starts(rng, _STARTS)
+        self._retry_starts = self._random_starts(
+            rng, min(1024, _RETRY_STARTS * 2 ** len(self.dependent)))
 
     def params_by_unit(self, unit: str) -> list[float]:
         return [v for p, v in zip(self.mechanism.parameters, self.params) if p.unit == unit]
@@ -128,12 +135,12 @@ class Reference:
         out += [d.length for d in m.dampers]
         return [freeze(e) for e in out]
 
-    def _random_starts(self, rng) -> np.ndarray:
-        """(_STARTS, D): angles anywhere on the circle, other coordinates within a few
+    def _random_starts(self, rng, count: int) -> np.ndarray:
+        """(count, D): angles anywhere on the circle, other coordinates within a few
         lengths of the origin."""
         D = len(self.dependent)
         spread = np.where(self.angle_like, math.pi, 3.0 * self.length_scale)
-        return rng.uniform(-1.0, 1.0, (_STARTS, D)) * spread
+        return rng.uniform(-1.0, 1.0, (count, D)) * spread
 
     # ------------------------------------------------------------------ positions in double
 
@@ -180,9 +187,40 @@ class Reference:
         thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
         if not self.dependent:
             return np.zeros((len(thetas), 0))
-        t = np.repeat(thetas[:, None], _STARTS, axis=1)
-        starts = np.broadcast_to(self._starts, (*t.shape, len(self.dependent)))
-        q = self._newton_np(t, starts.copy())
+        chosen = self._assemble_from(thetas, self._starts)
+        if len(thetas) > 1:
+            self._continue(thetas, chosen)
+        missing = ~np.all(np.isfinite(chosen), axis=1)
+        if missing.any() and len(thetas) <= _RETRY_ANGLES:
+            chosen[missing] = self._assemble_from(thetas[missing], self._retry_starts)
+        return chosen
+
+    def _continue(self, thetas, chosen) -> None:
+        """Where no start reached the declared mode at an angle, Newton from its neighbours'
+        solutions (in the order given: a scan's), until that finds no more."""
+        for _ in range(len(thetas)):
+            missing = ~np.all(np.isfinite(chosen), axis=1)
+            found = False
+            for shift in (1, -1):
+                neighbour = np.roll(chosen, shift, axis=0)
+                index = np.nonzero(missing & np.all(np.isfinite(neighbour), axis=1))[0]
+                index = index[(index - shift >= 0) & (index - shift < len(thetas))]
+                if len(index) == 0:
+                    continue
+                q = self._assemble_from(thetas[index], neighbour[index][:, None, :])
+                ok = np.all(np.isfinite(q), axis=1)
+                chosen[index[ok]] = q[ok]
+                missing[index[ok]] = False
+                found = found or bool(ok.any())
+            if not found:
+                return
+
+    def _assemble_from(self, thetas, starts) -> np.ndarray:
+        """assemble, by Newton from each of starts at each angle: (k, D) for every angle, or
+        (n, k, D), each angle its own."""
+        k = starts.shape[-2]
+        t = np.repeat(thetas[:, None], k, axis=1)
+        q = self._newton_np(t, np.broadcast_to(starts, (*t.shape, len(self.dependent))).copy())
         least, ok = self._declared(t, q)
         best = np.argmax(np.where(ok, least, -np.inf), axis=1)
         chosen = q[np.arange(len(thetas)), best]

@@ -13,16 +13,14 @@ import sys
 from pathlib import Path
 
 import mpmath
-import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import assume, given, settings
+from hypothesis import given, settings
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
-from gallery import PlanValues, example, mismatches  # noqa: E402
-from model_reference import Reference  # noqa: E402
+from gallery import example  # noqa: E402
 from random_chains import KINDS, random_chain  # noqa: E402
-from test_random_mechanisms import SEEDS, SETTINGS, quadrant_angles  # noqa: E402
+from test_random_mechanisms import SEEDS, SETTINGS, plan_matches_reference  # noqa: E402
 
 from codegen.compiler.derivation import derive  # noqa: E402
 from codegen.compiler.emission.plan import build_plan  # noqa: E402
@@ -55,25 +53,10 @@ def constraint_residuals(mechanism, params: dict, thetas) -> list[float]:
 
 
 def check_chain(mechanism, seed: int, drawn: bool = True) -> None:
-    """The plan against the reference at angles drawn from seed in every quadrant. A chain
-    that assembles at fewer than 3 of them is skipped by hypothesis when ``drawn``, else a
-    failure (the chain was chosen to be tried)."""
-    params = example(mechanism)
-    reference = Reference(mechanism, params)
-    rng = np.random.default_rng(seed)
-    values = [(theta, reference.values(theta)) for theta in quadrant_angles(rng)]
-    values = [(theta, v) for theta, v in values if v is not None]
-    if drawn:
-        assume(len(values) >= 3)
-    assert len(values) >= 3, f"{mechanism.title} assembles at {len(values)} of 12 angles"
-    plan = PlanValues(mechanism)
-    mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}
-    for theta, v in values:
-        for name, got, want in zip("GMB", plan(params, theta), (v.G, v.M, v.B)):
-            mine[name].append(got)
-            ref[name].append(want)
-    assert mismatches(mine, ref) == [], mechanism.title
-    residuals = constraint_residuals(mechanism, params, [theta for theta, _ in values])
+    """The plan against the reference (test_random_mechanisms), and its positions closing
+    the loops at the same angles."""
+    thetas = plan_matches_reference(mechanism, seed, drawn)
+    residuals = constraint_residuals(mechanism, example(mechanism), thetas)
     assert max(residuals) < CONSTRAINT_TOLERANCE, (mechanism.title, residuals)
 
 
@@ -85,7 +68,7 @@ def test_random_dyad_chains_plan_equals_the_reference(seed):
 
 
 #: A seed whose chain assembles at the test's angles, for each pair of kinds
-PAIR_SEEDS = {("RRR", "RRR"): 1, ("RRR", "RRP"): 1, ("RRP", "RRR"): 1, ("RRP", "RRP"): 1}
+PAIR_SEEDS = {(first, second): 1 for first in KINDS for second in KINDS}
 
 
 @pytest.mark.slow

@@ -6,6 +6,7 @@ import argparse
 import difflib
 import math
 import sys
+from pathlib import Path
 from typing import Any, TextIO
 
 from tqdm import tqdm
@@ -162,6 +163,21 @@ def method_option(verb: argparse.ArgumentParser) -> None:
                            "zeros of G itself, each proven in an interval, with what double "
                            "precision cannot decide listed as uncertain; auto (default): "
                            "polynomial where G is algebraic, else isolate")
+
+
+def check_outputs(args, formats: tuple[str, ...], what: str) -> None:
+    """Before any work: a --plot path we draw to (and matplotlib there to draw it), and an
+    --out FILE of one of ``formats`` (``what`` is written as those); ValueError otherwise."""
+    from ..runtime import figures
+
+    if args.plot:
+        figures.check_path(args.plot)
+        try:
+            figures.pyplot()
+        except figures.PlotUnavailable as error:
+            raise ValueError(str(error)) from None
+    if args.out and Path(args.out).suffix.lower() not in formats:
+        raise ValueError(f"--out {args.out}: {what} is written as {' or '.join(formats)}")
 
 
 def positive(text: str) -> int:

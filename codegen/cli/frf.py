@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import math
 import sys
-from pathlib import Path
 
 from . import common
 
@@ -40,17 +39,9 @@ def run(args) -> int:
     """The receptance table: CSV on stdout, or files and a summary."""
     import numpy as np
 
-    from ..runtime import figures, response
+    from ..runtime import response
 
-    if args.plot:
-        figures.check_path(args.plot)
-        try:
-            figures.pyplot()
-        except figures.PlotUnavailable as error:
-            raise ValueError(str(error)) from None
-    if args.out and Path(args.out).suffix.lower() not in response.FORMATS:
-        raise ValueError(f"--out {args.out}: the response is written as "
-                         f"{' or '.join(response.FORMATS)}")
+    common.check_outputs(args, response.FORMATS, "the response")
     if args.max_frequency is not None and not 0.0 < args.max_frequency < math.inf:
         raise ValueError("--max-frequency: a positive, finite frequency [Hz], not "
                          f"{args.max_frequency!r}")

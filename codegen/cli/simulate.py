@@ -4,7 +4,6 @@ from __future__ import annotations
 import math
 import sys
 import time
-from pathlib import Path
 
 from . import common
 
@@ -59,17 +58,9 @@ def run(args) -> int:
     """The motion from an initial state: CSV on stdout, or files and a summary."""
     import numpy as np
 
-    from ..runtime import figures, simulation
+    from ..runtime import simulation
 
-    if args.plot:
-        figures.check_path(args.plot)
-        try:
-            figures.pyplot()
-        except figures.PlotUnavailable as error:
-            raise ValueError(str(error)) from None
-    if args.out and Path(args.out).suffix.lower() not in simulation.FORMATS:
-        raise ValueError(f"--out {args.out}: the trajectory is written as "
-                         f"{' or '.join(simulation.FORMATS)}")
+    common.check_outputs(args, simulation.FORMATS, "the trajectory")
     if not 0.0 < args.to < math.inf:
         raise ValueError(f"--to: the end time must be positive and finite, not {args.to!r}")
     if args.points < 2:
