@@ -230,13 +230,13 @@ static int polish(search *s, codegen_iv *x)
 {
     const int n = s->n, w = 2 * n;
     codegen_iv *z = s->small;
-    codegen_real step = 0;
     unsigned flags;
     int i, j, iteration, status = 0, shrunk;
     for (i = 0; i < n; ++i) {
         s->mid[i] = middle(x[i]);
     }
     for (iteration = 0; iteration < REFINE_STEPS; ++iteration) {
+        codegen_real step = 0;
         for (i = 0; i < n; ++i) {
             z[i] = codegen_iv_point(s->mid[i]);
         }
@@ -244,7 +244,6 @@ static int polish(search *s, codegen_iv *x)
         if (status != 0 || flags != 0u || !invert_middle(s)) {
             return status;
         }
-        step = 0;
         for (i = 0; i < n; ++i) { /* mid -= J^-1 G, kept in x */
             codegen_real d = 0;
             for (j = 0; j < n; ++j) {
@@ -350,7 +349,7 @@ static int examine(search *s, codegen_iv *x, int *outcome)
 {
     const int n = s->n;
     unsigned flags;
-    int status, relation, shrunk, i;
+    int status, shrunk, i;
     *outcome = DISCARD;
     status = enclose(s, x, s->g, s->jacobian, &flags);
     if (status != 0 || (flags & CODEGEN_IV_OUTSIDE)) {
@@ -366,7 +365,7 @@ static int examine(search *s, codegen_iv *x, int *outcome)
         return *outcome == DONE ? append(s, x, NULL, CODEGEN_BOX_SINGULAR) : 0;
     }
     if (krawczyk(s, x, &status)) {
-        relation = compare(s, x, &shrunk);
+        const int relation = compare(s, x, &shrunk);
         if (relation == 0) {
             return 0;
         }
