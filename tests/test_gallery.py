@@ -82,6 +82,10 @@ CASES = {
     # ... and an eight-bar: the Stephenson's output rocker drives a slider (three nested
     # assembly modes, an RRP dyad at the end of the chain).
     "eight_bar": Case("eight_bar"),
+    # ... and a quick-return shaper: the Whitworth's slotted lever drives a ram through a
+    # link (a pin in a rotating slot, RPR, then RRP: the lever's angle a step of the program
+    # once the slot's length is known).
+    "quick_return_shaper": Case("quick_return_shaper"),
 }
 
 

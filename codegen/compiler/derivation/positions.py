@@ -274,12 +274,13 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         else:
             linear[name] = s
     unknowns = list(linear.values()) + [v for p in pairs.values() for v in p]
+    eqs, staged = _stage_polar_angles(eqs, polar, sym, pairs)
     for e in eqs:
         polar_symbols = {sym[n] for n in polar}
         if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
             raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
     known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear, pairs,
-                                                      unit_pairs)
+                                                      unit_pairs, staged)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
     for name in declared:
@@ -290,10 +291,12 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
             result.append(known.get(s, s))
         elif name in polar:
             X, Y = pairs[polar[name]]
-            rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-            # kept a sum of squares: accurate where the length is small (no cancellation)
-            roots.append(Root(rho, known[X] ** 2 + known[Y] ** 2, "length", name))
-            result.append(rho)
+            early = next((r.symbol for r in roots if r.coordinate == name), None)
+            if early is None:
+                early = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
+                # kept a sum of squares: accurate where the length is small (no cancellation)
+                roots.append(Root(early, known[X] ** 2 + known[Y] ** 2, "length", name))
+            result.append(early)
         else:
             x, y = angles.get(name, (known[pairs[name][0]], known[pairs[name][1]]))
             result.append(sp.atan2(y, x))
@@ -301,7 +304,9 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     defined = {d.symbol for d in definitions}
     for name, (A, B) in pairs.items():
         x, y = angles.get(name, (known[A], known[B]))
-        if name in polar_angles:  # cos = X / length, sin = Y / length
+        if name in staged:        # cos and sin as the program's steps C_angle, S_angle
+            x, y = staged[name][:2]
+        elif name in polar_angles:  # cos = X / length, sin = Y / length
             length = next(r.symbol for r in roots if r.coordinate == next(
                 l for l, a in polar.items() if a == name))
             x, y = x / length, y / length
@@ -332,7 +337,29 @@ def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) ->
     return known | {u: reduce_trig(sp.together(x), theta) for u, x in zip(linear, solved)}
 
 
-def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs):
+def _stage_polar_angles(eqs, polar, sym, pairs):
+    """A polar pair's angle in a constraint at another distance than its length (a slotted
+    lever whose tip drives a link) enters as X/length: the constraint is not linear. There
+    its cosine and sine become symbols C_angle, S_angle, steps of the program once the pair's
+    own loop gives X, Y and the length (``_solve_free_pairs``). (eqs, {angle: (C, S, length
+    name)}) of the constraints so staged; the rest unchanged."""
+    staged = {}
+    out = []
+    for e in eqs:
+        lengths = [n for n in polar if sym[n] in e.free_symbols]
+        for name in lengths:
+            angle, length = polar[name], sym[name]
+            X, Y = pairs[angle]
+            C, S = sp.Symbol(f"C_{angle}", real=True), sp.Symbol(f"S_{angle}", real=True)
+            staged_e = sp.expand(e.subs({X: C * length, Y: S * length}))
+            if length not in staged_e.free_symbols:
+                staged[angle] = (C, S, name)
+                e = staged_e
+        out.append(e)
+    return out, staged
+
+
+def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs, staged=None):
     """Every unit pair solved: (known values of the unknowns, roots, atan2 numerators).
 
     The linear elimination keeps some pairs (its pivots) in terms of the others, the free
@@ -352,20 +379,31 @@ def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs):
         (values,) = solution
         known = {u: v for u, v in zip(unknowns, values) if v != u}
         try:
-            return _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs)
+            return _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged)
         except NoLine as no_line:
             refusal = refusal or no_line
     raise refusal
 
 
-def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs):
+def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged=None):
     """Each free pair on its line, in turn. Where pairs are still pending after one is solved
     (a chain: the next dyad is driven by this one), its cosine and sine stay symbols,
     Definitions, in the values that wait for the pending pairs: substituted, they would
-    multiply the size of every later dyad's closed form."""
+    multiply the size of every later dyad's closed form. A staged polar pair's length is a
+    root first, and its angle's cosine and sine definitions after it."""
     roots: list[Root] = []
     definitions: list[Definition] = []
     angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
+    for angle, (C, S, length) in (staged or {}).items():
+        X, Y = pairs[angle]
+        pending_unknowns = {v for n in unit_pairs for v in pairs[n] if v not in known}
+        if any(v not in known or known[v].free_symbols & pending_unknowns for v in (X, Y)):
+            raise NotSolvable(f"the slot of {length}, {angle} is driven by a dyad solved after "
+                              "it: not supported yet")
+        rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
+        roots.append(Root(rho, known[X] ** 2 + known[Y] ** 2, "length", length))
+        definitions += [Definition(C, known[X] / rho, len(roots)),
+                        Definition(S, known[Y] / rho, len(roots))]
     pending = _free_pairs(unit_pairs, pairs, known)
     while pending:
         program = {s.symbol for s in [*roots, *definitions]}
