@@ -1,8 +1,9 @@
 """Random chains of two dyads, built in Python from a seed (issue 30's property test): a crank
 (angle theta) drives a first dyad, and a point on one of that dyad's links drives a second
 one. Each dyad is drawn an RRR (a coupler and a rocker about a ground pin) or an RRP (a rod
-and a slider on a line through a ground point, at a drawn inclination); each is declared in
-a drawn assembly mode. Lengths, masses, the driving point, springs between random joints and
+and a slider on a line through a ground point, at a drawn inclination), each declared in a
+drawn assembly mode; the first may also be an RPR (the crank pin sliding in the slot of a
+lever pivoted at a ground pin, a polar pair, whose lever then drives the second dyad). Lengths, masses, the driving point, springs between random joints and
 anchors, a damper, a force and gravity are drawn too; every number is a parameter whose
 example is the value drawn, so the model is data exactly as a user writes it.
 """
@@ -16,7 +17,8 @@ from codegen.compiler.model.mechanism import (Body, Coordinate, Damper, Mechanis
 
 from random_mechanisms import _bar, _on, _Parameters
 
-KINDS = ("RRR", "RRP")
+KINDS = ("RRR", "RRP")          # either dyad
+FIRST_KINDS = (*KINDS, "RPR")    # the first only (the crank pin never reaches the slot's pin)
 
 
 def _left_of(a, b, p):
@@ -30,11 +32,33 @@ class _Chain:
     def __init__(self, rng, P: _Parameters, scale: float):
         self.rng, self.P, self.scale = rng, P, scale
         self.coordinates, self.constraints, self.bodies = [], [], []
-        self.lengths, self.modes, self.joints = [], [], []
+        self.lengths, self.modes, self.joints, self.polar = [], [], [], []
+
+    def slot(self, k: int, start):
+        """An RPR dyad: ``start`` slides in the slot of a lever pivoted at a ground pin Q, at
+        distance s_k along it (a polar pair with the lever's angle). Returns the lever as
+        (origin, angle, length)."""
+        P, s = self.P, self.scale
+        along = Coordinate(f"s_{k}", "m", f"distance along the slot of dyad {k}")
+        lever = Coordinate(f"phi_{k}", "rad", f"lever angle of dyad {k}")
+        pin = (P.draw(f"x_Q{k}", "m", 1.5 * s, 2.5 * s), P.draw(f"y_Q{k}", "m", -s, s))
+        length = P.draw(f"L_{k}", "m", 3.0 * s, 4.0 * s)
+        f, d = lever.function, along.function
+        self.coordinates += [along, lever]
+        self.polar.append((along.name, lever.name))
+        self.lengths.append(length)
+        self.constraints += [start[0] - pin[0] - d * sp.cos(f), start[1] - pin[1] - d * sp.sin(f)]
+        tip = (pin[0] + length * sp.cos(f), pin[1] + length * sp.sin(f))
+        self.bodies += [_bar(f"lever_{k}", P.draw(f"m_L{k}", "kg", 0.1, 2.0), pin, tip, length, f),
+                        Body(f"block_{k}", P.draw(f"m_b{k}", "kg", 0.1, 1.0), start)]
+        self.joints += [tip]
+        return pin, f, length
 
     def dyad(self, k: int, start, kind: str):
         """A dyad from the known joint ``start``: returns its two moving links as (origin,
         angle, length) for a later dyad to be driven from."""
+        if kind == "RPR":
+            return self.slot(k, start), None
         P, rng, s = self.P, self.rng, self.scale
         link = Coordinate(f"phi_{k}", "rad", f"link angle of dyad {k}")
         l = P.draw(f"l_{k}", "m", 0.8 * s, 2.0 * s)
@@ -75,9 +99,10 @@ class _Chain:
 
 
 def random_chain(seed: int, kinds: tuple[str, str] | None = None) -> Mechanism:
-    """A crank driving two dyads in a chain (kinds drawn from KINDS unless given)."""
+    """A crank driving two dyads in a chain (kinds drawn from FIRST_KINDS and KINDS unless
+    given)."""
     rng = np.random.default_rng(seed)
-    kinds = kinds or tuple(KINDS[i] for i in rng.integers(len(KINDS), size=2))
+    kinds = kinds or (FIRST_KINDS[rng.integers(len(FIRST_KINDS))], KINDS[rng.integers(len(KINDS))])
     P = _Parameters(rng)
     theta = Coordinate("theta", "rad", "crank angle")
     a = P.draw("a", "m", 0.05, 0.2)
@@ -118,6 +143,7 @@ def random_chain(seed: int, kinds: tuple[str, str] | None = None) -> Mechanism:
         gravity=gravity,
         points={},
         assembly_modes=tuple(chain.modes),
+        polar_pairs=tuple(chain.polar),
         requirements=(Requirement(sp.And(*(x > 0 for x in chain.lengths)), "LENGTH_NOT_POSITIVE",
                                   "link lengths must be positive"),),
         title=f"random chain {'-'.join(kinds)} {seed}",
