@@ -27,8 +27,8 @@ def run(args) -> int:
               f"in {time.perf_counter() - start:.1f} s")
         return 0
     out = Path(args.out) if args.out else generate.default_output()
-    names = ([common.checked_mechanism(args.mechanism, generate.SHIPPED)] if args.mechanism
-             else list(generate.SHIPPED))
+    names = ([common.checked_mechanism(args.mechanism, generate.EVERY)] if args.mechanism
+             else list(generate.EVERY))
     cache = None if args.no_cache else generate.default_cache()
     if args.check:
         diff = generate.stale(out, names, cache=cache)

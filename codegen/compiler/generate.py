@@ -23,10 +23,16 @@ import sympy
 from .. import resources
 from ..files import write_text
 from .derivation import derive
+from .derivation.multibody import derive_multibody
+from .emission.multibody import MultibodyPlan, build_multibody_plan
 from .emission.plan import Plan, build_plan
-from .emission.render import render
-from .model import SHIPPED, Mechanism, load
+from .emission.render import render, render_multibody
+from .model import SHIPPED, SHIPPED_MULTIBODY, Mechanism, load
 from .verification import verify
+from .verification_multibody import verify_multibody
+
+#: Every library make generate writes: one coordinate's, then several coordinates'.
+EVERY = SHIPPED + SHIPPED_MULTIBODY
 
 TEMPLATES = resources.templates()
 RUNTIME = "runtime"
@@ -108,12 +114,12 @@ def emit(mechanism: Mechanism, templates: Path = TEMPLATES,
     against the model (verification.VerificationError, a ValueError, if they disagree);
     ``progress`` is told each stage ("deriving: STEP", "verifying", "emitting C") as it
     starts."""
-    return render(verified_plan(mechanism, progress), templates)
+    return files_of(verified_plan(mechanism, progress), templates)
 
 
 def files_of(plan: Plan, templates: Path = TEMPLATES) -> dict[str, str]:
     """File name -> text of the library of a (verified) plan."""
-    return render(plan, templates)
+    return (render_multibody if isinstance(plan, MultibodyPlan) else render)(plan, templates)
 
 
 def verified_plan(mechanism: Mechanism, progress: Callable[[str], None] = lambda stage: None
@@ -123,6 +129,14 @@ def verified_plan(mechanism: Mechanism, progress: Callable[[str], None] = lambda
     if sympy.__version__ != TESTED_SYMPY:
         warnings.warn(f"SymPy {sympy.__version__} is not the tested {TESTED_SYMPY}: the "
                       f"generated files may differ from the committed ones", stacklevel=3)
+    if mechanism.dof > 1:
+        progress("deriving: M, B, G and K in the independent coordinates")
+        multibody = derive_multibody(mechanism)
+        plan = build_multibody_plan(multibody)
+        progress("verifying against the model")
+        verify_multibody(multibody, plan)
+        progress("emitting C")
+        return plan
     derivation = derive(mechanism, lambda step: progress(f"deriving: {step}"))
     plan = build_plan(derivation)
     progress("verifying against the model")
@@ -136,7 +150,7 @@ def runtime(templates: Path = TEMPLATES) -> dict[str, str]:
     return {p.name: p.read_text() for p in sorted((templates / RUNTIME).iterdir()) if p.is_file()}
 
 
-def emit_all(names=SHIPPED, templates: Path = TEMPLATES, cache: Path | None = None
+def emit_all(names=EVERY, templates: Path = TEMPLATES, cache: Path | None = None
              ) -> dict[str, dict[str, str]]:
     """Folder -> its files, for the runtime and every named (shipped) mechanism; with a cache
     folder, a mechanism is derived again only when its fingerprint changed."""
@@ -177,7 +191,7 @@ def write_folder(out: Path, files: dict[str, str]) -> list[str]:
     return sorted(written)
 
 
-def write(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
+def write(out: Path | None = None, names=EVERY, templates: Path = TEMPLATES,
           cache: Path | None = None) -> list[str]:
     """Write the runtime and every named mechanism into out (default: default_output());
     the files that changed, as FOLDER/NAME."""
@@ -187,7 +201,7 @@ def write(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
             for name in write_folder(out / folder, files)]
 
 
-def stale(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
+def stale(out: Path | None = None, names=EVERY, templates: Path = TEMPLATES,
           cache: Path | None = None) -> str:
     """A unified diff of committed files against what the generator emits now ('' if none)."""
     out = default_output() if out is None else Path(out)
@@ -195,7 +209,7 @@ def stale(out: Path | None = None, names=SHIPPED, templates: Path = TEMPLATES,
     folders = emit_all(names, templates, cache)
     # every mechanism's folder when all are checked (one left over is stale), else the named
     present = {p.name for p in out.iterdir() if p.is_dir()} if out.is_dir() and \
-        set(names) == set(SHIPPED) else set()
+        set(names) == set(EVERY) else set()
     for folder in sorted(set(folders) | present):
         files = folders.get(folder, {})
         here = _present(out / folder)

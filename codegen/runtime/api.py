@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis, batch, branch_figure, branches, library, response, simulation, sweep
+from . import (analysis, batch, branch_figure, branches, library, multibody, response,
+               simulation, sweep)
 from ..errors import LibraryError
 from .functions import Argument, Function, LibraryFunction
 from .library import Origin, ParameterSet, ParamsLike
@@ -36,11 +37,25 @@ class Library(library.Library):
         # What refers to a library (its Params, results) pickles it along: by its origin.
         return (_unpickled_library, (self._require_origin(),))
 
+    @property
+    def dof(self) -> int:
+        """The number of independent coordinates."""
+        return int(self.SPEC.get("dof", 1))
+
     def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
-                ) -> analysis.Analysis:
+                ) -> analysis.Analysis | multibody.MultibodyAnalysis:
         """Every equilibrium of ``params`` (default: the example), classified and linearised,
-        by the route ``method`` names: see ``codegen.runtime.analysis.analyze``. Angles in radians."""
+        by the route ``method`` names: see ``codegen.runtime.analysis.analyze``. Angles in
+        radians. With several coordinates: every equilibrium in the box of their ranges with
+        its modes (``codegen.runtime.multibody.analyze``; one route: ``method`` is not read)."""
+        if self.dof > 1:
+            return multibody.analyze(self, self._params(params))
         return analysis.analyze(self._params(params), method)
+
+    def receptance(self, params: ParamsLike | None, theta: Any, omega: Any) -> np.ndarray:
+        """H(omega) = (K - omega^2 M + i omega B)^-1 at the coordinates theta, for each
+        omega [rad/s], of a mechanism with several coordinates: complex (len(omega), n, n)."""
+        return multibody.receptance(self, self._params(params), theta, omega)
 
     def analyze_batch(self, table: np.ndarray, method: analysis.Method = "auto"
                       ) -> tuple[list[analysis.Analysis | None], np.ndarray]:

@@ -89,7 +89,8 @@ def internal(mechanism: Mechanism) -> Mechanism:
 
     m = mechanism
     return replace(
-        m, parameters=parameters, coordinates=coordinates, independent=name(m.independent),
+        m, parameters=parameters, coordinates=coordinates, independent=(name(m.independent) if isinstance(m.independent, str)
+                                                      else tuple(map(name, m.independent))),
         constraints=tuple(new(e) for e in m.constraints),
         bodies=tuple(replace(b, mass=new(b.mass), centre=pair(b.centre), inertia=new(b.inertia),
                              angle=new(b.angle)) for b in m.bodies),
@@ -103,4 +104,5 @@ def internal(mechanism: Mechanism) -> Mechanism:
         requirements=tuple(replace(r, condition=new(r.condition)) for r in m.requirements),
         polar_pairs=tuple((name(a), name(b)) for a, b in m.polar_pairs),
         assembly_modes=tuple(new(e) for e in m.assembly_modes),
-        range_centre=new(m.range_centre))
+        range_centre=(tuple(map(new, m.range_centre)) if isinstance(m.range_centre, tuple)
+                      else new(m.range_centre)))

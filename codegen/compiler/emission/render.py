@@ -17,6 +17,7 @@ import sympy as sp
 
 from ... import __version__
 from .interval import interval_body
+from .multibody import MultibodyPlan
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
 
@@ -309,4 +310,54 @@ def api_spec(plan: Plan) -> str:
                        "inputs": [arg(a) for a in f.inputs],
                        "outputs": [arg(o) for o in f.outputs]} for f in plan.functions],
     }
+    if isinstance(plan, MultibodyPlan):  # n coordinates, each with its range
+        spec |= {"dof": plan.n, "range_centre": list(plan.centres), "periodic": list(plan.periodics),
+                 "coordinates": [dict(zip(("name", "unit", "description"), c))
+                                 for c in plan.coordinates],
+                 "all_coordinates": [dict(zip(("name", "unit", "description"), c))
+                                     for c in plan.all_coordinates]}
     return json.dumps(spec, indent=1, sort_keys=True) + "\n"
+
+
+def render_multibody(plan: MultibodyPlan, template_dir: Path,
+                     target: CTarget = CTarget()) -> dict[str, str]:
+    """File name -> text of every generated file of a mechanism with n coordinates."""
+    env = environment(str(template_dir))
+    prefix, P = plan.prefix, plan.prefix.upper()
+    printer = target.printer
+    used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
+    fields = [field for _, field in plan.reads]
+    centres = [sp.sympify(c, locals={f: sp.Symbol(f) for f in fields}) for c in plan.centres]
+    sizes = plan.sizes | {"BOXES": 2 * (plan.sizes["MAX_EQUILIBRIA"] + plan.sizes["MAX_UNCERTAIN"])}
+    context = {
+        "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
+        "header": f"{prefix}.h", "source": f"{prefix}.c", "guard": f"{P}_H",
+        "title": f"Vibration analysis of {plan.title}.",
+        "n": plan.n, "sizes": sorted(sizes.items()), "sizes_map": sizes,
+        "coordinate_list": ", ".join(name for name, _, _ in plan.coordinates),
+        "range_list": "; ".join(
+            f"{name} about {c}{' (periodic)' if periodic else ''}"
+            for (name, _, _), c, periodic in zip(plan.coordinates, plan.centres, plan.periodics)),
+        "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
+                     for s in plan.statuses],
+        "parameters": plan.parameters, "singular_state": plan.singular_state,
+        "polynomial": False, "double_double": False,
+        "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
+                               if symbol in used],
+        "requirements": [{"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
+                         for r in plan.requirements],
+        "fields": dict(plan.reads),
+        "functions": [_rendered(f, plan, target) for f in plan.functions],
+        "box": plan.box,
+        "theta_index": {name: k for k, (name, _, _) in enumerate(plan.coordinates)},
+        "centres": [printer.doprint(c.xreplace({s: sp.Symbol(f"params->{s.name}")
+                                                for s in c.free_symbols})) for c in centres],
+        "periodics": [int(p) for p in plan.periodics],
+    }
+    templates = {f"{prefix}.h": ("multibody.h.j2", "codegen_real"),
+                 f"{prefix}.c": ("multibody.c.j2", "codegen_real"),
+                 f"{prefix}.cdef": ("multibody.cdef.j2", "double")}
+    files = {name: env.get_template(template).render(template=template, real=real, **context)
+             for name, (template, real) in templates.items()}
+    files[f"{prefix}_api.json"] = api_spec(plan)
+    return files

@@ -15,12 +15,14 @@ from .mechanism import (TIME, Body, Coordinate, Damper, Mechanism, Parameter, Po
                         Requirement, Sketch, Spring, Torque, distance, parameter)
 
 SHIPPED = ("doughty", "slider_crank", "four_bar", "torsion_pendulum")
+#: Shipped mechanisms with several independent coordinates (analysed over a box of them).
+SHIPPED_MULTIBODY = ("double_pendulum", "flexible_doughty")
 
 
 def load(name_or_path: str) -> Mechanism:
     """A shipped mechanism by name, or the mechanism a model file's build() returns, checked
     (checks.py): a ModelError names the first problem in one line."""
-    if name_or_path in SHIPPED:
+    if name_or_path in SHIPPED + SHIPPED_MULTIBODY:
         return importlib.import_module(f"{__name__}.{name_or_path}").build()
     path = Path(name_or_path)
     if not path.exists():
@@ -57,6 +59,6 @@ def _failure(path: Path, origin: str, error: Exception) -> str:
     return f"{where}: {type(error).__name__}" + (f": {message.splitlines()[0]}" if message else "")
 
 
-__all__ = ["SHIPPED", "TIME", "Body", "check", "Coordinate", "Damper", "Mechanism", "ModelError",
+__all__ = ["SHIPPED", "SHIPPED_MULTIBODY", "TIME", "Body", "check", "Coordinate", "Damper", "Mechanism", "ModelError",
            "Parameter", "PointForce", "Requirement", "Sketch", "Spring", "Torque", "distance", "load",
            "parameter"]

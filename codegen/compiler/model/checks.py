@@ -89,7 +89,10 @@ def _names(m: Mechanism):
             return (f"the requirement code {code!r} is not a C identifier's end or names two "
                     "requirements", _quoted(code))
     coordinates = {c.name for c in m.coordinates}
-    for name in (m.independent, *(n for pair in m.polar_pairs for n in pair)):
+    if any(len(x) != m.dof for x in (m.centres, m.periodics)) or len(set(m.independents)) < m.dof:
+        return ("give one range_centre and one periodic for each independent coordinate, and "
+                "name each independent coordinate once", (r"\brange_centre\b", r"\bperiodic\b"))
+    for name in (*m.independents, *(n for pair in m.polar_pairs for n in pair)):
         if name not in coordinates:
             return f"{name!r} is not one of the coordinates {sorted(coordinates)}", _quoted(name)
     return None
@@ -113,7 +116,7 @@ def _expressions(m: Mechanism):
         yield from ((f"point {name!r}", e) for e in point)
     yield from ((f"requirement {r.code}", r.condition) for r in m.requirements)
     yield from ((f"assembly mode {i + 1}", e) for i, e in enumerate(m.assembly_modes))
-    yield "range_centre", m.range_centre
+    yield from (("range_centre", c) for c in m.centres)
 
 
 def _undeclared(m: Mechanism):

@@ -137,7 +137,9 @@ class Mechanism:
     The independent coordinate ranges over (range_centre - pi, range_centre + pi]; when
     ``periodic`` (an angle of a closed mechanism), theta and theta + 2 pi are the same state,
     otherwise (a spring that winds) different ones, and equilibria outside the range are not
-    sought. No inertia is required: statics need none, and an equilibrium where M vanishes
+    sought. A mechanism with n degrees of freedom names its n independent coordinates in a
+    tuple, and gives a range centre and a periodicity for each (tuples of n): its range is
+    their box. No inertia is required: statics need none, and an equilibrium where M vanishes
     is reported with its frequency undefined.
     ``equations`` maps each named result to the paper's equation label, for comments.
     """
@@ -145,7 +147,7 @@ class Mechanism:
     name: str
     parameters: tuple[Parameter, ...]
     coordinates: tuple[Coordinate, ...]
-    independent: str
+    independent: str | tuple[str, ...]
     constraints: tuple[sp.Expr, ...]
     bodies: tuple[Body, ...]
     springs: tuple[Spring, ...]
@@ -158,11 +160,31 @@ class Mechanism:
     polar_pairs: tuple[tuple[str, str], ...] = ()
     assembly_modes: tuple[sp.Expr, ...] = ()
     torques: tuple[Torque, ...] = ()
-    range_centre: sp.Expr = sp.S.Zero
-    periodic: bool = True
+    range_centre: sp.Expr | tuple[sp.Expr, ...] = sp.S.Zero
+    periodic: bool | tuple[bool, ...] = True
     title: str = ""
     equations: dict[str, str] = field(default_factory=dict)
     sketch: Sketch | None = None  # how `mechvib draw` draws it (None: its points and bodies)
+
+    @property
+    def independents(self) -> tuple[str, ...]:
+        """The independent coordinates' names (one for a 1-DOF mechanism)."""
+        return (self.independent,) if isinstance(self.independent, str) else self.independent
+
+    @property
+    def dof(self) -> int:
+        return len(self.independents)
+
+    @property
+    def centres(self) -> tuple[sp.Expr, ...]:
+        """Each independent coordinate's range centre."""
+        return self.range_centre if isinstance(self.range_centre, tuple) else (
+            self.range_centre,) * self.dof
+
+    @property
+    def periodics(self) -> tuple[bool, ...]:
+        """Whether each independent coordinate is periodic."""
+        return self.periodic if isinstance(self.periodic, tuple) else (self.periodic,) * self.dof
 
     def coordinate(self, name: str) -> sp.Expr:
         return next(c.function for c in self.coordinates if c.name == name)

@@ -1,0 +1,170 @@
+"""A library of n coordinates checked against the model it came from, before a file is written.
+
+As for one coordinate (verification.py), the check shares nothing with the derivation but
+the model's own expressions. At parameter sets drawn within the model's requirements and
+points drawn over the box of the ranges, in 30-digit arithmetic, it
+- puts the plan's positions into the model's constraints, which must vanish;
+- takes V from the springs, bodies and loads as the model states them, G = dV/dtheta by
+  five-point stencils, and K by stencils of G;
+- takes T and D from the bodies' and dampers' numerical velocities along a motion through
+  the point, for each unit velocity and each pair: M and B entry by entry;
+- takes h = dM/dt thetadot - dT/dtheta by stencils;
+and compares the plan's positions, G, K, M, B and h with them.
+"""
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from .derivation.multibody import Multibody
+from .emission.multibody import MultibodyPlan
+from .verification import SEED, SETS, VerificationError, parameter_sets
+
+POINTS = 6                 # points per parameter set
+STEP = mpmath.mpf("1e-6")  # the stencils' step: truncation ~1e-24, rounding ~1e-24 at 30 digits
+TOLERANCE = 1e-9           # relative to the size of the quantity's terms
+DIGITS = 30
+
+
+def verify_multibody(d: Multibody, plan: MultibodyPlan) -> int:
+    """Raise VerificationError unless the plan's expressions equal the model's numerics; the
+    number of values compared."""
+    m = d.mechanism
+    rng = np.random.default_rng(SEED)
+    compared = 0
+    with mpmath.workdps(DIGITS):
+        model = _Model(d)
+        for values in parameter_sets(m, rng, SETS):
+            params = {p.symbol: mpmath.mpf(values[p.symbol.name]) for p in m.parameters}
+            centres = [mpmath.mpf(float(sp.sympify(c).subs(params))) for c in m.centres]
+            for _ in range(POINTS):
+                theta = [c + mpmath.mpf(rng.uniform(-3.0, 3.0)) for c in centres]
+                compared += model.check(plan, params, theta)
+    return compared
+
+
+class _Model:
+    def __init__(self, d: Multibody):
+        self.d, m = d, d.mechanism
+        self.symbols = list(m.symbols)
+        coords = [sp.Symbol(c.name, real=True) for c in m.coordinates]
+        self.coords = coords
+        freeze = m.freezer()
+
+        def fn(exprs):
+            return sp.lambdify(self.symbols + coords,
+                               [sp.sympify(e).subs(freeze) for e in exprs], modules="mpmath")
+
+        self.constraints = fn(m.constraints)
+        self.positions = sp.lambdify(self.symbols + list(d.theta), list(d.positions), "mpmath")
+        potential = [s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in m.springs]
+        potential += [b.mass * m.gravity * b.centre[1] for b in m.bodies]
+        potential += [-(f.force[0] * f.point[0] + f.force[1] * f.point[1]) for f in m.forces]
+        potential += [-t.torque * t.angle for t in m.torques]
+        self.potential = fn([sum(potential, sp.S.Zero)])
+        moving = [(b.mass, x) for b in m.bodies for x in b.centre]
+        moving += [(b.inertia, b.angle) for b in m.bodies]
+        self.inertias = fn([w for w, _ in moving])
+        self.motions = fn([x for _, x in moving])
+        self.dampers = fn([dm.coefficient for dm in m.dampers])
+        self.lengths = fn([dm.length for dm in m.dampers])
+        args = self.symbols + list(d.theta) + list(d.theta_d)
+        self.plan = {name: sp.lambdify(args, list(expr), "mpmath") for name, expr in (
+            ("G", d.generalised_force), ("K", d.stiffness), ("M", d.mass), ("B", d.damping),
+            ("h", d.velocity_terms))}
+
+    def check(self, plan: MultibodyPlan, params: dict, theta: list) -> int:
+        p = [params[s] for s in self.symbols]
+        n = len(theta)
+        full = self.positions(*p, *theta)
+        residual = self.constraints(*p, *full)
+        scale = max([1] + [abs(x) for x in full])
+        if residual and max(abs(r) for r in residual) > TOLERANCE * scale:
+            self._fail("positions (the constraints do not vanish)", theta, params,
+                       max(abs(r) for r in residual))
+
+        def at(t, rates=None):
+            return self._plan(p, t, rates or [0] * n)
+
+        def along(f, k, t):
+            """d f(theta)/d theta_k by the five-point stencil."""
+            def shifted(s):
+                moved = list(t)
+                moved[k] += s * STEP
+                return f(moved)
+            return (shifted(-2) - 8 * shifted(-1) + 8 * shifted(1) - shifted(2)) / (12 * STEP)
+
+        def V(t):
+            return self.potential(*p, *self.positions(*p, *t))[0]
+
+        G = [along(V, k, theta) for k in range(n)]
+        self._compare("G", at(theta)["G"], G, theta, params)
+        K = [along(lambda t, i=i: at(t)["G"][i], k, theta) for i in range(n) for k in range(n)]
+        self._compare("K", at(theta)["K"], K, theta, params)
+        M = self._quadratic(p, theta, self._kinetic)
+        self._compare("M", at(theta)["M"], M, theta, params)
+        B = self._quadratic(p, theta, self._dissipation)
+        self._compare("B", at(theta)["B"], B, theta, params)
+        rates = [mpmath.mpf(x) for x in np.random.default_rng(n).uniform(-1, 1, n)]
+
+        def momentum(t):  # M(theta) thetadot along the motion theta + s thetadot
+            Mt = at(t)["M"]
+            return [sum(Mt[i * n + j] * rates[j] for j in range(n)) for i in range(n)]
+
+        h = []
+        for i in range(n):
+            forward = [x + STEP * r for x, r in zip(theta, rates)]
+            backward = [x - STEP * r for x, r in zip(theta, rates)]
+            rate = (momentum(forward)[i] - momentum(backward)[i]) / (2 * STEP)
+            h.append(rate - along(lambda t: self._kinetic(p, t, rates), i, theta))
+        self._compare("h", at(theta, rates)["h"], h, theta, params, tolerance=1e-6)
+        return n + 3 * n * n + n
+
+    def _plan(self, p, theta, rates) -> dict:
+        return {name: [mpmath.mpf(v) for v in f(*p, *theta, *rates)]
+                for name, f in self.plan.items()}
+
+    def _speeds(self, p, theta, rates, motion) -> list:
+        """Rates of each of ``motion``'s values moving theta at ``rates``, by central
+        differences at 30 digits."""
+        forward = motion(*p, *self.positions(*p, *[x + STEP * r for x, r in zip(theta, rates)]))
+        backward = motion(*p, *self.positions(*p, *[x - STEP * r for x, r in zip(theta, rates)]))
+        return [(a - b) / (2 * STEP) for a, b in zip(forward, backward)]
+
+    def _kinetic(self, p, theta, rates):
+        weights = self.inertias(*p, *self.positions(*p, *theta))
+        return sum(w * v**2 / 2 for w, v in zip(weights, self._speeds(p, theta, rates,
+                                                                     self.motions)))
+
+    def _dissipation(self, p, theta, rates):
+        weights = self.dampers(*p, *self.positions(*p, *theta))
+        return sum(c * v**2 / 2 for c, v in zip(weights, self._speeds(p, theta, rates,
+                                                                     self.lengths)))
+
+    @staticmethod
+    def _quadratic(p, theta, form) -> list:
+        """The symmetric matrix A of form(rates) = rates^T A rates / 2, entry by entry."""
+        n = len(theta)
+
+        def unit(*indices):
+            return [sum(1 for i in indices if i == k) for k in range(n)]
+
+        diagonal = [2 * form(p, theta, unit(i)) for i in range(n)]
+        return [diagonal[i] if i == j else
+                form(p, theta, unit(i, j)) - (diagonal[i] + diagonal[j]) / 2
+                for i in range(n) for j in range(n)]
+
+    def _compare(self, name, generated, model, theta, params, tolerance=TOLERANCE) -> None:
+        scale = 1 + max(abs(x) for x in model)
+        worst = max(abs(a - b) for a, b in zip(generated, model))
+        if worst > tolerance * scale:
+            self._fail(name, theta, params, worst, generated, model)
+
+    def _fail(self, name, theta, params, difference, generated=(), model=()) -> None:
+        at = ", ".join(f"{t.name} = {float(x):.6g}" for t, x in zip(self.d.theta, theta))
+        values = ", ".join(f"{s.name} = {float(v):.6g}" for s, v in params.items())
+        raise VerificationError(
+            f"{self.d.user.name}: {name} disagrees with the model by {float(difference):.3g} at "
+            f"{at} ({values})" + (f": generated {[float(x) for x in generated]}, model "
+                                  f"{[float(x) for x in model]}" if generated else ""))

@@ -1,0 +1,161 @@
+/*
+ * codegen_multibody.c -- every equilibrium of a mechanism with n coordinates and its modes
+ * (codegen_multibody.h). Hand-written (not generated). Plain C99 + libm; no allocation, no
+ * static state, no I/O.
+ */
+#include "codegen_multibody.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#define PI CODEGEN_R(3.14159265358979323846)
+/* The isolation searches each range widened by this much on both sides [rad], so that a
+ * zero at an end of a range lies inside the searched box, where it can be proven. */
+#define MARGIN CODEGEN_R(0.015625)
+/* omega^2 within this many ulps of the largest |omega^2| counts as zero: undecided. */
+#define ZERO_ULPS CODEGEN_R(64.0)
+
+typedef enum placement { OUTSIDE, INSIDE, STRADDLES } placement;
+
+/* Where box [lo, hi] lies against the range (centre - pi, centre + pi] of every coordinate:
+ * OUTSIDE if outside one, INSIDE if inside all, else STRADDLES. A proven zero straddling the
+ * seam of a periodic range counts at its upper end (its copy 2 pi lower, at the lower end,
+ * is outside). */
+static placement place(int n, const codegen_real *lo, const codegen_real *hi,
+                       const codegen_real *centre, const int *periodic)
+{
+    placement where = INSIDE;
+    int k;
+    for (k = 0; k < n; ++k) {
+        const codegen_real a = centre[k] - PI, b = centre[k] + PI;
+        if (hi[k] <= a || lo[k] > b || (periodic[k] && lo[k] <= a)) {
+            return OUTSIDE;
+        }
+        if (hi[k] > b && !periodic[k]) {
+            where = STRADDLES;
+        }
+        if (lo[k] <= a) {
+            where = STRADDLES;
+        }
+    }
+    return where;
+}
+
+static int add_uncertain(codegen_mb_result *out, int n, const codegen_real *lo,
+                         const codegen_real *hi, int kind)
+{
+    int k;
+    if (out->uncertain_count >= out->uncertain_capacity) {
+        return CODEGEN_MB_FULL;
+    }
+    for (k = 0; k < n; ++k) {
+        out->uncertain_lo[out->uncertain_count * n + k] = lo[k];
+        out->uncertain_hi[out->uncertain_count * n + k] = hi[k];
+    }
+    out->uncertain_kind[out->uncertain_count++] = kind;
+    return 0;
+}
+
+int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const codegen_real *K,
+                     codegen_real *omega_squared, codegen_real *shapes, codegen_real *s_re,
+                     codegen_real *s_im, codegen_real *damping_ratio, int *stability,
+                     codegen_real *work)
+{
+    int status, j;
+    codegen_real largest = CODEGEN_R(0.0), least;
+    status = codegen_modes(n, M, K, omega_squared, shapes, work);
+    if (status == CODEGEN_MODAL_OK) {
+        status = codegen_damped_eigenvalues(n, M, B, K, s_re, s_im, work);
+    }
+    if (status != CODEGEN_MODAL_OK) {
+        for (j = 0; j < n * n; ++j) {
+            shapes[j] = CODEGEN_NAN;
+        }
+        for (j = 0; j < 2 * n; ++j) {
+            s_re[j] = s_im[j] = damping_ratio[j] = CODEGEN_NAN;
+        }
+        for (j = 0; j < n; ++j) {
+            omega_squared[j] = CODEGEN_NAN;
+        }
+        *stability = CODEGEN_MB_UNDECIDED;
+        return status;
+    }
+    for (j = 0; j < 2 * n; ++j) {
+        const codegen_real size = hypot(s_re[j], s_im[j]);
+        damping_ratio[j] = size > CODEGEN_R(0.0) ? -s_re[j] / size : CODEGEN_NAN;
+    }
+    for (j = 0; j < n; ++j) {
+        largest = fabs(omega_squared[j]) > largest ? fabs(omega_squared[j]) : largest;
+    }
+    least = omega_squared[0];  /* ascending */
+    *stability = least > ZERO_ULPS * CODEGEN_EPSILON * largest ? CODEGEN_MB_STABLE
+                 : least < -ZERO_ULPS * CODEGEN_EPSILON * largest ? CODEGEN_MB_UNSTABLE
+                 : CODEGEN_MB_UNDECIDED;
+    return CODEGEN_MODAL_OK;
+}
+
+/* Equilibrium r's modes, at its point. */
+static void linearise(const codegen_mb_model *model, const void *params, codegen_mb_result *out,
+                      int r, codegen_real *work)
+{
+    const int n = model->n;
+    codegen_real *M = work, *B = M + n * n, *K = B + n * n, *rest = K + n * n;
+    int j;
+    if (model->linearisation(params, &out->theta[r * n], M, B, K) != 0) {
+        for (j = 0; j < n * n; ++j) {
+            M[j] = CODEGEN_NAN;  /* codegen_modes reports it: BAD_INPUT */
+        }
+    }
+    out->modal_status[r] = codegen_mb_modes(
+        n, M, B, K, &out->omega_squared[r * n], &out->shapes[r * n * n], &out->s_re[r * 2 * n],
+        &out->s_im[r * 2 * n], &out->damping_ratio[r * 2 * n], &out->stability[r], rest);
+}
+
+int codegen_mb_analyze(const codegen_mb_model *model, const void *params,
+                       const codegen_real *centre, const int *periodic,
+                       codegen_mb_result *out, codegen_boxes *boxes, codegen_real *work)
+{
+    const int n = model ? model->n : 0;
+    codegen_real *lo = work, *hi = work + n;
+    int status, e, k;
+    if (model == NULL || out == NULL || boxes == NULL || work == NULL || centre == NULL
+        || periodic == NULL || n < 1) {
+        return CODEGEN_BOXES_BAD_INPUT;
+    }
+    for (k = 0; k < n; ++k) {
+        lo[k] = centre[k] - PI - MARGIN;
+        hi[k] = centre[k] + PI + MARGIN;
+    }
+    status = codegen_isolate_boxes(n, model->enclose, params, lo, hi, boxes, work + 2 * n);
+    if (status != 0) {
+        return status == CODEGEN_BOXES_FULL ? CODEGEN_MB_FULL : status;
+    }
+    out->count = out->uncertain_count = 0;
+    for (e = 0; e < boxes->count; ++e) {
+        const codegen_real *box_lo = &boxes->lo[e * n], *box_hi = &boxes->hi[e * n];
+        const placement where = place(n, box_lo, box_hi, centre, periodic);
+        const int proven = boxes->kind[e] == CODEGEN_BOX_ROOT;
+        if (where == OUTSIDE) {
+            continue;
+        }
+        if (!proven || where == STRADDLES) {
+            status = add_uncertain(out, n, box_lo, box_hi,
+                                   proven ? CODEGEN_MB_AT_RANGE_END : (int)boxes->kind[e]);
+            if (status != 0) {
+                return status;
+            }
+            continue;
+        }
+        if (out->count >= out->capacity) {
+            return CODEGEN_MB_FULL;
+        }
+        for (k = 0; k < n; ++k) {
+            out->theta[out->count * n + k] = boxes->point[e * n + k];
+            out->lo[out->count * n + k] = box_lo[k];
+            out->hi[out->count * n + k] = box_hi[k];
+        }
+        linearise(model, params, out, out->count, work);
+        ++out->count;
+    }
+    return 0;
+}
