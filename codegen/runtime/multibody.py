@@ -30,6 +30,7 @@ class MultibodyEquilibrium:
     shapes: np.ndarray         # n x n, column j: mode j, phi^T M phi = 1
     eigenvalues: np.ndarray    # the 2n roots s of det(M s^2 + B s + K) [1/s], complex
     damping_ratios: np.ndarray  # -Re s / |s| of each eigenvalue
+    modal_damping: np.ndarray  # phi_j^T B phi_j / (2 omega_j): mode j's damping ratio
     stability: str             # "stable", "unstable" or "undecided"
 
     @property
@@ -42,11 +43,6 @@ class MultibodyEquilibrium:
         with np.errstate(invalid="ignore"):
             return np.sqrt(self.omega_squared)
 
-    @property
-    def mode_damping(self) -> np.ndarray:
-        """One damping ratio per oscillating mode: each complex pair's, in ascending |s|."""
-        pairs = [z for s, z in zip(self.eigenvalues, self.damping_ratios) if s.imag > 0]
-        return np.array(pairs)
 
 
 @dataclass(frozen=True)
@@ -76,7 +72,8 @@ class MultibodyAnalysis:
                 "natural_frequencies": plain(e.frequencies),
                 "mode_shapes": plain(e.shapes),
                 "eigenvalues": [[plain(s.real), plain(s.imag)] for s in e.eigenvalues],
-                "damping_ratios": plain(e.damping_ratios)} for e in self.equilibria],
+                "damping_ratios": plain(e.damping_ratios),
+                "modal_damping": plain(e.modal_damping)} for e in self.equilibria],
             "uncertain": [{"box": [plain(u.lo), plain(u.hi)], "kind": u.kind}
                           for u in self.uncertain],
         }
@@ -106,9 +103,9 @@ def _read(library: Any, result: Any, n: int) -> MultibodyAnalysis:
     theta, lo, hi = rows(result.theta, n), rows(result.lo, n), rows(result.hi, n)
     omega_squared, shapes = rows(result.omega_squared, n), rows(result.shapes, n * n)
     s = rows(result.s_re, 2 * n) + 1j * rows(result.s_im, 2 * n)
-    zeta = rows(result.damping_ratio, 2 * n)
+    zeta, modal = rows(result.damping_ratio, 2 * n), rows(result.modal_damping, n)
     equilibria = [MultibodyEquilibrium(theta[r], lo[r], hi[r], omega_squared[r],
-                                       shapes[r].reshape(n, n), s[r], zeta[r],
+                                       shapes[r].reshape(n, n), s[r], zeta[r], modal[r],
                                        STABILITY[result.stability[r]]) for r in range(count)]
     equilibria.sort(key=lambda e: tuple(e.theta))
     u_lo = _array(ffi, result.uncertain_lo, uncertain * n).reshape(uncertain, n)

@@ -793,7 +793,8 @@ static double_pendulum_status checked_point(const double_pendulum_params *params
 double_pendulum_status double_pendulum_modes(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
                             codegen_real omega_squared[DOUBLE_PENDULUM_N_DOF], codegen_real shapes[DOUBLE_PENDULUM_N_MATRIX],
                             codegen_real s_re[DOUBLE_PENDULUM_N_EIGENVALUES], codegen_real s_im[DOUBLE_PENDULUM_N_EIGENVALUES],
-                            codegen_real damping_ratio[DOUBLE_PENDULUM_N_EIGENVALUES], int *stability)
+                            codegen_real damping_ratio[DOUBLE_PENDULUM_N_EIGENVALUES],
+                            codegen_real modal_damping[DOUBLE_PENDULUM_N_DOF], int *stability)
 {
     codegen_real M[DOUBLE_PENDULUM_N_MATRIX], B[DOUBLE_PENDULUM_N_MATRIX], K[DOUBLE_PENDULUM_N_MATRIX];
     codegen_real work[CODEGEN_DAMPED_EIGENVALUES_WORK(DOUBLE_PENDULUM_N_DOF) + CODEGEN_MODES_WORK(DOUBLE_PENDULUM_N_DOF)];
@@ -802,14 +803,14 @@ double_pendulum_status double_pendulum_modes(const double_pendulum_params *param
         return status;
     }
     if (omega_squared == NULL || shapes == NULL || s_re == NULL || s_im == NULL
-        || damping_ratio == NULL || stability == NULL) {
+        || damping_ratio == NULL || modal_damping == NULL || stability == NULL) {
         return DOUBLE_PENDULUM_ERR_NULL_POINTER;
     }
     if (linearisation(params, theta, M, B, K) != 0) {
         return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
     }
     return codegen_mb_modes(DOUBLE_PENDULUM_N_DOF, M, B, K, omega_squared, shapes, s_re, s_im,
-                            damping_ratio, stability, work) == CODEGEN_MODAL_OK
+                            damping_ratio, modal_damping, stability, work) == CODEGEN_MODAL_OK
            ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
 }
 
@@ -874,6 +875,7 @@ double_pendulum_status double_pendulum_analyze(const double_pendulum_params *par
     out.s_re = result->s_re;
     out.s_im = result->s_im;
     out.damping_ratio = result->damping_ratio;
+    out.modal_damping = result->modal_damping;
     out.stability = result->stability;
     out.modal_status = result->modal_status;
     out.uncertain_lo = result->uncertain_lo;

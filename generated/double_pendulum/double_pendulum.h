@@ -161,13 +161,15 @@ double_pendulum_status double_pendulum_box_enclosure(const double_pendulum_param
 /* The modes of the linearisation M thetaddot + B thetadot + K theta = 0 at theta (an
  * equilibrium, for a meaningful result): omega_squared (K phi = omega^2 M phi, ascending
  * [rad^2/s^2]), shapes (column j: mode j, mass-normalised), the 2n eigenvalues s_re + i s_im
- * of M s^2 + B s + K [1/s] with damping_ratio = -Re s / |s| each, and *stability
+ * of M s^2 + B s + K [1/s] with damping_ratio = -Re s / |s| each, each mode's modal damping
+ * ratio phi_j^T B phi_j / (2 omega_j) (NaN where omega_j^2 <= 0), and *stability
  * (CODEGEN_MB_STABLE, _UNSTABLE or _UNDECIDED). DOUBLE_PENDULUM_ERR_SINGULAR_STATE where M is
  * not positive definite or the eigenvalues do not converge. */
 double_pendulum_status double_pendulum_modes(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
                             codegen_real omega_squared[DOUBLE_PENDULUM_N_DOF], codegen_real shapes[DOUBLE_PENDULUM_N_MATRIX],
                             codegen_real s_re[DOUBLE_PENDULUM_N_EIGENVALUES], codegen_real s_im[DOUBLE_PENDULUM_N_EIGENVALUES],
-                            codegen_real damping_ratio[DOUBLE_PENDULUM_N_EIGENVALUES], int *stability);
+                            codegen_real damping_ratio[DOUBLE_PENDULUM_N_EIGENVALUES],
+                            codegen_real modal_damping[DOUBLE_PENDULUM_N_DOF], int *stability);
 
 /* The receptance H(omega) = (K - omega^2 M + i omega B)^-1 at theta [unit per N or N m]:
  * H_re + i H_im, entry (i, j) the complex amplitude of coordinate i per unit harmonic
@@ -186,7 +188,8 @@ typedef struct double_pendulum_analysis {
     codegen_real omega_squared[64];  /* [r * N_DOF + j], ascending */
     codegen_real shapes[128];        /* [r * N_MATRIX + i * N_DOF + j] */
     codegen_real s_re[128], s_im[128];  /* [r * N_EIGENVALUES + j] */
-    codegen_real damping_ratio[128];
+    codegen_real damping_ratio[128];   /* -Re s / |s| */
+    codegen_real modal_damping[64];  /* phi_j^T B phi_j / (2 omega_j) */
     int stability[32];    /* CODEGEN_MB_STABLE, _UNSTABLE, _UNDECIDED */
     int modal_status[32]; /* a codegen_modal_status: 0, else the modes are NaN */
     int n_uncertain;

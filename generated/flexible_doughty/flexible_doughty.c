@@ -1022,7 +1022,8 @@ static flexible_doughty_status checked_point(const flexible_doughty_params *para
 flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
                             codegen_real omega_squared[FLEXIBLE_DOUGHTY_N_DOF], codegen_real shapes[FLEXIBLE_DOUGHTY_N_MATRIX],
                             codegen_real s_re[FLEXIBLE_DOUGHTY_N_EIGENVALUES], codegen_real s_im[FLEXIBLE_DOUGHTY_N_EIGENVALUES],
-                            codegen_real damping_ratio[FLEXIBLE_DOUGHTY_N_EIGENVALUES], int *stability)
+                            codegen_real damping_ratio[FLEXIBLE_DOUGHTY_N_EIGENVALUES],
+                            codegen_real modal_damping[FLEXIBLE_DOUGHTY_N_DOF], int *stability)
 {
     codegen_real M[FLEXIBLE_DOUGHTY_N_MATRIX], B[FLEXIBLE_DOUGHTY_N_MATRIX], K[FLEXIBLE_DOUGHTY_N_MATRIX];
     codegen_real work[CODEGEN_DAMPED_EIGENVALUES_WORK(FLEXIBLE_DOUGHTY_N_DOF) + CODEGEN_MODES_WORK(FLEXIBLE_DOUGHTY_N_DOF)];
@@ -1031,14 +1032,14 @@ flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *pa
         return status;
     }
     if (omega_squared == NULL || shapes == NULL || s_re == NULL || s_im == NULL
-        || damping_ratio == NULL || stability == NULL) {
+        || damping_ratio == NULL || modal_damping == NULL || stability == NULL) {
         return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
     }
     if (linearisation(params, theta, M, B, K) != 0) {
         return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
     }
     return codegen_mb_modes(FLEXIBLE_DOUGHTY_N_DOF, M, B, K, omega_squared, shapes, s_re, s_im,
-                            damping_ratio, stability, work) == CODEGEN_MODAL_OK
+                            damping_ratio, modal_damping, stability, work) == CODEGEN_MODAL_OK
            ? FLEXIBLE_DOUGHTY_OK : FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
 }
 
@@ -1103,6 +1104,7 @@ flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *
     out.s_re = result->s_re;
     out.s_im = result->s_im;
     out.damping_ratio = result->damping_ratio;
+    out.modal_damping = result->modal_damping;
     out.stability = result->stability;
     out.modal_status = result->modal_status;
     out.uncertain_lo = result->uncertain_lo;

@@ -58,10 +58,10 @@ static int add_uncertain(codegen_mb_result *out, int n, const codegen_real *lo,
 
 int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const codegen_real *K,
                      codegen_real *omega_squared, codegen_real *shapes, codegen_real *s_re,
-                     codegen_real *s_im, codegen_real *damping_ratio, int *stability,
-                     codegen_real *work)
+                     codegen_real *s_im, codegen_real *damping_ratio, codegen_real *modal_damping,
+                     int *stability, codegen_real *work)
 {
-    int status, j;
+    int status, i, j, k;
     codegen_real largest = CODEGEN_R(0.0), least;
     status = codegen_modes(n, M, K, omega_squared, shapes, work);
     if (status == CODEGEN_MODAL_OK) {
@@ -75,7 +75,7 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
             s_re[j] = s_im[j] = damping_ratio[j] = CODEGEN_NAN;
         }
         for (j = 0; j < n; ++j) {
-            omega_squared[j] = CODEGEN_NAN;
+            omega_squared[j] = modal_damping[j] = CODEGEN_NAN;
         }
         *stability = CODEGEN_MB_UNDECIDED;
         return status;
@@ -83,6 +83,17 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
     for (j = 0; j < 2 * n; ++j) {
         const codegen_real size = hypot(s_re[j], s_im[j]);
         damping_ratio[j] = size > CODEGEN_R(0.0) ? -s_re[j] / size : CODEGEN_NAN;
+    }
+    for (j = 0; j < n; ++j) {  /* phi_j^T B phi_j / (2 omega_j), B read as symmetric */
+        codegen_real form = CODEGEN_R(0.0);
+        for (i = 0; i < n; ++i) {
+            for (k = 0; k < n; ++k) {
+                form += shapes[i * n + j] * CODEGEN_R(0.5) * (B[i * n + k] + B[k * n + i])
+                        * shapes[k * n + j];
+            }
+        }
+        modal_damping[j] = omega_squared[j] > CODEGEN_R(0.0)
+                           ? form / (CODEGEN_R(2.0) * sqrt(omega_squared[j])) : CODEGEN_NAN;
     }
     for (j = 0; j < n; ++j) {
         largest = fabs(omega_squared[j]) > largest ? fabs(omega_squared[j]) : largest;
@@ -108,7 +119,8 @@ static void linearise(const codegen_mb_model *model, const void *params, codegen
     }
     out->modal_status[r] = codegen_mb_modes(
         n, M, B, K, &out->omega_squared[r * n], &out->shapes[r * n * n], &out->s_re[r * 2 * n],
-        &out->s_im[r * 2 * n], &out->damping_ratio[r * 2 * n], &out->stability[r], rest);
+        &out->s_im[r * 2 * n], &out->damping_ratio[r * 2 * n], &out->modal_damping[r * n],
+        &out->stability[r], rest);
 }
 
 int codegen_mb_analyze(const codegen_mb_model *model, const void *params,

@@ -45,12 +45,15 @@ typedef struct codegen_mb_model {
 /* The results, arrays the caller owns: equilibrium r's coordinates theta[r * n + k], its
  * proven box lo/hi[r * n + k]; omega_squared[r * n + j] (ascending), shapes[r * n * n + ..]
  * (column j the shape of mode j), the damped eigenvalues s_re/s_im[r * 2n + j] with
- * damping_ratio[r * 2n + j] = -Re s / |s|, stability[r] and modal_status[r] (a
+ * damping_ratio[r * 2n + j] = -Re s / |s|, the modal damping ratios modal_damping[r * n + j] =
+ * phi_j^T B phi_j / (2 omega_j) (mode j's own: exact where B is proportional to M and K, and
+ * defined for an overdamped mode too), stability[r] and modal_status[r] (a
  * codegen_modal_status; the modal values are NaN unless 0). Uncertain box u:
  * uncertain_lo/hi[u * n + k], uncertain_kind[u]. */
 typedef struct codegen_mb_result {
     int capacity, count;
-    codegen_real *theta, *lo, *hi, *omega_squared, *shapes, *s_re, *s_im, *damping_ratio;
+    codegen_real *theta, *lo, *hi, *omega_squared, *shapes, *s_re, *s_im, *damping_ratio,
+        *modal_damping;
     int *stability, *modal_status;
     int uncertain_capacity, uncertain_count;
     codegen_real *uncertain_lo, *uncertain_hi;
@@ -71,11 +74,12 @@ int codegen_mb_analyze(const codegen_mb_model *model, const void *params,
                        codegen_mb_result *out, codegen_boxes *boxes, codegen_real *work);
 
 /* The modal quantities of one linearisation (M, B, K): omega_squared[n], shapes[n * n],
- * s_re/s_im/damping_ratio[2n], *stability; returns a codegen_modal_status. */
+ * s_re/s_im/damping_ratio[2n], modal_damping[n] (NaN where omega^2 <= 0), *stability;
+ * returns a codegen_modal_status. */
 int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const codegen_real *K,
                      codegen_real *omega_squared, codegen_real *shapes, codegen_real *s_re,
-                     codegen_real *s_im, codegen_real *damping_ratio, int *stability,
-                     codegen_real *work);
+                     codegen_real *s_im, codegen_real *damping_ratio, codegen_real *modal_damping,
+                     int *stability, codegen_real *work);
 
 #ifdef __cplusplus
 }
