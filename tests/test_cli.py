@@ -282,7 +282,8 @@ def test_sigma_option_and_no_negative_zeros(tmp_path):
 def test_list_names_every_shipped_mechanism(tmp_path):
     out = cli("list", cwd=tmp_path)
     assert out.returncode == 0
-    assert [line.split()[0] for line in out.stdout.splitlines()] == sorted(SHIPPED)
+    assert [line.split()[0] for line in out.stdout.splitlines()] == sorted(
+        SHIPPED + ["double_pendulum", "flexible_doughty"])
 
 
 def test_sources_prints_the_folders_and_copies_a_library_that_compiles(tmp_path):

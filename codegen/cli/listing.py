@@ -14,7 +14,8 @@ def run(args) -> int:
 
     for name in shipped():
         library = load(name)
-        route = "polynomial" if library.has_polynomial else "isolation"
+        route = ("polynomial" if library.has_polynomial else "isolation" if library.dof == 1
+                 else f"{library.dof} coordinates, box isolation")
         print(f"{name:<18} {library.TITLE} ({len(library.PARAMETER_NAMES)} parameters, "
               f"{route})")
     return 0

@@ -129,5 +129,6 @@ def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
     for i, w in enumerate(omegas):
         library.check(call(c_params, point, float(w), H_re, H_im), params,
                       inputs={"theta": list(theta), "omega": float(w)})
-        out[i] = (np.array(H_re[0:n * n]) + 1j * np.array(H_im[0:n * n])).reshape(n, n)
+        out[i] = (np.array(library.ffi.unpack(H_re, n * n))
+                  + 1j * np.array(library.ffi.unpack(H_im, n * n))).reshape(n, n)
     return out

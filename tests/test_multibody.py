@@ -1,0 +1,201 @@
+"""Mechanisms with n coordinates (issue 31): every equilibrium in the box of the ranges, each
+proven, and its modes, against an independent 40-digit computation (multibody_reference.py:
+its own kinematics and potential, numerical derivatives, its own search for the zeros)."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import multibody_reference as reference
+from codegen.api import load
+from codegen.compiler.derivation.multibody import derive_multibody
+from codegen.compiler.emission.multibody import build_multibody_plan
+from codegen.compiler.model import ModelError, load as load_model
+from codegen.compiler.verification import VerificationError
+from codegen.compiler.verification_multibody import verify_multibody
+
+NAMES = ("double_pendulum", "flexible_doughty")
+
+
+def agree(library, name: str, params: dict) -> list[dict]:
+    """The library's analysis matches the reference's equilibria one to one: coordinates,
+    stability, natural frequencies and damped eigenvalues. The reference's equilibria."""
+    analysis = library.analyze(params)
+    expected = reference.equilibria(name, params)
+    assert not analysis.uncertain, analysis.uncertain
+    found = sorted(analysis.equilibria, key=lambda e: tuple(e.theta))
+    assert len(found) == len(expected), ([e.theta for e in found], [e["q"] for e in expected])
+    for e, r in zip(found, expected):
+        assert np.allclose(e.theta, r["q"], rtol=0, atol=1e-9), (e.theta, r["q"])
+        assert np.all(e.lo <= e.theta) and np.all(e.theta <= e.hi)
+        assert e.stable == r["stable"]
+        w2 = np.array([float(x) for x in r["omega_squared"]])
+        assert np.allclose(e.omega_squared, w2, rtol=1e-7, atol=1e-7 * np.abs(w2).max())
+        s = np.array([complex(x) for x in r["s"]])
+        assert np.allclose(np.sort_complex(e.eigenvalues), np.sort_complex(s), rtol=1e-6,
+                           atol=1e-6 * np.abs(s).max())
+    return expected
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_examples_equilibria_and_modes_match_the_reference(name):
+    lib = load(name)
+    expected = agree(lib, name, lib.EXAMPLE)
+    assert len(expected) == {"double_pendulum": 3, "flexible_doughty": 6}[name]
+
+
+def test_the_double_pendulum_buckles_as_described():
+    """The example's upright is unstable and it has two buckled stable equilibria; stiffer
+    springs hold it upright alone."""
+    lib = load("double_pendulum")
+    stability = [e.stability for e in lib.analyze().equilibria]
+    assert stability == ["stable", "unstable", "stable"]
+    stiff = lib.analyze({**lib.EXAMPLE, "k_1": 60.0, "k_2": 40.0})
+    assert len(stiff.equilibria) == 1 and stiff.equilibria[0].stable
+    assert np.allclose(stiff.equilibria[0].theta, [math.pi / 2, 0], atol=1e-12)
+
+
+SPRINGS = {"double_pendulum": ("k_1", "k_2"), "flexible_doughty": ("k", "k_t")}
+
+
+@pytest.mark.parametrize("name", NAMES)
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_drawn_parameter_sets_match_the_reference(name, data):
+    lib = load(name)
+    params = dict(lib.EXAMPLE)
+    for key in params:
+        if params[key] > 0 and key not in ("alpha_1",):
+            params[key] *= data.draw(st.floats(0.7, 1.3), label=key)
+    agree(lib, name, params)
+
+
+@pytest.mark.parametrize("scale", [0.1, 0.3])
+def test_weak_springs_give_many_equilibria_all_found(scale):
+    lib = load("double_pendulum")
+    params = {**lib.EXAMPLE, "k_1": 30 * scale, "k_2": 15 * scale, "F_x": 0.7}
+    assert len(agree(lib, "double_pendulum", params)) >= 3
+
+
+def upright_threshold(params: dict) -> float:
+    """k_1 at which the upright double pendulum (theta_1 = pi/2, delta = 0) loses stability:
+    K there is K_0 + k_1 e_1 e_1^T, so det K = det K_0 + k_1 K_0[1, 1] vanishes at
+    k_1 = -det K_0 / K_0[1, 1] (the reference's K, at k_1 = 0)."""
+    K0 = reference.stiffness("double_pendulum", {**params, "k_1": 0.0}, [math.pi / 2, 0.0])
+    return float(-mpmath.det(K0) / K0[1, 1])
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_either_side_of_the_buckling_threshold_the_count_changes_by_two(side):
+    lib = load("double_pendulum")
+    params = dict(lib.EXAMPLE)
+    threshold = upright_threshold(params)
+    assert 25 < threshold < 40  # "stable only for k_1 above about 31"
+    near = {**params, "k_1": threshold * (1 + side * 1e-6)}
+    analysis = lib.analyze(near)
+    # the buckled pair is 1e-3 rad from the upright here: proven apart, or else reported as
+    # a cluster there, never miscounted
+    if analysis.uncertain:
+        assert all(np.allclose((u.lo + u.hi) / 2, [math.pi / 2, 0], atol=1e-2)
+                   for u in analysis.uncertain)
+        assert not any(np.allclose(e.theta, [math.pi / 2, 0], atol=1e-2)
+                       for e in analysis.equilibria)
+        return
+    assert len(analysis.equilibria) == (3 if side < 0 else 1)
+    agree(lib, "double_pendulum", near)
+
+
+def test_a_stiff_joint_gives_doughtys_equilibria_and_first_mode():
+    """k_t = 1e6: the equilibria with theta_1 = theta_2 within 1e-4 rad of the paper's
+    mechanism's, and the first mode's omega_n and zeta within 1e-3 of its own."""
+    flexible = load("flexible_doughty").analyze({**load("flexible_doughty").EXAMPLE,
+                                                 "k_t": 1e6})
+    rigid = [e for e in load("doughty").analyze().roots if e.genuine]
+    assert len(flexible.equilibria) == len(rigid)
+    for e, r in zip(flexible.equilibria, sorted(rigid, key=lambda r: r.theta)):
+        assert abs(e.theta[0] - r.theta) < 1e-4 and abs(e.theta[1]) < 1e-4
+        assert e.stable == (r.stability == "stable")
+        if e.stable:
+            assert abs(e.frequencies[0] / r.omega_n.real - 1) < 1e-3
+            assert abs(e.modal_damping[0] / r.zeta.real - 1) < 1e-3
+
+
+def test_the_hanging_double_pendulum_has_the_textbook_frequencies():
+    """No springs, no tip mass, hanging: the two frequencies of the closed form
+    det(K - w^2 M) = 0 with M = [[(m1/3 + m2) l1^2, m2 l1 l2/2], [m2 l1 l2/2, m2 l2^2/3]],
+    K = g diag((m1/2 + m2) l1, m2 l2/2) (absolute angles), and M-orthonormal shapes."""
+    lib = load("double_pendulum")
+    p = {**lib.EXAMPLE, "k_1": 0.0, "k_2": 0.0, "m_t": 0.0, "alpha_1": -math.pi / 2}
+    l1, l2, m1, m2, g = (p[k] for k in ("l_1", "l_2", "m_1", "m_2", "g"))
+    a, b, c = (m1 / 3 + m2) * l1**2, m2 * l1 * l2 / 2, m2 * l2**2 / 3
+    k1, k2 = g * (m1 / 2 + m2) * l1, g * m2 * l2 / 2
+    # det([[k1 - w2 a, -w2 b], [-w2 b, k2 - w2 c]]) = (ac - b^2) w2^2 - (k1 c + k2 a) w2 + k1 k2
+    A, B, C = a * c - b * b, -(k1 * c + k2 * a), k1 * k2
+    roots = sorted(((-B - s * math.sqrt(B * B - 4 * A * C)) / (2 * A)) for s in (1, -1))
+    hanging = [e for e in lib.analyze(p).equilibria if e.stable]
+    assert len(hanging) == 1
+    e = hanging[0]
+    assert np.allclose(e.theta, [-math.pi / 2, 0], atol=1e-12)
+    assert np.allclose(e.omega_squared, roots, rtol=1e-12)
+    M = np.reshape(lib.mass_matrix(p, e.theta), (2, 2))
+    assert np.allclose(e.shapes.T @ M @ e.shapes, np.eye(2), atol=1e-12)
+
+
+def test_the_receptance_is_the_inverse_dynamic_stiffness():
+    lib = load("double_pendulum")
+    e = lib.analyze().equilibria[0]
+    p = lib.EXAMPLE
+    M, B, K = (np.reshape(f(p, e.theta), (2, 2)) for f in
+               (lib.mass_matrix, lib.damping_matrix, lib.stiffness_matrix))
+    omega = np.array([0.0, 0.5, e.frequencies[1], 40.0])
+    H = lib.receptance(p, e.theta, omega)
+    for w, h in zip(omega, H):
+        assert np.allclose(h, np.linalg.inv(K - w * w * M + 1j * w * B), rtol=1e-10)
+
+
+def test_the_linearisation_is_symmetric_and_k_is_the_slope_of_g():
+    lib = load("flexible_doughty")
+    p, theta = lib.EXAMPLE, np.array([0.3, -0.02])
+    K = np.reshape(lib.stiffness_matrix(p, theta), (2, 2))
+    assert np.allclose(K, K.T, rtol=1e-12)
+    h = 1e-6
+    slope = np.column_stack([(np.array(lib.generalised_force(p, theta + h * d))
+                              - np.array(lib.generalised_force(p, theta - h * d))) / (2 * h)
+                             for d in np.eye(2)])
+    assert np.allclose(slope, K, rtol=1e-6)
+
+
+def test_the_energy_functions_agree_with_the_mass_matrix():
+    lib = load("double_pendulum")
+    p, theta, rates = lib.EXAMPLE, np.array([1.0, 0.4]), np.array([0.3, -1.1])
+    T, V = lib.energies(p, theta, rates)
+    M = np.reshape(lib.mass_matrix(p, theta), (2, 2))
+    assert T == pytest.approx(rates @ M @ rates / 2, rel=1e-13)
+    assert V == pytest.approx(float(reference.potential("double_pendulum", p, theta))
+                              - float(reference.potential("double_pendulum", p, [0.0, 0.0]))
+                              + float(lib.energies(p, [0.0, 0.0], [0.0, 0.0])[1]), rel=1e-12)
+
+
+def test_a_derivation_that_disagrees_with_the_model_is_refused():
+    d = derive_multibody(load_model("double_pendulum"))
+    wrong = type(d)(**{**d.__dict__, "mass": d.mass.applyfunc(lambda e: e * 1.001)})
+    with pytest.raises(VerificationError, match="M disagrees"):
+        verify_multibody(wrong, build_multibody_plan(wrong))
+    sign = type(d)(**{**d.__dict__, "generalised_force": -d.generalised_force})
+    with pytest.raises(VerificationError, match="G disagrees"):
+        verify_multibody(sign, build_multibody_plan(sign))
+
+
+def test_a_dependent_coordinate_no_constraint_solves_is_refused(tmp_path):
+    source = (Path(__file__).parent / "models" / "triple_pendulum.py").read_text()
+    bad = source.replace("theta_2 - theta_1 - delta_2", "sp.sin(theta_2) - theta_1 - delta_2")
+    path = tmp_path / "bad.py"
+    path.write_text(bad)
+    with pytest.raises(ModelError, match="theta_2, theta_3 cannot be solved"):
+        derive_multibody(load_model(str(path)))
