@@ -100,15 +100,20 @@ def _build(generate, mechanism, plan, folder: Path, progress: Callable[[str], No
     against the plan it came from."""
     from .compiler.build import build_into
     from .compiler.derivation import derive
+    from .compiler.derivation.multibody import derive_multibody
     from .compiler.verification import verify_compiled
+    from .compiler.verification_multibody import verify_compiled_multibody
 
     generate.write_folder(folder / generate.RUNTIME, generate.runtime())
     generate.write_folder(folder / mechanism.name, generate.files_of(plan))
     progress("building")
     build_into(folder, mechanism.name)
     progress("checking the compiled library")
-    verify_compiled(derive(mechanism).mechanism, plan,
-                    load_from(folder, mechanism.name).rows, mechanism)
+    if mechanism.dof > 1:
+        verify_compiled_multibody(derive_multibody(mechanism), load_from(folder, mechanism.name))
+    else:
+        verify_compiled(derive(mechanism).mechanism, plan,
+                        load_from(folder, mechanism.name).rows, mechanism)
 
 
 def _replace(work: Path, folder: Path) -> None:

@@ -199,3 +199,29 @@ def test_a_dependent_coordinate_no_constraint_solves_is_refused(tmp_path):
     path.write_text(bad)
     with pytest.raises(ModelError, match="theta_2, theta_3 cannot be solved"):
         derive_multibody(load_model(str(path)))
+
+
+def test_a_users_three_coordinate_model_through_the_command_line(tmp_path):
+    """A triple pendulum written in a model file of its own, generated, built and analysed by
+    `mechvib analyze --model`, with springs weak enough to buckle it, against the reference."""
+    import json
+    import subprocess
+    import sys
+
+    weak = {"k_1": 4.0, "k_2": 2.5, "k_3": 1.2}
+    command = [sys.executable, "-m", "codegen", "analyze", "--model",
+               str(Path(__file__).parent / "models" / "triple_pendulum.py"),
+               "--out", str(tmp_path / "build"), "--json"]
+    for name, value in weak.items():
+        command += ["--set", f"{name}={value}"]
+    out = subprocess.run(command, capture_output=True, text=True, check=True)
+    found = json.loads(out.stdout)
+    params = {**reference.EXAMPLES["triple_pendulum"], **weak}
+    expected = reference.equilibria("triple_pendulum", params)
+    assert not found["uncertain"]
+    assert len(found["equilibria"]) == len(expected) >= 3
+    for e, r in zip(sorted(found["equilibria"], key=lambda e: e["theta"]), expected):
+        assert np.allclose(e["theta"], r["q"], atol=1e-9)
+        assert (e["stability"] == "stable") == r["stable"]
+        assert np.allclose(e["omega_squared"], [float(x) for x in r["omega_squared"]],
+                           rtol=1e-7, atol=1e-9)

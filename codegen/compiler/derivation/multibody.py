@@ -89,7 +89,18 @@ def eliminate(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     return solved
 
 
+#: Each mechanism's derivation, once per process (keyed by the mechanism's identity).
+_DERIVED: dict[Mechanism, Multibody] = {}
+
+
 def derive_multibody(user: Mechanism) -> Multibody:
+    """Every expression of the library of a mechanism with n coordinates."""
+    if user not in _DERIVED:
+        _DERIVED[user] = _derive(user)
+    return _DERIVED[user]
+
+
+def _derive(user: Mechanism) -> Multibody:
     mechanism = internal(user)
     state = StateSymbols.of(mechanism)
     freezer = mechanism.freezer()
