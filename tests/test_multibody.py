@@ -225,3 +225,48 @@ def test_a_users_three_coordinate_model_through_the_command_line(tmp_path):
         assert (e["stability"] == "stable") == r["stable"]
         assert np.allclose(e["omega_squared"], [float(x) for x in r["omega_squared"]],
                            rtol=1e-7, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_undamped_time_response_keeps_its_energy(name):
+    lib = load(name)
+    params = {**lib.EXAMPLE, **{k: 0.0 for k in ("c_1", "c_2", "b", "c_t") if k in lib.EXAMPLE}}
+    start = lib.analyze(params).equilibria[-1].theta + np.array([0.05, 0.01])
+    trajectory = lib.simulate(params, start, [0.0, 0.0], np.linspace(0, 2, 41))
+    energy = np.array([sum(lib.energies(params, q, v))
+                       for q, v in zip(trajectory.theta, trajectory.theta_d)])
+    swing = max(abs(lib.energies(params, q, v)[0])
+                for q, v in zip(trajectory.theta, trajectory.theta_d))
+    assert swing > 0 and np.ptp(energy) < 1e-6 * swing
+
+
+def test_the_damped_time_response_loses_energy_to_its_dampers():
+    lib = load("double_pendulum")
+    trajectory = lib.simulate(None, [1.2, 0.3], [0.0, 0.0], np.linspace(0, 4, 81))
+    energy = np.array([sum(lib.energies(lib.EXAMPLE, q, v))
+                       for q, v in zip(trajectory.theta, trajectory.theta_d)])
+    assert np.all(np.diff(energy) <= 1e-9 * abs(energy).max())
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_small_motion_about_a_stable_equilibrium_follows_its_linearisation(name):
+    """theta(t) - theta_E against expm(A t) x0, A = [[0, I], [-M^-1 K, -M^-1 B]] (scipy), for a
+    1e-6 rad start: the difference is second order in the amplitude."""
+    from scipy.linalg import expm
+
+    lib = load(name)
+    e = next(e for e in lib.analyze().equilibria if e.stable)
+    p = lib.EXAMPLE
+    M, B, K = (np.reshape(f(p, e.theta), (2, 2)) for f in
+               (lib.mass_matrix, lib.damping_matrix, lib.stiffness_matrix))
+    A = np.block([[np.zeros((2, 2)), np.eye(2)],
+                  [-np.linalg.solve(M, K), -np.linalg.solve(M, B)]])
+    assert np.allclose(np.sort_complex(np.linalg.eigvals(A)), np.sort_complex(e.eigenvalues),
+                       rtol=1e-8)
+    amplitude = 1e-6
+    x0 = np.array([amplitude, -amplitude, 0.0, 0.0])
+    times = np.linspace(0, 4 / np.abs(e.eigenvalues).min(), 21)
+    trajectory = lib.simulate(p, e.theta + x0[:2], x0[2:], times, rtol=1e-12, atol=1e-16)
+    for t, q in zip(times, trajectory.theta):
+        linear = (expm(A * t) @ x0)[:2]
+        assert np.allclose(q - e.theta, linear, atol=1e-3 * amplitude)

@@ -74,7 +74,10 @@ class Library(library.Library):
         """The motion from theta0 [rad], theta_d0 [rad/s] at t[0] at every time of ``t`` [s],
         integrated in C, as numpy arrays (a ``codegen.runtime.simulation.Trajectory``: ``.theta``
         [rad], ``.theta_d`` [rad/s]); ``params`` None is the example. Options (rtol, atol,
-        max_steps, h_max, progress): see ``codegen.runtime.simulation.simulate``."""
+        max_steps, h_max, progress): see ``codegen.runtime.simulation.simulate``. With several
+        coordinates theta0 and theta_d0 hold n values each: ``codegen.runtime.multibody.simulate``."""
+        if self.dof > 1:
+            return multibody.simulate(self, self._params(params), theta0, theta_d0, t, **options)
         return simulation.simulate(self._params(params), theta0, theta_d0, t, **options)
 
     def rk4_step(self, params: ParamsLike | None, theta: float, theta_d: float, h: float

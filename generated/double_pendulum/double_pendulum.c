@@ -774,7 +774,27 @@ static int linearisation(const void *context, const codegen_real *theta, codegen
              && all_finite(K, DOUBLE_PENDULUM_N_MATRIX));
 }
 
-static const codegen_mb_model model = { DOUBLE_PENDULUM_N_DOF, enclose_box, linearisation };
+/* M and f = h + B thetadot + G at a state, for the time response; nonzero where not finite. */
+static int dynamics(const void *context, const codegen_real *theta, const codegen_real *theta_d,
+                    codegen_real *M, codegen_real *f)
+{
+    const double_pendulum_params *params = (const double_pendulum_params *)context;
+    codegen_real B[DOUBLE_PENDULUM_N_MATRIX], G[DOUBLE_PENDULUM_N_DOF];
+    int i, j;
+    double_pendulum_mass_matrix_kernel(params, theta, M);
+    double_pendulum_damping_matrix_kernel(params, theta, B);
+    double_pendulum_generalised_force_kernel(params, theta, G);
+    double_pendulum_velocity_terms_kernel(params, theta, theta_d, f);
+    for (i = 0; i < DOUBLE_PENDULUM_N_DOF; ++i) {
+        f[i] += G[i];
+        for (j = 0; j < DOUBLE_PENDULUM_N_DOF; ++j) {
+            f[i] += B[i * DOUBLE_PENDULUM_N_DOF + j] * theta_d[j];
+        }
+    }
+    return !(all_finite(M, DOUBLE_PENDULUM_N_MATRIX) && all_finite(f, DOUBLE_PENDULUM_N_DOF));
+}
+
+static const codegen_mb_model model = { DOUBLE_PENDULUM_N_DOF, enclose_box, linearisation, dynamics };
 
 /* The checks every function taking a point theta makes. */
 static double_pendulum_status checked_point(const double_pendulum_params *params, const codegen_real *theta)
@@ -902,4 +922,55 @@ double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_
         }
     }
     return first;
+}
+
+double_pendulum_status double_pendulum_simulate(const double_pendulum_params *params, const codegen_real theta0[DOUBLE_PENDULUM_N_DOF],
+                               const codegen_real theta_d0[DOUBLE_PENDULUM_N_DOF], const codegen_real *times,
+                               size_t n_times, const codegen_ode_options *options, codegen_real *y,
+                               size_t *reached)
+{
+    codegen_real y0[2 * DOUBLE_PENDULUM_N_DOF], work[CODEGEN_MB_SIMULATE_WORK(DOUBLE_PENDULUM_N_DOF)];
+    codegen_ode_state state;
+    const codegen_ode_options defaults = codegen_ode_defaults();
+    double_pendulum_status status;
+    size_t i;
+    int k;
+    if (reached != NULL) {
+        *reached = 0;
+    }
+    if (theta0 == NULL || theta_d0 == NULL || times == NULL || y == NULL) {
+        return DOUBLE_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = double_pendulum_check_params(params);
+    if (status != DOUBLE_PENDULUM_OK) {
+        return status;
+    }
+    if (n_times < 1) {
+        return DOUBLE_PENDULUM_ERR_ARGUMENT;
+    }
+    for (i = 0; i < n_times; ++i) {
+        if (!isfinite(times[i])) {
+            return DOUBLE_PENDULUM_ERR_NONFINITE;
+        }
+    }
+    for (k = 0; k < DOUBLE_PENDULUM_N_DOF; ++k) {
+        y0[k] = theta0[k];
+        y0[DOUBLE_PENDULUM_N_DOF + k] = theta_d0[k];
+    }
+    if (!all_finite(y0, 2 * DOUBLE_PENDULUM_N_DOF)) {
+        return DOUBLE_PENDULUM_ERR_NONFINITE;
+    }
+    switch (codegen_mb_simulate(&model, params, y0, times, n_times, options ? options : &defaults,
+                                &state, work, y, reached)) {
+    case CODEGEN_ODE_OK:
+        return DOUBLE_PENDULUM_OK;
+    case CODEGEN_ODE_BUDGET:
+        return DOUBLE_PENDULUM_ERR_STEP_BUDGET;
+    case CODEGEN_ODE_STEP_UNDERFLOW:
+        return DOUBLE_PENDULUM_ERR_STEP_SIZE;
+    case CODEGEN_ODE_NONFINITE:
+        return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    default:
+        return DOUBLE_PENDULUM_ERR_ARGUMENT;
+    }
 }

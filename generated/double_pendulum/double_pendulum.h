@@ -18,6 +18,7 @@
 
 #include "codegen_interval.h"
 #include "codegen_multibody.h"
+#include "codegen_ode.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -205,6 +206,17 @@ double_pendulum_status double_pendulum_analyze(const double_pendulum_params *par
  * failure, else DOUBLE_PENDULUM_OK. */
 double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_pendulum_params *params,
                                     double_pendulum_analysis *results, double_pendulum_status *statuses);
+
+/* The time response: M thetaddot + h + B thetadot + G = 0 integrated from theta0, theta_d0 at
+ * times[0] by the runtime's adaptive Dormand-Prince 5(4) integrator (codegen_ode.h; options
+ * NULL: codegen_ode_defaults()), the state y = (theta, thetadot) at each time written to
+ * y[i * 2 * N_DOF ..]. Times in s, angles in rad. *reached (may be NULL): how many times were
+ * written. DOUBLE_PENDULUM_ERR_STEP_BUDGET, _STEP_SIZE or _SINGULAR_STATE (M not positive definite,
+ * or a value not finite) leave the outputs before the failure written. */
+double_pendulum_status double_pendulum_simulate(const double_pendulum_params *params, const codegen_real theta0[DOUBLE_PENDULUM_N_DOF],
+                               const codegen_real theta_d0[DOUBLE_PENDULUM_N_DOF], const codegen_real *times,
+                               size_t n_times, const codegen_ode_options *options, codegen_real *y,
+                               size_t *reached);
 
 #ifdef __cplusplus
 }

@@ -1003,7 +1003,27 @@ static int linearisation(const void *context, const codegen_real *theta, codegen
              && all_finite(K, FLEXIBLE_DOUGHTY_N_MATRIX));
 }
 
-static const codegen_mb_model model = { FLEXIBLE_DOUGHTY_N_DOF, enclose_box, linearisation };
+/* M and f = h + B thetadot + G at a state, for the time response; nonzero where not finite. */
+static int dynamics(const void *context, const codegen_real *theta, const codegen_real *theta_d,
+                    codegen_real *M, codegen_real *f)
+{
+    const flexible_doughty_params *params = (const flexible_doughty_params *)context;
+    codegen_real B[FLEXIBLE_DOUGHTY_N_MATRIX], G[FLEXIBLE_DOUGHTY_N_DOF];
+    int i, j;
+    flexible_doughty_mass_matrix_kernel(params, theta, M);
+    flexible_doughty_damping_matrix_kernel(params, theta, B);
+    flexible_doughty_generalised_force_kernel(params, theta, G);
+    flexible_doughty_velocity_terms_kernel(params, theta, theta_d, f);
+    for (i = 0; i < FLEXIBLE_DOUGHTY_N_DOF; ++i) {
+        f[i] += G[i];
+        for (j = 0; j < FLEXIBLE_DOUGHTY_N_DOF; ++j) {
+            f[i] += B[i * FLEXIBLE_DOUGHTY_N_DOF + j] * theta_d[j];
+        }
+    }
+    return !(all_finite(M, FLEXIBLE_DOUGHTY_N_MATRIX) && all_finite(f, FLEXIBLE_DOUGHTY_N_DOF));
+}
+
+static const codegen_mb_model model = { FLEXIBLE_DOUGHTY_N_DOF, enclose_box, linearisation, dynamics };
 
 /* The checks every function taking a point theta makes. */
 static flexible_doughty_status checked_point(const flexible_doughty_params *params, const codegen_real *theta)
@@ -1131,4 +1151,55 @@ flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexi
         }
     }
     return first;
+}
+
+flexible_doughty_status flexible_doughty_simulate(const flexible_doughty_params *params, const codegen_real theta0[FLEXIBLE_DOUGHTY_N_DOF],
+                               const codegen_real theta_d0[FLEXIBLE_DOUGHTY_N_DOF], const codegen_real *times,
+                               size_t n_times, const codegen_ode_options *options, codegen_real *y,
+                               size_t *reached)
+{
+    codegen_real y0[2 * FLEXIBLE_DOUGHTY_N_DOF], work[CODEGEN_MB_SIMULATE_WORK(FLEXIBLE_DOUGHTY_N_DOF)];
+    codegen_ode_state state;
+    const codegen_ode_options defaults = codegen_ode_defaults();
+    flexible_doughty_status status;
+    size_t i;
+    int k;
+    if (reached != NULL) {
+        *reached = 0;
+    }
+    if (theta0 == NULL || theta_d0 == NULL || times == NULL || y == NULL) {
+        return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = flexible_doughty_check_params(params);
+    if (status != FLEXIBLE_DOUGHTY_OK) {
+        return status;
+    }
+    if (n_times < 1) {
+        return FLEXIBLE_DOUGHTY_ERR_ARGUMENT;
+    }
+    for (i = 0; i < n_times; ++i) {
+        if (!isfinite(times[i])) {
+            return FLEXIBLE_DOUGHTY_ERR_NONFINITE;
+        }
+    }
+    for (k = 0; k < FLEXIBLE_DOUGHTY_N_DOF; ++k) {
+        y0[k] = theta0[k];
+        y0[FLEXIBLE_DOUGHTY_N_DOF + k] = theta_d0[k];
+    }
+    if (!all_finite(y0, 2 * FLEXIBLE_DOUGHTY_N_DOF)) {
+        return FLEXIBLE_DOUGHTY_ERR_NONFINITE;
+    }
+    switch (codegen_mb_simulate(&model, params, y0, times, n_times, options ? options : &defaults,
+                                &state, work, y, reached)) {
+    case CODEGEN_ODE_OK:
+        return FLEXIBLE_DOUGHTY_OK;
+    case CODEGEN_ODE_BUDGET:
+        return FLEXIBLE_DOUGHTY_ERR_STEP_BUDGET;
+    case CODEGEN_ODE_STEP_UNDERFLOW:
+        return FLEXIBLE_DOUGHTY_ERR_STEP_SIZE;
+    case CODEGEN_ODE_NONFINITE:
+        return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    default:
+        return FLEXIBLE_DOUGHTY_ERR_ARGUMENT;
+    }
 }

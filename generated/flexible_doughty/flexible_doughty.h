@@ -18,6 +18,7 @@
 
 #include "codegen_interval.h"
 #include "codegen_multibody.h"
+#include "codegen_ode.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -207,6 +208,17 @@ flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *
  * failure, else FLEXIBLE_DOUGHTY_OK. */
 flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexible_doughty_params *params,
                                     flexible_doughty_analysis *results, flexible_doughty_status *statuses);
+
+/* The time response: M thetaddot + h + B thetadot + G = 0 integrated from theta0, theta_d0 at
+ * times[0] by the runtime's adaptive Dormand-Prince 5(4) integrator (codegen_ode.h; options
+ * NULL: codegen_ode_defaults()), the state y = (theta, thetadot) at each time written to
+ * y[i * 2 * N_DOF ..]. Times in s, angles in rad. *reached (may be NULL): how many times were
+ * written. FLEXIBLE_DOUGHTY_ERR_STEP_BUDGET, _STEP_SIZE or _SINGULAR_STATE (M not positive definite,
+ * or a value not finite) leave the outputs before the failure written. */
+flexible_doughty_status flexible_doughty_simulate(const flexible_doughty_params *params, const codegen_real theta0[FLEXIBLE_DOUGHTY_N_DOF],
+                               const codegen_real theta_d0[FLEXIBLE_DOUGHTY_N_DOF], const codegen_real *times,
+                               size_t n_times, const codegen_ode_options *options, codegen_real *y,
+                               size_t *reached);
 
 #ifdef __cplusplus
 }

@@ -171,3 +171,86 @@ int codegen_mb_analyze(const codegen_mb_model *model, const void *params,
     }
     return 0;
 }
+
+/* An integration's context: the model, its parameters and room for M and f. */
+typedef struct motion {
+    const codegen_mb_model *model;
+    const void *params;
+    codegen_real *M, *f;
+} motion;
+
+/* x := M^-1 x, M (n x n, symmetric positive definite) overwritten by its Cholesky factor;
+ * nonzero where M is not positive definite. */
+static int cholesky_solve(int n, codegen_real *M, codegen_real *x)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        codegen_real d = M[j * n + j];
+        for (k = 0; k < j; ++k) {
+            d -= M[j * n + k] * M[j * n + k];
+        }
+        if (!(d > CODEGEN_R(0.0))) {
+            return 1;
+        }
+        M[j * n + j] = sqrt(d);
+        for (i = j + 1; i < n; ++i) {
+            codegen_real s = CODEGEN_R(0.5) * (M[i * n + j] + M[j * n + i]);
+            for (k = 0; k < j; ++k) {
+                s -= M[i * n + k] * M[j * n + k];
+            }
+            M[i * n + j] = s / M[j * n + j];
+        }
+    }
+    for (i = 0; i < n; ++i) {  /* L z = x */
+        for (k = 0; k < i; ++k) {
+            x[i] -= M[i * n + k] * x[k];
+        }
+        x[i] /= M[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {  /* L^T x = z */
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= M[k * n + i] * x[k];
+        }
+        x[i] /= M[i * n + i];
+    }
+    return 0;
+}
+
+static void equation_of_motion(const void *context, codegen_real t, const codegen_real *y,
+                               codegen_real *dydt)
+{
+    const motion *m = (const motion *)context;
+    const int n = m->model->n;
+    int i;
+    (void)t;
+    if (m->model->dynamics(m->params, y, y + n, m->M, m->f) != 0
+        || cholesky_solve(n, m->M, m->f) != 0) {
+        for (i = 0; i < 2 * n; ++i) {
+            dydt[i] = CODEGEN_NAN;  /* the integrator reports CODEGEN_ODE_NONFINITE */
+        }
+        return;
+    }
+    for (i = 0; i < n; ++i) {
+        dydt[i] = y[n + i];
+        dydt[n + i] = -m->f[i];
+    }
+}
+
+int codegen_mb_simulate(const codegen_mb_model *model, const void *params, const codegen_real *y0,
+                        const codegen_real *times, size_t n_times,
+                        const codegen_ode_options *options, codegen_ode_state *state,
+                        codegen_real *work, codegen_real *out, size_t *reached)
+{
+    motion m;
+    int n;
+    if (model == NULL || work == NULL || model->n < 1) {
+        return CODEGEN_ODE_BAD_INPUT;
+    }
+    n = model->n;
+    m.model = model;
+    m.params = params;
+    m.M = work;
+    m.f = work + n * n;
+    return codegen_ode_solve(equation_of_motion, &m, 2 * n, y0, times, n_times, options, state,
+                             work + n * n + n, out, reached);
+}

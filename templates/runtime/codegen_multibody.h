@@ -14,6 +14,7 @@
 
 #include "codegen_boxes.h"
 #include "codegen_modal.h"
+#include "codegen_ode.h"
 #include "codegen_real.h"
 
 #ifdef __cplusplus
@@ -25,12 +26,18 @@ extern "C" {
 typedef int (*codegen_mb_linearisation)(const void *params, const codegen_real *theta,
                                         codegen_real *M, codegen_real *B, codegen_real *K);
 
+/* M (n x n) and the forces f = h(theta, thetadot) + B thetadot + G(theta) (n) of the equation
+ * of motion M thetaddot + f = 0 at a state; 0, or nonzero where a value is not finite. */
+typedef int (*codegen_mb_dynamics)(const void *params, const codegen_real *theta,
+                                   const codegen_real *theta_d, codegen_real *M, codegen_real *f);
+
 /* What a library gives the analysis: its number of coordinates, G and K enclosed over a box
- * (the context is the parameters), and its linearisation at a point. */
+ * (the context is the parameters), its linearisation at a point and its equation of motion. */
 typedef struct codegen_mb_model {
     int n;
     codegen_box_enclosure enclose;
     codegen_mb_linearisation linearisation;
+    codegen_mb_dynamics dynamics;
 } codegen_mb_model;
 
 /* Each equilibrium's stability. */
@@ -80,6 +87,16 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
                      codegen_real *omega_squared, codegen_real *shapes, codegen_real *s_re,
                      codegen_real *s_im, codegen_real *damping_ratio, codegen_real *modal_damping,
                      int *stability, codegen_real *work);
+
+/* The time response: y = (theta, thetadot) (2n values) from y0 at times[0], integrated by the
+ * runtime's Dormand-Prince 5(4) (codegen_ode.h) with thetaddot = -M^-1 f (M by Cholesky), y at
+ * each time written to out[i * 2n ..]; a codegen_ode_status (CODEGEN_ODE_NONFINITE where M is
+ * not positive definite or a value not finite). work: CODEGEN_MB_SIMULATE_WORK(n) reals. */
+#define CODEGEN_MB_SIMULATE_WORK(n) ((n) * (n) + (n) + CODEGEN_ODE_WORK(2 * (n)))
+int codegen_mb_simulate(const codegen_mb_model *model, const void *params, const codegen_real *y0,
+                        const codegen_real *times, size_t n_times,
+                        const codegen_ode_options *options, codegen_ode_state *state,
+                        codegen_real *work, codegen_real *out, size_t *reached);
 
 #ifdef __cplusplus
 }
