@@ -270,3 +270,40 @@ def test_a_small_motion_about_a_stable_equilibrium_follows_its_linearisation(nam
     for t, q in zip(times, trajectory.theta):
         linear = (expm(A * t) @ x0)[:2]
         assert np.allclose(q - e.theta, linear, atol=1e-3 * amplitude)
+
+
+def test_the_frequency_response_through_the_command_line(tmp_path):
+    """`mechvib frf` with several coordinates: each coordinate's amplitude and phase per unit
+    force on the driven one, equal to the inverse dynamic stiffness built from the library's
+    M, B, K; a JSON table and a figure."""
+    import csv
+    import io
+    import json
+    import subprocess
+    import sys
+
+    run = [sys.executable, "-m", "codegen", "frf", "--mechanism", "double_pendulum",
+           "--drive", "delta", "--points", "7"]
+    table = list(csv.DictReader(io.StringIO(
+        subprocess.run(run, capture_output=True, text=True, check=True).stdout)))
+    lib = load("double_pendulum")
+    e = next(e for e in lib.analyze().equilibria if e.stable)
+    p = lib.EXAMPLE
+    M, B, K = (np.reshape(f(p, e.theta), (2, 2)) for f in
+               (lib.mass_matrix, lib.damping_matrix, lib.stiffness_matrix))
+    assert len(table) == 7 and float(table[-1]["omega"]) == pytest.approx(
+        3 * e.frequencies.max())
+    for row in table:
+        w = float(row["omega"])
+        column = np.linalg.inv(K - w * w * M + 1j * w * B)[:, 1]
+        for i, name in enumerate(("theta_1", "delta")):
+            assert float(row[f"amplitude_{name}"]) == pytest.approx(abs(column[i]), rel=1e-10)
+            assert float(row[f"phase_deg_{name}"]) == pytest.approx(
+                math.degrees(np.angle(column[i])), abs=1e-8)
+    out = subprocess.run(run + ["--out", str(tmp_path / "frf.json"), "--plot",
+                                str(tmp_path / "frf.png")], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    document = json.loads((tmp_path / "frf.json").read_text())
+    assert document["drive"] == "delta"
+    assert document["natural_frequencies_hz"] == pytest.approx(e.frequencies / (2 * math.pi))
+    assert (tmp_path / "frf.png").stat().st_size > 10_000

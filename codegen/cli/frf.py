@@ -11,6 +11,7 @@ examples:
   {prog} frf                                          CSV on stdout (doughty's example)
   {prog} frf --equilibrium 5 --plot frf.png --out frf.json
   {prog} frf --mechanism four_bar --max-frequency 20 --points 2001 --out frf.csv
+  {prog} frf --mechanism double_pendulum --drive delta --plot frf.png
 
 The receptance H = 1 / (K - omega^2 M + i omega B) of the linearisation about a stable
 equilibrium (the first, or --equilibrium I of `analyze`'s list), computed in C at --points
@@ -18,7 +19,9 @@ forcing frequencies from 0 to --max-frequency [Hz] (default: three times the nat
 frequency): the swing [rad] per unit amplitude of a harmonic torque [N m] on theta, and its
 phase lag. CSV on stdout (frequency_hz, omega, amplitude, phase_deg, H_re, H_im), or --out
 FILE.csv or FILE.json, and with --plot a figure of amplitude and phase with the natural
-frequency marked."""
+frequency marked. With several coordinates a harmonic generalised force drives one
+(--drive NAME, default the first) and every coordinate's amplitude and phase are listed,
+the natural frequencies marked."""
 
 
 def _summary(response, written: list[str]) -> str:
@@ -51,6 +54,10 @@ def run(args) -> int:
     params = library.example_params(**common.overrides(args.set, library.UNITS))
     omega = (None if args.max_frequency is None
              else np.linspace(0.0, 2 * math.pi * args.max_frequency, args.points))
+    if library.dof > 1:
+        return _several_coordinates(library, params, omega, args)
+    if args.drive is not None:
+        raise ValueError("--drive: only a mechanism with several coordinates has a choice")
     result = response.frequency_response(params, omega, equilibrium=args.equilibrium,
                                          method=args.method, points=args.points)
     if not (args.out or args.plot):
@@ -60,6 +67,36 @@ def run(args) -> int:
     written += [str(response.plot(result, args.plot))] if args.plot else []
     print(_summary(result, written))
     return 0
+
+
+def _several_coordinates(library, params, omega, args) -> int:
+    from ..runtime import multibody_response as response
+    from .report import paragraph
+
+    names = [c["name"] for c in library.SPEC["coordinates"]]
+    if args.drive and args.drive not in names:
+        raise ValueError(f"--drive {args.drive}: not a coordinate of {library.PREFIX} "
+                         f"({', '.join(names)})")
+    drive = names.index(args.drive) if args.drive else 0
+    result = response.frequency_response(library, params, omega, args.equilibrium, drive,
+                                         args.points)
+    if not (args.out or args.plot):
+        response.write_csv(sys.stdout, result)
+        return 0
+    written = [str(response.write(result, args.out))] if args.out else []
+    written += [str(response.plot(result, args.plot))] if args.plot else []
+    at = ", ".join(f"{n} = {x:.6g}" for n, x in zip(names, result.equilibrium.theta))
+    natural = ", ".join(f"{f:.6g}" for f in result.natural_frequencies)
+    print(paragraph(f"Frequency response of {library.TITLE} about {at}, driven on "
+                    f"{names[drive]}: natural frequencies {natural} Hz, "
+                    f"{len(result.omega):,} forcing frequencies. Wrote {' and '.join(written)}."))
+    return 0
+
+
+def response_points() -> int:
+    from ..runtime.response import POINTS
+
+    return POINTS
 
 
 def add(verbs, prog: str) -> None:
@@ -74,8 +111,11 @@ def add(verbs, prog: str) -> None:
     frf.add_argument("--max-frequency", type=float, metavar="HZ",
                      help="the highest forcing frequency [Hz] (default: three times the "
                           "natural frequency)")
-    frf.add_argument("--points", type=common.positive, default=801, metavar="N",
-                     help="forcing frequencies, evenly spaced from 0 (default 801)")
+    frf.add_argument("--points", type=common.positive, default=response_points(), metavar="N",
+                     help=f"forcing frequencies, evenly spaced from 0 (default {response_points()})")
+    frf.add_argument("--drive", metavar="NAME",
+                     help="with several coordinates: the one a harmonic force drives (default "
+                          "the first)")
     common.method_option(frf)
     frf.add_argument("--out", metavar="FILE",
                      help="write FILE.csv or FILE.json instead of CSV on stdout")
