@@ -307,3 +307,42 @@ def test_the_frequency_response_through_the_command_line(tmp_path):
     assert document["drive"] == "delta"
     assert document["natural_frequencies_hz"] == pytest.approx(e.frequencies / (2 * math.pi))
     assert (tmp_path / "frf.png").stat().st_size > 10_000
+
+
+def test_a_sweep_has_a_row_per_equilibrium_as_the_analysis_finds_them():
+    from codegen.runtime import sweep
+
+    lib = load("double_pendulum")
+    sets = sweep.grid(lib, {"k_1": np.linspace(5, 40, 6), "F_x": [0.0, 1.5]})
+    rows = sweep.sweep(lib, sets, chunk=5, workers=2)
+    assert set(rows["set"]) == set(range(len(sets)))
+    for s, values in enumerate(sets):
+        analysis = lib.analyze({name: float(values[name]) for name in lib.PARAMETER_NAMES})
+        mine = rows[rows["set"] == s]
+        assert len(mine) == len(analysis.equilibria) and np.all(mine["uncertain"] == 0)
+        for row, e in zip(mine, analysis.equilibria):
+            assert (row["theta_1"], row["delta"]) == tuple(e.theta)
+            assert sweep.LABELS["stability"][row["stability"]] == (
+                "marginal" if e.stability == "undecided" else e.stability)
+            assert np.array_equal([row["omega_n_1"], row["omega_n_2"]], e.frequencies,
+                                  equal_nan=True)
+            assert np.array_equal([row["zeta_1"], row["zeta_2"]], e.modal_damping,
+                                  equal_nan=True)
+
+
+def test_a_sweep_over_dask_gives_the_same_rows():
+    """A dask array of sets, and the chunks on a local cluster's worker processes (which load
+    the library again by its origin): the bytes of the local sweep."""
+    da = pytest.importorskip("dask.array")
+    distributed = pytest.importorskip("distributed")
+    from codegen.runtime import sweep
+
+    lib = load("flexible_doughty")
+    sets = sweep.sample(lib, 12, {"k": (3000, 4000), "k_t": (500, 5000)}, seed=3)
+    local = sweep.sweep(lib, sets)
+    assert sweep.sweep(lib, da.from_array(sets, chunks=5)).tobytes() == local.tobytes()
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            remote = sweep.sweep(lib, sets, client=client, chunk=4)
+    assert remote.tobytes() == local.tobytes()

@@ -108,7 +108,8 @@ class _Tally:
         import numpy as np
 
         self.rows += len(piece)
-        genuine = piece["kind"] == self._equilibrium
+        genuine = (piece["kind"] == self._equilibrium if "kind" in piece.dtype.names
+                   else piece["stability"] >= 0)  # several coordinates: every row is proven
         self.equilibria += int(np.count_nonzero(genuine))
         self.stable += int(np.count_nonzero(genuine & (piece["stability"] == self._stable)))
         for status, count in zip(*np.unique(piece["status"][piece["status"] != 0],

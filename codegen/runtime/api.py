@@ -37,11 +37,6 @@ class Library(library.Library):
         # What refers to a library (its Params, results) pickles it along: by its origin.
         return (_unpickled_library, (self._require_origin(),))
 
-    @property
-    def dof(self) -> int:
-        """The number of independent coordinates."""
-        return int(self.SPEC.get("dof", 1))
-
     def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
                 ) -> analysis.Analysis | multibody.MultibodyAnalysis:
         """Every equilibrium of ``params`` (default: the example), classified and linearised,

@@ -98,6 +98,11 @@ class Library:
             f["name"]: Function(self, f).python for f in self.SPEC["functions"]}
         self.LibraryError = LibraryError
 
+    @property
+    def dof(self) -> int:
+        """The number of independent coordinates."""
+        return int(self.SPEC.get("dof", 1))
+
     def __getattr__(self, name: str) -> LibraryFunction:
         try:
             return self.__dict__["FUNCTIONS"][name]

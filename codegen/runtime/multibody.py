@@ -163,3 +163,65 @@ def simulate(library: Any, params: Any, theta0: Any, theta_d0: Any, t: Any, *,
     library.check(status, params, inputs={"theta0": start[0].tolist(),
                                           "theta_d0": start[1].tolist()})
     return MultibodyTrajectory(times, y[:, :n], y[:, n:])
+
+
+# --------------------------------------------------------------------------- sweeps
+
+#: Sets analysed per C call of NAME_analyze_batch (its results buffer is reused).
+BLOCK = 256
+#: The stability codes of a sweep row, as the 1-coordinate sweep's (analysis.STABILITY:
+#: stable, marginal, unstable); an undecided one is marginal.
+SWEEP_STABILITY = {"stable": 0, "undecided": 1, "unstable": 2}
+
+
+def sweep_fields(library: Any) -> list[tuple[str, Any]]:
+    """A sweep row's columns after the parameters': the status, each coordinate, the
+    stability, each mode's natural frequency and damping ratio, and how many boxes of the
+    set could not be decided (never rows of their own)."""
+    names = [c["name"] for c in library.SPEC["coordinates"]]
+    modes = range(1, library.dof + 1)
+    return ([("status", np.int32)] + [(n, np.float64) for n in names]
+            + [("stability", np.int8)]
+            + [(f"{q}_{j}", np.float64) for j in modes for q in ("omega_n", "zeta")]
+            + [("uncertain", np.int32)])
+
+
+def sweep_rows(library: Any, table: np.ndarray, offset: int, dtype: np.dtype,
+               columns: tuple[str, ...]) -> np.ndarray:
+    """One row per equilibrium of each set (a set without one, or failed: one row of NaN),
+    sets in order, equilibria by their coordinates."""
+    ffi, P, n = library.ffi, library.PREFIX, library.dof
+    found_names = {c["name"] for c in library.SPEC["coordinates"]}
+    table = np.ascontiguousarray(table)
+    statuses = np.zeros(len(table), dtype=np.intc)
+    results = ffi.new(f"{P}_analysis[]", max(1, min(BLOCK, len(table))))
+    c_params = ffi.from_buffer(f"{P}_params[]", table)
+    c_statuses = ffi.from_buffer(f"{P}_status[]", statuses, require_writable=True)
+    pieces = []
+    for first in range(0, len(table), BLOCK):
+        count = min(BLOCK, len(table) - first)
+        getattr(library.lib, f"{P}_analyze_batch")(count, c_params + first, results,
+                                                    c_statuses + first)
+        for i in range(count):
+            s = first + i
+            found = (_read(library, results[i], n) if statuses[s] == 0
+                     else MultibodyAnalysis((), (), ()))
+            rows = np.zeros(max(1, len(found.equilibria)), dtype=dtype)
+            rows["set"] = s + offset
+            for name, column in zip(library.PARAMETER_NAMES, columns):
+                rows[column] = table[name][s]
+            rows["status"] = statuses[s]
+            rows["uncertain"] = len(found.uncertain)
+            for field in dtype.names:
+                if field in found_names or field.startswith(("omega_n_", "zeta_")):
+                    rows[field] = np.nan
+            rows["stability"] = -1
+            for r, e in enumerate(found.equilibria):
+                for name, value in zip(found.coordinates, e.theta):
+                    rows[name][r] = value
+                rows["stability"][r] = SWEEP_STABILITY[e.stability]
+                for j in range(n):
+                    rows[f"omega_n_{j + 1}"][r] = e.frequencies[j]
+                    rows[f"zeta_{j + 1}"][r] = e.modal_damping[j]
+            pieces.append(rows)
+    return np.concatenate(pieces) if pieces else np.zeros(0, dtype=dtype)

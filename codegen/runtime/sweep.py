@@ -25,7 +25,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from . import analysis
+from . import analysis, multibody
 from .. import files
 from .batch import analyze_table
 from .library import Library, ParamsLike
@@ -148,7 +148,8 @@ def _as_table(library: Library, sets: Any) -> np.ndarray:
 def parameter_columns(library: Library) -> tuple[str, ...]:
     """The column of each parameter: its name, or ``param_NAME`` where a result column
     has that name (a model's parameter called K, say)."""
-    taken = {"set", *(name for name, _ in RESULT_FIELDS)}
+    results = multibody.sweep_fields(library) if library.dof > 1 else RESULT_FIELDS
+    taken = {"set", *(name for name, _ in results)}
     return tuple(f"param_{n}" if n in taken else n for n in library.PARAMETER_NAMES)
 
 
@@ -156,8 +157,9 @@ def parameter_columns(library: Library) -> tuple[str, ...]:
 def dtype(library: Library) -> np.dtype:
     """The dtype of a sweep's rows: ``set`` (the set's index), one float64 column per
     parameter (``parameter_columns``), then RESULT_FIELDS."""
+    results = multibody.sweep_fields(library) if library.dof > 1 else RESULT_FIELDS
     return np.dtype([("set", np.int64)] + [(c, np.float64) for c in parameter_columns(library)]
-                    + RESULT_FIELDS)
+                    + results)
 
 
 def _rows(library: Library, table: np.ndarray, result: Any, offset: int, every_root: bool
@@ -197,6 +199,9 @@ def analyze_chunk(library: Library, table: np.ndarray, offset: int = 0,
     sweep: what each local step and each Dask task runs (a Library pickles by its origin,
     so a worker process loads it again)."""
     table = _as_table(library, table)
+    if library.dof > 1:   # one route, every equilibrium proven: roots are equilibria
+        return multibody.sweep_rows(library, table, offset, dtype(library),
+                                    parameter_columns(library))
     result = analyze_table(table, library, method, workers)
     return _rows(library, table, result, offset, roots == "all")
 
@@ -226,9 +231,11 @@ def _local(library: Library, parts: list[tuple[int, Any]], method: analysis.Meth
     """Each part's rows in order. The C of the next part runs (on its threads, without the
     GIL) while this thread makes the rows of one and the caller writes them."""
     def analyze(table: np.ndarray) -> Any:
-        return analyze_table(table, library, method, workers)
+        return analyze_table(table, library, method, workers) if library.dof == 1 else table
 
     def finish(offset: int, table: np.ndarray, result: Future[Any]) -> np.ndarray:
+        if library.dof > 1:
+            return analyze_chunk(library, result.result(), offset, method, roots, workers)
         return _rows(library, table, result.result(), offset, roots == "all")
 
     with ThreadPoolExecutor(1) as ahead:
@@ -294,7 +301,8 @@ def stream(library: Library, sets: Any, *, method: analysis.Method = "auto",
     """``sweep``'s table in consecutive pieces (one per chunk, in order, at least one),
     for writing a sweep as it runs: ``write(stream(lib, sets), "out.parquet")``. The
     arguments are ``sweep``'s; they are checked before the first piece is asked for."""
-    analysis.route(library, method)   # an unknown or unavailable route fails now
+    if library.dof == 1:
+        analysis.route(library, method)   # an unknown or unavailable route fails now
     if roots not in ROOTS:
         raise ValueError(f"roots must be one of {', '.join(ROOTS)}, not {roots!r}")
     chunk = _positive("chunk", chunk)
@@ -435,8 +443,11 @@ class Writer:
 
 
 def angle_columns(library: Library) -> tuple[str, ...]:
-    """The columns of a sweep of ``library`` in radians: theta and each angle parameter's."""
-    return ANGLES + tuple(column for name, column in zip(library.PARAMETER_NAMES,
+    """The columns of a sweep of ``library`` in radians: theta (each angle coordinate's) and
+    each angle parameter's."""
+    coordinates = (tuple(c["name"] for c in library.SPEC["coordinates"]
+                         if c["unit"] == "rad") if library.dof > 1 else ANGLES)
+    return coordinates + tuple(column for name, column in zip(library.PARAMETER_NAMES,
                                                          parameter_columns(library))
                           if library.UNITS.get(name) == "rad")
 
