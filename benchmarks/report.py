@@ -190,6 +190,34 @@ def simulate_table(results: dict[str, dict[str, Any]]) -> str:
                   "thetadot error scipy [rel.]"], rows)
 
 
+def met(flag: bool | None) -> str:
+    return NA if flag is None else ("met" if flag else "not met")
+
+
+def multibody_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 8: mechanisms with n coordinates, the C analysis against a scipy multistart,
+    and the modal analysis at one equilibrium."""
+    rows = []
+    for name, x in results.items():
+        rows.append([f"`{name}`", f"{x['sets']} ({x['ok_sets']})", str(x["starts"]),
+                     num(x["c_analyze_us"]), num(x["multistart_us"]), num(x["speedup"]),
+                     met(x["speedup_met"]), str(x["library_equilibria"]),
+                     str(x["multistart_equilibria"]), str(x["missed_by_library"]),
+                     str(x["in_uncertain_boxes"]), str(x["missed_by_multistart"]),
+                     str(x["uncertain_boxes"]), sci(x["theta_max_diff"]),
+                     sci(x["omega_squared_max_rel_diff"]),
+                     num(x["modes_ns"]), num(x["modes_max_ns"]), num(x["mb_modes_ns"]),
+                     met(x["modes_met"])])
+    return table(["mechanism", "sets (analysed)", "starts per set", "C `_analyze` [us/set]",
+                  "scipy multistart [us/set]", "multistart / C", "target >= 10",
+                  "equilibria (library)", "equilibria (multistart)",
+                  "multistart's outside the library's boxes (must be 0)",
+                  "multistart's in undecided boxes", "library's missed by the multistart",
+                  "undecided boxes", "theta: max difference", "omega^2: max rel. difference",
+                  "C `_modes` [ns], mean", "C `_modes` [ns], slowest equilibrium",
+                  "`codegen_mb_modes` on M, B, K [ns]", "target < 2 us (mean)"], rows)
+
+
 def machine_table(info: dict[str, Any]) -> str:
     load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
     rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
@@ -256,17 +284,33 @@ SECTIONS = (
      "lambdified from the derivation to Python's `math` module, timed in the same run; the "
      "errors are the largest against DOP853 at rtol 1e-13 on the same thetaddot (thetadot's "
      "relative to its largest value). Issue 13's target: scipy / library >= 100 on doughty."),
-    ("8. Machine", ""),
+    ("8. Mechanisms with n coordinates",
+     "Issue 31, for each shipped mechanism with several coordinates over {multibody_sets} "
+     "parameter sets (drawn as above): `NAME_analyze` in C (benchmarks/multibody_bench.c; "
+     "every equilibrium in the box of the ranges, each proven, with its modes) against a "
+     "scipy multistart that proves nothing: `scipy.optimize.root(method='hybr')` on G from a "
+     "{grid} x {grid} grid of starts spanning the range box, with {multistart_G}; the "
+     "converged roots kept in the half-open ranges (a periodic coordinate wrapped into its "
+     "range), deduplicated within {deduplicate:g}, then `scipy.linalg.eig(K, M)` at each. A "
+     "root of the multistart is the library's equilibrium when within its proven box "
+     "(+-{match:g}); their theta (max norm) and omega^2 (relative to the largest) are "
+     "compared there. The modal analysis alone: `NAME_modes` (M, B, K at theta, then the "
+     "modes) per call, the mean over every equilibrium found and at the slowest one, and "
+     "`codegen_mb_modes` on M, B and K computed beforehand. Issue 31's targets: multistart "
+     "/ C >= {speedup_target:g}, finding nothing the library misses; the modal analysis at "
+     "one equilibrium under {modes_target_ns:g} ns."),
+    ("9. Machine", ""),
 )
 
 
 def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
-             info: dict[str, Any], config: dict[str, Any]) -> str:
-    """The whole of results.md."""
+             info: dict[str, Any], config: dict[str, Any],
+             multibody: dict[str, dict[str, Any]]) -> str:
+    """The whole of results.md (``multibody``: section 8's results)."""
     tables = (analysis_table(results), kernels_table(results), roots_table(results),
               accuracy_table(results), generate_table(generate, results),
               branches_table(results),
-              simulate_table(results), machine_table(info))
+              simulate_table(results), multibody_table(multibody), machine_table(info))
     head = ("# `make bench` results\n\n"
             "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
             f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "

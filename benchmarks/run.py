@@ -14,7 +14,10 @@ seed), medians of several repeats:
 6. ``Library.branches`` over a parameter range holding folds (benchmarks/branch_timing.py);
 7. the time response: ``Library.simulate`` against scipy's solve_ivp (RK45) on the
    lambdified thetaddot, and both against a tight reference (benchmarks/simulate.py);
-8. the machine, its load, the compiler, the date and the commit.
+8. the mechanisms with several coordinates: the C analysis against a scipy multistart, and
+   the modal analysis at one equilibrium (benchmarks/multibody.py; sections 1-7 take the
+   mechanisms with one coordinate);
+9. the machine, its load, the compiler, the date and the commit.
 
 Writes results.md and results.json (into benchmarks/, or --out) and prints the tables.
 ``--quick`` is a smoke run of a few seconds per mechanism (the derivations dominate).
@@ -41,6 +44,7 @@ import numpy as np
 import accuracy
 import branch_timing
 import driver
+import multibody
 import pipeline
 import report
 import simulate
@@ -67,12 +71,13 @@ class Sizes:
     generate: bool       # time the command line's fresh derivation (section 5)
     branch_points: int   # parameter values of each branches run (section 6)
     throughput_seconds: float  # one thread's work per run when two threads are compared
+    multibody_sets: int  # parameter sets per mechanism with several coordinates (section 8)
 
 
 FULL = Sizes(sets=200, repeats=5, states=1000, accuracy_sets=50, min_seconds=0.02,
-             generate=True, branch_points=2000, throughput_seconds=0.3)
+             generate=True, branch_points=2000, throughput_seconds=0.3, multibody_sets=20)
 QUICK = Sizes(sets=12, repeats=3, states=100, accuracy_sets=3, min_seconds=0.002,
-              generate=False, branch_points=100, throughput_seconds=0.02)
+              generate=False, branch_points=100, throughput_seconds=0.02, multibody_sets=3)
 
 
 @dataclass
@@ -247,26 +252,38 @@ def main(argv: list[str] | None = None) -> int:
     sizes = Sizes(**{**asdict(sizes), **{k: getattr(args, k) for k in ("sets", "repeats")
                                         if getattr(args, k) is not None}})
     load_before = os.getloadavg()
+    selected = args.mechanism or shipped()
+    several = multibody.names(selected)  # section 8's; sections 1-7 take the others
     with tempfile.TemporaryDirectory(prefix="mechvib-bench-") as tmp:
-        mechanisms = [prepare(name, sizes, Path(tmp)) for name in args.mechanism or shipped()]
-        for m in mechanisms:  # every compilation done before anything is timed
+        multibodies = [multibody.prepare(name, parameter_sets(
+            load(name), sizes.multibody_sets, rng_for(name)), Path(tmp)) for name in several]
+        mechanisms = [prepare(name, sizes, Path(tmp)) for name in selected
+                      if name not in several]
+        for m in [*mechanisms, *multibodies]:  # every compilation done before anything is timed
             m.build.wait()
         results = {m.name: measure(m, sizes) for m in mechanisms}
+        multibody_results = {}
+        for m in multibodies:
+            progress(f"{m.name}: C analysis against a scipy multistart")
+            multibody_results[m.name] = multibody.measure(m, sizes.repeats, sizes.min_seconds,
+                                                          median_seconds)
     generate = time_generate(sizes.generate)
     info = {**report.machine(driver.ROOT, driver.compiler_version()),
             "cflags": " ".join(driver.CFLAGS), "load_before": load_before,
-            "stale_extensions": [m.name for m in mechanisms if driver.stale_extension(m.library)],
+            "stale_extensions": [m.name for m in [*mechanisms, *multibodies]
+                                 if driver.stale_extension(m.library)],
             "load_after": os.getloadavg()}
     config = {**asdict(sizes), "seed": SEED, "spread": SPREAD,
               "genuine_tolerance": pipeline.GENUINE, "real_tolerance": pipeline.REAL,
               "offset": simulate.OFFSET, "span": simulate.SPAN, "points": simulate.POINTS,
-              "rtol": simulate.RTOL, "atol": simulate.ATOL,
+              "rtol": simulate.RTOL, "atol": simulate.ATOL, **multibody.config(),
               "note": " (--quick: a smoke run, not for quoting)" if args.quick else ""}
-    text = report.markdown(results, generate, info, config)
+    text = report.markdown(results, generate, info, config, multibody_results)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "results.md").write_text(text)
     (args.out / "results.json").write_text(json.dumps(
-        {"config": config, "machine": info, "generate": generate, "mechanisms": results},
+        {"config": config, "machine": info, "generate": generate, "mechanisms": results,
+         "multibody": multibody_results},
         indent=2) + "\n")
     print(text)
     return 0

@@ -14,7 +14,8 @@ The convention, for README.md and every docs/*.md:
 - A ``mechvib`` (or ``python -m codegen``) command may appear only in a console block: a
   ```sh block holds what is not run here (make targets, pip, cmake, compilers).
 - The temporary folder starts with ``spring_pendulum.py``, the model listed in
-  docs/models.md, and ``app.c``, the C program of the README.
+  docs/models.md, ``triple_pendulum.py``, the one docs/multibody.md lists, and ``app.c``,
+  the C program of the README.
 
 A command with ``--plot``, or ``draw``, needs matplotlib and one starting with ``cc`` a C compiler: without
 them that command is skipped (the test fails instead where CI is set, like need_tools).
@@ -134,6 +135,8 @@ def _missing(command: str) -> str | None:
 
 def _seed(folder: Path) -> None:
     (folder / "spring_pendulum.py").write_text(model_listing())
+    (folder / "triple_pendulum.py").write_text(
+        section(REPO / "docs" / "multibody.md", "## A model with three coordinates", "python"))
     (folder / "app.c").write_text(section(REPO / "README.md", "## The C library", "c"))
 
 

@@ -30,6 +30,8 @@ typedef struct search {
      * an inflated box, small the box polish proves */
     codegen_iv *g, *jacobian, *g_mid, *k, *trial, *wide, *small, *proof;
     codegen_real *mid, *inverse;
+    codegen_real *newton;  /* polish's Newton point, the zero to working precision */
+    int converged;         /* whether that Newton iteration converged */
 } search;
 
 static codegen_real width(codegen_iv x)
@@ -223,15 +225,17 @@ static int tighten(search *s, codegen_iv *x)
 }
 
 /* Newton's method from x's middle on G's point values (midpoints of their enclosures),
- * kept in x, into s->mid; then the small box around it, inside x, proven to hold a zero (K
- * inside it) replaces x: x's only zero (a wide box converges slowly by K alone). x unchanged
- * where that fails. */
+ * kept in x, into s->newton (s->converged says whether it converged); then the smallest box
+ * around it, inside x, proven to hold a zero (K inside it) replaces x: x's only zero (a wide
+ * box converges slowly by K alone). The boxes tried grow from a few ulps by factors of 8, as
+ * far as the enclosures' rounding needs. x unchanged where none is proven. */
 static int polish(search *s, codegen_iv *x)
 {
     const int n = s->n, w = 2 * n;
     codegen_iv *z = s->small;
     unsigned flags;
-    int i, j, iteration, status = 0, shrunk;
+    int i, j, iteration, status = 0, shrunk, widening;
+    s->converged = 0;
     for (i = 0; i < n; ++i) {
         s->mid[i] = middle(x[i]);
     }
@@ -257,19 +261,31 @@ static int polish(search *s, codegen_iv *x)
             s->mid[i] = next < x[i].lo ? x[i].lo : next > x[i].hi ? x[i].hi : next;
         }
         if (!(step > 4 * CODEGEN_EPSILON)) {
+            s->converged = 1;
             break;
         }
     }
-    for (i = 0; i < n; ++i) { /* a few ulps around the Newton point, inside x */
-        const codegen_real pad = 8 * CODEGEN_EPSILON * codegen_fmax(codegen_fabs(s->mid[i]), (codegen_real)1);
-        z[i] = codegen_iv_make(codegen_fmax(s->mid[i] - pad, x[i].lo), codegen_fmin(s->mid[i] + pad, x[i].hi));
+    for (i = 0; i < n; ++i) {
+        s->newton[i] = s->mid[i];
     }
-    status = enclose(s, z, s->g, s->jacobian, &flags);
-    if (status == 0 && flags == 0u && krawczyk(s, z, &status) && compare(s, z, &shrunk) == 1) {
+    for (widening = 0; widening < 8 && status == 0; ++widening) {
+        int inside = 1; /* the box around the Newton point, inside x: a few ulps, then wider */
         for (i = 0; i < n; ++i) {
-            x[i] = z[i];
+            const codegen_real pad = (codegen_real)(8L << (3 * widening)) * CODEGEN_EPSILON
+                                     * codegen_fmax(codegen_fabs(s->mid[i]), (codegen_real)1);
+            z[i] = codegen_iv_make(codegen_fmax(s->mid[i] - pad, x[i].lo), codegen_fmin(s->mid[i] + pad, x[i].hi));
+            inside &= z[i].lo > x[i].lo || z[i].hi < x[i].hi;
         }
-        return 0;
+        if (!inside) {
+            break;  /* as wide as x: K on x itself decides */
+        }
+        status = enclose(s, z, s->g, s->jacobian, &flags);
+        if (status == 0 && flags == 0u && krawczyk(s, z, &status) && compare(s, z, &shrunk) == 1) {
+            for (i = 0; i < n; ++i) {
+                x[i] = z[i];
+            }
+            return 0;
+        }
     }
     if (status == 0) { /* K(x) again, for tighten */
         status = enclose(s, x, s->g, s->jacobian, &flags);
@@ -303,8 +319,9 @@ static int proven(search *s, codegen_iv *x)
     if (status == 0) {
         status = tighten(s, x);
     }
-    for (i = 0; i < n; ++i) {
-        s->mid[i] = middle(x[i]);
+    for (i = 0; i < n; ++i) { /* the zero to working precision: the Newton point, in x */
+        s->mid[i] = s->converged && s->newton[i] >= x[i].lo && s->newton[i] <= x[i].hi
+                    ? s->newton[i] : middle(x[i]);
     }
     return status != 0 ? status : append(s, x, s->mid, CODEGEN_BOX_ROOT);
 }
@@ -433,6 +450,8 @@ int codegen_isolate_boxes(int n, codegen_box_enclosure enclose_box, const void *
     s.proof = s.small + n;
     s.mid = (codegen_real *)(s.proof + n);
     s.inverse = s.mid + n;               /* n x 2n */
+    s.newton = s.inverse + 2 * n * n;
+    s.converged = 0;
     out->count = 0;
     for (i = 0; i < n; ++i) {
         stack[i] = codegen_iv_make(lo[i], hi[i]);
