@@ -81,7 +81,11 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
         return status;
     }
     for (j = 0; j < 2 * n; ++j) {
-        const codegen_real size = hypot(s_re[j], s_im[j]);
+        const codegen_real a = codegen_fabs(s_re[j]), b = codegen_fabs(s_im[j]);
+        const codegen_real big = codegen_fmax(a, b);  /* |s| without overflow */
+        const codegen_real size = big > CODEGEN_R(0.0)
+                                  ? big * codegen_sqrt((a / big) * (a / big) + (b / big) * (b / big))
+                                  : CODEGEN_R(0.0);
         damping_ratio[j] = size > CODEGEN_R(0.0) ? -s_re[j] / size : CODEGEN_NAN;
     }
     for (j = 0; j < n; ++j) {  /* phi_j^T B phi_j / (2 omega_j), B read as symmetric */
@@ -93,10 +97,10 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
             }
         }
         modal_damping[j] = omega_squared[j] > CODEGEN_R(0.0)
-                           ? form / (CODEGEN_R(2.0) * sqrt(omega_squared[j])) : CODEGEN_NAN;
+                           ? form / (CODEGEN_R(2.0) * codegen_sqrt(omega_squared[j])) : CODEGEN_NAN;
     }
     for (j = 0; j < n; ++j) {
-        largest = fabs(omega_squared[j]) > largest ? fabs(omega_squared[j]) : largest;
+        largest = codegen_fmax(codegen_fabs(omega_squared[j]), largest);
     }
     least = omega_squared[0];  /* ascending */
     *stability = least > ZERO_ULPS * CODEGEN_EPSILON * largest ? CODEGEN_MB_STABLE
@@ -111,8 +115,8 @@ static void linearise(const codegen_mb_model *model, const void *params, codegen
 {
     const int n = model->n;
     codegen_real *M = work, *B = M + n * n, *K = B + n * n, *rest = K + n * n;
-    int j;
     if (model->linearisation(params, &out->theta[r * n], M, B, K) != 0) {
+        int j;
         for (j = 0; j < n * n; ++j) {
             M[j] = CODEGEN_NAN;  /* codegen_modes reports it: BAD_INPUT */
         }
@@ -192,7 +196,7 @@ static int cholesky_solve(int n, codegen_real *M, codegen_real *x)
         if (!(d > CODEGEN_R(0.0))) {
             return 1;
         }
-        M[j * n + j] = sqrt(d);
+        M[j * n + j] = codegen_sqrt(d);
         for (i = j + 1; i < n; ++i) {
             codegen_real s = CODEGEN_R(0.5) * (M[i * n + j] + M[j * n + i]);
             for (k = 0; k < j; ++k) {
@@ -251,6 +255,6 @@ int codegen_mb_simulate(const codegen_mb_model *model, const void *params, const
     m.params = params;
     m.M = work;
     m.f = work + n * n;
-    return codegen_ode_solve(equation_of_motion, &m, 2 * n, y0, times, n_times, options, state,
+    return (int)codegen_ode_solve(equation_of_motion, &m, 2 * n, y0, times, n_times, options, state,
                              work + n * n + n, out, reached);
 }
