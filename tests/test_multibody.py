@@ -9,7 +9,7 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import multibody_reference as reference
@@ -32,12 +32,21 @@ def triple_pendulum(folder: Path) -> Path:
     return path
 
 
-def agree(library, name: str, params: dict) -> list[dict]:
+def agree(library, name: str, params: dict, uncertain: bool = False) -> list[dict]:
     """The library's analysis matches the reference's equilibria one to one: coordinates,
-    stability, natural frequencies and damped eigenvalues. The reference's equilibria."""
+    stability, natural frequencies and damped eigenvalues. With ``uncertain``, boxes the
+    library could not decide are allowed: a reference equilibrium inside one is not missed,
+    and no proven equilibrium may lie in none of the reference's. The reference's
+    equilibria."""
     analysis = library.analyze(params)
     expected = reference.equilibria(name, params)
-    assert not analysis.uncertain, analysis.uncertain
+    assert uncertain or not analysis.uncertain, analysis.uncertain
+
+    def undecided(q) -> bool:
+        return any(np.all(u.lo - 1e-9 <= q) and np.all(q <= u.hi + 1e-9)
+                   for u in analysis.uncertain)
+
+    expected = [r for r in expected if not undecided(np.array(r["q"], dtype=float))]
     found = sorted(analysis.equilibria, key=lambda e: tuple(e.theta))
     assert len(found) == len(expected), ([e.theta for e in found], [e["q"] for e in expected])
     for e, r in zip(found, expected):
@@ -82,7 +91,23 @@ def test_drawn_parameter_sets_match_the_reference(name, data):
     for key in params:
         if params[key] > 0 and key not in ("alpha_1",):
             params[key] *= data.draw(st.floats(0.7, 1.3), label=key)
-    agree(lib, name, params)
+    # With the spring's anchor exactly at reach of its attachment (H = a), its length vanishes
+    # along a whole ridge through the box (to first order): the isolation runs out of boxes
+    # there and says so (ERR_CAPACITY, docs/multibody.md), which is not what this test draws.
+    assume(name != "flexible_doughty" or abs(params["H"] - params["a"]) > 1e-6 * params["a"])
+    # where the spring's anchor can meet its attachment (H = a cos theta_1), its length
+    # vanishes and G is not smooth: boxes there are undecided, never equilibria
+    agree(lib, name, params, uncertain=True)
+
+
+def test_where_the_spring_length_vanishes_the_boxes_are_undecided_not_equilibria():
+    lib = load("flexible_doughty")
+    params = {**lib.EXAMPLE, "H": 0.135, "a": 0.16875}
+    analysis = lib.analyze(params)
+    assert analysis.uncertain and {u.kind for u in analysis.uncertain} <= {"singular", "cluster"}
+    theta_1 = math.acos(params["H"] / params["a"])   # a cos theta_1 = H: P can reach (H, 0)
+    assert all(abs(abs((u.lo[0] + u.hi[0]) / 2) - theta_1) < 1e-6 for u in analysis.uncertain)
+    agree(lib, "flexible_doughty", params, uncertain=True)
 
 
 @pytest.mark.parametrize("scale", [0.1, 0.3])
@@ -371,3 +396,11 @@ def test_a_root_whose_tightest_box_rounding_hides_is_still_reported_at_its_zero(
     for e in lib.analyze(params).equilibria:
         assert np.all(e.hi - e.lo < 1e-10)
     agree(lib, "double_pendulum", params)
+
+
+def test_a_ridge_of_zero_spring_length_is_refused_not_guessed():
+    """H = a: the isolation cannot decide the ridge where the spring's length vanishes and
+    runs out of its budget of boxes: an error, never a partial list."""
+    lib = load("flexible_doughty")
+    with pytest.raises(lib.LibraryError, match="more equilibria or uncertain"):
+        lib.analyze({**lib.EXAMPLE, "H": lib.EXAMPLE["a"]})

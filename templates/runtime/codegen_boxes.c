@@ -9,6 +9,12 @@
 
 /* Boxes narrower than this many ulps of their bounds in every direction are not split. */
 #define RESOLUTION CODEGEN_R(16.0)
+/* ... nor, where G is smooth on them but Krawczyk's test decides nothing, boxes narrower than
+ * the square root of that (2^-26 of their bounds in double): near a point where G is not
+ * smooth (a spring of zero length) the enclosures overestimate G by about the box's width
+ * over its distance to that point, squared, and splitting on to the last ulps would take
+ * ~10^15 boxes. Two zeros closer than this are reported together, as an undecided cluster. */
+#define CLUSTER_RESOLUTION CODEGEN_SQRT_EPSILON
 /* Where a box is halved: off its centre, so that splits avoid symmetric points where zeros
  * often sit exactly (0, the middle of the range). */
 #define SPLIT CODEGEN_R(0.5078125)
@@ -346,12 +352,13 @@ static int inflated(search *s, int *status)
     return 1;
 }
 
-static int resolved(const search *s, const codegen_iv *x)
+/* Whether x is narrower than resolution (relative to its bounds, at least 1) on every side. */
+static int resolved(const search *s, const codegen_iv *x, codegen_real resolution)
 {
     int i;
     for (i = 0; i < s->n; ++i) {
         const codegen_real scale = codegen_fmax(codegen_fmax(codegen_fabs(x[i].lo), codegen_fabs(x[i].hi)), (codegen_real)1);
-        if (width(x[i]) > RESOLUTION * CODEGEN_EPSILON * scale) {
+        if (width(x[i]) > resolution * scale) {
             return 0;
         }
     }
@@ -378,7 +385,7 @@ static int examine(search *s, codegen_iv *x, int *outcome)
         }
     }
     if (flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) {
-        *outcome = resolved(s, x) ? DONE : HALVE;
+        *outcome = resolved(s, x, RESOLUTION * CODEGEN_EPSILON) ? DONE : HALVE;
         return *outcome == DONE ? append(s, x, NULL, CODEGEN_BOX_SINGULAR) : 0;
     }
     if (krawczyk(s, x, &status)) {
@@ -409,7 +416,7 @@ static int examine(search *s, codegen_iv *x, int *outcome)
     } else if (status != 0) {
         return status;
     }
-    if (resolved(s, x)) {
+    if (resolved(s, x, CLUSTER_RESOLUTION)) {
         *outcome = DONE;
         return append(s, x, NULL, CODEGEN_BOX_CLUSTER);
     }

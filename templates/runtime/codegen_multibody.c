@@ -41,10 +41,45 @@ static placement place(int n, const codegen_real *lo, const codegen_real *hi,
     return where;
 }
 
+/* Undecided boxes closer than this (relative to their bounds, at least 1) are reported as
+ * one, their hull: the subdivision leaves many tiny boxes around one point where G is not
+ * smooth. The hull adds only boxes proven empty, so it still holds every zero it must. */
+#define NEAR CODEGEN_R(1e-6)
+
+/* Whether boxes a and b (n sides each) overlap or lie within NEAR of each other. */
+static int touching(int n, const codegen_real *a_lo, const codegen_real *a_hi,
+                    const codegen_real *b_lo, const codegen_real *b_hi)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        const codegen_real gap = NEAR * codegen_fmax(codegen_fmax(codegen_fabs(a_lo[k]),
+                                                                  codegen_fabs(a_hi[k])),
+                                                     CODEGEN_R(1.0));
+        if (a_hi[k] + gap < b_lo[k] || b_hi[k] + gap < a_lo[k]) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* An undecided box, merged into the first reported one it touches (their hull). */
 static int add_uncertain(codegen_mb_result *out, int n, const codegen_real *lo,
                          const codegen_real *hi, int kind)
 {
-    int k;
+    int u, k;
+    for (u = 0; u < out->uncertain_count; ++u) {
+        codegen_real *u_lo = &out->uncertain_lo[u * n], *u_hi = &out->uncertain_hi[u * n];
+        if (touching(n, u_lo, u_hi, lo, hi)) {
+            for (k = 0; k < n; ++k) {
+                u_lo[k] = codegen_fmin(u_lo[k], lo[k]);
+                u_hi[k] = codegen_fmax(u_hi[k], hi[k]);
+            }
+            if (kind == CODEGEN_BOX_SINGULAR) {  /* the hull is singular where a part is */
+                out->uncertain_kind[u] = kind;
+            }
+            return 0;
+        }
+    }
     if (out->uncertain_count >= out->uncertain_capacity) {
         return CODEGEN_MB_FULL;
     }

@@ -328,7 +328,8 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
     fields = [field for _, field in plan.reads]
     centres = [sp.sympify(c, locals={f: sp.Symbol(f) for f in fields}) for c in plan.centres]
-    sizes = plan.sizes | {"BOXES": 2 * (plan.sizes["MAX_EQUILIBRIA"] + plan.sizes["MAX_UNCERTAIN"])}
+    # the isolation's raw boxes, before undecided neighbours merge and the margins are cut
+    sizes = plan.sizes | {"BOXES": 4 * (plan.sizes["MAX_EQUILIBRIA"] + plan.sizes["MAX_UNCERTAIN"])}
     context = {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
         "header": f"{prefix}.h", "source": f"{prefix}.c", "guard": f"{P}_H",
