@@ -6,6 +6,10 @@ graphs) beside the high-water mark the firmware measured, the instructions QEMU 
 each route of the example's analysis, and the firmware's output against the host's. Exits 1
 when a double build's output differs from the host's for no cause it can name.
 
+A library with n coordinates (codegen_multibody: NAME_analyze keeps its working memory on its
+own stack, there is no second route) gets its own section after render.py's tables, which
+are the one-coordinate libraries' (their analysis in the caller's working memory).
+
 Usage: report.py BUILD_DIR OUT_STEM CFLAGS   (writes OUT_STEM.md and OUT_STEM.json; CFLAGS: the
 cross compiler's flags, for the record)
 """
@@ -19,6 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import stack  # noqa: E402  (beside this file)
+import render  # noqa: E402
 from render import markdown  # noqa: E402
 
 _VALUE = re.compile(r"^(\S+) = 0x([0-9a-f]{16}) ")
@@ -207,10 +212,101 @@ def collect(out: Path, cflags: str) -> dict:
                      "comparison": comparison((lib_dir / "host.txt").read_text(), target,
                                               build.name)}
             entry["verdict"] = verdict(entry)
+            entry["multibody"] = is_multibody(entry)
             libs[lib] = entry
         report["builds"][build.name] = libs
     report["float_is_double"] = _same_objects(out / "double", out / "float")
     return report
+
+
+def is_multibody(entry: dict) -> bool:
+    """Whether the library is one with n coordinates: its analysis has no entry in the
+    caller's working memory (PREFIX_analyze_work) but its modes at a point (PREFIX_modes)."""
+    names = entry["stack"]["functions"]
+    return (not any(name.endswith("_analyze_work") for name in names)
+            and any(name.endswith("_modes") for name in names))
+
+
+def _only(report: dict, multibody: bool) -> dict:
+    """The report with only the libraries of one kind."""
+    return {**report, "builds": {build: {lib: entry for lib, entry in libs.items()
+                                         if entry.get("multibody", False) == multibody}
+                                 for build, libs in report["builds"].items()}}
+
+
+#: What the firmware of a library with n coordinates measures besides its analysis (at the
+#: example's first stable equilibrium).
+MULTIBODY_CALLS = ("modes", "receptance", "box_enclosure")
+
+
+def multibody_markdown(report: dict) -> list[str]:
+    """The section of the libraries with n coordinates: their analysis against the issue's
+    targets (its stack includes its working memory: the isolation's boxes), the other calls'
+    instructions and stack, code size, the deepest stack chain, the firmware against the host."""
+    entries = list(render._entries(report))
+    if not entries:
+        return []
+    targets, calls = [], []
+    for lib, build, entry in entries:
+        prefix = render._prefix(entry)
+        functions, measured = entry["stack"]["functions"], entry["measured"]
+        worst = functions[f"{prefix}_analyze"]
+        limit, budget = render.STACK_TARGET[build], render.INSTRUCTIONS_TARGET[build]
+        instructions = measured.get("analyze", {}).get("instructions")
+        others = {n: f for n, f in functions.items() if not n.endswith(("_analyze", "_batch"))}
+        largest = max(others, key=lambda n: others[n]["bytes"])
+        targets.append([
+            f"`{lib}`", build, render._stack_cell(entry, f"{prefix}_analyze"), render._n(limit),
+            f"{worst['bytes'] / limit:.1f}x over" if worst["bytes"] > limit else "met",
+            render._n(measured.get("analyze", {}).get("stack")), render._n(instructions),
+            "-" if not instructions else "met" if instructions <= budget
+            else f"{instructions / budget:.1f}x over",
+            f"`{largest.removeprefix(prefix + '_')}` {render._n(others[largest]['bytes'])}"])
+        calls.append([f"`{lib}`", build] + [
+            f"{render._n(measured.get(call, {}).get('instructions'))} / "
+            f"{render._n(measured.get(call, {}).get('stack'))} / "
+            f"{render._stack_cell(entry, f'{prefix}_{call}')}" for call in MULTIBODY_CALLS])
+    paths = []
+    for lib, entry in report["builds"].get("double", {}).items():
+        prefix = render._prefix(entry)
+        found = entry["stack"]["functions"][f"{prefix}_analyze"]
+        frames = ", ".join(f"{name} {render._n(frame)}" for name, frame in found["path"] if frame)
+        paths.append(f"- `{prefix}_analyze` {render._n(found['bytes'])} B: {frames}")
+    return [
+        "## The libraries with n coordinates",
+        "",
+        "Their analysis (`NAME_analyze`: every equilibrium in the box of the coordinates' "
+        "ranges, each proven, with its modes; the runtime's `codegen_multibody`) has no entry "
+        "in the caller's working memory: its stack holds the isolation's boxes and working "
+        "memory, both counted below. The firmware measures it on the example's parameters, "
+        "then `NAME_modes`, `NAME_receptance` and `NAME_box_enclosure` at the example's "
+        "first stable equilibrium.",
+        "",
+        *render._table(["mechanism", "build", "analyze: stack, worst case [B]", "target [B]",
+                        "stack target", "measured high-water [B]", "analyze [instructions]",
+                        "instructions target (double < 3 M, float < 500 k)",
+                        "largest other public function [B]"], targets),
+        *render._table(["mechanism", "build",
+                        *(f"{call}: instructions / measured / worst-case stack [B]"
+                          for call in MULTIBODY_CALLS)], calls),
+        "Code size per group [B of flash]:",
+        "",
+        *render.size_table(report),
+        "Where the double build's stack goes (the deepest chain, frames in bytes):",
+        "",
+        *paths,
+        "",
+        "The firmware against the host:",
+        "",
+        *render.comparison_table(report),
+    ]
+
+
+def full_markdown(report: dict) -> str:
+    """render.py's report of the one-coordinate libraries, then the section of those with n."""
+    multibody = multibody_markdown(_only(report, True))
+    text = markdown(_only(report, False))
+    return text + ("\n" + "\n".join(multibody) if multibody else "")
 
 
 def _same_objects(a: Path, b: Path) -> bool:
@@ -224,7 +320,7 @@ def main() -> int:
     out, stem = Path(sys.argv[1]), Path(sys.argv[2])
     report = collect(out, sys.argv[3])
     stem.with_suffix(".json").write_text(json.dumps(report, indent=1, sort_keys=True) + "\n")
-    text = markdown(report)
+    text = full_markdown(report)
     stem.with_suffix(".md").write_text(text)
     print(text)
     failures = [f"{build}/{lib}" for build, libs in report["builds"].items()

@@ -7,6 +7,7 @@ it fails. The stack walker (embedded/stack.py) is also checked on graphs made up
 from __future__ import annotations
 
 import json
+import struct
 import subprocess
 import sys
 from pathlib import Path
@@ -18,6 +19,11 @@ sys.path.insert(0, str(ROOT / "embedded"))
 import stack  # noqa: E402
 
 LIBRARIES = sorted(p.name for p in (ROOT / "generated").iterdir() if (p / f"{p.name}.h").is_file())
+#: The libraries with n > 1 coordinates: one analysis (no second route, no _work entry), and
+#: their modes, receptance and box enclosure measured at a stable equilibrium.
+MULTIBODY = sorted(lib for lib in LIBRARIES if json.loads(
+    (ROOT / "generated" / lib / f"{lib}_api.json").read_text()).get("dof", 1) > 1)
+MULTIBODY_CALLS = ("analyze", "modes", "receptance", "box_enclosure")
 TOOLCHAIN = {"arm-none-eabi-gcc": "gcc-arm-none-eabi libnewlib-arm-none-eabi"}
 
 
@@ -48,7 +54,8 @@ def test_every_library_runs_in_both_builds(report):
     for build in ("double", "float"):
         assert sorted(report["builds"][build]) == LIBRARIES
     for build, lib, entry in _entries(report):
-        assert set(entry["measured"]) >= {"analyze", "isolate"}, (build, lib)
+        assert set(entry["measured"]) >= set(_routes(lib)), (build, lib)
+        assert entry["multibody"] == (lib in MULTIBODY)
         assert entry["measured"]["analyze"]["instructions"] > 0
         assert entry["comparison"]["lines"] > 20  # the analysis was printed, not only a status
         assert f"| `{lib}` | {build} |" in report["markdown"]
@@ -66,16 +73,24 @@ def test_the_worst_case_stack_covers_what_the_firmware_used(report):
     (a walker that missed a frame or a call would fall below it)."""
     for build, lib, entry in _entries(report):
         functions = entry["stack"]["functions"]
-        for route in ("analyze", "isolate"):
-            bound = next(f for name, f in functions.items() if name.endswith(f"_{route}"))
+        for route in _routes(lib):
+            bound = functions[f"{lib}_{route}"]
             assert bound["bytes"] >= entry["measured"][route]["stack"] > 0, (build, lib, route)
+
+
+def _routes(lib: str) -> tuple[str, ...]:
+    """What the firmware measures: both routes, or a multibody library's analysis and the
+    calls at its stable equilibrium."""
+    return MULTIBODY_CALLS if lib in MULTIBODY else ("analyze", "isolate")
 
 
 @pytest.mark.slow
 def test_code_size_is_reported_per_group(report):
     for _, lib, entry in _entries(report):
-        assert {"functions", "model", "runtime analysis", "runtime simulation", "runtime roots",
-                "runtime interval", "runtime dd"} <= set(entry["size"]), lib
+        assert ({"functions", "runtime multibody", "runtime boxes", "runtime modal",
+                 "runtime interval"} if lib in MULTIBODY else
+                {"functions", "model", "runtime analysis", "runtime simulation", "runtime roots",
+                 "runtime interval", "runtime dd"}) <= set(entry["size"]), lib
         assert all(size["text"] > 0 for size in entry["size"].values())
 
 
@@ -99,6 +114,63 @@ def test_firmware_prints_what_the_host_prints_but_libm_bits(report, build, lib):
     modal = _modal_lines(build, lib, "target")
     assert modal[0] == "modes: status 0" and len(modal) == 1 + 12 + 1 + 12 + 1 + 18
     assert modal == _modal_lines(build, lib, "host")
+
+
+#: Relative to the largest of its kind: how far a float build's modal values may lie from the
+#: host's (newlib's sinf, cosf against glibc's in the equilibria and the matrices at them);
+#: a double build's.
+MODAL_RTOL = {"double": 1e-12, "float": 1e-5}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("build", ["double", "float"])
+@pytest.mark.parametrize("lib", MULTIBODY)
+def test_multibody_firmware_finds_the_hosts_equilibria(report, build, lib):
+    """A library with n coordinates: the firmware proves as many equilibria as the host, each
+    inside the box the host proved (and the host's inside the firmware's), with the same
+    stability; their modes, receptances and K's enclosure within rounding of the host's
+    (newlib's sin and cos are not glibc's: last bits differ, in double too); PREFIX_modes
+    repeats the analysis' modes bit for bit and the enclosure of G over a proven box holds 0."""
+    target, host = (_values(build, lib, side) for side in ("target", "host"))
+    lines = {side: _printed(build, lib, side) for side in ("target", "host")}
+    summary = [[x for x in lines[side] if x.startswith(("analyze:", "equilibria ", "stability[",
+                                                         "modal_status[", "uncertain_kind["))]
+               for side in ("target", "host")]
+    assert summary[0] == summary[1] and "analyze: status 0" in summary[0]
+    count = int(next(x for x in summary[0] if x.startswith("equilibria ")).split()[1].rstrip(","))
+    assert count >= 1
+    n = sum(1 for name, _ in host if name == "theta") // count
+    for r in range(count):
+        for k in range(r * n, (r + 1) * n):
+            for a, b in ((target, host), (host, target)):
+                assert b["lo", k] <= a["theta", k] <= b["hi", k], (r, k)
+    for name in ("omega_squared", "s_re", "s_im", "damping_ratio", "modal_damping", "shapes",
+                 "H_re", "H_im", "K"):
+        keys = [key for key in host if key[0] == name]
+        scale = max(abs(host[key]) for key in keys if host[key] == host[key])
+        for key in keys:
+            if host[key] != host[key]:  # NaN where documented: a modal damping of omega^2 <= 0
+                assert target[key] != target[key], key
+            else:
+                assert abs(target[key] - host[key]) <= MODAL_RTOL[build] * scale, key
+    for side in ("target", "host"):
+        assert "the same as the analysis' modes: 1" in lines[side]
+        g = _values(build, lib, side)
+        for i in range(n):
+            assert g["G", 2 * i] <= 0 <= g["G", 2 * i + 1]
+
+
+def _values(build: str, lib: str, side: str) -> dict[tuple[str, int], float]:
+    """The values a firmware or the host printed (name[index] = 0xBITS decimal), by name and
+    index; the modal self-test's (the last lines) left out."""
+    lines = _printed(build, lib, side)
+    values = {}
+    for line in lines[:lines.index("modes: status 0")]:
+        name, _, rest = line.partition("[")
+        if " = 0x" in rest:
+            index, bits = rest.split("] = 0x")
+            values[name, int(index)] = struct.unpack(">d", bytes.fromhex(bits.split()[0]))[0]
+    return values
 
 
 def _printed(build: str, lib: str, side: str) -> list[str]:

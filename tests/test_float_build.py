@@ -18,12 +18,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from libraries import generated_libraries
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
 STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
           "-Wdouble-promotion", "-Werror", "-O2"]
-MECHANISMS = sorted(p.name for p in GENERATED.iterdir() if (p / f"{p.name}_api.json").exists())
+MECHANISMS = generated_libraries(GENERATED, several=False)  # theirs: tests/test_multibody.py
 #: Sets compared per mechanism (the isolation that the float build runs is the slow part).
 SETS = {"default": 300}
 EQUILIBRIUM, OTHER_ASSEMBLY, EXTRANEOUS = 0, 1, 2

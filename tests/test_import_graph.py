@@ -39,7 +39,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.compiler.model.*",),
     ("codegen.compiler.derivation.*",),
     ("codegen.compiler.emission.*",),
-    ("codegen.compiler.verification",),
+    ("codegen.compiler.verification", "codegen.compiler.verification_multibody"),
     ("codegen.compiler.generate",),
     ("codegen.compiler.build",),
     # codegen/runtime/: its helpers (figures imports matplotlib when asked to), one compiled
@@ -48,8 +48,9 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.runtime.library", "codegen.runtime.functions"),
     ("codegen.runtime.analysis",),
     ("codegen.runtime.batch", "codegen.runtime.folds", "codegen.runtime.simulation",
-     "codegen.runtime.sweep"),
-    ("codegen.runtime.branches", "codegen.runtime.response"),
+     "codegen.runtime.sweep", "codegen.runtime.multibody"),
+    ("codegen.runtime.branches", "codegen.runtime.response",
+     "codegen.runtime.multibody_response"),
     ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
     ("codegen.runtime.api",),
     # a user's model file generated, built and loaded: above both the compiler and the runtime

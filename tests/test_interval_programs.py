@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from libraries import generated_libraries
 import sympy as sp
 
 from codegen.api import load
@@ -24,7 +25,7 @@ from codegen.compiler.emission.interval import interval_body
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
-MECHANISMS = sorted(p.name for p in GENERATED.iterdir() if (p / f"{p.name}_api.json").exists())
+MECHANISMS = generated_libraries(GENERATED, several=False)  # theirs: tests/test_multibody.py
 
 DRIVER = r"""
 #include <stdio.h>

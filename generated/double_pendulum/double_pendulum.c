@@ -603,10 +603,19 @@ static void fill_centres(const double_pendulum_params *params, codegen_real *cen
 
 double_pendulum_status double_pendulum_range_centres(const double_pendulum_params *params, codegen_real centre[DOUBLE_PENDULUM_N_DOF])
 {
-    if (params == NULL || centre == NULL) {
+    codegen_real values[DOUBLE_PENDULUM_N_DOF];
+    const double_pendulum_status status = double_pendulum_check_params(params);
+    if (status != DOUBLE_PENDULUM_OK) {
+        return status;
+    }
+    if (centre == NULL) {
         return DOUBLE_PENDULUM_ERR_NULL_POINTER;
     }
-    fill_centres(params, centre);
+    fill_centres(params, values);
+    if (!all_finite(values, DOUBLE_PENDULUM_N_DOF)) {
+        return DOUBLE_PENDULUM_ERR_OVERFLOW;
+    }
+    copy_out(centre, values, DOUBLE_PENDULUM_N_DOF);
     return DOUBLE_PENDULUM_OK;
 }
 
@@ -818,6 +827,9 @@ double_pendulum_status double_pendulum_modes(const double_pendulum_params *param
 {
     codegen_real M[DOUBLE_PENDULUM_N_MATRIX], B[DOUBLE_PENDULUM_N_MATRIX], K[DOUBLE_PENDULUM_N_MATRIX];
     codegen_real work[CODEGEN_DAMPED_EIGENVALUES_WORK(DOUBLE_PENDULUM_N_DOF) + CODEGEN_MODES_WORK(DOUBLE_PENDULUM_N_DOF)];
+    codegen_real w2[DOUBLE_PENDULUM_N_DOF], phi[DOUBLE_PENDULUM_N_MATRIX], re[DOUBLE_PENDULUM_N_EIGENVALUES];
+    codegen_real im[DOUBLE_PENDULUM_N_EIGENVALUES], ratio[DOUBLE_PENDULUM_N_EIGENVALUES], zeta[DOUBLE_PENDULUM_N_DOF];
+    int stable, modal;
     const double_pendulum_status status = checked_point(params, theta);
     if (status != DOUBLE_PENDULUM_OK) {
         return status;
@@ -829,9 +841,18 @@ double_pendulum_status double_pendulum_modes(const double_pendulum_params *param
     if (linearisation(params, theta, M, B, K) != 0) {
         return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
     }
-    return codegen_mb_modes(DOUBLE_PENDULUM_N_DOF, M, B, K, omega_squared, shapes, s_re, s_im,
-                            damping_ratio, modal_damping, stability, work) == CODEGEN_MODAL_OK
-           ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    modal = codegen_mb_modes(DOUBLE_PENDULUM_N_DOF, M, B, K, w2, phi, re, im, ratio, zeta, &stable, work);
+    if (modal != CODEGEN_MODAL_OK) {
+        return modal == CODEGEN_MODAL_OVERFLOW ? DOUBLE_PENDULUM_ERR_OVERFLOW : DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    }
+    copy_out(omega_squared, w2, DOUBLE_PENDULUM_N_DOF);
+    copy_out(shapes, phi, DOUBLE_PENDULUM_N_MATRIX);
+    copy_out(s_re, re, DOUBLE_PENDULUM_N_EIGENVALUES);
+    copy_out(s_im, im, DOUBLE_PENDULUM_N_EIGENVALUES);
+    copy_out(damping_ratio, ratio, DOUBLE_PENDULUM_N_EIGENVALUES);
+    copy_out(modal_damping, zeta, DOUBLE_PENDULUM_N_DOF);
+    *stability = stable;
+    return DOUBLE_PENDULUM_OK;
 }
 
 double_pendulum_status double_pendulum_receptance(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
@@ -840,6 +861,7 @@ double_pendulum_status double_pendulum_receptance(const double_pendulum_params *
 {
     codegen_real M[DOUBLE_PENDULUM_N_MATRIX], B[DOUBLE_PENDULUM_N_MATRIX], K[DOUBLE_PENDULUM_N_MATRIX];
     codegen_real work[CODEGEN_RECEPTANCE_WORK(DOUBLE_PENDULUM_N_DOF)];
+    codegen_real re[DOUBLE_PENDULUM_N_MATRIX], im[DOUBLE_PENDULUM_N_MATRIX];
     const double_pendulum_status status = checked_point(params, theta);
     if (status != DOUBLE_PENDULUM_OK) {
         return status;
@@ -853,8 +875,15 @@ double_pendulum_status double_pendulum_receptance(const double_pendulum_params *
     if (linearisation(params, theta, M, B, K) != 0) {
         return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
     }
-    return codegen_receptance(DOUBLE_PENDULUM_N_DOF, M, B, K, omega, H_re, H_im, work) == CODEGEN_MODAL_OK
-           ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    if (codegen_receptance(DOUBLE_PENDULUM_N_DOF, M, B, K, omega, re, im, work) != CODEGEN_MODAL_OK) {
+        return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    }
+    if (!all_finite(re, DOUBLE_PENDULUM_N_MATRIX) || !all_finite(im, DOUBLE_PENDULUM_N_MATRIX)) {
+        return DOUBLE_PENDULUM_ERR_OVERFLOW;
+    }
+    copy_out(H_re, re, DOUBLE_PENDULUM_N_MATRIX);
+    copy_out(H_im, im, DOUBLE_PENDULUM_N_MATRIX);
+    return DOUBLE_PENDULUM_OK;
 }
 
 double_pendulum_status double_pendulum_analyze(const double_pendulum_params *params, double_pendulum_analysis *result)

@@ -147,7 +147,8 @@ double_pendulum_status double_pendulum_generalised_force_batch(size_t count, con
 double_pendulum_status double_pendulum_stiffness_matrix_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, codegen_real *K, double_pendulum_status *statuses);
 double_pendulum_status double_pendulum_energies_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *T, codegen_real *V, double_pendulum_status *statuses);
 
-/* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about alpha_1; delta about alpha_2. */
+/* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about alpha_1; delta about alpha_2.
+ * Checks the parameters first; DOUBLE_PENDULUM_ERR_OVERFLOW where a centre is not finite. */
 double_pendulum_status double_pendulum_range_centres(const double_pendulum_params *params, codegen_real centre[DOUBLE_PENDULUM_N_DOF]);
 
 /* G (eq. (42) for n coordinates) and K = dG/dtheta enclosed over the box lo[k] <= theta_k <=
@@ -165,7 +166,8 @@ double_pendulum_status double_pendulum_box_enclosure(const double_pendulum_param
  * of M s^2 + B s + K [1/s] with damping_ratio = -Re s / |s| each, each mode's modal damping
  * ratio phi_j^T B phi_j / (2 omega_j) (NaN where omega_j^2 <= 0), and *stability
  * (CODEGEN_MB_STABLE, _UNSTABLE or _UNDECIDED). DOUBLE_PENDULUM_ERR_SINGULAR_STATE where M is
- * not positive definite or the eigenvalues do not converge. */
+ * not positive definite or the eigenvalues do not converge, DOUBLE_PENDULUM_ERR_OVERFLOW where a
+ * result is too large to represent. */
 double_pendulum_status double_pendulum_modes(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
                             codegen_real omega_squared[DOUBLE_PENDULUM_N_DOF], codegen_real shapes[DOUBLE_PENDULUM_N_MATRIX],
                             codegen_real s_re[DOUBLE_PENDULUM_N_EIGENVALUES], codegen_real s_im[DOUBLE_PENDULUM_N_EIGENVALUES],
@@ -175,7 +177,7 @@ double_pendulum_status double_pendulum_modes(const double_pendulum_params *param
 /* The receptance H(omega) = (K - omega^2 M + i omega B)^-1 at theta [unit per N or N m]:
  * H_re + i H_im, entry (i, j) the complex amplitude of coordinate i per unit harmonic
  * generalised force on coordinate j. DOUBLE_PENDULUM_ERR_SINGULAR_STATE at an undamped
- * resonance. */
+ * resonance, DOUBLE_PENDULUM_ERR_OVERFLOW where H is too large to represent. */
 double_pendulum_status double_pendulum_receptance(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
                                  codegen_real omega, codegen_real H_re[DOUBLE_PENDULUM_N_MATRIX],
                                  codegen_real H_im[DOUBLE_PENDULUM_N_MATRIX]);

@@ -726,10 +726,19 @@ static void fill_centres(const flexible_doughty_params *params, codegen_real *ce
 
 flexible_doughty_status flexible_doughty_range_centres(const flexible_doughty_params *params, codegen_real centre[FLEXIBLE_DOUGHTY_N_DOF])
 {
-    if (params == NULL || centre == NULL) {
+    codegen_real values[FLEXIBLE_DOUGHTY_N_DOF];
+    const flexible_doughty_status status = flexible_doughty_check_params(params);
+    if (status != FLEXIBLE_DOUGHTY_OK) {
+        return status;
+    }
+    if (centre == NULL) {
         return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
     }
-    fill_centres(params, centre);
+    fill_centres(params, values);
+    if (!all_finite(values, FLEXIBLE_DOUGHTY_N_DOF)) {
+        return FLEXIBLE_DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(centre, values, FLEXIBLE_DOUGHTY_N_DOF);
     return FLEXIBLE_DOUGHTY_OK;
 }
 
@@ -1047,6 +1056,9 @@ flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *pa
 {
     codegen_real M[FLEXIBLE_DOUGHTY_N_MATRIX], B[FLEXIBLE_DOUGHTY_N_MATRIX], K[FLEXIBLE_DOUGHTY_N_MATRIX];
     codegen_real work[CODEGEN_DAMPED_EIGENVALUES_WORK(FLEXIBLE_DOUGHTY_N_DOF) + CODEGEN_MODES_WORK(FLEXIBLE_DOUGHTY_N_DOF)];
+    codegen_real w2[FLEXIBLE_DOUGHTY_N_DOF], phi[FLEXIBLE_DOUGHTY_N_MATRIX], re[FLEXIBLE_DOUGHTY_N_EIGENVALUES];
+    codegen_real im[FLEXIBLE_DOUGHTY_N_EIGENVALUES], ratio[FLEXIBLE_DOUGHTY_N_EIGENVALUES], zeta[FLEXIBLE_DOUGHTY_N_DOF];
+    int stable, modal;
     const flexible_doughty_status status = checked_point(params, theta);
     if (status != FLEXIBLE_DOUGHTY_OK) {
         return status;
@@ -1058,9 +1070,18 @@ flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *pa
     if (linearisation(params, theta, M, B, K) != 0) {
         return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
     }
-    return codegen_mb_modes(FLEXIBLE_DOUGHTY_N_DOF, M, B, K, omega_squared, shapes, s_re, s_im,
-                            damping_ratio, modal_damping, stability, work) == CODEGEN_MODAL_OK
-           ? FLEXIBLE_DOUGHTY_OK : FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    modal = codegen_mb_modes(FLEXIBLE_DOUGHTY_N_DOF, M, B, K, w2, phi, re, im, ratio, zeta, &stable, work);
+    if (modal != CODEGEN_MODAL_OK) {
+        return modal == CODEGEN_MODAL_OVERFLOW ? FLEXIBLE_DOUGHTY_ERR_OVERFLOW : FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    copy_out(omega_squared, w2, FLEXIBLE_DOUGHTY_N_DOF);
+    copy_out(shapes, phi, FLEXIBLE_DOUGHTY_N_MATRIX);
+    copy_out(s_re, re, FLEXIBLE_DOUGHTY_N_EIGENVALUES);
+    copy_out(s_im, im, FLEXIBLE_DOUGHTY_N_EIGENVALUES);
+    copy_out(damping_ratio, ratio, FLEXIBLE_DOUGHTY_N_EIGENVALUES);
+    copy_out(modal_damping, zeta, FLEXIBLE_DOUGHTY_N_DOF);
+    *stability = stable;
+    return FLEXIBLE_DOUGHTY_OK;
 }
 
 flexible_doughty_status flexible_doughty_receptance(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
@@ -1069,6 +1090,7 @@ flexible_doughty_status flexible_doughty_receptance(const flexible_doughty_param
 {
     codegen_real M[FLEXIBLE_DOUGHTY_N_MATRIX], B[FLEXIBLE_DOUGHTY_N_MATRIX], K[FLEXIBLE_DOUGHTY_N_MATRIX];
     codegen_real work[CODEGEN_RECEPTANCE_WORK(FLEXIBLE_DOUGHTY_N_DOF)];
+    codegen_real re[FLEXIBLE_DOUGHTY_N_MATRIX], im[FLEXIBLE_DOUGHTY_N_MATRIX];
     const flexible_doughty_status status = checked_point(params, theta);
     if (status != FLEXIBLE_DOUGHTY_OK) {
         return status;
@@ -1082,8 +1104,15 @@ flexible_doughty_status flexible_doughty_receptance(const flexible_doughty_param
     if (linearisation(params, theta, M, B, K) != 0) {
         return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
     }
-    return codegen_receptance(FLEXIBLE_DOUGHTY_N_DOF, M, B, K, omega, H_re, H_im, work) == CODEGEN_MODAL_OK
-           ? FLEXIBLE_DOUGHTY_OK : FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    if (codegen_receptance(FLEXIBLE_DOUGHTY_N_DOF, M, B, K, omega, re, im, work) != CODEGEN_MODAL_OK) {
+        return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    if (!all_finite(re, FLEXIBLE_DOUGHTY_N_MATRIX) || !all_finite(im, FLEXIBLE_DOUGHTY_N_MATRIX)) {
+        return FLEXIBLE_DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(H_re, re, FLEXIBLE_DOUGHTY_N_MATRIX);
+    copy_out(H_im, im, FLEXIBLE_DOUGHTY_N_MATRIX);
+    return FLEXIBLE_DOUGHTY_OK;
 }
 
 flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *params, flexible_doughty_analysis *result)

@@ -149,7 +149,8 @@ flexible_doughty_status flexible_doughty_generalised_force_batch(size_t count, c
 flexible_doughty_status flexible_doughty_stiffness_matrix_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, codegen_real *K, flexible_doughty_status *statuses);
 flexible_doughty_status flexible_doughty_energies_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *T, codegen_real *V, flexible_doughty_status *statuses);
 
-/* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about 0 (periodic); delta about 0. */
+/* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about 0 (periodic); delta about 0.
+ * Checks the parameters first; FLEXIBLE_DOUGHTY_ERR_OVERFLOW where a centre is not finite. */
 flexible_doughty_status flexible_doughty_range_centres(const flexible_doughty_params *params, codegen_real centre[FLEXIBLE_DOUGHTY_N_DOF]);
 
 /* G (eq. (42) for n coordinates) and K = dG/dtheta enclosed over the box lo[k] <= theta_k <=
@@ -167,7 +168,8 @@ flexible_doughty_status flexible_doughty_box_enclosure(const flexible_doughty_pa
  * of M s^2 + B s + K [1/s] with damping_ratio = -Re s / |s| each, each mode's modal damping
  * ratio phi_j^T B phi_j / (2 omega_j) (NaN where omega_j^2 <= 0), and *stability
  * (CODEGEN_MB_STABLE, _UNSTABLE or _UNDECIDED). FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE where M is
- * not positive definite or the eigenvalues do not converge. */
+ * not positive definite or the eigenvalues do not converge, FLEXIBLE_DOUGHTY_ERR_OVERFLOW where a
+ * result is too large to represent. */
 flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
                             codegen_real omega_squared[FLEXIBLE_DOUGHTY_N_DOF], codegen_real shapes[FLEXIBLE_DOUGHTY_N_MATRIX],
                             codegen_real s_re[FLEXIBLE_DOUGHTY_N_EIGENVALUES], codegen_real s_im[FLEXIBLE_DOUGHTY_N_EIGENVALUES],
@@ -177,7 +179,7 @@ flexible_doughty_status flexible_doughty_modes(const flexible_doughty_params *pa
 /* The receptance H(omega) = (K - omega^2 M + i omega B)^-1 at theta [unit per N or N m]:
  * H_re + i H_im, entry (i, j) the complex amplitude of coordinate i per unit harmonic
  * generalised force on coordinate j. FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE at an undamped
- * resonance. */
+ * resonance, FLEXIBLE_DOUGHTY_ERR_OVERFLOW where H is too large to represent. */
 flexible_doughty_status flexible_doughty_receptance(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
                                  codegen_real omega, codegen_real H_re[FLEXIBLE_DOUGHTY_N_MATRIX],
                                  codegen_real H_im[FLEXIBLE_DOUGHTY_N_MATRIX]);

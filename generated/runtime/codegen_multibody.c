@@ -102,6 +102,11 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
     if (status == CODEGEN_MODAL_OK) {
         status = codegen_damped_eigenvalues(n, M, B, K, s_re, s_im, work);
     }
+    for (j = 0; j < 2 * n && status == CODEGEN_MODAL_OK; ++j) {  /* not finite: too large */
+        if (!(codegen_fabs(s_re[j]) < CODEGEN_HUGE && codegen_fabs(s_im[j]) < CODEGEN_HUGE)) {
+            status = CODEGEN_MODAL_OVERFLOW;
+        }
+    }
     if (status != CODEGEN_MODAL_OK) {
         for (j = 0; j < n * n; ++j) {
             shapes[j] = CODEGEN_NAN;
@@ -136,6 +141,21 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
     }
     for (j = 0; j < n; ++j) {
         largest = codegen_fmax(codegen_fabs(omega_squared[j]), largest);
+    }
+    for (j = 0; j < n; ++j) {  /* an overflow in the damping ratios: none is reported */
+        if (codegen_fabs(modal_damping[j]) >= CODEGEN_HUGE || codegen_fabs(omega_squared[j]) >= CODEGEN_HUGE) {
+            for (k = 0; k < n; ++k) {
+                omega_squared[k] = modal_damping[k] = CODEGEN_NAN;
+            }
+            for (k = 0; k < 2 * n; ++k) {
+                s_re[k] = s_im[k] = damping_ratio[k] = CODEGEN_NAN;
+            }
+            for (k = 0; k < n * n; ++k) {
+                shapes[k] = CODEGEN_NAN;
+            }
+            *stability = CODEGEN_MB_UNDECIDED;
+            return CODEGEN_MODAL_OVERFLOW;
+        }
     }
     least = omega_squared[0];  /* ascending */
     *stability = least > ZERO_ULPS * CODEGEN_EPSILON * largest ? CODEGEN_MB_STABLE
@@ -173,6 +193,7 @@ int codegen_mb_analyze(const codegen_mb_model *model, const void *params,
         || periodic == NULL || n < 1) {
         return CODEGEN_BOXES_BAD_INPUT;
     }
+    out->count = out->uncertain_count = 0;
     for (k = 0; k < n; ++k) {
         lo[k] = centre[k] - PI - MARGIN;
         hi[k] = centre[k] + PI + MARGIN;
@@ -181,7 +202,6 @@ int codegen_mb_analyze(const codegen_mb_model *model, const void *params,
     if (status != 0) {
         return status == CODEGEN_BOXES_FULL ? CODEGEN_MB_FULL : status;
     }
-    out->count = out->uncertain_count = 0;
     for (e = 0; e < boxes->count; ++e) {
         const codegen_real *box_lo = &boxes->lo[e * n], *box_hi = &boxes->hi[e * n];
         const placement where = place(n, box_lo, box_hi, centre, periodic);

@@ -232,8 +232,8 @@ int codegen_modes(int n, const codegen_real *M, const codegen_real *K, codegen_r
  * shrink where the state matrix mixes very different magnitudes. */
 static void balance(int m, codegen_real *a)
 {
-    int done = 0, i, j;
-    while (!done) {
+    int done = 0, i, j, pass;
+    for (pass = 0; !done && pass < 64; ++pass) { /* converges in a few passes; 64 bounds it */
         done = 1;
         for (i = 0; i < m; ++i) {
             codegen_real column = 0, row = 0, f = 1, g, total;
@@ -243,8 +243,8 @@ static void balance(int m, codegen_real *a)
                     row += codegen_fabs(a[i * m + j]);
                 }
             }
-            if (column == 0 || row == 0) {
-                continue;
+            if (column == 0 || row == 0 || !(column + row < CODEGEN_HUGE)) {
+                continue;  /* nothing to balance, or a sum that overflowed (no power of 2 helps) */
             }
             total = column + row;
             g = row / 2;

@@ -33,8 +33,9 @@ typedef enum codegen_modal_status {
     CODEGEN_MODAL_BAD_INPUT = 1,      /* a NULL pointer, n < 1, or a value not finite */
     CODEGEN_MODAL_NOT_DEFINITE = 2,   /* M is not positive definite (in working precision) */
     CODEGEN_MODAL_NO_CONVERGENCE = 3, /* the iteration did not converge within its budget */
-    CODEGEN_MODAL_SINGULAR = 4        /* K - omega^2 M + i omega B is singular (undamped
+    CODEGEN_MODAL_SINGULAR = 4,       /* K - omega^2 M + i omega B is singular (undamped
                                          resonance), or its inverse overflows */
+    CODEGEN_MODAL_OVERFLOW = 5        /* a result is too large to represent */
 } codegen_modal_status;
 
 #define CODEGEN_MODES_WORK(n) (3 * (n) * (n))
