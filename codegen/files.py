@@ -12,9 +12,10 @@ from __future__ import annotations
 import os
 import secrets
 import signal
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 #: The temporary files' names: .NAME.PID.TOKEN.SUFFIX beside NAME.
 _MARK = ".part"
@@ -95,3 +96,22 @@ def locked(folder: Path) -> Iterator[None]:
             yield
         finally:
             fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+def write_table(path: str | os.PathLike[str], what: str, as_json: Callable[[], dict],
+                as_csv: Callable[[Any], None]) -> Path:
+    """A result table written to path by its suffix: .json (``as_json()``, indented) or .csv
+    (``as_csv(stream)``), atomically; ValueError for another suffix (``what`` names the
+    result in the message). The path."""
+    import json
+
+    path = Path(path)
+    if path.suffix.lower() not in (".csv", ".json"):
+        raise ValueError(f"{path}: {what} is written as .csv or .json")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix.lower() == ".json":
+        write_text(path, json.dumps(as_json(), indent=1) + "\n")
+        return path
+    with replacing(path) as scratch, scratch.open("w", newline="") as stream:
+        as_csv(stream)
+    return path

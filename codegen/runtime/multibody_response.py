@@ -10,7 +10,6 @@ frequency. Column ``drive`` of H is the response to a unit force on that coordin
 from __future__ import annotations
 
 import csv
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +19,7 @@ import numpy as np
 
 from . import figures, multibody
 from .. import files
-from .response import FORMATS, POINTS, UPTO
+from .response import POINTS, UPTO
 
 
 @dataclass(frozen=True, eq=False)
@@ -99,23 +98,20 @@ def write_csv(stream: Any, response: MultibodyFrequencyResponse) -> None:
         writer.writerow([repr(float(x)) for x in row])
 
 
+def to_dict(response: MultibodyFrequencyResponse) -> dict[str, Any]:
+    """JSON-ready: the driven coordinate, the equilibrium, its natural frequencies [Hz] and a
+    list per column of the table."""
+    return {"mechanism": response.library.PREFIX,
+            "drive": response.coordinates[response.drive],
+            "equilibrium": response.equilibrium.theta.tolist(),
+            "natural_frequencies_hz": response.natural_frequencies.tolist(),
+            **dict(zip(columns(response), rows(response).T.tolist()))}
+
+
 def write(response: MultibodyFrequencyResponse, path: str | Path) -> Path:
-    """The table as .csv or .json."""
-    path = Path(path)
-    if path.suffix.lower() not in FORMATS:
-        raise ValueError(f"{path}: a frequency response is written as {' or '.join(FORMATS)}")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix.lower() == ".json":
-        table = dict(zip(columns(response), rows(response).T.tolist()))
-        document = {"mechanism": response.library.PREFIX,
-                    "drive": response.coordinates[response.drive],
-                    "equilibrium": response.equilibrium.theta.tolist(),
-                    "natural_frequencies_hz": response.natural_frequencies.tolist(), **table}
-        files.write_text(path, json.dumps(document, indent=1) + "\n")
-        return path
-    with files.replacing(path) as scratch, scratch.open("w", newline="") as stream:
-        write_csv(stream, response)
-    return path
+    """The table as .csv (``write_csv``) or .json (``to_dict``)."""
+    return files.write_table(path, "a frequency response", lambda: to_dict(response),
+                             lambda stream: write_csv(stream, response))
 
 
 def plot(response: MultibodyFrequencyResponse, path: str | Path) -> Path:

@@ -15,7 +15,6 @@ natural frequency marked; ``write`` saves the table as CSV or JSON.
 from __future__ import annotations
 
 import csv
-import json
 import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -195,13 +194,5 @@ def write_csv(stream: Any, response: FrequencyResponse) -> None:
 
 def write(response: FrequencyResponse, path: str | Path) -> Path:
     """The table as .csv (``write_csv``) or .json (``to_dict``)."""
-    path = Path(path)
-    if path.suffix.lower() not in FORMATS:
-        raise ValueError(f"{path}: a frequency response is written as {' or '.join(FORMATS)}")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix.lower() == ".json":
-        files.write_text(path, json.dumps(to_dict(response), indent=1) + "\n")
-        return path
-    with files.replacing(path) as scratch, scratch.open("w", newline="") as stream:
-        write_csv(stream, response)
-    return path
+    return files.write_table(path, "a frequency response", lambda: to_dict(response),
+                             lambda stream: write_csv(stream, response))

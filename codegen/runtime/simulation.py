@@ -16,7 +16,6 @@ prints them).
 from __future__ import annotations
 
 import csv
-import json
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
@@ -374,16 +373,8 @@ def write(trajectory: Trajectory, path: str | Path, linear: LinearResponse | Non
           ) -> Path:
     """The trajectory (and the linearised response) as .csv (a row per time: t [s], theta
     [deg], thetadot [deg/s], and theta_lin, thetadot_lin) or .json (``to_dict``)."""
-    path = Path(path)
-    if path.suffix.lower() not in FORMATS:
-        raise ValueError(f"{path}: a trajectory is written as {' or '.join(FORMATS)}")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix.lower() == ".json":
-        files.write_text(path, json.dumps(to_dict(trajectory, linear), indent=1) + "\n")
-        return path
-    with files.replacing(path) as scratch, scratch.open("w", newline="") as stream:
-        write_csv(stream, trajectory, linear)
-    return path
+    return files.write_table(path, "a trajectory", lambda: to_dict(trajectory, linear),
+                             lambda stream: write_csv(stream, trajectory, linear))
 
 
 def write_csv(stream: Any, trajectory: Trajectory, linear: LinearResponse | None = None

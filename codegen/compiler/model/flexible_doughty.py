@@ -13,21 +13,12 @@ independent coordinates are theta_1, periodic, and the bend delta = theta_2 - th
 """
 import sympy as sp
 
+from .doughty import PARAMETERS as RIGID
 from .mechanism import (parameter, Body, Coordinate, Damper, Mechanism, PointForce, Requirement,
                         Sketch, Spring, distance)
 
-PARAMETERS = (
-    parameter("H", "m", "abscissa of the spring's fixed point O'", "0.18"),
-    parameter("L", "m", "length of the bar", "0.9"),
-    parameter("a", "m", "distance from B to the spring's attachment P", "0.135"),
-    parameter("m_A", "kg", "mass of slider 1", "0.194"),
-    parameter("m_B", "kg", "mass of slider 2", "0.143"),
-    parameter("m_C", "kg", "mass of the bar", "9.124"),
-    parameter("k", "N/m", "spring stiffness", "3500"),
-    parameter("b", "N s/m", "damping coefficient", "875"),
-    parameter("l_ND", "m", "free length of the spring", "0.15"),
-    parameter("F", "N", "force on slider 2 along +Y", "110"),
-    parameter("g", "m/s^2", "gravitational acceleration (along -Y)", "9.81"),
+#: The paper's (Table 2), then the joint's
+PARAMETERS = RIGID + (
     parameter("k_t", "N m/rad", "stiffness of the torsional spring at J", "2000"),
     parameter("c_t", "N m s/rad", "damping of the joint at J", "2"),
 )
