@@ -53,6 +53,7 @@ def test_every_shipped_mechanism_has_a_library():
     assert LIBRARIES == sorted(SHIPPED + SHIPPED_MULTIBODY)
 
 
+@pytest.mark.slow  # two whole derivations (about a minute): `make test` checks staleness once
 def test_generation_is_byte_identical_across_hash_seeds(tmp_path):
     first = _generate_with_seed("1", tmp_path / "a")
     second = _generate_with_seed("4242", tmp_path / "b")
