@@ -147,6 +147,16 @@ def _numeric(args, exprs):
     return sp.lambdify(list(args), list(exprs), modules="numpy")
 
 
+def potential_parts(m: Mechanism) -> list[sp.Expr]:
+    """V's parts as the model states them, one per physical cause: springs, gravity on each
+    body, loads (in the coordinates' functions of time)."""
+    parts = [s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in m.springs]
+    parts += [b.mass * m.gravity * b.centre[1] for b in m.bodies]
+    parts += [-(p.force[0] * p.point[0] + p.force[1] * p.point[1]) for p in m.forces]
+    parts += [-t.torque * t.angle for t in m.torques]
+    return parts
+
+
 def _broadcast(values, shape) -> np.ndarray:
     return np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values],
                     axis=-1) if values else np.zeros(shape + (0,))
@@ -171,12 +181,7 @@ class _ModelNumerics:
         self.jacobian = f(list(constraints.jacobian([coords[i] for i in self.dependent]))
                           if m.constraints else [])
         self.shape = (len(m.constraints), len(self.dependent))
-        # V's parts, one per physical cause: springs, gravity on each body, loads.
-        parts = [s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in m.springs]
-        parts += [b.mass * m.gravity * b.centre[1] for b in m.bodies]
-        parts += [-(p.force[0] * p.point[0] + p.force[1] * p.point[1]) for p in m.forces]
-        parts += [-t.torque * t.angle for t in m.torques]
-        self.potential = f(parts)
+        self.potential = f(potential_parts(m))
         # What moves: body centres (x, y) and angles, each with its mass or inertia.
         self.motion = f([x for b in m.bodies for x in (*b.centre, b.angle)])
         self.inertia = f([x for b in m.bodies for x in (b.mass, b.mass, b.inertia)])

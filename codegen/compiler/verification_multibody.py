@@ -19,7 +19,7 @@ import sympy as sp
 
 from .derivation.multibody import Multibody
 from .emission.multibody import MultibodyPlan
-from .verification import SEED, SETS, VerificationError, parameter_sets
+from .verification import SEED, SETS, VerificationError, parameter_sets, potential_parts
 
 POINTS = 6                 # points per parameter set
 STEP = mpmath.mpf("1e-6")  # the stencils' step: truncation ~1e-24, rounding ~1e-24 at 30 digits
@@ -58,11 +58,7 @@ class _Model:
 
         self.constraints = fn(m.constraints)
         self.positions = sp.lambdify(self.symbols + list(d.theta), list(d.positions), "mpmath")
-        potential = [s.stiffness * (s.length - s.free_length) ** 2 / 2 for s in m.springs]
-        potential += [b.mass * m.gravity * b.centre[1] for b in m.bodies]
-        potential += [-(f.force[0] * f.point[0] + f.force[1] * f.point[1]) for f in m.forces]
-        potential += [-t.torque * t.angle for t in m.torques]
-        self.potential = fn([sum(potential, sp.S.Zero)])
+        self.potential = fn([sum(potential_parts(m), sp.S.Zero)])
         moving = [(b.mass, x) for b in m.bodies for x in b.centre]
         moving += [(b.inertia, b.angle) for b in m.bodies]
         self.inertias = fn([w for w, _ in moving])

@@ -201,11 +201,13 @@ def _enclosure(plan: Plan) -> dict:
 INLINE_INSTRUCTIONS = 8000
 
 
-def _range_centre(plan: Plan, printer) -> str:
-    """The centre of the coordinate's range as C, parameters read from params (the text
-    names them as the user does: any name is a symbol here, ``sin`` or ``E`` too)."""
+def _range_centre(plan: Plan, printer, text: str | None = None) -> str:
+    """The centre of a coordinate's range (``text``, default the plan's one) as C, parameters
+    read from params (the text names them as the user does: any name is a symbol here,
+    ``sin`` or ``E`` too)."""
     fields = [field for _, field in plan.reads]
-    centre = sp.sympify(plan.range_centre, locals={f: sp.Symbol(f) for f in fields})
+    centre = sp.sympify(plan.range_centre if text is None else text,
+                        locals={f: sp.Symbol(f) for f in fields})
     return printer.doprint(centre.xreplace(
         {s: sp.Symbol(f"params->{s.name}") for s in centre.free_symbols}))
 
@@ -326,8 +328,6 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
     prefix, P = plan.prefix, plan.prefix.upper()
     printer = target.printer
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
-    fields = [field for _, field in plan.reads]
-    centres = [sp.sympify(c, locals={f: sp.Symbol(f) for f in fields}) for c in plan.centres]
     # the isolation's raw boxes, before undecided neighbours merge and the margins are cut
     sizes = plan.sizes | {"BOXES": 4 * (plan.sizes["MAX_EQUILIBRIA"] + plan.sizes["MAX_UNCERTAIN"])}
     context = {
@@ -351,8 +351,7 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
         "functions": [_rendered(f, plan, target) for f in plan.functions],
         "box": plan.box,
         "theta_index": {name: k for k, (name, _, _) in enumerate(plan.coordinates)},
-        "centres": [printer.doprint(c.xreplace({s: sp.Symbol(f"params->{s.name}")
-                                                for s in c.free_symbols})) for c in centres],
+        "centres": [_range_centre(plan, printer, c) for c in plan.centres],
         "periodics": [int(p) for p in plan.periodics],
     }
     templates = {f"{prefix}.h": ("multibody.h.j2", "codegen_real"),
