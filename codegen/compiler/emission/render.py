@@ -232,31 +232,42 @@ def _model_layout(plan: Plan, functions: list[RenderedFunction]) -> dict:
             "failures": [(field, name) for field, name in _FAILURES if plan.has(name)]}
 
 
-def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
-    """File name -> text of every generated file."""
-    env = environment(str(template_dir))
+def _library_context(plan: Plan, target: CTarget) -> dict:
+    """What every library's templates read, of either kind: names, statuses, parameters,
+    their requirements and the rendered functions."""
     prefix, P = plan.prefix, plan.prefix.upper()
-    header = f"{prefix}.h"
-    # The source is stdio-free; size_t comes from stddef.h, included by the header.
     printer = target.printer
-    requirement_checks = [
-        {"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
-        for r in plan.requirements
-    ]
     used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
-    functions = [_rendered(f, plan, target) for f in plan.functions]
-    enclosure = _enclosure(plan)
-    context = {
+    return {
         "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
-        "header": header, "source": f"{prefix}.c", "guard": f"{P}_H",
-        "kernels_header": f"{prefix}_kernels.h",
+        "header": f"{prefix}.h", "source": f"{prefix}.c", "guard": f"{P}_H",
         "title": f"Vibration analysis of {plan.title}.",
-        "sizes": sorted(plan.sizes.items()),
-        "sizes_map": plan.sizes,
         "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
                      for s in plan.statuses],
         "parameters": plan.parameters,
         "singular_state": plan.singular_state,
+        "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
+                               if symbol in used],
+        "fields": dict(plan.reads),   # a parameter's symbol -> its field of PREFIX_params
+        "requirements": [{"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
+                         for r in plan.requirements],
+        "functions": [_rendered(f, plan, target) for f in plan.functions],
+    }
+
+
+def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[str, str]:
+    """File name -> text of every generated file."""
+    env = environment(str(template_dir))
+    prefix = plan.prefix
+    # The source is stdio-free; size_t comes from stddef.h, included by the header.
+    printer = target.printer
+    enclosure = _enclosure(plan)
+    context = _library_context(plan, target)
+    functions = context["functions"]
+    context |= {
+        "kernels_header": f"{prefix}_kernels.h",
+        "sizes": sorted(plan.sizes.items()),
+        "sizes_map": plan.sizes,
         "polynomial": plan.has("sigma"),
         "double_double": any(f.arithmetic == "double-double" for f in plan.functions),
         "root_kinds": plan.root_kinds,
@@ -270,11 +281,6 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "inline_intervals": enclosure["inline"],
         "periodic": plan.periodic,
         "range_centre": _range_centre(plan, printer),
-        "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
-                               if symbol in used],
-        "fields": dict(plan.reads),   # a parameter's symbol -> its field of PREFIX_params
-        "requirements": requirement_checks,
-        "functions": functions,
         # sigma as a double-double program, whose values the analysis keeps in its workspace
         "sigma_values": any(f.name == "sigma" and f.body.program for f in functions),
     }
@@ -284,7 +290,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
                  f"{prefix}_model.c": "model.c.j2"}
     files = {name: env.get_template(template).render(template=template, **context)
              for name, template in templates.items()}
-    files[f"{prefix}_api.json"] = api_spec(plan)
+    files[f"{plan.prefix}_api.json"] = api_spec(plan)
     return files
 
 
@@ -325,30 +331,16 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
                      target: CTarget = CTarget()) -> dict[str, str]:
     """File name -> text of every generated file of a mechanism with n coordinates."""
     env = environment(str(template_dir))
-    prefix, P = plan.prefix, plan.prefix.upper()
-    printer = target.printer
-    used = sorted({s.name for r in plan.requirements for s in r.condition.free_symbols})
+    prefix, printer = plan.prefix, target.printer
     # the isolation's raw boxes, before undecided neighbours merge and the margins are cut
     sizes = plan.sizes | {"BOXES": 4 * (plan.sizes["MAX_EQUILIBRIA"] + plan.sizes["MAX_UNCERTAIN"])}
-    context = {
-        "banner": BANNER, "version": __version__, "prefix": prefix, "PREFIX": P,
-        "header": f"{prefix}.h", "source": f"{prefix}.c", "guard": f"{P}_H",
-        "title": f"Vibration analysis of {plan.title}.",
+    context = _library_context(plan, target) | {
         "n": plan.n, "sizes": sorted(sizes.items()), "sizes_map": sizes,
         "coordinate_list": ", ".join(name for name, _, _ in plan.coordinates),
         "range_list": "; ".join(
             f"{name} about {c}{' (periodic)' if periodic else ''}"
             for (name, _, _), c, periodic in zip(plan.coordinates, plan.centres, plan.periodics)),
-        "statuses": [{"name": f"{P}_{s.suffix}", "value": s.value, "message": s.message}
-                     for s in plan.statuses],
-        "parameters": plan.parameters, "singular_state": plan.singular_state,
         "polynomial": False, "double_double": False,
-        "requirement_unpack": [(symbol, f"params->{field}") for symbol, field in plan.reads
-                               if symbol in used],
-        "requirements": [{"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
-                         for r in plan.requirements],
-        "fields": dict(plan.reads),
-        "functions": [_rendered(f, plan, target) for f in plan.functions],
         "box": plan.box,
         "theta_index": {name: k for k, (name, _, _) in enumerate(plan.coordinates)},
         "centres": [_range_centre(plan, printer, c) for c in plan.centres],
