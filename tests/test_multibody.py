@@ -306,6 +306,93 @@ def test_a_small_motion_about_a_stable_equilibrium_follows_its_linearisation(nam
         assert np.allclose(q - e.theta, linear, atol=1e-3 * amplitude)
 
 
+def test_the_time_response_through_the_command_line(tmp_path):
+    """`mechvib simulate` with several coordinates: one initial value per coordinate (degrees),
+    a column per coordinate and rate equal to the Python call's, and --linearised beside it
+    equal to scipy's expm of the library's state matrix."""
+    import csv
+    import io
+    import json
+    import subprocess
+    import sys
+
+    from scipy.linalg import expm
+
+    run = [sys.executable, "-m", "codegen", "simulate", "--mechanism", "double_pendulum",
+           "--theta0", "70", "-5", "--thetadot0", "0", "20", "--to", "0.5", "--points", "6"]
+    table = list(csv.DictReader(io.StringIO(
+        subprocess.run(run, capture_output=True, text=True, check=True).stdout)))
+    lib = load("double_pendulum")
+    start = np.radians([70.0, -5.0]), np.radians([0.0, 20.0])
+    expected = lib.simulate(None, *start, np.linspace(0, 0.5, 6))
+    assert [list(row) for row in table[:1]] == [
+        ["t_s", "theta_1_deg", "delta_deg", "theta_1dot_deg_s", "deltadot_deg_s"]]
+    for row, q, v in zip(table, expected.theta, expected.theta_d):
+        assert [float(row[c]) for c in ("theta_1_deg", "delta_deg")] == pytest.approx(
+            np.degrees(q), rel=1e-15)
+        assert [float(row[c]) for c in ("theta_1dot_deg_s", "deltadot_deg_s")] == pytest.approx(
+            np.degrees(v), rel=1e-15)
+    out = subprocess.run(run + ["--linearised", "--out", str(tmp_path / "m.json"), "--plot",
+                                str(tmp_path / "m.png")], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert "Linearised about the stable equilibrium" in " ".join(out.stdout.split())
+    document = json.loads((tmp_path / "m.json").read_text())
+    linear = document["linearised"]
+    e = min((e for e in lib.analyze().equilibria if e.stable),
+            key=lambda e: np.linalg.norm(e.theta - start[0]))
+    assert linear["equilibrium"] == pytest.approx(e.theta, abs=1e-12)
+    p = lib.EXAMPLE
+    M, B, K = (np.reshape(f(p, e.theta), (2, 2)) for f in
+               (lib.mass_matrix, lib.damping_matrix, lib.stiffness_matrix))
+    A = np.block([[np.zeros((2, 2)), np.eye(2)],
+                  [-np.linalg.solve(M, K), -np.linalg.solve(M, B)]])
+    x0 = np.concatenate([start[0] - e.theta, start[1]])
+    for k, t in enumerate(document["t_s"]):
+        x = expm(A * t) @ x0
+        assert [linear["theta_1_deg"][k], linear["delta_deg"][k]] == pytest.approx(
+            np.degrees(e.theta + x[:2]), rel=1e-10, abs=1e-10)
+        assert [linear["theta_1dot_deg_s"][k], linear["deltadot_deg_s"][k]] == pytest.approx(
+            np.degrees(x[2:]), rel=1e-10, abs=1e-9)
+    assert (tmp_path / "m.png").stat().st_size > 10_000
+
+
+def test_the_command_lines_time_response_checks_the_state_and_keeps_what_a_failure_leaves(
+        tmp_path):
+    import subprocess
+    import sys
+
+    base = [sys.executable, "-m", "codegen", "simulate", "--mechanism", "double_pendulum",
+            "--to", "1"]
+    out = subprocess.run(base + ["--theta0", "70"], capture_output=True, text=True)
+    assert out.returncode != 0 and "one value per coordinate" in out.stderr
+    assert "theta_1, delta" in out.stderr and "Traceback" not in out.stderr
+    out = subprocess.run(base + ["--theta0", "70", "0", "--max-steps", "5", "--out",
+                                 str(tmp_path / "m.csv")], capture_output=True, text=True)
+    assert out.returncode != 0 and "Traceback" not in out.stderr
+    assert "points before it written to" in out.stderr
+    rows = (tmp_path / "m.csv").read_text().splitlines()
+    assert 2 <= len(rows) < 1002 and rows[1].split(",")[1] == "70"
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_the_state_transition_is_scipys_expm(seed):
+    """multibody_motion.expm against scipy's on random, badly scaled and defective (a Jordan
+    block: critical damping) matrices."""
+    from scipy.linalg import expm as reference_expm
+
+    from codegen.runtime.multibody_motion import expm
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 7))
+    A = rng.normal(size=(n, n)) * 10.0 ** rng.uniform(-3, 1.5)
+    if seed % 4 == 0:   # defective: a repeated eigenvalue with one eigenvector
+        J = np.diag(np.full(n, rng.normal())) + np.diag(np.ones(n - 1), 1)
+        V = rng.normal(size=(n, n))
+        A = V @ J @ np.linalg.inv(V)
+    expected = reference_expm(A)
+    assert np.allclose(expm(A), expected, rtol=1e-11, atol=1e-13 * np.abs(expected).max())
+
+
 def test_the_frequency_response_through_the_command_line(tmp_path):
     """`mechvib frf` with several coordinates: each coordinate's amplitude and phase per unit
     force on the driven one, equal to the inverse dynamic stiffness built from the library's

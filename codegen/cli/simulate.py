@@ -13,6 +13,7 @@ examples:
   {prog} simulate --theta0 160 --to 2 --linearised --plot theta.png --out theta.json
   {prog} simulate --mechanism four_bar --theta0 -30 --thetadot0 100 --to 5 --out m.csv
   {prog} simulate --set b=0 --theta0 170 --to 10 --points 5001 --rtol 1e-11 --plot m.svg
+  {prog} simulate --mechanism double_pendulum --theta0 -80 10 --to 3 --plot swing.png
 
 Integrates the reduced equation of motion thetaddot = f(theta, thetadot) in C (adaptive
 Dormand-Prince 5(4)) from theta0 [deg] and thetadot0 [deg/s] at t = 0 to --to [s], and
@@ -20,7 +21,11 @@ writes theta and thetadot at --points evenly spaced times: CSV on stdout, or --o
 or FILE.json (degrees and seconds), and with --plot a figure of both. --linearised adds the
 response of the linearisation about the stable equilibrium nearest theta0 (its M, B, K
 from the analysis) from the same state. rtol and atol bound each step's error (atol in rad
-and rad/s)."""
+and rad/s).
+
+With several coordinates, --theta0 and --thetadot0 take one value each, in the model's order
+(`mechvib list` names them; angles in deg and deg/s, lengths in m and m/s, rates 0 by
+default), and the table has a column per coordinate and per rate."""
 
 
 def _write_trajectory(args, trajectory):
@@ -67,6 +72,13 @@ def run(args) -> int:
         raise ValueError("--points: at least 2 (the start and the end)")
     library = common.load_library(args)
     params = library.example_params(**common.overrides(args.set, library.UNITS))
+    if library.dof > 1:
+        return _several_coordinates(library, params, args)
+    for option, values in (("--theta0", args.theta0), ("--thetadot0", args.thetadot0)):
+        if values is not None and len(values) != 1:
+            raise ValueError(f"{option}: {library.PREFIX} has one coordinate, so one value, "
+                             f"not {len(values)}")
+    args.theta0, args.thetadot0 = args.theta0[0], (args.thetadot0 or [0.0])[0]
     start = time.perf_counter()
     try:
         with common.ProgressBar(unit="points") as bar:
@@ -87,15 +99,94 @@ def run(args) -> int:
     return 0
 
 
+def _initial_state(library, args):
+    """--theta0 and --thetadot0 in SI units (angles in rad), one per coordinate."""
+    import numpy as np
+
+    coordinates = library.SPEC["coordinates"]
+    names = ", ".join(c["name"] for c in coordinates)
+    state = []
+    for option, values in (("--theta0", args.theta0), ("--thetadot0", args.thetadot0)):
+        values = [0.0] * len(coordinates) if values is None else values
+        if len(values) != len(coordinates):
+            raise ValueError(f"{option}: one value per coordinate of {library.PREFIX} "
+                             f"({names}), not {len(values)}")
+        state.append(np.array([math.radians(v) if c["unit"] == "rad" else v
+                               for v, c in zip(values, coordinates)]))
+    return state
+
+
+def _several_coordinates(library, params, args) -> int:
+    """The motion of a mechanism with several coordinates, as `run`'s for one."""
+    import numpy as np
+
+    from ..runtime import multibody_motion as motion
+    from ..runtime.simulation import IntegrationError
+
+    theta0, theta_d0 = _initial_state(library, args)
+    times = np.linspace(0.0, args.to, args.points)
+    start = time.perf_counter()
+    try:
+        trajectory = motion.simulate(library, params, theta0, theta_d0, times, rtol=args.rtol,
+                                     atol=args.atol, max_steps=args.max_steps)
+    except IntegrationError as error:
+        # what was computed before the failure is still written, and the failure said
+        written = _write(args, motion, error.trajectory, None)
+        where = f"; the {len(error.trajectory.t):,} points before it" if written else ""
+        raise ValueError(f"{error}{where}{' written to ' if written else ''}"
+                         f"{' and '.join(written)}") from None
+    seconds = time.perf_counter() - start
+    linear = motion.linearised(trajectory) if args.linearised else None
+    written = _write(args, motion, trajectory, linear)
+    if written:
+        print(_several_summary(trajectory, linear, seconds, written))
+    return 0
+
+
+def _several_summary(trajectory, linear, seconds: float, written: list[str]) -> str:
+    import numpy as np
+
+    from .report import paragraph
+
+    coordinates, rates = trajectory.labels()
+
+    def listed(names, values):
+        return ", ".join(f"{name} = {value:.6g}" for name, value in zip(names, values))
+
+    state = listed(coordinates, trajectory.theta_shown[0])
+    if np.any(trajectory.theta_d[0]):
+        state += ", " + listed(rates, trajectory.theta_d_shown[0])
+    about = ""
+    if linear is not None:
+        centre = np.where(linear.angular, np.degrees(linear.theta_e), linear.theta_e)
+        about = (f" Linearised about the {linear.equilibrium.stability} equilibrium at "
+                 f"{listed(coordinates, centre)}.")
+    return paragraph(
+        f"Simulated {trajectory.t[-1]:g} s of {trajectory.library.TITLE} from {state}: "
+        f"{len(trajectory.t):,} points in {seconds * 1e3:.1f} ms (rtol {trajectory.rtol:g}, "
+        f"atol {trajectory.atol:g}).{about} Wrote {' and '.join(written)}.")
+
+
+def _write(args, motion, trajectory, linear) -> list[str]:
+    """CSV on stdout (no file to name), or the --out and --plot files: their names."""
+    if not (args.out or args.plot):
+        motion.write_csv(sys.stdout, trajectory, linear)
+        return []
+    written = [str(motion.write(trajectory, args.out, linear))] if args.out else []
+    return written + ([str(motion.plot(trajectory, args.plot, linear))] if args.plot else [])
+
+
 def add(verbs, prog: str) -> None:
     sim = common.verb(verbs, "simulate", "the motion from an initial state: theta(t) and "
                       "thetadot(t) as CSV or JSON, and a figure", EXAMPLES, prog, run)
     common.mechanism_options(sim, None, model=True)
     common.set_option(sim)
-    sim.add_argument("--theta0", type=float, required=True, metavar="DEG",
-                     help="the initial angle [deg]")
-    sim.add_argument("--thetadot0", type=float, default=0.0, metavar="DEG/S",
-                     help="the initial rate [deg/s] (default 0)")
+    sim.add_argument("--theta0", type=float, nargs="+", required=True, metavar="DEG",
+                     help="the initial angle [deg] (several coordinates: one value each, "
+                          "lengths in m)")
+    sim.add_argument("--thetadot0", type=float, nargs="+", metavar="DEG/S",
+                     help="the initial rate [deg/s] (default 0; several coordinates: one "
+                          "value each)")
     sim.add_argument("--to", type=float, required=True, metavar="T",
                      help="the end time [s] (the motion starts at t = 0)")
     sim.add_argument("--points", type=common.positive, default=1001, metavar="N",

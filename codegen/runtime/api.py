@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from . import (analysis, batch, branch_figure, branches, library, multibody, response,
-               simulation, sweep)
+from . import (analysis, batch, branch_figure, branches, library, multibody, multibody_motion,
+               response, simulation, sweep)
 from ..errors import LibraryError
 from .functions import Argument, Function, LibraryFunction
 from .library import Origin, ParameterSet, ParamsLike
@@ -70,9 +70,10 @@ class Library(library.Library):
         integrated in C, as numpy arrays (a ``codegen.runtime.simulation.Trajectory``: ``.theta``
         [rad], ``.theta_d`` [rad/s]); ``params`` None is the example. Options (rtol, atol,
         max_steps, h_max, progress): see ``codegen.runtime.simulation.simulate``. With several
-        coordinates theta0 and theta_d0 hold n values each: ``codegen.runtime.multibody.simulate``."""
+        coordinates theta0 and theta_d0 hold n values each: ``codegen.runtime.multibody_motion.simulate``."""
         if self.dof > 1:
-            return multibody.simulate(self, self._params(params), theta0, theta_d0, t, **options)
+            return multibody_motion.simulate(self, self._params(params), theta0, theta_d0, t,
+                                             **options)
         return simulation.simulate(self._params(params), theta0, theta_d0, t, **options)
 
     def rk4_step(self, params: ParamsLike | None, theta: float, theta_d: float, h: float

@@ -134,37 +134,6 @@ def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
     return out
 
 
-@dataclass(frozen=True)
-class MultibodyTrajectory:
-    t: np.ndarray        # [s]
-    theta: np.ndarray    # (len(t), n): the independent coordinates
-    theta_d: np.ndarray  # (len(t), n): their rates
-
-
-def simulate(library: Any, params: Any, theta0: Any, theta_d0: Any, t: Any, *,
-             rtol: float | None = None, atol: float | None = None,
-             max_steps: int | None = None, h_max: float = math.inf) -> MultibodyTrajectory:
-    """The motion from theta0, theta_d0 (n values each) at t[0], at every time of ``t`` [s],
-    integrated in C (NAME_simulate); the options as ``codegen.runtime.simulation.simulate``'s.
-    Raises LibraryError where the integration fails."""
-    from .simulation import _options, _times
-
-    n = library.dof
-    times = _times(t)
-    start = [np.asarray(x, dtype=float).reshape(n) for x in (theta0, theta_d0)]
-    options = _options(library, rtol, atol, max_steps, h_max)
-    ffi = library.ffi
-    y = np.empty((len(times), 2 * n))
-    reached = ffi.new("size_t *")
-    status = getattr(library.lib, f"{library.PREFIX}_simulate")(
-        library._c_params(params), ffi.from_buffer("double[]", start[0]),
-        ffi.from_buffer("double[]", start[1]), ffi.from_buffer("double[]", times), len(times),
-        options, ffi.from_buffer("double[]", y, require_writable=True), reached)
-    library.check(status, params, inputs={"theta0": start[0].tolist(),
-                                          "theta_d0": start[1].tolist()})
-    return MultibodyTrajectory(times, y[:, :n], y[:, n:])
-
-
 # --------------------------------------------------------------------------- sweeps
 
 #: Sets analysed per C call of NAME_analyze_batch (its results buffer is reused).

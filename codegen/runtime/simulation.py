@@ -75,7 +75,7 @@ class Trajectory(_InDegrees):
         return type(self.params).library
 
 
-def _times(t: Sequence[float] | np.ndarray) -> np.ndarray:
+def times_of(t: Sequence[float] | np.ndarray) -> np.ndarray:
     times = np.array(t, dtype=np.float64)   # a copy: the trajectory owns its times
     if times.ndim != 1 or times.size < 1:
         raise ValueError(f"t must be a 1-D array of at least one time, not shape {times.shape}")
@@ -103,7 +103,7 @@ def _check_state(theta0: float, theta_d0: float) -> None:
                              f"resolves (|{name}| <= {limit:.6g} {unit})")
 
 
-def _options(library: Library, rtol: float | None, atol: float | None,
+def ode_options(library: Library, rtol: float | None, atol: float | None,
              max_steps: int | None, h_max: float) -> Any:
     """The C options (a pointer), the library's defaults where None; ValueError naming one
     out of range."""
@@ -180,10 +180,10 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
     LibraryError) with the time reached, whose ``trajectory`` holds the outputs before it.
     """
     library = library_of_params(params)
-    times = _times(t)
+    times = times_of(t)
     _check_state(theta0, theta_d0)
     ffi, lib, P = library.ffi, library.lib, library.PREFIX
-    options = _options(library, rtol, atol, max_steps, h_max)
+    options = ode_options(library, rtol, atol, max_steps, h_max)
     start, advance = getattr(lib, f"{P}_simulation_start"), getattr(lib, f"{P}_simulation_advance")
     simulation = ffi.new(f"{P}_simulation *")
 
