@@ -41,7 +41,26 @@ def verify_multibody(d: Multibody, plan: MultibodyPlan) -> int:
             for _ in range(POINTS):
                 theta = [c + mpmath.mpf(rng.uniform(-3.0, 3.0)) for c in centres]
                 compared += model.check(plan, params, theta)
+    if not compared:
+        raise VerificationError(f"{d.user.name}: the mechanism cannot be assembled at any of "
+                                "the points drawn to check it")
     return compared
+
+
+def in_program(args, program, exprs, module: str):
+    """A function of ``args`` evaluating exprs written in a straight-line program's symbols:
+    the steps in turn, then the expressions (written out, a dyad's expressions are too large
+    to evaluate at 30 digits in reasonable time)."""
+    steps = [sp.lambdify(list(args) + [s for s, _ in program[:i]], value, module)
+             for i, (_, value) in enumerate(program)]
+    final = sp.lambdify(list(args) + [s for s, _ in program], list(exprs), module)
+
+    def evaluate(*values):
+        values = list(values)
+        for step in steps:
+            values.append(step(*values))
+        return final(*values)
+    return evaluate
 
 
 class _Model:
@@ -57,7 +76,8 @@ class _Model:
                                [sp.sympify(e).subs(freeze) for e in exprs], modules="mpmath")
 
         self.constraints = fn(m.constraints)
-        self.positions = sp.lambdify(self.symbols + list(d.theta), list(d.positions), "mpmath")
+        self.positions = in_program(self.symbols + list(d.theta), d.program, d.positions,
+                                    "mpmath")
         self.potential = fn([sum(potential_parts(m), sp.S.Zero)])
         moving = [(b.mass, x) for b in m.bodies for x in b.centre]
         moving += [(b.inertia, b.angle) for b in m.bodies]
@@ -66,13 +86,15 @@ class _Model:
         self.dampers = fn([dm.coefficient for dm in m.dampers])
         self.lengths = fn([dm.length for dm in m.dampers])
         args = self.symbols + list(d.theta) + list(d.theta_d)
-        self.plan = {name: sp.lambdify(args, list(expr), "mpmath") for name, expr in (
+        self.plan = {name: in_program(args, d.program, expr, "mpmath") for name, expr in (
             ("G", d.generalised_force), ("K", d.stiffness), ("M", d.mass), ("B", d.damping),
             ("h", d.velocity_terms))}
 
     def check(self, plan: MultibodyPlan, params: dict, theta: list) -> int:
         p = [params[s] for s in self.symbols]
         n = len(theta)
+        if not self._assembled(p, theta):
+            return 0
         full = self.positions(*p, *theta)
         residual = self.constraints(*p, *full)
         scale = max([1] + [abs(x) for x in full])
@@ -80,8 +102,9 @@ class _Model:
             self._fail("positions (the constraints do not vanish)", theta, params,
                        max(abs(r) for r in residual))
 
-        def at(t, rates=None):
-            return self._plan(p, t, rates or [0] * n)
+        def at(t, name, rates=None):
+            """The plan's ``name`` (G, K, M, B or h) at t."""
+            return [mpmath.mpf(v) for v in self.plan[name](*p, *t, *(rates or [0] * n))]
 
         def along(f, k, t):
             """d f(theta)/d theta_k by the five-point stencil."""
@@ -95,17 +118,17 @@ class _Model:
             return self.potential(*p, *self.positions(*p, *t))[0]
 
         G = [along(V, k, theta) for k in range(n)]
-        self._compare("G", at(theta)["G"], G, theta, params)
-        K = [along(lambda t, i=i: at(t)["G"][i], k, theta) for i in range(n) for k in range(n)]
-        self._compare("K", at(theta)["K"], K, theta, params)
+        self._compare("G", at(theta, "G"), G, theta, params)
+        K = [along(lambda t, i=i: at(t, "G")[i], k, theta) for i in range(n) for k in range(n)]
+        self._compare("K", at(theta, "K"), K, theta, params)
         M = self._quadratic(p, theta, self._kinetic)
-        self._compare("M", at(theta)["M"], M, theta, params)
+        self._compare("M", at(theta, "M"), M, theta, params)
         B = self._quadratic(p, theta, self._dissipation)
-        self._compare("B", at(theta)["B"], B, theta, params)
+        self._compare("B", at(theta, "B"), B, theta, params)
         rates = [mpmath.mpf(x) for x in np.random.default_rng(n).uniform(-1, 1, n)]
 
         def momentum(t):  # M(theta) thetadot along the motion theta + s thetadot
-            Mt = at(t)["M"]
+            Mt = at(t, "M")
             return [sum(Mt[i * n + j] * rates[j] for j in range(n)) for i in range(n)]
 
         h = []
@@ -114,12 +137,19 @@ class _Model:
             backward = [x - STEP * r for x, r in zip(theta, rates)]
             rate = (momentum(forward)[i] - momentum(backward)[i]) / (2 * STEP)
             h.append(rate - along(lambda t: self._kinetic(p, t, rates), i, theta))
-        self._compare("h", at(theta, rates)["h"], h, theta, params, tolerance=1e-6)
+        self._compare("h", at(theta, "h", rates), h, theta, params, tolerance=1e-6)
         return n + 3 * n * n + n
 
-    def _plan(self, p, theta, rates) -> dict:
-        return {name: [mpmath.mpf(v) for v in f(*p, *theta, *rates)]
-                for name, f in self.plan.items()}
+    def _assembled(self, p, theta) -> bool:
+        """Whether every position is real at theta and the points its stencils reach (a
+        dyad cannot be assembled everywhere: where it cannot, there is nothing to check)."""
+        for k in range(len(theta)):
+            for s in (-2, 2):
+                moved = list(theta)
+                moved[k] += s * STEP
+                if any(isinstance(x, mpmath.mpc) for x in self.positions(*p, *moved)):
+                    return False
+        return not any(isinstance(x, mpmath.mpc) for x in self.positions(*p, *theta))
 
     def _speeds(self, p, theta, rates, motion) -> list:
         """Rates of each of ``motion``'s values moving theta at ``rates``, by central
@@ -179,7 +209,7 @@ def verify_compiled_multibody(d: Multibody, library) -> int:
     m = d.mechanism
     rng = np.random.default_rng(SEED)
     args = list(m.symbols) + list(d.theta)
-    expected = {name: sp.lambdify(args, list(getattr(d, field)), "numpy")
+    expected = {name: in_program(args, d.program, getattr(d, field), "numpy")
                 for name, field in COMPILED.items()}
     compared = 0
     for values in parameter_sets(m, rng, SETS):

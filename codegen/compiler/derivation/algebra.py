@@ -58,3 +58,12 @@ def expand_angle_sums(expr: sp.Expr, angles) -> sp.Expr:
                 and bool(e.args[0].free_symbols & angles))
 
     return expr.replace(compound, lambda e: sp.expand_trig(e)) if expr.has(*angles) else expr
+
+
+def written_out(definitions, exprs) -> list[sp.Expr]:
+    """Expressions in the symbols of a straight-line program (definitions: (symbol,
+    expression) in order), with those symbols written out in the program's inputs."""
+    values: dict[sp.Symbol, sp.Expr] = {}
+    for symbol, definition in definitions:
+        values[symbol] = definition.xreplace(values)
+    return [sp.sympify(e).xreplace(values) for e in exprs]

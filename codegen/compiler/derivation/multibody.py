@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ..model import Mechanism, ModelError
+from ..model import Mechanism
+from .closures import solve_closures
 from .dynamics import contributions
 from .names import internal
 from .state import StateSymbols
@@ -48,45 +49,13 @@ class Multibody:
     stiffness: sp.Matrix       # K = dG/dtheta (n x n)
     potential: sp.Expr         # V, up to a constant: springs, gravity, loads' work
     points: dict[str, tuple[sp.Expr, sp.Expr]]
+    # the straight-line program (symbol, expression) the expressions above are written in:
+    # each dyad's assembly root and the cosine and sine of the angles it fixes (none without)
+    program: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
 
     @property
     def n(self) -> int:
         return len(self.theta)
-
-
-def eliminate(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
-              constraints: list[sp.Expr]) -> dict[sp.Symbol, sp.Expr]:
-    """Each dependent coordinate in the independent ones, from a triangular system of
-    constraints (each linear in one unknown with a coefficient free of the unknowns)."""
-    independent = {sp.Symbol(n, real=True) for n in mechanism.independents}
-    unknown = [c for c in coords if c not in independent]
-    solved: dict[sp.Symbol, sp.Expr] = {}
-    pending = list(constraints)
-    while pending:
-        pending = [c for c in pending if sp.simplify(c.xreplace(solved)) != 0]  # redundant
-        if not pending:
-            break
-        for index, constraint in enumerate(pending):
-            eq = constraint.xreplace(solved)
-            left = [u for u in unknown if u not in solved and eq.has(u)]
-            coefficient = eq.diff(left[0]) if len(left) == 1 else sp.S.Zero
-            if coefficient != 0 and not coefficient.has(left[0]):
-                u = left[0]
-                value = sp.simplify(u - eq / coefficient)
-                solved = {k: v.xreplace({u: value}) for k, v in solved.items()} | {u: value}
-                del pending[index]
-                break
-        else:
-            left = [u.name for u in unknown if u not in solved]
-            raise ModelError(
-                f"{mechanism.name}: a mechanism with several independent coordinates needs "
-                "each dependent one fixed by a constraint linear in it alone (solved in turn): "
-                + (f"{', '.join(left)} cannot be solved that way" if left
-                   else "a constraint is left over once every coordinate is solved"))
-    missing = [u.name for u in unknown if u not in solved]
-    if missing:
-        raise ModelError(f"{mechanism.name}: no constraint fixes {', '.join(missing)}")
-    return solved
 
 
 #: Each mechanism's derivation, once per process (keyed by the mechanism's identity).
@@ -109,14 +78,14 @@ def _derive(user: Mechanism) -> Multibody:
     theta = tuple(by_name[n][0] for n in mechanism.independents)
     theta_d = tuple(by_name[n][1] for n in mechanism.independents)
     constraints = [c.subs(freezer) for c in mechanism.constraints]
-    solved = eliminate(mechanism, coords, constraints)
-    positions = sp.Matrix([solved.get(c, c) for c in coords])
+    closure = solve_closures(mechanism, coords, constraints)
+    positions = sp.Matrix([closure.values.get(c, c) for c in coords])
 
     def along(expr: sp.Expr) -> sp.Expr:
-        return sp.sympify(expr).subs(freezer).xreplace(solved)
+        return closure.along(sp.sympify(expr).subs(freezer))
 
     def jacobian(expr: sp.Expr) -> sp.Matrix:
-        return sp.Matrix([[along(expr).diff(t) for t in theta]])
+        return sp.Matrix([[closure.diff(along(expr), t) for t in theta]])
 
     n = len(theta)
     mass, damping = sp.zeros(n, n), sp.zeros(n, n)
@@ -129,17 +98,23 @@ def _derive(user: Mechanism) -> Multibody:
     for damper in mechanism.dampers:
         J = jacobian(damper.length)
         damping += damper.coefficient * J.T * J
-    mass, damping = mass.applyfunc(sp.simplify), damping.applyfunc(sp.simplify)
+    # a dyad's closed form is left as derived: simplify takes minutes on its square roots
+    tidy = sp.simplify if not closure.radicands else (lambda e: e)
+    mass, damping = mass.applyfunc(tidy), damping.applyfunc(tidy)
     velocity_terms = sp.Matrix([
-        sum((mass[i, j].diff(theta[k]) - mass[j, k].diff(theta[i]) / 2) * theta_d[j] * theta_d[k]
+        sum((closure.diff(mass[i, j], theta[k]) - closure.diff(mass[j, k], theta[i]) / 2)
+            * theta_d[j] * theta_d[k]
             for j in range(n) for k in range(n)) for i in range(n)])
     parts = [along(p) for p in contributions(mechanism)]
-    static_terms = tuple(sp.Matrix([p.diff(t) for t in theta]) for p in parts)
+    static_terms = tuple(sp.Matrix([closure.diff(p, t) for t in theta]) for p in parts)
     force = sum(static_terms, sp.zeros(n, 1))
     return Multibody(
         mechanism=mechanism, user=user, theta=theta, theta_d=theta_d, coords=coords,
         positions=positions, mass=mass, damping=damping,
-        velocity_terms=velocity_terms.applyfunc(sp.expand),
+        velocity_terms=velocity_terms.applyfunc(sp.expand if not closure.radicands else tidy),
         static_terms=static_terms, generalised_force=force,
-        stiffness=force.jacobian(theta), potential=sum(parts, sp.S.Zero),
-        points={name: (along(x), along(y)) for name, (x, y) in mechanism.points.items()})
+        stiffness=(force.jacobian(theta) if not closure.program else
+                   sp.Matrix([[closure.diff(g, t) for t in theta] for g in force])),
+        potential=sum(parts, sp.S.Zero),
+        points={name: (along(x), along(y)) for name, (x, y) in mechanism.points.items()},
+        program=closure.program)

@@ -29,7 +29,7 @@ def _made_for(coordinate: str) -> set[str]:
     """The symbols the derivation makes for one coordinate: its rate and acceleration, and
     the unknowns of the position analysis (cos and sin, or Cartesian components)."""
     return {f"{coordinate}_d", f"{coordinate}_dd",
-            *(f"{letter}_{coordinate}" for letter in "CSXYUV")}
+            *(f"{letter}_{coordinate}" for letter in "CSXYUVD"), f"sigma_{coordinate}"}
 
 
 def _clashes(name: str, made: set[str], argument: bool) -> bool:
@@ -49,14 +49,16 @@ def internal_names(mechanism: Mechanism) -> dict[str, str]:
     """User name -> internal name, for every parameter and coordinate that must be renamed."""
     users = {c.name for c in mechanism.coordinates} | {p.symbol.name for p in mechanism.parameters}
     renamed: dict[str, str] = {}
-    others = set()  # the derivation's names of the coordinates renamed so far
+    # the C arguments of a library with several coordinates: arrays theta[], theta_d[]
+    arrays = {"theta", "theta_d"} if mechanism.dof > 1 else set()
+    others = set(arrays)  # the derivation's names of the coordinates renamed so far
     for c in mechanism.coordinates:  # coordinates first: the parameters avoid their names
         made = set().union(*(_made_for(o.name) for o in mechanism.coordinates if o is not c))
         if _clashes(c.name, made | others, argument=True):
             renamed[c.name] = _fresh(c.name, users | set(renamed.values()), made | others,
                                      argument=True)
         others |= {renamed.get(c.name, c.name)}
-    made = set().union(*(_made_for(n) for n in others))
+    made = set().union(*(_made_for(n) for n in others - arrays)) | arrays
     for p in mechanism.parameters:
         name = p.symbol.name
         if _clashes(name, made, argument=False):

@@ -27,6 +27,7 @@ class MultibodyPlan(Plan):
     centres: tuple[str, ...] = ()       # each range's centre, in the parameters' symbols
     periodics: tuple[bool, ...] = ()
     box: IntervalBody | None = None     # G (n) then K (n x n, row-major) over a box
+    theta_names: tuple[str, ...] = ()   # the independent coordinates' symbols (internal names)
 
     @property
     def n(self) -> int:
@@ -44,38 +45,42 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
     every = ", ".join(f"{c.name} [{c.unit}]" for c in user.coordinates)
     kinetic = (sp.Matrix(d.theta_d).T * d.mass * sp.Matrix(d.theta_d))[0] / 2
     square = f"row-major {n}x{n}"
+
+    def function(*args) -> CFunction:   # each written in the dyads' program, if any
+        return CFunction(*args, definitions=d.program)
+
     functions = (
-        CFunction("positions", "Every coordinate at the independent ones (the constraints "
+        function("positions", "Every coordinate at the independent ones (the constraints "
                   "solved in turn).", "(30)-(34), n coordinates", (theta,),
                   (Output("coords", tuple(d.positions), f"every coordinate: {every}",
                           "N_COORDS"),)),
-        CFunction("mass_matrix", "Mass matrix M(theta): T = thetadot^T M thetadot / 2.",
+        function("mass_matrix", "Mass matrix M(theta): T = thetadot^T M thetadot / 2.",
                   "(37) for n coordinates", (theta,),
                   (Output("M", tuple(d.mass), f"{square}; entry (i, j) in kg times the units "
                           "of length^2 per unit of theta_i theta_j", "N_MATRIX"),)),
-        CFunction("damping_matrix", "Damping matrix B(theta): D = thetadot^T B thetadot / 2.",
+        function("damping_matrix", "Damping matrix B(theta): D = thetadot^T B thetadot / 2.",
                   "(39) for n coordinates", (theta,),
                   (Output("B", tuple(d.damping), f"{square}, as M per second", "N_MATRIX"),)),
-        CFunction("velocity_terms", "Velocity terms h(theta, thetadot) of M thetaddot + h + "
+        function("velocity_terms", "Velocity terms h(theta, thetadot) of M thetaddot + h + "
                   "B thetadot + G = 0 (centripetal and Coriolis).", "(38) for n coordinates",
                   (theta, theta_d), (Output("h", tuple(d.velocity_terms),
                                             "generalised forces [N or N m]", "N_DOF"),)),
-        CFunction("generalised_force", "Static generalised force G = dV/dtheta - Q: zero at "
+        function("generalised_force", "Static generalised force G = dV/dtheta - Q: zero at "
                   "an equilibrium.", "(42) for n coordinates", (theta,),
                   (Output("G", tuple(d.generalised_force), "one per coordinate [N or N m]",
                           "N_DOF"),)),
-        CFunction("stiffness_matrix", "Stiffness matrix K = dG/dtheta: the linearisation's "
+        function("stiffness_matrix", "Stiffness matrix K = dG/dtheta: the linearisation's "
                   "restoring forces.", "(46)-(53) for n coordinates", (theta,),
                   (Output("K", tuple(d.stiffness), f"{square}; [N or N m per unit of "
                           "theta_j]", "N_MATRIX"),)),
-        CFunction("energies", "Kinetic energy T and potential V (springs, gravity and the "
+        function("energies", "Kinetic energy T and potential V (springs, gravity and the "
                   "constant loads' work, up to a constant).", "(16)-(21)", (theta, theta_d),
                   (Output("T", (kinetic,), "kinetic energy [J]"),
                    Output("V", (d.potential,), "potential energy [J]"))),
     )
     names = tuple(symbol for symbol, _ in _fields(d))
     box = interval_body([*d.generalised_force, *d.stiffness], names,
-                        {t.name for t in d.theta}, "iv_flags")
+                        {t.name for t in d.theta}, "iv_flags", d.program)
     return MultibodyPlan(
         prefix=m.name, title=m.title or m.name,
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
@@ -88,7 +93,8 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
         functions=functions, enclosure=None,
         coordinates=independent,
         all_coordinates=tuple(described[c.name] for c in user.coordinates),
-        centres=tuple(str(c) for c in user.centres), periodics=tuple(m.periodics), box=box)
+        centres=tuple(str(c) for c in user.centres), periodics=tuple(m.periodics), box=box,
+        theta_names=tuple(t.name for t in d.theta))
 
 
 def _fields(d: Multibody) -> tuple[tuple[str, str], ...]:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..derivation import Derivation
+from ..derivation.algebra import written_out
 
 
 @dataclass(frozen=True)
@@ -48,15 +49,6 @@ class CFunction:
     def explicit(self, exprs) -> list[sp.Expr]:
         """Expressions with the program's symbols written out in the inputs."""
         return written_out(self.definitions, exprs)
-
-
-def written_out(definitions, exprs) -> list[sp.Expr]:
-    """Expressions in the symbols of a straight-line program (definitions: (symbol,
-    expression) in order), with those symbols written out in the program's inputs."""
-    values: dict[sp.Symbol, sp.Expr] = {}
-    for symbol, definition in definitions:
-        values[symbol] = definition.xreplace(values)
-    return [sp.sympify(e).xreplace(values) for e in exprs]
 
 
 @dataclass(frozen=True)

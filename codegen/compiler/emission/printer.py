@@ -141,7 +141,22 @@ def shared_with_program(program, exprs, prefix: str) -> tuple[list, list]:
     replacements, reduced = sp.cse([d for _, d in program] + list(exprs),
                                    symbols=sp.numbered_symbols(prefix), order="canonical")
     steps = [(symbol, d) for (symbol, _), d in zip(program, reduced)]
-    return steps + replacements, reduced[len(program):]
+    return _used(steps + replacements, reduced[len(program):]), reduced[len(program):]
+
+
+def _used(statements, exprs) -> list:
+    """The statements the expressions read, directly or through others (CSE can leave a
+    subexpression unread where the terms that shared it cancel)."""
+    wanted = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+    by_symbol = dict(statements)
+    pending = list(wanted)
+    while pending:
+        symbol = pending.pop()
+        if symbol in by_symbol:
+            for s in by_symbol.pop(symbol).free_symbols - wanted:
+                wanted.add(s)
+                pending.append(s)
+    return [(s, e) for s, e in statements if s in wanted]
 
 
 def _argument_clashes(function: CFunction, fields) -> dict[str, str]:

@@ -342,7 +342,7 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
             for (name, _, _), c, periodic in zip(plan.coordinates, plan.centres, plan.periodics)),
         "polynomial": False, "double_double": False,
         "box": plan.box,
-        "theta_index": {name: k for k, (name, _, _) in enumerate(plan.coordinates)},
+        "theta_index": {name: k for k, name in enumerate(plan.theta_names)},
         "centres": [_range_centre(plan, printer, c) for c in plan.centres],
         "periodics": [int(p) for p in plan.periodics],
     }
