@@ -138,6 +138,7 @@ def _seed(folder: Path) -> None:
     (folder / "triple_pendulum.py").write_text(
         section(REPO / "docs" / "multibody.md", "## A model with three coordinates", "python"))
     (folder / "app.c").write_text(section(REPO / "README.md", "## The C library", "c"))
+    shutil.copy(REPO / "tests" / "models" / "four_bar_pendulum.py", folder)
 
 
 @pytest.mark.parametrize("path", DOCS, ids=[p.relative_to(REPO).as_posix() for p in DOCS])

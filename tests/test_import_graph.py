@@ -50,7 +50,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.runtime.batch", "codegen.runtime.folds", "codegen.runtime.simulation",
      "codegen.runtime.sweep", "codegen.runtime.multibody"),
     ("codegen.runtime.branches", "codegen.runtime.response",
-     "codegen.runtime.multibody_response"),
+     "codegen.runtime.multibody_response", "codegen.runtime.multibody_motion"),
     ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
     ("codegen.runtime.api",),
     # a user's model file generated, built and loaded: above both the compiler and the runtime
