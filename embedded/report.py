@@ -6,9 +6,9 @@ graphs) beside the high-water mark the firmware measured, the instructions QEMU 
 each route of the example's analysis, and the firmware's output against the host's. Exits 1
 when a double build's output differs from the host's for no cause it can name.
 
-A library with n coordinates (codegen_multibody: NAME_analyze keeps its working memory on its
-own stack, there is no second route) gets its own section after render.py's tables, which
-are the one-coordinate libraries' (their analysis in the caller's working memory).
+A library with n coordinates (codegen_multibody: one route, NAME_analyze_work, and modes,
+receptance and box enclosures at a point) gets its own section after render.py's tables,
+which are the one-coordinate libraries'.
 
 Usage: report.py BUILD_DIR OUT_STEM CFLAGS   (writes OUT_STEM.md and OUT_STEM.json; CFLAGS: the
 cross compiler's flags, for the record)
@@ -220,11 +220,9 @@ def collect(out: Path, cflags: str) -> dict:
 
 
 def is_multibody(entry: dict) -> bool:
-    """Whether the library is one with n coordinates: its analysis has no entry in the
-    caller's working memory (PREFIX_analyze_work) but its modes at a point (PREFIX_modes)."""
-    names = entry["stack"]["functions"]
-    return (not any(name.endswith("_analyze_work") for name in names)
-            and any(name.endswith("_modes") for name in names))
+    """Whether the library is one with n coordinates: it has the ranges' centres
+    (PREFIX_range_centres), which one coordinate's has not."""
+    return any(name.endswith("_range_centres") for name in entry["stack"]["functions"])
 
 
 def _only(report: dict, multibody: bool) -> dict:
@@ -241,7 +239,7 @@ MULTIBODY_CALLS = ("modes", "receptance", "box_enclosure")
 
 def multibody_markdown(report: dict) -> list[str]:
     """The section of the libraries with n coordinates: their analysis against the issue's
-    targets (its stack includes its working memory: the isolation's boxes), the other calls'
+    targets (in the caller's working memory, and with its own on its stack), the other calls'
     instructions and stack, code size, the deepest stack chain, the firmware against the host."""
     entries = list(render._entries(report))
     if not entries:
@@ -250,13 +248,15 @@ def multibody_markdown(report: dict) -> list[str]:
     for lib, build, entry in entries:
         prefix = render._prefix(entry)
         functions, measured = entry["stack"]["functions"], entry["measured"]
-        worst = functions[f"{prefix}_analyze"]
+        worst = functions[f"{prefix}_analyze_work"]
         limit, budget = render.STACK_TARGET[build], render.INSTRUCTIONS_TARGET[build]
         instructions = measured.get("analyze", {}).get("instructions")
-        others = {n: f for n, f in functions.items() if not n.endswith(("_analyze", "_batch"))}
+        others = {n: f for n, f in functions.items()
+                  if not n.endswith(("_analyze", "_analyze_work", "_batch"))}
         largest = max(others, key=lambda n: others[n]["bytes"])
         targets.append([
-            f"`{lib}`", build, render._stack_cell(entry, f"{prefix}_analyze"), render._n(limit),
+            f"`{lib}`", build, render._stack_cell(entry, f"{prefix}_analyze_work"),
+            render._stack_cell(entry, f"{prefix}_analyze"), render._n(limit),
             f"{worst['bytes'] / limit:.1f}x over" if worst["bytes"] > limit else "met",
             render._n(measured.get("analyze", {}).get("stack")), render._n(instructions),
             "-" if not instructions else "met" if instructions <= budget
@@ -269,20 +269,22 @@ def multibody_markdown(report: dict) -> list[str]:
     paths = []
     for lib, entry in report["builds"].get("double", {}).items():
         prefix = render._prefix(entry)
-        found = entry["stack"]["functions"][f"{prefix}_analyze"]
+        found = entry["stack"]["functions"][f"{prefix}_analyze_work"]
         frames = ", ".join(f"{name} {render._n(frame)}" for name, frame in found["path"] if frame)
-        paths.append(f"- `{prefix}_analyze` {render._n(found['bytes'])} B: {frames}")
+        paths.append(f"- `{prefix}_analyze_work` {render._n(found['bytes'])} B: {frames}")
     return [
         "## The libraries with n coordinates",
         "",
-        "Their analysis (`NAME_analyze`: every equilibrium in the box of the coordinates' "
-        "ranges, each proven, with its modes; the runtime's `codegen_multibody`) has no entry "
-        "in the caller's working memory: its stack holds the isolation's boxes and working "
-        "memory, both counted below. The firmware measures it on the example's parameters, "
-        "then `NAME_modes`, `NAME_receptance` and `NAME_box_enclosure` at the example's "
-        "first stable equilibrium.",
+        "Their analysis (every equilibrium in the box of the coordinates' ranges, each "
+        "proven, with its modes; the runtime's `codegen_multibody`) runs in the caller's "
+        "working memory (`NAME_analyze_work`, a static `NAME_workspace` here: the isolation's "
+        "boxes and working memory), or keeps one on its stack (`NAME_analyze`). The firmware "
+        "measures `NAME_analyze_work` on the example's parameters, then `NAME_modes`, "
+        "`NAME_receptance` and `NAME_box_enclosure` at the example's first stable "
+        "equilibrium.",
         "",
-        *render._table(["mechanism", "build", "analyze: stack, worst case [B]", "target [B]",
+        *render._table(["mechanism", "build", "analyze_work: stack, worst case [B]",
+                        "analyze (its own workspace) [B]", "target [B]",
                         "stack target", "measured high-water [B]", "analyze [instructions]",
                         "instructions target (double < 3 M, float < 500 k)",
                         "largest other public function [B]"], targets),

@@ -491,3 +491,20 @@ def test_a_ridge_of_zero_spring_length_is_refused_not_guessed():
     lib = load("flexible_doughty")
     with pytest.raises(lib.LibraryError, match="more equilibria or uncertain"):
         lib.analyze({**lib.EXAMPLE, "H": lib.EXAMPLE["a"]})
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_the_analysis_in_the_callers_memory_is_the_same_bit_for_bit(name):
+    """NAME_analyze_work (the workspace the caller's, for firmware) against NAME_analyze (its
+    own on the stack): the same result to the byte; a NULL workspace is refused."""
+    lib = load(name)
+    ffi, c, P = lib.ffi, lib.lib, lib.PREFIX
+    params = lib._c_params(lib.EXAMPLE)
+    own, callers = ffi.new(f"{P}_analysis *"), ffi.new(f"{P}_analysis *")
+    workspace = ffi.new(f"{P}_workspace *")
+    ffi.memmove(workspace, b"\xa5" * ffi.sizeof(workspace[0]), ffi.sizeof(workspace[0]))
+    assert getattr(c, f"{P}_analyze")(params, own) == lib.STATUS["OK"]
+    assert getattr(c, f"{P}_analyze_work")(params, callers, workspace) == lib.STATUS["OK"]
+    assert bytes(ffi.buffer(own)) == bytes(ffi.buffer(callers)) and own.n_equilibria > 0
+    assert (getattr(c, f"{P}_analyze_work")(params, callers, ffi.NULL)
+            == lib.STATUS["ERR_NULL_POINTER"])

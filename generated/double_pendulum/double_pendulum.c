@@ -886,18 +886,16 @@ double_pendulum_status double_pendulum_receptance(const double_pendulum_params *
     return DOUBLE_PENDULUM_OK;
 }
 
-double_pendulum_status double_pendulum_analyze(const double_pendulum_params *params, double_pendulum_analysis *result)
+double_pendulum_status double_pendulum_analyze_work(const double_pendulum_params *params, double_pendulum_analysis *result,
+                                   double_pendulum_workspace *workspace)
 {
-    codegen_real centre[DOUBLE_PENDULUM_N_DOF], work[CODEGEN_MB_WORK(DOUBLE_PENDULUM_N_DOF)];
-    codegen_real box_lo[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF], box_hi[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF];
-    codegen_real box_point[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF];
-    codegen_box_kind box_kind[DOUBLE_PENDULUM_BOXES];
+    codegen_real centre[DOUBLE_PENDULUM_N_DOF];
     codegen_boxes boxes;
     codegen_mb_result out;
     const int periodic[DOUBLE_PENDULUM_N_DOF] = { 0, 0 };
     double_pendulum_status status;
     int outcome;
-    if (result == NULL) {
+    if (result == NULL || workspace == NULL) {
         return DOUBLE_PENDULUM_ERR_NULL_POINTER;
     }
     status = double_pendulum_check_params(params);
@@ -910,10 +908,10 @@ double_pendulum_status double_pendulum_analyze(const double_pendulum_params *par
     }
     boxes.capacity = DOUBLE_PENDULUM_BOXES;
     boxes.count = 0;
-    boxes.lo = box_lo;
-    boxes.hi = box_hi;
-    boxes.point = box_point;
-    boxes.kind = box_kind;
+    boxes.lo = workspace->box_lo;
+    boxes.hi = workspace->box_hi;
+    boxes.point = workspace->box_point;
+    boxes.kind = workspace->box_kind;
     out.capacity = DOUBLE_PENDULUM_MAX_EQUILIBRIA;
     out.uncertain_capacity = DOUBLE_PENDULUM_MAX_UNCERTAIN;
     out.theta = result->theta;
@@ -930,10 +928,16 @@ double_pendulum_status double_pendulum_analyze(const double_pendulum_params *par
     out.uncertain_lo = result->uncertain_lo;
     out.uncertain_hi = result->uncertain_hi;
     out.uncertain_kind = result->uncertain_kind;
-    outcome = codegen_mb_analyze(&model, params, centre, periodic, &out, &boxes, work);
+    outcome = codegen_mb_analyze(&model, params, centre, periodic, &out, &boxes, workspace->work);
     result->n_equilibria = out.count;
     result->n_uncertain = out.uncertain_count;
     return outcome == 0 ? DOUBLE_PENDULUM_OK : DOUBLE_PENDULUM_ERR_CAPACITY;
+}
+
+double_pendulum_status double_pendulum_analyze(const double_pendulum_params *params, double_pendulum_analysis *result)
+{
+    double_pendulum_workspace workspace;
+    return double_pendulum_analyze_work(params, result, &workspace);
 }
 
 double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_pendulum_params *params,

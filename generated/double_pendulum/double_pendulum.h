@@ -204,6 +204,23 @@ typedef struct double_pendulum_analysis {
  * there are more than the result holds, or the isolation's budget ran out. */
 double_pendulum_status double_pendulum_analyze(const double_pendulum_params *params, double_pendulum_analysis *result);
 
+/* The working memory of double_pendulum_analyze besides its result: double_pendulum_analyze_work takes it
+ * from the caller (static or heap memory, one per thread at a time), so that the stack holds
+ * only the calls' frames (firmware); double_pendulum_analyze keeps one on its stack. Its contents
+ * on return are unspecified. */
+typedef struct double_pendulum_workspace {
+    codegen_real work[CODEGEN_MB_WORK(DOUBLE_PENDULUM_N_DOF)];   /* the isolation's and the modes' */
+    codegen_real box_lo[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF]; /* the isolation's boxes, before */
+    codegen_real box_hi[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF]; /* undecided neighbours merge */
+    codegen_real box_point[DOUBLE_PENDULUM_BOXES * DOUBLE_PENDULUM_N_DOF];
+    codegen_box_kind box_kind[DOUBLE_PENDULUM_BOXES];
+} double_pendulum_workspace;
+
+/* double_pendulum_analyze in the caller's working memory (NULL: DOUBLE_PENDULUM_ERR_NULL_POINTER): the
+ * same results, bit for bit. */
+double_pendulum_status double_pendulum_analyze_work(const double_pendulum_params *params, double_pendulum_analysis *result,
+                                   double_pendulum_workspace *workspace);
+
 /* double_pendulum_analyze for count parameter sets; statuses[i] is item i's. Returns the first
  * failure, else DOUBLE_PENDULUM_OK. */
 double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_pendulum_params *params,

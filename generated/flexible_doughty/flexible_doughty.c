@@ -1115,18 +1115,16 @@ flexible_doughty_status flexible_doughty_receptance(const flexible_doughty_param
     return FLEXIBLE_DOUGHTY_OK;
 }
 
-flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *params, flexible_doughty_analysis *result)
+flexible_doughty_status flexible_doughty_analyze_work(const flexible_doughty_params *params, flexible_doughty_analysis *result,
+                                   flexible_doughty_workspace *workspace)
 {
-    codegen_real centre[FLEXIBLE_DOUGHTY_N_DOF], work[CODEGEN_MB_WORK(FLEXIBLE_DOUGHTY_N_DOF)];
-    codegen_real box_lo[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF], box_hi[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF];
-    codegen_real box_point[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF];
-    codegen_box_kind box_kind[FLEXIBLE_DOUGHTY_BOXES];
+    codegen_real centre[FLEXIBLE_DOUGHTY_N_DOF];
     codegen_boxes boxes;
     codegen_mb_result out;
     const int periodic[FLEXIBLE_DOUGHTY_N_DOF] = { 1, 0 };
     flexible_doughty_status status;
     int outcome;
-    if (result == NULL) {
+    if (result == NULL || workspace == NULL) {
         return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
     }
     status = flexible_doughty_check_params(params);
@@ -1139,10 +1137,10 @@ flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *
     }
     boxes.capacity = FLEXIBLE_DOUGHTY_BOXES;
     boxes.count = 0;
-    boxes.lo = box_lo;
-    boxes.hi = box_hi;
-    boxes.point = box_point;
-    boxes.kind = box_kind;
+    boxes.lo = workspace->box_lo;
+    boxes.hi = workspace->box_hi;
+    boxes.point = workspace->box_point;
+    boxes.kind = workspace->box_kind;
     out.capacity = FLEXIBLE_DOUGHTY_MAX_EQUILIBRIA;
     out.uncertain_capacity = FLEXIBLE_DOUGHTY_MAX_UNCERTAIN;
     out.theta = result->theta;
@@ -1159,10 +1157,16 @@ flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *
     out.uncertain_lo = result->uncertain_lo;
     out.uncertain_hi = result->uncertain_hi;
     out.uncertain_kind = result->uncertain_kind;
-    outcome = codegen_mb_analyze(&model, params, centre, periodic, &out, &boxes, work);
+    outcome = codegen_mb_analyze(&model, params, centre, periodic, &out, &boxes, workspace->work);
     result->n_equilibria = out.count;
     result->n_uncertain = out.uncertain_count;
     return outcome == 0 ? FLEXIBLE_DOUGHTY_OK : FLEXIBLE_DOUGHTY_ERR_CAPACITY;
+}
+
+flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *params, flexible_doughty_analysis *result)
+{
+    flexible_doughty_workspace workspace;
+    return flexible_doughty_analyze_work(params, result, &workspace);
 }
 
 flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexible_doughty_params *params,

@@ -206,6 +206,23 @@ typedef struct flexible_doughty_analysis {
  * there are more than the result holds, or the isolation's budget ran out. */
 flexible_doughty_status flexible_doughty_analyze(const flexible_doughty_params *params, flexible_doughty_analysis *result);
 
+/* The working memory of flexible_doughty_analyze besides its result: flexible_doughty_analyze_work takes it
+ * from the caller (static or heap memory, one per thread at a time), so that the stack holds
+ * only the calls' frames (firmware); flexible_doughty_analyze keeps one on its stack. Its contents
+ * on return are unspecified. */
+typedef struct flexible_doughty_workspace {
+    codegen_real work[CODEGEN_MB_WORK(FLEXIBLE_DOUGHTY_N_DOF)];   /* the isolation's and the modes' */
+    codegen_real box_lo[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF]; /* the isolation's boxes, before */
+    codegen_real box_hi[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF]; /* undecided neighbours merge */
+    codegen_real box_point[FLEXIBLE_DOUGHTY_BOXES * FLEXIBLE_DOUGHTY_N_DOF];
+    codegen_box_kind box_kind[FLEXIBLE_DOUGHTY_BOXES];
+} flexible_doughty_workspace;
+
+/* flexible_doughty_analyze in the caller's working memory (NULL: FLEXIBLE_DOUGHTY_ERR_NULL_POINTER): the
+ * same results, bit for bit. */
+flexible_doughty_status flexible_doughty_analyze_work(const flexible_doughty_params *params, flexible_doughty_analysis *result,
+                                   flexible_doughty_workspace *workspace);
+
 /* flexible_doughty_analyze for count parameter sets; statuses[i] is item i's. Returns the first
  * failure, else FLEXIBLE_DOUGHTY_OK. */
 flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexible_doughty_params *params,

@@ -729,9 +729,9 @@ MB_ARRAYS = (("theta", "N_DOF"), ("lo", "N_DOF"), ("hi", "N_DOF"), ("omega_squar
 
 
 def multibody_firmware(name: str, spec: dict) -> str:
-    """The test firmware's main for a library with n coordinates: PREFIX_analyze on the
-    example parameters (its result static: the caller's memory; the analysis keeps its
-    working memory on its own stack, which the measurement includes), every equilibrium's
+    """The test firmware's main for a library with n coordinates: PREFIX_analyze_work on the
+    example parameters (its result and working memory static: the caller's, not the measured
+    stack), every equilibrium's
     coordinates, proven box, modes, stability and the undecided boxes printed exactly; then at
     the first stable equilibrium PREFIX_modes (the analysis' modes again, bit for bit),
     PREFIX_receptance at 0, the modes' frequencies between and beyond them (the frequency
@@ -844,8 +844,9 @@ def multibody_firmware(name: str, spec: dict) -> str:
               "    return failed;",
               "}", "",
               "int main(void)", "{",
-              "    /* The result is the caller's, not the measured stack. */",
+              "    /* The result and the working memory are the caller's, not the measured stack. */",
               f"    static {a} analysis;",
+              f"    static {prefix}_workspace workspace;",
               f"    {prefix}_params p;",
               f"    codegen_real centre[{n}];",
               "    measurement m;",
@@ -857,6 +858,7 @@ def multibody_firmware(name: str, spec: dict) -> str:
     heading = json.dumps(f"{name}: {spec['title']}, the example")
     lines += [f'    printf("%s\\n", {heading});',
               f'    printf("# sizeof({a}) %lu\\n", (unsigned long)sizeof analysis);',
+              f'    printf("# sizeof({prefix}_workspace) %lu\\n", (unsigned long)sizeof workspace);',
               '    printf("# libm fma rounds once: %d\\n", fma_rounds_once());',
               "    calibration = platform_calibration();",
               "    if (calibration != 0) {",
@@ -869,7 +871,7 @@ def multibody_firmware(name: str, spec: dict) -> str:
               '        show("centre", i, centre[i]);',
               "    }",
               "    measure_begin();",
-              f"    status = (int){prefix}_analyze(&p, &analysis);",
+              f"    status = (int){prefix}_analyze_work(&p, &analysis, &workspace);",
               "    measure_end(&m);",
               '    printf("analyze: status %d\\n", status);',
               '    measured("analyze", &m);',

@@ -349,7 +349,8 @@ def render_multibody(plan: MultibodyPlan, template_dir: Path,
     templates = {f"{prefix}.h": ("multibody.h.j2", "codegen_real"),
                  f"{prefix}.c": ("multibody.c.j2", "codegen_real"),
                  f"{prefix}.cdef": ("multibody.cdef.j2", "double")}
-    files = {name: env.get_template(template).render(template=template, real=real, **context)
+    files = {name: env.get_template(template).render(template=template, real=real,
+                                                     cdef=name.endswith(".cdef"), **context)
              for name, (template, real) in templates.items()}
     files[f"{prefix}_api.json"] = api_spec(plan)
     return files
