@@ -4,7 +4,7 @@
 # The wheel (and a non-editable install) also carries, inside the package, the C library of
 # every shipped mechanism and the templates, where codegen.resources finds them:
 #   generated/NAME/*, generated/runtime/*  ->  codegen/data/generated/...
-#   templates/*.j2, templates/runtime/*    ->  codegen/data/templates/...
+#   templates/*.j2, templates/runtime/*, templates/fmi/*  ->  codegen/data/templates/...
 # An editable install reads the checkout's own folders instead and copies nothing.
 from pathlib import Path
 
@@ -14,6 +14,8 @@ from setuptools.command.build_py import build_py
 LIBRARIES = sorted(p.name for p in Path("generated").iterdir()
                    if (p / f"{p.name}_api.json").is_file())
 RUNTIME = "runtime"
+#: The template subfolders shipped whole: the hand-written runtime and the FMI glue.
+TEMPLATE_FOLDERS = (RUNTIME, "fmi")
 #: What a library folder ships (not the objects a compiler may leave beside the sources).
 SHIPPED_SUFFIXES = (".c", ".h", ".cdef", ".json")
 
@@ -27,9 +29,10 @@ def data_files() -> list[tuple[Path, Path]]:
                 pairs.append((src, Path("data", "generated", folder, src.name)))
     for src in sorted(Path("templates").glob("*.j2")):
         pairs.append((src, Path("data", "templates", src.name)))
-    for src in sorted(Path("templates", RUNTIME).iterdir()):
-        if src.is_file():
-            pairs.append((src, Path("data", "templates", RUNTIME, src.name)))
+    for folder in TEMPLATE_FOLDERS:
+        for src in sorted(Path("templates", folder).iterdir()):
+            if src.is_file():
+                pairs.append((src, Path("data", "templates", folder, src.name)))
     return pairs
 
 

@@ -54,7 +54,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
     ("codegen.runtime.api",),
     # a user's model file generated, built and loaded: above both the compiler and the runtime
-    ("codegen.user_model",),
+    ("codegen.user_model", "codegen.fmu"),
     ("codegen.cli.*",),   # the verbs, what they share and report.py; codegen.cli (__init__) too
     ("codegen.__main__",),
     # the old paths of moved modules (codegen/api.py, codegen/analysis.py, ...): each aliases

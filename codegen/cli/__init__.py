@@ -1,7 +1,7 @@
 """The command line (``mechvib``, or ``python -m codegen`` in a checkout).
 
 One module per verb (analyze, generate, sources, list in ``listing``, params, sweep,
-branches, simulate, draw), each with ``add(verbs, prog)``, which declares its options, and ``run(args)``,
+branches, simulate, frf, draw, fmu), each with ``add(verbs, prog)``, which declares its options, and ``run(args)``,
 which carries it out and returns an exit status: 0 on success, 1 when a check fails, 2 for
 bad input; ``common`` has what they share. Errors are one line on stderr that names what was
 wrong; no traceback reaches the user.
@@ -15,10 +15,11 @@ from pathlib import Path
 
 from .. import __version__, files
 from ..runtime.figures import PlotUnavailable
-from . import analyze, branches, draw, frf, generate, listing, params, simulate, sources, sweep
+from . import (analyze, branches, draw, fmu, frf, generate, listing, params, simulate, sources,
+               sweep)
 
 #: The verbs, in the order --help lists them.
-VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, frf, draw)
+VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, frf, draw, fmu)
 
 DESCRIPTION = """\
 Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
@@ -41,7 +42,8 @@ examples:
   {prog} branches --vary F --from -200 --to 300 --plot f.png
                                               every equilibrium as F varies, folds located
   {prog} simulate --theta0 160 --to 2 --plot theta.png   the motion from 160 deg
-  {prog} frf --equilibrium 5 --plot frf.png   the frequency response about an equilibrium"""
+  {prog} frf --equilibrium 5 --plot frf.png   the frequency response about an equilibrium
+  {prog} fmu --out doughty.fmu                the mechanism as an FMU for simulators"""
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors: 'PROG: error: MESSAGE (see PROG --help)'."""

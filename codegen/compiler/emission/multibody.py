@@ -11,7 +11,7 @@ import sympy as sp
 
 from ..derivation.multibody import Multibody
 from .interval import IntervalBody, interval_body
-from .plan import CFunction, Input, Output, Plan
+from .plan import CFunction, Input, Output, Plan, loads_of
 
 #: Room in an analysis for proven equilibria and for the boxes it cannot decide.
 EQUILIBRIUM_CAPACITY = 32
@@ -82,7 +82,7 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
     box = interval_body([*d.generalised_force, *d.stiffness], names,
                         {t.name for t in d.theta}, "iv_flags", d.program)
     return MultibodyPlan(
-        prefix=m.name, title=m.title or m.name,
+        prefix=m.name, title=m.title or m.name, points=tuple(d.points), loads=loads_of(user),
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
                          for p in user.parameters),
         fields=_fields(d),

@@ -51,6 +51,18 @@ class CFunction:
         return written_out(self.definitions, exprs)
 
 
+def loads_of(mechanism) -> tuple[str, ...]:
+    """The parameters that are the magnitude of a load (a torque, or one component of a
+    force) and nothing else: what a simulator may drive as an input."""
+    found = []
+    for value in ([t.torque for t in mechanism.torques]
+                  + [c for f in mechanism.forces for c in f.force]):
+        symbol = sp.sympify(value)
+        if symbol.is_Symbol and symbol.name not in found:
+            found.append(symbol.name)
+    return tuple(found)
+
+
 @dataclass(frozen=True)
 class Status:
     suffix: str   # the C enum name without the PREFIX_ part
@@ -117,6 +129,8 @@ class Plan:
     # Each parameter's symbol in the expressions and its field of PREFIX_params (the name
     # the user gave it), in order; they differ where the user's name clashes (derivation/names)
     fields: tuple[tuple[str, str], ...] = ()
+    points: tuple[str, ...] = ()       # the named points, in the order of their outputs
+    loads: tuple[str, ...] = ()        # the parameters that are a load's magnitude (inputs)
 
     @property
     def reads(self) -> tuple[tuple[str, str], ...]:
@@ -334,6 +348,8 @@ def build_plan(d: Derivation) -> Plan:
     return Plan(
         prefix=m.name,
         title=m.title or m.name,
+        points=tuple(kin.point_positions),
+        loads=loads_of(d.user),
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)
                          for p in d.user.parameters),
         fields=tuple((p.symbol.name, u.symbol.name)

@@ -317,6 +317,8 @@ def api_spec(plan: Plan) -> str:
         "functions": [{"name": f.name, "summary": f.summary, "equation": f.equation,
                        "inputs": [arg(a) for a in f.inputs],
                        "outputs": [arg(o) for o in f.outputs]} for f in plan.functions],
+        "points": list(plan.points),
+        "loads": list(plan.loads),
     }
     if isinstance(plan, MultibodyPlan):  # n coordinates, each with its range
         spec |= {"dof": plan.n, "range_centre": list(plan.centres), "periodic": list(plan.periodics),

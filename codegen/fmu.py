@@ -1,0 +1,209 @@
+"""A mechanism's library as a Functional Mock-up Unit: FMI 2.0, Model Exchange and
+Co-Simulation in one unit, with its C sources and the binary for this platform.
+
+``write_fmu(library, path)`` writes NAME.fmu, a zip of
+- ``modelDescription.xml``: every parameter (tunable, the model's example as its start), the
+  states theta and theta_d with their derivatives, an input per load parameter (added to
+  it: a controller drives the load), and as outputs each named point's x and y and the
+  kinetic and potential energies, with names, units and descriptions from the model;
+- ``sources/``: the library's C (NAME.c and the runtime), the FMI glue written once
+  (templates/fmi/codegen_fmi2.c) and the FMU's own descriptor, NAME_fmi2.c, rendered here;
+- ``binaries/linux64/NAME.so``, compiled from those sources (against FMI 2.0's standard
+  headers, which fmpy ships: ``pip install 'mechvib[fmu]'``).
+The initial state is an equilibrium of the analysis at rest (the first stable one, or the
+one ``equilibrium`` indexes). A mechanism with several coordinates has no FMU yet.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import platform
+import shutil
+import subprocess
+import tempfile
+import zipfile
+from pathlib import Path
+from typing import Any
+
+from . import files, resources
+from .compiler.emission.render import environment
+
+#: Sources of the FMI glue, beside the library's.
+GLUE = ("codegen_fmi2.c", "codegen_fmi2.h")
+#: A fixed time stamp for the zip's entries: the same FMU, byte for byte, from the same model.
+STAMP = (2020, 1, 1, 0, 0, 0)
+
+
+class FmuError(ValueError):
+    """What stops an FMU from being written, in one line."""
+
+
+def fmi_headers() -> Path:
+    """FMI 2.0's standard headers (fmi2Functions.h and its two includes), as fmpy ships them."""
+    try:
+        import fmpy
+    except ImportError:
+        raise FmuError("writing an FMU needs FMI's headers, which fmpy ships: "
+                       "pip install 'mechvib[fmu]'") from None
+    return Path(fmpy.__file__).parent / "c-code"
+
+
+def library_sources(library: Any) -> tuple[Path, Path]:
+    """The folders of a library's own C and of the runtime it was built with."""
+    origin = library.origin
+    if origin and origin[0] == "load_from":
+        root = Path(origin[1])
+    else:
+        root = resources.generated()
+    return root / library.PREFIX, root / "runtime"
+
+
+def _variables(library: Any, theta0: float) -> tuple[list[dict], dict]:
+    """The ScalarVariables in value-reference order (codegen_fmi2.h's layout), and the
+    indices (from 1) the ModelStructure lists."""
+    spec, P = library.SPEC, len(library.PARAMETER_NAMES)
+    angle = next(f for f in spec["functions"] if f["name"] == "angular_acceleration")
+    unit = "rad" if "[rad" in angle["inputs"][0]["description"] else "m"
+    var: list[dict] = []
+
+    def add(name, causality, variability, description, unit=None, start=None, initial=None,
+            derivative=None):
+        var.append({"name": name, "vr": len(var), "causality": causality,
+                    "variability": variability, "description": description, "unit": unit,
+                    "start": None if start is None else repr(float(start)),
+                    "initial": initial, "derivative": derivative})
+        return len(var)
+
+    for p in spec["parameters"]:
+        add(p["name"], "parameter", "tunable", p["description"], p["unit"], p["example"], "exact")
+    state = add("theta", "local", "continuous", "the independent coordinate", unit, theta0,
+                "exact")
+    rate = add("theta_d", "local", "continuous", "its rate", f"{unit}/s", 0.0, "exact")
+    derivatives = [add("der(theta)", "local", "continuous", "d theta/dt", f"{unit}/s",
+                       derivative=state, initial="calculated"),
+                   add("der(theta_d)", "local", "continuous", "d theta_d/dt", f"{unit}/s2",
+                       derivative=rate, initial="calculated")]
+    units = dict((p["name"], p["unit"]) for p in spec["parameters"])
+    for load in spec["loads"]:
+        add(f"{load}_input", "input", "continuous",
+            f"added to the parameter {load}: a load a controller drives", units[load], 0.0)
+    outputs = []
+    for point in spec["points"]:
+        for axis in "xy":
+            outputs.append(add(f"{point}.{axis}", "output", "continuous",
+                               f"{axis} of the point {point}", "m", initial="calculated"))
+    outputs.append(add("kinetic_energy", "output", "continuous", "kinetic energy T", "J",
+                       initial="calculated"))
+    outputs.append(add("potential_energy", "output", "continuous",
+                       "potential energy V (gravity and springs)", "J", initial="calculated"))
+    assert len(var) == P + 4 + len(spec["loads"]) + len(outputs)
+    return var, {"outputs": outputs, "derivatives": derivatives,
+                 "initial_unknowns": sorted(outputs + derivatives)}
+
+
+def _start_angle(library: Any, equilibrium: int | None) -> float:
+    """The initial angle: an equilibrium of the example at rest (the first stable one, or
+    the one ``equilibrium`` indexes in the analysis' list)."""
+    found = library.analyze(None).equilibria
+    if equilibrium is not None:
+        if not 0 <= equilibrium < len(found):
+            raise FmuError(f"--equilibrium {equilibrium}: the example has {len(found)} "
+                           f"equilibria (0 to {len(found) - 1})")
+        return float(found[equilibrium].theta)
+    stable = [e for e in found if e.stability == "stable"]
+    return float((stable or found)[0].theta) if found else 0.0
+
+
+def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None) -> Path:
+    """NAME.fmu for a library (see the module docstring); the path written."""
+    from . import __version__
+
+    if library.dof > 1:
+        raise FmuError(f"{library.PREFIX} has {library.dof} coordinates: FMUs are written "
+                       "for mechanisms with one coordinate so far")
+    path = Path(path)
+    if path.suffix != ".fmu":
+        raise FmuError(f"{path}: an FMU's name ends in .fmu")
+    headers = fmi_headers()
+    own, runtime = library_sources(library)
+    prefix = library.PREFIX
+    theta0 = _start_angle(library, equilibrium)
+    variables, structure = _variables(library, theta0)
+    units = sorted({v["unit"] for v in variables if v["unit"]})
+    env = environment(str(resources.templates() / "fmi"))
+    sources = (sorted(p.name for p in own.glob("*.c")) + [f"{prefix}_fmi2.c", "codegen_fmi2.c"]
+               + sorted(p.name for p in runtime.glob("*.c")))
+    context = {"prefix": prefix, "PREFIX": prefix.upper(), "title": library.TITLE,
+               "version": __version__, "sources": sources, "units": units,
+               "variables": variables, **structure}
+    body = env.get_template("modelDescription2.xml.j2").render(guid="{GUID}", **context)
+    guid = "{" + str(_uuid_of(body)) + "}"
+    description = body.replace("{GUID}", guid)
+    index = {p: i for i, p in enumerate(library.PARAMETER_NAMES)}
+    part = env.get_template("model_fmi2.c.j2").render(
+        guid=guid, starts=[repr(float(library.EXAMPLE[n])) for n in library.PARAMETER_NAMES],
+        loads=[index[name] for name in library.SPEC["loads"]],
+        n_outputs=2 * len(library.SPEC["points"]) + 2, **context)
+    with tempfile.TemporaryDirectory() as work:
+        folder = Path(work) / "sources"
+        folder.mkdir()
+        for source in [*own.glob("*.[ch]"), *runtime.glob("*.[ch]"),
+                       *(resources.templates() / "fmi" / name for name in GLUE)]:
+            shutil.copy(source, folder / source.name)
+        (folder / f"{prefix}_fmi2.c").write_text(part)
+        binary = Path(work) / f"{prefix}.so"
+        _compile(folder, sources, headers, binary)
+        entries = {"modelDescription.xml": description.encode(),
+                   f"binaries/{_platform()}/{prefix}.so": binary.read_bytes()}
+        entries |= {f"sources/{p.name}": p.read_bytes() for p in sorted(folder.iterdir())}
+        entries["documentation/index.txt"] = _readme(library, theta0).encode()
+        archive = _zip(entries)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with files.replacing(path) as scratch:   # atomically: never a truncated FMU
+        scratch.write_bytes(archive)
+    return path
+
+
+def _uuid_of(text: str) -> str:
+    digest = hashlib.sha256(text.encode()).hexdigest()
+    return f"{digest[:8]}-{digest[8:12]}-{digest[12:16]}-{digest[16:20]}-{digest[20:32]}"
+
+
+def _platform() -> str:
+    if platform.system() != "Linux" or platform.machine() not in ("x86_64", "AMD64"):
+        raise FmuError(f"binaries for {platform.system()} {platform.machine()} are not built "
+                       "yet (linux64 only); the FMU's sources build anywhere")
+    return "linux64"
+
+
+def _compile(folder: Path, sources: list[str], headers: Path, binary: Path) -> None:
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        raise FmuError("no C compiler (cc) to build the FMU's binary")
+    command = [cc, "-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden",
+               f"-I{folder}", f"-I{headers}", *(str(folder / s) for s in sources),
+               "-lm", "-o", str(binary)]
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise FmuError(f"the FMU's binary did not build: {done.stderr.strip()[-500:]}")
+
+
+def _zip(entries: dict[str, bytes]) -> bytes:
+    import io
+
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name in sorted(entries):
+            info = zipfile.ZipInfo(name, STAMP)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            archive.writestr(info, entries[name])
+    return buffer.getvalue()
+
+
+def _readme(library: Any, theta0: float) -> str:
+    return (f"{library.TITLE}: an FMU written by mechvib (FMI 2.0, Model Exchange and "
+            f"Co-Simulation).\nInitial state: theta = {theta0!r} rad "
+            f"({math.degrees(theta0):.6g} deg), at rest.\nParameters (SI units): "
+            + json.dumps(library.EXAMPLE) + "\n")
