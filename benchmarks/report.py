@@ -218,6 +218,18 @@ def multibody_table(results: dict[str, dict[str, Any]]) -> str:
                   "`codegen_mb_modes` on M, B, K [ns]", "target < 2 us (mean)"], rows)
 
 
+def fmu_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 9: the FMU's Co-Simulation against `mechvib simulate`."""
+    rows = [[f"`{name}`", str(x["points"]), num(x["fmu_command_ms"]), num(x["cli_command_ms"]),
+             num(x["command_ratio"]), met(x["command_met"]), num(x["fmu_call_ms"]),
+             num(x["library_call_ms"]), num(x["call_ratio"]), met(x["call_met"]),
+             sci(x["theta_max_diff"])] for name, x in results.items()]
+    return table(["mechanism", "output points", "fmpy CS, command [ms]",
+                  "`mechvib simulate`, command [ms]", "ratio", "target <= 2x",
+                  "fmpy CS, in process [ms]", "`Library.simulate` [ms]", "ratio",
+                  "target <= 2x", "theta: max difference [rad]"], rows)
+
+
 def machine_table(info: dict[str, Any]) -> str:
     load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
     rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
@@ -299,18 +311,26 @@ SECTIONS = (
      "`codegen_mb_modes` on M, B and K computed beforehand. Issue 31's targets: multistart "
      "/ C >= {speedup_target:g}, finding nothing the library misses; the modal analysis at "
      "one equilibrium under {modes_target_ns:g} ns."),
-    ("9. Machine", ""),
+    ("9. The FMU",
+     "`mechvib fmu`'s FMI 2.0 FMU of the example, Co-Simulation through fmpy for {fmu_span:g} s "
+     "at {fmu_step:g} s communication steps from theta = {fmu_theta0:g} rad at rest, against "
+     "`mechvib simulate` at the same output times: as whole commands (a new process each: "
+     "`python -c \"fmpy.simulate_fmu(...)\"` and `mechvib simulate --out FILE.csv`), and "
+     "in one process (`fmpy.simulate_fmu` on the extracted FMU against `Library.simulate`). "
+     "Issue 32's target: the FMU within {fmu_target:g}x of `mechvib simulate`."),
+    ("10. Machine", ""),
 )
 
 
 def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
              info: dict[str, Any], config: dict[str, Any],
-             multibody: dict[str, dict[str, Any]]) -> str:
-    """The whole of results.md (``multibody``: section 8's results)."""
+             multibody: dict[str, dict[str, Any]], fmu: dict[str, dict[str, Any]]) -> str:
+    """The whole of results.md (``multibody``: section 8's results, ``fmu`` section 9's)."""
     tables = (analysis_table(results), kernels_table(results), roots_table(results),
               accuracy_table(results), generate_table(generate, results),
               branches_table(results),
-              simulate_table(results), multibody_table(multibody), machine_table(info))
+              simulate_table(results), multibody_table(multibody), fmu_table(fmu),
+              machine_table(info))
     head = ("# `make bench` results\n\n"
             "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
             f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "

@@ -17,7 +17,8 @@ seed), medians of several repeats:
 8. the mechanisms with several coordinates: the C analysis against a scipy multistart, and
    the modal analysis at one equilibrium (benchmarks/multibody.py; sections 1-7 take the
    mechanisms with one coordinate);
-9. the machine, its load, the compiler, the date and the commit.
+9. the FMU: Co-Simulation through fmpy against `mechvib simulate` (benchmarks/fmu.py);
+10. the machine, its load, the compiler, the date and the commit.
 
 Writes results.md and results.json (into benchmarks/, or --out) and prints the tables.
 ``--quick`` is a smoke run of a few seconds per mechanism (the derivations dominate).
@@ -44,6 +45,7 @@ import numpy as np
 import accuracy
 import branch_timing
 import driver
+import fmu
 import multibody
 import pipeline
 import report
@@ -267,6 +269,10 @@ def main(argv: list[str] | None = None) -> int:
             progress(f"{m.name}: C analysis against a scipy multistart")
             multibody_results[m.name] = multibody.measure(m, sizes.repeats, sizes.min_seconds,
                                                           median_seconds)
+    fmu_results = {}
+    if "doughty" in selected:
+        progress("doughty: the FMU's Co-Simulation against mechvib simulate")
+        fmu_results["doughty"] = fmu.measure(load("doughty"), sizes.repeats)
     generate = time_generate(sizes.generate)
     info = {**report.machine(driver.ROOT, driver.compiler_version()),
             "cflags": " ".join(driver.CFLAGS), "load_before": load_before,
@@ -277,13 +283,15 @@ def main(argv: list[str] | None = None) -> int:
               "genuine_tolerance": pipeline.GENUINE, "real_tolerance": pipeline.REAL,
               "offset": simulate.OFFSET, "span": simulate.SPAN, "points": simulate.POINTS,
               "rtol": simulate.RTOL, "atol": simulate.ATOL, **multibody.config(),
+              "fmu_span": fmu.SPAN, "fmu_step": fmu.STEP, "fmu_theta0": fmu.THETA0,
+              "fmu_target": fmu.TARGET,
               "note": " (--quick: a smoke run, not for quoting)" if args.quick else ""}
-    text = report.markdown(results, generate, info, config, multibody_results)
+    text = report.markdown(results, generate, info, config, multibody_results, fmu_results)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "results.md").write_text(text)
     (args.out / "results.json").write_text(json.dumps(
         {"config": config, "machine": info, "generate": generate, "mechanisms": results,
-         "multibody": multibody_results},
+         "multibody": multibody_results, "fmu": fmu_results},
         indent=2) + "\n")
     print(text)
     return 0
