@@ -23,10 +23,10 @@ def run(args) -> int:
 
     library = common.load_library(args)
     path = write_fmu(library, args.out, args.equilibrium)
+    inputs, outputs = len(library.SPEC["loads"]), 2 * len(library.SPEC["points"]) + 2
     print(paragraph(f"Wrote {path}: an FMI 2.0 FMU (Model Exchange and Co-Simulation) of "
                     f"{library.TITLE}, with {len(library.PARAMETER_NAMES)} parameters, "
-                    f"{len(library.SPEC['loads'])} inputs and "
-                    f"{2 * len(library.SPEC['points']) + 2} outputs."))
+                    f"{inputs} input{'' if inputs == 1 else 's'} and {outputs} outputs."))
     return 0
 
 
