@@ -11,13 +11,13 @@ Co-Simulation in one unit, with its C sources and the binary for this platform.
 - ``binaries/linux64/NAME.so``, compiled from those sources (against FMI 2.0's standard
   headers, which fmpy ships: ``pip install 'mechvib[fmu]'``).
 The initial state is an equilibrium of the analysis at rest (the first stable one, or the
-one ``equilibrium`` indexes). A mechanism with several coordinates has no FMU yet.
+one ``equilibrium`` indexes). A mechanism with several coordinates has a state per
+coordinate and rate, named after its coordinates (``theta_1``, ``theta_1_d``).
 """
 from __future__ import annotations
 
 import hashlib
 import json
-import math
 import platform
 import shutil
 import subprocess
@@ -25,6 +25,8 @@ import tempfile
 import zipfile
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from . import files, resources
 from .compiler.emission.render import environment
@@ -59,12 +61,20 @@ def library_sources(library: Any) -> tuple[Path, Path]:
     return root / library.PREFIX, root / "runtime"
 
 
-def _variables(library: Any, theta0: float) -> tuple[list[dict], dict]:
+def _coordinates(library: Any) -> list[tuple[str, str, str]]:
+    """Each independent coordinate's variable name, unit and description."""
+    spec = library.SPEC
+    if library.dof > 1:
+        return [(c["name"], c["unit"], c["description"]) for c in spec["coordinates"]]
+    angle = next(f for f in spec["functions"] if f["name"] == "angular_acceleration")
+    unit = "rad" if "[rad" in angle["inputs"][0]["description"] else "m"
+    return [("theta", unit, "the independent coordinate")]
+
+
+def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
     """The ScalarVariables in value-reference order (codegen_fmi2.h's layout), and the
     indices (from 1) the ModelStructure lists."""
     spec, P = library.SPEC, len(library.PARAMETER_NAMES)
-    angle = next(f for f in spec["functions"] if f["name"] == "angular_acceleration")
-    unit = "rad" if "[rad" in angle["inputs"][0]["description"] else "m"
     var: list[dict] = []
 
     def add(name, causality, variability, description, unit=None, start=None, initial=None,
@@ -77,13 +87,14 @@ def _variables(library: Any, theta0: float) -> tuple[list[dict], dict]:
 
     for p in spec["parameters"]:
         add(p["name"], "parameter", "tunable", p["description"], p["unit"], p["example"], "exact")
-    state = add("theta", "local", "continuous", "the independent coordinate", unit, theta0,
-                "exact")
-    rate = add("theta_d", "local", "continuous", "its rate", f"{unit}/s", 0.0, "exact")
-    derivatives = [add("der(theta)", "local", "continuous", "d theta/dt", f"{unit}/s",
-                       derivative=state, initial="calculated"),
-                   add("der(theta_d)", "local", "continuous", "d theta_d/dt", f"{unit}/s2",
-                       derivative=rate, initial="calculated")]
+    coordinates = _coordinates(library)
+    states = [add(name, "local", "continuous", description, unit, x0, "exact")
+              for (name, unit, description), x0 in zip(coordinates, start)]
+    rates = [add(f"{name}_d", "local", "continuous", f"the rate of {name}", f"{unit}/s", 0.0,
+                 "exact") for name, unit, _ in coordinates]
+    derivatives = [add(f"der({var[i - 1]['name']})", "local", "continuous",
+                       f"d {var[i - 1]['name']}/dt", f"{var[i - 1]['unit']}/s",
+                       derivative=i, initial="calculated") for i in states + rates]
     units = dict((p["name"], p["unit"]) for p in spec["parameters"])
     for load in spec["loads"]:
         add(f"{load}_input", "input", "continuous",
@@ -97,38 +108,39 @@ def _variables(library: Any, theta0: float) -> tuple[list[dict], dict]:
                        initial="calculated"))
     outputs.append(add("potential_energy", "output", "continuous",
                        "potential energy V (gravity and springs)", "J", initial="calculated"))
-    assert len(var) == P + 4 + len(spec["loads"]) + len(outputs)
+    assert len(var) == P + 4 * library.dof + len(spec["loads"]) + len(outputs)
     return var, {"outputs": outputs, "derivatives": derivatives,
                  "initial_unknowns": sorted(outputs + derivatives)}
 
 
-def _start_angle(library: Any, equilibrium: int | None) -> float:
-    """The initial angle: an equilibrium of the example at rest (the first stable one, or
-    the one ``equilibrium`` indexes in the analysis' list)."""
+def _start_state(library: Any, equilibrium: int | None) -> list[float]:
+    """The initial coordinates: an equilibrium of the example at rest (the first stable
+    one, or the one ``equilibrium`` indexes in the analysis' list)."""
     found = library.analyze(None).equilibria
     if equilibrium is not None:
         if not 0 <= equilibrium < len(found):
             raise FmuError(f"--equilibrium {equilibrium}: the example has {len(found)} "
                            f"equilibria (0 to {len(found) - 1})")
-        return float(found[equilibrium].theta)
-    stable = [e for e in found if e.stability == "stable"]
-    return float((stable or found)[0].theta) if found else 0.0
+        chosen = found[equilibrium]
+    else:
+        stable = [e for e in found if e.stability == "stable"]
+        chosen = (stable or found or [None])[0]
+    if chosen is None:
+        return [0.0] * library.dof
+    return [float(x) for x in np.atleast_1d(chosen.theta)]
 
 
 def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None) -> Path:
     """NAME.fmu for a library (see the module docstring); the path written."""
     from . import __version__
 
-    if library.dof > 1:
-        raise FmuError(f"{library.PREFIX} has {library.dof} coordinates: FMUs are written "
-                       "for mechanisms with one coordinate so far")
     path = Path(path)
     if path.suffix != ".fmu":
         raise FmuError(f"{path}: an FMU's name ends in .fmu")
     headers = fmi_headers()
     own, runtime = library_sources(library)
     prefix = library.PREFIX
-    theta0 = _start_angle(library, equilibrium)
+    theta0 = _start_state(library, equilibrium)
     variables, structure = _variables(library, theta0)
     units = sorted({v["unit"] for v in variables if v["unit"]})
     env = environment(str(resources.templates() / "fmi"))
@@ -144,7 +156,7 @@ def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None) ->
     part = env.get_template("model_fmi2.c.j2").render(
         guid=guid, starts=[repr(float(library.EXAMPLE[n])) for n in library.PARAMETER_NAMES],
         loads=[index[name] for name in library.SPEC["loads"]],
-        n_outputs=2 * len(library.SPEC["points"]) + 2, **context)
+        n_outputs=2 * len(library.SPEC["points"]) + 2, dof=library.dof, **context)
     with tempfile.TemporaryDirectory() as work:
         folder = Path(work) / "sources"
         folder.mkdir()
@@ -202,8 +214,9 @@ def _zip(entries: dict[str, bytes]) -> bytes:
     return buffer.getvalue()
 
 
-def _readme(library: Any, theta0: float) -> str:
+def _readme(library: Any, start: list[float]) -> str:
+    state = ", ".join(f"{name} = {x!r} {unit}" for (name, unit, _), x in
+                      zip(_coordinates(library), start))
     return (f"{library.TITLE}: an FMU written by mechvib (FMI 2.0, Model Exchange and "
-            f"Co-Simulation).\nInitial state: theta = {theta0!r} rad "
-            f"({math.degrees(theta0):.6g} deg), at rest.\nParameters (SI units): "
+            f"Co-Simulation).\nInitial state, at rest: {state}.\nParameters (SI units): "
             + json.dumps(library.EXAMPLE) + "\n")

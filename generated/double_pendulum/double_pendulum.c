@@ -17,6 +17,7 @@ void double_pendulum_damping_matrix_kernel(const double_pendulum_params *params,
 void double_pendulum_velocity_terms_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], const codegen_real theta_d[DOUBLE_PENDULUM_N_DOF], codegen_real out[2]);
 void double_pendulum_generalised_force_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real out[2]);
 void double_pendulum_stiffness_matrix_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real out[4]);
+void double_pendulum_points_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real out[4]);
 void double_pendulum_energies_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], const codegen_real theta_d[DOUBLE_PENDULUM_N_DOF], codegen_real out[2]);
 
 static int all_finite(const codegen_real *values, int count)
@@ -416,6 +417,51 @@ double_pendulum_status double_pendulum_stiffness_matrix(const double_pendulum_pa
     return DOUBLE_PENDULUM_OK;
 }
 
+/* points without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (12), n coordinates. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 11. */
+void double_pendulum_points_kernel(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real out[4])
+{
+    (void)params;
+    (void)theta;
+    {
+        const codegen_real l_1 = params->l_1;
+        const codegen_real theta_1 = theta[0];
+        const codegen_real tmp0 = l_1*codegen_cos(theta_1);
+        const codegen_real tmp1 = l_1*codegen_sin(theta_1);
+        const codegen_real delta = theta[1];
+        const codegen_real tmp2 = delta + theta_1;
+        const codegen_real l_2 = params->l_2;
+        out[0] = tmp0;
+        out[1] = tmp1;
+        out[2] = l_2*codegen_cos(tmp2) + tmp0;
+        out[3] = l_2*codegen_sin(tmp2) + tmp1;
+    }
+}
+
+/* points: eq. (12), n coordinates. */
+double_pendulum_status double_pendulum_points(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real positions[DOUBLE_PENDULUM_N_POINT_COORDS])
+{
+    codegen_real out[4];
+    double_pendulum_status status;
+    if (theta == NULL || positions == NULL) {
+        return DOUBLE_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = double_pendulum_check_params(params);
+    if (status != DOUBLE_PENDULUM_OK) {
+        return status;
+    }
+    if (!all_finite(theta, DOUBLE_PENDULUM_N_DOF)) {
+        return DOUBLE_PENDULUM_ERR_NONFINITE;
+    }
+    double_pendulum_points_kernel(params, theta, out);
+    if (!all_finite(out, 4)) {
+        return DOUBLE_PENDULUM_ERR_OVERFLOW;
+    }
+    copy_out(positions, out + 0, 4);
+    return DOUBLE_PENDULUM_OK;
+}
+
 /* energies without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (16)-(21). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 80. */
@@ -571,6 +617,22 @@ double_pendulum_status double_pendulum_stiffness_matrix_batch(size_t count, cons
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = double_pendulum_stiffness_matrix(&params[i], &theta[i * DOUBLE_PENDULUM_N_DOF], &K[i * DOUBLE_PENDULUM_N_MATRIX]);
+        if (first == DOUBLE_PENDULUM_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+double_pendulum_status double_pendulum_points_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, codegen_real *positions, double_pendulum_status *statuses)
+{
+    size_t i;
+    double_pendulum_status first = DOUBLE_PENDULUM_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || positions == NULL) {
+        return DOUBLE_PENDULUM_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = double_pendulum_points(&params[i], &theta[i * DOUBLE_PENDULUM_N_DOF], &positions[i * DOUBLE_PENDULUM_N_POINT_COORDS]);
         if (first == DOUBLE_PENDULUM_OK) {
             first = statuses[i];
         }
@@ -955,6 +1017,30 @@ double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_
         }
     }
     return first;
+}
+
+double_pendulum_status double_pendulum_accelerations(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
+                                    const codegen_real theta_d[DOUBLE_PENDULUM_N_DOF],
+                                    codegen_real theta_dd[DOUBLE_PENDULUM_N_DOF])
+{
+    codegen_real work[CODEGEN_MB_ACCELERATIONS_WORK(DOUBLE_PENDULUM_N_DOF)], values[DOUBLE_PENDULUM_N_DOF];
+    double_pendulum_status status;
+    if (theta == NULL || theta_d == NULL || theta_dd == NULL) {
+        return DOUBLE_PENDULUM_ERR_NULL_POINTER;
+    }
+    status = double_pendulum_check_params(params);
+    if (status != DOUBLE_PENDULUM_OK) {
+        return status;
+    }
+    if (!all_finite(theta, DOUBLE_PENDULUM_N_DOF) || !all_finite(theta_d, DOUBLE_PENDULUM_N_DOF)) {
+        return DOUBLE_PENDULUM_ERR_NONFINITE;
+    }
+    if (codegen_mb_accelerations(&model, params, theta, theta_d, values, work) != CODEGEN_ODE_OK
+        || !all_finite(values, DOUBLE_PENDULUM_N_DOF)) {
+        return DOUBLE_PENDULUM_ERR_SINGULAR_STATE;
+    }
+    copy_out(theta_dd, values, DOUBLE_PENDULUM_N_DOF);
+    return DOUBLE_PENDULUM_OK;
 }
 
 double_pendulum_status double_pendulum_simulate(const double_pendulum_params *params, const codegen_real theta0[DOUBLE_PENDULUM_N_DOF],

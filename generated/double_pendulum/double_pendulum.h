@@ -32,6 +32,7 @@ extern "C" {
 #define DOUBLE_PENDULUM_N_EIGENVALUES 4
 #define DOUBLE_PENDULUM_N_MATRIX 4
 #define DOUBLE_PENDULUM_N_PARAMS 13
+#define DOUBLE_PENDULUM_N_POINT_COORDS 4
 #define DOUBLE_PENDULUM_BOX_SLOTS 25 /* the box enclosure's interval slots */
 
 /* Status codes: DOUBLE_PENDULUM_OK is zero; double_pendulum_status_message() explains the others. */
@@ -126,6 +127,14 @@ double_pendulum_status double_pendulum_generalised_force(const double_pendulum_p
  */
 double_pendulum_status double_pendulum_stiffness_matrix(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real K[DOUBLE_PENDULUM_N_MATRIX]);
 
+/* Positions of the points A, B (x, y for each).
+ * Paper: eq. (12), n coordinates.
+ * in  theta: the independent coordinates: theta_1 [rad], delta [rad]
+ * out positions: x, y of each point [m]
+ * Returns DOUBLE_PENDULUM_OK; DOUBLE_PENDULUM_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+double_pendulum_status double_pendulum_points(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF], codegen_real positions[DOUBLE_PENDULUM_N_POINT_COORDS]);
+
 /* Kinetic energy T and potential V (springs, gravity and the constant loads' work, up to a constant).
  * Paper: eq. (16)-(21).
  * in  theta: the independent coordinates: theta_1 [rad], delta [rad]
@@ -145,6 +154,7 @@ double_pendulum_status double_pendulum_damping_matrix_batch(size_t count, const 
 double_pendulum_status double_pendulum_velocity_terms_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *h, double_pendulum_status *statuses);
 double_pendulum_status double_pendulum_generalised_force_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, codegen_real *G, double_pendulum_status *statuses);
 double_pendulum_status double_pendulum_stiffness_matrix_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, codegen_real *K, double_pendulum_status *statuses);
+double_pendulum_status double_pendulum_points_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, codegen_real *positions, double_pendulum_status *statuses);
 double_pendulum_status double_pendulum_energies_batch(size_t count, const double_pendulum_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *T, codegen_real *V, double_pendulum_status *statuses);
 
 /* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about alpha_1; delta about alpha_2.
@@ -225,6 +235,14 @@ double_pendulum_status double_pendulum_analyze_work(const double_pendulum_params
  * failure, else DOUBLE_PENDULUM_OK. */
 double_pendulum_status double_pendulum_analyze_batch(size_t count, const double_pendulum_params *params,
                                     double_pendulum_analysis *results, double_pendulum_status *statuses);
+
+/* thetaddot of M thetaddot + h + B thetadot + G = 0 at a state (the runtime's Cholesky solve),
+ * [rad/s^2 or m/s^2]. Returns DOUBLE_PENDULUM_OK; DOUBLE_PENDULUM_ERR_NULL_POINTER; the parameters' status;
+ * DOUBLE_PENDULUM_ERR_NONFINITE (an input not finite); DOUBLE_PENDULUM_ERR_SINGULAR_STATE (M not positive
+ * definite, or a value not finite). */
+double_pendulum_status double_pendulum_accelerations(const double_pendulum_params *params, const codegen_real theta[DOUBLE_PENDULUM_N_DOF],
+                                    const codegen_real theta_d[DOUBLE_PENDULUM_N_DOF],
+                                    codegen_real theta_dd[DOUBLE_PENDULUM_N_DOF]);
 
 /* The time response: M thetaddot + h + B thetadot + G = 0 integrated from theta0, theta_d0 at
  * times[0] by the runtime's adaptive Dormand-Prince 5(4) integrator (codegen_ode.h; options

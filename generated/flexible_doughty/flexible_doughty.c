@@ -17,6 +17,7 @@ void flexible_doughty_damping_matrix_kernel(const flexible_doughty_params *param
 void flexible_doughty_velocity_terms_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], const codegen_real theta_d[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[2]);
 void flexible_doughty_generalised_force_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[2]);
 void flexible_doughty_stiffness_matrix_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[4]);
+void flexible_doughty_points_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[8]);
 void flexible_doughty_energies_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], const codegen_real theta_d[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[2]);
 
 static int all_finite(const codegen_real *values, int count)
@@ -525,6 +526,57 @@ flexible_doughty_status flexible_doughty_stiffness_matrix(const flexible_doughty
     return FLEXIBLE_DOUGHTY_OK;
 }
 
+/* points without validation (the public function below checks, then calls it; the
+ * analysis calls it on inputs it has checked): eq. (12), n coordinates. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 16. */
+void flexible_doughty_points_kernel(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real out[8])
+{
+    (void)params;
+    (void)theta;
+    {
+        const codegen_real theta_1 = theta[0];
+        const codegen_real tmp0 = codegen_cos(theta_1);
+        const codegen_real tmp3 = codegen_sin(theta_1);
+        const codegen_real delta = theta[1];
+        const codegen_real tmp1 = delta + theta_1;
+        const codegen_real L = params->L;
+        const codegen_real tmp2 = (((codegen_real)1/2))*L;
+        const codegen_real tmp4 = tmp2*(tmp3 + codegen_sin(tmp1));
+        const codegen_real a = params->a;
+        out[0] = tmp2*(tmp0 + codegen_cos(tmp1));
+        out[1] = 0;
+        out[2] = 0;
+        out[3] = tmp4;
+        out[4] = tmp0*tmp2;
+        out[5] = -tmp2*tmp3 + tmp4;
+        out[6] = a*tmp0;
+        out[7] = -a*tmp3 + tmp4;
+    }
+}
+
+/* points: eq. (12), n coordinates. */
+flexible_doughty_status flexible_doughty_points(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real positions[FLEXIBLE_DOUGHTY_N_POINT_COORDS])
+{
+    codegen_real out[8];
+    flexible_doughty_status status;
+    if (theta == NULL || positions == NULL) {
+        return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = flexible_doughty_check_params(params);
+    if (status != FLEXIBLE_DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(theta, FLEXIBLE_DOUGHTY_N_DOF)) {
+        return FLEXIBLE_DOUGHTY_ERR_NONFINITE;
+    }
+    flexible_doughty_points_kernel(params, theta, out);
+    if (!all_finite(out, 8)) {
+        return FLEXIBLE_DOUGHTY_ERR_OVERFLOW;
+    }
+    copy_out(positions, out + 0, 8);
+    return FLEXIBLE_DOUGHTY_OK;
+}
+
 /* energies without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. (16)-(21). Writes out[] in the order
  * of the outputs; they may be NaN or infinite. Total ops: 113. */
@@ -694,6 +746,22 @@ flexible_doughty_status flexible_doughty_stiffness_matrix_batch(size_t count, co
     }
     for (i = 0; i < count; ++i) {
         statuses[i] = flexible_doughty_stiffness_matrix(&params[i], &theta[i * FLEXIBLE_DOUGHTY_N_DOF], &K[i * FLEXIBLE_DOUGHTY_N_MATRIX]);
+        if (first == FLEXIBLE_DOUGHTY_OK) {
+            first = statuses[i];
+        }
+    }
+    return first;
+}
+
+flexible_doughty_status flexible_doughty_points_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, codegen_real *positions, flexible_doughty_status *statuses)
+{
+    size_t i;
+    flexible_doughty_status first = FLEXIBLE_DOUGHTY_OK;
+    if (params == NULL || statuses == NULL || theta == NULL || positions == NULL) {
+        return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
+    }
+    for (i = 0; i < count; ++i) {
+        statuses[i] = flexible_doughty_points(&params[i], &theta[i * FLEXIBLE_DOUGHTY_N_DOF], &positions[i * FLEXIBLE_DOUGHTY_N_POINT_COORDS]);
         if (first == FLEXIBLE_DOUGHTY_OK) {
             first = statuses[i];
         }
@@ -1184,6 +1252,30 @@ flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexi
         }
     }
     return first;
+}
+
+flexible_doughty_status flexible_doughty_accelerations(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
+                                    const codegen_real theta_d[FLEXIBLE_DOUGHTY_N_DOF],
+                                    codegen_real theta_dd[FLEXIBLE_DOUGHTY_N_DOF])
+{
+    codegen_real work[CODEGEN_MB_ACCELERATIONS_WORK(FLEXIBLE_DOUGHTY_N_DOF)], values[FLEXIBLE_DOUGHTY_N_DOF];
+    flexible_doughty_status status;
+    if (theta == NULL || theta_d == NULL || theta_dd == NULL) {
+        return FLEXIBLE_DOUGHTY_ERR_NULL_POINTER;
+    }
+    status = flexible_doughty_check_params(params);
+    if (status != FLEXIBLE_DOUGHTY_OK) {
+        return status;
+    }
+    if (!all_finite(theta, FLEXIBLE_DOUGHTY_N_DOF) || !all_finite(theta_d, FLEXIBLE_DOUGHTY_N_DOF)) {
+        return FLEXIBLE_DOUGHTY_ERR_NONFINITE;
+    }
+    if (codegen_mb_accelerations(&model, params, theta, theta_d, values, work) != CODEGEN_ODE_OK
+        || !all_finite(values, FLEXIBLE_DOUGHTY_N_DOF)) {
+        return FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE;
+    }
+    copy_out(theta_dd, values, FLEXIBLE_DOUGHTY_N_DOF);
+    return FLEXIBLE_DOUGHTY_OK;
 }
 
 flexible_doughty_status flexible_doughty_simulate(const flexible_doughty_params *params, const codegen_real theta0[FLEXIBLE_DOUGHTY_N_DOF],

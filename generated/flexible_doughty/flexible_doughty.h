@@ -32,6 +32,7 @@ extern "C" {
 #define FLEXIBLE_DOUGHTY_N_EIGENVALUES 4
 #define FLEXIBLE_DOUGHTY_N_MATRIX 4
 #define FLEXIBLE_DOUGHTY_N_PARAMS 13
+#define FLEXIBLE_DOUGHTY_N_POINT_COORDS 8
 #define FLEXIBLE_DOUGHTY_BOX_SLOTS 46 /* the box enclosure's interval slots */
 
 /* Status codes: FLEXIBLE_DOUGHTY_OK is zero; flexible_doughty_status_message() explains the others. */
@@ -128,6 +129,14 @@ flexible_doughty_status flexible_doughty_generalised_force(const flexible_dought
  */
 flexible_doughty_status flexible_doughty_stiffness_matrix(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real K[FLEXIBLE_DOUGHTY_N_MATRIX]);
 
+/* Positions of the points A, B, J, P (x, y for each).
+ * Paper: eq. (12), n coordinates.
+ * in  theta: the independent coordinates: theta_1 [rad], delta [rad]
+ * out positions: x, y of each point [m]
+ * Returns FLEXIBLE_DOUGHTY_OK; FLEXIBLE_DOUGHTY_ERR_OVERFLOW if a result exceeds the range of double.
+ */
+flexible_doughty_status flexible_doughty_points(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF], codegen_real positions[FLEXIBLE_DOUGHTY_N_POINT_COORDS]);
+
 /* Kinetic energy T and potential V (springs, gravity and the constant loads' work, up to a constant).
  * Paper: eq. (16)-(21).
  * in  theta: the independent coordinates: theta_1 [rad], delta [rad]
@@ -147,6 +156,7 @@ flexible_doughty_status flexible_doughty_damping_matrix_batch(size_t count, cons
 flexible_doughty_status flexible_doughty_velocity_terms_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *h, flexible_doughty_status *statuses);
 flexible_doughty_status flexible_doughty_generalised_force_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, codegen_real *G, flexible_doughty_status *statuses);
 flexible_doughty_status flexible_doughty_stiffness_matrix_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, codegen_real *K, flexible_doughty_status *statuses);
+flexible_doughty_status flexible_doughty_points_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, codegen_real *positions, flexible_doughty_status *statuses);
 flexible_doughty_status flexible_doughty_energies_batch(size_t count, const flexible_doughty_params *params, const codegen_real *theta, const codegen_real *theta_d, codegen_real *T, codegen_real *V, flexible_doughty_status *statuses);
 
 /* Each coordinate's range is (centre[k] - pi, centre[k] + pi]: theta_1 about 0 (periodic); delta about 0.
@@ -227,6 +237,14 @@ flexible_doughty_status flexible_doughty_analyze_work(const flexible_doughty_par
  * failure, else FLEXIBLE_DOUGHTY_OK. */
 flexible_doughty_status flexible_doughty_analyze_batch(size_t count, const flexible_doughty_params *params,
                                     flexible_doughty_analysis *results, flexible_doughty_status *statuses);
+
+/* thetaddot of M thetaddot + h + B thetadot + G = 0 at a state (the runtime's Cholesky solve),
+ * [rad/s^2 or m/s^2]. Returns FLEXIBLE_DOUGHTY_OK; FLEXIBLE_DOUGHTY_ERR_NULL_POINTER; the parameters' status;
+ * FLEXIBLE_DOUGHTY_ERR_NONFINITE (an input not finite); FLEXIBLE_DOUGHTY_ERR_SINGULAR_STATE (M not positive
+ * definite, or a value not finite). */
+flexible_doughty_status flexible_doughty_accelerations(const flexible_doughty_params *params, const codegen_real theta[FLEXIBLE_DOUGHTY_N_DOF],
+                                    const codegen_real theta_d[FLEXIBLE_DOUGHTY_N_DOF],
+                                    codegen_real theta_dd[FLEXIBLE_DOUGHTY_N_DOF]);
 
 /* The time response: M thetaddot + h + B thetadot + G = 0 integrated from theta0, theta_d0 at
  * times[0] by the runtime's adaptive Dormand-Prince 5(4) integrator (codegen_ode.h; options

@@ -295,6 +295,25 @@ static void equation_of_motion(const void *context, codegen_real t, const codege
     }
 }
 
+int codegen_mb_accelerations(const codegen_mb_model *model, const void *params,
+                             const codegen_real *theta, const codegen_real *theta_d,
+                             codegen_real *theta_dd, codegen_real *work)
+{
+    int i, n;
+    if (model == NULL || work == NULL || model->n < 1) {
+        return CODEGEN_ODE_BAD_INPUT;
+    }
+    n = model->n;
+    if (model->dynamics(params, theta, theta_d, work, theta_dd) != 0
+        || cholesky_solve(n, work, theta_dd) != 0) {
+        return CODEGEN_ODE_NONFINITE;
+    }
+    for (i = 0; i < n; ++i) {
+        theta_dd[i] = -theta_dd[i];
+    }
+    return CODEGEN_ODE_OK;
+}
+
 int codegen_mb_simulate(const codegen_mb_model *model, const void *params, const codegen_real *y0,
                         const codegen_real *times, size_t n_times,
                         const codegen_ode_options *options, codegen_ode_state *state,

@@ -88,6 +88,14 @@ int codegen_mb_modes(int n, const codegen_real *M, const codegen_real *B, const 
                      codegen_real *s_im, codegen_real *damping_ratio, codegen_real *modal_damping,
                      int *stability, codegen_real *work);
 
+/* thetaddot = -M^-1 (h + B thetadot + G) at a state (M by Cholesky): CODEGEN_ODE_OK, or
+ * CODEGEN_ODE_NONFINITE where M is not positive definite or a value is not finite.
+ * work: CODEGEN_MB_ACCELERATIONS_WORK(n) reals. */
+#define CODEGEN_MB_ACCELERATIONS_WORK(n) ((n) * (n))
+int codegen_mb_accelerations(const codegen_mb_model *model, const void *params,
+                             const codegen_real *theta, const codegen_real *theta_d,
+                             codegen_real *theta_dd, codegen_real *work);
+
 /* The time response: y = (theta, thetadot) (2n values) from y0 at times[0], integrated by the
  * runtime's Dormand-Prince 5(4) (codegen_ode.h) with thetaddot = -M^-1 f (M by Cholesky), y at
  * each time written to out[i * 2n ..]; a codegen_ode_status (CODEGEN_ODE_NONFINITE where M is

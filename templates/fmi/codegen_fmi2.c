@@ -30,7 +30,8 @@ typedef struct instance {
     int logging;
     double time;
     double rtol;        /* the experiment's tolerance; 0: the library's default */
-    double x[2];        /* theta, theta_d */
+    double *x;          /* 2 n_dof: theta, then theta_d */
+    double *theta_dd;   /* n_dof */
     double *params;     /* n_params: the parameters as set */
     double *inputs;     /* n_loads */
     double *applied;    /* n_params: the parameters with the inputs added */
@@ -40,7 +41,8 @@ typedef struct instance {
 } instance;
 
 #define VR_STATES(m) ((fmi2ValueReference)(m)->n_params)
-#define VR_INPUTS(m) (VR_STATES(m) + 4u)
+#define N_STATES(m) (2u * (fmi2ValueReference)(m)->n_dof)
+#define VR_INPUTS(m) (VR_STATES(m) + 2u * N_STATES(m))
 #define VR_OUTPUTS(m) (VR_INPUTS(m) + (fmi2ValueReference)(m)->n_loads)
 #define VR_END(m) (VR_OUTPUTS(m) + (fmi2ValueReference)(m)->n_outputs)
 
@@ -103,6 +105,8 @@ void fmi2FreeInstance(fmi2Component component)
     release(c->inputs);
     release(c->applied);
     release(c->outputs);
+    release(c->x);
+    release(c->theta_dd);
     release(c->simulation);
     release(c);
 }
@@ -136,9 +140,12 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
     c->applied = (double *)allocate(c, (size_t)m->n_params, sizeof(double));
     c->inputs = (double *)allocate(c, (size_t)m->n_loads, sizeof(double));
     c->outputs = (double *)allocate(c, (size_t)m->n_outputs, sizeof(double));
+    c->x = (double *)allocate(c, N_STATES(m), sizeof(double));
+    c->theta_dd = (double *)allocate(c, (size_t)m->n_dof, sizeof(double));
     c->simulation = type == fmi2CoSimulation ? allocate(c, 1, m->simulation_size) : NULL;
     if (c->params == NULL || c->applied == NULL || (m->n_loads > 0 && c->inputs == NULL)
-        || (m->n_outputs > 0 && c->outputs == NULL) || (type == fmi2CoSimulation && c->simulation == NULL)) {
+        || (m->n_outputs > 0 && c->outputs == NULL) || c->x == NULL || c->theta_dd == NULL
+        || (type == fmi2CoSimulation && c->simulation == NULL)) {
         say(c, fmi2Error, "logStatusError", "fmi2Instantiate: out of memory");
         fmi2FreeInstance(c);
         return NULL;
@@ -188,16 +195,18 @@ fmi2Status fmi2Reset(fmi2Component component)
     instance *c = (instance *)component;
     memcpy(c->params, c->model->defaults, (size_t)c->model->n_params * sizeof(double));
     memset(c->inputs, 0, (size_t)c->model->n_loads * sizeof(double));
-    c->x[0] = c->x[1] = c->time = 0.0;
+    memset(c->x, 0, N_STATES(c->model) * sizeof(double));
+    c->time = 0.0;
     c->phase = INSTANTIATED;
     c->running = 0;
     return fmi2OK;
 }
 
-/* theta_dd at the current state, or fmi2Error with the reason. */
-static fmi2Status acceleration(instance *c, double *theta_dd)
+/* theta_dd (c->theta_dd) at the current state, or fmi2Error with the reason. */
+static fmi2Status acceleration(instance *c)
 {
-    const int status = c->model->acceleration(applied(c), c->x[0], c->x[1], theta_dd);
+    const int n = c->model->n_dof;
+    const int status = c->model->acceleration(applied(c), c->x, c->x + n, c->theta_dd);
     return status == 0 ? fmi2OK : failed(c, status, "the acceleration at this state");
 }
 
@@ -205,25 +214,28 @@ fmi2Status fmi2GetReal(fmi2Component component, const fmi2ValueReference vr[], s
 {
     instance *c = (instance *)component;
     const codegen_fmi2_model *m = c->model;
-    int outputs_ready = 0;
+    const fmi2ValueReference states = VR_STATES(m), dof = (fmi2ValueReference)m->n_dof;
+    int outputs_ready = 0, accelerations_ready = 0;
     size_t i;
     for (i = 0; i < n; ++i) {
         const fmi2ValueReference r = vr[i];
-        if (r < VR_STATES(m)) {
+        if (r < states) {
             value[i] = c->params[r];
-        } else if (r < VR_STATES(m) + 2u) {
-            value[i] = c->x[r - VR_STATES(m)];
-        } else if (r == VR_STATES(m) + 2u) {
-            value[i] = c->x[1];
-        } else if (r == VR_STATES(m) + 3u) {
-            if (acceleration(c, &value[i]) != fmi2OK) {
+        } else if (r < states + N_STATES(m)) {
+            value[i] = c->x[r - states];
+        } else if (r < states + N_STATES(m) + dof) {   /* der(theta_k) = theta_d_k */
+            value[i] = c->x[r - states - N_STATES(m) + dof];
+        } else if (r < VR_INPUTS(m)) {                  /* der(theta_d_k) */
+            if (!accelerations_ready && acceleration(c) != fmi2OK) {
                 return fmi2Error;
             }
+            accelerations_ready = 1;
+            value[i] = c->theta_dd[r - states - N_STATES(m) - dof];
         } else if (r < VR_OUTPUTS(m)) {
             value[i] = c->inputs[r - VR_INPUTS(m)];
         } else if (r < VR_END(m)) {
             if (!outputs_ready) {
-                const int status = m->outputs(applied(c), c->x[0], c->x[1], c->outputs);
+                const int status = m->outputs(applied(c), c->x, c->x + m->n_dof, c->outputs);
                 if (status != 0) {
                     return failed(c, status, "the outputs at this state");
                 }
@@ -247,7 +259,7 @@ fmi2Status fmi2SetReal(fmi2Component component, const fmi2ValueReference vr[], s
         const fmi2ValueReference r = vr[i];
         if (r < VR_STATES(m)) {
             c->params[r] = value[i];
-        } else if (r < VR_STATES(m) + 2u) {
+        } else if (r < VR_STATES(m) + N_STATES(m)) {
             c->x[r - VR_STATES(m)] = value[i];
         } else if (r >= VR_INPUTS(m) && r < VR_OUTPUTS(m)) {
             c->inputs[r - VR_INPUTS(m)] = value[i];
@@ -408,39 +420,47 @@ fmi2Status fmi2SetTime(fmi2Component component, fmi2Real time)
     return fmi2OK;
 }
 
+/* Whether n is the number of states (else an error in the log). */
+static int all_states(instance *c, size_t n, const char *what)
+{
+    if (n == N_STATES(c->model)) {
+        return 1;
+    }
+    say(c, fmi2Error, "logStatusError", "%s: %u states, not %lu", what, N_STATES(c->model),
+        (unsigned long)n);
+    return 0;
+}
+
 fmi2Status fmi2SetContinuousStates(fmi2Component component, const fmi2Real x[], size_t n)
 {
     instance *c = (instance *)component;
-    if (n != 2) {
-        say(c, fmi2Error, "logStatusError", "fmi2SetContinuousStates: 2 states, not %lu", (unsigned long)n);
+    if (!all_states(c, n, "fmi2SetContinuousStates")) {
         return fmi2Error;
     }
-    c->x[0] = x[0];
-    c->x[1] = x[1];
+    memcpy(c->x, x, n * sizeof(double));
     return fmi2OK;
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component component, fmi2Real x[], size_t n)
 {
     instance *c = (instance *)component;
-    if (n != 2) {
-        say(c, fmi2Error, "logStatusError", "fmi2GetContinuousStates: 2 states, not %lu", (unsigned long)n);
+    if (!all_states(c, n, "fmi2GetContinuousStates")) {
         return fmi2Error;
     }
-    x[0] = c->x[0];
-    x[1] = c->x[1];
+    memcpy(x, c->x, n * sizeof(double));
     return fmi2OK;
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component component, fmi2Real derivatives[], size_t n)
 {
     instance *c = (instance *)component;
-    if (n != 2) {
-        say(c, fmi2Error, "logStatusError", "fmi2GetDerivatives: 2 states, not %lu", (unsigned long)n);
+    const size_t dof = (size_t)c->model->n_dof;
+    if (!all_states(c, n, "fmi2GetDerivatives") || acceleration(c) != fmi2OK) {
         return fmi2Error;
     }
-    derivatives[0] = c->x[1];
-    return acceleration(c, &derivatives[1]);
+    memcpy(derivatives, c->x + dof, dof * sizeof(double));
+    memcpy(derivatives + dof, c->theta_dd, dof * sizeof(double));
+    return fmi2OK;
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real indicators[], size_t n)
@@ -465,7 +485,6 @@ fmi2Status fmi2DoStep(fmi2Component component, fmi2Real now, fmi2Real step, fmi2
 {
     instance *c = (instance *)component;
     const codegen_fmi2_model *m = c->model;
-    double theta = c->x[0], theta_d = c->x[1];
     int status;
     (void)no_set_state;
     if (c->phase != RUNNING) {
@@ -473,19 +492,17 @@ fmi2Status fmi2DoStep(fmi2Component component, fmi2Real now, fmi2Real step, fmi2
         return fmi2Error;
     }
     if (!c->running || now != c->time) {
-        status = m->start(c->simulation, applied(c), now, c->x[0], c->x[1], c->rtol);
+        status = m->start(c->simulation, applied(c), now, c->x, c->x + m->n_dof, c->rtol);
         if (status != 0) {
             return failed(c, status, "the start of the step");
         }
         c->running = 1;
     }
-    status = m->advance(c->simulation, now + step, &theta, &theta_d);
+    status = m->advance(c->simulation, now + step, c->x, c->x + m->n_dof);
     if (status != 0) {
         c->running = 0;
         return failed(c, status, "the step");
     }
-    c->x[0] = theta;
-    c->x[1] = theta_d;
     c->time = now + step;
     return fmi2OK;
 }

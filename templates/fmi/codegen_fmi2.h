@@ -3,12 +3,13 @@
  * mechanism's library: a descriptor of plain functions over its parameters as an array of
  * doubles, which the small generated part of each FMU (NAME_fmi2.c) fills in.
  *
- * The FMU's variables, by value reference:
- *   [0, n_params)           the parameters (tunable)
- *   n_params + 0, + 1       the states: theta [rad], theta_d [rad/s]
- *   n_params + 2, + 3       their derivatives: der(theta) = theta_d, der(theta_d) = theta_dd
- *   n_params + 4 + i        input i, added to the load parameter loads[i] (0 by default)
- *   after the inputs        the outputs (points, energies: NAME_fmi2.c's order)
+ * The FMU's variables, by value reference, for n = n_dof coordinates:
+ *   [0, n_params)                 the parameters (tunable)
+ *   n_params + [0, n)             the states: the coordinates theta_k
+ *   n_params + [n, 2n)            and their rates theta_d_k
+ *   n_params + [2n, 4n)           their derivatives: der(theta_k) = theta_d_k, der(theta_d_k)
+ *   n_params + 4n + i             input i, added to the load parameter loads[i] (0 by default)
+ *   after the inputs              the outputs (points, energies: NAME_fmi2.c's order)
  *
  * Plain C99; no allocation of its own: an instance's memory comes from the FMI callbacks.
  */
@@ -23,6 +24,7 @@ extern "C" {
 
 typedef struct codegen_fmi2_model {
     const char *guid;               /* the modelDescription.xml's */
+    int n_dof;                      /* coordinates: 2 n_dof continuous states */
     int n_params;
     const double *defaults;         /* each parameter's start value (the model's example) */
     int n_loads;                    /* inputs */
@@ -31,10 +33,13 @@ typedef struct codegen_fmi2_model {
     size_t simulation_size;         /* bytes of an integration in progress (co-simulation) */
     /* Each returns the library's status: 0, or what status_message explains. */
     int (*check)(const double *params);
-    int (*acceleration)(const double *params, double theta, double theta_d, double *theta_dd);
-    int (*outputs)(const double *params, double theta, double theta_d, double *out);
-    int (*start)(void *simulation, const double *params, double t0, double theta,
-                 double theta_d, double rtol);   /* rtol <= 0: the library's default */
+    /* at a state (theta, theta_d: n each): theta_dd (n), or the outputs */
+    int (*acceleration)(const double *params, const double *theta, const double *theta_d,
+                        double *theta_dd);
+    int (*outputs)(const double *params, const double *theta, const double *theta_d, double *out);
+    /* co-simulation: an integration from (theta, theta_d) at t0, advanced to t in place */
+    int (*start)(void *simulation, const double *params, double t0, const double *theta,
+                 const double *theta_d, double rtol);   /* rtol <= 0: the library's default */
     int (*advance)(void *simulation, double t, double *theta, double *theta_d);
     const char *(*status_message)(int status);
 } codegen_fmi2_model;

@@ -73,6 +73,10 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
                   "restoring forces.", "(46)-(53) for n coordinates", (theta,),
                   (Output("K", tuple(d.stiffness), f"{square}; [N or N m per unit of "
                           "theta_j]", "N_MATRIX"),)),
+        function("points", f"Positions of the points {', '.join(d.points)} (x, y for each).",
+                 "(12), n coordinates", (theta,),
+                 (Output("positions", tuple(e for p in d.points.values() for e in p),
+                         "x, y of each point [m]", "N_POINT_COORDS"),)),
         function("energies", "Kinetic energy T and potential V (springs, gravity and the "
                   "constant loads' work, up to a constant).", "(16)-(21)", (theta, theta_d),
                   (Output("T", (kinetic,), "kinetic energy [J]"),
@@ -87,7 +91,7 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
                          for p in user.parameters),
         fields=_fields(d),
         sizes={"N_PARAMS": len(m.parameters), "N_DOF": n, "N_COORDS": len(m.coordinates),
-               "N_MATRIX": n * n, "N_EIGENVALUES": 2 * n,
+               "N_MATRIX": n * n, "N_EIGENVALUES": 2 * n, "N_POINT_COORDS": 2 * len(d.points),
                "MAX_EQUILIBRIA": EQUILIBRIUM_CAPACITY, "MAX_UNCERTAIN": UNCERTAIN_CAPACITY},
         requirements=m.requirements, singular_state=m.singular_state,
         functions=functions, enclosure=None,
