@@ -1,15 +1,17 @@
-"""A mechanism's library as a Functional Mock-up Unit: FMI 2.0, Model Exchange and
+"""A mechanism's library as a Functional Mock-up Unit: FMI 2.0 or 3.0, Model Exchange and
 Co-Simulation in one unit, with its C sources and the binary for this platform.
 
-``write_fmu(library, path)`` writes NAME.fmu, a zip of
+``write_fmu(library, path, version=...)`` writes NAME.fmu, a zip of
 - ``modelDescription.xml``: every parameter (tunable, the model's example as its start), the
   states theta and theta_d with their derivatives, an input per load parameter (added to
   it: a controller drives the load), and as outputs each named point's x and y and the
   kinetic and potential energies, with names, units and descriptions from the model;
 - ``sources/``: the library's C (NAME.c and the runtime), the FMI glue written once
-  (templates/fmi/codegen_fmi2.c) and the FMU's own descriptor, NAME_fmi2.c, rendered here;
-- ``binaries/linux64/NAME.so``, compiled from those sources (against FMI 2.0's standard
-  headers, which fmpy ships: ``pip install 'mechvib[fmu]'``).
+  (templates/fmi: the instance's core, codegen_fmi_core.c, and the version's front end,
+  codegen_fmi2.c or codegen_fmi3.c) and the FMU's own descriptor, NAME_fmi.c, rendered here
+  (FMI 3.0: with buildDescription.xml);
+- ``binaries/linux64/NAME.so`` (FMI 3.0: ``x86_64-linux``), compiled from those sources
+  against FMI's standard headers, which fmpy ships: ``pip install 'mechvib[fmu]'``.
 The initial state is an equilibrium of the analysis at rest (the first stable one, or the
 one ``equilibrium`` indexes). A mechanism with several coordinates has a state per
 coordinate and rate, named after its coordinates (``theta_1``, ``theta_1_d``).
@@ -29,10 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import files, resources
-from .compiler.emission.render import environment
 
-#: Sources of the FMI glue, beside the library's.
-GLUE = ("codegen_fmi2.c", "codegen_fmi2.h")
 #: A fixed time stamp for the zip's entries: the same FMU, byte for byte, from the same model.
 STAMP = (2020, 1, 1, 0, 0, 0)
 
@@ -130,46 +129,66 @@ def _start_state(library: Any, equilibrium: int | None) -> list[float]:
     return [float(x) for x in np.atleast_1d(chosen.theta)]
 
 
-def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None) -> Path:
-    """NAME.fmu for a library (see the module docstring); the path written."""
+#: The FMI versions written, each by its front end over the glue's core.
+VERSIONS = ("2.0", "3.0")
+#: The glue every FMU carries: the descriptor, the core, and the version's front end.
+CORE = ("codegen_fmi.h", "codegen_fmi_core.h", "codegen_fmi_core.c")
+FRONT_END = {"2.0": "codegen_fmi2.c", "3.0": "codegen_fmi3.c"}
+PLATFORM = {"2.0": "linux64", "3.0": "x86_64-linux"}
+
+
+def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None,
+              version: str = "2.0") -> Path:
+    """NAME.fmu for a library (see the module docstring), FMI ``version`` 2.0 or 3.0; the
+    path written."""
     from . import __version__
 
     path = Path(path)
     if path.suffix != ".fmu":
         raise FmuError(f"{path}: an FMU's name ends in .fmu")
+    if version not in VERSIONS:
+        raise FmuError(f"FMI {version}: the versions written are {', '.join(VERSIONS)}")
     headers = fmi_headers()
     own, runtime = library_sources(library)
     prefix = library.PREFIX
     theta0 = _start_state(library, equilibrium)
     variables, structure = _variables(library, theta0)
-    units = sorted({v["unit"] for v in variables if v["unit"]})
-    env = environment(str(resources.templates() / "fmi"))
-    sources = (sorted(p.name for p in own.glob("*.c")) + [f"{prefix}_fmi2.c", "codegen_fmi2.c"]
+    units = sorted({v["unit"] for v in variables if v["unit"]} | {"s"})
+    env = _templates()
+    glue = [*CORE, FRONT_END[version]]
+    sources = (sorted(p.name for p in own.glob("*.c")) + [f"{prefix}_fmi.c"]
+               + [g for g in glue if g.endswith(".c")]
                + sorted(p.name for p in runtime.glob("*.c")))
     context = {"prefix": prefix, "PREFIX": prefix.upper(), "title": library.TITLE,
                "version": __version__, "sources": sources, "units": units,
-               "variables": variables, **structure}
-    body = env.get_template("modelDescription2.xml.j2").render(guid="{GUID}", **context)
+               "variables": variables, "time_vr": len(variables), **structure}
+    template = f"modelDescription{version[0]}.xml.j2"
+    body = env.get_template(template).render(guid="{GUID}", **context)
     guid = "{" + str(_uuid_of(body)) + "}"
     description = body.replace("{GUID}", guid)
     index = {p: i for i, p in enumerate(library.PARAMETER_NAMES)}
-    part = env.get_template("model_fmi2.c.j2").render(
+    part = env.get_template("model_fmi.c.j2").render(
         guid=guid, starts=[repr(float(library.EXAMPLE[n])) for n in library.PARAMETER_NAMES],
         loads=[index[name] for name in library.SPEC["loads"]],
+        initial=[repr(float(x)) for x in theta0] + ["0.0"] * library.dof,
         n_outputs=2 * len(library.SPEC["points"]) + 2, dof=library.dof, **context)
     with tempfile.TemporaryDirectory() as work:
         folder = Path(work) / "sources"
         folder.mkdir()
         for source in [*own.glob("*.[ch]"), *runtime.glob("*.[ch]"),
-                       *(resources.templates() / "fmi" / name for name in GLUE)]:
+                       *(resources.templates() / "fmi" / name for name in glue)]:
             shutil.copy(source, folder / source.name)
-        (folder / f"{prefix}_fmi2.c").write_text(part)
+        (folder / f"{prefix}_fmi.c").write_text(part)
+        if version == "3.0":   # FMI 3.0 lists the sources beside them
+            (folder / "buildDescription.xml").write_text(
+                env.get_template("buildDescription.xml.j2").render(**context))
         binary = Path(work) / f"{prefix}.so"
         _compile(folder, sources, headers, binary)
+        _check_platform()
         entries = {"modelDescription.xml": description.encode(),
-                   f"binaries/{_platform()}/{prefix}.so": binary.read_bytes()}
+                   f"binaries/{PLATFORM[version]}/{prefix}.so": binary.read_bytes()}
         entries |= {f"sources/{p.name}": p.read_bytes() for p in sorted(folder.iterdir())}
-        entries["documentation/index.txt"] = _readme(library, theta0).encode()
+        entries["documentation/index.txt"] = _readme(library, theta0, version).encode()
         archive = _zip(entries)
     path.parent.mkdir(parents=True, exist_ok=True)
     with files.replacing(path) as scratch:   # atomically: never a truncated FMU
@@ -177,16 +196,24 @@ def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None) ->
     return path
 
 
+def _templates() -> Any:
+    """templates/fmi as Jinja2 templates (jinja2: the [fmu] extra's)."""
+    import jinja2
+
+    return jinja2.Environment(loader=jinja2.FileSystemLoader(resources.templates() / "fmi"),
+                              undefined=jinja2.StrictUndefined, trim_blocks=True,
+                              lstrip_blocks=True, keep_trailing_newline=True)
+
+
 def _uuid_of(text: str) -> str:
     digest = hashlib.sha256(text.encode()).hexdigest()
     return f"{digest[:8]}-{digest[8:12]}-{digest[12:16]}-{digest[16:20]}-{digest[20:32]}"
 
 
-def _platform() -> str:
+def _check_platform() -> None:
     if platform.system() != "Linux" or platform.machine() not in ("x86_64", "AMD64"):
         raise FmuError(f"binaries for {platform.system()} {platform.machine()} are not built "
-                       "yet (linux64 only); the FMU's sources build anywhere")
-    return "linux64"
+                       "yet (x86-64 Linux only); the FMU's sources build anywhere")
 
 
 def _compile(folder: Path, sources: list[str], headers: Path, binary: Path) -> None:
@@ -214,9 +241,9 @@ def _zip(entries: dict[str, bytes]) -> bytes:
     return buffer.getvalue()
 
 
-def _readme(library: Any, start: list[float]) -> str:
+def _readme(library: Any, start: list[float], version: str) -> str:
     state = ", ".join(f"{name} = {x!r} {unit}" for (name, unit, _), x in
                       zip(_coordinates(library), start))
-    return (f"{library.TITLE}: an FMU written by mechvib (FMI 2.0, Model Exchange and "
+    return (f"{library.TITLE}: an FMU written by mechvib (FMI {version}, Model Exchange and "
             f"Co-Simulation).\nInitial state, at rest: {state}.\nParameters (SI units): "
             + json.dumps(library.EXAMPLE) + "\n")

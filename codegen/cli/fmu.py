@@ -8,10 +8,12 @@ examples:
   {prog} fmu --out doughty.fmu
   {prog} fmu --mechanism four_bar --equilibrium 1 --out four_bar.fmu
   {prog} fmu --model my_model.py --out mine.fmu
+  {prog} fmu --mechanism double_pendulum --fmi 3.0 --out double_pendulum.fmu
 
-Writes an FMI 2.0 FMU (Model Exchange and Co-Simulation in one unit) of the mechanism: its
-parameters (tunable, the example as start values), the states theta and theta_d, an input
-per load parameter (added to it), the named points' positions and the energies as outputs;
+Writes an FMU (FMI 2.0, or 3.0 with --fmi 3.0; Model Exchange and Co-Simulation in one unit)
+of the mechanism: its parameters (tunable, the example as start values), each coordinate
+and its rate as states, an input per load parameter (added to it), the named points'
+positions and the energies as outputs;
 the C sources, and the binary for this platform. The initial state is an equilibrium of the
 example at rest (the first stable one, or --equilibrium I of `analyze`'s list). Needs
 fmpy for FMI's standard headers: pip install 'mechvib[fmu]'."""
@@ -22,19 +24,23 @@ def run(args) -> int:
     from .report import paragraph
 
     library = common.load_library(args)
-    path = write_fmu(library, args.out, args.equilibrium)
+    path = write_fmu(library, args.out, args.equilibrium, args.fmi)
     inputs, outputs = len(library.SPEC["loads"]), 2 * len(library.SPEC["points"]) + 2
-    print(paragraph(f"Wrote {path}: an FMI 2.0 FMU (Model Exchange and Co-Simulation) of "
+    print(paragraph(f"Wrote {path}: an FMI {args.fmi} FMU (Model Exchange and Co-Simulation) of "
                     f"{library.TITLE}, with {len(library.PARAMETER_NAMES)} parameters, "
                     f"{inputs} input{'' if inputs == 1 else 's'} and {outputs} outputs."))
     return 0
 
 
 def add(verbs, prog: str) -> None:
-    fmu = common.verb(verbs, "fmu", "the mechanism as an FMU (FMI 2.0, Model Exchange and "
-                      "Co-Simulation) for simulators", EXAMPLES, prog, run)
+    from ..fmu import VERSIONS
+
+    fmu = common.verb(verbs, "fmu", "the mechanism as an FMU (FMI 2.0 or 3.0, Model Exchange "
+                      "and Co-Simulation) for simulators", EXAMPLES, prog, run)
     common.mechanism_options(fmu, None, model=True)
     fmu.add_argument("--out", required=True, metavar="FILE.fmu", help="the FMU to write")
+    fmu.add_argument("--fmi", choices=VERSIONS, default=VERSIONS[0],
+                     help="the FMI version (default 2.0, which most tools take)")
     fmu.add_argument("--equilibrium", type=int, metavar="I",
                      help="start at this equilibrium of the example (its index in `analyze`'s "
                           "list, from 0; default the first stable one)")

@@ -1,7 +1,7 @@
 /*
- * codegen_fmi2.h -- what the FMI 2.0 glue (codegen_fmi2.c, written once) needs from one
+ * codegen_fmi.h -- what the FMI glue (codegen_fmi_core.c, written once) needs from one
  * mechanism's library: a descriptor of plain functions over its parameters as an array of
- * doubles, which the small generated part of each FMU (NAME_fmi2.c) fills in.
+ * doubles, which the small generated part of each FMU (NAME_fmi.c) fills in.
  *
  * The FMU's variables, by value reference, for n = n_dof coordinates:
  *   [0, n_params)                 the parameters (tunable)
@@ -9,12 +9,13 @@
  *   n_params + [n, 2n)            and their rates theta_d_k
  *   n_params + [2n, 4n)           their derivatives: der(theta_k) = theta_d_k, der(theta_d_k)
  *   n_params + 4n + i             input i, added to the load parameter loads[i] (0 by default)
- *   after the inputs              the outputs (points, energies: NAME_fmi2.c's order)
+ *   after the inputs              the outputs (points, energies: NAME_fmi.c's order)
+ *   after the outputs             the time [s] (FMI 3.0's independent variable)
  *
- * Plain C99; no allocation of its own: an instance's memory comes from the FMI callbacks.
+ * Plain C99; an instance's memory is allocated once, when it is instantiated.
  */
-#ifndef CODEGEN_FMI2_H
-#define CODEGEN_FMI2_H
+#ifndef CODEGEN_FMI_H
+#define CODEGEN_FMI_H
 
 #include <stddef.h>
 
@@ -22,11 +23,12 @@
 extern "C" {
 #endif
 
-typedef struct codegen_fmi2_model {
+typedef struct codegen_fmi_model {
     const char *guid;               /* the modelDescription.xml's */
     int n_dof;                      /* coordinates: 2 n_dof continuous states */
     int n_params;
     const double *defaults;         /* each parameter's start value (the model's example) */
+    const double *initial;          /* the states' start values (2 n_dof: theta, theta_d) */
     int n_loads;                    /* inputs */
     const int *loads;               /* the parameter each input is added to */
     int n_outputs;
@@ -42,13 +44,13 @@ typedef struct codegen_fmi2_model {
                  const double *theta_d, double rtol);   /* rtol <= 0: the library's default */
     int (*advance)(void *simulation, double t, double *theta, double *theta_d);
     const char *(*status_message)(int status);
-} codegen_fmi2_model;
+} codegen_fmi_model;
 
 /* The FMU's model: defined by its generated part. */
-extern const codegen_fmi2_model codegen_fmi2_the_model;
+extern const codegen_fmi_model codegen_fmi_the_model;
 
 #ifdef __cplusplus
 }
 #endif
 
-#endif /* CODEGEN_FMI2_H */
+#endif /* CODEGEN_FMI_H */
