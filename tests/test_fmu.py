@@ -184,6 +184,22 @@ def test_a_bad_parameter_is_an_fmi_error_with_the_reason_in_the_log(fmus, fmus3,
     assert any("the parameters:" in m and "L" in m for m in messages), messages
 
 
+@pytest.mark.parametrize("kind", ["CoSimulation", "ModelExchange"])
+def test_a_singular_state_is_an_fmi_error_with_the_reason_not_a_nan(fmus, kind):
+    """Doughty's spring of zero length (H = a, theta = 0): its direction is undefined, so is
+    the motion; the unit says so in its log and returns an error, whichever mode."""
+    lib = load("doughty")
+    messages = []
+
+    def logger(*args):
+        messages.append(args[-1].decode())
+
+    with pytest.raises(Exception, match="failed with status 3"):
+        simulate_fmu(str(fmus["doughty"]), fmi_type=kind, stop_time=0.1,
+                     start_values={"H": lib.EXAMPLE["a"], "theta": 0.0}, logger=logger)
+    assert any("spring length r is zero" in m for m in messages), messages
+
+
 @pytest.mark.parametrize("version", ["2", "3"])
 def test_the_fmu_rebuilt_from_its_sources_gives_the_same_motion(fmus, fmus3, version, tmp_path):
     """fmpy's CMake build of the FMU's sources (its binary removed first) moves as the
@@ -243,3 +259,14 @@ def test_the_fmi_glue_and_the_fmus_own_part_compile_without_a_warning(fmus, fmus
                  "-Wdouble-promotion", "-Werror", "-O2", f"-I{sources}", f"-I{fmi_headers()}",
                  "-c", str(sources / source), "-o", "/dev/null"], capture_output=True, text=True)
             assert done.returncode == 0, (cc, source, done.stderr)
+
+
+def test_the_python_snippet_of_the_guide_runs(tmp_path, monkeypatch):
+    """docs/fmu.md's Python block, as a user pastes it: it writes the FMU and simulates it."""
+    guide = (Path(__file__).resolve().parent.parent / "docs" / "fmu.md").read_text()
+    code = guide.split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    exec(compile(code, "docs/fmu.md", "exec"), scope)
+    assert (tmp_path / "doughty.fmu").is_file()
+    assert len(scope["result"]) == 2001 and np.all(np.isfinite(scope["result"]["theta"]))
