@@ -41,7 +41,8 @@ class FmuError(ValueError):
 
 
 def fmi_headers() -> Path:
-    """FMI 2.0's standard headers (fmi2Functions.h and its two includes), as fmpy ships them."""
+    """FMI's standard headers (fmi2Functions.h, fmi3Functions.h and their includes), as fmpy
+    ships them."""
     try:
         import fmpy
     except ImportError:

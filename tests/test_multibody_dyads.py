@@ -258,3 +258,23 @@ def test_an_assembly_mode_that_does_not_tell_the_modes_apart_is_refused(tmp_path
                     "assembly_modes=(d,)")
     with pytest.raises(ModelError, match="do not tell the assembly modes of phi_3 apart"):
         derive_multibody(load_model(str(path)))
+
+
+def test_a_users_model_with_a_dyad_goes_into_an_fmu(lib, tmp_path):
+    """The user's build (not a shipped library) as an FMU: validated by fmpy, its
+    Co-Simulation the library's motion."""
+    fmpy = pytest.importorskip("fmpy")
+    from fmpy.validation import validate_fmu
+
+    from codegen.fmu import write_fmu
+
+    path = write_fmu(lib, tmp_path / "four_bar_pendulum.fmu")
+    assert validate_fmu(str(path)) == []
+    times = np.linspace(0.0, 0.5, 6)
+    start = {"theta": 0.3, "psi": -1.2}
+    result = fmpy.simulate_fmu(str(path), fmi_type="CoSimulation", stop_time=0.5,
+                               output_interval=0.1, start_values=start, output=["theta", "psi"],
+                               relative_tolerance=1e-12)
+    expected = lib.simulate(EXAMPLE, [0.3, -1.2], [0.0, 0.0], times, rtol=1e-12, atol=1e-15)
+    assert np.allclose(result["theta"], expected.theta[:, 0], rtol=1e-8, atol=1e-9)
+    assert np.allclose(result["psi"], expected.theta[:, 1], rtol=1e-8, atol=1e-9)
