@@ -29,17 +29,37 @@ TIMES = np.linspace(0.0, 0.5, 11)
 FMI3 = ("doughty", "double_pendulum")
 
 
+class _Built(dict):
+    """Each mechanism's FMU, written the first time a test asks for it."""
+
+    def __init__(self, folder: Path, version: str) -> None:
+        super().__init__()
+        self.folder, self.version = folder, version
+
+    def __missing__(self, name: str) -> Path:
+        self[name] = write_fmu(load(name), self.folder / f"{name}.fmu", version=self.version)
+        return self[name]
+
+
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("fmus")
-    return {name: write_fmu(load(name), folder / f"{name}.fmu") for name in EVERY}
+    return _Built(tmp_path_factory.mktemp("fmus"), "2.0")
 
 
 @pytest.fixture(scope="module")
 def fmus3(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("fmus3")
-    return {name: write_fmu(load(name), folder / f"{name}.fmu", version="3.0")
-            for name in FMI3}
+    return _Built(tmp_path_factory.mktemp("fmus3"), "3.0")
+
+
+#: What `make test` runs of this file: the paper's example validated and moving as `mechvib
+#: simulate`; the rest (every mechanism, FMI 3.0, rebuilds, the command line) is in the slow
+#: set, which CI runs (`make test-all`).
+FAST = ("doughty",)
+
+
+def every(names):
+    """names as parameters, those not in FAST marked slow."""
+    return [n if n in FAST else pytest.param(n, marks=pytest.mark.slow) for n in names]
 
 
 def _run(path, kind, start_values, output=("theta", "theta_d"), **options):
@@ -50,7 +70,7 @@ def _run(path, kind, start_values, output=("theta", "theta_d"), **options):
     return result
 
 
-@pytest.mark.parametrize("name", EVERY)
+@pytest.mark.parametrize("name", every(EVERY))
 def test_each_fmu_passes_fmpys_validation(fmus, name):
     assert validate_fmu(str(fmus[name])) == []
     with zipfile.ZipFile(fmus[name]) as archive:
@@ -60,7 +80,7 @@ def test_each_fmu_passes_fmpys_validation(fmus, name):
 
 
 @pytest.mark.parametrize("kind", ["CoSimulation", "ModelExchange"])
-@pytest.mark.parametrize("name", ONE_COORDINATE)
+@pytest.mark.parametrize("name", every(ONE_COORDINATE))
 def test_the_fmu_moves_as_mechvib_simulate(fmus, name, kind):
     lib = load(name)
     e = next(e for e in lib.analyze().equilibria if e.K > 0)
@@ -71,6 +91,7 @@ def test_the_fmu_moves_as_mechvib_simulate(fmus, name, kind):
     assert np.allclose(result["theta_d"], expected.theta_d, rtol=1e-8, atol=1e-8)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", FMI3)
 def test_fmi3_units_validate_and_move_as_their_fmi2_twins(fmus, fmus3, name):
     assert validate_fmu(str(fmus3[name])) == []
@@ -88,6 +109,7 @@ def test_fmi3_units_validate_and_move_as_their_fmi2_twins(fmus, fmus3, name):
             assert np.array_equal(three[c], two[c])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", EVERY)
 def test_an_fmu_left_alone_rests_at_its_equilibrium(fmus, name):
     """Its states start at the example's first stable equilibrium (their start values, which
@@ -100,6 +122,7 @@ def test_an_fmu_left_alone_rests_at_its_equilibrium(fmus, name):
         assert np.allclose(result[c], np.atleast_1d(e.theta)[k], atol=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["CoSimulation", "ModelExchange"])
 @pytest.mark.parametrize("name", SEVERAL)
 def test_an_fmu_with_several_coordinates_moves_as_mechvib_simulate(fmus, name, kind):
@@ -152,8 +175,7 @@ def test_parameters_and_the_input_load_act_as_set_would(fmus):
     unloaded = _run(fmus["doughty"], "CoSimulation", {"theta": 0.3, "k": 2500.0, "F": 0.0},
                     relative_tolerance=1e-12)
     assert np.abs(unloaded["theta"] - result["theta"]).max() > 1e-3
-
-
+@pytest.mark.slow
 def test_the_outputs_are_the_librarys_points_and_energies(fmus):
     lib = load("four_bar")
     result = simulate_fmu(str(fmus["four_bar"]), fmi_type="ModelExchange", stop_time=0.2,
@@ -170,6 +192,7 @@ def test_the_outputs_are_the_librarys_points_and_energies(fmus):
         assert row["potential_energy"] == pytest.approx(V_G + V_E, rel=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("version", ["2", "3"])
 def test_a_bad_parameter_is_an_fmi_error_with_the_reason_in_the_log(fmus, fmus3, version):
     messages = []
@@ -184,6 +207,7 @@ def test_a_bad_parameter_is_an_fmi_error_with_the_reason_in_the_log(fmus, fmus3,
     assert any("the parameters:" in m and "L" in m for m in messages), messages
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["CoSimulation", "ModelExchange"])
 def test_a_singular_state_is_an_fmi_error_with_the_reason_not_a_nan(fmus, kind):
     """Doughty's spring of zero length (H = a, theta = 0): its direction is undefined, so is
@@ -200,6 +224,7 @@ def test_a_singular_state_is_an_fmi_error_with_the_reason_not_a_nan(fmus, kind):
     assert any("spring length r is zero" in m for m in messages), messages
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("version", ["2", "3"])
 def test_the_fmu_rebuilt_from_its_sources_gives_the_same_motion(fmus, fmus3, version, tmp_path):
     """fmpy's CMake build of the FMU's sources (its binary removed first) moves as the
@@ -217,13 +242,11 @@ def test_the_fmu_rebuilt_from_its_sources_gives_the_same_motion(fmus, fmus3, ver
     rebuilt = _run(folder, "CoSimulation", start)
     original = _run(unit, "CoSimulation", start)
     assert np.allclose(rebuilt["theta"], original["theta"], rtol=1e-12, atol=1e-12)
-
-
+@pytest.mark.slow
 def test_the_same_model_gives_the_same_fmu_byte_for_byte(fmus, tmp_path):
     again = write_fmu(load("doughty"), tmp_path / "doughty.fmu")
     assert again.read_bytes() == fmus["doughty"].read_bytes()
-
-
+@pytest.mark.slow
 def test_the_command_line_writes_an_fmu_and_refuses_what_it_cannot(tmp_path):
     run = [sys.executable, "-m", "codegen", "fmu"]
     out = subprocess.run(run + ["--mechanism", "slider_crank", "--equilibrium", "0", "--fmi",
@@ -238,6 +261,7 @@ def test_the_command_line_writes_an_fmu_and_refuses_what_it_cannot(tmp_path):
         assert out.returncode != 0 and message in out.stderr and "Traceback" not in out.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", FMI3)
 def test_the_fmi_glue_and_the_fmus_own_part_compile_without_a_warning(fmus, fmus3, name,
                                                                        tmp_path):
@@ -259,8 +283,7 @@ def test_the_fmi_glue_and_the_fmus_own_part_compile_without_a_warning(fmus, fmus
                  "-Wdouble-promotion", "-Werror", "-O2", f"-I{sources}", f"-I{fmi_headers()}",
                  "-c", str(sources / source), "-o", "/dev/null"], capture_output=True, text=True)
             assert done.returncode == 0, (cc, source, done.stderr)
-
-
+@pytest.mark.slow
 def test_the_python_snippet_of_the_guide_runs(tmp_path, monkeypatch):
     """docs/fmu.md's Python block, as a user pastes it: it writes the FMU and simulates it."""
     guide = (Path(__file__).resolve().parent.parent / "docs" / "fmu.md").read_text()

@@ -235,6 +235,7 @@ def test_a_dependent_coordinate_no_constraint_solves_is_refused(tmp_path):
         derive_multibody(load_model(str(path)))
 
 
+@pytest.mark.slow   # a whole generation and build: 8 s
 def test_a_users_three_coordinate_model_through_the_command_line(tmp_path):
     """A triple pendulum written in a model file of its own, generated, built and analysed by
     `mechvib analyze --model`, with springs weak enough to buckle it, against the reference."""

@@ -193,6 +193,7 @@ def test_a_weak_crank_spring_gives_more_equilibria_all_found(lib):
     assert len(found.equilibria) >= 4
 
 
+@pytest.mark.slow
 @settings(max_examples=5, deadline=None, phases=(Phase.explicit, Phase.generate),
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(k_c=st.floats(0.05, 20), alpha=st.floats(-3, 3), m_p=st.floats(0.05, 3),
@@ -260,6 +261,7 @@ def test_an_assembly_mode_that_does_not_tell_the_modes_apart_is_refused(tmp_path
         derive_multibody(load_model(str(path)))
 
 
+@pytest.mark.slow
 def test_a_users_model_with_a_dyad_goes_into_an_fmu(lib, tmp_path):
     """The user's build (not a shipped library) as an FMU: validated by fmpy, its
     Co-Simulation the library's motion."""
