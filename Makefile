@@ -8,6 +8,11 @@ PY      = $(VENV)/bin/python
 BUILD_REQUIRES = 'setuptools>=77' 'wheel' 'cffi>=1.16'
 INSTALL = $(PY) -m pip install --quiet --no-build-isolation -e '.[test]'
 
+# The suite on every core (pytest-xdist): each test writes only under its own tmp_path (or
+# into one build/ folder no other test writes), so neither order nor worker matters.
+# `make test PYTEST_JOBS=` runs it in one process.
+PYTEST_JOBS ?= -n auto
+
 CC       ?= gcc
 STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
 SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
@@ -53,10 +58,10 @@ analyze: venv  ## the paper's example: every equilibrium and its vibration (Tabl
 	$(PY) -m codegen analyze
 
 test: venv check  ## generated/ up to date, then the test suite without the slow runs
-	$(PY) -m pytest -m "not slow"
+	$(PY) -m pytest $(PYTEST_JOBS) -m "not slow"
 
 test-all: venv check  ## what CI runs: the whole suite, slow runs (property runs, the wheel) included
-	$(PY) -m pytest
+	$(PY) -m pytest $(PYTEST_JOBS)
 
 LIBS = $(patsubst generated/%/,%,$(filter-out generated/runtime/,$(wildcard generated/*/)))
 
