@@ -86,6 +86,9 @@ CASES = {
     # link (a pin in a rotating slot, RPR, then RRP: the lever's angle a step of the program
     # once the slot's length is known).
     "quick_return_shaper": Case("quick_return_shaper"),
+    # ... and a spring and a damper along the slide (both ends on its line: the length is the
+    # root of one square, which SymPy would write |u|).
+    "slide_spring": Case("slide_spring"),
 }
 
 
@@ -293,3 +296,22 @@ def test_a_state_no_declared_mode_holds_in_is_reported_undecided(builds):
     assert [r.mode for r in lib.analyze(tilted).roots if r.kind != "extraneous"] == \
         [0 if r.kind == "equilibrium" else 1
          for r in lib.analyze(tilted).roots if r.kind != "extraneous"]
+
+
+def test_a_length_along_one_axis_stays_a_root():
+    """The slide spring's two ends share y: its length is the root of one square, written out
+    so that SymPy does not make it |u| (whose second derivative is a DiracDelta)."""
+    import sympy as sp
+
+    from codegen.model.mechanism import distance
+
+    mechanism = load_model("slide_spring")
+    (x,) = [c.function for c in mechanism.coordinates if c.name == "x"]
+    length = mechanism.springs[0].length
+    assert not length.has(sp.Abs)
+    assert sp.simplify(length**2 - (x - sp.Symbol("x_S", real=True))**2) == 0
+    second = sp.diff(length, x.args[0], 2)
+    assert not second.has(sp.DiracDelta, sp.sign, sp.Abs)
+    # two points apart on both axes: the sum of squares as written
+    a, b = sp.symbols("a b", real=True)
+    assert distance((a, b), (0, 0)) == sp.sqrt(a**2 + b**2)

@@ -135,6 +135,8 @@ class PositionSolution:
                 radicand = root.base
                 for angle in angles:
                     radicand = reduce_trig(radicand, angle)
+                if sp.sqrt(radicand).has(sp.Abs):   # factored to u^2: keep a root, not |u|
+                    radicand = sp.expand(radicand)
                 expr = expr.xreplace({root: sp.sqrt(radicand)})
         return expr.xreplace(self.trig).xreplace(dict(zip(self.coords, self.positions)))
 

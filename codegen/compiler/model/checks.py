@@ -150,9 +150,11 @@ def _is_square(term: sp.Expr) -> bool:
 
 
 def _is_distance(radicand: sp.Expr) -> bool:
-    """A sum of two squares, as distance(p, q) makes (or one, where the points share x or y)."""
+    """A sum of two squares, as distance(p, q) makes, or one square written out (two points
+    on one axis)."""
     terms = sp.Add.make_args(radicand)
-    return len(terms) <= 2 and all(_is_square(t) for t in terms)
+    return (len(terms) <= 2 and all(_is_square(t) for t in terms)) or _is_square(
+        sp.factor(radicand))
 
 
 def _roots(m: Mechanism):

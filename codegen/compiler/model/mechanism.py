@@ -108,8 +108,16 @@ class Sketch:
 
 
 def distance(p: tuple[sp.Expr, sp.Expr], q: tuple[sp.Expr, sp.Expr]) -> sp.Expr:
-    """|p - q|: a *length* root (only its positive sign is physical)."""
-    return sp.sqrt((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2)
+    """|p - q|: a *length* root (only its positive sign is physical).
+
+    Where the two points share an axis (a spring along a slide), SymPy would write the root
+    of the one square left as |u|, whose derivative sign(u) differentiates to DiracDelta(u);
+    the square is expanded instead, so that the length stays a root like any other."""
+    differences = [a - b for a, b in zip(p, q)]
+    radicand = sum(d**2 for d in differences)
+    if sum(d != 0 for d in differences) == 1:
+        radicand = sp.expand(radicand)
+    return sp.sqrt(radicand)
 
 
 @dataclass(frozen=True)
