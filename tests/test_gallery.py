@@ -315,3 +315,28 @@ def test_a_length_along_one_axis_stays_a_root():
     # two points apart on both axes: the sum of squares as written
     a, b = sp.symbols("a b", real=True)
     assert distance((a, b), (0, 0)) == sp.sqrt(a**2 + b**2)
+
+
+def test_a_spring_through_zero_length_on_its_slide_is_singular_there(builds):
+    """The anchor within the slider's reach: where the slider passes it, the spring's length
+    is zero and G jumps (k l_0 one way, then the other). Both routes report those angles as
+    singular intervals, never as equilibria; the angles are where R cos(theta) + sqrt(l^2 -
+    (R sin(theta) - e)^2) = x_S, solved here by bisection."""
+    import mpmath
+
+    lib = builds("slide_spring").library()
+    values = {**example(load_model("slide_spring")), "x_S": 0.3, "F": 0.0, "T": 0.0}
+    R, l, e, x_S = (mpmath.mpf(values[n]) for n in ("R", "l", "e", "x_S"))
+
+    def gap(theta):
+        return R * mpmath.cos(theta) + mpmath.sqrt(l**2 - (R * mpmath.sin(theta) - e)**2) - x_S
+
+    passes = [float(mpmath.findroot(gap, (lo, hi), solver="bisect"))
+              for lo, hi in ((-math.pi / 2 - 0.3, -0.5), (0.5, math.pi / 2 + 0.3))]
+    for method in ("auto", "isolate"):
+        analysis = lib.analyze(lib.example_params(**{n: values[n] for n in ("x_S", "F", "T")}),
+                               method=method)
+        singular = sorted((u.lo, u.hi) for u in analysis.uncertain if u.kind == "singular")
+        assert len(singular) == 2 and all(lo - 1e-9 <= p <= hi + 1e-9
+                                          for (lo, hi), p in zip(singular, passes)), singular
+        assert all(min(abs(q.theta - p) for p in passes) > 1e-3 for q in analysis.equilibria)
