@@ -89,6 +89,8 @@ CASES = {
     # ... and a spring and a damper along the slide (both ends on its line: the length is the
     # root of one square, which SymPy would write |u|).
     "slide_spring": Case("slide_spring"),
+    # ... and two RRP dyads in a chain: the second out of reach on the first's other mode.
+    "double_slider_chain": Case("double_slider_chain"),
 }
 
 
@@ -340,3 +342,42 @@ def test_a_spring_through_zero_length_on_its_slide_is_singular_there(builds):
         assert len(singular) == 2 and all(lo - 1e-9 <= p <= hi + 1e-9
                                           for (lo, hi), p in zip(singular, passes)), singular
         assert all(min(abs(q.theta - p) for p in passes) > 1e-3 for q in analysis.equilibria)
+
+
+def test_functions_on_every_mode_are_nan_only_where_that_mode_is_missing(builds, references):
+    """mode_linearisation, equilibrium_branches and assembly_conditions give each assembly
+    mode its values where that mode can be assembled and NaN where it cannot (the chain's
+    second dyad is out of reach on the first's other mode everywhere, and near 180 deg on
+    the declared one too), as the reference of each mode assembles or not; a failure only
+    where no mode can be assembled."""
+    case = "double_slider_chain"
+    lib = builds(CASES[case].model).library()
+    p = lib.example_params()
+    branch_modes = np.array(modes_of_branches(lib))
+    assembled_somewhere = [False] * lib.modes
+    for theta in angles(references(case)[2]):
+        values = [references(case, mode)[2].values(theta) for mode in range(lib.modes)]
+        if all(v is None for v in values):
+            with pytest.raises(lib.LibraryError):
+                lib.mode_linearisation(p, theta)
+            continue
+        M = lib.mode_linearisation(p, theta).M
+        branches = lib.equilibrium_branches(p, theta)
+        conditions = lib.assembly_conditions(p, theta).values.reshape(lib.modes, -1)
+        for mode, v in enumerate(values):
+            assembled_somewhere[mode] |= v is not None
+            assert (v is None) == math.isnan(M[mode]), (math.degrees(theta), mode)
+            assert (v is None) == bool(np.isnan(branches[branch_modes == mode]).all())
+            assert (v is None) == bool(np.isnan(conditions[mode]).all())
+            if v is not None:
+                assert mismatches({"M": [M[mode]]}, {"M": [v.M]}) == [], (theta, mode)
+    assert assembled_somewhere.count(False) == 2   # the first dyad's other mode, both ways
+
+
+def modes_of_branches(lib) -> list[int]:
+    """The assembly mode of each branch of equilibrium_branches, by the documented numbering:
+    branch j flips root i where bit i of j is set; mode m flips the k-th assembly root where
+    bit k of m is set (lengths flipped or not, the same mode)."""
+    assembly = [i for i, kind in enumerate(lib.ROOT_KINDS) if kind == "assembly"]
+    return [sum(1 << k for k, i in enumerate(assembly) if j >> i & 1)
+            for j in range(2 ** len(lib.ROOT_KINDS))]

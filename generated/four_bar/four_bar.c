@@ -22,6 +22,27 @@ static int all_finite(const codegen_real *values, int count)
     return 1;
 }
 
+/* Values given on every assembly mode (mode_of[i] is value i's): each mode with a value that
+ * is not finite is NaN throughout, the others kept. Returns how many modes have values. */
+static int modes_with_values(codegen_real *values, const unsigned char *mode_of, int count,
+                             int n_modes)
+{
+    int mode, i, found = 0;
+    for (mode = 0; mode < n_modes; ++mode) {
+        int finite = 1;
+        for (i = 0; i < count; ++i) {
+            finite = finite && (mode_of[i] != mode || isfinite(values[i]));
+        }
+        for (i = 0; i < count && !finite; ++i) {
+            if (mode_of[i] == mode) {
+                values[i] = (codegen_real)NAN;
+            }
+        }
+        found += finite;
+    }
+    return found;
+}
+
 static void copy_out(codegen_real *destination, const codegen_real *source, int count)
 {
     int i;
@@ -1809,6 +1830,9 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
     }
 }
 
+/* The assembly mode of each of equilibrium_branches's values. */
+static const unsigned char equilibrium_branches_mode_of[4] = { 0, 1, 0, 1 };
+
 /* equilibrium_branches: eq. -. */
 four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, codegen_real theta, codegen_real residuals[FOUR_BAR_N_BRANCHES])
 {
@@ -1825,7 +1849,7 @@ four_bar_status four_bar_equilibrium_branches(const four_bar_params *params, cod
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_equilibrium_branches_kernel(params, theta, out);
-    if (!all_finite(out, 4)) {
+    if (modes_with_values(out, equilibrium_branches_mode_of, 4, FOUR_BAR_N_MODES) == 0) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
     copy_out(residuals, out + 0, 4);
@@ -8627,6 +8651,9 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
     }
 }
 
+/* The assembly mode of each of mode_linearisation's values. */
+static const unsigned char mode_linearisation_mode_of[6] = { 0, 1, 0, 1, 0, 1 };
+
 /* mode_linearisation: eq. -. */
 four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codegen_real theta, codegen_real M[FOUR_BAR_N_MODES], codegen_real B[FOUR_BAR_N_MODES], codegen_real K[FOUR_BAR_N_MODES])
 {
@@ -8643,7 +8670,7 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codeg
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_mode_linearisation_kernel(params, theta, out);
-    if (!all_finite(out, 6)) {
+    if (modes_with_values(out, mode_linearisation_mode_of, 6, FOUR_BAR_N_MODES) == 0) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
     copy_out(M, out + 0, 2);
@@ -8698,6 +8725,9 @@ void four_bar_assembly_conditions_kernel(const four_bar_params *params, codegen_
     }
 }
 
+/* The assembly mode of each of assembly_conditions's values. */
+static const unsigned char assembly_conditions_mode_of[4] = { 0, 1, 0, 1 };
+
 /* assembly_conditions: eq. -. */
 four_bar_status four_bar_assembly_conditions(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_MODE_CONDITIONS], codegen_real scales[FOUR_BAR_N_MODE_CONDITIONS])
 {
@@ -8714,7 +8744,7 @@ four_bar_status four_bar_assembly_conditions(const four_bar_params *params, code
         return FOUR_BAR_ERR_NONFINITE;
     }
     four_bar_assembly_conditions_kernel(params, theta, out);
-    if (!all_finite(out, 4)) {
+    if (modes_with_values(out, assembly_conditions_mode_of, 4, FOUR_BAR_N_MODES) == 0) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
     copy_out(values, out + 0, 2);

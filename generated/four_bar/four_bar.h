@@ -194,7 +194,7 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, cod
  */
 four_bar_status four_bar_radicands(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_ROOTS], codegen_real scales[FOUR_BAR_N_ROOTS]);
 
-/* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch.
+/* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: independent coordinate theta [rad]
  * out residuals: [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
@@ -230,7 +230,7 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, codegen_re
  */
 four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
-/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
+/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
  * out B: B_EQ [N m s]
@@ -239,7 +239,7 @@ four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real t
  */
 four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codegen_real theta, codegen_real M[FOUR_BAR_N_MODES], codegen_real B[FOUR_BAR_N_MODES], codegen_real K[FOUR_BAR_N_MODES]);
 
-/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set.
+/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: independent coordinate theta [rad]
  * out values: [as declared]
  * out scales: [as declared]

@@ -22,6 +22,27 @@ static int all_finite(const codegen_real *values, int count)
     return 1;
 }
 
+/* Values given on every assembly mode (mode_of[i] is value i's): each mode with a value that
+ * is not finite is NaN throughout, the others kept. Returns how many modes have values. */
+static int modes_with_values(codegen_real *values, const unsigned char *mode_of, int count,
+                             int n_modes)
+{
+    int mode, i, found = 0;
+    for (mode = 0; mode < n_modes; ++mode) {
+        int finite = 1;
+        for (i = 0; i < count; ++i) {
+            finite = finite && (mode_of[i] != mode || isfinite(values[i]));
+        }
+        for (i = 0; i < count && !finite; ++i) {
+            if (mode_of[i] == mode) {
+                values[i] = (codegen_real)NAN;
+            }
+        }
+        found += finite;
+    }
+    return found;
+}
+
 static void copy_out(codegen_real *destination, const codegen_real *source, int count)
 {
     int i;
@@ -961,6 +982,9 @@ void slider_crank_equilibrium_branches_kernel(const slider_crank_params *params,
     }
 }
 
+/* The assembly mode of each of equilibrium_branches's values. */
+static const unsigned char equilibrium_branches_mode_of[4] = { 0, 1, 0, 1 };
+
 /* equilibrium_branches: eq. -. */
 slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params *params, codegen_real theta, codegen_real residuals[SLIDER_CRANK_N_BRANCHES])
 {
@@ -977,7 +1001,7 @@ slider_crank_status slider_crank_equilibrium_branches(const slider_crank_params 
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_equilibrium_branches_kernel(params, theta, out);
-    if (!all_finite(out, 4)) {
+    if (modes_with_values(out, equilibrium_branches_mode_of, 4, SLIDER_CRANK_N_MODES) == 0) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
     copy_out(residuals, out + 0, 4);
@@ -4372,6 +4396,9 @@ void slider_crank_mode_linearisation_kernel(const slider_crank_params *params, c
     }
 }
 
+/* The assembly mode of each of mode_linearisation's values. */
+static const unsigned char mode_linearisation_mode_of[6] = { 0, 1, 0, 1, 0, 1 };
+
 /* mode_linearisation: eq. -. */
 slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real M[SLIDER_CRANK_N_MODES], codegen_real B[SLIDER_CRANK_N_MODES], codegen_real K[SLIDER_CRANK_N_MODES])
 {
@@ -4388,7 +4415,7 @@ slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *p
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_mode_linearisation_kernel(params, theta, out);
-    if (!all_finite(out, 6)) {
+    if (modes_with_values(out, mode_linearisation_mode_of, 6, SLIDER_CRANK_N_MODES) == 0) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
     copy_out(M, out + 0, 2);
@@ -4418,6 +4445,9 @@ void slider_crank_assembly_conditions_kernel(const slider_crank_params *params, 
     }
 }
 
+/* The assembly mode of each of assembly_conditions's values. */
+static const unsigned char assembly_conditions_mode_of[4] = { 0, 1, 0, 1 };
+
 /* assembly_conditions: eq. -. */
 slider_crank_status slider_crank_assembly_conditions(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_MODE_CONDITIONS], codegen_real scales[SLIDER_CRANK_N_MODE_CONDITIONS])
 {
@@ -4434,7 +4464,7 @@ slider_crank_status slider_crank_assembly_conditions(const slider_crank_params *
         return SLIDER_CRANK_ERR_NONFINITE;
     }
     slider_crank_assembly_conditions_kernel(params, theta, out);
-    if (!all_finite(out, 4)) {
+    if (modes_with_values(out, assembly_conditions_mode_of, 4, SLIDER_CRANK_N_MODES) == 0) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
     copy_out(values, out + 0, 2);

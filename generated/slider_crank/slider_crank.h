@@ -194,7 +194,7 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
  */
 slider_crank_status slider_crank_radicands(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_ROOTS], codegen_real scales[SLIDER_CRANK_N_ROOTS]);
 
-/* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch.
+/* G on each of the 4 branches (sign choices of the square roots; branch j takes root i negative when bit i of j is set; branch 0 is the mechanism as declared). A root of the polynomial zeroes G on one branch. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: independent coordinate theta [rad]
  * out residuals: [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
@@ -230,7 +230,7 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
  */
 slider_crank_status slider_crank_vibration(const slider_crank_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
-/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared.
+/* M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly root when bit i of j is set; mode 0 is the mechanism as declared. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
  * out B: B_EQ [N m s]
@@ -239,7 +239,7 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, co
  */
 slider_crank_status slider_crank_mode_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real M[SLIDER_CRANK_N_MODES], codegen_real B[SLIDER_CRANK_N_MODES], codegen_real K[SLIDER_CRANK_N_MODES]);
 
-/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set.
+/* The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: condition k on mode j, numbered as mode_linearisation's), each positive where its dyad is assembled as declared, and the sizes of their terms: which mode a state is in, as declared, for any parameter set. A mode that has no value at theta (its dyads cannot be assembled there, or it is singular) reads NaN; the failure only where no mode has one.
  * in  theta: independent coordinate theta [rad]
  * out values: [as declared]
  * out scales: [as declared]

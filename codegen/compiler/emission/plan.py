@@ -45,6 +45,10 @@ class CFunction:
     definitions: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
     # "double", or "double-double" where the expressions cancel more digits than double has
     arithmetic: str = "double"
+    # The assembly mode of each value (the outputs' values in order) of a function given on
+    # every mode: a mode that has no value at the input (a dyad of the chain that cannot be
+    # assembled on that mode, or a pole of it) is NaN; the others stand. Empty: all or none.
+    slot_modes: tuple[int, ...] = ()
 
     def explicit(self, exprs) -> list[sp.Expr]:
         """Expressions with the program's symbols written out in the inputs."""
@@ -186,13 +190,20 @@ def build_plan(d: Derivation) -> Plan:
         return tuple(fr(e) for e in M)
 
     program = d.program   # a chain's steps, which its expressions are written in
+    n_modes = len(lin.modes)
+    mode_of_branch = tuple(_mode_of(branch.signs, lin.modes, eq.roots) for branch in eq.branches)
+    # On several modes, the values of a mode that has none at theta are NaN, not a failure
+    per_mode = n_modes > 1
+    on_every_mode = (" A mode that has no value at theta (its dyads cannot be assembled "
+                     "there, or it is singular) reads NaN; the failure only where no mode "
+                     "has one." if per_mode else "")
 
     def fn(key: str, summary: str, inputs, outputs, definitions=program,
-           arithmetic="double", parts=()) -> CFunction:
+           arithmetic="double", parts=(), slot_modes=()) -> CFunction:
         """A function; one fused from others (parts) implements their equations."""
         equation = ", ".join(e for e in (m.equations.get(k, "") for k in parts or (key,)) if e)
         return CFunction(key, summary, equation, tuple(inputs), tuple(outputs),
-                         tuple(definitions), arithmetic)
+                         tuple(definitions), arithmetic, tuple(slot_modes))
 
     points = kin.point_positions
     constrained = (
@@ -262,9 +273,10 @@ def build_plan(d: Derivation) -> Plan:
         fn("equilibrium_branches",
            f"G on each of the {2 ** n_roots} branches (sign choices of the square roots; "
            "branch j takes root i negative when bit i of j is set; branch 0 is the mechanism "
-           "as declared). A root of the polynomial zeroes G on one branch.",
+           "as declared). A root of the polynomial zeroes G on one branch." + on_every_mode,
            [theta], [Output("residuals", tuple(b.residual for b in eq.branches), "[N m]",
-                            "N_BRANCHES")]),
+                            "N_BRANCHES")],
+           slot_modes=mode_of_branch if per_mode else ()),
     ) if n_roots else ()
     polynomial = (
         fn("sigma",
@@ -285,26 +297,28 @@ def build_plan(d: Derivation) -> Plan:
     other_modes = (
         fn("mode_linearisation",
            "M, B, K (as linearisation) of every assembly mode: mode j flips the i-th assembly "
-           "root when bit i of j is set; mode 0 is the mechanism as declared.",
+           "root when bit i of j is set; mode 0 is the mechanism as declared." + on_every_mode,
            [theta_e], [Output(name, tuple(getattr(mode, attr) for mode in lin.modes), unit,
                               "N_MODES")
                        for name, attr, unit in (("M", "mass", "M_EQ [kg m^2]"),
                                                 ("B", "damping", "B_EQ [N m s]"),
-                                                ("K", "stiffness", "K_EQ [N m]"))]),
-    ) if len(lin.modes) > 1 else ()
+                                                ("K", "stiffness", "K_EQ [N m]"))],
+           slot_modes=tuple(range(n_modes)) * 3),
+    ) if per_mode else ()
     n_conditions = len(lin.condition_bits)
     declared_modes = (
         fn("assembly_conditions",
            "The model's assembly-mode conditions on every mode (values[j * N_CONDITIONS + k]: "
            "condition k on mode j, numbered as mode_linearisation's), each positive where its "
            "dyad is assembled as declared, and the sizes of their terms: which mode a state "
-           "is in, as declared, for any parameter set.",
+           "is in, as declared, for any parameter set." + on_every_mode,
            [theta], [Output("values", tuple(c for mode in lin.modes for c in mode.conditions),
                             "[as declared]", "N_MODE_CONDITIONS"),
                      Output("scales", tuple(c for mode in lin.modes
                                             for c in mode.condition_scales),
-                            "[as declared]", "N_MODE_CONDITIONS")]),
-    ) if len(lin.modes) > 1 and n_conditions else ()
+                            "[as declared]", "N_MODE_CONDITIONS")],
+           slot_modes=tuple(j for j in range(n_modes) for _ in range(n_conditions)) * 2),
+    ) if per_mode and n_conditions else ()
     dynamics_at_rest = (
         fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
            [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
@@ -358,8 +372,7 @@ def build_plan(d: Derivation) -> Plan:
         requirements=m.requirements,
         singular_state=m.singular_state,
         root_kinds=tuple(r.kind for r in eq.roots),
-        mode_of_branch=tuple(_mode_of(branch.signs, lin.modes, eq.roots)
-                             for branch in eq.branches),
+        mode_of_branch=mode_of_branch,
         condition_bits=lin.condition_bits,
         range_centre=str(d.user.range_centre),
         periodic=m.periodic,

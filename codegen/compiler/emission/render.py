@@ -62,6 +62,7 @@ class RenderedFunction:
     finite_checks: tuple[str, ...]
     copies: tuple[str, ...]
     may_be_singular: bool
+    slot_modes: tuple[int, ...] = ()     # CFunction.slot_modes
 
 
 def _arguments(f: CFunction, prefix: str, ctype: str,
@@ -166,6 +167,7 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
                             else f"isfinite({a.name})" for a in f.inputs),
         copies=tuple(copies),
         may_be_singular=may_be_singular,
+        slot_modes=f.slot_modes,
     )
 
 
