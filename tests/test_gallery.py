@@ -381,3 +381,23 @@ def modes_of_branches(lib) -> list[int]:
     assembly = [i for i, kind in enumerate(lib.ROOT_KINDS) if kind == "assembly"]
     return [sum(1 << k for k, i in enumerate(assembly) if j >> i & 1)
             for j in range(2 ** len(lib.ROOT_KINDS))]
+
+
+def test_a_limit_position_shared_by_two_modes_is_listed_once(builds):
+    """Where the chain's link is stretched straight (d - x_B = l_2) the second dyad's root is
+    zero on both of its modes: one singular interval of no declared mode, listed once, at
+    the angles where R cos(theta) + sqrt(l_1^2 - R^2 sin(theta)^2) = d - l_2 (bisection)."""
+    import mpmath
+
+    lib = builds("double_slider_chain").library()
+    values = example(load_model("double_slider_chain"))
+    R, l_1, l_2, d = (mpmath.mpf(values[n]) for n in ("R", "l_1", "l_2", "d"))
+
+    def reach(theta):
+        return R * mpmath.cos(theta) + mpmath.sqrt(l_1**2 - (R * mpmath.sin(theta))**2) - (d - l_2)
+
+    straight = float(mpmath.findroot(reach, (0.5, math.pi - 0.01), solver="bisect"))
+    analysis = lib.analyze(lib.example_params())
+    assert [(u.kind, u.mode) for u in analysis.uncertain] == [("singular", None)] * 2
+    for u, theta in zip(analysis.uncertain, (-straight, straight)):
+        assert u.lo - 1e-9 <= theta <= u.hi + 1e-9, (u, theta)

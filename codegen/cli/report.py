@@ -97,7 +97,7 @@ def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
     every column, ``sigma`` the polynomial's coefficients."""
     lines = _rows(analysis, wide)
     count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
-    parts = [f"{count['equilibrium']} equilibria"]
+    parts = [f"{count['equilibrium']} equilibri{'um' if count['equilibrium'] == 1 else 'a'}"]
     parts += [f"{count['other assembly mode']} of another assembly mode"] * bool(
         count["other assembly mode"])
     parts += [f"{count['extraneous']} extraneous (a negative length)"] * bool(count["extraneous"])

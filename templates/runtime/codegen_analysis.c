@@ -583,6 +583,7 @@ static int merge_split_roots(codegen_equilibrium *roots, int count)
 static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
                         codegen_real below, int whole, void *workspace, const result_view *work);
 static void sort_uncertain(codegen_uncertain *uncertain, int count);
+static void drop_repeated(const result_view *r);
 
 /* What one mode's G has on a span. */
 typedef enum span_outcome {
@@ -1350,6 +1351,28 @@ static void assign_modes(const call *c, const result_view *r)
         codegen_uncertain *u = &r->uncertain[i];
         u->mode = declared_mode(c, u->mode, u->lo + CODEGEN_R(0.5) * (u->hi - u->lo));
     }
+    drop_repeated(r);
+}
+
+/* Uncertain intervals listed once: two branches' intervals can become the same one once
+ * named by the declared modes (a chain's limit position, shared by both modes of the dyad
+ * after it, is of no declared mode on either). */
+static void drop_repeated(const result_view *r)
+{
+    int i, j, kept = 0;
+    for (i = 0; i < *r->n_uncertain; ++i) {
+        const codegen_uncertain *u = &r->uncertain[i];
+        int seen = 0;
+        for (j = 0; j < kept && !seen; ++j) {
+            const codegen_uncertain *v = &r->uncertain[j];
+            seen = v->lo == u->lo && v->hi == u->hi && v->kind == u->kind
+                   && v->mode == u->mode && v->sign_change == u->sign_change;
+        }
+        if (!seen) {
+            r->uncertain[kept++] = *u;
+        }
+    }
+    *r->n_uncertain = kept;
 }
 
 /* One route into the workspace's result (parameters checked). */
