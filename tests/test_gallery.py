@@ -324,17 +324,15 @@ def test_a_spring_through_zero_length_on_its_slide_is_singular_there(builds):
     is zero and G jumps (k l_0 one way, then the other). Both routes report those angles as
     singular intervals, never as equilibria; the angles are where R cos(theta) + sqrt(l^2 -
     (R sin(theta) - e)^2) = x_S, solved here by bisection."""
-    import mpmath
-
     lib = builds("slide_spring").library()
     values = {**example(load_model("slide_spring")), "x_S": 0.3, "F": 0.0, "T": 0.0}
-    R, l, e, x_S = (mpmath.mpf(values[n]) for n in ("R", "l", "e", "x_S"))
+    R, l, e, x_S = (values[n] for n in ("R", "l", "e", "x_S"))
 
     def gap(theta):
-        return R * mpmath.cos(theta) + mpmath.sqrt(l**2 - (R * mpmath.sin(theta) - e)**2) - x_S
+        return R * math.cos(theta) + math.sqrt(l**2 - (R * math.sin(theta) - e)**2) - x_S
 
-    passes = [float(mpmath.findroot(gap, (lo, hi), solver="bisect"))
-              for lo, hi in ((-math.pi / 2 - 0.3, -0.5), (0.5, math.pi / 2 + 0.3))]
+    passes = [bisect(gap, lo, hi) for lo, hi in ((-math.pi / 2 - 0.3, -0.5),
+                                                 (0.5, math.pi / 2 + 0.3))]
     for method in ("auto", "isolate"):
         analysis = lib.analyze(lib.example_params(**{n: values[n] for n in ("x_S", "F", "T")}),
                                method=method)
@@ -387,17 +385,23 @@ def test_a_limit_position_shared_by_two_modes_is_listed_once(builds):
     """Where the chain's link is stretched straight (d - x_B = l_2) the second dyad's root is
     zero on both of its modes: one singular interval of no declared mode, listed once, at
     the angles where R cos(theta) + sqrt(l_1^2 - R^2 sin(theta)^2) = d - l_2 (bisection)."""
-    import mpmath
-
     lib = builds("double_slider_chain").library()
     values = example(load_model("double_slider_chain"))
-    R, l_1, l_2, d = (mpmath.mpf(values[n]) for n in ("R", "l_1", "l_2", "d"))
+    R, l_1, l_2, d = (values[n] for n in ("R", "l_1", "l_2", "d"))
 
     def reach(theta):
-        return R * mpmath.cos(theta) + mpmath.sqrt(l_1**2 - (R * mpmath.sin(theta))**2) - (d - l_2)
+        return R * math.cos(theta) + math.sqrt(l_1**2 - (R * math.sin(theta))**2) - (d - l_2)
 
-    straight = float(mpmath.findroot(reach, (0.5, math.pi - 0.01), solver="bisect"))
+    straight = bisect(reach, 0.5, math.pi - 0.01)
     analysis = lib.analyze(lib.example_params())
     assert [(u.kind, u.mode) for u in analysis.uncertain] == [("singular", None)] * 2
     for u, theta in zip(analysis.uncertain, (-straight, straight)):
         assert u.lo - 1e-9 <= theta <= u.hi + 1e-9, (u, theta)
+
+
+def bisect(f, lo: float, hi: float) -> float:
+    """The zero of f in [lo, hi], where f changes sign, to the last bit (plain bisection)."""
+    assert (f(lo) < 0) != (f(hi) < 0)
+    while lo < (mid := lo + (hi - lo) / 2) < hi:
+        lo, hi = (mid, hi) if (f(mid) < 0) == (f(lo) < 0) else (lo, mid)
+    return lo
