@@ -1,9 +1,12 @@
 """Random chains of two dyads, built in Python from a seed (issue 30's property test): a crank
 (angle theta) drives a first dyad, and a point on one of that dyad's links drives a second
-one. Each dyad is drawn an RRR (a coupler and a rocker about a ground pin) or an RRP (a rod
-and a slider on a line through a ground point, at a drawn inclination), each declared in a
-drawn assembly mode; the first may also be an RPR (the crank pin sliding in the slot of a
-lever pivoted at a ground pin, a polar pair, whose lever then drives the second dyad). Lengths, masses, the driving point, springs between random joints and
+one. Each dyad is drawn an RRR (a coupler and a rocker about a ground pin), an RRP (a rod
+and a slider on a line through a ground point, at a drawn inclination) or an RPR (the driving
+point sliding in the slot of a lever pivoted at a ground pin, a polar pair, whose lever then
+drives what follows), each declared in a drawn assembly mode; the second may also be a PRR (a
+collar sliding along the first dyad's link, held by a bar from a ground pin). PAIRS are those
+the derivation solves, REFUSED those it refuses today. Lengths,
+masses, the driving point, springs between random joints and
 anchors, a damper, a force and gravity are drawn too; every number is a parameter whose
 example is the value drawn, so the model is data exactly as a user writes it.
 """
@@ -17,8 +20,14 @@ from codegen.compiler.model.mechanism import (Body, Coordinate, Damper, Mechanis
 
 from random_mechanisms import _bar, _on, _Parameters
 
-KINDS = ("RRR", "RRP")          # either dyad
-FIRST_KINDS = (*KINDS, "RPR")    # the first only (the crank pin never reaches the slot's pin)
+KINDS = ("RRR", "RRP")              # either dyad
+FIRST_KINDS = (*KINDS, "RPR")        # the crank pin never reaches the slot's pin
+#: The pairs the derivation solves: any first dyad, then an RRR or RRP; an RPR after an RPR
+#: (the lever drives the second slot).
+PAIRS = (*((first, second) for first in FIRST_KINDS for second in KINDS), ("RPR", "RPR"))
+#: Refused today, each in one line (a slot or a slide carried by what an RRR or RRP moves).
+#: Not drawn at all: an RPR then a PRR, whose derivation runs for minutes.
+REFUSED = (("RRR", "RPR"), ("RRP", "RPR"), ("RRR", "PRR"), ("RRP", "PRR"))
 
 
 def _left_of(a, b, p):
@@ -54,11 +63,36 @@ class _Chain:
         self.joints += [tip]
         return pin, f, length
 
-    def dyad(self, k: int, start, kind: str):
-        """A dyad from the known joint ``start``: returns its two moving links as (origin,
-        angle, length) for a later dyad to be driven from."""
+    def collar(self, k: int, line):
+        """A PRR dyad: a collar slides along the moving link ``line`` (origin, angle, length),
+        at distance s_k from its origin, held by a bar of length L_k from a ground pin."""
+        P, rng, s = self.P, self.rng, self.scale
+        (origin, angle, _), sign = line, (1 if rng.random() < 0.5 else -1)
+        along = Coordinate(f"s_{k}", "m", f"distance of the collar along the link, dyad {k}")
+        bar = Coordinate(f"psi_{k}", "rad", f"angle of the collar's bar, dyad {k}")
+        pin = (P.draw(f"x_G{k}", "m", -1.5 * s, 1.5 * s), P.draw(f"y_G{k}", "m", -1.5 * s, 1.5 * s))
+        L = P.draw(f"L_{k}", "m", 0.8 * s, 2.0 * s)
+        d, g = along.function, bar.function
+        collar = (origin[0] + d * sp.cos(angle), origin[1] + d * sp.sin(angle))
+        end = (pin[0] + L * sp.cos(g), pin[1] + L * sp.sin(g))
+        self.coordinates += [along, bar]
+        self.lengths.append(L)
+        self.constraints += [collar[0] - end[0], collar[1] - end[1]]
+        self.bodies += [Body(f"collar_{k}", P.draw(f"m_C{k}", "kg", 0.1, 1.0), collar),
+                        _bar(f"bar_{k}", P.draw(f"m_g{k}", "kg", 0.1, 2.0), pin, end, L, g)]
+        # the collar beyond (or short of) the foot of the perpendicular from the pin
+        self.modes.append(sign * (d - ((pin[0] - origin[0]) * sp.cos(angle)
+                                       + (pin[1] - origin[1]) * sp.sin(angle))))
+        self.joints += [collar]
+
+    def dyad(self, k: int, start, kind: str, line=None):
+        """A dyad from the known joint ``start`` (a PRR: along the moving link ``line``):
+        returns its two moving links as (origin, angle, length) for a later dyad to be
+        driven from."""
         if kind == "RPR":
             return self.slot(k, start), None
+        if kind == "PRR":
+            return self.collar(k, line), None
         P, rng, s = self.P, self.rng, self.scale
         link = Coordinate(f"phi_{k}", "rad", f"link angle of dyad {k}")
         l = P.draw(f"l_{k}", "m", 0.8 * s, 2.0 * s)
@@ -99,10 +133,9 @@ class _Chain:
 
 
 def random_chain(seed: int, kinds: tuple[str, str] | None = None) -> Mechanism:
-    """A crank driving two dyads in a chain (kinds drawn from FIRST_KINDS and KINDS unless
-    given)."""
+    """A crank driving two dyads in a chain (kinds drawn from PAIRS unless given)."""
     rng = np.random.default_rng(seed)
-    kinds = kinds or (FIRST_KINDS[rng.integers(len(FIRST_KINDS))], KINDS[rng.integers(len(KINDS))])
+    kinds = kinds or PAIRS[rng.integers(len(PAIRS))]
     P = _Parameters(rng)
     theta = Coordinate("theta", "rad", "crank angle")
     a = P.draw("a", "m", 0.05, 0.2)
@@ -113,9 +146,10 @@ def random_chain(seed: int, kinds: tuple[str, str] | None = None) -> Mechanism:
     chain.lengths.append(a)
     first, rocker = chain.dyad(1, A, kinds[0])
     # the second dyad starts from a point on the first dyad's link or rocker, off its axis
-    origin, angle, length = rocker if rocker is not None and rng.random() < 0.5 else first
+    line = rocker if rocker is not None and rng.random() < 0.5 else first
+    origin, angle, length = line
     driver = _on(origin, angle, P.draw("u", "m", 0.2 * s, 1.5 * s), P.draw("w", "m", -0.5 * s, 0.5 * s))
-    chain.dyad(2, driver, kinds[1])
+    chain.dyad(2, driver, kinds[1], line)
     points = [A, driver, *chain.joints]
     springs, dampers = [], []
     for i in range(int(rng.integers(1, 3))):

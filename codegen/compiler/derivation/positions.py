@@ -280,7 +280,7 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     for e in eqs:
         polar_symbols = {sym[n] for n in polar}
         if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
-            raise NotSolvable(f"constraint {e} is not linear in the unknowns {unknowns}")
+            raise NotSolvable(_not_linear(e, unknowns, sym, pairs, polar))
     known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear, pairs,
                                                       unit_pairs, staged)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
@@ -295,6 +295,10 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
             X, Y = pairs[polar[name]]
             early = next((r.symbol for r in roots if r.coordinate == name), None)
             if early is None:
+                if X not in known or Y not in known:
+                    raise NotSolvable(f"the slot of {name}, {polar[name]} is driven by a "
+                                      "point whose position needs another dyad's closed "
+                                      "form: not supported yet")
                 early = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
                 # kept a sum of squares: accurate where the length is small (no cancellation)
                 roots.append(Root(early, known[X] ** 2 + known[Y] ** 2, "length", name))
@@ -318,6 +322,20 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
                             tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
                                   for r in mechanism.requirements), tuple(definitions))
+
+
+def _not_linear(e, unknowns, sym, pairs, polar) -> str:
+    """Why a constraint cannot be solved by elimination, in the user's symbols."""
+    back = {}
+    for name, (u, v) in pairs.items():
+        length = next((sym[n] for n, a in polar.items() if a == name), sp.S.One)
+        back |= {u: length * sp.cos(sym[name]), v: length * sp.sin(sym[name])}
+    products = [t for t in sp.Add.make_args(e)
+                if sum(sp.degree(t, u) for u in unknowns if t.has(u)) > 1]
+    shown = [sp.sympify(t).xreplace(back) for t in products[:1]] or [e.xreplace(back)]
+    return (f"the constraint {sp.sympify(e).xreplace(back)} = 0 has the term {shown[0]}, "
+            "a product of two unknown positions: a slide or slot carried by a link another "
+            "dyad of the chain moves is not supported yet")
 
 
 def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) -> dict:
