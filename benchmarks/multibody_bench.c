@@ -45,7 +45,6 @@
 #define MAX_UNC SIZE(_MAX_UNCERTAIN)
 #define RECORD (3 + 4 * MAX_EQ * N + MAX_EQ + 2 * MAX_UNC * N)
 #define MODES_WORK (CODEGEN_DAMPED_EIGENVALUES_WORK(N) + CODEGEN_MODES_WORK(N))
-#define MAX_REPEATS 64
 
 typedef LIB(_params) params_t;
 typedef LIB(_analysis) analysis_t;
@@ -66,47 +65,8 @@ typedef struct bench_data {
     double min_seconds;
 } bench_data;
 
-/* One pass over every input; returns a checksum so that the work cannot be dropped. */
-typedef double (*pass_fn)(const bench_data *d);
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *x, int n)
-{
-    qsort(x, (size_t)n, sizeof *x, compare);
-    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
-}
-
-static double checksum = 0.0;
-
-/* Median over d->repeats samples of ns per item, each sample whole passes lasting at least
- * d->min_seconds (sized by a first, warming pass), as bench.c does. */
-static double ns_per_item(pass_fn pass, const bench_data *d, size_t items)
-{
-    double samples[MAX_REPEATS], start = now();
-    long passes, k;
-    int r;
-    checksum += pass(d);
-    passes = (long)ceil(d->min_seconds / fmax(now() - start, 1e-9));
-    if (passes < 1) passes = 1;
-    for (r = 0; r < d->repeats; ++r) {
-        start = now();
-        for (k = 0; k < passes; ++k) checksum += pass(d);
-        samples[r] = (now() - start) * 1e9 / ((double)passes * (double)items);
-    }
-    return median(samples, d->repeats);
-}
+/* now(), median() and ns_per_item() over this driver's bench_data */
+#include "timing.h"
 
 static double pass_analyze(const bench_data *d)
 {
