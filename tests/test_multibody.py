@@ -283,6 +283,24 @@ def test_the_damped_time_response_loses_energy_to_its_dampers():
     assert np.all(np.diff(energy) <= 1e-9 * abs(energy).max())
 
 
+def test_a_failed_integration_keeps_the_motion_before_the_failure():
+    """The step budget runs out part way: IntegrationError names the time and the budget and
+    holds the prefix of the full motion, bit for bit (the same steps)."""
+    from codegen.runtime.simulation import IntegrationError
+
+    lib = load("double_pendulum")
+    times = np.linspace(0.0, 2.0, 201)
+    full = lib.simulate(None, [1.2, 0.3], [0.0, 0.0], times)
+    with pytest.raises(IntegrationError) as error:
+        lib.simulate(None, [1.2, 0.3], [0.0, 0.0], times, max_steps=20)
+    partial = error.value.trajectory
+    n = len(partial.t)
+    assert error.value.code == "ERR_STEP_BUDGET" and error.value.values["max_steps"] == 20
+    assert 1 < n < len(times) and partial.t[-1] == error.value.values["t"]
+    assert np.array_equal(partial.theta, full.theta[:n])
+    assert np.array_equal(partial.theta_d, full.theta_d[:n])
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_a_small_motion_about_a_stable_equilibrium_follows_its_linearisation(name):
     """theta(t) - theta_E against expm(A t) x0, A = [[0, I], [-M^-1 K, -M^-1 B]] (scipy), for a

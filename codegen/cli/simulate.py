@@ -34,12 +34,7 @@ def _write_trajectory(args, trajectory):
     from ..runtime import simulation
 
     linear = simulation.linearised(trajectory) if args.linearised else None
-    if not (args.out or args.plot):
-        simulation.write_csv(sys.stdout, trajectory, linear)
-        return [], linear
-    written = [str(simulation.write(trajectory, args.out, linear))] if args.out else []
-    written += [str(simulation.plot(trajectory, args.plot, linear))] if args.plot else []
-    return written, linear
+    return _write(args, simulation, trajectory, linear), linear
 
 
 def _simulation_summary(trajectory, linear, seconds: float, written: list[str]) -> str:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from . import figures, multibody
-from .simulation import IntegrationError, ode_options, times_of
+from .simulation import integration_error, ode_options, times_of
 from .. import files
 
 #: Statuses of a failure after the start: the outputs before it are a trajectory.
@@ -99,11 +99,8 @@ def simulate(library: Any, params: Any, theta0: Any, theta_d0: Any, t: Any, *,
     code = {v: k for k, v in library.STATUS.items()}.get(status)
     if code in _AFTER_START and reached[0] >= 1:
         count = int(reached[0])
-        values = {"t": float(times[count - 1])}
-        if code == "ERR_STEP_BUDGET":
-            values["max_steps"] = options.max_steps
-        raise IntegrationError(status, code, library._reason(status), values=values,
-                               trajectory=trajectory(count))
+        raise integration_error(library, status, float(times[count - 1]), options.max_steps,
+                                trajectory(count))
     library.check(status, params, inputs={"theta0": start[0].tolist(),
                                           "theta_d0": start[1].tolist()})
     return trajectory(len(times))

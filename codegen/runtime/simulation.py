@@ -146,14 +146,14 @@ def _rebuild_integration_error(cls: type, arguments: tuple[Any, ...],
     return error
 
 
-def _integration_error(library: Library, status: int, simulation: Any,
-                       partial: Trajectory) -> IntegrationError:
-    """A failure after the start: the reason and the time it happened, no parameter to
-    blame, and the trajectory up to there."""
+def integration_error(library: Library, status: int, t: float, max_steps: int,
+                      partial: Any) -> IntegrationError:
+    """A failure after the start, at time t: the reason and the time it happened, no
+    parameter to blame, and the trajectory up to there (of one coordinate or several)."""
     code = {v: k for k, v in library.STATUS.items()}[status]
-    values: dict[str, Any] = {"t": simulation.state.t}
+    values: dict[str, Any] = {"t": t}
     if code == "ERR_STEP_BUDGET":
-        values["max_steps"] = simulation.options.max_steps
+        values["max_steps"] = max_steps
     return IntegrationError(status, code, library._reason(status), values=values,
                             trajectory=partial)
 
@@ -215,7 +215,8 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
                          reached)
         if status != library.STATUS["OK"]:
             written = max(first + int(reached[0]), 1)   # t[0] holds the initial state
-            raise _integration_error(library, status, simulation, trajectory(written))
+            raise integration_error(library, status, simulation.state.t,
+                                    simulation.options.max_steps, trajectory(written))
         if progress is not None:
             progress(first + n, count)
     return trajectory(count)
