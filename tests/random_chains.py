@@ -23,11 +23,13 @@ from random_mechanisms import _bar, _on, _Parameters
 KINDS = ("RRR", "RRP")              # either dyad
 FIRST_KINDS = (*KINDS, "RPR")        # the crank pin never reaches the slot's pin
 #: The pairs the derivation solves: any first dyad, then an RRR or RRP; an RPR after an RPR
-#: (the lever drives the second slot).
-PAIRS = (*((first, second) for first in FIRST_KINDS for second in KINDS), ("RPR", "RPR"))
-#: Refused today, each in one line (a slot or a slide carried by what an RRR or RRP moves).
-#: Not drawn at all: an RPR then a PRR, whose derivation runs for minutes.
-REFUSED = (("RRR", "RPR"), ("RRP", "RPR"), ("RRR", "PRR"), ("RRP", "PRR"))
+#: (the lever drives the second slot); a PRR after an RRR or RRP (the collar slides along
+#: the first dyad's link).
+PAIRS = (*((first, second) for first in FIRST_KINDS for second in KINDS), ("RPR", "RPR"),
+         ("RRR", "PRR"), ("RRP", "PRR"))
+#: Refused today, each in one line (a slot driven by a point an RRR or RRP moves). Not
+#: drawn at all: an RPR then a PRR, whose derivation runs for minutes.
+REFUSED = (("RRR", "RPR"), ("RRP", "RPR"))
 
 
 def _left_of(a, b, p):

@@ -91,6 +91,9 @@ CASES = {
     "slide_spring": Case("slide_spring"),
     # ... and two RRP dyads in a chain: the second out of reach on the first's other mode.
     "double_slider_chain": Case("double_slider_chain"),
+    # ... and a collar sliding along a four-bar's rocker, held by a link from a ground pin
+    # (RRR, then a PRR whose slide the first dyad moves).
+    "collar_on_rocker": Case("collar_on_rocker"),
 }
 
 

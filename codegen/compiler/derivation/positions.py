@@ -277,12 +277,17 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
             linear[name] = s
     unknowns = list(linear.values()) + [v for p in pairs.values() for v in p]
     eqs, staged = _stage_polar_angles(eqs, polar, sym, pairs)
-    for e in eqs:
-        polar_symbols = {sym[n] for n in polar}
-        if not unknowns or not sp.Poly(e, *unknowns).is_linear or e.free_symbols & polar_symbols:
-            raise NotSolvable(_not_linear(e, unknowns, sym, pairs, polar))
-    known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear, pairs,
-                                                      unit_pairs, staged)
+    polar_symbols = {sym[n] for n in polar}
+    nonlinear = [e for e in eqs if not unknowns or not sp.Poly(e, *unknowns).is_linear
+                 or e.free_symbols & polar_symbols]
+    if any(e.free_symbols & polar_symbols for e in nonlinear):
+        raise NotSolvable(_not_linear(nonlinear[0], unknowns, sym, pairs, polar))
+    if nonlinear:   # a slide carried by a link a dyad before it moves (PRR): in two stages
+        known, roots, angles, definitions = _solve_in_stages(
+            mechanism, sym, theta, eqs, nonlinear, linear, pairs, unit_pairs, polar)
+    else:
+        known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear,
+                                                          pairs, unit_pairs, staged)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
     for name in declared:
@@ -334,8 +339,8 @@ def _not_linear(e, unknowns, sym, pairs, polar) -> str:
                 if sum(sp.degree(t, u) for u in unknowns if t.has(u)) > 1]
     shown = [sp.sympify(t).xreplace(back) for t in products[:1]] or [e.xreplace(back)]
     return (f"the constraint {sp.sympify(e).xreplace(back)} = 0 has the term {shown[0]}, "
-            "a product of two unknown positions: a slide or slot carried by a link another "
-            "dyad of the chain moves is not supported yet")
+            "a product of two unknown positions that solving the other dyads first does not "
+            "make linear (a slide carried by a slotted lever's link): not supported yet")
 
 
 def _well_conditioned(known: dict, linear: list, eqs: list, theta: sp.Symbol) -> dict:
@@ -379,7 +384,50 @@ def _stage_polar_angles(eqs, polar, sym, pairs):
     return out, staged
 
 
-def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs, staged=None):
+def _solve_in_stages(mechanism, sym, theta, eqs, nonlinear, linear, pairs, unit_pairs, polar):
+    """The constraints that multiply two unknowns (a collar's distance along a link times
+    the link's cosine) wait until the dyads of the others are solved: those dyads' cosines
+    and sines, kept symbols of the program, are then known, and what waits is linear in
+    the rest (one more dyad, solved after them)."""
+    first = [e for e in eqs if e not in nonlinear]
+
+    def unknowns_of(group):
+        found = set().union(*(e.free_symbols for e in group))
+        return ({n: u for n, u in linear.items() if u in found},
+                {n: p for n, p in pairs.items() if set(p) & found})
+
+    linear_a, pairs_a = unknowns_of(first)
+    waiting = set().union(*(e.free_symbols for e in nonlinear))
+    keep = {n for n, p in pairs_a.items() if set(p) & waiting}
+    if not keep or any(n in polar.values() for n in pairs_a):
+        raise NotSolvable(_not_linear(nonlinear[0], [*linear.values(),
+                                                     *(v for p in pairs.values() for v in p)],
+                                      sym, pairs, polar))
+    known, roots, angles, definitions = _solve_angles(
+        mechanism, sym, theta, first, linear_a, pairs_a, [n for n in unit_pairs if n in pairs_a],
+        keep=keep)
+    # the cosines and sines the waiting constraints hold, steps of the program (a pivot of
+    # the elimination, solved from its dyad's other pair, is not one yet)
+    definitions = list(definitions) + [
+        Definition(v, known[v], len(roots)) for n in sorted(keep) for v in pairs[n]
+        if v not in {d.symbol for d in definitions}]
+    program = {d.symbol for d in definitions}
+    given = {u: v for u, v in known.items() if u not in program}
+    later = [sp.expand(e.xreplace(given)) for e in nonlinear]
+    linear_b = {n: u for n, u in linear.items() if n not in linear_a}
+    pairs_b = {n: p for n, p in pairs.items() if n not in pairs_a}
+    rest = [*linear_b.values(), *(v for p in pairs_b.values() for v in p)]
+    for e in later:
+        if not rest or not sp.Poly(e, *rest).is_linear:
+            raise NotSolvable(_not_linear(e, rest, sym, pairs, polar))
+    known_b, roots, angles_b, definitions = _solve_angles(
+        mechanism, sym, theta, later, linear_b, pairs_b, [n for n in unit_pairs if n in pairs_b],
+        start=(roots, definitions, known, pairs))
+    return known | known_b, roots, angles | angles_b, definitions
+
+
+def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs, staged=None,
+                  keep=frozenset(), start=((), (), {}, {})):
     """Every unit pair solved: (known values of the unknowns, roots, atan2 numerators).
 
     The linear elimination keeps some pairs (its pivots) in terms of the others, the free
@@ -399,20 +447,25 @@ def _solve_angles(mechanism, sym, theta, eqs, linear, pairs, unit_pairs, staged=
         (values,) = solution
         known = {u: v for u, v in zip(unknowns, values) if v != u}
         try:
-            return _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged)
+            return _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged,
+                                     keep, start)
         except NoLine as no_line:
             refusal = refusal or no_line
     raise refusal
 
 
-def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged=None):
+def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged=None,
+                      keep=frozenset(), start=((), (), {}, {})):
     """Each free pair on its line, in turn. Where pairs are still pending after one is solved
     (a chain: the next dyad is driven by this one), its cosine and sine stay symbols,
     Definitions, in the values that wait for the pending pairs: substituted, they would
     multiply the size of every later dyad's closed form. A staged polar pair's length is a
-    root first, and its angle's cosine and sine definitions after it."""
-    roots: list[Root] = []
-    definitions: list[Definition] = []
+    root first, and its angle's cosine and sine definitions after it. ``keep``: pairs kept
+    symbols for a later stage; ``start``: (roots, definitions, known, every pair) of an
+    earlier one."""
+    roots: list[Root] = list(start[0])
+    definitions: list[Definition] = list(start[1])
+    earlier, every_pair = start[2], start[3] or pairs
     angles = {}  # angle -> (x, y) with angle = atan2(y, x): numerators of (C, S)
     for angle, (C, S, length) in (staged or {}).items():
         X, Y = pairs[angle]
@@ -448,14 +501,14 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged=No
         definitions += [Definition(symbol, value, len(roots)) for symbol, value in centre]
         P, Q, W = _normalised(line, theta)
         rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-        sigma, conditions = _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W,
-                                           rho, roots, definitions)
+        sigma, conditions = _declared_sign(mechanism, sym, theta, earlier | known, every_pair,
+                                           C, S, P, Q, W, rho, roots, definitions)
         norm = reduce_trig(P**2 + Q**2, theta)
         roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name,
                           conditions, norm + W**2))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         later = {v for n in pending if n != name for v in pairs[n] if v not in known}
-        if later or centre or any(x.free_symbols & program for x in (P, Q, W)):
+        if later or centre or name in keep or any(x.free_symbols & program for x in (P, Q, W)):
             # a dyad of a chain (driving a later one, or driven): its cosine and sine stay
             # symbols in everything solved from them, so each later value is a short form
             # of them (its interval enclosure then stays tight, too)
