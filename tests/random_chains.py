@@ -5,7 +5,7 @@ and a slider on a line through a ground point, at a drawn inclination) or an RPR
 point sliding in the slot of a lever pivoted at a ground pin, a polar pair, whose lever then
 drives what follows), each declared in a drawn assembly mode; the second may also be a PRR (a
 collar sliding along the first dyad's link, held by a bar from a ground pin). PAIRS are those
-the derivation solves, REFUSED those it refuses today. Lengths,
+the derivation solves. Lengths,
 masses, the driving point, springs between random joints and
 anchors, a damper, a force and gravity are drawn too; every number is a parameter whose
 example is the value drawn, so the model is data exactly as a user writes it.
@@ -25,11 +25,10 @@ FIRST_KINDS = (*KINDS, "RPR")        # the crank pin never reaches the slot's pi
 #: The pairs the derivation solves: any first dyad, then an RRR or RRP; an RPR after an RPR
 #: (the lever drives the second slot); a PRR after an RRR or RRP (the collar slides along
 #: the first dyad's link).
-PAIRS = (*((first, second) for first in FIRST_KINDS for second in KINDS), ("RPR", "RPR"),
+PAIRS = (*((first, second) for first in FIRST_KINDS for second in (*KINDS, "RPR")),
          ("RRR", "PRR"), ("RRP", "PRR"))
-#: Refused today, each in one line (a slot driven by a point an RRR or RRP moves). Not
-#: drawn at all: an RPR then a PRR, whose derivation runs for minutes.
-REFUSED = (("RRR", "RPR"), ("RRP", "RPR"))
+#: Not drawn: an RPR then a PRR (a collar on the slotted lever), whose derivation runs for
+#: minutes.
 
 
 def _left_of(a, b, p):

@@ -94,6 +94,9 @@ CASES = {
     # ... and a collar sliding along a four-bar's rocker, held by a link from a ground pin
     # (RRR, then a PRR whose slide the first dyad moves).
     "collar_on_rocker": Case("collar_on_rocker"),
+    # ... and a slotted lever whose pin is a four-bar's rocker end (RRR, then an RPR driven
+    # by a point the first dyad moves).
+    "lever_on_rocker": Case("lever_on_rocker"),
 }
 
 

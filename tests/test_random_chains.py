@@ -19,7 +19,7 @@ from hypothesis import given, settings
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # whatever pytest's import mode
 from gallery import example  # noqa: E402
-from random_chains import PAIRS, REFUSED, random_chain  # noqa: E402
+from random_chains import PAIRS, random_chain  # noqa: E402
 from test_random_mechanisms import SEEDS, SETTINGS, plan_matches_reference  # noqa: E402
 
 from codegen.compiler.derivation import derive  # noqa: E402
@@ -77,17 +77,3 @@ def test_each_pair_of_dyad_kinds_in_a_chain(kinds):
     """Every pair of kinds at least once, whatever hypothesis draws."""
     check_chain(random_chain(PAIR_SEEDS[kinds], kinds), PAIR_SEEDS[kinds], drawn=False)
 
-
-@pytest.mark.parametrize("kinds", REFUSED, ids=["-".join(k) for k in REFUSED])
-def test_chains_not_supported_yet_are_refused_in_the_users_symbols(kinds):
-    """A slide or slot carried by what an RRR or RRP dyad moves: refused at once, in one
-    line that names the user's coordinates (never C_phi_1 or X_s_2)."""
-    from codegen.compiler.derivation.positions import NotSolvable
-
-    mechanism = random_chain(1, kinds)
-    with pytest.raises(NotSolvable) as refusal:
-        derive(mechanism)
-    message = str(refusal.value)
-    assert "\n" not in message and "not supported yet" in message
-    assert not any(f"{p}_" in message for p in ("C", "S", "X", "Y")), message
-    assert "s_2" in message

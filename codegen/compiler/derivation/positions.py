@@ -288,6 +288,11 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
     else:
         known, roots, angles, definitions = _solve_angles(mechanism, sym, theta, eqs, linear,
                                                           pairs, unit_pairs, staged)
+        slots = {v for n in polar.values() if n not in staged for v in pairs[n]}
+        if slots - set(known):   # a slot driven by a point a dyad moves: after that dyad
+            known, roots, angles, definitions = _solve_in_stages(
+                mechanism, sym, theta, eqs, [e for e in eqs if e.free_symbols & slots],
+                linear, pairs, unit_pairs, polar)
     known = _well_conditioned(known, list(linear.values()), eqs, theta)
     result = []
     for name in declared:
@@ -399,7 +404,7 @@ def _solve_in_stages(mechanism, sym, theta, eqs, nonlinear, linear, pairs, unit_
     linear_a, pairs_a = unknowns_of(first)
     waiting = set().union(*(e.free_symbols for e in nonlinear))
     keep = {n for n, p in pairs_a.items() if set(p) & waiting}
-    if not keep or any(n in polar.values() for n in pairs_a):
+    if not keep or any(n in polar.values() for n in pairs_a) or not first:
         raise NotSolvable(_not_linear(nonlinear[0], [*linear.values(),
                                                      *(v for p in pairs.values() for v in p)],
                                       sym, pairs, polar))
@@ -418,7 +423,8 @@ def _solve_in_stages(mechanism, sym, theta, eqs, nonlinear, linear, pairs, unit_
     pairs_b = {n: p for n, p in pairs.items() if n not in pairs_a}
     rest = [*linear_b.values(), *(v for p in pairs_b.values() for v in p)]
     for e in later:
-        if not rest or not sp.Poly(e, *rest).is_linear:
+        if not rest or not sp.Poly(e, *rest).is_linear or e.free_symbols & {
+                sym[n] for n in polar}:
             raise NotSolvable(_not_linear(e, rest, sym, pairs, polar))
     known_b, roots, angles_b, definitions = _solve_angles(
         mechanism, sym, theta, later, linear_b, pairs_b, [n for n in unit_pairs if n in pairs_b],
