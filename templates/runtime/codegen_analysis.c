@@ -584,6 +584,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                         codegen_real below, int whole, void *workspace, const result_view *work);
 static void sort_uncertain(codegen_uncertain *uncertain, int count);
 static void drop_repeated(const result_view *r);
+static int close_without_root(const result_view *r, codegen_real a, codegen_real b);
 
 /* What one mode's G has on a span. */
 typedef enum span_outcome {
@@ -1108,6 +1109,16 @@ static int add_uncertain(const codegen_model *model, const result_view *work, co
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
 {
     codegen_uncertain *u = &work->uncertain[*work->n_uncertain];
+    int i;
+    for (i = 0; i < *work->n_uncertain && !sign_change; ++i) {   /* a sliver of one listed */
+        codegen_uncertain *v = &work->uncertain[i];
+        if (v->kind == kind && v->mode == mode && !v->sign_change
+            && close_without_root(work, v->lo < lo ? v->hi : hi, v->lo < lo ? lo : v->lo)) {
+            v->lo = lo < v->lo ? lo : v->lo;
+            v->hi = hi > v->hi ? hi : v->hi;
+            return CODEGEN_OK;
+        }
+    }
     if (*work->n_uncertain == model->max_uncertain) {
         return CODEGEN_ERR_CAPACITY;
     }
@@ -1354,22 +1365,54 @@ static void assign_modes(const call *c, const result_view *r)
     drop_repeated(r);
 }
 
+/* Whether two intervals, one ending at a and the next starting at b, touch or overlap, or
+ * leave between them a gap narrower than SLIVER_GAP that holds no root listed in r (so the
+ * union claims nothing that was proven: it only says less). */
+#define SLIVER_GAP (CODEGEN_R(64.0) * CODEGEN_EPSILON > CODEGEN_R(1e-9) \
+                    ? CODEGEN_R(64.0) * CODEGEN_EPSILON : CODEGEN_R(1e-9))
+static int close_without_root(const result_view *r, codegen_real a, codegen_real b)
+{
+    int i;
+    if (b - a > SLIVER_GAP) {
+        return 0;
+    }
+    for (i = 0; i < *r->n_roots; ++i) {
+        if (r->roots[i].theta_hi >= a && r->roots[i].theta_lo <= b) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 /* Uncertain intervals listed once: two branches' intervals can become the same one once
  * named by the declared modes (a chain's limit position, shared by both modes of the dyad
- * after it, is of no declared mode on either). */
+ * after it, is of no declared mode on either), and the isolation leaves a limit position
+ * of a chain as a run of slivers. Intervals of one kind and one mode that meet or nearly
+ * do (close_without_root) are one, their union, unless G changes sign across either: two
+ * sign changes side by side need not make one across the union, and each says where an
+ * equilibrium is. */
 static void drop_repeated(const result_view *r)
 {
     int i, j, kept = 0;
     for (i = 0; i < *r->n_uncertain; ++i) {
         const codegen_uncertain *u = &r->uncertain[i];
-        int seen = 0;
-        for (j = 0; j < kept && !seen; ++j) {
-            const codegen_uncertain *v = &r->uncertain[j];
-            seen = v->lo == u->lo && v->hi == u->hi && v->kind == u->kind
-                   && v->mode == u->mode && v->sign_change == u->sign_change;
+        codegen_uncertain *same = NULL;
+        for (j = 0; j < kept && same == NULL; ++j) {
+            codegen_uncertain *v = &r->uncertain[j];
+            const int repeated = v->lo == u->lo && v->hi == u->hi
+                                 && v->sign_change == u->sign_change;
+            const int joined = !v->sign_change && !u->sign_change
+                               && close_without_root(r, v->lo < u->lo ? v->hi : u->hi,
+                                                     v->lo < u->lo ? u->lo : v->lo);
+            if (v->kind == u->kind && v->mode == u->mode && (repeated || joined)) {
+                same = v;
+            }
         }
-        if (!seen) {
+        if (same == NULL) {
             r->uncertain[kept++] = *u;
+        } else {
+            same->lo = u->lo < same->lo ? u->lo : same->lo;
+            same->hi = u->hi > same->hi ? u->hi : same->hi;
         }
     }
     *r->n_uncertain = kept;

@@ -97,9 +97,11 @@ GENERIC_STATUSES = (
 )
 
 #: Room in an analysis for roots where no polynomial bounds their number, and for the
-#: intervals the certified isolation cannot decide.
+#: intervals the certified isolation cannot decide: at least these, and PER_MODE_CAPACITY
+#: for each assembly mode (a chain's modes each have their own limit positions).
 ISOLATION_CAPACITY = 32
 UNCERTAIN_CAPACITY = 16
+PER_MODE_CAPACITY = 8
 
 
 @dataclass(frozen=True)
@@ -355,8 +357,10 @@ def build_plan(d: Derivation) -> Plan:
              "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
              "N_MODES": len(lin.modes), "N_CONDITIONS": n_conditions,
              "N_MODE_CONDITIONS": n_conditions * len(lin.modes)}
-    sizes |= {"MAX_ROOTS": eq.polynomial.degree if eq.polynomial else ISOLATION_CAPACITY,
-              "MAX_UNCERTAIN": UNCERTAIN_CAPACITY}
+    per_modes = PER_MODE_CAPACITY * len(lin.modes)
+    sizes |= {"MAX_ROOTS": eq.polynomial.degree if eq.polynomial
+              else max(ISOLATION_CAPACITY, per_modes),
+              "MAX_UNCERTAIN": max(UNCERTAIN_CAPACITY, per_modes)}
     if eq.polynomial:
         sizes |= {"DEGREE": eq.polynomial.degree, "N_SIGMA": eq.polynomial.degree + 1}
     return Plan(
