@@ -584,7 +584,8 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                         codegen_real below, int whole, void *workspace, const result_view *work);
 static void sort_uncertain(codegen_uncertain *uncertain, int count);
 static void drop_repeated(const result_view *r);
-static int close_without_root(const result_view *r, codegen_real a, codegen_real b);
+static codegen_uncertain *listed_as(const result_view *r, int count, const codegen_uncertain *u);
+static void widen(codegen_uncertain *v, const codegen_uncertain *u);
 
 /* What one mode's G has on a span. */
 typedef enum span_outcome {
@@ -1104,30 +1105,26 @@ static codegen_iv moved_up(codegen_real lo, codegen_real hi, int up)
                                             CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
 }
 
-/* An interval the isolation could not decide, into work. */
+/* An interval the isolation could not decide, into work, or joined to one listed there
+ * (listed_as): the isolation leaves a limit position of a chain as a run of slivers. */
 static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
 {
-    codegen_uncertain *u = &work->uncertain[*work->n_uncertain];
-    int i;
-    for (i = 0; i < *work->n_uncertain && !sign_change; ++i) {   /* a sliver of one listed */
-        codegen_uncertain *v = &work->uncertain[i];
-        if (v->kind == kind && v->mode == mode && !v->sign_change
-            && close_without_root(work, v->lo < lo ? v->hi : hi, v->lo < lo ? lo : v->lo)) {
-            v->lo = lo < v->lo ? lo : v->lo;
-            v->hi = hi > v->hi ? hi : v->hi;
-            return CODEGEN_OK;
-        }
+    codegen_uncertain u, *same;
+    u.lo = lo;
+    u.hi = hi;
+    u.kind = kind;
+    u.mode = mode;
+    u.sign_change = sign_change;
+    same = listed_as(work, *work->n_uncertain, &u);   /* a sliver of one listed */
+    if (same != NULL) {
+        widen(same, &u);
+        return CODEGEN_OK;
     }
     if (*work->n_uncertain == model->max_uncertain) {
         return CODEGEN_ERR_CAPACITY;
     }
-    u->lo = lo;
-    u->hi = hi;
-    u->kind = kind;
-    u->mode = mode;
-    u->sign_change = sign_change;
-    ++*work->n_uncertain;
+    work->uncertain[(*work->n_uncertain)++] = u;
     return CODEGEN_OK;
 }
 
@@ -1365,54 +1362,69 @@ static void assign_modes(const call *c, const result_view *r)
     drop_repeated(r);
 }
 
-/* Whether two intervals, one ending at a and the next starting at b, touch or overlap, or
- * leave between them a gap narrower than SLIVER_GAP that holds no root listed in r (so the
- * union claims nothing that was proven: it only says less). */
+/* Whether intervals a and b touch or overlap, or leave between them a gap narrower than
+ * SLIVER_GAP that holds no root listed in r (so their union claims nothing that was proven:
+ * it only says less). */
 #define SLIVER_GAP (CODEGEN_R(64.0) * CODEGEN_EPSILON > CODEGEN_R(1e-9) \
                     ? CODEGEN_R(64.0) * CODEGEN_EPSILON : CODEGEN_R(1e-9))
-static int close_without_root(const result_view *r, codegen_real a, codegen_real b)
+static int close_without_root(const result_view *r, const codegen_uncertain *a,
+                              const codegen_uncertain *b)
 {
+    const codegen_real end = a->lo < b->lo ? a->hi : b->hi;     /* of the one starting first */
+    const codegen_real start = a->lo < b->lo ? b->lo : a->lo;   /* of the other */
     int i;
-    if (b - a > SLIVER_GAP) {
+    if (start - end > SLIVER_GAP) {
         return 0;
     }
     for (i = 0; i < *r->n_roots; ++i) {
-        if (r->roots[i].theta_hi >= a && r->roots[i].theta_lo <= b) {
+        if (r->roots[i].theta_hi >= end && r->roots[i].theta_lo <= start) {
             return 0;
         }
     }
     return 1;
 }
 
-/* Uncertain intervals listed once: two branches' intervals can become the same one once
- * named by the declared modes (a chain's limit position, shared by both modes of the dyad
- * after it, is of no declared mode on either), and the isolation leaves a limit position
- * of a chain as a run of slivers. Intervals of one kind and one mode that meet or nearly
- * do (close_without_root) are one, their union, unless G changes sign across either: two
- * sign changes side by side need not make one across the union, and each says where an
- * equilibrium is. */
+/* The interval among r's first count that u is one with, or NULL. Intervals of one kind
+ * and one mode are one where they are the same, or where they meet or nearly do
+ * (close_without_root) and G changes sign across neither: two sign changes side by side
+ * need not make one across the union, and each says where an equilibrium is. */
+static codegen_uncertain *listed_as(const result_view *r, int count, const codegen_uncertain *u)
+{
+    int j;
+    for (j = 0; j < count; ++j) {
+        codegen_uncertain *v = &r->uncertain[j];
+        if (v->kind != u->kind || v->mode != u->mode) {
+            continue;
+        }
+        if ((v->lo == u->lo && v->hi == u->hi && v->sign_change == u->sign_change)
+            || (!v->sign_change && !u->sign_change && close_without_root(r, v, u))) {
+            return v;
+        }
+    }
+    return NULL;
+}
+
+/* v becomes the union of v and u. */
+static void widen(codegen_uncertain *v, const codegen_uncertain *u)
+{
+    v->lo = u->lo < v->lo ? u->lo : v->lo;
+    v->hi = u->hi > v->hi ? u->hi : v->hi;
+}
+
+/* Uncertain intervals listed once (listed_as): two branches' intervals can become the same
+ * one once named by the declared modes (a chain's limit position, shared by both modes of
+ * the dyad after it, is of no declared mode on either); add_uncertain already joins the
+ * slivers the isolation leaves at a chain's limit position, mode by mode. */
 static void drop_repeated(const result_view *r)
 {
-    int i, j, kept = 0;
+    int i, kept = 0;
     for (i = 0; i < *r->n_uncertain; ++i) {
-        const codegen_uncertain *u = &r->uncertain[i];
-        codegen_uncertain *same = NULL;
-        for (j = 0; j < kept && same == NULL; ++j) {
-            codegen_uncertain *v = &r->uncertain[j];
-            const int repeated = v->lo == u->lo && v->hi == u->hi
-                                 && v->sign_change == u->sign_change;
-            const int joined = !v->sign_change && !u->sign_change
-                               && close_without_root(r, v->lo < u->lo ? v->hi : u->hi,
-                                                     v->lo < u->lo ? u->lo : v->lo);
-            if (v->kind == u->kind && v->mode == u->mode && (repeated || joined)) {
-                same = v;
-            }
-        }
+        const codegen_uncertain u = r->uncertain[i];
+        codegen_uncertain *same = listed_as(r, kept, &u);
         if (same == NULL) {
-            r->uncertain[kept++] = *u;
+            r->uncertain[kept++] = u;
         } else {
-            same->lo = u->lo < same->lo ? u->lo : same->lo;
-            same->hi = u->hi > same->hi ? u->hi : same->hi;
+            widen(same, &u);
         }
     }
     *r->n_uncertain = kept;

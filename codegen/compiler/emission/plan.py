@@ -355,9 +355,9 @@ def build_plan(d: Derivation) -> Plan:
     sizes = {"N_PARAMS": len(m.parameters), "N_COORDS": n, "N_CONSTRAINTS": c,
              "N_JACOBIAN": n * c, "N_POINT_COORDS": 2 * len(points),
              "N_REDUCED": len(red.e), "N_ROOTS": n_roots, "N_BRANCHES": 2 ** n_roots,
-             "N_MODES": len(lin.modes), "N_CONDITIONS": n_conditions,
-             "N_MODE_CONDITIONS": n_conditions * len(lin.modes)}
-    per_modes = PER_MODE_CAPACITY * len(lin.modes)
+             "N_MODES": n_modes, "N_CONDITIONS": n_conditions,
+             "N_MODE_CONDITIONS": n_conditions * n_modes}
+    per_modes = PER_MODE_CAPACITY * n_modes
     sizes |= {"MAX_ROOTS": eq.polynomial.degree if eq.polynomial
               else max(ISOLATION_CAPACITY, per_modes),
               "MAX_UNCERTAIN": max(UNCERTAIN_CAPACITY, per_modes)}
