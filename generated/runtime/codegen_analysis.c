@@ -1111,6 +1111,7 @@ static int add_uncertain(const codegen_model *model, const result_view *work, co
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
 {
     codegen_uncertain u, *same;
+    memset(&u, 0, sizeof u);
     u.lo = lo;
     u.hi = hi;
     u.kind = kind;
@@ -1124,7 +1125,9 @@ static int add_uncertain(const codegen_model *model, const result_view *work, co
     if (*work->n_uncertain == model->max_uncertain) {
         return CODEGEN_ERR_CAPACITY;
     }
-    work->uncertain[(*work->n_uncertain)++] = u;
+    /* bytes, not a struct assignment: the slot's padding stays the zeroed result's, so a
+     * workspace reused dirty gives the same bytes as a fresh one */
+    memcpy(&work->uncertain[(*work->n_uncertain)++], &u, sizeof u);
     return CODEGEN_OK;
 }
 
@@ -1419,12 +1422,15 @@ static void drop_repeated(const result_view *r)
 {
     int i, kept = 0;
     for (i = 0; i < *r->n_uncertain; ++i) {
-        const codegen_uncertain u = r->uncertain[i];
-        codegen_uncertain *same = listed_as(r, kept, &u);
+        const codegen_uncertain *u = &r->uncertain[i];
+        codegen_uncertain *same = listed_as(r, kept, u);
         if (same == NULL) {
-            r->uncertain[kept++] = u;
+            if (kept != i) {
+                memcpy(&r->uncertain[kept], u, sizeof *u);
+            }
+            ++kept;
         } else {
-            widen(same, &u);
+            widen(same, u);
         }
     }
     *r->n_uncertain = kept;
