@@ -119,6 +119,22 @@ def test_a_root_at_infinity_is_pi(spans_lib):
     assert len(at_pi) == 1 and at_pi[0][3] and at_pi[0][0] < math.pi < at_pi[0][1]
 
 
+def test_a_root_at_infinity_beside_a_double_root_near_pi_is_kept(spans_lib):
+    # hypothesis found it: Aberth left the exact root at u = 1/tau = 0 a hair off the real
+    # axis, and its disc, a few ulps wide, never reached it
+    real = [-48.0, 1.0, 11.0, -48.0]
+    sigma, bound = rounded(exact_polynomial(real, [], at_infinity=1))
+    status, spans = spans_of(spans_lib, sigma, bound)
+    assert status == OK
+    thetas = [theta_of(r) for r in real] + [math.pi]
+    check(spans, thetas, [thetas.count(t) for t in thetas])
+    # two exact roots there: never a simple span at pi, if proven at all
+    sigma, bound = rounded(exact_polynomial([0.5, -1.5], [], at_infinity=2))
+    status, spans = spans_of(spans_lib, sigma, bound)
+    assert status == UNPROVEN or (check(spans, [theta_of(0.5), theta_of(-1.5), math.pi,
+                                                math.pi], [1, 1, 2, 2]) is None)
+
+
 def test_a_double_root_is_covered_and_never_simple(spans_lib):
     sigma, bound = rounded(exact_polynomial([0.7, 0.7, -0.2], [(1.0, 1.0)]))
     status, spans = spans_of(spans_lib, sigma, bound)

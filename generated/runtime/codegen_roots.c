@@ -1010,6 +1010,27 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
     if (!aberth(b, m, zr, zi, scratch)) {
         return CODEGEN_ROOTS_UNPROVEN;
     }
+    /* A coefficient exactly 0 with no error at the chart's origin is an exact root there (theta
+     * = 0, or pi in the reversed chart): Aberth leaves it at 0 with an imaginary part of 1e-291
+     * or so, which the test below cannot call real, and its tiny disc then missed the axis. */
+    int exact_zeros = 0, at_zero = 0;
+    while (exact_zeros < m && b[exact_zeros] == 0 && db[exact_zeros] == 0) {
+        ++exact_zeros;
+    }
+    for (int i = 0; i < m; ++i) {
+        at_zero += zr[i] == 0 && zi[i] == 0;
+    }
+    for (; at_zero < exact_zeros; ++at_zero) {   /* two or more: equal centres, unproven */
+        int nearest = -1;
+        for (int i = 0; i < m; ++i) {
+            if ((zr[i] != 0 || zi[i] != 0)
+                && (nearest < 0 || codegen_fabs(zr[i]) + codegen_fabs(zi[i])
+                                   < codegen_fabs(zr[nearest]) + codegen_fabs(zi[nearest]))) {
+                nearest = i;
+            }
+        }
+        zr[nearest] = zi[nearest] = 0;
+    }
     for (int i = 0; i < m; ++i) {
         if (codegen_fabs(zi[i]) <= CODEGEN_SQRT_EPSILON * codegen_fabs(zr[i])) {
             zi[i] = 0; /* (any centres would do: a pair so moved gives two discs that meet) */
