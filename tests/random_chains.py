@@ -4,10 +4,9 @@ one. Each dyad is drawn an RRR (a coupler and a rocker about a ground pin), an R
 and a slider on a line through a ground point, at a drawn inclination) or an RPR (the driving
 point sliding in the slot of a lever pivoted at a ground pin, a polar pair, whose lever then
 drives what follows), each declared in a drawn assembly mode; the second may also be a PRR (a
-collar sliding along the first dyad's link, held by a bar from a ground pin). PAIRS are those
-the derivation solves. Lengths,
-masses, the driving point, springs between random joints and
-anchors, a damper, a force and gravity are drawn too; every number is a parameter whose
+collar sliding along the first dyad's link or lever, held by a bar from a ground pin). Every
+pair is drawn. Lengths, masses, the driving point, springs between random joints and anchors,
+a damper, a force and gravity are drawn too; every number is a parameter whose
 example is the value drawn, so the model is data exactly as a user writes it.
 """
 from __future__ import annotations
@@ -22,13 +21,9 @@ from random_mechanisms import _bar, _on, _Parameters
 
 KINDS = ("RRR", "RRP")              # either dyad
 FIRST_KINDS = (*KINDS, "RPR")        # the crank pin never reaches the slot's pin
-#: The pairs the derivation solves: any first dyad, then an RRR or RRP; an RPR after an RPR
-#: (the lever drives the second slot); a PRR after an RRR or RRP (the collar slides along
-#: the first dyad's link).
-PAIRS = (*((first, second) for first in FIRST_KINDS for second in (*KINDS, "RPR")),
-         ("RRR", "PRR"), ("RRP", "PRR"))
-#: Not drawn: an RPR then a PRR (a collar on the slotted lever), whose derivation runs for
-#: minutes.
+#: The pairs the derivation solves: any first dyad, then an RRR, RRP or RPR, or a PRR (the
+#: collar slides along the first dyad's link or slotted lever).
+PAIRS = tuple((first, second) for first in FIRST_KINDS for second in (*KINDS, "RPR", "PRR"))
 
 
 def _left_of(a, b, p):

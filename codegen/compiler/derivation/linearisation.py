@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .algebra import tidy
 from .equilibrium import on_branch, terms_size
 from .reduction import Reduction
 
@@ -69,7 +68,7 @@ class Linearisation:
 
 def derive_linearisation(reduction: Reduction) -> Linearisation:
     solution = reduction.solution
-    slope = sum((tidy(solution.derivative(t)) for t in reduction.static_terms), sp.S.Zero)
+    slope = sum((solution.slope(t) for t in reduction.static_terms), sp.S.Zero)
     roots = solution.roots
     e0, _, e2 = reduction.e_in_roots
     assembly = [r for r in roots if r.kind == "assembly"]

@@ -20,7 +20,6 @@ from functools import cached_property
 import sympy as sp
 
 from ..model import Mechanism
-from .algebra import tidy
 from .dynamics import Dynamics, contributions
 from .positions import PositionSolution, solve_positions
 from .state import StateSymbols
@@ -103,7 +102,7 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
     def slope(expr: sp.Expr) -> sp.Expr:
         """d/dtheta along the motion (``along`` first: it may add a length root)."""
         expr = along(expr)
-        return tidy(solution.derivative(expr))
+        return solution.slope(expr)
 
     def rates(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
         """First and second derivatives along the motion, the first factored."""
