@@ -416,18 +416,24 @@ def bisect(f, lo: float, hi: float) -> float:
 def test_a_chains_limit_positions_are_one_interval_each(builds):
     """The collar's link out of reach on most of the range: every mode has limit positions,
     which the isolation leaves as runs of slivers (dozens, more than the result holds);
-    each is listed once, a single narrow singular interval, and the declared mode's
-    equilibria are the reference's."""
+    each is listed once, a single narrow singular interval, and every mode's equilibria are
+    the reference's: where the declared mode has no state (its collar out of reach), another
+    mode's equilibrium is one all the same (it was listed as singular, its mode undecided)."""
     lib = builds("collar_on_rocker").library()
-    far = {"x_G": 0.55, "y_G": 0.1}
-    analysis = lib.analyze(lib.example_params(**far))
-    assert 0 < len(analysis.uncertain) <= 8, analysis.uncertain
-    assert all(u.kind == "singular" and not u.sign_change and u.hi - u.lo < 1e-8
-               for u in analysis.uncertain), analysis.uncertain
-    for a, b in zip(analysis.uncertain, analysis.uncertain[1:]):
-        assert a.mode != b.mode or b.lo - a.hi > 1e-9, (a, b)
     mechanism = load_model("collar_on_rocker")
-    expected = Reference(mechanism, {**example(mechanism), **far}).equilibria()
-    found = sorted(r.theta for r in analysis.roots if r.kind == "equilibrium" and r.certified)
-    assert len(found) == len(expected) and all(
-        angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected)), (found, expected)
+    for far in ({"x_G": 0.55, "y_G": 0.1}, {"x_G": 0.55, "y_G": 0.12}):
+        analysis = lib.analyze(lib.example_params(**far))
+        assert 0 < len(analysis.uncertain) <= 8, analysis.uncertain
+        assert all(u.kind == "singular" and not u.sign_change and u.hi - u.lo < 1e-8
+                   for u in analysis.uncertain), analysis.uncertain
+        for a, b in zip(analysis.uncertain, analysis.uncertain[1:]):
+            assert a.mode != b.mode or b.lo - a.hi > 1e-9, (a, b)
+        assert not analysis.singular, analysis.singular
+        for mode in range(4):
+            flipped = dataclasses.replace(mechanism, assembly_modes=tuple(
+                -e if mode >> i & 1 else e for i, e in enumerate(mechanism.assembly_modes)))
+            expected = Reference(flipped, {**example(flipped), **far}).equilibria()
+            found = sorted(r.theta for r in analysis.roots if r.mode == mode and r.certified)
+            assert len(found) == len(expected) and all(
+                angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected)), (far, mode, found,
+                                                                          expected)

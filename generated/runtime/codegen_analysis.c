@@ -272,6 +272,13 @@ static int linearise_at(const call *c, unsigned mode, codegen_real theta, const 
     }
     if (status == CODEGEN_OK) {
         status = residual_scale(model, at, theta, e->K, &e->residual_scale);
+        if (status != CODEGEN_OK && mode != 0u) {
+            /* the declared mode has no state here (a chain's later dyad cannot be assembled
+             * on it): the scale from this mode's own G and K */
+            e->residual_scale = codegen_fabs(e->residual)
+                                + codegen_fabs(e->K) * codegen_fmax(codegen_fabs(theta), (codegen_real)1);
+            status = CODEGEN_OK;
+        }
     }
     e->theta = theta;
     e->mode = mode; /* as found; assign_modes names it as the model declares its modes */
@@ -1293,24 +1300,27 @@ static int condition_sign(codegen_real value, codegen_real scale)
     return value > margin ? 1 : value < -margin ? -1 : 0;
 }
 
-/* Whether every condition of one dyad (mode bit) holds on a mode (1), one fails (-1), or
- * neither is certain (0). */
+/* Whether every condition of one dyad (mode bit) holds on a mode (1), one fails (-1), the
+ * mode has no state there (NO_STATE: every one of them not finite), or neither is certain (0). */
+#define NO_STATE 2
 static int dyad_holds(const codegen_model *model, const codegen_real *conditions,
                       unsigned mode, unsigned bit)
 {
     const int n = model->n_conditions, offset = (int)mode * n;
     const codegen_real *scales = conditions + model->n_modes * n;
-    int k, all = 1;
+    int k, all = 1, none = 1;
     for (k = 0; k < n; ++k) {
         if (model->condition_bit[k] == bit) {
-            const int sign = condition_sign(conditions[offset + k], scales[offset + k]);
+            const codegen_real value = conditions[offset + k];
+            const int sign = condition_sign(value, scales[offset + k]);
             if (sign < 0) {
                 return -1;
             }
             all = all && sign > 0;
+            none = none && !isfinite(value);
         }
     }
-    return all;
+    return none ? NO_STATE : all;
 }
 
 /* The assembly mode, as the model declares its modes, of the state at theta on the sign
@@ -1318,7 +1328,8 @@ static int dyad_holds(const codegen_model *model, const codegen_real *conditions
  * must hold with its root's sign as found and fail with it flipped (then the dyad is as
  * declared), or the reverse (then it is the other way). Which sign is which can change with
  * the parameters (a slide's inclination, a pivot on either side), so it is decided here, for
- * each set and state. model->n_modes where a dyad's conditions decide neither way. */
+ * each set and state; where the flipped sign gives no state, by the state's conditions
+ * alone. model->n_modes where a dyad's conditions decide neither way. */
 static unsigned declared_mode(const call *c, unsigned found, codegen_real theta)
 {
     const codegen_model *model = c->model;
@@ -1330,9 +1341,11 @@ static unsigned declared_mode(const call *c, unsigned found, codegen_real theta)
     for (bit = 0u; (1u << bit) < (unsigned)model->n_modes; ++bit) {
         const int as_found = dyad_holds(model, c->conditions, found, bit);
         const int flipped = dyad_holds(model, c->conditions, found ^ (1u << bit), bit);
-        if (as_found == -1 && flipped == 1) {
+        /* where the flipped mode has no state (a dyad after this one cannot be assembled on
+         * it), the state's own conditions decide */
+        if (as_found == -1 && (flipped == 1 || flipped == NO_STATE)) {
             mode |= 1u << bit;           /* this dyad the other way */
-        } else if (!(as_found == 1 && flipped == -1)) {
+        } else if (!(as_found == 1 && (flipped == -1 || flipped == NO_STATE))) {
             return (unsigned)model->n_modes;
         }
     }
