@@ -105,7 +105,7 @@ def derive_reduction(mechanism: Mechanism, state: StateSymbols, constraints: sp.
         return solution.slope(expr)
 
     def rates(expr: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-        """First and second derivatives along the motion, the first factored."""
+        """First and second derivatives along the motion, the first as solution.slope gives it."""
         first = slope(expr)
         return first, solution.derivative(first)
 
