@@ -24,8 +24,8 @@ FIELDS = ("theta", "lo", "hi", "certified", "genuine", "kind", "residual", "M", 
           "omega_re", "omega_im", "zeta_re", "zeta_im", "eig_re0", "eig_im0", "eig_re1",
           "eig_im1", "stability", "damping")
 INTEGERS = {"certified", "genuine", "kind", "stability", "damping"}
-RUNTIME = ("codegen_analysis.c", "codegen_simulation.c", "codegen_interval.c", "codegen_roots.c",
-           "codegen_ode.c")
+RUNTIME = ("codegen_analysis.c", "codegen_modes.c", "codegen_simulation.c", "codegen_interval.c",
+           "codegen_roots.c", "codegen_ode.c")
 
 
 def h(x: float) -> str:
@@ -175,6 +175,33 @@ def test_the_time_response_is_the_equation_of_motions(driver):
 
     def rate(_, y):
         return [y[1], -(a * math.cos(y[0]) + b * math.sin(y[0]) + c + d * y[1]) / m]
+
+    reference = solve_ivp(rate, (0.0, 5.0), [0.3, 0.0], t_eval=times, method="DOP853",
+                          rtol=1e-12, atol=1e-14).y.T
+    assert np.max(np.abs(got - reference)) < 1e-7
+
+
+MODE_UNDECIDED_STATUS = 12
+
+
+@pytest.mark.parametrize("w", [1.0, -1.0, 0.0])
+def test_a_motion_is_on_the_sign_choice_its_conditions_declare(driver, w):
+    """The two-mode model's condition is w on sign choice 0 and -w on choice 1: the motion
+    integrates b's sign where the condition holds (b negated for w < 0), and a start where
+    the condition decides nothing is refused (the mode undecided), never run on choice 0."""
+    a, b, c, m, d = 1.0, 0.5, 0.25, 2.0, 0.3
+    times = np.linspace(0.0, 5.0, 11)
+    words = driver([f"simulate_modes {h(a)} {h(b)} {h(c)} {h(m)} {h(d)} {h(w)} {h(0.3)} "
+                    f"{h(0.0)} {len(times)} " + " ".join(map(h, times))])[0]
+    if w == 0:
+        assert words == [str(MODE_UNDECIDED_STATUS), "0"]
+        return
+    assert int(words[0]) == OK and int(words[1]) == len(times)
+    got = np.array([float.fromhex(x) for x in words[2:]]).reshape(-1, 2)
+    b_declared = b if w > 0 else -b
+
+    def rate(_, y):
+        return [y[1], -(a * math.cos(y[0]) + b_declared * math.sin(y[0]) + c + d * y[1]) / m]
 
     reference = solve_ivp(rate, (0.0, 5.0), [0.3, 0.0], t_eval=times, method="DOP853",
                           rtol=1e-12, atol=1e-14).y.T

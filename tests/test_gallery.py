@@ -44,8 +44,9 @@ class Case:
     model: str                                      # tests/models/MODEL.py
     overrides: dict = field(default_factory=dict)   # changed from the model's example values
     # The declared assembly mode is the other sign of the closed form at these values than at
-    # the example: the library's functions of one angle (the closed form as derived, mode 0)
-    # are then the other mode's, while the analysis names each mode as declared.
+    # the example: the emission plan's expressions (the closed form as derived, sign choice
+    # 0) are then the other mode's, while the library evaluates each function of one angle,
+    # and names each equilibrium's mode, as declared.
     flipped: bool = False
 
 
@@ -226,11 +227,20 @@ def test_other_mode_roots_are_the_other_modes_equilibria(case_name, builds, refe
 
 
 @pytest.mark.parametrize("case_name", library_cases())
-def test_G_M_B_match_the_reference_across_the_range(case_name, builds, references):
+def test_functions_of_one_angle_are_the_declared_modes(case_name, builds, references):
+    """G (equilibrium_residual), M and B (reduced_coefficients), K (linearisation) and the
+    dependent coordinates (dependent_state) equal the reference's in the declared mode at
+    angles across the range, whichever sign of the closed form that mode is for the case's
+    values (the inclined slide's other way: the other sign); where the declared mode cannot
+    be assembled, the library says so."""
     lib = builds(CASES[case_name].model).library()
-    mechanism, params, reference, _ = references(case_name, int(CASES[case_name].flipped))
+    mechanism, params, reference, _ = references(case_name)
     p = lib.example_params(**CASES[case_name].overrides)
-    mine, ref = {"G": [], "M": [], "B": []}, {"G": [], "M": [], "B": []}
+    names = [c.name for c in mechanism.coordinates]
+    dependent = [i for i, name in enumerate(names) if name != mechanism.independent]
+    turns = [mechanism.coordinates[i].unit == "rad" for i in dependent]
+    quantities = ("G", "M", "B", "K") + tuple(names[i] for i in dependent)
+    mine, ref = ({q: [] for q in quantities} for _ in range(2))
     for theta in angles(reference):
         v = reference.values(theta)
         if v is None:   # cannot be assembled in the declared mode: the library says so
@@ -238,9 +248,14 @@ def test_G_M_B_match_the_reference_across_the_range(case_name, builds, reference
                 lib.equilibrium_residual(p, theta)
             continue
         e = lib.reduced_coefficients(p, theta)
-        for name, got, want in (("G", lib.equilibrium_residual(p, theta).residual, v.G),
-                                ("M", e[0], v.M), ("B", e[2], v.B)):
-            mine[name].append(got)
+        coords = lib.dependent_state(p, theta, 0.0).coords
+        got = [lib.equilibrium_residual(p, theta).residual, e[0], e[2],
+               lib.linearisation(p, theta).K]
+        # an angle's coordinate as the nearest turn to the reference's
+        got += [float(v.q[k]) + math.remainder(coords[i] - float(v.q[k]), 2 * math.pi)
+                if turn else coords[i] for k, (i, turn) in enumerate(zip(dependent, turns))]
+        for name, value, want in zip(quantities, got, (v.G, v.M, v.B, v.K, *v.q)):
+            mine[name].append(value)
             ref[name].append(want)
     assert len(ref["G"]) >= len(angles(reference)) // 2
     assert mismatches(mine, ref) == []
@@ -304,6 +319,36 @@ def test_a_state_no_declared_mode_holds_in_is_reported_undecided(builds):
     assert [r.mode for r in lib.analyze(tilted).roots if r.kind != "extraneous"] == \
         [0 if r.kind == "equilibrium" else 1
          for r in lib.analyze(tilted).roots if r.kind != "extraneous"]
+
+
+def test_a_function_of_one_angle_where_no_mode_is_declared_says_so(builds):
+    """On a level slide the conditions decide no mode at any angle: each function of one
+    angle, the frequency response and the time response refuse with the mode undecided,
+    never evaluating the closed form's first sign as if it were the declared mode; the
+    functions on every mode still give both modes' values."""
+    lib = builds("inclined_slider_crank").library()
+    level = lib.example_params(alpha=0.0)
+    theta = 0.3
+    calls = {
+        "dependent_state": lambda: lib.dependent_state(level, theta, 0.0),
+        "reduced_coefficients": lambda: lib.reduced_coefficients(level, theta),
+        "angular_acceleration": lambda: lib.angular_acceleration(level, theta, 0.0),
+        "equilibrium_residual": lambda: lib.equilibrium_residual(level, theta),
+        "radicands": lambda: lib.radicands(level, theta),
+        "linearisation": lambda: lib.linearisation(level, theta),
+        "vibration": lambda: lib.vibration(level, theta),
+        "simulate": lambda: lib.simulate(level, theta, 0.0, [0.0, 0.1]),
+        "rk4_step": lambda: lib.rk4_step(level, theta, 0.0, 1e-3),
+        "frequency_response": lambda: lib.lib.inclined_slider_crank_frequency_response(
+            lib._c_params(level), theta, 0, lib.ffi.NULL, lib.ffi.NULL, lib.ffi.NULL),
+    }
+    for name, call in calls.items():
+        try:
+            status = call()
+        except lib.LibraryError as error:
+            status = error.code
+        assert status in ("ERR_MODE_UNDECIDED", lib.STATUS["ERR_MODE_UNDECIDED"]), name
+    assert np.isfinite(lib.mode_linearisation(level, theta).M).all()
 
 
 def test_a_length_along_one_axis_stays_a_root():

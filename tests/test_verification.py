@@ -64,8 +64,9 @@ def _perturbed(plan, function: str, output: int, change):
         outputs.append(dataclasses.replace(o, exprs=tuple(exprs[start:start + len(o.exprs)])))
         start += len(o.exprs)
     changed = dataclasses.replace(f, outputs=tuple(outputs))
-    return dataclasses.replace(plan, functions=tuple(
-        changed if g.name == function else g for g in plan.functions))
+    return dataclasses.replace(plan, **{kind: tuple(changed if g.name == function else g
+                                                    for g in getattr(plan, kind))
+                                        for kind in ("functions", "mode_functions")})
 
 
 FLIPS = [  # (function, output index, the quantity the message names)
@@ -90,6 +91,35 @@ def test_a_sign_flipped_on_one_branch_is_refused(lever, function, output, quanti
     assert f": {quantity} at theta = " in message, message
     assert "the library gives" in message and "the model" in message
     assert "parameters l=" in message and "\n" not in message
+
+
+@pytest.mark.parametrize("function, output, quantity", [
+    ("motion_signs1", 2, "position of phi_"),   # (Newton then moves phi_3 too)
+    ("motion_signs1", 9, "thetaddot"),
+    ("mode_linearisation", 5, "K")])   # mode 1's K
+def test_a_wrong_function_on_another_sign_choice_is_refused(function, output, quantity):
+    """The four-bar's functions of one angle on its other assembly mode (which the library
+    evaluates where the model's condition holds on that sign) are checked at the states that
+    sign gives, as the declared one's are."""
+    mechanism = load("four_bar")
+    bad = _perturbed(build_plan(derive(mechanism)), function, output, lambda e: -e)
+    with pytest.raises(VerificationError) as error:
+        verify(mechanism, bad)
+    message = str(error.value)
+    assert f": {quantity}" in message, message
+    assert " on sign choice 1 of the assembly roots at theta = " in message, message
+
+
+def test_a_wrong_assembly_condition_is_refused():
+    """The conditions the library decides each state's mode by, for every set, are the
+    model's assembly_modes at the model's own states (a quick-return shaper's were written
+    with its lever's cosine taken as the slot's X, not X over the slot's length)."""
+    mechanism = load("four_bar")
+    plan = build_plan(derive(mechanism))
+    assert plan.condition_sources == (0,)
+    bad = _perturbed(plan, "assembly_conditions", 0, lambda e: -e)
+    with pytest.raises(VerificationError, match=r": assembly_modes\[0\] at theta = "):
+        verify(mechanism, bad)
 
 
 def test_a_wrong_coefficient_of_sigma_is_refused(lever):

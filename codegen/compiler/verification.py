@@ -12,7 +12,9 @@ angles over the whole range of the independent coordinate, it
   K = G' by five-point stencils over those solutions;
 - takes M and e1 = M'/2 from the bodies' numerical velocities, B from the dampers';
 and compares with them the plan's expressions, which are what the printer writes as C: the
-dependent state, G, e0, e1, e2, K and thetaddot, and sigma at every zero of G it brackets.
+dependent state, G, e0, e1, e2, K and thetaddot (on every assembly mode's sign choice), the
+assembly-mode conditions the library decides each state's mode by, and sigma at every zero
+of G it brackets.
 A discrepancy stops generation with one message naming the quantity, the angle, the
 parameters and both values. Points next to a singular state (a radicand near zero, a
 constraint Jacobian near singular, Newton not converging) are left out: there the stencil
@@ -46,7 +48,8 @@ SPREAD = 0.3
 STEP = 2e-3
 #: Allowed difference, relative to the sum of the magnitudes of each quantity's terms.
 TOLERANCE = {"position": 1e-8, "rate": 1e-6, "G": 1e-6, "K": 1e-5, "e0": 1e-6, "e1": 1e-5,
-             "e2": 1e-6, "thetaddot": 1e-5, "sigma": 1e-6, "assembly mode": 0.0}
+             "e2": 1e-6, "thetaddot": 1e-5, "sigma": 1e-6, "assembly mode": 0.0,
+             "assembly_modes": 1e-8}
 #: A point is left out where a radicand is below this fraction of its terms' magnitude.
 RADICAND_MARGIN = 1e-3
 #: ... or where the constraint Jacobian's condition number exceeds this.
@@ -75,11 +78,17 @@ def verify(mechanism: Mechanism, plan: Plan, user: Mechanism | None = None) -> R
     model = _ModelNumerics(mechanism)
     sets = parameter_sets(mechanism, np.random.default_rng(SEED))
     checker = _Checker(mechanism, plan, user)
+    # the functions of one angle on each other sign choice of the assembly roots, at the
+    # states that choice gives (the model's mode conditions are not theirs to meet)
+    others = [_Checker(mechanism, plan, user, signs=k, functions=checker.functions)
+              for k in _sign_choices(plan)]
     points = zeros = 0
     for params in sets:
         checked, found = checker.check(model, params)
         points += checked
         zeros += found
+        for other in others:
+            points += other.check(model, params)[0]
     if points < len(sets):
         raise VerificationError(
             f"{mechanism.name}: the library could be compared with the model at only {points} "
@@ -110,6 +119,11 @@ def verify_compiled(mechanism: Mechanism, plan: Plan, call: Call,
     checker = _Checker(mechanism, plan, user)
     return sum(checker.check_compiled(values, call) for values in
                parameter_sets(mechanism, np.random.default_rng(SEED)))
+
+
+def _sign_choices(plan: Plan) -> list[int]:
+    """The sign choices other than 0 that the plan's functions of one angle evaluate on."""
+    return list(range(1, len(plan.function("dependent_state").on_signs) + 1))
 
 
 # --------------------------------------------------------------------------- parameters
@@ -254,16 +268,18 @@ class _Quantity:
 class _Checker:
     """The plan's functions as numpy functions, compared with the model's numerics."""
 
-    def __init__(self, mechanism: Mechanism, plan: Plan, user: Mechanism | None):
+    def __init__(self, mechanism: Mechanism, plan: Plan, user: Mechanism | None,
+                 signs: int = 0, functions: dict[str, Callable] | None = None):
         self.mechanism = mechanism
         self.plan = plan
+        self.signs = signs   # the sign choice of the assembly roots checked (0: as derived)
         self.symbols = mechanism.symbols
         user = user or mechanism
         # the user's name of each parameter and coordinate, for messages and the library
         self.labels = {s.name: u.name for s, u in zip(mechanism.symbols, user.symbols)}
         self.coordinates = [c.name for c in user.coordinates]
         self.name = user.independent
-        self.functions: dict[str, Callable] = {}
+        self.functions: dict[str, Callable] = {} if functions is None else functions
         # sigma's coefficients cancel up to ~13 digits (the library evaluates them in
         # double-double): evaluated here in 40 digits.
         self.sigma = self._compiled(plan.function("sigma"), "mpmath") if plan.has(
@@ -292,11 +308,31 @@ class _Checker:
                            printer=printer)
 
     def _call(self, name, params, *inputs) -> np.ndarray:
+        if self.signs:
+            return self._call_on_signs(name, params, *inputs)
+        return self._evaluate(name, params, *inputs)
+
+    def _evaluate(self, name, params, *inputs) -> np.ndarray:
+        """The plan's function ``name`` (compiled once for every checker of the plan)."""
         if name not in self.functions:
             self.functions[name] = self._compiled(self.plan.function(name))
         shape = np.broadcast(*inputs).shape if inputs else ()
         with np.errstate(all="ignore"):
             return _broadcast(self.functions[name](*params, *inputs), shape)
+
+    def _call_on_signs(self, name, params, *inputs) -> np.ndarray:
+        """The public function ``name`` on this checker's sign choice: its source (motion_
+        signs<k>, or mode_linearisation), compiled once, and the outputs of its names
+        (Plan.on_sign_choice)."""
+        f = self.plan.function(name)
+        source = self.plan.function(f.on_signs[self.signs - 1])
+        at, start = {}, 0
+        for o in source.outputs:
+            at[o.name] = start + (self.signs if source.slot_modes else 0)
+            start += len(o.exprs)
+        picks = [at[o.name] + i for o in f.outputs for i in range(len(o.exprs))]
+        rate = [np.zeros_like(inputs[0])] * (len(source.inputs) - len(inputs))
+        return self._evaluate(source.name, params, *inputs, *rate)[..., picks]
 
     def _sigma(self, params) -> np.ndarray:
         with mpmath.workdps(40):
@@ -377,7 +413,12 @@ class _Checker:
         middle = full[:, MIDDLE]
         self._compare("position", state[:, :n], middle, th,
                       np.abs(middle) + np.sqrt(np.mean(middle ** 2, axis=0)), 0)
+        if self.signs:   # another sign choice: no mode conditions to meet, no sigma to check
+            self._compare_dynamics(params, th, state[:, n:],
+                                   self._model_quantities(model, params, full))
+            return int(usable.sum()), 0
         self._check_modes(model, params, middle, th)
+        self._check_conditions(model, params, middle, th)
         quantities = self._model_quantities(model, params, full)
         self._compare_dynamics(params, th, state[:, n:], quantities)
         return int(usable.sum()), self._check_sigma(params, th, quantities["G"])
@@ -407,6 +448,19 @@ class _Checker:
                 i = bad[0]
                 self._fail(f"the assembly mode (assembly_modes[{j}] > 0)", th[i],
                            f"the closed form's state gives {modes[i, j]:.10g}", None)
+
+    def _check_conditions(self, model, params, middle, th):
+        """The plan's assembly_conditions on the declared mode (which the library decides
+        each state's mode by, for every set) equal the model's assembly_modes at the model's
+        own states."""
+        if not self.plan.has("assembly_conditions"):
+            return
+        modes = _broadcast(model.modes(*params, *middle.T), th.shape)
+        mine = self._call("assembly_conditions", params, th)
+        for k, source in enumerate(self.plan.condition_sources):
+            want = modes[:, source]
+            self._compare(f"assembly_modes[{source}]", mine[:, k], want, th,
+                          np.abs(want) + np.sqrt(np.mean(want ** 2)))
 
     @staticmethod
     def _model_quantities(model, params, full) -> dict[str, _Quantity]:
@@ -503,7 +557,7 @@ class _Checker:
                 self._compare(f"{quantity} of {self._coordinate(k)}", generated[:, k],
                               model[:, k], th, scale[:, k], error[:, k])
             return
-        allowed = TOLERANCE[quantity.split(" of ")[0]] * scale + error + 1e-300
+        allowed = TOLERANCE[quantity.split(" of ")[0].split("[")[0]] * scale + error + 1e-300
         bad = np.flatnonzero(~(np.abs(generated - model) <= allowed))
         if bad.size:
             i = bad[np.argmax(np.abs(generated - model)[bad] / allowed[bad])] if np.isfinite(
@@ -522,7 +576,8 @@ class _Checker:
         setting = ", ".join(f"{n}={v:.6g}" for n, v in self._user_values().items())
         gap = (f" (difference {difference[0]:.3g}, allowed {difference[1]:.3g})"
                if difference else "")
+        on = f" on sign choice {self.signs} of the assembly roots" if self.signs else ""
         raise VerificationError(
-            f"{self.mechanism.name}: {what}: {quantity} at "
+            f"{self.mechanism.name}: {what}: {quantity}{on} at "
             f"{self.name} = {math.degrees(angle):.6f} deg: {values}{gap}; parameters "
             f"{setting}")

@@ -173,6 +173,10 @@ def simulate(params: ParameterSet, theta0: float, theta_d0: float,
     are computed, a hundredth at a time (the integration is the same bit for bit with or
     without it: outputs are interpolated and never shorten a step).
 
+    The motion is on the assembly mode the model's conditions declare at theta0 (decided
+    for this parameter set, and kept along the motion); where they decide none there, the
+    start fails with ERR_MODE_UNDECIDED.
+
     Raises ValueError for t or an option out of range; LibraryError for bad parameters or
     initial state (naming them). When the integration fails (ERR_STEP_BUDGET,
     ERR_STEP_SIZE: a singular or too stiff motion, or the library's status for a thetaddot

@@ -66,6 +66,8 @@ const char *double_pendulum_status_message(double_pendulum_status status)
         return "the integrator used up its step budget before the last output time";
     case DOUBLE_PENDULUM_ERR_STEP_SIZE:
         return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
+    case DOUBLE_PENDULUM_ERR_MODE_UNDECIDED:
+        return "the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there)";
     case DOUBLE_PENDULUM_ERR_LENGTH_NOT_POSITIVE:
         return "l_1 and l_2 must be positive";
     case DOUBLE_PENDULUM_ERR_MASS_NEGATIVE:

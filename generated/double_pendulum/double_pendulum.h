@@ -49,10 +49,11 @@ typedef enum double_pendulum_status {
     DOUBLE_PENDULUM_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     DOUBLE_PENDULUM_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     DOUBLE_PENDULUM_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    DOUBLE_PENDULUM_ERR_LENGTH_NOT_POSITIVE = 12, /* l_1 and l_2 must be positive */
-    DOUBLE_PENDULUM_ERR_MASS_NEGATIVE = 13, /* masses m_1, m_2, m_t must not be negative */
-    DOUBLE_PENDULUM_ERR_K_NEGATIVE = 14, /* k_1 and k_2 must not be negative */
-    DOUBLE_PENDULUM_ERR_C_NEGATIVE = 15 /* c_1 and c_2 must not be negative */
+    DOUBLE_PENDULUM_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    DOUBLE_PENDULUM_ERR_LENGTH_NOT_POSITIVE = 13, /* l_1 and l_2 must be positive */
+    DOUBLE_PENDULUM_ERR_MASS_NEGATIVE = 14, /* masses m_1, m_2, m_t must not be negative */
+    DOUBLE_PENDULUM_ERR_K_NEGATIVE = 15, /* k_1 and k_2 must not be negative */
+    DOUBLE_PENDULUM_ERR_C_NEGATIVE = 16 /* c_1 and c_2 must not be negative */
 } double_pendulum_status;
 
 /* The mechanism's parameters, SI units. */

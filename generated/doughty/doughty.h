@@ -57,12 +57,13 @@ typedef enum doughty_status {
     DOUGHTY_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     DOUGHTY_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     DOUGHTY_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    DOUGHTY_ERR_L_NOT_POSITIVE = 12, /* L must be positive */
-    DOUGHTY_ERR_A_OUT_OF_RANGE = 13, /* a must lie in [0, L] */
-    DOUGHTY_ERR_L_ND_NEGATIVE = 14, /* l_ND must not be negative */
-    DOUGHTY_ERR_MASS_NEGATIVE = 15, /* masses m_A, m_B, m_C must not be negative */
-    DOUGHTY_ERR_K_NEGATIVE = 16, /* k must not be negative */
-    DOUGHTY_ERR_B_NEGATIVE = 17 /* b must not be negative */
+    DOUGHTY_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    DOUGHTY_ERR_L_NOT_POSITIVE = 13, /* L must be positive */
+    DOUGHTY_ERR_A_OUT_OF_RANGE = 14, /* a must lie in [0, L] */
+    DOUGHTY_ERR_L_ND_NEGATIVE = 15, /* l_ND must not be negative */
+    DOUGHTY_ERR_MASS_NEGATIVE = 16, /* masses m_A, m_B, m_C must not be negative */
+    DOUGHTY_ERR_K_NEGATIVE = 17, /* k must not be negative */
+    DOUGHTY_ERR_B_NEGATIVE = 18 /* b must not be negative */
 } doughty_status;
 
 /* The mechanism's parameters, SI units. */
@@ -159,7 +160,7 @@ doughty_status doughty_energies(const doughty_params *params, const codegen_real
  */
 doughty_status doughty_lagrange_terms(const doughty_params *params, const codegen_real coords[DOUGHTY_N_COORDS], const codegen_real rates[DOUGHTY_N_COORDS], const codegen_real accels[DOUGHTY_N_COORDS], const codegen_real multipliers[DOUGHTY_N_CONSTRAINTS], codegen_real dt_dL_dqdot[DOUGHTY_N_COORDS], codegen_real dL_dq[DOUGHTY_N_COORDS], codegen_real constraint_forces[DOUGHTY_N_COORDS], codegen_real dissipative_forces[DOUGHTY_N_COORDS], codegen_real applied_forces[DOUGHTY_N_COORDS], codegen_real residual[DOUGHTY_N_COORDS]);
 
-/* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
+/* All coordinates and rates from the independent angle and its rate.
  * Paper: eq. (30)-(35).
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
@@ -195,7 +196,7 @@ doughty_status doughty_angular_acceleration(const doughty_params *params, codege
  */
 doughty_status doughty_equilibrium_residual(const doughty_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
-/* The radicands under the square roots of the position analysis (length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
+/* The radicands under the square roots of the position analysis (length), and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
  * in  theta: independent coordinate theta [rad]
  * out values: [unit^2]
  * out scales: [unit^2]
@@ -392,6 +393,8 @@ typedef struct doughty_simulation {
     doughty_params params;   /* the parameter set, copied by _start */
     codegen_ode_options options;  /* the options, copied by _start */
     codegen_ode_state state;      /* where the integration stands */
+    unsigned signs;               /* the sign choice of the assembly roots the motion is on:
+                                     the mode the model declares at theta0 (_start) */
     codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
 } doughty_simulation;
 

@@ -56,11 +56,23 @@ static codegen_real range_centre(const void *p)
     return 0;
 }
 
-static codegen_real angular_acceleration(const void *params, codegen_real theta,
+/* thetaddot on a sign choice of the assembly roots (< N_MODES) */
+static codegen_real angular_acceleration(const void *p, unsigned signs, codegen_real theta,
                                          codegen_real theta_d)
 {
-    return doughty_angular_acceleration_kernel((const doughty_params *)params, theta,
-                                                    theta_d);
+    const doughty_params *params = (const doughty_params *)p;
+    codegen_real out[1];
+    (void)signs;
+    out[0] = doughty_angular_acceleration_kernel(params, theta, theta_d);
+    return out[0];
+}
+
+/* M, B, K on a sign choice of the assembly roots (< N_MODES) */
+static void linearisation(const void *p, unsigned signs, codegen_real theta, codegen_real *out)
+{
+    const doughty_params *params = (const doughty_params *)p;
+    (void)signs;
+    doughty_linearisation_kernel(params, theta, out);
 }
 
 static const codegen_model model = {
@@ -97,6 +109,7 @@ static const codegen_model model = {
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
+    .linearisation = linearisation,
     .analysis = {
         .size = sizeof(doughty_analysis),
         .sigma = offsetof(doughty_analysis, sigma),
@@ -130,6 +143,7 @@ static const codegen_model model = {
         .options = offsetof(doughty_simulation, options),
         .state = offsetof(doughty_simulation, state),
         .work = offsetof(doughty_simulation, work),
+        .signs = offsetof(doughty_simulation, signs),
     },
 };
 
@@ -223,7 +237,6 @@ doughty_status doughty_rk4_step(const doughty_params *params, codegen_real h, co
 doughty_status doughty_frequency_response(const doughty_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
 {
-    codegen_real state[9];
     return (doughty_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
-                                                      H_im, state);
+                                                      H_im);
 }

@@ -66,6 +66,8 @@ const char *flexible_doughty_status_message(flexible_doughty_status status)
         return "the integrator used up its step budget before the last output time";
     case FLEXIBLE_DOUGHTY_ERR_STEP_SIZE:
         return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
+    case FLEXIBLE_DOUGHTY_ERR_MODE_UNDECIDED:
+        return "the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there)";
     case FLEXIBLE_DOUGHTY_ERR_L_NOT_POSITIVE:
         return "L must be positive";
     case FLEXIBLE_DOUGHTY_ERR_A_OUT_OF_RANGE:

@@ -49,12 +49,13 @@ typedef enum flexible_doughty_status {
     FLEXIBLE_DOUGHTY_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     FLEXIBLE_DOUGHTY_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     FLEXIBLE_DOUGHTY_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    FLEXIBLE_DOUGHTY_ERR_L_NOT_POSITIVE = 12, /* L must be positive */
-    FLEXIBLE_DOUGHTY_ERR_A_OUT_OF_RANGE = 13, /* a must lie in [0, L/2] */
-    FLEXIBLE_DOUGHTY_ERR_L_ND_NEGATIVE = 14, /* l_ND must not be negative */
-    FLEXIBLE_DOUGHTY_ERR_MASS_NEGATIVE = 15, /* masses m_A, m_B, m_C must not be negative */
-    FLEXIBLE_DOUGHTY_ERR_K_NEGATIVE = 16, /* k and k_t must not be negative */
-    FLEXIBLE_DOUGHTY_ERR_B_NEGATIVE = 17 /* b and c_t must not be negative */
+    FLEXIBLE_DOUGHTY_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    FLEXIBLE_DOUGHTY_ERR_L_NOT_POSITIVE = 13, /* L must be positive */
+    FLEXIBLE_DOUGHTY_ERR_A_OUT_OF_RANGE = 14, /* a must lie in [0, L/2] */
+    FLEXIBLE_DOUGHTY_ERR_L_ND_NEGATIVE = 15, /* l_ND must not be negative */
+    FLEXIBLE_DOUGHTY_ERR_MASS_NEGATIVE = 16, /* masses m_A, m_B, m_C must not be negative */
+    FLEXIBLE_DOUGHTY_ERR_K_NEGATIVE = 17, /* k and k_t must not be negative */
+    FLEXIBLE_DOUGHTY_ERR_B_NEGATIVE = 18 /* b and c_t must not be negative */
 } flexible_doughty_status;
 
 /* The mechanism's parameters, SI units. */

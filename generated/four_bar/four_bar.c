@@ -78,6 +78,8 @@ const char *four_bar_status_message(four_bar_status status)
         return "the integrator used up its step budget before the last output time";
     case FOUR_BAR_ERR_STEP_SIZE:
         return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
+    case FOUR_BAR_ERR_MODE_UNDECIDED:
+        return "the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there)";
     case FOUR_BAR_ERR_LENGTH_NOT_POSITIVE:
         return "d, a_2, a_3, a_4 must be positive";
     case FOUR_BAR_ERR_L_0_NEGATIVE:
@@ -713,7 +715,28 @@ four_bar_status four_bar_dependent_state(const four_bar_params *params, codegen_
     if (!isfinite(theta_d)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_dependent_state_kernel(params, theta, theta_d, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_dependent_state_kernel(params, theta, theta_d, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[0];
+        out[1] = on_choice[1];
+        out[2] = on_choice[2];
+        out[3] = on_choice[3];
+        out[4] = on_choice[4];
+        out[5] = on_choice[5];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 6)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -1049,7 +1072,25 @@ four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, cod
     if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_reduced_coefficients_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_reduced_coefficients_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[6];
+        out[1] = on_choice[7];
+        out[2] = on_choice[8];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 3)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -1396,7 +1437,23 @@ four_bar_status four_bar_angular_acceleration(const four_bar_params *params, cod
     if (!isfinite(theta_d)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    out[0] = four_bar_angular_acceleration_kernel(params, theta, theta_d);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        out[0] = four_bar_angular_acceleration_kernel(params, theta, theta_d);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[9];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 1)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -1538,7 +1595,24 @@ four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, cod
     if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_equilibrium_residual_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_equilibrium_residual_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[10];
+        out[1] = on_choice[11];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 2)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -1668,7 +1742,26 @@ four_bar_status four_bar_radicands(const four_bar_params *params, codegen_real t
     if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_radicands_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_radicands_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[12];
+        out[1] = on_choice[13];
+        out[2] = on_choice[14];
+        out[3] = on_choice[15];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_OVERFLOW; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 4)) {
         return FOUR_BAR_ERR_OVERFLOW;
     }
@@ -7988,7 +8081,25 @@ four_bar_status four_bar_linearisation(const four_bar_params *params, codegen_re
     if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_linearisation_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_linearisation_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[6];
+        four_bar_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[1];
+        out[1] = on_choice[3];
+        out[2] = on_choice[5];
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 3)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -8265,7 +8376,24 @@ four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real t
     if (!isfinite(theta)) {
         return FOUR_BAR_ERR_NONFINITE;
     }
-    four_bar_vibration_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (four_bar_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        four_bar_vibration_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[6];
+        four_bar_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[5] / on_choice[1];
+        out[1] = on_choice[3] / (2 * on_choice[1]);
+        break;
+    }
+    case FOUR_BAR_N_MODES:
+        return FOUR_BAR_ERR_MODE_UNDECIDED;
+    default:
+        return FOUR_BAR_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 2)) {
         return FOUR_BAR_ERR_SINGULAR_STATE;
     }
@@ -8681,7 +8809,7 @@ four_bar_status four_bar_mode_linearisation(const four_bar_params *params, codeg
 
 /* assembly_conditions without validation (the public function below checks, then calls it; the
  * analysis calls it on inputs it has checked): eq. -. Writes out[] in the order
- * of the outputs; they may be NaN or infinite. Total ops: 75. */
+ * of the outputs; they may be NaN or infinite. Total ops: 72. */
 void four_bar_assembly_conditions_kernel(const four_bar_params *params, codegen_real theta, codegen_real out[4])
 {
     (void)params;
@@ -8689,35 +8817,35 @@ void four_bar_assembly_conditions_kernel(const four_bar_params *params, codegen_
     {
         const codegen_real a_2 = params->a_2;
         const codegen_real tmp4 = a_2*codegen_cos(theta);
-        const codegen_real tmp13 = codegen_sin(theta);
+        const codegen_real tmp14 = a_2*codegen_sin(theta);
         const codegen_real a_4 = params->a_4;
         const codegen_real tmp0 = (a_4*a_4);
-        const codegen_real tmp1 = (a_2*a_2);
-        const codegen_real d = params->d;
-        const codegen_real tmp2 = (d*d);
         const codegen_real a_3 = params->a_3;
-        const codegen_real tmp3 = (a_3*a_3);
+        const codegen_real tmp1 = (a_3*a_3);
+        const codegen_real tmp2 = (a_2*a_2);
+        const codegen_real d = params->d;
+        const codegen_real tmp3 = (d*d);
         const codegen_real tmp5 = 2*d*tmp4;
-        const codegen_real tmp6 = tmp1 + tmp2 - tmp3 - tmp5;
-        const codegen_real tmp7 = -tmp0 - tmp6;
-        const codegen_real tmp8 = d - tmp4;
-        const codegen_real tmp9 = 2*a_4;
-        const codegen_real tmp10 = tmp8*tmp9;
-        const codegen_real tmp11 = a_3*tmp9;
-        const codegen_real tmp12 = codegen_sqrt(-(-tmp0 + tmp11 + tmp6)*(-tmp0 + tmp1 - tmp11 + tmp2 - tmp3 - tmp5));
-        const codegen_real tmp14 = a_2*tmp13;
-        const codegen_real tmp15 = tmp14*tmp9;
-        const codegen_real tmp16 = tmp12*tmp15;
-        const codegen_real tmp17 = 4*tmp0;
-        const codegen_real tmp18 = 1/((tmp1*(tmp13*tmp13)*tmp17 + tmp17*(tmp8*tmp8)));
-        const codegen_real tmp19 = a_4*tmp18;
+        const codegen_real tmp6 = tmp2 + tmp3 - tmp5;
+        const codegen_real tmp7 = -tmp1 + tmp6;
+        const codegen_real tmp8 = -tmp0 - tmp7;
+        const codegen_real tmp9 = d - tmp4;
+        const codegen_real tmp10 = 2*a_4;
+        const codegen_real tmp11 = tmp10*tmp9;
+        const codegen_real tmp12 = a_3*tmp10;
+        const codegen_real tmp13 = codegen_sqrt(-(-tmp0 + tmp12 + tmp7)*(-tmp0 - tmp1 - tmp12 + tmp2 + tmp3 - tmp5));
+        const codegen_real tmp15 = tmp10*tmp14;
+        const codegen_real tmp16 = tmp13*tmp15;
+        const codegen_real tmp17 = 1/(a_4);
+        const codegen_real tmp18 = 1/(tmp6);
+        const codegen_real tmp19 = (((codegen_real)1/4))*tmp17*tmp18;
         const codegen_real tmp20 = d - tmp4;
-        const codegen_real tmp21 = tmp14*(tmp19*(tmp10*tmp7 + tmp16) + tmp20);
-        const codegen_real tmp22 = tmp15*tmp7;
-        const codegen_real tmp23 = tmp10*tmp12;
-        const codegen_real tmp24 = tmp8*(a_4*tmp18*(-tmp22 + tmp23) - tmp14);
-        const codegen_real tmp25 = tmp14*(tmp19*(2*a_4*tmp7*tmp8 - tmp16) + tmp20);
-        const codegen_real tmp26 = tmp8*(a_4*tmp18*(-tmp22 - tmp23) - tmp14);
+        const codegen_real tmp21 = tmp14*(tmp19*(tmp11*tmp8 + tmp16) + tmp20);
+        const codegen_real tmp22 = tmp15*tmp8;
+        const codegen_real tmp23 = tmp11*tmp13;
+        const codegen_real tmp24 = tmp9*(-tmp14 + (((codegen_real)1/4))*tmp17*tmp18*(-tmp22 + tmp23));
+        const codegen_real tmp25 = tmp14*(tmp19*(2*a_4*tmp8*tmp9 - tmp16) + tmp20);
+        const codegen_real tmp26 = tmp9*(-tmp14 + (((codegen_real)1/4))*tmp17*tmp18*(-tmp22 - tmp23));
         out[0] = tmp21 + tmp24;
         out[1] = tmp25 + tmp26;
         out[2] = codegen_fabs(tmp21) + codegen_fabs(tmp24);
@@ -9170,6 +9298,417 @@ four_bar_status four_bar_equilibrium_state(const four_bar_params *params, codege
     copy_out(radicand_scales, out + 11, 2);
     return FOUR_BAR_OK;
 }
+
+/* The state, the reduced equation's coefficients, G and the radicands on sign choice 1 of the assembly roots (mode_linearisation's mode 1). Without validation (the public function checks, then calls it where the
+ * model's conditions declare this sign choice): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 1679. */
+void four_bar_motion_signs1_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[16])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
+    {
+        const codegen_real tmp2 = codegen_cos(theta);
+        const codegen_real tmp22 = codegen_sin(theta);
+        const codegen_real a_2 = params->a_2;
+        const codegen_real tmp0 = (a_2*a_2);
+        const codegen_real d = params->d;
+        const codegen_real tmp1 = (d*d);
+        const codegen_real tmp3 = a_2*tmp2;
+        const codegen_real tmp4 = 2*d;
+        const codegen_real tmp5 = tmp3*tmp4;
+        const codegen_real a_3 = params->a_3;
+        const codegen_real tmp10 = (a_3*a_3);
+        const codegen_real a_4 = params->a_4;
+        const codegen_real tmp11 = (a_4*a_4);
+        const codegen_real tmp12 = 2*a_4;
+        const codegen_real tmp13 = a_3*tmp12;
+        const codegen_real tmp14 = -tmp0 - tmp1 + tmp10 + tmp11 + tmp13 + tmp5;
+        const codegen_real tmp6 = tmp0 + tmp1 - tmp5;
+        const codegen_real tmp16 = -tmp10 + tmp6;
+        const codegen_real tmp17 = -tmp11 + tmp13 + tmp16;
+        const codegen_real tmp325 = tmp14*tmp17;
+        const codegen_real tmp326 = codegen_sqrt(tmp325);
+        const codegen_real tmp332 = (((codegen_real)1/4))/codegen_fabs(tmp326);
+        const codegen_real tmp263 = d*tmp3;
+        const codegen_real tmp336 = 4*codegen_fabs(tmp263);
+        const codegen_real tmp337 = codegen_fabs(a_2);
+        const codegen_real tmp232 = d*tmp2;
+        const codegen_real tmp338 = codegen_fabs(tmp232);
+        const codegen_real tmp340 = codegen_fabs(d);
+        const codegen_real tmp341 = codegen_fabs(tmp3);
+        const codegen_real x_S = params->x_S;
+        const codegen_real tmp343 = codegen_fabs(d*x_S);
+        const codegen_real tmp345 = codegen_fabs(x_S);
+        const codegen_real y_S = params->y_S;
+        const codegen_real tmp303 = tmp22*y_S;
+        const codegen_real tmp304 = a_2*tmp303;
+        const codegen_real tmp347 = codegen_fabs(tmp304);
+        const codegen_real tmp348 = 3*codegen_fabs(tmp3*x_S);
+        const codegen_real tmp315 = tmp2*x_S;
+        const codegen_real tmp350 = codegen_fabs(tmp315);
+        const codegen_real tmp351 = codegen_fabs(tmp303);
+        const codegen_real tmp71 = tmp2*tmp22;
+        const codegen_real tmp313 = d*y_S;
+        const codegen_real tmp354 = codegen_fabs(tmp313*tmp71);
+        const codegen_real tmp360 = codegen_fabs(tmp2);
+        const codegen_real tmp15 = -tmp14;
+        const codegen_real tmp18 = tmp15*tmp17;
+        const codegen_real tmp19 = -tmp18;
+        const codegen_real tmp20 = codegen_sqrt(tmp19);
+        const codegen_real tmp115 = tmp0*tmp20;
+        const codegen_real tmp364 = tmp115*codegen_fabs(tmp313);
+        const codegen_real tmp7 = 1/(tmp6);
+        const codegen_real tmp8 = (((codegen_real)1/2))*tmp7;
+        const codegen_real tmp9 = 1/(a_3);
+        const codegen_real tmp21 = d*tmp20;
+        const codegen_real tmp23 = a_2*tmp22;
+        const codegen_real tmp24 = tmp1*tmp23;
+        const codegen_real tmp25 = (a_2*a_2*a_2);
+        const codegen_real tmp26 = tmp22*tmp25;
+        const codegen_real tmp27 = tmp10*tmp23;
+        const codegen_real tmp28 = tmp11*tmp23;
+        const codegen_real tmp29 = tmp20*tmp3;
+        const codegen_real tmp30 = tmp26 + tmp27 - tmp28 - tmp29;
+        const codegen_real tmp31 = tmp24 + tmp30;
+        const codegen_real tmp32 = 2*d*tmp0*tmp2*tmp22 - tmp21 - tmp31;
+        const codegen_real tmp33 = tmp32*tmp9;
+        const codegen_real tmp34 = tmp33*tmp8;
+        const codegen_real tmp35 = tmp1*tmp3;
+        const codegen_real tmp36 = 3*tmp35;
+        const codegen_real tmp37 = (d*d*d);
+        const codegen_real tmp38 = d*tmp11;
+        const codegen_real tmp39 = (tmp2*tmp2);
+        const codegen_real tmp40 = tmp2*tmp25;
+        const codegen_real tmp41 = tmp10*tmp3;
+        const codegen_real tmp42 = tmp20*tmp23;
+        const codegen_real tmp43 = tmp11*tmp3;
+        const codegen_real tmp44 = tmp40 + tmp41 + tmp42 - tmp43;
+        const codegen_real tmp45 = -2*d*tmp0*tmp39 + tmp44;
+        const codegen_real tmp46 = d*tmp0 + d*tmp10 - tmp36 + tmp37 - tmp38 - tmp45;
+        const codegen_real tmp47 = tmp8*tmp9;
+        const codegen_real tmp48 = tmp46*tmp47;
+        const codegen_real tmp49 = -tmp11 - tmp16;
+        const codegen_real tmp50 = tmp12*tmp49;
+        const codegen_real tmp51 = tmp23*tmp50;
+        const codegen_real tmp52 = d - tmp3;
+        const codegen_real tmp53 = tmp12*tmp52;
+        const codegen_real tmp54 = tmp20*tmp53;
+        const codegen_real tmp55 = tmp51 + tmp54;
+        const codegen_real tmp56 = -tmp55;
+        const codegen_real tmp57 = tmp12*tmp42;
+        const codegen_real tmp58 = 2*a_4*tmp49*tmp52 - tmp57;
+        const codegen_real tmp59 = d*tmp22;
+        const codegen_real tmp60 = a_2*tmp59;
+        const codegen_real tmp61 = 1/(tmp6*tmp6);
+        const codegen_real tmp62 = tmp61*tmp9;
+        const codegen_real tmp63 = tmp60*tmp62;
+        const codegen_real tmp64 = tmp46*tmp63;
+        const codegen_real tmp65 = -tmp15*tmp60 - tmp17*tmp60;
+        const codegen_real tmp66 = 1/(tmp15);
+        const codegen_real tmp67 = 1/(tmp17);
+        const codegen_real tmp68 = tmp66*tmp67;
+        const codegen_real tmp69 = tmp65*tmp68;
+        const codegen_real tmp70 = d*tmp0;
+        const codegen_real tmp72 = tmp70*tmp71;
+        const codegen_real tmp73 = 3*tmp24 + tmp30 - 4*tmp72;
+        const codegen_real tmp74 = (tmp46*tmp46);
+        const codegen_real tmp75 = 1/(tmp10);
+        const codegen_real tmp76 = (((codegen_real)1/4))*tmp61;
+        const codegen_real tmp77 = tmp75*tmp76;
+        const codegen_real tmp78 = (tmp32*tmp32)*tmp75;
+        const codegen_real tmp79 = tmp74*tmp77 + tmp76*tmp78;
+        const codegen_real tmp80 = 1/(tmp79);
+        const codegen_real tmp81 = tmp34*tmp80;
+        const codegen_real tmp82 = tmp33*tmp61;
+        const codegen_real tmp83 = tmp60*tmp82;
+        const codegen_real tmp84 = (tmp22*tmp22);
+        const codegen_real tmp85 = 2*tmp70;
+        const codegen_real tmp86 = tmp84*tmp85;
+        const codegen_real tmp87 = tmp35 + tmp45 + tmp86;
+        const codegen_real tmp88 = tmp48*tmp80;
+        const codegen_real tmp89 = 4*a_4;
+        const codegen_real tmp90 = tmp52*tmp89;
+        const codegen_real tmp91 = tmp12*tmp29;
+        const codegen_real tmp92 = -tmp51 + tmp60*tmp90 + tmp91;
+        const codegen_real tmp93 = (tmp56*tmp56) + (tmp58*tmp58);
+        const codegen_real tmp94 = 1/(tmp93);
+        const codegen_real tmp95 = tmp55*tmp94;
+        const codegen_real tmp96 = 4*tmp84;
+        const codegen_real tmp97 = tmp70*tmp96;
+        const codegen_real tmp98 = tmp3*tmp50;
+        const codegen_real tmp99 = -tmp57 - tmp98;
+        const codegen_real tmp100 = tmp58*tmp94;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real tmp101 = m_2*tmp0;
+        const codegen_real tmp102 = (((codegen_real)1/4))*tmp101;
+        const codegen_real tmp103 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp104 = -2*d*tmp103*tmp84;
+        const codegen_real tmp105 = tmp0*tmp11;
+        const codegen_real tmp106 = tmp105*tmp22;
+        const codegen_real tmp107 = tmp106*tmp20;
+        const codegen_real tmp108 = -tmp0*tmp10*tmp20*tmp22;
+        const codegen_real tmp109 = -tmp0*tmp15*tmp17*tmp2;
+        const codegen_real tmp110 = d*tmp10;
+        const codegen_real tmp111 = 2*tmp84;
+        const codegen_real tmp112 = tmp111*tmp25;
+        const codegen_real tmp113 = tmp110*tmp112;
+        const codegen_real tmp114 = tmp112*tmp38;
+        const codegen_real tmp116 = tmp1*tmp115;
+        const codegen_real tmp117 = 12*tmp39;
+        const codegen_real tmp118 = tmp117*tmp22;
+        const codegen_real tmp119 = tmp104 + tmp107 + tmp108 + tmp109 + tmp113 + tmp114 + tmp116*tmp118;
+        const codegen_real tmp120 = (a_2*a_2*a_2*a_2);
+        const codegen_real tmp121 = tmp120*tmp22;
+        const codegen_real tmp122 = tmp121*tmp20;
+        const codegen_real tmp123 = (d*d*d*d);
+        const codegen_real tmp124 = tmp123*tmp22;
+        const codegen_real tmp125 = tmp124*tmp20;
+        const codegen_real tmp126 = 6*tmp22;
+        const codegen_real tmp127 = tmp116*tmp126 + 3*tmp122 + 3*tmp125;
+        const codegen_real tmp128 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp129 = tmp1*tmp10;
+        const codegen_real tmp130 = tmp129*tmp22;
+        const codegen_real tmp131 = tmp130*tmp20;
+        const codegen_real tmp132 = tmp1*tmp11;
+        const codegen_real tmp133 = tmp132*tmp22;
+        const codegen_real tmp134 = tmp133*tmp20;
+        const codegen_real tmp135 = tmp1*tmp18*tmp2;
+        const codegen_real tmp136 = 2*tmp10;
+        const codegen_real tmp137 = a_2*tmp37;
+        const codegen_real tmp138 = tmp137*tmp84;
+        const codegen_real tmp139 = 8*tmp84;
+        const codegen_real tmp140 = tmp123*tmp2;
+        const codegen_real tmp141 = tmp0*tmp140;
+        const codegen_real tmp142 = tmp120*tmp2;
+        const codegen_real tmp143 = tmp1*tmp142;
+        const codegen_real tmp144 = a_2*tmp18*tmp4;
+        const codegen_real tmp145 = -2*a_2*tmp128*tmp84 - 4*tmp0*tmp1*tmp10*tmp2*tmp84 - 4*tmp0*tmp1*tmp11*tmp2*tmp84 + tmp11*tmp111*tmp137 + tmp131 - tmp134 - tmp135 + tmp136*tmp138 + tmp139*tmp141 + tmp139*tmp143 + tmp144*tmp39 + tmp144*tmp84 - 8*tmp25*tmp37*tmp39*tmp84 - 4*tmp25*tmp37*tmp84;
+        const codegen_real tmp146 = 12*a_2*tmp2*tmp20*tmp22*tmp37 + 12*d*tmp2*tmp20*tmp22*tmp25 - tmp119 - tmp127 - tmp145;
+        const codegen_real tmp147 = (((codegen_real)1/16))*tmp0*tmp68/(tmp6*tmp6*tmp6*tmp6);
+        const codegen_real m_3 = params->m_3;
+        const codegen_real tmp148 = m_3*tmp147;
+        const codegen_real tmp149 = 4*tmp39;
+        const codegen_real tmp150 = 2*tmp1;
+        const codegen_real tmp151 = tmp0*tmp150;
+        const codegen_real tmp152 = tmp151*tmp22;
+        const codegen_real tmp153 = tmp122 + tmp125 + tmp152*tmp20;
+        const codegen_real tmp154 = tmp104 + tmp107 + tmp108 + tmp109 + tmp113 + tmp114;
+        const codegen_real tmp155 = 4*a_2*tmp2*tmp20*tmp22*tmp37 + 4*d*tmp2*tmp20*tmp22*tmp25 - tmp116*tmp149*tmp22 - tmp145 - tmp153 - tmp154;
+        const codegen_real m_4 = params->m_4;
+        const codegen_real tmp156 = m_4*tmp147;
+        const codegen_real tmp157 = tmp142*tmp20;
+        const codegen_real tmp158 = tmp140*tmp20;
+        const codegen_real tmp159 = tmp137*tmp149;
+        const codegen_real tmp160 = tmp21*tmp25;
+        const codegen_real tmp161 = tmp151*tmp2;
+        const codegen_real tmp162 = (tmp2*tmp2*tmp2);
+        const codegen_real tmp163 = 4*tmp1;
+        const codegen_real tmp164 = tmp105*tmp2;
+        const codegen_real tmp165 = tmp18*tmp22;
+        const codegen_real tmp166 = tmp0*tmp10;
+        const codegen_real tmp167 = tmp166*tmp2;
+        const codegen_real tmp168 = tmp0*tmp39;
+        const codegen_real tmp169 = 16*tmp124*tmp168;
+        const codegen_real tmp170 = tmp0*tmp165 + tmp164*tmp20 - tmp167*tmp20 + tmp169;
+        const codegen_real tmp171 = tmp115*tmp162*tmp163 - tmp149*tmp160 + tmp157 + tmp158 - tmp159*tmp20 + tmp161*tmp20 + tmp170;
+        const codegen_real tmp172 = tmp132*tmp2;
+        const codegen_real tmp173 = tmp129*tmp2;
+        const codegen_real tmp174 = tmp173*tmp20;
+        const codegen_real tmp175 = tmp1*tmp165;
+        const codegen_real tmp176 = 2*tmp11;
+        const codegen_real tmp177 = a_2*tmp21;
+        const codegen_real tmp178 = tmp177*tmp39;
+        const codegen_real tmp179 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp180 = 4*tmp0;
+        const codegen_real tmp181 = tmp26*tmp37;
+        const codegen_real tmp182 = tmp103*tmp4;
+        const codegen_real tmp183 = 2*tmp0;
+        const codegen_real tmp184 = tmp1*tmp39;
+        const codegen_real tmp185 = tmp121*tmp184;
+        const codegen_real tmp186 = tmp180*tmp39;
+        const codegen_real tmp187 = tmp1*tmp149;
+        const codegen_real tmp188 = 2*tmp26;
+        const codegen_real tmp189 = tmp188*tmp2;
+        const codegen_real tmp190 = tmp126*tmp37;
+        const codegen_real tmp191 = -tmp106*tmp150 - tmp106*tmp187 + tmp110*tmp189 + tmp121*tmp150 - tmp124*tmp136 - tmp124*tmp176 + tmp124*tmp180 - 10*tmp128*tmp22*tmp3 - tmp130*tmp183 - tmp130*tmp186 - 8*tmp162*tmp181 + 2*tmp179*tmp22 - 12*tmp181*tmp2 - tmp182*tmp71 + 8*tmp185 + tmp189*tmp38 + tmp190*tmp41 + tmp190*tmp43;
+        const codegen_real tmp192 = -tmp11*tmp111*tmp177 + tmp136*tmp177*tmp84 + tmp136*tmp178 + tmp172*tmp20 - tmp174 - tmp175 - tmp176*tmp178 + tmp191;
+        const codegen_real tmp193 = tmp171 + tmp192;
+        const codegen_real tmp194 = tmp117*tmp137;
+        const codegen_real tmp195 = 12*tmp162;
+        const codegen_real tmp196 = tmp116*tmp195 + 6*tmp116*tmp2 - tmp117*tmp160 + 3*tmp157 + 3*tmp158 + tmp170 - tmp194*tmp20;
+        const codegen_real tmp197 = tmp192 + tmp196;
+        const codegen_real tmp198 = -4*a_4*d*tmp0*tmp84 + tmp57 + tmp98;
+        const codegen_real tmp199 = -tmp198;
+        const codegen_real tmp200 = -tmp92;
+        const codegen_real tmp201 = tmp12*tmp95;
+        const codegen_real tmp202 = tmp100*tmp53 + tmp201*tmp23;
+        const codegen_real tmp203 = tmp23*tmp4;
+        const codegen_real tmp204 = -tmp15*tmp203 - tmp17*tmp203;
+        const codegen_real tmp205 = 1/(tmp20);
+        const codegen_real tmp206 = (((codegen_real)1/2))*tmp205;
+        const codegen_real tmp207 = tmp204*tmp206;
+        const codegen_real tmp208 = tmp100*tmp199 + tmp200*tmp95 - tmp202*tmp207;
+        const codegen_real tmp209 = (((codegen_real)1/12))*m_4*tmp11;
+        const codegen_real tmp210 = -tmp64 + (((codegen_real)1/2))*tmp7*tmp73*tmp9;
+        const codegen_real tmp211 = -tmp87;
+        const codegen_real tmp212 = (((codegen_real)1/2))*tmp211*tmp7*tmp9 - tmp83;
+        const codegen_real tmp213 = tmp32*tmp77;
+        const codegen_real tmp214 = tmp213*tmp80;
+        const codegen_real tmp215 = -tmp214*tmp23 + (((codegen_real)1/4))*tmp46*tmp52*tmp61*tmp75*tmp80;
+        const codegen_real tmp216 = -tmp207*tmp215 - tmp210*tmp81 + (((codegen_real)1/2))*tmp212*tmp46*tmp7*tmp80*tmp9;
+        const codegen_real tmp217 = (((codegen_real)1/12))*m_3*tmp10;
+        const codegen_real tmp218 = (((codegen_real)1/12))*tmp101 + tmp102*tmp39 + tmp102*tmp84 - (tmp146*tmp146)*tmp148 - tmp148*(tmp197*tmp197) - (tmp155*tmp155)*tmp156 - tmp156*(tmp193*tmp193) + (tmp208*tmp208)*tmp209 + (tmp216*tmp216)*tmp217;
+        const codegen_real tmp219 = 1/(tmp6*tmp6*tmp6);
+        const codegen_real tmp220 = tmp205*tmp219*tmp22*tmp70;
+        const codegen_real tmp221 = tmp137*tmp20;
+        const codegen_real tmp222 = (tmp22*tmp22*tmp22);
+        const codegen_real tmp223 = tmp0*tmp129;
+        const codegen_real tmp224 = 4*tmp222;
+        const codegen_real tmp225 = tmp1*tmp105;
+        const codegen_real tmp226 = 4*tmp22;
+        const codegen_real tmp227 = tmp226*tmp37;
+        const codegen_real tmp228 = 4*tmp2*tmp26;
+        const codegen_real tmp229 = -4*a_2*tmp128*tmp2*tmp22 - 4*d*tmp103*tmp2*tmp22 - 8*tmp0*tmp1*tmp10*tmp22*tmp39 - 8*tmp0*tmp1*tmp11*tmp22*tmp39 - 8*tmp0*tmp123*tmp222 - tmp1*tmp11*tmp2*tmp20 - 8*tmp1*tmp120*tmp222 + tmp110*tmp228 - 16*tmp162*tmp22*tmp25*tmp37 + tmp174 + tmp175 + 16*tmp185 - 8*tmp2*tmp22*tmp25*tmp37 + 16*tmp222*tmp37*tmp40 + tmp223*tmp224 + tmp224*tmp225 + tmp227*tmp41 + tmp227*tmp43 + tmp228*tmp38;
+        const codegen_real tmp230 = tmp3*tmp37;
+        const codegen_real tmp231 = tmp22*tmp230;
+        const codegen_real tmp233 = tmp232*tmp26;
+        const codegen_real tmp234 = tmp1*tmp180;
+        const codegen_real tmp235 = tmp234*tmp39;
+        const codegen_real tmp236 = 2*tmp115;
+        const codegen_real tmp237 = tmp150*tmp20;
+        const codegen_real tmp238 = tmp106 + tmp130 - tmp133 - tmp149*tmp177 - tmp166*tmp22 - tmp177*tmp96 + tmp2*tmp236 + tmp2*tmp237;
+        const codegen_real tmp239 = a_2*tmp76;
+        const codegen_real tmp240 = tmp239*tmp68;
+        const codegen_real tmp241 = tmp205*tmp239;
+        const codegen_real tmp242 = m_4*tmp241;
+        const codegen_real tmp243 = 12*tmp84;
+        const codegen_real tmp244 = tmp0*tmp1;
+        const codegen_real tmp245 = 6*tmp244;
+        const codegen_real tmp246 = m_3*tmp241;
+        const codegen_real tmp247 = tmp25*tmp37;
+        const codegen_real tmp248 = 4*tmp162;
+        const codegen_real tmp249 = 6*tmp138;
+        const codegen_real tmp250 = -6*a_2*tmp10*tmp37*tmp39 - 6*a_2*tmp11*tmp37*tmp39 + 10*a_2*tmp128*tmp39 - 10*a_2*tmp128*tmp84 - 2*d*tmp10*tmp25*tmp39 - 2*d*tmp11*tmp25*tmp39 - 8*tmp0*tmp1*tmp10*tmp2*tmp84 - 8*tmp0*tmp1*tmp11*tmp2*tmp84 - 16*tmp0*tmp123*tmp162 - 4*tmp0*tmp123*tmp2 - 8*tmp1*tmp120*tmp162 - 2*tmp1*tmp120*tmp2 + tmp10*tmp249 + tmp11*tmp249 + tmp117*tmp247 - tmp131 + tmp134 + tmp135 + tmp136*tmp140 + tmp140*tmp176 + 32*tmp141*tmp84 + 16*tmp143*tmp84 + tmp150*tmp164 + tmp173*tmp183 - 2*tmp179*tmp2 + tmp182*tmp39 + 8*(tmp2*tmp2*tmp2*tmp2)*tmp247 + tmp223*tmp248 + tmp225*tmp248 - 24*tmp25*tmp37*tmp39*tmp84 - 12*tmp25*tmp37*tmp84;
+        const codegen_real tmp251 = tmp162*tmp234;
+        const codegen_real tmp252 = a_2*tmp110;
+        const codegen_real tmp253 = 2*tmp39;
+        const codegen_real tmp254 = tmp252*tmp253;
+        const codegen_real tmp255 = tmp111*tmp252;
+        const codegen_real tmp256 = -2*a_2*d*tmp11*tmp39 - 2*a_2*d*tmp11*tmp84 - tmp0*tmp10*tmp2 - 2*tmp0*tmp20*tmp22 - tmp1*tmp10*tmp2 + tmp164 + tmp172 + tmp22*tmp237 + tmp254 + tmp255;
+        const codegen_real tmp257 = 3*tmp142;
+        const codegen_real tmp258 = 3*tmp140;
+        const codegen_real tmp259 = tmp2*tmp245;
+        const codegen_real tmp260 = tmp195*tmp244;
+        const codegen_real tmp261 = tmp200*tmp94;
+        const codegen_real tmp262 = a_4*tmp139*tmp70;
+        const codegen_real tmp264 = tmp206*(-tmp139*tmp244 - tmp15*tmp5 - tmp17*tmp5);
+        const codegen_real tmp265 = tmp199*tmp58;
+        const codegen_real tmp266 = 1/(tmp93*tmp93);
+        const codegen_real tmp267 = tmp266*(-tmp56*(tmp262 - tmp3*tmp49*tmp89 - tmp42*tmp89) - tmp58*(4*a_2*a_4*tmp22*tmp49 - 8*a_4*tmp52*tmp60 - tmp29*tmp89));
+        const codegen_real tmp268 = tmp200*tmp55;
+        const codegen_real tmp269 = tmp261*tmp53;
+        const codegen_real tmp270 = tmp12*tmp23;
+        const codegen_real tmp271 = tmp270*tmp94;
+        const codegen_real tmp272 = tmp53*tmp58;
+        const codegen_real tmp273 = tmp270*tmp55;
+        const codegen_real tmp274 = tmp100*tmp270 + tmp201*tmp3;
+        const codegen_real tmp275 = tmp266*(-tmp23*tmp58*tmp89 - tmp56*tmp90);
+        const codegen_real tmp276 = (((codegen_real)1/2))*tmp204*tmp68;
+        const codegen_real tmp277 = tmp212*tmp80;
+        const codegen_real tmp278 = tmp203*tmp62;
+        const codegen_real tmp279 = -tmp149*tmp70 + tmp97;
+        const codegen_real tmp280 = tmp219*tmp244*tmp96;
+        const codegen_real tmp281 = -8*tmp72;
+        const codegen_real tmp282 = tmp210*tmp34;
+        const codegen_real tmp283 = 1/(tmp79*tmp79);
+        const codegen_real tmp284 = tmp219*tmp60;
+        const codegen_real tmp285 = tmp46*tmp77;
+        const codegen_real tmp286 = -tmp213*(2*a_2*tmp11*tmp2 - tmp279 - 2*tmp35 - 2*tmp40 - 2*tmp41 - 2*tmp42) + tmp284*tmp74*tmp75 + tmp284*tmp78 - tmp285*(tmp188 + 6*tmp24 + 2*tmp27 - 2*tmp28 + tmp281 - 2*tmp29);
+        const codegen_real tmp287 = tmp283*tmp286;
+        const codegen_real tmp288 = tmp52*tmp80;
+        const codegen_real tmp289 = tmp23*tmp80;
+        const codegen_real tmp290 = tmp46*tmp75;
+        const codegen_real tmp291 = tmp70*tmp84;
+        const codegen_real tmp292 = tmp213*tmp23;
+        const codegen_real tmp293 = -tmp213*(2*d - 2*tmp3) - ((codegen_real)1/2)*tmp23*tmp290*tmp61;
+        const codegen_real tmp294 = tmp283*tmp293;
+        const codegen_real tmp295 = tmp146*tmp246*((((codegen_real)1/4))*a_2*tmp205*tmp61*(24*tmp0*tmp1*tmp2*tmp20*tmp84 - tmp160*tmp243 - tmp196 - tmp221*tmp243 - tmp229) - tmp146*tmp220 - tmp207*((((codegen_real)1/4))*a_2*tmp205*tmp61*(tmp118*tmp244 + 3*tmp121 + 3*tmp124 + tmp22*tmp245 - 12*tmp231 - 12*tmp233 + tmp238) - tmp146*tmp240)) + tmp155*tmp242*((((codegen_real)1/4))*a_2*tmp205*tmp61*(8*tmp0*tmp1*tmp2*tmp20*tmp84 - tmp160*tmp96 - tmp171 - tmp221*tmp96 - tmp229) - tmp155*tmp220 - tmp207*((((codegen_real)1/4))*a_2*tmp205*tmp61*(tmp121 + tmp124 + tmp152 + tmp22*tmp235 - 4*tmp231 - 4*tmp233 + tmp238) - tmp155*tmp240)) + tmp193*tmp242*((((codegen_real)1/4))*a_2*tmp205*tmp61*(8*a_2*tmp2*tmp20*tmp22*tmp37 + 8*d*tmp2*tmp20*tmp22*tmp25 - tmp119 - tmp153 - tmp250) - tmp193*tmp220 - tmp207*((((codegen_real)1/4))*a_2*tmp205*tmp61*(4*a_2*tmp37*tmp39 + 4*d*tmp25*tmp39 - tmp140 - tmp142 - tmp161 - tmp251 - tmp256) - tmp193*tmp240)) + tmp197*tmp246*((((codegen_real)1/4))*a_2*tmp205*tmp61*(24*a_2*tmp2*tmp20*tmp22*tmp37 + 24*d*tmp2*tmp20*tmp22*tmp25 - 36*tmp115*tmp184*tmp22 - tmp127 - tmp154 - tmp250) - tmp197*tmp220 - tmp207*((((codegen_real)1/4))*a_2*tmp205*tmp61*(12*a_2*tmp37*tmp39 + 12*d*tmp25*tmp39 - tmp256 - tmp257 - tmp258 - tmp259 - tmp260) - tmp197*tmp240)) + tmp208*tmp209*(tmp100*(12*a_4*tmp72 + tmp51 - tmp91) + tmp198*tmp261 + tmp199*tmp261 - tmp202*tmp264 - tmp207*(tmp198*tmp271 + tmp267*tmp272 + tmp267*tmp273 + tmp269 + tmp274) - tmp207*(tmp199*tmp271 + tmp202*tmp276 - tmp207*(tmp272*tmp275 + tmp273*tmp275) + tmp265*tmp275 + tmp268*tmp275 - tmp269 + tmp274) + tmp265*tmp267 + tmp267*tmp268 + tmp95*(-tmp262 - tmp263*tmp90 - tmp99)) + tmp216*tmp217*(a_2*d*tmp210*tmp22*tmp32*tmp61*tmp80*tmp9 - tmp207*(-tmp207*((((codegen_real)1/4))*tmp283*tmp293*tmp46*tmp52*tmp61*tmp75 - tmp292*tmp294) - tmp210*tmp288*tmp47 + tmp212*tmp294*tmp48 + tmp215*tmp276 + tmp23*tmp277*tmp47 - tmp282*tmp294 - tmp81*((((codegen_real)1/2))*a_2*tmp2*tmp7*tmp9 - tmp291*tmp62) + tmp88*((((codegen_real)1/2))*a_2*tmp22*tmp7*tmp9 - tmp52*tmp63)) - tmp207*(-tmp211*tmp289*tmp77 - tmp214*tmp3 + tmp219*tmp291*tmp32*tmp75*tmp80 - tmp284*tmp288*tmp290 + tmp285*tmp287*tmp52 + tmp285*tmp289 - tmp287*tmp292 + tmp288*tmp73*tmp77) - tmp210*tmp211*tmp47*tmp80 + (((codegen_real)1/2))*tmp212*tmp283*tmp286*tmp46*tmp7*tmp9 + (((codegen_real)1/2))*tmp212*tmp7*tmp73*tmp80*tmp9 - tmp215*tmp264 - tmp277*tmp64 - tmp282*tmp287 + (((codegen_real)1/2))*tmp46*tmp7*tmp80*tmp9*(-tmp211*tmp278 - tmp263*tmp82 + tmp280*tmp33 + tmp47*(tmp281 + tmp31)) - tmp81*(-tmp263*tmp46*tmp62 - tmp278*tmp73 + tmp280*tmp46*tmp9 + tmp47*(tmp279 + tmp36 + tmp44)));
+        const codegen_real tmp296 = (x_S*x_S);
+        const codegen_real tmp297 = tmp0*tmp296;
+        const codegen_real tmp298 = (y_S*y_S);
+        const codegen_real tmp299 = tmp0*tmp298;
+        const codegen_real tmp300 = tmp1*tmp296;
+        const codegen_real tmp301 = tmp1*tmp298;
+        const codegen_real tmp302 = tmp70*x_S;
+        const codegen_real tmp305 = tmp2*tmp303;
+        const codegen_real tmp306 = tmp22*x_S;
+        const codegen_real tmp307 = a_2*tmp306;
+        const codegen_real tmp308 = d*tmp40 - tmp1*tmp304 + tmp10*tmp304 + tmp105 - tmp11*tmp304 - tmp110*tmp3 - tmp110*x_S + tmp129 - tmp151*tmp39 + tmp20*tmp307 - tmp21*tmp23 + tmp21*y_S + tmp230 + tmp253*tmp302 - tmp26*y_S - tmp29*y_S - tmp296*tmp5 + tmp297 - tmp298*tmp5 + tmp299 - tmp3*tmp38 + tmp300 + tmp301 - tmp302 + tmp305*tmp85 + tmp35*x_S - tmp37*x_S + tmp38*x_S - tmp40*x_S + tmp41*x_S - tmp43*x_S;
+        const codegen_real tmp309 = tmp308*tmp6;
+        const codegen_real tmp310 = codegen_sqrt(tmp309);
+        const codegen_real tmp311 = tmp203*tmp310*tmp61;
+        const codegen_real tmp312 = 1/(tmp310);
+        const codegen_real tmp314 = tmp3*y_S;
+        const codegen_real tmp316 = tmp203*tmp308 - tmp207*tmp6*(-tmp307 - tmp313 + tmp314 + tmp60) + tmp6*(-d*tmp26 - tmp1*tmp307 - tmp10*tmp307 + tmp11*tmp307 + tmp110*tmp23 + tmp20*tmp304 + tmp203*tmp296 + tmp203*tmp298 - tmp21*tmp3 - tmp226*tmp315*tmp70 - tmp23*tmp37 + tmp23*tmp38 + tmp234*tmp71 + tmp26*x_S + tmp29*x_S - tmp35*y_S + tmp39*tmp85*y_S - tmp40*y_S + tmp41*y_S - tmp43*y_S - tmp86*y_S);
+        const codegen_real b = params->b;
+        const codegen_real tmp317 = b*((-tmp311 + (((codegen_real)1/2))*tmp312*tmp316*tmp7)*(-tmp311 + (((codegen_real)1/2))*tmp312*tmp316*tmp7));
+        const codegen_real g = params->g;
+        const codegen_real tmp318 = g*m_2*tmp3;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real tmp319 = k*(-l_0 + tmp310*tmp7);
+        const codegen_real tmp320 = tmp311*tmp319;
+        const codegen_real tmp321 = g*m_4;
+        const codegen_real tmp322 = g*m_3;
+        const codegen_real tmp323 = tmp312*tmp316*tmp319*tmp8;
+        const codegen_real T = params->T;
+        const codegen_real tmp324 = -T + tmp193*tmp241*tmp321 + tmp197*tmp241*tmp322 + (((codegen_real)1/2))*tmp318 - tmp320 + tmp323;
+        const codegen_real tmp327 = d*tmp25;
+        const codegen_real tmp328 = tmp22*tmp325;
+        const codegen_real tmp329 = a_2*tmp38;
+        const codegen_real tmp330 = -tmp0*tmp328 + tmp1*tmp328 - tmp111*tmp326*tmp329 + tmp164*tmp326 - tmp167*tmp326 + tmp169 + tmp172*tmp326 - tmp173*tmp326 + tmp191 - tmp253*tmp326*tmp329 + tmp254*tmp326 + tmp255*tmp326;
+        const codegen_real tmp331 = a_2*tmp61;
+        const codegen_real tmp333 = 2*tmp166;
+        const codegen_real tmp334 = 2*tmp105;
+        const codegen_real tmp335 = 2*tmp129;
+        const codegen_real tmp339 = tmp337*tmp338;
+        const codegen_real tmp342 = tmp340*tmp341;
+        const codegen_real tmp344 = tmp120*tmp343;
+        const codegen_real tmp346 = tmp123*tmp340;
+        const codegen_real tmp349 = tmp120*tmp337;
+        const codegen_real tmp352 = tmp340*tmp345;
+        const codegen_real tmp353 = 4*tmp120;
+        const codegen_real tmp355 = tmp166*tmp337;
+        const codegen_real tmp356 = tmp105*tmp337;
+        const codegen_real tmp357 = tmp151*tmp337;
+        const codegen_real tmp358 = 4*tmp339;
+        const codegen_real tmp359 = 4*tmp342;
+        const codegen_real tmp361 = tmp340*tmp360;
+        const codegen_real tmp362 = tmp343*tmp39;
+        const codegen_real tmp363 = tmp235*tmp337;
+        const codegen_real tmp365 = tmp1*tmp20;
+        const codegen_real tmp366 = tmp340*tmp365;
+        const codegen_real tmp367 = tmp115*tmp337;
+        out[0] = theta;
+        out[1] = codegen_atan2(tmp34, tmp48);
+        out[2] = codegen_atan2(tmp56, tmp58);
+        out[3] = theta_d;
+        out[4] = theta_d*(-tmp81*(-tmp64 + (((codegen_real)1/2))*tmp7*tmp9*(tmp42*tmp69 + tmp73)) + tmp88*((((codegen_real)1/2))*tmp7*tmp9*(d*tmp20*tmp65*tmp66*tmp67 - tmp29*tmp69 - tmp87) - tmp83));
+        out[5] = theta_d*(tmp100*(a_4*tmp97 + tmp54*tmp69 + tmp99) + tmp95*(2*a_2*a_4*tmp20*tmp22*tmp65*tmp66*tmp67 - tmp92));
+        out[6] = tmp218;
+        out[7] = tmp295;
+        out[8] = tmp317;
+        out[9] = (-(theta_d*theta_d)*tmp295 - theta_d*tmp317 - tmp324)/tmp218;
+        out[10] = tmp324;
+        out[11] = tmp332*codegen_fabs(tmp321*tmp331*(tmp140*tmp326 + tmp142*tmp326 - tmp149*tmp326*tmp327 - tmp159*tmp326 + tmp161*tmp326 + tmp251*tmp326 + tmp330)) + tmp332*codegen_fabs(tmp322*tmp331*(-tmp117*tmp326*tmp327 - tmp194*tmp326 + tmp257*tmp326 + tmp258*tmp326 + tmp259*tmp326 + tmp260*tmp326 + tmp330)) + codegen_fabs(T) + (((codegen_real)1/2))*codegen_fabs(tmp318) + codegen_fabs(tmp320 - tmp323);
+        out[12] = tmp19;
+        out[13] = tmp309;
+        out[14] = (a_3*a_3*a_3*a_3) + (a_4*a_4*a_4*a_4) + tmp10*tmp336 + tmp11*tmp136 + tmp11*tmp336 + tmp120 + tmp123 + 2*tmp132 + tmp151 + tmp163*tmp342 + tmp180*tmp339 + tmp235 + tmp333 + tmp334 + tmp335;
+        out[15] = tmp10*tmp123 + 3*tmp105*tmp339 + tmp105*tmp343 + tmp11*tmp120 + tmp120*tmp296 + tmp120*tmp298 + tmp123*tmp186 + tmp123*tmp296 + tmp123*tmp298 + tmp123*tmp347 + tmp123*tmp348 + 3*tmp129*tmp342 + tmp129*tmp347 + tmp129*tmp348 + tmp129*tmp352 + tmp132*tmp342 + tmp132*tmp347 + tmp132*tmp348 + tmp132*tmp352 + tmp149*tmp344 + tmp150*tmp297 + tmp150*tmp299 - tmp151*tmp20*codegen_fabs(tmp71) + tmp151*tmp352 + tmp166*tmp339 + tmp166*tmp343 + tmp168*tmp335 + tmp184*tmp334 + tmp184*tmp353 + tmp187*tmp297 + tmp187*tmp299 + tmp223 + tmp225 + tmp234*tmp340*codegen_fabs(tmp305) - tmp236*codegen_fabs(tmp232*tmp306) - tmp253*tmp364 + tmp297*tmp358 + tmp299*tmp358 + tmp300*tmp359 + tmp301*tmp359 + tmp333*tmp354 + tmp333*tmp362 + tmp334*tmp354 + tmp334*tmp362 + tmp338*tmp349 + tmp341*tmp346 + tmp344 + tmp345*tmp346 + tmp345*tmp360*tmp363 + tmp349*tmp350 + tmp349*tmp351 + tmp350*tmp355 + tmp350*tmp356 + tmp350*tmp357 + tmp351*tmp355 + tmp351*tmp356 + tmp351*tmp357 + tmp351*tmp363 + tmp353*tmp354 + tmp357*tmp361 + tmp361*tmp363 - tmp364 - tmp365*codegen_fabs(tmp307) - 3*tmp365*codegen_fabs(tmp314) - tmp366*codegen_fabs(tmp23) - tmp366*codegen_fabs(y_S) - tmp367*codegen_fabs(tmp306) - tmp367*codegen_fabs(tmp59) - tmp367*codegen_fabs(tmp2*y_S);
+    }
+}
+
 
 four_bar_status four_bar_poly_real_roots_kernel_work(const codegen_real sigma[FOUR_BAR_N_SIGMA],
                                                   codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots,

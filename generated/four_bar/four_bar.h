@@ -57,11 +57,12 @@ typedef enum four_bar_status {
     FOUR_BAR_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     FOUR_BAR_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     FOUR_BAR_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 12, /* d, a_2, a_3, a_4 must be positive */
-    FOUR_BAR_ERR_L_0_NEGATIVE = 13, /* l_0 must not be negative */
-    FOUR_BAR_ERR_MASS_NEGATIVE = 14, /* masses m_2, m_3, m_4 must not be negative */
-    FOUR_BAR_ERR_K_NEGATIVE = 15, /* k must not be negative */
-    FOUR_BAR_ERR_B_NEGATIVE = 16 /* b must not be negative */
+    FOUR_BAR_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    FOUR_BAR_ERR_LENGTH_NOT_POSITIVE = 13, /* d, a_2, a_3, a_4 must be positive */
+    FOUR_BAR_ERR_L_0_NEGATIVE = 14, /* l_0 must not be negative */
+    FOUR_BAR_ERR_MASS_NEGATIVE = 15, /* masses m_2, m_3, m_4 must not be negative */
+    FOUR_BAR_ERR_K_NEGATIVE = 16, /* k must not be negative */
+    FOUR_BAR_ERR_B_NEGATIVE = 17 /* b must not be negative */
 } four_bar_status;
 
 /* The mechanism's parameters, SI units. */
@@ -154,43 +155,53 @@ four_bar_status four_bar_energies(const four_bar_params *params, const codegen_r
  */
 four_bar_status four_bar_lagrange_terms(const four_bar_params *params, const codegen_real coords[FOUR_BAR_N_COORDS], const codegen_real rates[FOUR_BAR_N_COORDS], const codegen_real accels[FOUR_BAR_N_COORDS], const codegen_real multipliers[FOUR_BAR_N_CONSTRAINTS], codegen_real dt_dL_dqdot[FOUR_BAR_N_COORDS], codegen_real dL_dq[FOUR_BAR_N_COORDS], codegen_real constraint_forces[FOUR_BAR_N_COORDS], codegen_real dissipative_forces[FOUR_BAR_N_COORDS], codegen_real applied_forces[FOUR_BAR_N_COORDS], codegen_real residual[FOUR_BAR_N_COORDS]);
 
-/* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
+/* All coordinates and rates from the independent angle and its rate. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
  * out coords: coordinates: theta [rad], phi_3 [rad], phi_4 [rad]
  * out rates: their rates [unit/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_dependent_state(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[FOUR_BAR_N_COORDS], codegen_real rates[FOUR_BAR_N_COORDS]);
 
-/* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
+/* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_reduced_coefficients(const four_bar_params *params, codegen_real theta, codegen_real e[FOUR_BAR_N_REDUCED]);
 
-/* thetaddot from the reduced equation of motion.
+/* thetaddot from the reduced equation of motion. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
  * out theta_dd: [rad/s^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_angular_acceleration(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
-/* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
+/* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out residual: G [N m]
  * out scale: [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_equilibrium_residual(const four_bar_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
-/* The radicands under the square roots of the position analysis (assembly, length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
+/* The radicands under the square roots of the position analysis (assembly, length), and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out values: [unit^2]
  * out scales: [unit^2]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_OVERFLOW if a result exceeds the range of double.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_radicands(const four_bar_params *params, codegen_real theta, codegen_real values[FOUR_BAR_N_ROOTS], codegen_real scales[FOUR_BAR_N_ROOTS]);
 
@@ -213,20 +224,24 @@ four_bar_status four_bar_sigma(const four_bar_params *params, codegen_real sigma
  */
 four_bar_status four_bar_sigma_fast(const four_bar_params *params, codegen_real sigma[FOUR_BAR_N_SIGMA]);
 
-/* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
+/* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
  * out B: B_EQ [N m s]
  * out K: K_EQ [N m]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_linearisation(const four_bar_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
-/* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
+/* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: equilibrium angle theta_E [rad]
  * out omega_n_squared: [rad^2/s^2]
  * out zeta_omega_n: [1/s]
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_SINGULAR_STATE where the coupler and rocker are aligned (a limit position) or the spring length is zero.
+ * FOUR_BAR_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 four_bar_status four_bar_vibration(const four_bar_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
@@ -396,6 +411,8 @@ typedef struct four_bar_simulation {
     four_bar_params params;   /* the parameter set, copied by _start */
     codegen_ode_options options;  /* the options, copied by _start */
     codegen_ode_state state;      /* where the integration stands */
+    unsigned signs;               /* the sign choice of the assembly roots the motion is on:
+                                     the mode the model declares at theta0 (_start) */
     codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
 } four_bar_simulation;
 
@@ -404,7 +421,9 @@ typedef struct four_bar_simulation {
  * Returns FOUR_BAR_OK; FOUR_BAR_ERR_NULL_POINTER; the parameters' status
  * (four_bar_check_params); FOUR_BAR_ERR_NONFINITE (t0, theta0 or theta_d0); FOUR_BAR_ERR_ARGUMENT
  * (an option out of range); FOUR_BAR_ERR_SINGULAR_STATE (the acceleration is not finite at
- * the initial state). */
+ * the initial state); FOUR_BAR_ERR_MODE_UNDECIDED (the model's
+ * assembly-mode conditions decide no mode at theta0: the motion's mode is the one they
+ * declare there, kept along it). */
 four_bar_status four_bar_simulation_start(four_bar_simulation *simulation, const four_bar_params *params,
                                       codegen_real t0, codegen_real theta0, codegen_real theta_d0,
                                       const codegen_ode_options *options);
@@ -434,7 +453,8 @@ four_bar_status four_bar_simulate(const four_bar_params *params, codegen_real th
  * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
  * every call. Returns FOUR_BAR_OK; FOUR_BAR_ERR_NULL_POINTER; the parameters' status;
  * FOUR_BAR_ERR_NONFINITE (h, theta or theta_d); FOUR_BAR_ERR_SINGULAR_STATE (a stage or the
- * result is not finite). The outputs are written only on FOUR_BAR_OK. */
+ * result is not finite); FOUR_BAR_ERR_MODE_UNDECIDED (no mode
+ * declared at theta). The outputs are written only on FOUR_BAR_OK. */
 four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
                               codegen_real *theta_next, codegen_real *theta_d_next);
 
@@ -447,7 +467,8 @@ four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h,
  * FOUR_BAR_ERR_NULL_POINTER; the parameters' status (four_bar_check_params);
  * FOUR_BAR_ERR_NONFINITE (theta or an omega[i] NaN or infinite); FOUR_BAR_ERR_SINGULAR_STATE
  * (M, B or K not finite at theta); FOUR_BAR_ERR_OVERFLOW (an undamped resonance: omega[i]^2 M = K
- * with B = 0). */
+ * with B = 0); FOUR_BAR_ERR_MODE_UNDECIDED (the model's assembly-mode
+ * conditions decide no mode at theta). */
 four_bar_status four_bar_frequency_response(const four_bar_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im);
 

@@ -161,6 +161,15 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
 /* A failure of equilibrium_state (a result not finite) is reported as FOUR_BAR_ERR_SINGULAR_STATE. */
 #define FOUR_BAR_EQUILIBRIUM_STATE_FAILURE FOUR_BAR_ERR_SINGULAR_STATE
 
+/* The sign choice of the assembly roots (mode_linearisation's mode number) on which the
+ * model's assembly-mode conditions hold at theta, as the analysis decides a state's mode
+ * (codegen_declared_signs); FOUR_BAR_N_MODES where they decide no choice, FOUR_BAR_N_MODES + 1
+ * where a dyad cannot be assembled at theta. The functions of one angle evaluate on it. */
+unsigned four_bar_declared_signs_kernel(const four_bar_params *params, codegen_real theta);
+
+/* The state, the reduced equation's coefficients, G and the radicands on sign choice 1 of the assembly roots (mode_linearisation's mode 1). */
+void four_bar_motion_signs1_kernel(const four_bar_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[16]);
+
 /* four_bar_poly_real_roots with the root finder's working memory from the caller. */
 four_bar_status four_bar_poly_real_roots_kernel_work(const codegen_real sigma[FOUR_BAR_N_SIGMA],
                                                   codegen_real theta[FOUR_BAR_MAX_ROOTS], int *n_roots,

@@ -66,11 +66,43 @@ static codegen_real range_centre(const void *p)
     return 0;
 }
 
-static codegen_real angular_acceleration(const void *params, codegen_real theta,
+/* thetaddot on a sign choice of the assembly roots (< N_MODES) */
+static codegen_real angular_acceleration(const void *p, unsigned signs, codegen_real theta,
                                          codegen_real theta_d)
 {
-    return four_bar_angular_acceleration_kernel((const four_bar_params *)params, theta,
-                                                    theta_d);
+    const four_bar_params *params = (const four_bar_params *)p;
+    codegen_real out[1];
+    switch (signs) {
+    case 1u: {
+        codegen_real on_choice[16];
+        four_bar_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[9];
+        break;
+    }
+    default:
+        out[0] = four_bar_angular_acceleration_kernel(params, theta, theta_d);
+        break;
+    }
+    return out[0];
+}
+
+/* M, B, K on a sign choice of the assembly roots (< N_MODES) */
+static void linearisation(const void *p, unsigned signs, codegen_real theta, codegen_real *out)
+{
+    const four_bar_params *params = (const four_bar_params *)p;
+    switch (signs) {
+    case 1u: {
+        codegen_real on_choice[6];
+        four_bar_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[1];
+        out[1] = on_choice[3];
+        out[2] = on_choice[5];
+        break;
+    }
+    default:
+        four_bar_linearisation_kernel(params, theta, out);
+        break;
+    }
 }
 
 /* The assembly mode of each branch (its assembly roots' signs), as mode_linearisation numbers
@@ -86,6 +118,9 @@ static const unsigned branch_of_mode[FOUR_BAR_N_MODES] = {
 static const unsigned condition_bit[FOUR_BAR_N_CONDITIONS] = {
     0u
 };
+
+/* The sign choice the model's conditions declare at theta (codegen_declared_signs). */
+static unsigned declared_signs(const void *params, codegen_real theta);
 
 static const codegen_model model = {
     .params_size = sizeof(four_bar_params),
@@ -131,6 +166,8 @@ static const codegen_model model = {
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
+    .linearisation = linearisation,
+    .declared_signs = declared_signs,
     .analysis = {
         .size = sizeof(four_bar_analysis),
         .sigma = offsetof(four_bar_analysis, sigma),
@@ -164,8 +201,20 @@ static const codegen_model model = {
         .options = offsetof(four_bar_simulation, options),
         .state = offsetof(four_bar_simulation, state),
         .work = offsetof(four_bar_simulation, work),
+        .signs = offsetof(four_bar_simulation, signs),
     },
 };
+
+static unsigned declared_signs(const void *params, codegen_real theta)
+{
+    codegen_real conditions[2 * FOUR_BAR_N_MODE_CONDITIONS];
+    return codegen_declared_signs(&model, params, theta, conditions);
+}
+
+unsigned four_bar_declared_signs_kernel(const four_bar_params *params, codegen_real theta)
+{
+    return declared_signs(params, theta);
+}
 
 four_bar_status four_bar_analyze_work(const four_bar_params *params, four_bar_analysis *result,
                                  four_bar_workspace *workspace)
@@ -257,7 +306,6 @@ four_bar_status four_bar_rk4_step(const four_bar_params *params, codegen_real h,
 four_bar_status four_bar_frequency_response(const four_bar_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
 {
-    codegen_real state[13];
     return (four_bar_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
-                                                      H_im, state);
+                                                      H_im);
 }

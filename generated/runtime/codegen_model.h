@@ -23,7 +23,7 @@
 extern "C" {
 #endif
 
-/* The status codes every library numbers alike (its first twelve; the rest are its
+/* The status codes every library numbers alike (its first thirteen; the rest are its
  * parameters' requirements). */
 enum {
     CODEGEN_OK = 0,
@@ -37,7 +37,8 @@ enum {
     CODEGEN_ERR_ARGUMENT = 8,
     CODEGEN_ERR_CAPACITY = 9,
     CODEGEN_ERR_STEP_BUDGET = 10,
-    CODEGEN_ERR_STEP_SIZE = 11
+    CODEGEN_ERR_STEP_SIZE = 11,
+    CODEGEN_ERR_MODE_UNDECIDED = 12
 };
 
 /* Stability of an equilibrium from M, B, K (M > 0). */
@@ -169,7 +170,7 @@ typedef struct codegen_workspace_layout {
 
 /* Where the fields of a library's NAME_simulation lie. */
 typedef struct codegen_simulation_layout {
-    size_t params, options, state, work;
+    size_t params, options, state, work, signs;
 } codegen_simulation_layout;
 
 /* Where each quantity lies in the output of the fused kernel equilibrium_state. */
@@ -215,14 +216,39 @@ struct codegen_model {
                  codegen_real *errors);
     /* the centre of the coordinate's range [rad] */
     codegen_real (*range_centre)(const void *params);
-    /* thetaddot at (theta, thetadot) */
-    codegen_real (*angular_acceleration)(const void *params, codegen_real theta,
+    /* thetaddot at (theta, thetadot) on a sign choice of the assembly roots (< n_modes) */
+    codegen_real (*angular_acceleration)(const void *params, unsigned signs, codegen_real theta,
                                          codegen_real theta_d);
+    /* M, B, K at theta on a sign choice of the assembly roots: out[3] */
+    void (*linearisation)(const void *params, unsigned signs, codegen_real theta,
+                          codegen_real *out);
+    /* the sign choice on which the model's assembly-mode conditions hold at theta, n_modes
+     * where they decide none, n_modes + 1 where there is no state (codegen_declared_signs;
+     * NULL: always 0, the model declares no conditions) */
+    unsigned (*declared_signs)(const void *params, codegen_real theta);
     codegen_analysis_layout analysis;
     codegen_workspace_layout workspace;
     codegen_simulation_layout simulation;
 };
 typedef struct codegen_model codegen_model;
+
+/* The assembly mode, as the model declares its modes (mode_linearisation's numbering read
+ * as: bit i set where dyad i is the other way), of a state found on sign choice `found`,
+ * from the conditions assembly_conditions gave at its angle: for each dyad, its conditions
+ * must hold with its root's sign as found and fail with it flipped (then the dyad is as
+ * declared), or the reverse (then it is the other way); where the flipped sign gives no
+ * state, the state's own conditions decide. model->n_modes where a dyad's conditions decide
+ * neither way. (codegen_modes.c) */
+unsigned codegen_declared_mode(const codegen_model *model, const codegen_real *conditions,
+                               unsigned found);
+
+/* The sign choice whose state at theta is the mode the model declares (every condition
+ * holds), dyad by dyad in solving order: 0 without conditions; model->n_modes where the
+ * conditions decide no choice; model->n_modes + 1 where a dyad has no state on either sign
+ * (it cannot be assembled at theta). conditions: 2 n_modes n_conditions reals of working
+ * memory. (codegen_modes.c) */
+unsigned codegen_declared_signs(const codegen_model *model, const void *params,
+                                codegen_real theta, codegen_real *conditions);
 
 /* The two routes of the analysis. */
 typedef enum codegen_route {
@@ -255,12 +281,13 @@ int codegen_rk4_step(const codegen_model *model, const void *params, codegen_rea
                      codegen_real *theta_d_next);
 
 /* The receptance H(omega) = 1 / (K - omega^2 M + i omega B) of the declared mode's
- * linearisation at theta, at count circular frequencies omega[i] [rad/s] (any finite value:
- * H(-omega) is H(omega)'s conjugate) into H_re[i], H_im[i]; state: state.size reals of
- * working memory. The statuses and contracts are NAME_frequency_response's (NAME.h). */
+ * linearisation at theta (on the sign choice the model's conditions hold on there), at count
+ * circular frequencies omega[i] [rad/s] (any finite value: H(-omega) is H(omega)'s
+ * conjugate) into H_re[i], H_im[i]. The statuses and contracts are
+ * NAME_frequency_response's (NAME.h). */
 int codegen_frequency_response(const codegen_model *model, const void *params, codegen_real theta,
                                size_t count, const codegen_real *omega, codegen_real *H_re,
-                               codegen_real *H_im, codegen_real *state);
+                               codegen_real *H_im);
 
 #ifdef __cplusplus
 }

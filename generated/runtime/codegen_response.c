@@ -9,14 +9,14 @@
 
 int codegen_frequency_response(const codegen_model *model, const void *params, codegen_real theta,
                                size_t count, const codegen_real *omega, codegen_real *H_re,
-                               codegen_real *H_im, codegen_real *state)
+                               codegen_real *H_im)
 {
-    const codegen_state_layout *s;
-    codegen_real work[CODEGEN_RECEPTANCE_WORK(1)];
+    codegen_real work[CODEGEN_RECEPTANCE_WORK(1)], mbk[3];
+    unsigned signs;
     size_t i;
     int status;
-    if (model == NULL || params == NULL || state == NULL || (count > 0 && (omega == NULL || H_re == NULL
-                                                                              || H_im == NULL))) {
+    if (model == NULL || params == NULL || (count > 0 && (omega == NULL || H_re == NULL
+                                                          || H_im == NULL))) {
         return CODEGEN_ERR_NULL_POINTER;
     }
     status = model->check_params(params);
@@ -31,14 +31,18 @@ int codegen_frequency_response(const codegen_model *model, const void *params, c
             return CODEGEN_ERR_NONFINITE;
         }
     }
-    s = &model->state;
-    model->equilibrium_state(params, theta, state);
-    if (!isfinite(state[s->m]) || !isfinite(state[s->b]) || !isfinite(state[s->k])) {
+    signs = model->declared_signs != NULL ? model->declared_signs(params, theta) : 0u;
+    if (signs >= (unsigned)model->n_modes) {
+        return signs == (unsigned)model->n_modes ? CODEGEN_ERR_MODE_UNDECIDED
+                                                  : model->linearisation_failure;
+    }
+    model->linearisation(params, signs, theta, mbk);
+    if (!isfinite(mbk[0]) || !isfinite(mbk[1]) || !isfinite(mbk[2])) {
         return model->linearisation_failure;
     }
     for (i = 0; i < count; ++i) {
         /* an undamped resonance: the amplitude is infinite */
-        if (codegen_receptance(1, state + s->m, state + s->b, state + s->k, omega[i], &H_re[i], &H_im[i],
+        if (codegen_receptance(1, &mbk[0], &mbk[1], &mbk[2], omega[i], &H_re[i], &H_im[i],
                                work) != CODEGEN_MODAL_OK) {
             return CODEGEN_ERR_OVERFLOW;
         }

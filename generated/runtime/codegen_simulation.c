@@ -13,10 +13,12 @@
 /* The state vector: (theta [rad], thetadot [rad/s]). */
 #define DIMENSION 2
 
-/* What the right-hand side needs: the model and the validated parameters. */
+/* What the right-hand side needs: the model, the validated parameters and the sign choice
+ * of the assembly roots the motion is on. */
 typedef struct motion {
     const codegen_model *model;
     const void *params;
+    unsigned signs;
 } motion;
 
 /* y' = (thetadot, thetaddot) */
@@ -25,7 +27,7 @@ static void rhs(const void *context, codegen_real t, const codegen_real *y, code
     const motion *m = (const motion *)context;
     (void)t; /* autonomous: the loads are constant */
     rate[0] = y[1];
-    rate[1] = m->model->angular_acceleration(m->params, y[0], y[1]);
+    rate[1] = m->model->angular_acceleration(m->params, m->signs, y[0], y[1]);
 }
 
 static int status_of(const codegen_model *model, codegen_ode_status status)
@@ -51,6 +53,7 @@ typedef struct parts {
     codegen_ode_options *options;
     codegen_ode_state *state;
     codegen_real *work;
+    unsigned *signs;
 } parts;
 
 static parts parts_of(const codegen_model *model, void *simulation)
@@ -60,7 +63,24 @@ static parts parts_of(const codegen_model *model, void *simulation)
     p.options = (codegen_ode_options *)(void *)((char *)simulation + model->simulation.options);
     p.state = (codegen_ode_state *)(void *)((char *)simulation + model->simulation.state);
     p.work = (codegen_real *)(void *)((char *)simulation + model->simulation.work);
+    p.signs = (unsigned *)(void *)((char *)simulation + model->simulation.signs);
     return p;
+}
+
+/* The sign choice of the assembly roots of the mode the model declares at theta: a motion
+ * stays on the one it starts on (the closed form is smooth along it until a limit
+ * position, where the motion is singular anyway). model->n_modes: undecided; n_modes + 1:
+ * no state there. */
+static unsigned signs_at(const codegen_model *model, const void *params, codegen_real theta)
+{
+    return model->declared_signs != NULL ? model->declared_signs(params, theta) : 0u;
+}
+
+/* The status of a state signs_at assigns no sign choice: the mode undecided, or no state. */
+static int undecided_or_none(const codegen_model *model, unsigned signs)
+{
+    return signs == (unsigned)model->n_modes ? CODEGEN_ERR_MODE_UNDECIDED
+                                             : model->acceleration_failure;
 }
 
 int codegen_simulation_start(const codegen_model *model, void *simulation, const void *params,
@@ -81,9 +101,14 @@ int codegen_simulation_start(const codegen_model *model, void *simulation, const
     if (!isfinite(t0) || !isfinite(theta0) || !isfinite(theta_d0)) {
         return CODEGEN_ERR_NONFINITE;
     }
+    m.signs = signs_at(model, params, theta0);
+    if (m.signs >= (unsigned)model->n_modes) {
+        return undecided_or_none(model, m.signs);
+    }
     p = parts_of(model, simulation);
     memcpy(p.params, params, model->params_size);
     *p.options = options != NULL ? *options : codegen_ode_defaults();
+    *p.signs = m.signs;
     m.model = model;
     m.params = p.params;
     return status_of(model, codegen_ode_start(rhs, &m, DIMENSION, t0, y0, p.options,
@@ -124,6 +149,10 @@ int codegen_simulation_advance(const codegen_model *model, void *simulation,
     }
     m.model = model;
     m.params = p.params;
+    m.signs = *p.signs;
+    if (m.signs >= (unsigned)model->n_modes) {
+        return CODEGEN_ERR_ARGUMENT;   /* not a simulation _start made */
+    }
     for (i = 0; i < n_times; ++i) {
         codegen_real y[DIMENSION];
         status = status_of(model, codegen_ode_advance(rhs, &m, p.options, p.state,
@@ -182,6 +211,10 @@ int codegen_rk4_step(const codegen_model *model, const void *params, codegen_rea
     }
     m.model = model;
     m.params = params;
+    m.signs = signs_at(model, params, theta);
+    if (m.signs >= (unsigned)model->n_modes) {
+        return undecided_or_none(model, m.signs);
+    }
     status = status_of(model, codegen_ode_rk4_step(rhs, &m, DIMENSION, 0, y, h,
                                                    work, next));
     if (status == CODEGEN_OK) {

@@ -78,6 +78,8 @@ const char *slider_crank_status_message(slider_crank_status status)
         return "the integrator used up its step budget before the last output time";
     case SLIDER_CRANK_ERR_STEP_SIZE:
         return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
+    case SLIDER_CRANK_ERR_MODE_UNDECIDED:
+        return "the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there)";
     case SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE:
         return "R and l must be positive";
     case SLIDER_CRANK_ERR_L_0_NEGATIVE:
@@ -629,7 +631,28 @@ slider_crank_status slider_crank_dependent_state(const slider_crank_params *para
     if (!isfinite(theta_d)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_dependent_state_kernel(params, theta, theta_d, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_dependent_state_kernel(params, theta, theta_d, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[0];
+        out[1] = on_choice[1];
+        out[2] = on_choice[2];
+        out[3] = on_choice[3];
+        out[4] = on_choice[4];
+        out[5] = on_choice[5];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 6)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -705,7 +728,25 @@ slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params 
     if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_reduced_coefficients_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_reduced_coefficients_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[6];
+        out[1] = on_choice[7];
+        out[2] = on_choice[8];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 3)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -795,7 +836,23 @@ slider_crank_status slider_crank_angular_acceleration(const slider_crank_params 
     if (!isfinite(theta_d)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    out[0] = slider_crank_angular_acceleration_kernel(params, theta, theta_d);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        out[0] = slider_crank_angular_acceleration_kernel(params, theta, theta_d);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[9];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 1)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -866,7 +923,24 @@ slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params 
     if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_equilibrium_residual_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_equilibrium_residual_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[10];
+        out[1] = on_choice[11];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 2)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -921,7 +995,26 @@ slider_crank_status slider_crank_radicands(const slider_crank_params *params, co
     if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_radicands_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_radicands_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, 0, on_choice);
+        out[0] = on_choice[12];
+        out[1] = on_choice[13];
+        out[2] = on_choice[14];
+        out[3] = on_choice[15];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_OVERFLOW; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 4)) {
         return SLIDER_CRANK_ERR_OVERFLOW;
     }
@@ -4104,7 +4197,25 @@ slider_crank_status slider_crank_linearisation(const slider_crank_params *params
     if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_linearisation_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_linearisation_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[6];
+        slider_crank_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[1];
+        out[1] = on_choice[3];
+        out[2] = on_choice[5];
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 3)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -4243,7 +4354,24 @@ slider_crank_status slider_crank_vibration(const slider_crank_params *params, co
     if (!isfinite(theta)) {
         return SLIDER_CRANK_ERR_NONFINITE;
     }
-    slider_crank_vibration_kernel(params, theta, out);
+    /* on the sign choice the model's assembly-mode conditions hold on at this angle */
+    switch (slider_crank_declared_signs_kernel(params, theta)) {
+    case 0u: {
+        slider_crank_vibration_kernel(params, theta, out);
+        break;
+    }
+    case 1u: {
+        codegen_real on_choice[6];
+        slider_crank_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[5] / on_choice[1];
+        out[1] = on_choice[3] / (2 * on_choice[1]);
+        break;
+    }
+    case SLIDER_CRANK_N_MODES:
+        return SLIDER_CRANK_ERR_MODE_UNDECIDED;
+    default:
+        return SLIDER_CRANK_ERR_SINGULAR_STATE; /* a dyad cannot be assembled at theta */
+    }
     if (!all_finite(out, 2)) {
         return SLIDER_CRANK_ERR_SINGULAR_STATE;
     }
@@ -4659,6 +4787,115 @@ slider_crank_status slider_crank_equilibrium_state(const slider_crank_params *pa
     copy_out(radicand_scales, out + 11, 2);
     return SLIDER_CRANK_OK;
 }
+
+/* The state, the reduced equation's coefficients, G and the radicands on sign choice 1 of the assembly roots (mode_linearisation's mode 1). Without validation (the public function checks, then calls it where the
+ * model's conditions declare this sign choice): eq. -. Writes out[] in the order
+ * of the outputs; they may be NaN or infinite. Total ops: 248. */
+void slider_crank_motion_signs1_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[16])
+{
+    (void)params;
+    (void)theta;
+    (void)theta_d;
+    {
+        const codegen_real tmp0 = codegen_sin(theta);
+        const codegen_real tmp10 = codegen_cos(theta);
+        const codegen_real R = params->R;
+        const codegen_real tmp1 = R*tmp0;
+        const codegen_real l = params->l;
+        const codegen_real param_e = params->e;
+        const codegen_real tmp4 = l + param_e - tmp1;
+        const codegen_real tmp2 = -param_e + tmp1;
+        const codegen_real tmp5 = l + tmp2;
+        const codegen_real tmp61 = tmp4*tmp5;
+        const codegen_real tmp62 = codegen_sqrt(tmp61);
+        const codegen_real tmp63 = 1/(codegen_fabs(tmp62));
+        const codegen_real tmp3 = -tmp2;
+        const codegen_real tmp6 = -tmp5;
+        const codegen_real tmp7 = tmp4*tmp6;
+        const codegen_real tmp8 = -tmp7;
+        const codegen_real tmp9 = codegen_sqrt(tmp8);
+        const codegen_real tmp11 = R*tmp10;
+        const codegen_real tmp12 = (l*l);
+        const codegen_real tmp13 = tmp12/(tmp12*(tmp3*tmp3) - tmp12*tmp7);
+        const codegen_real tmp14 = tmp11*tmp4;
+        const codegen_real tmp15 = tmp11*tmp6;
+        const codegen_real tmp16 = (((codegen_real)1/2))*tmp14 + (((codegen_real)1/2))*tmp15;
+        const codegen_real tmp17 = 1/(tmp4);
+        const codegen_real tmp18 = 1/(tmp6);
+        const codegen_real tmp19 = tmp17*tmp18;
+        const codegen_real tmp20 = (R*R);
+        const codegen_real tmp21 = (tmp0*tmp0);
+        const codegen_real tmp22 = tmp20*tmp21;
+        const codegen_real m_1 = params->m_1;
+        const codegen_real tmp23 = (((codegen_real)1/4))*m_1;
+        const codegen_real tmp24 = (tmp10*tmp10);
+        const codegen_real tmp25 = tmp20*tmp24;
+        const codegen_real m_2 = params->m_2;
+        const codegen_real tmp26 = (((codegen_real)1/4))*m_2;
+        const codegen_real tmp27 = tmp0*tmp9;
+        const codegen_real tmp28 = param_e*tmp10 - tmp1*tmp10;
+        const codegen_real tmp29 = tmp27 + tmp28;
+        const codegen_real tmp30 = (tmp29*tmp29);
+        const codegen_real tmp31 = tmp19*tmp20;
+        const codegen_real tmp32 = tmp30*tmp31;
+        const codegen_real tmp33 = 2*tmp27 + tmp28;
+        const codegen_real m_3 = params->m_3;
+        const codegen_real tmp34 = (((codegen_real)1/12))*m_1*tmp20 - ((codegen_real)1/12)*m_2*tmp12*tmp19*tmp25 - m_3*tmp32 + tmp22*tmp23 + tmp23*tmp25 + tmp25*tmp26 - tmp26*tmp31*(tmp33*tmp33);
+        const codegen_real tmp35 = 1/(tmp9);
+        const codegen_real tmp36 = tmp1*tmp35;
+        const codegen_real tmp37 = (((codegen_real)1/2))*tmp14 + (((codegen_real)1/2))*tmp15;
+        const codegen_real tmp38 = tmp10*tmp9;
+        const codegen_real tmp39 = R*tmp21 - R*tmp24 - param_e*tmp0;
+        const codegen_real tmp40 = R*tmp35;
+        const codegen_real tmp41 = R*tmp19;
+        const codegen_real tmp42 = tmp35*tmp37;
+        const codegen_real tmp43 = tmp29*tmp40;
+        const codegen_real tmp44 = (((codegen_real)1/2))*tmp40;
+        const codegen_real tmp45 = (((codegen_real)1/12))*R*m_2*tmp10*tmp12*tmp35*(-tmp11*tmp37/(tmp8*codegen_sqrt(tmp8)) - tmp36) - m_2*tmp33*tmp44*(-tmp42*((((codegen_real)1/2))*tmp33*tmp41 + tmp36) - tmp44*(2*tmp38 + tmp39)) - m_3*tmp43*(-tmp40*(tmp38 + tmp39) - tmp42*(tmp29*tmp41 + tmp36)) - tmp0*tmp10*tmp20*tmp26;
+        const codegen_real g = params->g;
+        const codegen_real tmp46 = g*tmp11;
+        const codegen_real tmp47 = m_1*tmp46;
+        const codegen_real tmp48 = m_2*tmp46;
+        const codegen_real x_S = params->x_S;
+        const codegen_real tmp49 = 2*x_S;
+        const codegen_real tmp50 = 2*tmp9;
+        const codegen_real tmp51 = (param_e*param_e);
+        const codegen_real tmp52 = (x_S*x_S);
+        const codegen_real y_S = params->y_S;
+        const codegen_real tmp53 = (y_S*y_S);
+        const codegen_real tmp54 = tmp25 + tmp51 + tmp52 + tmp53 + tmp8;
+        const codegen_real tmp55 = param_e*y_S;
+        const codegen_real tmp56 = -tmp11*tmp49 - 2*tmp55;
+        const codegen_real tmp57 = -tmp11*tmp50 + tmp49*tmp9 + tmp54 + tmp56;
+        const codegen_real tmp58 = codegen_sqrt(tmp57);
+        const codegen_real tmp59 = -tmp11 + x_S;
+        const codegen_real k = params->k;
+        const codegen_real l_0 = params->l_0;
+        const codegen_real F = params->F;
+        const codegen_real T = params->T;
+        const codegen_real tmp60 = F*tmp43 - T + k*tmp43*(l_0 - tmp58)*(-tmp59 - tmp9)/tmp58 + (((codegen_real)1/2))*tmp47 + (((codegen_real)1/2))*tmp48;
+        const codegen_real tmp64 = R*(tmp0*tmp62 + tmp28);
+        const codegen_real tmp65 = codegen_sqrt(-2*tmp11*tmp62 + tmp25 + tmp49*tmp62 + tmp51 + tmp52 + tmp53 + tmp56 + tmp61);
+        const codegen_real b = params->b;
+        out[0] = theta;
+        out[1] = codegen_atan2(l*tmp3, -l*tmp9);
+        out[2] = tmp11 - tmp9;
+        out[3] = theta_d;
+        out[4] = theta_d*(tmp11*tmp13*tmp9 - tmp13*tmp16*tmp19*tmp3*tmp9);
+        out[5] = theta_d*(-tmp1 + tmp16*tmp17*tmp18*tmp9);
+        out[6] = tmp34;
+        out[7] = tmp45;
+        out[8] = -b*tmp32;
+        out[9] = (b*theta_d*tmp17*tmp18*tmp20*tmp30 - (theta_d*theta_d)*tmp45 - tmp60)/tmp34;
+        out[10] = tmp60;
+        out[11] = tmp63*codegen_fabs(F*tmp64) + tmp63*codegen_fabs(k*tmp64*(l_0 - tmp65)*(tmp59 + tmp62))/codegen_fabs(tmp65) + codegen_fabs(T) + (((codegen_real)1/2))*codegen_fabs(tmp47) + (((codegen_real)1/2))*codegen_fabs(tmp48);
+        out[12] = tmp8;
+        out[13] = tmp57;
+        out[14] = tmp12 + tmp22 + tmp51 + 2*codegen_fabs(param_e*tmp1);
+        out[15] = -tmp50*codegen_fabs(tmp11) - tmp50*codegen_fabs(x_S) + tmp54 + 2*codegen_fabs(tmp55) + 2*codegen_fabs(tmp11*x_S);
+    }
+}
+
 
 slider_crank_status slider_crank_poly_real_roots_kernel_work(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
                                                   codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots,

@@ -57,11 +57,12 @@ typedef enum slider_crank_status {
     SLIDER_CRANK_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     SLIDER_CRANK_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     SLIDER_CRANK_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 12, /* R and l must be positive */
-    SLIDER_CRANK_ERR_L_0_NEGATIVE = 13, /* l_0 must not be negative */
-    SLIDER_CRANK_ERR_MASS_NEGATIVE = 14, /* masses m_1, m_2, m_3 must not be negative */
-    SLIDER_CRANK_ERR_K_NEGATIVE = 15, /* k must not be negative */
-    SLIDER_CRANK_ERR_B_NEGATIVE = 16 /* b must not be negative */
+    SLIDER_CRANK_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    SLIDER_CRANK_ERR_LENGTH_NOT_POSITIVE = 13, /* R and l must be positive */
+    SLIDER_CRANK_ERR_L_0_NEGATIVE = 14, /* l_0 must not be negative */
+    SLIDER_CRANK_ERR_MASS_NEGATIVE = 15, /* masses m_1, m_2, m_3 must not be negative */
+    SLIDER_CRANK_ERR_K_NEGATIVE = 16, /* k must not be negative */
+    SLIDER_CRANK_ERR_B_NEGATIVE = 17 /* b must not be negative */
 } slider_crank_status;
 
 /* The mechanism's parameters, SI units. */
@@ -154,43 +155,53 @@ slider_crank_status slider_crank_energies(const slider_crank_params *params, con
  */
 slider_crank_status slider_crank_lagrange_terms(const slider_crank_params *params, const codegen_real coords[SLIDER_CRANK_N_COORDS], const codegen_real rates[SLIDER_CRANK_N_COORDS], const codegen_real accels[SLIDER_CRANK_N_COORDS], const codegen_real multipliers[SLIDER_CRANK_N_CONSTRAINTS], codegen_real dt_dL_dqdot[SLIDER_CRANK_N_COORDS], codegen_real dL_dq[SLIDER_CRANK_N_COORDS], codegen_real constraint_forces[SLIDER_CRANK_N_COORDS], codegen_real dissipative_forces[SLIDER_CRANK_N_COORDS], codegen_real applied_forces[SLIDER_CRANK_N_COORDS], codegen_real residual[SLIDER_CRANK_N_COORDS]);
 
-/* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
+/* All coordinates and rates from the independent angle and its rate. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
  * out coords: coordinates: theta [rad], psi [rad], x [m]
  * out rates: their rates [unit/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_dependent_state(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real coords[SLIDER_CRANK_N_COORDS], codegen_real rates[SLIDER_CRANK_N_COORDS]);
 
-/* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.
+/* Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out e: e0 [kg m^2], e1 [kg m^2], e2 [N m s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_reduced_coefficients(const slider_crank_params *params, codegen_real theta, codegen_real e[SLIDER_CRANK_N_REDUCED]);
 
-/* thetaddot from the reduced equation of motion.
+/* thetaddot from the reduced equation of motion. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
  * out theta_dd: [rad/s^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_angular_acceleration(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real *theta_dd);
 
-/* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads).
+/* Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and the sum of the magnitudes of its contributions (springs, gravity, loads). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out residual: G [N m]
  * out scale: [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_equilibrium_residual(const slider_crank_params *params, codegen_real theta, codegen_real *residual, codegen_real *scale);
 
-/* The radicands under the square roots of the position analysis (assembly, length), on the declared branch, and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length).
+/* The radicands under the square roots of the position analysis (assembly, length), and the sum of the magnitudes of their terms. An assembly radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: a singular state (a limit position or a vanishing length). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: independent coordinate theta [rad]
  * out values: [unit^2]
  * out scales: [unit^2]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_OVERFLOW if a result exceeds the range of double.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_radicands(const slider_crank_params *params, codegen_real theta, codegen_real values[SLIDER_CRANK_N_ROOTS], codegen_real scales[SLIDER_CRANK_N_ROOTS]);
 
@@ -213,20 +224,24 @@ slider_crank_status slider_crank_sigma(const slider_crank_params *params, codege
  */
 slider_crank_status slider_crank_sigma_fast(const slider_crank_params *params, codegen_real sigma[SLIDER_CRANK_N_SIGMA]);
 
-/* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.
+/* Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0. On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: equilibrium angle theta_E [rad]
  * out M: M_EQ [kg m^2]
  * out B: B_EQ [N m s]
  * out K: K_EQ [N m]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_linearisation(const slider_crank_params *params, codegen_real theta, codegen_real *M, codegen_real *B, codegen_real *K);
 
-/* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n).
+/* omega_n^2 = K/M and zeta*omega_n = B/(2M); omega_n = sqrt(K/M), zeta = B/(2 M omega_n). On the assembly mode the model declares: the sign choice its conditions hold on at theta, for each parameter set.
  * in  theta: equilibrium angle theta_E [rad]
  * out omega_n_squared: [rad^2/s^2]
  * out zeta_omega_n: [1/s]
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_SINGULAR_STATE where the connecting rod is perpendicular to the slide (a limit position) or the spring length is zero.
+ * SLIDER_CRANK_ERR_MODE_UNDECIDED where the model's assembly-mode conditions decide no mode at
+ * theta (a dyad between its modes).
  */
 slider_crank_status slider_crank_vibration(const slider_crank_params *params, codegen_real theta, codegen_real *omega_n_squared, codegen_real *zeta_omega_n);
 
@@ -396,6 +411,8 @@ typedef struct slider_crank_simulation {
     slider_crank_params params;   /* the parameter set, copied by _start */
     codegen_ode_options options;  /* the options, copied by _start */
     codegen_ode_state state;      /* where the integration stands */
+    unsigned signs;               /* the sign choice of the assembly roots the motion is on:
+                                     the mode the model declares at theta0 (_start) */
     codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
 } slider_crank_simulation;
 
@@ -404,7 +421,9 @@ typedef struct slider_crank_simulation {
  * Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status
  * (slider_crank_check_params); SLIDER_CRANK_ERR_NONFINITE (t0, theta0 or theta_d0); SLIDER_CRANK_ERR_ARGUMENT
  * (an option out of range); SLIDER_CRANK_ERR_SINGULAR_STATE (the acceleration is not finite at
- * the initial state). */
+ * the initial state); SLIDER_CRANK_ERR_MODE_UNDECIDED (the model's
+ * assembly-mode conditions decide no mode at theta0: the motion's mode is the one they
+ * declare there, kept along it). */
 slider_crank_status slider_crank_simulation_start(slider_crank_simulation *simulation, const slider_crank_params *params,
                                       codegen_real t0, codegen_real theta0, codegen_real theta_d0,
                                       const codegen_ode_options *options);
@@ -434,7 +453,8 @@ slider_crank_status slider_crank_simulate(const slider_crank_params *params, cod
  * local error O(h^5). Four evaluations of the acceleration; the parameters are validated on
  * every call. Returns SLIDER_CRANK_OK; SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status;
  * SLIDER_CRANK_ERR_NONFINITE (h, theta or theta_d); SLIDER_CRANK_ERR_SINGULAR_STATE (a stage or the
- * result is not finite). The outputs are written only on SLIDER_CRANK_OK. */
+ * result is not finite); SLIDER_CRANK_ERR_MODE_UNDECIDED (no mode
+ * declared at theta). The outputs are written only on SLIDER_CRANK_OK. */
 slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, codegen_real h, codegen_real theta, codegen_real theta_d,
                               codegen_real *theta_next, codegen_real *theta_d_next);
 
@@ -447,7 +467,8 @@ slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, cod
  * SLIDER_CRANK_ERR_NULL_POINTER; the parameters' status (slider_crank_check_params);
  * SLIDER_CRANK_ERR_NONFINITE (theta or an omega[i] NaN or infinite); SLIDER_CRANK_ERR_SINGULAR_STATE
  * (M, B or K not finite at theta); SLIDER_CRANK_ERR_OVERFLOW (an undamped resonance: omega[i]^2 M = K
- * with B = 0). */
+ * with B = 0); SLIDER_CRANK_ERR_MODE_UNDECIDED (the model's assembly-mode
+ * conditions decide no mode at theta). */
 slider_crank_status slider_crank_frequency_response(const slider_crank_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im);
 

@@ -161,6 +161,15 @@ void slider_crank_equilibrium_state_kernel(const slider_crank_params *params, co
 /* A failure of equilibrium_state (a result not finite) is reported as SLIDER_CRANK_ERR_SINGULAR_STATE. */
 #define SLIDER_CRANK_EQUILIBRIUM_STATE_FAILURE SLIDER_CRANK_ERR_SINGULAR_STATE
 
+/* The sign choice of the assembly roots (mode_linearisation's mode number) on which the
+ * model's assembly-mode conditions hold at theta, as the analysis decides a state's mode
+ * (codegen_declared_signs); SLIDER_CRANK_N_MODES where they decide no choice, SLIDER_CRANK_N_MODES + 1
+ * where a dyad cannot be assembled at theta. The functions of one angle evaluate on it. */
+unsigned slider_crank_declared_signs_kernel(const slider_crank_params *params, codegen_real theta);
+
+/* The state, the reduced equation's coefficients, G and the radicands on sign choice 1 of the assembly roots (mode_linearisation's mode 1). */
+void slider_crank_motion_signs1_kernel(const slider_crank_params *params, codegen_real theta, codegen_real theta_d, codegen_real out[16]);
+
 /* slider_crank_poly_real_roots with the root finder's working memory from the caller. */
 slider_crank_status slider_crank_poly_real_roots_kernel_work(const codegen_real sigma[SLIDER_CRANK_N_SIGMA],
                                                   codegen_real theta[SLIDER_CRANK_MAX_ROOTS], int *n_roots,

@@ -66,11 +66,43 @@ static codegen_real range_centre(const void *p)
     return 0;
 }
 
-static codegen_real angular_acceleration(const void *params, codegen_real theta,
+/* thetaddot on a sign choice of the assembly roots (< N_MODES) */
+static codegen_real angular_acceleration(const void *p, unsigned signs, codegen_real theta,
                                          codegen_real theta_d)
 {
-    return slider_crank_angular_acceleration_kernel((const slider_crank_params *)params, theta,
-                                                    theta_d);
+    const slider_crank_params *params = (const slider_crank_params *)p;
+    codegen_real out[1];
+    switch (signs) {
+    case 1u: {
+        codegen_real on_choice[16];
+        slider_crank_motion_signs1_kernel(params, theta, theta_d, on_choice);
+        out[0] = on_choice[9];
+        break;
+    }
+    default:
+        out[0] = slider_crank_angular_acceleration_kernel(params, theta, theta_d);
+        break;
+    }
+    return out[0];
+}
+
+/* M, B, K on a sign choice of the assembly roots (< N_MODES) */
+static void linearisation(const void *p, unsigned signs, codegen_real theta, codegen_real *out)
+{
+    const slider_crank_params *params = (const slider_crank_params *)p;
+    switch (signs) {
+    case 1u: {
+        codegen_real on_choice[6];
+        slider_crank_mode_linearisation_kernel(params, theta, on_choice);
+        out[0] = on_choice[1];
+        out[1] = on_choice[3];
+        out[2] = on_choice[5];
+        break;
+    }
+    default:
+        slider_crank_linearisation_kernel(params, theta, out);
+        break;
+    }
 }
 
 /* The assembly mode of each branch (its assembly roots' signs), as mode_linearisation numbers
@@ -86,6 +118,9 @@ static const unsigned branch_of_mode[SLIDER_CRANK_N_MODES] = {
 static const unsigned condition_bit[SLIDER_CRANK_N_CONDITIONS] = {
     0u
 };
+
+/* The sign choice the model's conditions declare at theta (codegen_declared_signs). */
+static unsigned declared_signs(const void *params, codegen_real theta);
 
 static const codegen_model model = {
     .params_size = sizeof(slider_crank_params),
@@ -131,6 +166,8 @@ static const codegen_model model = {
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
+    .linearisation = linearisation,
+    .declared_signs = declared_signs,
     .analysis = {
         .size = sizeof(slider_crank_analysis),
         .sigma = offsetof(slider_crank_analysis, sigma),
@@ -164,8 +201,20 @@ static const codegen_model model = {
         .options = offsetof(slider_crank_simulation, options),
         .state = offsetof(slider_crank_simulation, state),
         .work = offsetof(slider_crank_simulation, work),
+        .signs = offsetof(slider_crank_simulation, signs),
     },
 };
+
+static unsigned declared_signs(const void *params, codegen_real theta)
+{
+    codegen_real conditions[2 * SLIDER_CRANK_N_MODE_CONDITIONS];
+    return codegen_declared_signs(&model, params, theta, conditions);
+}
+
+unsigned slider_crank_declared_signs_kernel(const slider_crank_params *params, codegen_real theta)
+{
+    return declared_signs(params, theta);
+}
 
 slider_crank_status slider_crank_analyze_work(const slider_crank_params *params, slider_crank_analysis *result,
                                  slider_crank_workspace *workspace)
@@ -257,7 +306,6 @@ slider_crank_status slider_crank_rk4_step(const slider_crank_params *params, cod
 slider_crank_status slider_crank_frequency_response(const slider_crank_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
 {
-    codegen_real state[13];
     return (slider_crank_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
-                                                      H_im, state);
+                                                      H_im);
 }

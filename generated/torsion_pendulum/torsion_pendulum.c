@@ -56,6 +56,8 @@ const char *torsion_pendulum_status_message(torsion_pendulum_status status)
         return "the integrator used up its step budget before the last output time";
     case TORSION_PENDULUM_ERR_STEP_SIZE:
         return "the integrator's step fell below the resolution of time: the motion is singular or too stiff there";
+    case TORSION_PENDULUM_ERR_MODE_UNDECIDED:
+        return "the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there)";
     case TORSION_PENDULUM_ERR_L_NOT_POSITIVE:
         return "l must be positive";
     case TORSION_PENDULUM_ERR_MASS_NEGATIVE:

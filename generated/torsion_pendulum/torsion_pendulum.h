@@ -52,10 +52,11 @@ typedef enum torsion_pendulum_status {
     TORSION_PENDULUM_ERR_CAPACITY = 9, /* more equilibria or uncertain intervals than the result holds */
     TORSION_PENDULUM_ERR_STEP_BUDGET = 10, /* the integrator used up its step budget before the last output time */
     TORSION_PENDULUM_ERR_STEP_SIZE = 11, /* the integrator's step fell below the resolution of time: the motion is singular or too stiff there */
-    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 12, /* l must be positive */
-    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 13, /* masses m, m_t must not be negative */
-    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 14, /* k_t must not be negative */
-    TORSION_PENDULUM_ERR_C_NEGATIVE = 15 /* c must not be negative */
+    TORSION_PENDULUM_ERR_MODE_UNDECIDED = 12, /* the model's assembly-mode conditions decide no mode at this angle (a dyad between its modes, or a condition that does not tell them apart there) */
+    TORSION_PENDULUM_ERR_L_NOT_POSITIVE = 13, /* l must be positive */
+    TORSION_PENDULUM_ERR_MASS_NEGATIVE = 14, /* masses m, m_t must not be negative */
+    TORSION_PENDULUM_ERR_K_T_NEGATIVE = 15, /* k_t must not be negative */
+    TORSION_PENDULUM_ERR_C_NEGATIVE = 16 /* c must not be negative */
 } torsion_pendulum_status;
 
 /* The mechanism's parameters, SI units. */
@@ -110,7 +111,7 @@ torsion_pendulum_status torsion_pendulum_energies(const torsion_pendulum_params 
  */
 torsion_pendulum_status torsion_pendulum_lagrange_terms(const torsion_pendulum_params *params, const codegen_real coords[TORSION_PENDULUM_N_COORDS], const codegen_real rates[TORSION_PENDULUM_N_COORDS], const codegen_real accels[TORSION_PENDULUM_N_COORDS], codegen_real dt_dL_dqdot[TORSION_PENDULUM_N_COORDS], codegen_real dL_dq[TORSION_PENDULUM_N_COORDS], codegen_real constraint_forces[TORSION_PENDULUM_N_COORDS], codegen_real dissipative_forces[TORSION_PENDULUM_N_COORDS], codegen_real applied_forces[TORSION_PENDULUM_N_COORDS], codegen_real residual[TORSION_PENDULUM_N_COORDS]);
 
-/* All coordinates and rates from the independent angle and its rate (the declared assembly mode).
+/* All coordinates and rates from the independent angle and its rate.
  * in  theta: independent coordinate theta [rad]
  * in  theta_d: its rate [rad/s]
  * out coords: coordinates: theta [rad]
@@ -278,6 +279,8 @@ typedef struct torsion_pendulum_simulation {
     torsion_pendulum_params params;   /* the parameter set, copied by _start */
     codegen_ode_options options;  /* the options, copied by _start */
     codegen_ode_state state;      /* where the integration stands */
+    unsigned signs;               /* the sign choice of the assembly roots the motion is on:
+                                     the mode the model declares at theta0 (_start) */
     codegen_real work[CODEGEN_ODE_WORK(2)]; /* the integrator's (theta, thetadot) vectors */
 } torsion_pendulum_simulation;
 

@@ -39,11 +39,23 @@ static codegen_real range_centre(const void *p)
     return params->theta_0;
 }
 
-static codegen_real angular_acceleration(const void *params, codegen_real theta,
+/* thetaddot on a sign choice of the assembly roots (< N_MODES) */
+static codegen_real angular_acceleration(const void *p, unsigned signs, codegen_real theta,
                                          codegen_real theta_d)
 {
-    return torsion_pendulum_angular_acceleration_kernel((const torsion_pendulum_params *)params, theta,
-                                                    theta_d);
+    const torsion_pendulum_params *params = (const torsion_pendulum_params *)p;
+    codegen_real out[1];
+    (void)signs;
+    out[0] = torsion_pendulum_angular_acceleration_kernel(params, theta, theta_d);
+    return out[0];
+}
+
+/* M, B, K on a sign choice of the assembly roots (< N_MODES) */
+static void linearisation(const void *p, unsigned signs, codegen_real theta, codegen_real *out)
+{
+    const torsion_pendulum_params *params = (const torsion_pendulum_params *)p;
+    (void)signs;
+    torsion_pendulum_linearisation_kernel(params, theta, out);
 }
 
 static const codegen_model model = {
@@ -72,6 +84,7 @@ static const codegen_model model = {
     .enclose = enclose,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
+    .linearisation = linearisation,
     .analysis = {
         .size = sizeof(torsion_pendulum_analysis),
         .n_roots = offsetof(torsion_pendulum_analysis, n_roots),
@@ -96,6 +109,7 @@ static const codegen_model model = {
         .options = offsetof(torsion_pendulum_simulation, options),
         .state = offsetof(torsion_pendulum_simulation, state),
         .work = offsetof(torsion_pendulum_simulation, work),
+        .signs = offsetof(torsion_pendulum_simulation, signs),
     },
 };
 
@@ -189,7 +203,6 @@ torsion_pendulum_status torsion_pendulum_rk4_step(const torsion_pendulum_params 
 torsion_pendulum_status torsion_pendulum_frequency_response(const torsion_pendulum_params *params, codegen_real theta, size_t count,
                                         const codegen_real *omega, codegen_real *H_re, codegen_real *H_im)
 {
-    codegen_real state[5];
     return (torsion_pendulum_status)codegen_frequency_response(&model, params, theta, count, omega, H_re,
-                                                      H_im, state);
+                                                      H_im);
 }

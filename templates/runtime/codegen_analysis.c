@@ -56,10 +56,6 @@
 /* Half-width [rad, relative to max(|cut|, 1)] of the zero-free interval the cut must lie in:
  * far beyond the rounding of 2 pi, so the range may overlap itself by that much. */
 #define SEAM_MARGIN (4096 * CODEGEN_EPSILON)
-/* An assembly-mode condition within this much of the size of its terms is zero (the dyad
- * between its modes, or a condition that does not tell them apart there): the mode is not
- * decided. Far above the conditions' rounding, far below any assembly a user draws. */
-#define CONDITION_MARGIN CODEGEN_SQRT_EPSILON
 
 /* Each route keeps its own frame (the isolation's stack does not hold the polynomial route's
  * locals): gcc would otherwise inline both into codegen_analysis_run. */
@@ -1292,64 +1288,16 @@ ROUTE static int complete_by_isolation(const call *c, void *workspace,
     return CODEGEN_OK;
 }
 
-/* The sign of a condition: 1 (holds), -1 (fails) or 0 (within CONDITION_MARGIN of 0, or
- * not finite: that mode cannot be assembled there). */
-static int condition_sign(codegen_real value, codegen_real scale)
-{
-    const codegen_real margin = CONDITION_MARGIN * scale;
-    return value > margin ? 1 : value < -margin ? -1 : 0;
-}
-
-/* Whether every condition of one dyad (mode bit) holds on a mode (1), one fails (-1), the
- * mode has no state there (NO_STATE: every one of them not finite), or neither is certain (0). */
-#define NO_STATE 2
-static int dyad_holds(const codegen_model *model, const codegen_real *conditions,
-                      unsigned mode, unsigned bit)
-{
-    const int n = model->n_conditions, offset = (int)mode * n;
-    const codegen_real *scales = conditions + model->n_modes * n;
-    int k, all = 1, none = 1;
-    for (k = 0; k < n; ++k) {
-        if (model->condition_bit[k] == bit) {
-            const codegen_real value = conditions[offset + k];
-            const int sign = condition_sign(value, scales[offset + k]);
-            if (sign < 0) {
-                return -1;
-            }
-            all = all && sign > 0;
-            none = none && !isfinite(value);
-        }
-    }
-    return none ? NO_STATE : all;
-}
-
 /* The assembly mode, as the model declares its modes, of the state at theta on the sign
- * choice `found` (the mode its closed form was evaluated on): for each dyad, its conditions
- * must hold with its root's sign as found and fail with it flipped (then the dyad is as
- * declared), or the reverse (then it is the other way). Which sign is which can change with
- * the parameters (a slide's inclination, a pivot on either side), so it is decided here, for
- * each set and state; where the flipped sign gives no state, by the state's conditions
- * alone. model->n_modes where a dyad's conditions decide neither way. */
+ * choice `found` (the mode its closed form was evaluated on): codegen_declared_mode. */
 static unsigned declared_mode(const call *c, unsigned found, codegen_real theta)
 {
     const codegen_model *model = c->model;
-    unsigned bit, mode = 0u;
     if (model->assembly_conditions == NULL) {
         return found;
     }
     model->assembly_conditions(c->enclosure.params, theta, c->conditions);
-    for (bit = 0u; (1u << bit) < (unsigned)model->n_modes; ++bit) {
-        const int as_found = dyad_holds(model, c->conditions, found, bit);
-        const int flipped = dyad_holds(model, c->conditions, found ^ (1u << bit), bit);
-        /* where the flipped mode has no state (a dyad after this one cannot be assembled on
-         * it), the state's own conditions decide */
-        if (as_found == -1 && (flipped == 1 || flipped == NO_STATE)) {
-            mode |= 1u << bit;           /* this dyad the other way */
-        } else if (!(as_found == 1 && (flipped == -1 || flipped == NO_STATE))) {
-            return (unsigned)model->n_modes;
-        }
-    }
-    return mode;
+    return codegen_declared_mode(model, c->conditions, found);
 }
 
 /* Every root and uncertain interval of a result, named by the mode its state is in as the

@@ -70,6 +70,7 @@ typedef struct simulation {
     params params;
     codegen_ode_options options;
     codegen_ode_state state;
+    unsigned signs;
     double work[CODEGEN_ODE_WORK(2)];
 } simulation;
 
@@ -134,10 +135,12 @@ static double range_centre(const void *p)
     return ((const params *)p)->centre;
 }
 
-static double angular_acceleration(const void *p, double theta, double theta_d)
+/* thetaddot of G = a cos + b sin + c; on sign choice 1 (the two-mode model's), b negated */
+static double angular_acceleration(const void *p, unsigned signs, double theta, double theta_d)
 {
     const params *q = (const params *)p;
-    return -(q->a * cos(theta) + q->b * sin(theta) + q->c + q->d * theta_d) / q->m;
+    const double b = signs == 0u ? q->b : -q->b;
+    return -(q->a * cos(theta) + b * sin(theta) + q->c + q->d * theta_d) / q->m;
 }
 
 static codegen_model model_with(int capacity)
@@ -190,6 +193,7 @@ static codegen_model model_with(int capacity)
     m.simulation.options = offsetof(simulation, options);
     m.simulation.state = offsetof(simulation, state);
     m.simulation.work = offsetof(simulation, work);
+    m.simulation.signs = offsetof(simulation, signs);
     return m;
 }
 
@@ -248,6 +252,8 @@ static void modes_conditions(const void *p, double theta, double *out)
     out[2] = out[3] = fabs(q->w);
 }
 
+static unsigned modes_declared_signs(const void *p, double theta);
+
 static codegen_model two_mode_model(void)
 {
     static const unsigned identity[2] = {0u, 1u}, bit[1] = {0u};
@@ -267,8 +273,16 @@ static codegen_model two_mode_model(void)
     m.equilibrium_state = modes_state;
     m.mode_linearisation = modes_linearisation;
     m.assembly_conditions = modes_conditions;
+    m.declared_signs = modes_declared_signs;
     m.enclose = modes_enclose;
     return m;
+}
+
+static unsigned modes_declared_signs(const void *p, double theta)
+{
+    const codegen_model model = two_mode_model();
+    double conditions[4];
+    return codegen_declared_signs(&model, p, theta, conditions);
 }
 
 static double next(void)
@@ -335,16 +349,19 @@ static void modes(void)
     printf("\n");
 }
 
-static void simulate(void)
+/* simulate (one mode) or simulate_modes (the two-mode model, its condition w after the
+ * parameters) */
+static void simulate(int two_modes)
 {
     static double times[64], theta[64], theta_d[64];
-    const params p = read_params(0);
-    const double theta0 = next(), theta_d0 = next();
-    const codegen_model model = model_with(MAX_ROOTS);
+    params p = read_params(0);
+    const double w = two_modes ? next() : 0.0, theta0 = next(), theta_d0 = next();
+    const codegen_model model = two_modes ? two_mode_model() : model_with(MAX_ROOTS);
     const int count = (int)next();
     simulation s;
     size_t reached = 0, i;
     int status, k;
+    p.w = w;
     for (k = 0; k < count && k < 64; ++k) {
         times[k] = next();
     }
@@ -392,7 +409,9 @@ int main(void)
         } else if (strcmp(command, "analyze") == 0) {
             analyze();
         } else if (strcmp(command, "simulate") == 0) {
-            simulate();
+            simulate(0);
+        } else if (strcmp(command, "simulate_modes") == 0) {
+            simulate(1);
         } else if (strcmp(command, "rk4") == 0) {
             rk4();
         } else if (strcmp(command, "modes") == 0) {

@@ -14,6 +14,7 @@ from .kinematics import Kinematics, derive_kinematics
 from .names import internal
 from .positions import branch_program
 from .linearisation import Linearisation, derive_linearisation
+from .modes import ModeQuantities, on_mode
 from .reduction import Reduction, derive_reduction
 from .state import StateSymbols
 
@@ -37,6 +38,10 @@ class Derivation:
 
     def frozen(self, expr):
         return expr.subs(self.freezer)
+
+    def on_mode(self, k: int) -> ModeQuantities:
+        """The functions of one angle on sign choice k (linearisation.modes[k])."""
+        return on_mode(k, self.reduction, self.equilibrium, self.linearisation)
 
     @property
     def program(self) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:

@@ -114,14 +114,22 @@ def derive_equilibrium(terms: tuple[sp.Expr, ...], theta: sp.Symbol, roots: tupl
                                                   spurious), ""
         except NotPolynomial as refusal:
             no_polynomial = str(refusal)
+    radicands, radicand_scales = radicands_on(roots, declared, definitions)
     return Equilibrium(
         residual=on_branch(residual, roots, declared, definitions),
         roots=roots, branches=tuple(branches), polynomial=polynomial,
-        radicands=tuple(on_branch(r.radicand, roots, declared, definitions) for r in roots),
-        radicand_scales=tuple(on_branch(_radicand_scale(r, expand=not definitions),
-                                        roots, declared, definitions) for r in roots),
-        no_polynomial=no_polynomial,
+        radicands=radicands, radicand_scales=radicand_scales, no_polynomial=no_polynomial,
     )
+
+
+def radicands_on(roots: tuple[Root, ...], signs: tuple[int, ...],
+                 definitions: tuple[Definition, ...] = ()
+                 ) -> tuple[tuple[sp.Expr, ...], tuple[sp.Expr, ...]]:
+    """Every root's radicand on one branch (a chain's later radicands depend on the signs
+    of the roots before them), and the sizes of their terms."""
+    return (tuple(on_branch(r.radicand, roots, signs, definitions) for r in roots),
+            tuple(on_branch(_radicand_scale(r, expand=not definitions), roots, signs,
+                            definitions) for r in roots))
 
 
 def _radicand_scale(root: Root, expand: bool) -> sp.Expr:

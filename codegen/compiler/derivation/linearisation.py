@@ -39,6 +39,8 @@ class Linearisation:
     modes: tuple[Mode, ...]
     #: for each condition of a Mode, the bit of the mode number its dyad's sign sets
     condition_bits: tuple[int, ...] = ()
+    #: for each condition of a Mode, its index in the model's assembly_modes
+    condition_sources: tuple[int, ...] = ()
 
     @property
     def mass(self) -> sp.Expr:
@@ -83,7 +85,8 @@ def derive_linearisation(reduction: Reduction) -> Linearisation:
                    condition_scales=tuple(terms_size(c, lambda t: on(signs, t))
                                           for c in conditions))
               for signs in mode_signs(tuple(r.kind for r in roots))),
-        condition_bits=tuple(bit for bit, r in enumerate(assembly) for _ in r.conditions))
+        condition_bits=tuple(bit for bit, r in enumerate(assembly) for _ in r.conditions),
+        condition_sources=tuple(k for r in assembly for k in r.condition_sources))
 
 
 def mode_signs(kinds: tuple[str, ...]) -> list[tuple[int, ...]]:

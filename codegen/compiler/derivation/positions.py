@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import itertools
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -43,6 +43,8 @@ class Root:
     # P^2 + Q^2 + W^2 of an assembly root's radicand P^2 + Q^2 - W^2: the size its rounding
     # is measured against, without expanding a chain's large radicand (None: expand it)
     scale: sp.Expr | None = None
+    # the index of each of ``conditions`` in the model's assembly_modes
+    condition_sources: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -344,9 +346,24 @@ def solve_positions(mechanism: Mechanism, coords: tuple[sp.Symbol, ...],
         elif name in angles:      # (C, S) as solved (a chain's: their symbols), not the
             x, y = (A, B) if A in defined else (known[A], known[B])   # atan2 numerators
         trig[sp.cos(sym[name])], trig[sp.sin(sym[name])] = x, y
-    return PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
-                            tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
-                                  for r in mechanism.requirements), tuple(definitions))
+    solution = PositionSolution(theta, tuple(coords), sp.Matrix(result), tuple(roots), trig,
+                                tuple(sp.sympify(r.condition).xreplace(mechanism.freezer())
+                                      for r in mechanism.requirements), tuple(definitions))
+    return _conditions_on_positions(solution, mechanism)
+
+
+def _conditions_on_positions(solution: PositionSolution, mechanism: Mechanism
+                             ) -> PositionSolution:
+    """Each assembly root's conditions written on the solution's positions. While solving,
+    they were written on the elimination's values, which may divide by a function of theta
+    that vanishes (a collar's distance from one component of its bar's direction, 0/0 at
+    theta = pi): there the library could not tell the modes apart. The positions are well
+    conditioned (_well_conditioned), and so are conditions written on them."""
+    frozen = mechanism.freezer()
+    roots = tuple(replace(r, conditions=tuple(
+        solution.substitute(sp.sympify(mechanism.assembly_modes[k]).subs(frozen))
+        for k in r.condition_sources)) if r.conditions else r for r in solution.roots)
+    return replace(solution, roots=roots)
 
 
 def _not_linear(e, unknowns, sym, pairs, polar) -> str:
@@ -522,11 +539,12 @@ def _solve_free_pairs(mechanism, sym, theta, known, pairs, unit_pairs, staged=No
         definitions += [Definition(symbol, value, len(roots)) for symbol, value in centre]
         P, Q, W = _normalised(line, theta)
         rho = sp.Symbol(f"rho_{len(roots) + 1}", positive=True)
-        sigma, conditions = _declared_sign(mechanism, sym, theta, earlier | known, every_pair,
-                                           C, S, P, Q, W, rho, roots, definitions)
+        sigma, conditions, sources = _declared_sign(mechanism, sym, theta, earlier | known,
+                                                    every_pair, C, S, P, Q, W, rho, roots,
+                                                    definitions)
         norm = reduce_trig(P**2 + Q**2, theta)
         roots.append(Root(rho, compact(P**2 + Q**2 - W**2, theta), "assembly", name,
-                          conditions, norm + W**2))
+                          conditions, norm + W**2, sources))
         solved = {C: (P * W - sigma * Q * rho) / norm, S: (Q * W + sigma * P * rho) / norm}
         later = {v for n in pending if n != name for v in pairs[n] if v not in known}
         if later or centre or name in keep or any(x.free_symbols & program for x in (P, Q, W)):
@@ -631,10 +649,17 @@ def _affine(part, C, S, symbol):
     return symbol + C * part.diff(C) + S * part.diff(S)
 
 
+def _polar_length(X: sp.Symbol) -> str | None:
+    """The length coordinate of a polar pair's first unknown X_length (solve_positions names
+    it so), None for a unit pair's cosine."""
+    return X.name[2:] if X.name.startswith("X_") else None
+
+
 def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, roots,
                    definitions=()):
-    """(+1 or -1, conditions): the sign of the root for which the model's assembly-mode
-    conditions hold, and those conditions with the root taken as that sign times rho.
+    """(+1 or -1, conditions, their indices in assembly_modes): the sign of the root for
+    which the model's assembly-mode conditions hold, and those conditions with the root taken
+    as that sign times rho.
 
     A condition is an expression of the coordinates that is positive in the declared mode.
     It is evaluated (30 digits) at the example parameters, at angles where every radicand so
@@ -642,10 +667,21 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
     may differ for other parameters: the library checks the conditions again for each set.)"""
     import mpmath
 
+    steps = in_order(roots, definitions)
     to_unknowns = {}
     for name, (A, B) in pairs.items():
-        to_unknowns[sp.cos(sym[name])] = A
-        to_unknowns[sp.sin(sym[name])] = B
+        length = _polar_length(A)
+        if length is None:   # a unit pair: (C, S) themselves
+            to_unknowns[sp.cos(sym[name])], to_unknowns[sp.sin(sym[name])] = A, B
+            continue
+        # a polar pair, (X, Y) = length (cos, sin): the length is its root, the cosine and
+        # sine the program's steps C_angle, S_angle where they are (X, Y over the length)
+        rho_length = next((r.symbol for r in roots if r.coordinate == length),
+                          sp.sqrt(A**2 + B**2))
+        unit = {step.symbol.name: step.symbol for step in steps}
+        to_unknowns[sym[length]] = rho_length
+        to_unknowns[sp.cos(sym[name])] = unit.get(f"C_{name}", A / rho_length)
+        to_unknowns[sp.sin(sym[name])] = unit.get(f"S_{name}", B / rho_length)
     norm = P**2 + Q**2
     sign = sp.Dummy("sign")
     cs = {C: (P * W - sign * Q * rho) / norm, S: (Q * W + sign * P * rho) / norm}
@@ -653,10 +689,11 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
     coords = tuple(mechanism.freezer().values())
     conditions = [expand_angle_sums(sp.sympify(c).subs(mechanism.freezer()), coords)
                   .subs(to_unknowns).subs(point) for c in mechanism.assembly_modes]
-    steps = in_order(roots, definitions)
     # a condition on a dyad not solved yet (its unknowns still free) is for a later sign
     decided = {theta, sign, rho, *(s.symbol for s in steps), *mechanism.symbols}
-    conditions = [c for c in conditions if c.has(sign) and c.free_symbols <= decided]
+    sources = [k for k, c in enumerate(conditions)
+               if c.has(sign) and c.free_symbols <= decided]
+    conditions = [conditions[k] for k in sources]
     example = mechanism.example()
     names = [s.symbol for s in steps]
     args = [theta, sign] + names + [rho]
@@ -688,4 +725,4 @@ def _declared_sign(mechanism, sym, theta, known, pairs, C, S, P, Q, W, rho, root
         state = "ambiguous" if votes else "not decided by any assembly-mode condition"
         raise NotSolvable(f"the assembly mode of {C.name[2:]} is {state}")
     sigma = votes.pop()
-    return sigma, tuple(c.xreplace({sign: sigma}) for c in conditions)
+    return sigma, tuple(c.xreplace({sign: sigma}) for c in conditions), tuple(sources)

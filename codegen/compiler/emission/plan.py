@@ -6,7 +6,7 @@ templates, the Python wrapper and the tests all walk.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -49,6 +49,11 @@ class CFunction:
     # every mode: a mode that has no value at the input (a dyad of the chain that cannot be
     # assembled on that mode, or a pole of it) is NaN; the others stand. Empty: all or none.
     slot_modes: tuple[int, ...] = ()
+    # A function of one angle evaluated on the sign choice the model's assembly conditions
+    # declare at that angle: for sign choices 1, 2, ... the function whose outputs of the
+    # same names give this one's (mode_linearisation's at that mode's slot; vibration's from
+    # its M, B, K); the function itself is choice 0. Empty: always choice 0.
+    on_signs: tuple[str, ...] = ()
 
     def explicit(self, exprs) -> list[sp.Expr]:
         """Expressions with the program's symbols written out in the inputs."""
@@ -94,6 +99,9 @@ GENERIC_STATUSES = (
                                   "output time"),
     Status("ERR_STEP_SIZE", 11, "the integrator's step fell below the resolution of time: "
                                 "the motion is singular or too stiff there"),
+    Status("ERR_MODE_UNDECIDED", 12, "the model's assembly-mode conditions decide no mode "
+                                     "at this angle (a dyad between its modes, or a condition "
+                                     "that does not tell them apart there)"),
 )
 
 #: Room in an analysis for roots where no polynomial bounds their number, and for the
@@ -130,6 +138,7 @@ class Plan:
     root_kinds: tuple[str, ...] = ()   # 'assembly' or 'length', for each square root
     mode_of_branch: tuple[int, ...] = ()  # the assembly mode (mode_linearisation) of each branch
     condition_bits: tuple[int, ...] = ()  # the mode bit each assembly-mode condition decides
+    condition_sources: tuple[int, ...] = ()  # each one's index in the model's assembly_modes
     range_centre: str = "0"            # the coordinate ranges over (centre - pi, centre + pi]
     periodic: bool = True              # theta and theta + 2 pi are the same state
     # Each parameter's symbol in the expressions and its field of PREFIX_params (the name
@@ -137,6 +146,9 @@ class Plan:
     fields: tuple[tuple[str, str], ...] = ()
     points: tuple[str, ...] = ()       # the named points, in the order of their outputs
     loads: tuple[str, ...] = ()        # the parameters that are a load's magnitude (inputs)
+    # motion_signs<j>: the functions of one angle on sign choice j > 0 in one kernel, which
+    # the public ones take their outputs from there (CFunction.on_signs); not public
+    mode_functions: tuple[CFunction, ...] = ()
 
     @property
     def reads(self) -> tuple[tuple[str, str], ...]:
@@ -148,10 +160,27 @@ class Plan:
         return dict(self.reads).get(symbol, symbol)
 
     def function(self, name: str) -> CFunction:
-        return next(f for f in self.functions if f.name == name)
+        """A function of the plan, public or of another sign choice (mode_functions)."""
+        return next(f for f in self.functions + self.mode_functions if f.name == name)
 
     def has(self, name: str) -> bool:
         return any(f.name == name for f in self.functions)
+
+    def on_sign_choice(self, name: str, k: int) -> CFunction:
+        """The public function ``name`` as it evaluates on sign choice k (CFunction.on_signs):
+        its outputs' expressions taken from its source's outputs of the same names (at slot k
+        of a function given on every mode), vibration's from M, B, K there."""
+        f = self.function(name)
+        if k == 0 or not f.on_signs:
+            return f
+        source = self.function(f.on_signs[k - 1])
+        given = {o.name: o.exprs[k:k + 1] if source.slot_modes else o.exprs
+                 for o in source.outputs}
+        if "M" in given and "omega_n_squared" not in given:   # vibration from M, B, K
+            (M,), (B,), (K,) = given["M"], given["B"], given["K"]
+            given |= {"omega_n_squared": (K / M,), "zeta_omega_n": (B / (2 * M),)}
+        return replace(f, outputs=tuple(replace(o, exprs=given[o.name]) for o in f.outputs),
+                       definitions=source.definitions, on_signs=())
 
     @property
     def statuses(self) -> tuple[Status, ...]:
@@ -201,11 +230,83 @@ def build_plan(d: Derivation) -> Plan:
                      "has one." if per_mode else "")
 
     def fn(key: str, summary: str, inputs, outputs, definitions=program,
-           arithmetic="double", parts=(), slot_modes=()) -> CFunction:
+           arithmetic="double", parts=(), slot_modes=(), on_signs=()) -> CFunction:
         """A function; one fused from others (parts) implements their equations."""
         equation = ", ".join(e for e in (m.equations.get(k, "") for k in parts or (key,)) if e)
         return CFunction(key, summary, equation, tuple(inputs), tuple(outputs),
-                         tuple(definitions), arithmetic, tuple(slot_modes))
+                         tuple(definitions), arithmetic, tuple(slot_modes), tuple(on_signs))
+
+    # Where the model declares its modes by conditions, the public functions of one angle
+    # evaluate on the sign choice the conditions hold on, for each set and angle: choice 0
+    # by their own kernels, another by one fused kernel of that choice (everything of one
+    # angle but the linearisation, which mode_linearisation has on every choice).
+    chosen = per_mode and bool(lin.condition_bits)
+    declared = (" On the assembly mode the model declares: the sign choice its conditions "
+                "hold on at theta, for each parameter set." if chosen else "")
+    others = range(1, n_modes) if chosen else ()
+
+    def one(key, summary, inputs, outputs, source=""):
+        """A public function of one angle; on sign choice j > 0 its outputs are those of
+        the same names of ``source``, or of motion_signs<j> (CFunction.on_signs)."""
+        return fn(key, summary + declared, inputs, outputs, on_signs=tuple(
+            source or f"motion_signs{j}" for j in others))
+
+    q = d.on_mode(0)
+    one_angle = {f.name: f for f in (
+        one("dependent_state",
+            "All coordinates and rates from the independent angle and its rate.",
+            [theta, theta_d],
+            [Output("coords", q.positions, f"coordinates: {units}", "N_COORDS"),
+             Output("rates", q.velocities, "their rates [unit/s]", "N_COORDS")]),
+        one("reduced_coefficients",
+            "Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.",
+            [theta], [Output("e", q.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s]", "N_REDUCED")]),
+        one("angular_acceleration", "thetaddot from the reduced equation of motion.",
+            [theta, theta_d], [Output("theta_dd", (q.angular_acceleration,), "[rad/s^2]")]),
+        one("equilibrium_residual",
+            "Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), "
+            "and the sum of the magnitudes of its contributions (springs, gravity, loads).",
+            [theta], [Output("residual", (q.residual,), "G [N m]"),
+                      Output("scale", (q.scale,), "[N m]")]),
+        one("radicands",
+            f"The radicands under the square roots of the position analysis ({kinds}), and "
+            "the sum of the magnitudes of their terms. An assembly radicand below zero: the "
+            "mechanism cannot be assembled at theta; a radicand zero: a singular state (a "
+            "limit position or a vanishing length).",
+            [theta], [Output("values", q.radicands, "[unit^2]", "N_ROOTS"),
+                      Output("scales", q.radicand_scales, "[unit^2]", "N_ROOTS")]),
+        one("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
+            [theta_e], [Output("M", (q.mass,), "M_EQ [kg m^2]"),
+                        Output("B", (q.damping,), "B_EQ [N m s]"),
+                        Output("K", (q.stiffness,), "K_EQ [N m]")],
+            source="mode_linearisation"),
+        one("vibration", "omega_n^2 = K/M and zeta*omega_n = B/(2M); "
+                         "omega_n = sqrt(K/M), zeta = B/(2 M omega_n).",
+            [theta_e], [Output("omega_n_squared", (q.omega_n_squared,), "[rad^2/s^2]"),
+                        Output("zeta_omega_n", (q.zeta_omega_n,), "[1/s]")],
+            source="mode_linearisation"),
+    )}
+
+    def motion(k: int) -> CFunction:
+        """Everything of one angle but the linearisation, on sign choice k, in one kernel
+        (its outputs named as the public functions' are)."""
+        q = d.on_mode(k)
+        return fn(f"motion_signs{k}",
+                  f"The state, the reduced equation's coefficients, G and the radicands on "
+                  f"sign choice {k} of the assembly roots (mode_linearisation's mode {k}).",
+                  [theta, theta_d],
+                  [Output("coords", q.positions, f"coordinates: {units}", "N_COORDS"),
+                   Output("rates", q.velocities, "their rates [unit/s]", "N_COORDS"),
+                   Output("e", q.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s]", "N_REDUCED"),
+                   Output("theta_dd", (q.angular_acceleration,), "[rad/s^2]"),
+                   Output("residual", (q.residual,), "G [N m]"),
+                   Output("scale", (q.scale,), "[N m]"),
+                   Output("values", q.radicands, "[unit^2]", "N_ROOTS"),
+                   Output("scales", q.radicand_scales, "[unit^2]", "N_ROOTS")],
+                  parts=("dependent_state", "reduced_coefficients", "angular_acceleration",
+                         "equilibrium_residual", "radicands"))
+
+    mode_functions = tuple(motion(k) for k in others)
 
     points = kin.point_positions
     constrained = (
@@ -247,31 +348,13 @@ def build_plan(d: Derivation) -> Plan:
             Output("applied_forces", vec(dyn.applied_forces), "Q_nc", "N_COORDS"),
             Output("residual", vec(dyn.residual()), "left minus right side of (15)",
                    "N_COORDS")]),
-        fn("dependent_state",
-           "All coordinates and rates from the independent angle and its rate "
-           "(the declared assembly mode).",
-           [theta, theta_d],
-           [Output("coords", tuple(red.positions), f"coordinates: {units}", "N_COORDS"),
-            Output("rates", tuple(red.velocities), "their rates [unit/s]", "N_COORDS")]),
-        fn("reduced_coefficients",
-           "Coefficients of e0 thetaddot + e1 thetadot^2 + e2 thetadot + G(theta) = 0.",
-           [theta], [Output("e", red.e, "e0 [kg m^2], e1 [kg m^2], e2 [N m s]", "N_REDUCED")]),
-        fn("angular_acceleration", "thetaddot from the reduced equation of motion.",
-           [theta, theta_d], [Output("theta_dd", (red.angular_acceleration,), "[rad/s^2]")]),
-        fn("equilibrium_residual",
-           "Static generalised force G(theta) = dV/dtheta - Q_theta (zero at equilibria), and "
-           "the sum of the magnitudes of its contributions (springs, gravity, loads).",
-           [theta], [Output("residual", (eq.residual,), "G [N m]"),
-                     Output("scale", (eq.branches[0].scale,), "[N m]")]),
+        one_angle["dependent_state"],
+        one_angle["reduced_coefficients"],
+        one_angle["angular_acceleration"],
+        one_angle["equilibrium_residual"],
     )
     branched = (
-        fn("radicands",
-           f"The radicands under the square roots of the position analysis ({kinds}), on the "
-           "declared branch, and the sum of the magnitudes of their terms. An assembly "
-           "radicand below zero: the mechanism cannot be assembled at theta; a radicand zero: "
-           "a singular state (a limit position or a vanishing length).",
-           [theta], [Output("values", tuple(eq.radicands), "[unit^2]", "N_ROOTS"),
-                     Output("scales", tuple(eq.radicand_scales), "[unit^2]", "N_ROOTS")]),
+        one_angle["radicands"],
         fn("equilibrium_branches",
            f"G on each of the {2 ** n_roots} branches (sign choices of the square roots; "
            "branch j takes root i negative when bit i of j is set; branch 0 is the mechanism "
@@ -321,16 +404,7 @@ def build_plan(d: Derivation) -> Plan:
                             "[as declared]", "N_MODE_CONDITIONS")],
            slot_modes=tuple(j for j in range(n_modes) for _ in range(n_conditions)) * 2),
     ) if per_mode and n_conditions else ()
-    dynamics_at_rest = (
-        fn("linearisation", "Coefficients of M thetaddot_p + B thetadot_p + K theta_p = 0.",
-           [theta_e], [Output("M", (lin.mass,), "M_EQ [kg m^2]"),
-                       Output("B", (lin.damping,), "B_EQ [N m s]"),
-                       Output("K", (lin.stiffness,), "K_EQ [N m]")]),
-        fn("vibration", "omega_n^2 = K/M and zeta*omega_n = B/(2M); "
-                        "omega_n = sqrt(K/M), zeta = B/(2 M omega_n).",
-           [theta_e], [Output("omega_n_squared", (lin.omega_n_squared,), "[rad^2/s^2]"),
-                       Output("zeta_omega_n", (lin.zeta_omega_n,), "[1/s]")]),
-    )
+    dynamics_at_rest = (one_angle["linearisation"], one_angle["vibration"])
     # One CSE over everything the analysis evaluates at a root, so that it pays for the
     # trigonometry, the square roots and their shared terms once per angle.
     fused = (
@@ -378,12 +452,14 @@ def build_plan(d: Derivation) -> Plan:
         root_kinds=tuple(r.kind for r in eq.roots),
         mode_of_branch=mode_of_branch,
         condition_bits=lin.condition_bits,
+        condition_sources=lin.condition_sources,
         range_centre=str(d.user.range_centre),
         periodic=m.periodic,
         enclosure=Enclosure(red.theta,
                             tuple(eq.branch(mode.signs).residual for mode in lin.modes),
                             tuple(mode.stiffness for mode in lin.modes),
                             m.equations.get("equilibrium_residual", ""), program),
+        mode_functions=mode_functions,
         functions=(constrained + general + branched + polynomial + dynamics_at_rest + other_modes
                    + declared_modes + fused),
     )

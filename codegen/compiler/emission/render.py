@@ -63,6 +63,11 @@ class RenderedFunction:
     copies: tuple[str, ...]
     may_be_singular: bool
     slot_modes: tuple[int, ...] = ()     # CFunction.slot_modes
+    # the statements that evaluate it on each sign choice (CFunction.on_signs; choice 0
+    # first): the public function runs those the model's conditions declare at its angle
+    sign_calls: tuple[tuple[str, ...], ...] = ()
+    own_call: str = ""                   # the statement evaluating it by its own kernel
+    public: bool = True                  # False: a kernel on another sign choice only
 
 
 def _arguments(f: CFunction, prefix: str, ctype: str,
@@ -133,7 +138,50 @@ def _batch_call(f: CFunction, P: str) -> tuple[str, ...]:
     return tuple(args)
 
 
-def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
+def _own_call(f: CFunction, prefix: str) -> str:
+    """The statement that writes f's outputs into out[] by its own kernel."""
+    arguments = ", ".join(["params"] + [a.name for a in f.inputs])
+    return (f"out[0] = {prefix}_{f.name}_kernel({arguments});" if returns_value(f)
+            else f"{prefix}_{f.name}_kernel({arguments}, out);")
+
+
+def _sign_calls(f: CFunction, plan: Plan) -> tuple[tuple[str, ...], ...]:
+    """The C statements that write f's outputs into out[] on each sign choice (CFunction.
+    on_signs): choice 0 its own kernel; choice k its source's kernel into a local, then
+    the outputs of f's names from it (at slot k of a function given on every mode)."""
+    if not f.on_signs:
+        return ()
+    prefix = plan.prefix
+    calls = [(_own_call(f, prefix),)]
+    for k, name in enumerate(f.on_signs, start=1):
+        source = plan.function(name)
+        angle = [a.name for a in f.inputs[:1]]
+        rate = [a.name for a in f.inputs[1:]] or ["0"]   # (a rate the outputs do not use)
+        inputs = ", ".join(["params"] + angle + (rate if len(source.inputs) > 1 else []))
+        n_out = sum(len(o.exprs) for o in source.outputs)
+        lines = [f"codegen_real on_choice[{n_out}];",
+                 f"{prefix}_{name}_kernel({inputs}, on_choice);"]
+        found = plan.on_sign_choice(f.name, k)
+        at, start = {}, 0
+        for o in source.outputs:
+            at[o.name] = start + (k if source.slot_modes else 0)
+            start += len(o.exprs)
+        slot = 0
+        for o in found.outputs:
+            if o.name in at:
+                lines += [f"out[{slot + i}] = on_choice[{at[o.name] + i}];"
+                          for i in range(len(o.exprs))]
+            else:   # vibration: K / M and B / (2 M), as its own expressions are
+                M, B, K = (f"on_choice[{at[x]}]" for x in "MBK")
+                lines.append(f"out[{slot}] = {K} / {M};" if o.name == "omega_n_squared"
+                             else f"out[{slot}] = {B} / (2 * {M});")
+            slot += len(o.exprs)
+        calls.append(tuple(lines))
+    return tuple(calls)
+
+
+def _rendered(f: CFunction, plan: Plan, target: CTarget, public: bool = True
+              ) -> RenderedFunction:
     P = plan.prefix.upper()
     copies, offsets, offset = [], [], 0
     for out in f.outputs:
@@ -168,6 +216,9 @@ def _rendered(f: CFunction, plan: Plan, target: CTarget) -> RenderedFunction:
         copies=tuple(copies),
         may_be_singular=may_be_singular,
         slot_modes=f.slot_modes,
+        own_call=_own_call(f, plan.prefix),
+        sign_calls=_sign_calls(f, plan) if public else (),
+        public=public,
     )
 
 
@@ -254,6 +305,7 @@ def _library_context(plan: Plan, target: CTarget) -> dict:
         "requirements": [{"condition": printer.doprint(r.condition), "code": f"{P}_ERR_{r.code}"}
                          for r in plan.requirements],
         "functions": [_rendered(f, plan, target) for f in plan.functions],
+        "mode_kernels": [_rendered(f, plan, target, public=False) for f in plan.mode_functions],
     }
 
 
