@@ -1,5 +1,5 @@
-"""Table 1 steps 9-10: the perturbed, linearised equation (46)-(53) and the
-natural frequency and damping ratio (54)-(55).
+"""Table 1 step 9: the perturbed, linearised equation (46)-(53); step 10, the natural
+frequency and damping ratio (54)-(55), is modes.ModeQuantities'.
 
 With theta = theta_E + theta_p in e0 thetaddot + e1 thetadot^2 + e2 thetadot + G = 0,
 first order in theta_p gives M thetaddot_p + B thetadot_p + K theta_p = 0 with
@@ -57,15 +57,6 @@ class Linearisation:
         """K_EQ, (52)-(53)."""
         return self.modes[0].stiffness
 
-    @property
-    def omega_n_squared(self) -> sp.Expr:
-        """omega_n^2 = K/M, (54)."""
-        return self.stiffness / self.mass
-
-    @property
-    def zeta_omega_n(self) -> sp.Expr:
-        """zeta * omega_n = B / (2 M), (55); zeta follows once omega_n is known."""
-        return self.damping / (2 * self.mass)
 
 
 def derive_linearisation(reduction: Reduction) -> Linearisation:

@@ -45,12 +45,12 @@ class ModeQuantities:
 
     @property
     def omega_n_squared(self) -> sp.Expr:
-        """(54)"""
+        """omega_n^2 = K/M, (54)."""
         return self.stiffness / self.mass
 
     @property
     def zeta_omega_n(self) -> sp.Expr:
-        """(55)"""
+        """zeta * omega_n = B / (2 M), (55); zeta follows once omega_n is known."""
         return self.damping / (2 * self.mass)
 
 
