@@ -49,14 +49,15 @@ def _by_name(derivation):
 def _angle_functions(files: dict[str, str]) -> dict[str, str]:
     """The C functions (name -> text) whose arguments hold no coordinate array: those of the
     independent angle and the parameters, which the declaration order must not change
-    (but dependent_state, which writes the coordinates in the declared order)."""
+    (but dependent_state and the fused kernels of the other sign choices, motion_signs<k>,
+    which write the coordinates in the declared order)."""
     source = next(text for name, text in files.items()
                   if name.endswith(".c") and not name.endswith("_model.c"))
     functions = re.findall(r"^(\w[^\n;]*\b(\w+)\([^;{]*\)\n\{\n.*?^\})", source,
                            re.MULTILINE | re.DOTALL)
     return {name: text for text, name in functions
             if "COORDS" not in text.split("{", 1)[0] and "coords" not in text
-            and "dependent_state" not in name}
+            and "dependent_state" not in name and "motion_signs" not in name}
 
 
 @pytest.mark.parametrize("model", ["collar_on_link", "whitworth"])
