@@ -325,11 +325,7 @@ class _Checker:
         signs<k>, or mode_linearisation), compiled once, and the outputs of its names
         (Plan.on_sign_choice)."""
         f = self.plan.function(name)
-        source = self.plan.function(f.on_signs[self.signs - 1])
-        at, start = {}, 0
-        for o in source.outputs:
-            at[o.name] = start + (self.signs if source.slot_modes else 0)
-            start += len(o.exprs)
+        source, at = self.plan.sign_choice_source(name, self.signs)
         picks = [at[o.name] + i for o in f.outputs for i in range(len(o.exprs))]
         rate = [np.zeros_like(inputs[0])] * (len(source.inputs) - len(inputs))
         return self._evaluate(source.name, params, *inputs, *rate)[..., picks]

@@ -166,6 +166,17 @@ class Plan:
     def has(self, name: str) -> bool:
         return any(f.name == name for f in self.functions)
 
+    def sign_choice_source(self, name: str, k: int) -> tuple[CFunction, dict[str, int]]:
+        """The function the public ``name`` takes its outputs from on sign choice k > 0
+        (CFunction.on_signs), and where each of its outputs starts in that function's out[]
+        (at slot k of a function given on every mode)."""
+        source = self.function(self.function(name).on_signs[k - 1])
+        at, start = {}, 0
+        for o in source.outputs:
+            at[o.name] = start + (k if source.slot_modes else 0)
+            start += len(o.exprs)
+        return source, at
+
     def on_sign_choice(self, name: str, k: int) -> CFunction:
         """The public function ``name`` as it evaluates on sign choice k (CFunction.on_signs):
         its outputs' expressions taken from its source's outputs of the same names (at slot k

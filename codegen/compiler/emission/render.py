@@ -154,7 +154,7 @@ def _sign_calls(f: CFunction, plan: Plan) -> tuple[tuple[str, ...], ...]:
     prefix = plan.prefix
     calls = [(_own_call(f, prefix),)]
     for k, name in enumerate(f.on_signs, start=1):
-        source = plan.function(name)
+        source, at = plan.sign_choice_source(f.name, k)
         angle = [a.name for a in f.inputs[:1]]
         rate = [a.name for a in f.inputs[1:]] or ["0"]   # (a rate the outputs do not use)
         inputs = ", ".join(["params"] + angle + (rate if len(source.inputs) > 1 else []))
@@ -162,10 +162,6 @@ def _sign_calls(f: CFunction, plan: Plan) -> tuple[tuple[str, ...], ...]:
         lines = [f"codegen_real on_choice[{n_out}];",
                  f"{prefix}_{name}_kernel({inputs}, on_choice);"]
         found = plan.on_sign_choice(f.name, k)
-        at, start = {}, 0
-        for o in source.outputs:
-            at[o.name] = start + (k if source.slot_modes else 0)
-            start += len(o.exprs)
         slot = 0
         for o in found.outputs:
             if o.name in at:
