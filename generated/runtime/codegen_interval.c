@@ -37,7 +37,7 @@ static codegen_iv periodic(codegen_iv a, int is_sin, codegen_real max_phase, cod
         return codegen_iv_make(-1, 1);
     }
     at_lo = is_sin ? codegen_sin(a.lo) : codegen_cos(a.lo);
-    at_hi = is_sin ? codegen_sin(a.hi) : codegen_cos(a.hi);
+    at_hi = a.hi == a.lo ? at_lo : is_sin ? codegen_sin(a.hi) : codegen_cos(a.hi); /* a point: once */
     lo = codegen_iv_down(codegen_iv_down(at_lo < at_hi ? at_lo : at_hi));
     hi = codegen_iv_up(codegen_iv_up(at_lo > at_hi ? at_lo : at_hi));
     if (holds_phase(a, max_phase)) {

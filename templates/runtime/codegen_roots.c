@@ -739,12 +739,14 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
                                      codegen_real value)
 {
     const codegen_real az = codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]);
-    codegen_real s[2], d[2], mag;
-    const int reversed = chorner_at(a, m, zr[i], zi[i], s, d, &mag);
+    /* the chart chorner_at takes (its value is needed only where none is given) */
+    const int reversed = zr[i] * zr[i] + zi[i] * zi[i] > 1;
     const codegen_real ax = reversed ? 1 / az : az;
     const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
     const codegen_real lead = bound != NULL ? codegen_fabs(a[m]) - bound[m] : codegen_fabs(a[m]);
     if (!(value >= 0)) {
+        codegen_real s[2], d[2], mag;
+        (void)chorner_at(a, m, zr[i], zi[i], s, d, &mag);
         value = codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag);
     }
     codegen_real t = (codegen_real)m * (value + widen) / lead;
@@ -887,32 +889,39 @@ static void join_spans(codegen_root_span *a, const codegen_root_span *b, codegen
 
 /* A real root's approximation x of f (degree n >= 1; |x| <= 1 in the caller's chart) polished
  * by Newton's method on compensated values while |f| falls: to rounding, so that its disc is
- * as narrow as the coefficients' bounds allow (the iteration stops at plain Horner's error). */
-static codegen_real polish_real(const codegen_real *f, const codegen_real *df, int n, codegen_real x)
+ * as narrow as the coefficients' bounds allow (the iteration stops at plain Horner's error,
+ * or where a step no longer moves x). *value and *mag: eval's at the x returned. */
+static codegen_real polish_real(const codegen_real *f, const codegen_real *df, int n, codegen_real x,
+                                codegen_real *value, codegen_real *mag)
 {
-    codegen_real mag, v = eval(f, n, x, &mag);
+    codegen_real v = eval(f, n, x, mag), dmag;
     for (int it = 0; it < 4 && v != 0; ++it) {
-        const codegen_real d = eval(df, n - 1, x, &mag);
+        const codegen_real d = eval(df, n - 1, x, &dmag);
         if (d == 0) {
             break;
         }
         const codegen_real xn = x - v / d;
-        const codegen_real vn = eval(f, n, xn, &mag);
+        if (xn == x) {
+            break;
+        }
+        codegen_real nmag;
+        const codegen_real vn = eval(f, n, xn, &nmag);
         if (!(codegen_fabs(vn) < codegen_fabs(v))) {
             break;
         }
         x = xn;
         v = vn;
+        *mag = nmag;
     }
+    *value = v;
     return x;
 }
 
-/* An upper bound on |f(x)| from the compensated value (see eval: within u |f| + gamma_2n^2 of
- * the magnitude sum; gamma_2n <= 2 n eps here, and the sum's own rounding a factor 2). */
-static codegen_real real_value_bound(const codegen_real *f, int n, codegen_real x)
+/* An upper bound on |f(x)| from its compensated value v and magnitude sum mag (see eval: within
+ * u |f| + gamma_2n^2 of the magnitude sum; gamma_2n <= 2 n eps here, and the sum's own
+ * rounding a factor 2). */
+static codegen_real real_value_bound(codegen_real v, codegen_real mag, int n)
 {
-    codegen_real mag;
-    const codegen_real v = eval(f, n, x, &mag);
     const codegen_real g = CODEGEN_R(2.0) * (codegen_real)n * CODEGEN_EPSILON;
     return (codegen_fabs(v) + CODEGEN_R(2.0) * g * g * mag) * (1 + CODEGEN_R(2.0) * CODEGEN_EPSILON)
            + CODEGEN_REAL_MIN;
@@ -1045,7 +1054,9 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
         codegen_real value = -1;
         if (zi[i] == 0) { /* polished, and its value bounded, in the chart of inclusion_radius */
             const int far = codegen_fabs(zr[i]) > 1;
-            const codegen_real x = polish_real(far ? q : b, far ? dq : dp, m, far ? 1 / zr[i] : zr[i]);
+            codegen_real v, mag;
+            const codegen_real x = polish_real(far ? q : b, far ? dq : dp, m, far ? 1 / zr[i] : zr[i],
+                                               &v, &mag);
             const codegen_real moved = far ? 1 / x : x;
             codegen_real nearest = CODEGEN_HUGE;
             for (int j = 0; j < m; ++j) {
@@ -1056,7 +1067,11 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
             /* kept where it stays closer to its start than to any other centre (the two halves
              * of a double root would otherwise meet, and a disc needs distinct centres) */
             zr[i] = codegen_fabs(moved - zr[i]) < CODEGEN_R(0.25) * nearest ? moved : zr[i];
-            value = real_value_bound(far ? q : b, m, far ? 1 / zr[i] : zr[i]);
+            const codegen_real at = far ? 1 / zr[i] : zr[i];
+            if (at != x) { /* where the centre stayed, or 1 / (1 / x) is not x */
+                v = eval(far ? q : b, m, at, &mag);
+            }
+            value = real_value_bound(v, mag, m);
         }
         rad[i] = inclusion_radius(b, db, m, zr, zi, i, value);
         if (!(rad[i] < CODEGEN_HUGE) || !isfinite(zr[i]) || !isfinite(zi[i])) {
