@@ -10,9 +10,11 @@ for any N.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -80,18 +82,27 @@ def _analysis_dtype(library: Library) -> np.dtype:
 BLOCK = 1024
 
 
-def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
-          ) -> tuple[np.ndarray, np.ndarray]:
-    """The ROOT_DTYPE rows of a block of C results (sets first, first + 1, ...), and the
-    number of rows of each set."""
+def c_roots(library: Library, c: np.ndarray, statuses: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The roots of a block of C results as the C structs (a copy, in set order, then angle),
+    the index of each one's set in the block, and the number of roots of each set (0 for a
+    set that failed)."""
     counts = np.where(statuses == library.STATUS["OK"], c["n_roots"], 0)
     slots = c["roots"]
     mask = np.arange(slots.shape[1]) < counts[:, None]
     # Gathered as opaque records (one copy each), then seen as the C struct again: numpy
     # gathers a struct with padding field by field, five times slower.
     found = slots.view(np.dtype((np.void, slots.dtype.itemsize)))[mask].view(slots.dtype)
+    return found, np.nonzero(mask)[0], counts
+
+
+def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """The ROOT_DTYPE rows of a block of C results (sets first, first + 1, ...), and the
+    number of rows of each set."""
+    found, sets, counts = c_roots(library, c, statuses)
     rows = np.empty(len(found), dtype=ROOT_DTYPE)
-    rows["set"] = np.nonzero(mask)[0] + first
+    rows["set"] = sets + first
     for name in ("theta", "theta_lo", "theta_hi", "residual", "M", "B", "K", "kind"):
         rows[name] = found[name]
     extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
@@ -108,9 +119,15 @@ def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
     return rows, counts
 
 
+#: What a block of C results becomes: (the block's C results as the analysis dtype, their
+#: statuses, the index of the block's first set in the table) -> anything.
+BlockRows = Callable[[np.ndarray, np.ndarray, int], Any]
+
+
 def _analyze_range(library: Library, method: str, table: np.ndarray, statuses: np.ndarray,
-                   start: int, stop: int) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Sets start..stop-1 in blocks through one reused C results buffer (one per thread)."""
+                   start: int, stop: int, make: BlockRows) -> list[Any]:
+    """Sets start..stop-1 in blocks through one reused C results buffer (one per thread),
+    each block made into rows by ``make`` on this thread."""
     ffi, P = library.ffi, library.PREFIX
     entry = analysis.entry(library, method, batch=True)
     results = ffi.new(f"{P}_analysis[]", min(BLOCK, max(stop - start, 1)))
@@ -121,15 +138,16 @@ def _analyze_range(library: Library, method: str, table: np.ndarray, statuses: n
     for first in range(start, stop, BLOCK):
         n = min(BLOCK, stop - first)
         entry(n, c_params + first, results, c_statuses + first)
-        blocks.append(_rows(library, view[:n], statuses[first:first + n], first))
+        blocks.append(make(view[:n], statuses[first:first + n], first))
     return blocks
 
 
-def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
-                  workers: int = 1) -> Table:
-    """Every root of every parameter set of ``table`` (a params_array), by the route
-    ``method`` names, as numpy arrays (see Table); ``workers`` threads share the work, each
-    a contiguous part of the table."""
+def analyze_blocks(table: np.ndarray, library: Library, make: BlockRows, method: str = "auto",
+                   workers: int = 1) -> tuple[list[Any], np.ndarray, str]:
+    """The C analysis of every set of ``table`` (a params_array), by the route ``method``
+    names, block by block (BLOCK sets), each block's results made into rows by ``make`` on
+    the thread that analysed it: (the blocks' rows in table order, each set's status, the
+    route taken). ``workers`` threads share the work, each a contiguous part of the table."""
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer, not {workers!r}")
     taken = analysis.route(library, method)
@@ -138,14 +156,24 @@ def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
     bounds = np.linspace(0, len(table), min(workers, max(len(table), 1)) + 1).astype(int)
     parts = [(int(lo), int(hi)) for lo, hi in zip(bounds[:-1], bounds[1:])]
 
-    def run(part: tuple[int, int]) -> list[tuple[np.ndarray, np.ndarray]]:
-        return _analyze_range(library, taken, table, statuses, *part)
+    def run(part: tuple[int, int]) -> list[Any]:
+        return _analyze_range(library, taken, table, statuses, *part, make)
 
     if len(parts) == 1:
         blocks = run(parts[0])
     else:
         with ThreadPoolExecutor(len(parts)) as pool:
             blocks = [b for part in pool.map(run, parts) for b in part]
+    return blocks, statuses, taken
+
+
+def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
+                  workers: int = 1) -> Table:
+    """Every root of every parameter set of ``table`` (a params_array), by the route
+    ``method`` names, as numpy arrays (see Table); ``workers`` threads share the work, each
+    a contiguous part of the table."""
+    blocks, statuses, taken = analyze_blocks(
+        table, library, lambda c, st, first: _rows(library, c, st, first), method, workers)
     rows = np.concatenate([r for r, _ in blocks]) if blocks else np.empty(0, ROOT_DTYPE)
     counts = np.concatenate([c for _, c in blocks]) if blocks else np.empty(0, np.int64)
     return Table(rows, statuses, counts.astype(np.int64), taken)
