@@ -49,6 +49,8 @@ typedef struct bench_data {
     const params_t *params;
     const double *states;  /* theta, theta_d pairs */
     double *sigma;         /* n_sets x N_SIGMA, the library's (filled before the roots run) */
+    double *bound;         /* n_sets x N_SIGMA, a bound on each coefficient's error */
+    analysis_t *results;   /* n_sets results of _analyze (for the enclosures' pass) */
     analysis_t *analysis;  /* one result, reused */
     int repeats;           /* samples per timing */
     double min_seconds;    /* shortest sample */
@@ -171,6 +173,72 @@ static double pass_roots(const bench_data *d)
     return sum;
 }
 
+/* ---- the certificate's parts (section 1's share): what the proof adds to an analysis ---- */
+
+/* sigma by the double-double program with the running bound on each coefficient, which
+ * the analysis runs; pass_sigma_kernel is the same program without the bound. The bounded
+ * coefficients of every set are kept for pass_spans. */
+static double pass_sigma_bounds(const bench_data *d)
+{
+    static LIB(_workspace) w;
+    double sum = 0.0;
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i) {
+        LIB(_sigma_bounds_kernel_work)(&d->params[i], &d->sigma[i * N_SIGMA],
+                                       &d->bound[i * N_SIGMA], w.sigma_values, w.sigma_errors);
+        sum += d->bound[i * N_SIGMA];
+    }
+    return sum;
+}
+
+/* Every root of each polynomial in a disc, the discs that meet the axis as spans: the
+ * certified root finding the analysis runs (pass_roots: the real roots without proof). */
+static double pass_spans(const bench_data *d)
+{
+    static double work[CODEGEN_ROOTS_WORK(SIZE(_DEGREE))];
+    codegen_root_span spans[SIZE(_DEGREE)];
+    double sum = 0.0;
+    int n = 0;
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i)
+        if (codegen_poly_root_spans(&d->sigma[i * N_SIGMA], &d->bound[i * N_SIGMA], SIZE(_DEGREE),
+                                    spans, &n, work) == CODEGEN_ROOTS_OK) sum += n;
+    return sum;
+}
+
+/* The enclosures of G that decide the spans, as analyze_by_spans runs them for a simple
+ * span: on the mode of the root found there, G over the span and at its two ends; on each
+ * other mode (and on every mode for an extraneous root) G over the span alone. Run at the
+ * intervals of the results of _analyze (d->results), which is what the proof evaluates. */
+static double pass_enclosures(const bench_data *d)
+{
+    double sum = 0.0;
+    size_t i;
+    for (i = 0; i < d->n_sets; ++i) {
+        const analysis_t *r = &d->results[i];
+        int j;
+        for (j = 0; j < r->n_roots; ++j) {
+            const codegen_equilibrium *e = &r->roots[j];
+            const int proven = e->kind == CODEGEN_EQUILIBRIUM || e->kind == CODEGEN_OTHER_ASSEMBLY;
+            const unsigned own = e->kind == CODEGEN_OTHER_ASSEMBLY ? e->mode % SIZE(_N_MODES) : 0u;
+            const codegen_iv span = codegen_iv_make(e->theta_lo, e->theta_hi);
+            codegen_iv g;
+            unsigned mode, flags;
+            for (mode = 0u; mode < SIZE(_N_MODES); ++mode) {
+                (void)LIB(_enclosure_kernel)(&d->params[i], mode, span, &g, NULL, &flags);
+                sum += g.hi;
+                if (proven && mode == own) {
+                    (void)LIB(_enclosure_kernel)(&d->params[i], mode, codegen_iv_point(e->theta_lo), &g, NULL, &flags);
+                    sum += g.hi;
+                    (void)LIB(_enclosure_kernel)(&d->params[i], mode, codegen_iv_point(e->theta_hi), &g, NULL, &flags);
+                    sum += g.hi;
+                }
+            }
+        }
+    }
+    return sum;
+}
+
 /* The library's sigma of every set (NaN where it fails), then its count of real roots of
  * each (-1 where the root finder fails), as doubles. */
 static int write_roots(bench_data *d, const char *path)
@@ -249,6 +317,14 @@ int main(int argc, char **argv)
     member("sigma_max_rel_diff", sigma_difference(&d, naive_sigma), 0);
     member("sigma_fast_max_rel_diff", sigma_difference(&d, LIB(_sigma_fast_kernel)), 0);
     member("roots_ns", ns_per_item(pass_roots, &d, d.n_sets), 0);
+    d.bound = malloc(d.n_sets * N_SIGMA * sizeof(double));
+    d.results = malloc(d.n_sets * sizeof *d.results);
+    if (d.bound == NULL || d.results == NULL) return 2;
+    for (size_t i = 0; i < d.n_sets; ++i)
+        if (LIB(_analyze)(&d.params[i], &d.results[i]) != 0) d.results[i].n_roots = 0;
+    member("sigma_bounds_ns", ns_per_item(pass_sigma_bounds, &d, d.n_sets), 0);
+    member("spans_ns", ns_per_item(pass_spans, &d, d.n_sets), 0);
+    member("enclosures_ns", ns_per_item(pass_enclosures, &d, d.n_sets), 0);
 #endif
     member("checksum", checksum, 1);
     printf("}\n");

@@ -179,6 +179,19 @@ def measure(m: Mechanism, sizes: Sizes) -> dict[str, Any]:
     return result
 
 
+def certificate(t: dict[str, float]) -> float | None:
+    """us per set that the proof adds to the C analysis, from its parts timed apart: the bound
+    on sigma's coefficients (the bounded double-double program less the plain one), the discs
+    and spans of every root over an uncertified real-root finder (codegen_poly_root_spans
+    less PREFIX_poly_real_roots), and the enclosures of G that decide the spans (re-run at the
+    analysis' intervals). None without a polynomial route."""
+    keys = ("sigma_bounds_ns", "sigma_kernel_ns", "spans_ns", "roots_ns", "enclosures_ns")
+    if any(t.get(k) is None for k in keys):
+        return None
+    return ((t["sigma_bounds_ns"] - t["sigma_kernel_ns"]) + (t["spans_ns"] - t["roots_ns"])
+            + t["enclosures_ns"]) / 1e3
+
+
 def analysis_timings(m: Mechanism, c: driver.CResults, analysed: Any,
                      columns: list[np.ndarray], sizes: Sizes) -> dict[str, Any]:
     """Section 1: us per set of the C API, the Python batch API and the numpy pipeline."""
@@ -196,8 +209,11 @@ def analysis_timings(m: Mechanism, c: driver.CResults, analysed: Any,
                                  sizes.repeats) for w in (1, 2)}
     c_us = c.timings["analyze_ns"] / 1e3
     numpy_us = per_set(lambda: pipeline.analyze(m.pipeline, columns)) if m.pipeline else None
+    certificate_us = certificate(c.timings)
     return {"sets": n, "ok_sets": int((analysed.statuses == 0).sum()), "route": analysed.method,
             "c_analyze_us": c_us, "c_isolate_us": c.timings["isolate_ns"] / 1e3,
+            "certificate_us": certificate_us,
+            "certificate_share": report.ratio(certificate_us, c_us),
             "python_w1_us": python[1], "python_w2_us": python[2],
             "throughput_sets": count, "w2_over_w1_throughput": threads[1] / threads[2],
             "numpy_us": numpy_us, "numpy_over_c": report.ratio(numpy_us, c_us),
