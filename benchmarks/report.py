@@ -249,6 +249,16 @@ def fmu_table(results: dict[str, dict[str, Any]]) -> str:
                   "target <= 2x", "theta: max difference [rad]"], rows)
 
 
+def sweep_table(results: dict[str, dict[str, Any]]) -> str:
+    """Section 10: a sweep from the command line to Parquet."""
+    rows = [[f"`{name}`", f"{x['sets']:,}".replace(",", " "), str(x["workers"]), num(x["seconds"]),
+             num(x["sets_per_second"]), f"{x['rows']:,}".replace(",", " "), num(x["file_mb"]),
+             "n/a (not 10^6 sets)" if x["met"] is None else met(x["met"])]
+            for name, x in results.items()]
+    return table(["mechanism", "sets", "workers", "wall time [s]", "sets/s", "rows written",
+                  "file [MB]", "target < 10 s for 10^6 sets"], rows)
+
+
 def machine_table(info: dict[str, Any]) -> str:
     load = ", ".join(" / ".join(f"{x:.2f}" for x in info[k]) for k in ("load_before", "load_after"))
     rows = [["date", info["date"]], ["git commit", info["commit"]], ["CPU", info["cpu"]],
@@ -344,19 +354,26 @@ SECTIONS = (
      "`python -c \"fmpy.simulate_fmu(...)\"` and `mechvib simulate --out FILE.csv`), and "
      "in one process (`fmpy.simulate_fmu` on the extracted FMU against `Library.simulate`). "
      "Issue 32's target: the FMU within {fmu_target:g}x of `mechvib simulate`."),
-    ("10. Machine", ""),
+    ("10. A sweep to Parquet",
+     "`python -m codegen sweep --sample N {sweep_vary} --seed 1 --workers {sweep_workers} "
+     "--out FILE.parquet` as a whole command (a new process each run: start-up, sampling, "
+     "the analysis, the rows and the file), the median of the runs. Issue 29's target: "
+     "{sweep_target_sets} sets in under {sweep_target:g} s."),
+    ("11. Machine", ""),
 )
 
 
 def markdown(results: dict[str, dict[str, Any]], generate: dict[str, Any],
              info: dict[str, Any], config: dict[str, Any],
-             multibody: dict[str, dict[str, Any]], fmu: dict[str, dict[str, Any]]) -> str:
-    """The whole of results.md (``multibody``: section 8's results, ``fmu`` section 9's)."""
+             multibody: dict[str, dict[str, Any]], fmu: dict[str, dict[str, Any]],
+             sweep: dict[str, dict[str, Any]]) -> str:
+    """The whole of results.md (``multibody``: section 8's results, ``fmu`` section 9's,
+    ``sweep`` section 10's)."""
     tables = (analysis_table(results), kernels_table(results), roots_table(results),
               accuracy_table(results), generate_table(generate, results),
               branches_table(results),
               simulate_table(results), multibody_table(multibody), fmu_table(fmu),
-              machine_table(info))
+              sweep_table(sweep), machine_table(info))
     head = ("# `make bench` results\n\n"
             "Written by `benchmarks/run.py` (`make bench`); do not edit: run it again. "
             f"{config['sets']} parameter sets per mechanism, medians of {config['repeats']} "

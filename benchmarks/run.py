@@ -50,6 +50,7 @@ import multibody
 import pipeline
 import report
 import simulate
+import sweep_timing
 from codegen.api import load, shipped
 from codegen.runtime.library import Library
 from symbolic import Symbolic, naive_c, scalar_function, symbolic
@@ -74,12 +75,16 @@ class Sizes:
     branch_points: int   # parameter values of each branches run (section 6)
     throughput_seconds: float  # one thread's work per run when two threads are compared
     multibody_sets: int  # parameter sets per mechanism with several coordinates (section 8)
+    sweep_sets: int      # doughty sets swept from the command line (section 10)
+    sweep_repeats: int   # runs of that command; the median is reported
 
 
 FULL = Sizes(sets=200, repeats=5, states=1000, accuracy_sets=50, min_seconds=0.02,
-             generate=True, branch_points=2000, throughput_seconds=0.3, multibody_sets=20)
+             generate=True, branch_points=2000, throughput_seconds=0.3, multibody_sets=20,
+             sweep_sets=sweep_timing.TARGET_SETS, sweep_repeats=3)
 QUICK = Sizes(sets=12, repeats=3, states=100, accuracy_sets=3, min_seconds=0.002,
-              generate=False, branch_points=100, throughput_seconds=0.02, multibody_sets=3)
+              generate=False, branch_points=100, throughput_seconds=0.02, multibody_sets=3,
+              sweep_sets=10_000, sweep_repeats=1)
 
 
 @dataclass
@@ -289,6 +294,11 @@ def main(argv: list[str] | None = None) -> int:
     if "doughty" in selected:
         progress("doughty: the FMU's Co-Simulation against mechvib simulate")
         fmu_results["doughty"] = fmu.measure(load("doughty"), sizes.repeats)
+    sweep_results = {}
+    if "doughty" in selected:
+        progress(f"doughty: {sizes.sweep_sets} sets swept from the command line to Parquet")
+        sweep_results["doughty"] = sweep_timing.measure("doughty", sizes.sweep_sets,
+                                                        sizes.sweep_repeats)
     generate = time_generate(sizes.generate)
     info = {**report.machine(driver.ROOT, driver.compiler_version()),
             "cflags": " ".join(driver.CFLAGS), "load_before": load_before,
@@ -300,14 +310,17 @@ def main(argv: list[str] | None = None) -> int:
               "offset": simulate.OFFSET, "span": simulate.SPAN, "points": simulate.POINTS,
               "rtol": simulate.RTOL, "atol": simulate.ATOL, **multibody.config(),
               "fmu_span": fmu.SPAN, "fmu_step": fmu.STEP, "fmu_theta0": fmu.THETA0,
-              "fmu_target": fmu.TARGET,
+              "fmu_target": fmu.TARGET, "sweep_target": sweep_timing.TARGET,
+              "sweep_target_sets": sweep_timing.TARGET_SETS, "sweep_workers": sweep_timing.WORKERS,
+              "sweep_vary": " ".join(f"--vary {v}" for v in sweep_timing.VARY),
               "note": " (--quick: a smoke run, not for quoting)" if args.quick else ""}
-    text = report.markdown(results, generate, info, config, multibody_results, fmu_results)
+    text = report.markdown(results, generate, info, config, multibody_results, fmu_results,
+                           sweep_results)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "results.md").write_text(text)
     (args.out / "results.json").write_text(json.dumps(
         {"config": config, "machine": info, "generate": generate, "mechanisms": results,
-         "multibody": multibody_results, "fmu": fmu_results},
+         "multibody": multibody_results, "fmu": fmu_results, "sweep": sweep_results},
         indent=2) + "\n")
     print(text)
     return 0

@@ -13,8 +13,9 @@ import pytest
 from codegen.api import load, shipped
 
 RUNNER = Path(__file__).resolve().parent.parent / "benchmarks" / "run.py"
-SECTIONS = 10
+SECTIONS = 11
 FMU = 9         # the FMU's section: the paper's example only
+SWEEP = 10      # the command-line sweep's: the paper's example only
 #: Section 8 times the mechanisms with several coordinates; sections 1-7 the others.
 SEVERAL = 8
 
@@ -38,7 +39,8 @@ def test_quick_run_writes_every_section_with_every_mechanism(tmp_path):
     several = [name for name in shipped() if load(name).dof > 1]
     for number in range(1, SECTIONS):
         rows = [line for line in sections[number].splitlines() if line.startswith("| ")]
-        measured = ["doughty"] if number == FMU else several if number == SEVERAL else one
+        measured = (["doughty"] if number in (FMU, SWEEP) else several if number == SEVERAL
+                    else one)
         for name in measured:
             assert sum(f"`{name}`" in row for row in rows) == 1, (number, name)
     assert "load" in sections[SECTIONS] and "-O2" in sections[SECTIONS]
@@ -46,5 +48,7 @@ def test_quick_run_writes_every_section_with_every_mechanism(tmp_path):
     assert set(results["mechanisms"]) == set(one)
     assert set(results["multibody"]) == set(several)
     assert set(results["fmu"]) == {"doughty"} and results["fmu"]["doughty"]["theta_max_diff"] < 1e-9
+    swept = results["sweep"]["doughty"]
+    assert swept["sets"] == 10_000 and swept["rows"] >= swept["sets"] and swept["met"] is None
     for measured in results["mechanisms"].values():
         assert {"analysis", "kernels", "roots", "accuracy", "branches", "simulate"} <= set(measured)
