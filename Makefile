@@ -102,7 +102,7 @@ build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/
 	  generated/doughty/*.c generated/runtime/*.c -lm -o $@
 
 # BENCH_ARGS=--quick: a smoke run of ~40 s (the derivations dominate); `--help` lists the sizes.
-bench: venv  ## the library side by side with naive SymPy C and numpy: writes benchmarks/results.md and .json (~1-2 min)
+bench: venv  ## the library side by side with naive SymPy C and numpy: writes benchmarks/results.md and .json (~3 min)
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
 
 # The cross toolchain and QEMU: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi
