@@ -181,12 +181,14 @@ def _rows(library: Library, table: np.ndarray, statuses: np.ndarray, found: np.n
         for name, column in zip(library.PARAMETER_NAMES, parameter_columns(library)):
             rows[column] = table[name][which]
     rows["status"] = statuses[which]
-    for name in ("theta", "omega_n", "zeta", "K", "M", "B"):
-        rows[name] = np.nan
-    rows["kind"] = rows["stability"] = rows["damping"] = NO_ROOT
-    rows["certified"] = False
-    # the rows of sets with roots: exactly their roots (usually every row)
-    at = slice(None) if len(found) == len(rows) else np.repeat(kept > 0, per_set)
+    if len(found) == len(rows):   # every set has roots (usually): its rows are its roots
+        at: slice | np.ndarray = slice(None)
+    else:                         # and the rest, one rootless row each
+        for name in ("theta", "omega_n", "zeta", "K", "M", "B"):
+            rows[name] = np.nan
+        rows["kind"] = rows["stability"] = rows["damping"] = NO_ROOT
+        rows["certified"] = False
+        at = np.repeat(kept > 0, per_set)
     for name in ("theta", "kind", "K", "M", "B"):
         rows[name][at] = found[name]
     rows["certified"][at] = found["certified"] != 0
@@ -274,24 +276,30 @@ def _parts(library: Library, sets: Any, chunk: int) -> tuple[int, list[tuple[int
 
 def _local(library: Library, parts: list[tuple[int, Any]], method: analysis.Method,
            roots: Roots, workers: int) -> Iterator[np.ndarray]:
-    """Each part's rows in order. The C of the next part runs (on its threads, without the
-    GIL) while this thread makes the rows of one and the caller writes them."""
+    """Each part's rows in order. The C of the next parts runs (on threads, without the GIL)
+    while this thread hands one part's rows to the caller, who writes them. With parts
+    enough for every thread, each part runs on one thread, ``workers`` parts at once (no
+    thread then waits at the end of a part for the other's half of it); else each part is
+    split over the ``workers`` threads."""
+    whole_parts = library.dof == 1 and len(parts) >= 2 * workers
+    threads, per_part = (workers, 1) if whole_parts else (1, workers)
+
     def analyze(offset: int, table: np.ndarray) -> np.ndarray:
         if library.dof > 1:
             return table
-        return _analyzed_rows(library, table, offset, method, roots == "all", workers)
+        return _analyzed_rows(library, table, offset, method, roots == "all", per_part)
 
     def finish(offset: int, result: Future[np.ndarray]) -> np.ndarray:
         if library.dof > 1:
             return analyze_chunk(library, result.result(), offset, method, roots, workers)
         return result.result()
 
-    with ThreadPoolExecutor(1) as ahead:
+    with ThreadPoolExecutor(threads) as ahead:
         pending: deque[tuple[int, Future[np.ndarray]]] = deque()
         for offset, part in parts:
             table = _as_table(library, part if isinstance(part, np.ndarray) else part.compute())
             pending.append((offset, ahead.submit(analyze, offset, table)))
-            if len(pending) > 1:
+            if len(pending) > threads:
                 yield finish(*pending.popleft())
         while pending:
             yield finish(*pending.popleft())
