@@ -750,10 +750,28 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
         value = codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag);
     }
     codegen_real t = (codegen_real)m * (value + widen) / lead;
-    for (int j = 0; j < m; ++j) {
+    /* prod_j (f / |z_i - z_j|), f = |z_i| or 1, as the square root of the product of the
+     * squares (one square root, not m - 1) where every factor and partial product stays
+     * normal and finite, so that each operation keeps its relative rounding (the factor 2
+     * below covers them); else factor by factor */
+    const codegen_real f2 = reversed ? az * az : 1;
+    codegen_real squares = 1;
+    int normal = f2 < CODEGEN_REAL_MAX;
+    for (int j = 0; j < m && normal; ++j) {
         if (j != i) {
-            const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
-            t = t * (reversed ? az : 1) / codegen_sqrt(dr * dr + di * di);
+            const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j], d2 = dr * dr + di * di;
+            squares = squares * f2 / d2;
+            normal = d2 >= CODEGEN_REAL_MIN && squares >= CODEGEN_REAL_MIN && squares < CODEGEN_REAL_MAX;
+        }
+    }
+    if (normal) {
+        t = t * codegen_sqrt(squares);
+    } else {
+        for (int j = 0; j < m; ++j) {
+            if (j != i) {
+                const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
+                t = t * (reversed ? az : 1) / codegen_sqrt(dr * dr + di * di);
+            }
         }
     }
     t = CODEGEN_R(2.0) * (reversed ? t * az : t) + CODEGEN_REAL_MIN;
@@ -909,9 +927,13 @@ static codegen_real polish_real(const codegen_real *f, const codegen_real *df, i
         if (!(codegen_fabs(vn) < codegen_fabs(v))) {
             break;
         }
+        const int last = codegen_fabs(xn - x) <= CODEGEN_R(4.0) * CODEGEN_EPSILON * codegen_fabs(x);
         x = xn;
         v = vn;
         *mag = nmag;
+        if (last) { /* a step of a few ulps: x was already a root to rounding */
+            break;
+        }
     }
     *value = v;
     return x;
