@@ -250,6 +250,13 @@ unsigned codegen_declared_mode(const codegen_model *model, const codegen_real *c
 unsigned codegen_declared_signs(const codegen_model *model, const void *params,
                                 codegen_real theta, codegen_real *conditions);
 
+/* The sign choice a function of one angle evaluates on at theta (model->declared_signs; 0
+ * where the model declares no conditions) in *signs: CODEGEN_OK, CODEGEN_ERR_MODE_UNDECIDED
+ * where the conditions decide no choice, or no_state where a dyad has no state there.
+ * (codegen_modes.c) */
+int codegen_signs_at(const codegen_model *model, const void *params, codegen_real theta,
+                     int no_state, unsigned *signs);
+
 /* The two routes of the analysis. */
 typedef enum codegen_route {
     CODEGEN_ROUTE_DEFAULT = 0,   /* the polynomial route where there is one (completed by the

@@ -31,10 +31,9 @@ int codegen_frequency_response(const codegen_model *model, const void *params, c
             return CODEGEN_ERR_NONFINITE;
         }
     }
-    signs = model->declared_signs != NULL ? model->declared_signs(params, theta) : 0u;
-    if (signs >= (unsigned)model->n_modes) {
-        return signs == (unsigned)model->n_modes ? CODEGEN_ERR_MODE_UNDECIDED
-                                                  : model->linearisation_failure;
+    status = codegen_signs_at(model, params, theta, model->linearisation_failure, &signs);
+    if (status != CODEGEN_OK) {
+        return status;
     }
     model->linearisation(params, signs, theta, mbk);
     if (!isfinite(mbk[0]) || !isfinite(mbk[1]) || !isfinite(mbk[2])) {

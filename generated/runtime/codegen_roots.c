@@ -738,9 +738,8 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
                                      const codegen_real *zr, const codegen_real *zi, int i,
                                      codegen_real value)
 {
-    const codegen_real az = codegen_sqrt(zr[i] * zr[i] + zi[i] * zi[i]);
-    /* the chart chorner_at takes (its value is needed only where none is given) */
-    const int reversed = zr[i] * zr[i] + zi[i] * zi[i] > 1;
+    const codegen_real z2 = zr[i] * zr[i] + zi[i] * zi[i], az = codegen_sqrt(z2);
+    const int reversed = z2 > 1; /* the chart chorner_at takes (it runs only where no value is given) */
     const codegen_real ax = reversed ? 1 / az : az;
     const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
     const codegen_real lead = bound != NULL ? codegen_fabs(a[m]) - bound[m] : codegen_fabs(a[m]);

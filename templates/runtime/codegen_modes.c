@@ -85,6 +85,16 @@ unsigned codegen_declared_mode(const codegen_model *model, const codegen_real *c
     return mode;
 }
 
+int codegen_signs_at(const codegen_model *model, const void *params, codegen_real theta,
+                     int no_state, unsigned *signs)
+{
+    *signs = model->declared_signs != NULL ? model->declared_signs(params, theta) : 0u;
+    if (*signs < (unsigned)model->n_modes) {
+        return CODEGEN_OK;
+    }
+    return *signs == (unsigned)model->n_modes ? CODEGEN_ERR_MODE_UNDECIDED : no_state;
+}
+
 unsigned codegen_declared_signs(const codegen_model *model, const void *params,
                                 codegen_real theta, codegen_real *conditions)
 {

@@ -67,22 +67,6 @@ static parts parts_of(const codegen_model *model, void *simulation)
     return p;
 }
 
-/* The sign choice of the assembly roots of the mode the model declares at theta: a motion
- * stays on the one it starts on (the closed form is smooth along it until a limit
- * position, where the motion is singular anyway). model->n_modes: undecided; n_modes + 1:
- * no state there. */
-static unsigned signs_at(const codegen_model *model, const void *params, codegen_real theta)
-{
-    return model->declared_signs != NULL ? model->declared_signs(params, theta) : 0u;
-}
-
-/* The status of a state signs_at assigns no sign choice: the mode undecided, or no state. */
-static int undecided_or_none(const codegen_model *model, unsigned signs)
-{
-    return signs == (unsigned)model->n_modes ? CODEGEN_ERR_MODE_UNDECIDED
-                                             : model->acceleration_failure;
-}
-
 int codegen_simulation_start(const codegen_model *model, void *simulation, const void *params,
                              codegen_real t0, codegen_real theta0, codegen_real theta_d0,
                              const codegen_ode_options *options)
@@ -101,9 +85,11 @@ int codegen_simulation_start(const codegen_model *model, void *simulation, const
     if (!isfinite(t0) || !isfinite(theta0) || !isfinite(theta_d0)) {
         return CODEGEN_ERR_NONFINITE;
     }
-    m.signs = signs_at(model, params, theta0);
-    if (m.signs >= (unsigned)model->n_modes) {
-        return undecided_or_none(model, m.signs);
+    /* the mode the model declares at theta0: a motion stays on its sign choice (the closed
+     * form is smooth along it until a limit position, where the motion is singular anyway) */
+    status = codegen_signs_at(model, params, theta0, model->acceleration_failure, &m.signs);
+    if (status != CODEGEN_OK) {
+        return status;
     }
     p = parts_of(model, simulation);
     memcpy(p.params, params, model->params_size);
@@ -211,9 +197,9 @@ int codegen_rk4_step(const codegen_model *model, const void *params, codegen_rea
     }
     m.model = model;
     m.params = params;
-    m.signs = signs_at(model, params, theta);
-    if (m.signs >= (unsigned)model->n_modes) {
-        return undecided_or_none(model, m.signs);
+    status = codegen_signs_at(model, params, theta, model->acceleration_failure, &m.signs);
+    if (status != CODEGEN_OK) {
+        return status;
     }
     status = status_of(model, codegen_ode_rk4_step(rhs, &m, DIMENSION, 0, y, h,
                                                    work, next));
