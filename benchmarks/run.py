@@ -291,14 +291,13 @@ def main(argv: list[str] | None = None) -> int:
             multibody_results[m.name] = multibody.measure(m, sizes.repeats, sizes.min_seconds,
                                                           median_seconds)
     fmu_results = {}
+    sweep_results = {}
     if "doughty" in selected:
         progress("doughty: the FMU's Co-Simulation against mechvib simulate")
         fmu_results["doughty"] = fmu.measure(load("doughty"), sizes.repeats)
-    sweep_results = {}
-    if "doughty" in selected:
         progress(f"doughty: {sizes.sweep_sets} sets swept from the command line to Parquet")
         sweep_results["doughty"] = sweep_timing.measure("doughty", sizes.sweep_sets,
-                                                        sizes.sweep_repeats)
+                                                        sizes.sweep_repeats, median_seconds)
     generate = time_generate(sizes.generate)
     info = {**report.machine(driver.ROOT, driver.compiler_version()),
             "cflags": " ".join(driver.CFLAGS), "load_before": load_before,

@@ -27,6 +27,9 @@ from .library import Library
 NOT_CLASSIFIED = -1
 #: The mode of a root whose state the model's assembly-mode conditions place in no mode.
 UNDECIDED_MODE = -1
+#: The kind codes of an equilibrium of the declared assembly mode and of an extraneous root.
+EQUILIBRIUM = analysis.KINDS.index("equilibrium")
+EXTRANEOUS = analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
 
 ROOT_DTYPE = np.dtype([
     ("set", np.int64), ("theta", np.float64), ("theta_lo", np.float64),
@@ -51,7 +54,7 @@ class Table:
     @property
     def equilibria(self) -> np.ndarray:
         """The rows that are equilibria of the declared assembly mode."""
-        return self.roots[self.roots["kind"] == analysis.KINDS.index("equilibrium")]
+        return self.roots[self.roots["kind"] == EQUILIBRIUM]
 
 
 def _numpy_type(ffi, ctype) -> np.dtype:
@@ -105,7 +108,7 @@ def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
     rows["set"] = sets + first
     for name in ("theta", "theta_lo", "theta_hi", "residual", "M", "B", "K", "kind"):
         rows[name] = found[name]
-    extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
+    extraneous = found["kind"] == EXTRANEOUS
     for name in ("stability", "damping"):   # an extraneous root is no equilibrium: no code
         rows[name] = np.where(extraneous, NOT_CLASSIFIED, found[name])
     rows["certified"] = found["certified"] != 0

@@ -35,7 +35,7 @@ Roots = Literal["equilibria", "all"]
 
 #: Sets per chunk: a task on Dask, a progress step, a write. Small enough that a chunk's rows
 #: (~15 MB for doughty) reuse the memory of the last chunk's rather than take fresh pages
-#: from the system (a 10^6-set sweep: 11.4 s instead of 12.9 s, 2 threads).
+#: from the system.
 CHUNK = 16384
 
 #: The code of kind, stability and damping on a row without a root (a text column's null).
@@ -192,7 +192,7 @@ def _rows(library: Library, table: np.ndarray, statuses: np.ndarray, found: np.n
     for name in ("theta", "kind", "K", "M", "B"):
         rows[name][at] = found[name]
     rows["certified"][at] = found["certified"] != 0
-    extraneous = found["kind"] == analysis.KINDS.index(analysis.NOT_AN_EQUILIBRIUM)
+    extraneous = found["kind"] == batch.EXTRANEOUS
     for name in ("stability", "damping"):   # not an equilibrium: null in the file
         rows[name][at] = np.where(extraneous, NO_ROOT, found[name])
     omega, zeta = found["omega_n"], found["zeta"]   # (re, im) pairs
@@ -207,12 +207,10 @@ def _block_rows(library: Library, table: np.ndarray, offset: int, every_root: bo
     """What a block of C results becomes in a sweep whose chunk ``table`` starts at set
     ``offset``: its sets' rows, made on the thread that analysed them, straight from the C
     structs (no Table between)."""
-    equilibrium = analysis.KINDS.index("equilibrium")
-
     def make(c: np.ndarray, statuses: np.ndarray, first: int) -> np.ndarray:
         found, sets, _ = batch.c_roots(library, c, statuses)
         if not every_root:
-            keep = found["kind"] == equilibrium
+            keep = found["kind"] == batch.EQUILIBRIUM
             found, sets = found[keep], sets[keep]
         return _rows(library, table[first:first + len(c)], statuses, found, sets,
                      offset + first)
@@ -514,23 +512,9 @@ def angle_columns(library: Library) -> tuple[str, ...]:
                           if library.UNITS.get(name) == "rad")
 
 
-def in_degrees(rows: np.ndarray, angles: Sequence[str]) -> np.ndarray:
-    """rows with each column of ``angles`` it has in degrees, renamed NAME_deg (the form of
-    every angle in a file)."""
-    present = [name for name in angles if name in (rows.dtype.names or ())]
-    if not present:
-        return rows
-    names = [f"{n}_deg" if n in present else n for n in rows.dtype.names]
-    out = np.empty(len(rows), np.dtype([(new, rows.dtype[old])
-                                        for new, old in zip(names, rows.dtype.names)]))
-    for new, old in zip(names, rows.dtype.names):
-        out[new] = np.degrees(rows[old]) if old in present else rows[old]
-    return out
-
-
 def _file_columns(rows: np.ndarray, angles: Sequence[str]) -> dict[str, np.ndarray]:
     """Each column of rows as a file has it: contiguous, the columns of ``angles`` in
-    degrees as NAME_deg (as in_degrees, without copying the other columns twice)."""
+    degrees as NAME_deg (the form of every angle in a file)."""
     columns = {}
     for name in rows.dtype.names:
         if name in angles:
