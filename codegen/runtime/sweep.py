@@ -34,7 +34,7 @@ ROOTS = ("equilibria", "all")
 Roots = Literal["equilibria", "all"]
 
 #: Sets per chunk: a task on Dask, a progress step, a write. Small enough that a chunk's rows
-#: (~15 MB for doughty) reuse the memory of the last chunk's rather than take fresh pages
+#: (~15 MB at six roots a set) reuse the memory of the last chunk's rather than take fresh pages
 #: from the system.
 CHUNK = 16384
 
