@@ -512,6 +512,19 @@ def angle_columns(library: Library) -> tuple[str, ...]:
                           if library.UNITS.get(name) == "rad")
 
 
+def in_degrees(rows: np.ndarray, angles: Sequence[str]) -> np.ndarray:
+    """rows with each column of ``angles`` it has in degrees, renamed NAME_deg (the form of
+    every angle in a file, as the writer takes its columns: _file_columns)."""
+    if not any(name in angles for name in rows.dtype.names or ()):
+        return rows
+    columns = _file_columns(rows, angles)
+    out = np.empty(len(rows), np.dtype([(name, values.dtype, values.shape[1:])
+                                        for name, values in columns.items()]))
+    for name, values in columns.items():
+        out[name] = values
+    return out
+
+
 def _file_columns(rows: np.ndarray, angles: Sequence[str]) -> dict[str, np.ndarray]:
     """Each column of rows as a file has it: contiguous, the columns of ``angles`` in
     degrees as NAME_deg (the form of every angle in a file)."""
