@@ -21,7 +21,7 @@ from libraries import generated_libraries
 import sympy as sp
 
 from codegen.api import load
-from codegen.compiler.emission.interval import interval_body
+from codegen.compiler.emission.interval import inline_tail, interval_body, split_program
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
@@ -114,10 +114,12 @@ def _number(text: str) -> float:
     return float(text)
 
 
-def _run(program, values: dict[str, float]) -> list[float]:
+def _run(program, values: dict[str, float], v: dict[int, float] | None = None) -> list[float]:
     """The program executed in plain double arithmetic, slot by slot, as codegen_iv_run
-    would (a constant by its lower bound); reading a slot never written raises."""
-    v: dict[int, float] = {i: values[name] for i, name in enumerate(program.inputs)}
+    would (a constant by its lower bound), over the slots v (kept from an earlier program);
+    reading a slot never written raises."""
+    v = {} if v is None else v
+    v.update({program.first_input + i: values[name] for i, name in enumerate(program.inputs)})
     unary = {"neg": lambda a: -a, "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos}
     binary = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b,
               "mul": lambda a, b: a * b, "div": lambda a, b: a / b}
@@ -160,3 +162,44 @@ def test_an_output_read_again_by_a_later_output_keeps_its_slot():
     body = interval_body([shared, shared + sp.cos(theta) * shared], ("x",), {"theta"}, "f")
     got = _run(body.program, {"x": 1.5, "theta": 0.7})
     assert got == pytest.approx([1.5 * math.sin(0.7), 1.5 * math.sin(0.7) * (1 + math.cos(0.7))])
+
+
+def _split_example(seed: int):
+    rng = np.random.default_rng(seed)
+    x, y, theta = sp.symbols("x y theta")
+    s, c = sp.sin(theta), sp.cos(theta)
+    r = sp.sqrt(x**2 + y**2 - 2 * x * y * c)
+    g = (x**3 * y + 2) * s + r / (x * y + c) - (x - y) ** 2 * s**3 + (y / x) * c + sp.sqrt(y)
+    exprs = [g, sp.diff(g, theta)]
+    point = {"x": rng.uniform(1, 2), "y": rng.uniform(0.1, 0.9), "theta": rng.uniform(-3, 3)}
+    return interval_body(exprs, ("x", "y"), {"theta"}, "flags").program, point
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_split_program_computes_what_the_whole_one_does(seed):
+    """The head once, then the tail, over the same slots, give the whole program's numbers
+    (the same operations on the same operands); the head reads no theta and holds no
+    division or square root (their flags belong to each call); the tail is shorter."""
+    program, point = _split_example(seed)
+    split = split_program(program, {"theta"}, 3, 10)
+    v: dict[int, float] = {}
+    _run(split.head, point, v)
+    assert all(slot < 3 + split.n_fixed or slot >= 10 for slot in v)  # its own fixed slots
+    fixed = {slot: value for slot, value in v.items() if slot < 10}
+    assert _run(split.tail, point, dict(fixed)) == _run(program, point)
+    assert {op.operation for op in split.head.instructions}.isdisjoint({"div", "sqrt"})
+    assert split.n_fixed > 0
+    assert len(split.tail.instructions) < len(program.instructions)
+    moved = dict(point, theta=point["theta"] + 0.5)  # another theta, the same head
+    assert _run(split.tail, moved, dict(fixed)) == _run(program, moved)
+
+
+def test_the_inline_tail_is_the_program_tail_statement_by_statement():
+    program, _ = _split_example(0)
+    split = split_program(program, {"theta"}, 0, 20)
+    inline = inline_tail(split.tail, {"theta"}, "flags")
+    assert len(inline.statements) == sum(op.operation != "const"
+                                         for op in split.tail.instructions)
+    assert any("v[" in expr for _, expr in inline.statements)  # reads the head's values
+    assert [name for name, _ in inline.unpack] == ["x", "y"]
+    assert inline.unused == ()

@@ -1589,275 +1589,393 @@ doughty_status doughty_poly_real_roots(const codegen_real sigma[DOUGHTY_N_SIGMA]
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
- * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
- * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
- * bit either way. */
+ * inline calls, one local per operation (faster on a host: the isolation route ~15 %, but
+ * the compiler gives temporaries their own stack slots, up to ~20 KB in one frame). The
+ * same bounds bit for bit either way. The
+ * operations theta does not reach run once per parameter set (prepare_enclosures), their
+ * values kept in v[0..18). */
 
 /* G (eq. (42)-(43)) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * 104 operations; as a program, 110 instructions over 35 of the slots v. */
+ * At each theta, 88 instructions (as a program, over the slots v from 18); the 22 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_0(const doughty_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[110] = {
-        {CODEGEN_IV_COS, 10, 9, 0},
-        {CODEGEN_IV_MUL, 11, 1, 10},
-        {CODEGEN_IV_SIN, 12, 9, 0},
-        {CODEGEN_IV_POW, 9, 1, 2},
-        {CODEGEN_IV_MUL, 13, 2, 10},
-        {CODEGEN_IV_CONST, 14, 0, 0},
-        {CODEGEN_IV_MUL, 14, 14, 1},
-        {CODEGEN_IV_MUL, 15, 1, 12},
-        {CODEGEN_IV_SUB, 16, 0, 13},
-        {CODEGEN_IV_POW, 16, 16, 2},
-        {CODEGEN_IV_MUL, 17, 2, 12},
-        {CODEGEN_IV_SUB, 17, 15, 17},
-        {CODEGEN_IV_POW, 17, 17, 2},
-        {CODEGEN_IV_ADD, 17, 16, 17},
-        {CODEGEN_IV_SQRT, 16, 17, 0},
-        {CODEGEN_IV_SQRT, 18, 17, 0},
-        {CODEGEN_IV_POW, 18, 18, 3},
-        {CODEGEN_IV_POW, 19, 12, 2},
-        {CODEGEN_IV_MUL, 20, 6, 19},
-        {CODEGEN_IV_POW, 21, 2, 2},
-        {CODEGEN_IV_MUL, 21, 21, 20},
-        {CODEGEN_IV_POW, 22, 10, 2},
-        {CODEGEN_IV_MUL, 23, 20, 22},
-        {CODEGEN_IV_CONST, 24, 1, 0},
-        {CODEGEN_IV_MUL, 24, 24, 21},
-        {CODEGEN_IV_MUL, 25, 0, 13},
-        {CODEGEN_IV_MUL, 26, 9, 17},
-        {CODEGEN_IV_MUL, 27, 2, 14},
-        {CODEGEN_IV_MUL, 28, 27, 17},
-        {CODEGEN_IV_MUL, 29, 6, 22},
-        {CODEGEN_IV_MUL, 30, 9, 18},
-        {CODEGEN_IV_MUL, 31, 27, 18},
-        {CODEGEN_IV_MUL, 27, 7, 11},
-        {CODEGEN_IV_NEG, 27, 27, 0},
-        {CODEGEN_IV_MUL, 32, 1, 8},
-        {CODEGEN_IV_MUL, 32, 32, 3},
-        {CODEGEN_IV_MUL, 32, 32, 10},
-        {CODEGEN_IV_ADD, 32, 27, 32},
-        {CODEGEN_IV_CONST, 27, 2, 0},
-        {CODEGEN_IV_MUL, 27, 27, 1},
-        {CODEGEN_IV_MUL, 27, 27, 8},
-        {CODEGEN_IV_MUL, 27, 27, 4},
-        {CODEGEN_IV_MUL, 27, 27, 10},
-        {CODEGEN_IV_ADD, 27, 32, 27},
-        {CODEGEN_IV_MUL, 32, 5, 12},
-        {CODEGEN_IV_SUB, 33, 6, 16},
-        {CODEGEN_IV_MUL, 33, 32, 33},
-        {CODEGEN_IV_MUL, 32, 0, 2},
-        {CODEGEN_IV_MUL, 34, 10, 9},
-        {CODEGEN_IV_ADD, 34, 32, 34},
-        {CODEGEN_IV_MUL, 32, 13, 14},
+    static const codegen_iv_instruction program[88] = {
+        {CODEGEN_IV_COS, 28, 27, 0},
+        {CODEGEN_IV_MUL, 29, 19, 28},
+        {CODEGEN_IV_SIN, 30, 27, 0},
+        {CODEGEN_IV_MUL, 31, 20, 28},
+        {CODEGEN_IV_MUL, 33, 19, 30},
+        {CODEGEN_IV_SUB, 34, 18, 31},
+        {CODEGEN_IV_POW, 34, 34, 2},
+        {CODEGEN_IV_MUL, 35, 20, 30},
+        {CODEGEN_IV_SUB, 35, 33, 35},
+        {CODEGEN_IV_POW, 35, 35, 2},
+        {CODEGEN_IV_ADD, 35, 34, 35},
+        {CODEGEN_IV_SQRT, 34, 35, 0},
+        {CODEGEN_IV_SQRT, 36, 35, 0},
+        {CODEGEN_IV_POW, 36, 36, 3},
+        {CODEGEN_IV_POW, 37, 30, 2},
+        {CODEGEN_IV_MUL, 38, 24, 37},
+        {CODEGEN_IV_MUL, 39, 2, 38},
+        {CODEGEN_IV_POW, 40, 28, 2},
+        {CODEGEN_IV_MUL, 41, 38, 40},
+        {CODEGEN_IV_CONST, 42, 0, 0},
+        {CODEGEN_IV_MUL, 42, 42, 39},
+        {CODEGEN_IV_MUL, 43, 18, 31},
+        {CODEGEN_IV_MUL, 44, 0, 35},
+        {CODEGEN_IV_MUL, 46, 3, 35},
+        {CODEGEN_IV_MUL, 47, 24, 40},
+        {CODEGEN_IV_MUL, 48, 0, 36},
+        {CODEGEN_IV_MUL, 49, 3, 36},
+        {CODEGEN_IV_MUL, 45, 25, 29},
+        {CODEGEN_IV_NEG, 45, 45, 0},
+        {CODEGEN_IV_MUL, 50, 4, 28},
+        {CODEGEN_IV_ADD, 50, 45, 50},
+        {CODEGEN_IV_MUL, 45, 5, 28},
+        {CODEGEN_IV_ADD, 45, 50, 45},
+        {CODEGEN_IV_MUL, 50, 23, 30},
+        {CODEGEN_IV_SUB, 51, 24, 34},
+        {CODEGEN_IV_MUL, 51, 50, 51},
+        {CODEGEN_IV_MUL, 52, 28, 0},
+        {CODEGEN_IV_ADD, 52, 6, 52},
+        {CODEGEN_IV_MUL, 50, 31, 1},
+        {CODEGEN_IV_SUB, 50, 52, 50},
+        {CODEGEN_IV_MUL, 50, 51, 50},
+        {CODEGEN_IV_DIV, 50, 50, 34},
+        {CODEGEN_IV_SUB, 50, 45, 50},
+        {CODEGEN_IV_MUL, 34, 25, 33},
+        {CODEGEN_IV_MUL, 32, 7, 33},
         {CODEGEN_IV_SUB, 32, 34, 32},
-        {CODEGEN_IV_MUL, 32, 33, 32},
-        {CODEGEN_IV_DIV, 32, 32, 16},
-        {CODEGEN_IV_SUB, 32, 27, 32},
-        {CODEGEN_IV_MUL, 16, 7, 15},
-        {CODEGEN_IV_MUL, 14, 8, 3},
-        {CODEGEN_IV_MUL, 14, 14, 15},
-        {CODEGEN_IV_SUB, 14, 16, 14},
-        {CODEGEN_IV_CONST, 16, 2, 0},
-        {CODEGEN_IV_MUL, 16, 16, 8},
-        {CODEGEN_IV_MUL, 16, 16, 4},
-        {CODEGEN_IV_MUL, 16, 16, 15},
-        {CODEGEN_IV_SUB, 16, 14, 16},
-        {CODEGEN_IV_POW, 14, 0, 2},
-        {CODEGEN_IV_MUL, 14, 14, 21},
-        {CODEGEN_IV_POW, 13, 1, 4},
-        {CODEGEN_IV_MUL, 13, 13, 23},
-        {CODEGEN_IV_ADD, 13, 14, 13},
-        {CODEGEN_IV_MUL, 14, 19, 30},
-        {CODEGEN_IV_SUB, 14, 13, 14},
-        {CODEGEN_IV_MUL, 13, 19, 31},
-        {CODEGEN_IV_ADD, 13, 14, 13},
-        {CODEGEN_IV_MUL, 14, 20, 26},
-        {CODEGEN_IV_ADD, 14, 13, 14},
-        {CODEGEN_IV_MUL, 13, 20, 28},
-        {CODEGEN_IV_SUB, 13, 14, 13},
-        {CODEGEN_IV_MUL, 14, 22, 30},
-        {CODEGEN_IV_ADD, 14, 13, 14},
-        {CODEGEN_IV_MUL, 13, 22, 31},
-        {CODEGEN_IV_SUB, 13, 14, 13},
-        {CODEGEN_IV_MUL, 14, 25, 18},
-        {CODEGEN_IV_ADD, 14, 13, 14},
-        {CODEGEN_IV_MUL, 13, 26, 29},
-        {CODEGEN_IV_SUB, 13, 14, 13},
-        {CODEGEN_IV_MUL, 14, 28, 29},
-        {CODEGEN_IV_ADD, 14, 13, 14},
-        {CODEGEN_IV_MUL, 13, 0, 11},
-        {CODEGEN_IV_MUL, 13, 13, 24},
-        {CODEGEN_IV_SUB, 13, 14, 13},
-        {CODEGEN_IV_CONST, 14, 1, 0},
-        {CODEGEN_IV_POW, 12, 1, 3},
-        {CODEGEN_IV_MUL, 12, 14, 12},
-        {CODEGEN_IV_MUL, 12, 12, 2},
-        {CODEGEN_IV_MUL, 12, 12, 23},
-        {CODEGEN_IV_SUB, 12, 13, 12},
-        {CODEGEN_IV_MUL, 13, 6, 25},
-        {CODEGEN_IV_MUL, 13, 13, 17},
-        {CODEGEN_IV_SUB, 13, 12, 13},
-        {CODEGEN_IV_CONST, 12, 0, 0},
-        {CODEGEN_IV_MUL, 12, 12, 20},
-        {CODEGEN_IV_MUL, 12, 12, 25},
-        {CODEGEN_IV_MUL, 12, 12, 9},
-        {CODEGEN_IV_ADD, 12, 13, 12},
-        {CODEGEN_IV_MUL, 13, 22, 24},
-        {CODEGEN_IV_MUL, 13, 13, 9},
-        {CODEGEN_IV_ADD, 13, 12, 13},
-        {CODEGEN_IV_MUL, 13, 5, 13},
-        {CODEGEN_IV_DIV, 13, 13, 18},
-        {CODEGEN_IV_ADD, 13, 16, 13},
+        {CODEGEN_IV_MUL, 34, 8, 33},
+        {CODEGEN_IV_SUB, 34, 32, 34},
+        {CODEGEN_IV_MUL, 32, 9, 39},
+        {CODEGEN_IV_MUL, 31, 10, 41},
+        {CODEGEN_IV_ADD, 31, 32, 31},
+        {CODEGEN_IV_MUL, 32, 37, 48},
+        {CODEGEN_IV_SUB, 32, 31, 32},
+        {CODEGEN_IV_MUL, 31, 37, 49},
+        {CODEGEN_IV_ADD, 31, 32, 31},
+        {CODEGEN_IV_MUL, 32, 38, 44},
+        {CODEGEN_IV_ADD, 32, 31, 32},
+        {CODEGEN_IV_MUL, 31, 38, 46},
+        {CODEGEN_IV_SUB, 31, 32, 31},
+        {CODEGEN_IV_MUL, 32, 40, 48},
+        {CODEGEN_IV_ADD, 32, 31, 32},
+        {CODEGEN_IV_MUL, 31, 40, 49},
+        {CODEGEN_IV_SUB, 31, 32, 31},
+        {CODEGEN_IV_MUL, 32, 43, 36},
+        {CODEGEN_IV_ADD, 32, 31, 32},
+        {CODEGEN_IV_MUL, 31, 44, 47},
+        {CODEGEN_IV_SUB, 31, 32, 31},
+        {CODEGEN_IV_MUL, 32, 46, 47},
+        {CODEGEN_IV_ADD, 32, 31, 32},
+        {CODEGEN_IV_MUL, 31, 18, 29},
+        {CODEGEN_IV_MUL, 31, 31, 42},
+        {CODEGEN_IV_SUB, 31, 32, 31},
+        {CODEGEN_IV_MUL, 30, 11, 41},
+        {CODEGEN_IV_SUB, 30, 31, 30},
+        {CODEGEN_IV_MUL, 31, 24, 43},
+        {CODEGEN_IV_MUL, 31, 31, 35},
+        {CODEGEN_IV_SUB, 31, 30, 31},
+        {CODEGEN_IV_CONST, 30, 1, 0},
+        {CODEGEN_IV_MUL, 30, 30, 38},
+        {CODEGEN_IV_MUL, 30, 30, 43},
+        {CODEGEN_IV_MUL, 30, 30, 0},
+        {CODEGEN_IV_ADD, 30, 31, 30},
+        {CODEGEN_IV_MUL, 31, 40, 42},
+        {CODEGEN_IV_MUL, 31, 31, 0},
+        {CODEGEN_IV_ADD, 31, 30, 31},
+        {CODEGEN_IV_MUL, 31, 23, 31},
+        {CODEGEN_IV_DIV, 31, 31, 36},
+        {CODEGEN_IV_ADD, 31, 34, 31},
     };
-    static const codegen_iv constants[3] = {
-        {2, 2},
+    static const codegen_iv constants[2] = {
         {4, 4},
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        {2, 2}
     };
-    v[0] = codegen_iv_point(params->H);
-    v[1] = codegen_iv_point(params->L);
-    v[2] = codegen_iv_point(params->a);
-    v[3] = codegen_iv_point(params->m_B);
-    v[4] = codegen_iv_point(params->m_C);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_ND);
-    v[7] = codegen_iv_point(params->F);
-    v[8] = codegen_iv_point(params->g);
-    v[9] = theta;
-    codegen_iv_run(program, 110, constants, v, iv_flags);
-    *iv_g = v[32];
-    *iv_dg = v[13];
+    v[18] = codegen_iv_point(params->H);
+    v[19] = codegen_iv_point(params->L);
+    v[20] = codegen_iv_point(params->a);
+    v[23] = codegen_iv_point(params->k);
+    v[24] = codegen_iv_point(params->l_ND);
+    v[25] = codegen_iv_point(params->F);
+    v[27] = theta;
+    codegen_iv_run(program, 88, constants, v, iv_flags);
+    *iv_g = v[50];
+    *iv_dg = v[31];
 #else
-    (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
     const codegen_iv a = codegen_iv_point(params->a);
-    const codegen_iv m_B = codegen_iv_point(params->m_B);
-    const codegen_iv m_C = codegen_iv_point(params->m_C);
     const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_ND = codegen_iv_point(params->l_ND);
     const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(L, tmp0);
     const codegen_iv tmp2 = codegen_iv_sin(theta);
-    const codegen_iv tmp3 = codegen_iv_pow(L, 2);
-    const codegen_iv tmp4 = codegen_iv_mul(a, tmp0);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), L);
-    const codegen_iv tmp6 = codegen_iv_mul(L, tmp2);
-    const codegen_iv tmp7 = codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp4), 2), codegen_iv_pow(codegen_iv_sub(tmp6, codegen_iv_mul(a, tmp2)), 2));
-    const codegen_iv tmp8 = codegen_iv_sqrt(tmp7, iv_flags);
-    const codegen_iv tmp9 = codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 3);
-    const codegen_iv tmp10 = codegen_iv_pow(tmp2, 2);
-    const codegen_iv tmp11 = codegen_iv_mul(l_ND, tmp10);
-    const codegen_iv tmp12 = codegen_iv_mul(codegen_iv_pow(a, 2), tmp11);
-    const codegen_iv tmp13 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp14 = codegen_iv_mul(tmp11, tmp13);
-    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(4), tmp12);
-    const codegen_iv tmp16 = codegen_iv_mul(H, tmp4);
-    const codegen_iv tmp17 = codegen_iv_mul(tmp3, tmp7);
-    const codegen_iv tmp18 = codegen_iv_mul(a, tmp5);
-    const codegen_iv tmp19 = codegen_iv_mul(tmp18, tmp7);
-    const codegen_iv tmp20 = codegen_iv_mul(l_ND, tmp13);
-    const codegen_iv tmp21 = codegen_iv_mul(tmp3, tmp9);
-    const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp9);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(F, tmp1)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp2), codegen_iv_sub(l_ND, tmp8)), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(H, a), codegen_iv_mul(tmp0, tmp3)), codegen_iv_mul(tmp4, tmp5))), tmp8, iv_flags));
-    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(F, tmp6), codegen_iv_mul(codegen_iv_mul(g, m_B), tmp6)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_C), tmp6)), codegen_iv_div(codegen_iv_mul(k, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_mul(codegen_iv_pow(H, 2), tmp12), codegen_iv_mul(codegen_iv_pow(L, 4), tmp14)), codegen_iv_mul(tmp10, tmp21)), codegen_iv_mul(tmp10, tmp22)), codegen_iv_mul(tmp11, tmp17)), codegen_iv_mul(tmp11, tmp19)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp22)), codegen_iv_mul(tmp16, tmp9)), codegen_iv_mul(tmp17, tmp20)), codegen_iv_mul(tmp19, tmp20)), codegen_iv_mul(codegen_iv_mul(H, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), codegen_iv_pow(L, 3)), a), tmp14)), codegen_iv_mul(codegen_iv_mul(l_ND, tmp16), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp11), tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp15), tmp3))), tmp9, iv_flags));
+    const codegen_iv tmp3 = codegen_iv_mul(a, tmp0);
+    const codegen_iv tmp4 = codegen_iv_mul(L, tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(H, tmp3);
+    const codegen_iv tmp6 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp7 = codegen_iv_mul(a, tmp2);
+    const codegen_iv tmp8 = codegen_iv_sub(tmp4, tmp7);
+    const codegen_iv tmp9 = codegen_iv_pow(tmp8, 2);
+    const codegen_iv tmp10 = codegen_iv_add(tmp6, tmp9);
+    const codegen_iv tmp11 = codegen_iv_sqrt(tmp10, iv_flags);
+    const codegen_iv tmp12 = codegen_iv_sqrt(tmp10, iv_flags);
+    const codegen_iv tmp13 = codegen_iv_pow(tmp12, 3);
+    const codegen_iv tmp14 = codegen_iv_pow(tmp2, 2);
+    const codegen_iv tmp15 = codegen_iv_mul(l_ND, tmp14);
+    const codegen_iv tmp16 = codegen_iv_mul(v[2], tmp15);
+    const codegen_iv tmp17 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp15, tmp17);
+    const codegen_iv tmp20 = codegen_iv_mul(codegen_iv_point(4), tmp16);
+    const codegen_iv tmp21 = codegen_iv_mul(H, tmp3);
+    const codegen_iv tmp22 = codegen_iv_mul(v[0], tmp10);
+    const codegen_iv tmp23 = codegen_iv_mul(v[3], tmp10);
+    const codegen_iv tmp24 = codegen_iv_mul(l_ND, tmp17);
+    const codegen_iv tmp25 = codegen_iv_mul(v[0], tmp13);
+    const codegen_iv tmp26 = codegen_iv_mul(v[3], tmp13);
+    const codegen_iv tmp27 = codegen_iv_mul(F, tmp1);
+    const codegen_iv tmp28 = codegen_iv_neg(tmp27);
+    const codegen_iv tmp29 = codegen_iv_mul(v[4], tmp0);
+    const codegen_iv tmp30 = codegen_iv_add(tmp28, tmp29);
+    const codegen_iv tmp31 = codegen_iv_mul(v[5], tmp0);
+    const codegen_iv tmp32 = codegen_iv_add(tmp30, tmp31);
+    const codegen_iv tmp33 = codegen_iv_mul(k, tmp2);
+    const codegen_iv tmp34 = codegen_iv_sub(l_ND, tmp11);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp33, tmp34);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp0, v[0]);
+    const codegen_iv tmp37 = codegen_iv_add(v[6], tmp36);
+    const codegen_iv tmp38 = codegen_iv_mul(tmp3, v[1]);
+    const codegen_iv tmp39 = codegen_iv_sub(tmp37, tmp38);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp35, tmp39);
+    const codegen_iv tmp41 = codegen_iv_div(tmp40, tmp11, iv_flags);
+    const codegen_iv tmp42 = codegen_iv_sub(tmp32, tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(F, tmp4);
+    const codegen_iv tmp44 = codegen_iv_mul(v[7], tmp4);
+    const codegen_iv tmp45 = codegen_iv_sub(tmp43, tmp44);
+    const codegen_iv tmp46 = codegen_iv_mul(v[8], tmp4);
+    const codegen_iv tmp47 = codegen_iv_sub(tmp45, tmp46);
+    const codegen_iv tmp48 = codegen_iv_mul(v[9], tmp16);
+    const codegen_iv tmp49 = codegen_iv_mul(v[10], tmp18);
+    const codegen_iv tmp50 = codegen_iv_add(tmp48, tmp49);
+    const codegen_iv tmp51 = codegen_iv_mul(tmp14, tmp25);
+    const codegen_iv tmp52 = codegen_iv_sub(tmp50, tmp51);
+    const codegen_iv tmp53 = codegen_iv_mul(tmp14, tmp26);
+    const codegen_iv tmp54 = codegen_iv_add(tmp52, tmp53);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp15, tmp22);
+    const codegen_iv tmp56 = codegen_iv_add(tmp54, tmp55);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp15, tmp23);
+    const codegen_iv tmp58 = codegen_iv_sub(tmp56, tmp57);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp17, tmp25);
+    const codegen_iv tmp60 = codegen_iv_add(tmp58, tmp59);
+    const codegen_iv tmp61 = codegen_iv_mul(tmp17, tmp26);
+    const codegen_iv tmp62 = codegen_iv_sub(tmp60, tmp61);
+    const codegen_iv tmp63 = codegen_iv_mul(tmp21, tmp13);
+    const codegen_iv tmp64 = codegen_iv_add(tmp62, tmp63);
+    const codegen_iv tmp65 = codegen_iv_mul(tmp22, tmp24);
+    const codegen_iv tmp66 = codegen_iv_sub(tmp64, tmp65);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp23, tmp24);
+    const codegen_iv tmp68 = codegen_iv_add(tmp66, tmp67);
+    const codegen_iv tmp69 = codegen_iv_mul(H, tmp1);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp69, tmp20);
+    const codegen_iv tmp71 = codegen_iv_sub(tmp68, tmp70);
+    const codegen_iv tmp72 = codegen_iv_mul(v[11], tmp18);
+    const codegen_iv tmp73 = codegen_iv_sub(tmp71, tmp72);
+    const codegen_iv tmp74 = codegen_iv_mul(l_ND, tmp21);
+    const codegen_iv tmp75 = codegen_iv_mul(tmp74, tmp10);
+    const codegen_iv tmp76 = codegen_iv_sub(tmp73, tmp75);
+    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_point(2), tmp15);
+    const codegen_iv tmp79 = codegen_iv_mul(tmp78, tmp21);
+    const codegen_iv tmp80 = codegen_iv_mul(tmp79, v[0]);
+    const codegen_iv tmp81 = codegen_iv_add(tmp76, tmp80);
+    const codegen_iv tmp82 = codegen_iv_mul(tmp17, tmp20);
+    const codegen_iv tmp83 = codegen_iv_mul(tmp82, v[0]);
+    const codegen_iv tmp84 = codegen_iv_add(tmp81, tmp83);
+    const codegen_iv tmp85 = codegen_iv_mul(k, tmp84);
+    const codegen_iv tmp86 = codegen_iv_div(tmp85, tmp13, iv_flags);
+    const codegen_iv tmp87 = codegen_iv_add(tmp47, tmp86);
+    *iv_g = tmp42;
+    *iv_dg = tmp87;
 #endif
 }
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 36 operations; as a program, 38 instructions over 17 of the slots v. */
+ * At each theta, 27 instructions (as a program, over the slots v from 18); the 11 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const doughty_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[38] = {
-        {CODEGEN_IV_COS, 10, 9, 0},
-        {CODEGEN_IV_SIN, 11, 9, 0},
-        {CODEGEN_IV_MUL, 9, 2, 10},
-        {CODEGEN_IV_SUB, 12, 0, 9},
-        {CODEGEN_IV_POW, 12, 12, 2},
-        {CODEGEN_IV_MUL, 13, 1, 11},
-        {CODEGEN_IV_MUL, 14, 2, 11},
-        {CODEGEN_IV_SUB, 14, 13, 14},
-        {CODEGEN_IV_POW, 14, 14, 2},
-        {CODEGEN_IV_ADD, 14, 12, 14},
-        {CODEGEN_IV_SQRT, 14, 14, 0},
-        {CODEGEN_IV_MUL, 12, 7, 1},
-        {CODEGEN_IV_MUL, 12, 12, 10},
-        {CODEGEN_IV_NEG, 12, 12, 0},
-        {CODEGEN_IV_MUL, 13, 1, 8},
-        {CODEGEN_IV_MUL, 13, 13, 3},
-        {CODEGEN_IV_MUL, 13, 13, 10},
-        {CODEGEN_IV_ADD, 13, 12, 13},
-        {CODEGEN_IV_CONST, 12, 0, 0},
-        {CODEGEN_IV_MUL, 12, 12, 1},
-        {CODEGEN_IV_MUL, 12, 12, 8},
-        {CODEGEN_IV_MUL, 12, 12, 4},
-        {CODEGEN_IV_MUL, 12, 12, 10},
-        {CODEGEN_IV_ADD, 12, 13, 12},
-        {CODEGEN_IV_MUL, 13, 5, 11},
-        {CODEGEN_IV_SUB, 15, 6, 14},
-        {CODEGEN_IV_MUL, 15, 13, 15},
-        {CODEGEN_IV_MUL, 13, 0, 2},
-        {CODEGEN_IV_CONST, 16, 1, 0},
-        {CODEGEN_IV_MUL, 16, 16, 1},
-        {CODEGEN_IV_MUL, 16, 16, 9},
-        {CODEGEN_IV_SUB, 16, 13, 16},
-        {CODEGEN_IV_POW, 13, 1, 2},
-        {CODEGEN_IV_MUL, 13, 13, 10},
-        {CODEGEN_IV_ADD, 13, 16, 13},
-        {CODEGEN_IV_MUL, 13, 15, 13},
-        {CODEGEN_IV_DIV, 13, 13, 14},
-        {CODEGEN_IV_SUB, 13, 12, 13},
+    static const codegen_iv_instruction program[27] = {
+        {CODEGEN_IV_COS, 28, 27, 0},
+        {CODEGEN_IV_SIN, 29, 27, 0},
+        {CODEGEN_IV_MUL, 27, 20, 28},
+        {CODEGEN_IV_SUB, 30, 18, 27},
+        {CODEGEN_IV_POW, 30, 30, 2},
+        {CODEGEN_IV_MUL, 31, 19, 29},
+        {CODEGEN_IV_MUL, 32, 20, 29},
+        {CODEGEN_IV_SUB, 32, 31, 32},
+        {CODEGEN_IV_POW, 32, 32, 2},
+        {CODEGEN_IV_ADD, 32, 30, 32},
+        {CODEGEN_IV_SQRT, 32, 32, 0},
+        {CODEGEN_IV_MUL, 30, 12, 28},
+        {CODEGEN_IV_NEG, 30, 30, 0},
+        {CODEGEN_IV_MUL, 31, 13, 28},
+        {CODEGEN_IV_ADD, 31, 30, 31},
+        {CODEGEN_IV_MUL, 30, 14, 28},
+        {CODEGEN_IV_ADD, 30, 31, 30},
+        {CODEGEN_IV_MUL, 31, 23, 29},
+        {CODEGEN_IV_SUB, 33, 24, 32},
+        {CODEGEN_IV_MUL, 33, 31, 33},
+        {CODEGEN_IV_MUL, 34, 16, 27},
+        {CODEGEN_IV_SUB, 34, 15, 34},
+        {CODEGEN_IV_MUL, 31, 17, 28},
+        {CODEGEN_IV_ADD, 31, 34, 31},
+        {CODEGEN_IV_MUL, 31, 33, 31},
+        {CODEGEN_IV_DIV, 31, 31, 32},
+        {CODEGEN_IV_SUB, 31, 30, 31},
     };
-    static const codegen_iv constants[2] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
-        {2, 2}
-    };
-    v[0] = codegen_iv_point(params->H);
-    v[1] = codegen_iv_point(params->L);
-    v[2] = codegen_iv_point(params->a);
-    v[3] = codegen_iv_point(params->m_B);
-    v[4] = codegen_iv_point(params->m_C);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_ND);
-    v[7] = codegen_iv_point(params->F);
-    v[8] = codegen_iv_point(params->g);
-    v[9] = theta;
-    codegen_iv_run(program, 38, constants, v, iv_flags);
-    *iv_g = v[13];
+    v[18] = codegen_iv_point(params->H);
+    v[19] = codegen_iv_point(params->L);
+    v[20] = codegen_iv_point(params->a);
+    v[23] = codegen_iv_point(params->k);
+    v[24] = codegen_iv_point(params->l_ND);
+    v[27] = theta;
+    codegen_iv_run(program, 27, NULL, v, iv_flags);
+    *iv_g = v[31];
 #else
-    (void)v;
     const codegen_iv H = codegen_iv_point(params->H);
     const codegen_iv L = codegen_iv_point(params->L);
     const codegen_iv a = codegen_iv_point(params->a);
-    const codegen_iv m_B = codegen_iv_point(params->m_B);
-    const codegen_iv m_C = codegen_iv_point(params->m_C);
     const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_ND = codegen_iv_point(params->l_ND);
-    const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_sin(theta);
     const codegen_iv tmp2 = codegen_iv_mul(a, tmp0);
-    const codegen_iv tmp3 = codegen_iv_sqrt(codegen_iv_add(codegen_iv_pow(codegen_iv_sub(H, tmp2), 2), codegen_iv_pow(codegen_iv_sub(codegen_iv_mul(L, tmp1), codegen_iv_mul(a, tmp1)), 2)), iv_flags);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(F, L), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(L, g), m_B), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), L), g), m_C), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp1), codegen_iv_sub(l_ND, tmp3)), codegen_iv_add(codegen_iv_sub(codegen_iv_mul(H, a), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), L), tmp2)), codegen_iv_mul(codegen_iv_pow(L, 2), tmp0))), tmp3, iv_flags));
+    const codegen_iv tmp3 = codegen_iv_sub(H, tmp2);
+    const codegen_iv tmp4 = codegen_iv_pow(tmp3, 2);
+    const codegen_iv tmp5 = codegen_iv_mul(L, tmp1);
+    const codegen_iv tmp6 = codegen_iv_mul(a, tmp1);
+    const codegen_iv tmp7 = codegen_iv_sub(tmp5, tmp6);
+    const codegen_iv tmp8 = codegen_iv_pow(tmp7, 2);
+    const codegen_iv tmp9 = codegen_iv_add(tmp4, tmp8);
+    const codegen_iv tmp10 = codegen_iv_sqrt(tmp9, iv_flags);
+    const codegen_iv tmp11 = codegen_iv_mul(v[12], tmp0);
+    const codegen_iv tmp12 = codegen_iv_neg(tmp11);
+    const codegen_iv tmp13 = codegen_iv_mul(v[13], tmp0);
+    const codegen_iv tmp14 = codegen_iv_add(tmp12, tmp13);
+    const codegen_iv tmp15 = codegen_iv_mul(v[14], tmp0);
+    const codegen_iv tmp16 = codegen_iv_add(tmp14, tmp15);
+    const codegen_iv tmp17 = codegen_iv_mul(k, tmp1);
+    const codegen_iv tmp18 = codegen_iv_sub(l_ND, tmp10);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp17, tmp18);
+    const codegen_iv tmp20 = codegen_iv_mul(v[16], tmp2);
+    const codegen_iv tmp21 = codegen_iv_sub(v[15], tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(v[17], tmp0);
+    const codegen_iv tmp23 = codegen_iv_add(tmp21, tmp22);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp19, tmp23);
+    const codegen_iv tmp25 = codegen_iv_div(tmp24, tmp10, iv_flags);
+    const codegen_iv tmp26 = codegen_iv_sub(tmp16, tmp25);
+    *iv_g = tmp26;
 #endif
 }
 
 
-doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsigned mode,
-                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                            unsigned *flags,
-                                            codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS])
+/* The operations of every enclosure above that theta does not reach (of the parameters
+ * alone), into v[0..18): no division or square root among them, which raise flags
+ * (those wait for theta, so that each enclosure's flags are its own). */
+static void prepare_enclosures(const doughty_params *params, codegen_iv *v)
+{
+    unsigned flags = 0u;
+    { /* enclose_mode_0 */
+        static const codegen_iv_instruction program[22] = {
+            {CODEGEN_IV_POW, 0, 19, 2},
+            {CODEGEN_IV_CONST, 32, 0, 0},
+            {CODEGEN_IV_MUL, 1, 32, 19},
+            {CODEGEN_IV_POW, 2, 20, 2},
+            {CODEGEN_IV_MUL, 3, 20, 1},
+            {CODEGEN_IV_MUL, 50, 19, 26},
+            {CODEGEN_IV_MUL, 4, 50, 21},
+            {CODEGEN_IV_CONST, 45, 1, 0},
+            {CODEGEN_IV_MUL, 45, 45, 19},
+            {CODEGEN_IV_MUL, 45, 45, 26},
+            {CODEGEN_IV_MUL, 5, 45, 22},
+            {CODEGEN_IV_MUL, 6, 18, 20},
+            {CODEGEN_IV_MUL, 7, 26, 21},
+            {CODEGEN_IV_CONST, 34, 1, 0},
+            {CODEGEN_IV_MUL, 34, 34, 26},
+            {CODEGEN_IV_MUL, 8, 34, 22},
+            {CODEGEN_IV_POW, 9, 18, 2},
+            {CODEGEN_IV_POW, 10, 19, 4},
+            {CODEGEN_IV_CONST, 32, 2, 0},
+            {CODEGEN_IV_POW, 30, 19, 3},
+            {CODEGEN_IV_MUL, 30, 32, 30},
+            {CODEGEN_IV_MUL, 11, 30, 20},
+        };
+        static const codegen_iv constants[3] = {
+            {2, 2},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {4, 4}
+        };
+        v[18] = codegen_iv_point(params->H);
+        v[19] = codegen_iv_point(params->L);
+        v[20] = codegen_iv_point(params->a);
+        v[21] = codegen_iv_point(params->m_B);
+        v[22] = codegen_iv_point(params->m_C);
+        v[26] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 22, constants, v, &flags);
+    }
+    { /* enclose_value_mode_0 */
+        static const codegen_iv_instruction program[11] = {
+            {CODEGEN_IV_MUL, 12, 25, 19},
+            {CODEGEN_IV_MUL, 31, 19, 26},
+            {CODEGEN_IV_MUL, 13, 31, 21},
+            {CODEGEN_IV_CONST, 30, 0, 0},
+            {CODEGEN_IV_MUL, 30, 30, 19},
+            {CODEGEN_IV_MUL, 30, 30, 26},
+            {CODEGEN_IV_MUL, 14, 30, 22},
+            {CODEGEN_IV_MUL, 15, 18, 20},
+            {CODEGEN_IV_CONST, 34, 1, 0},
+            {CODEGEN_IV_MUL, 16, 34, 19},
+            {CODEGEN_IV_POW, 17, 19, 2},
+        };
+        static const codegen_iv constants[2] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {2, 2}
+        };
+        v[18] = codegen_iv_point(params->H);
+        v[19] = codegen_iv_point(params->L);
+        v[20] = codegen_iv_point(params->a);
+        v[21] = codegen_iv_point(params->m_B);
+        v[22] = codegen_iv_point(params->m_C);
+        v[25] = codegen_iv_point(params->F);
+        v[26] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 11, constants, v, &flags);
+    }
+    (void)params;
+    (void)flags;
+}
+
+doughty_status doughty_enclosure_prepare(const doughty_params *params,
+                                        codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return DOUGHTY_OK;
+}
+
+doughty_status doughty_enclosure_kernel_prepared(const doughty_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
@@ -1871,6 +1989,15 @@ doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsig
     default:
         return DOUGHTY_ERR_ARGUMENT;
     }
+}
+
+doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return doughty_enclosure_kernel_prepared(params, mode, theta, g, dg, flags, slots);
 }
 
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,

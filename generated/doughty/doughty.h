@@ -40,7 +40,7 @@ extern "C" {
 #define DOUGHTY_N_REDUCED 3
 #define DOUGHTY_N_ROOTS 1
 #define DOUGHTY_N_SIGMA 13
-#define DOUGHTY_ENCLOSURE_SLOTS 35 /* the interval programs' slots */
+#define DOUGHTY_ENCLOSURE_SLOTS 53 /* the interval programs' slots (18 kept per parameter set) */
 #define DOUGHTY_SIGMA_VALUES 24 /* its double-double program's values */
 
 /* Status codes: DOUGHTY_OK is zero; doughty_status_message() explains the others. */

@@ -162,5 +162,14 @@ doughty_status doughty_enclosure_kernel_work(const doughty_params *params, unsig
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                             unsigned *flags,
                                             codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS]);
+/* The enclosures' operations that theta does not reach, for these parameters, into slots:
+ * once per parameter set, before any number of _enclosure_kernel_prepared calls on the same
+ * parameters and slots (_enclosure_kernel_work is the two together). */
+doughty_status doughty_enclosure_prepare(const doughty_params *params,
+                                        codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS]);
+doughty_status doughty_enclosure_kernel_prepared(const doughty_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[DOUGHTY_ENCLOSURE_SLOTS]);
 
 #endif /* DOUGHTY_KERNELS_H */

@@ -27,13 +27,21 @@ static void equilibrium_branches(const void *params, codegen_real theta, codegen
     doughty_equilibrium_branches_kernel((const doughty_params *)params, theta, out);
 }
 
-/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+/* The enclosures of G and G' as codegen_isolate and the analysis call them, after
+ * prepare_enclosure. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
     const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
-    return (int)doughty_enclosure_kernel_work((const doughty_params *)c->params, mode, theta,
-                                                g, dg, flags, c->slots);
+    return (int)doughty_enclosure_kernel_prepared((const doughty_params *)c->params, mode,
+                                                    theta, g, dg, flags, c->slots);
+}
+
+/* What enclose needs of the parameters alone, once per analysis. */
+static void prepare_enclosure(const void *context)
+{
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    (void)doughty_enclosure_prepare((const doughty_params *)c->params, c->slots);
 }
 
 static int sigma(const void *params, codegen_real *out, codegen_real *bound, void *values,
@@ -106,6 +114,7 @@ static const codegen_model model = {
     .equilibrium_state = equilibrium_state,
     .equilibrium_branches = equilibrium_branches,
     .enclose = enclose,
+    .prepare_enclosure = prepare_enclosure,
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,

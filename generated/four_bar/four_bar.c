@@ -9730,3174 +9730,4656 @@ four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIG
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
- * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
- * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
- * bit either way. */
+ * inline calls, one local per operation (faster on a host: the isolation route ~15 %, but
+ * the compiler gives temporaries their own stack slots, up to ~20 KB in one frame). The
+ * same bounds bit for bit either way. The
+ * operations theta does not reach run once per parameter set (prepare_enclosures), their
+ * values kept in v[0..280). */
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * 727 operations; as a program, 832 instructions over 127 of the slots v. */
+ * At each theta, 664 instructions (as a program, over the slots v from 280); the 168 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_0(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[832] = {
-        {CODEGEN_IV_COS, 14, 13, 0},
-        {CODEGEN_IV_POW, 15, 1, 2},
-        {CODEGEN_IV_POW, 16, 0, 2},
-        {CODEGEN_IV_MUL, 17, 1, 14},
-        {CODEGEN_IV_MUL, 18, 0, 17},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 18},
-        {CODEGEN_IV_ADD, 20, 15, 16},
-        {CODEGEN_IV_SUB, 20, 20, 19},
-        {CODEGEN_IV_CONST, 21, 1, 0},
-        {CODEGEN_IV_POW, 22, 20, 2},
-        {CODEGEN_IV_DIV, 22, 21, 22},
-        {CODEGEN_IV_CONST, 21, 1, 0},
-        {CODEGEN_IV_POW, 23, 20, 1},
-        {CODEGEN_IV_DIV, 23, 21, 23},
-        {CODEGEN_IV_POW, 21, 0, 3},
-        {CODEGEN_IV_POW, 24, 3, 2},
-        {CODEGEN_IV_MUL, 25, 0, 9},
-        {CODEGEN_IV_MUL, 26, 15, 24},
-        {CODEGEN_IV_POW, 27, 9, 2},
-        {CODEGEN_IV_POW, 28, 10, 2},
-        {CODEGEN_IV_POW, 29, 2, 2},
-        {CODEGEN_IV_MUL, 30, 29, 16},
-        {CODEGEN_IV_MUL, 31, 1, 21},
-        {CODEGEN_IV_MUL, 32, 14, 31},
-        {CODEGEN_IV_MUL, 33, 15, 25},
-        {CODEGEN_IV_POW, 34, 1, 3},
-        {CODEGEN_IV_MUL, 35, 14, 34},
-        {CODEGEN_IV_MUL, 36, 0, 35},
-        {CODEGEN_IV_MUL, 37, 35, 9},
-        {CODEGEN_IV_SIN, 38, 13, 0},
-        {CODEGEN_IV_MUL, 13, 34, 38},
-        {CODEGEN_IV_MUL, 39, 13, 10},
-        {CODEGEN_IV_MUL, 40, 17, 9},
-        {CODEGEN_IV_MUL, 41, 29, 40},
-        {CODEGEN_IV_MUL, 42, 1, 38},
-        {CODEGEN_IV_MUL, 43, 42, 10},
-        {CODEGEN_IV_MUL, 44, 29, 43},
-        {CODEGEN_IV_MUL, 45, 16, 40},
-        {CODEGEN_IV_MUL, 46, 29, 18},
-        {CODEGEN_IV_MUL, 47, 24, 18},
-        {CODEGEN_IV_MUL, 18, 24, 40},
-        {CODEGEN_IV_MUL, 48, 24, 43},
-        {CODEGEN_IV_MUL, 49, 27, 19},
-        {CODEGEN_IV_MUL, 50, 28, 19},
-        {CODEGEN_IV_MUL, 51, 16, 43},
-        {CODEGEN_IV_POW, 52, 14, 2},
-        {CODEGEN_IV_CONST, 53, 0, 0},
-        {CODEGEN_IV_MUL, 53, 53, 52},
-        {CODEGEN_IV_MUL, 54, 0, 10},
-        {CODEGEN_IV_MUL, 55, 14, 15},
-        {CODEGEN_IV_MUL, 56, 38, 55},
-        {CODEGEN_IV_CONST, 57, 0, 0},
-        {CODEGEN_IV_MUL, 57, 57, 16},
-        {CODEGEN_IV_MUL, 58, 15, 52},
-        {CODEGEN_IV_CONST, 59, 0, 0},
-        {CODEGEN_IV_MUL, 59, 59, 2},
-        {CODEGEN_IV_MUL, 59, 59, 3},
-        {CODEGEN_IV_SUB, 3, 15, 24},
-        {CODEGEN_IV_SUB, 3, 3, 29},
-        {CODEGEN_IV_ADD, 3, 3, 16},
-        {CODEGEN_IV_SUB, 3, 3, 59},
-        {CODEGEN_IV_SUB, 3, 3, 19},
-        {CODEGEN_IV_NEG, 2, 24, 0},
-        {CODEGEN_IV_SUB, 2, 2, 29},
-        {CODEGEN_IV_ADD, 2, 2, 59},
-        {CODEGEN_IV_ADD, 2, 2, 20},
-        {CODEGEN_IV_MUL, 59, 3, 2},
-        {CODEGEN_IV_NEG, 60, 59, 0},
-        {CODEGEN_IV_SQRT, 60, 60, 0},
-        {CODEGEN_IV_MUL, 61, 0, 42},
-        {CODEGEN_IV_MUL, 62, 60, 61},
-        {CODEGEN_IV_MUL, 63, 17, 10},
-        {CODEGEN_IV_MUL, 17, 60, 63},
-        {CODEGEN_IV_MUL, 64, 42, 9},
-        {CODEGEN_IV_MUL, 65, 60, 64},
-        {CODEGEN_IV_ADD, 66, 26, 30},
-        {CODEGEN_IV_ADD, 66, 66, 32},
-        {CODEGEN_IV_SUB, 66, 66, 33},
-        {CODEGEN_IV_ADD, 66, 66, 36},
-        {CODEGEN_IV_SUB, 66, 66, 37},
-        {CODEGEN_IV_SUB, 66, 66, 39},
-        {CODEGEN_IV_ADD, 66, 66, 41},
-        {CODEGEN_IV_ADD, 66, 66, 44},
-        {CODEGEN_IV_ADD, 66, 66, 45},
-        {CODEGEN_IV_SUB, 66, 66, 46},
-        {CODEGEN_IV_SUB, 66, 66, 47},
-        {CODEGEN_IV_SUB, 66, 66, 18},
-        {CODEGEN_IV_SUB, 66, 66, 48},
-        {CODEGEN_IV_SUB, 66, 66, 49},
-        {CODEGEN_IV_SUB, 66, 66, 50},
-        {CODEGEN_IV_SUB, 66, 66, 51},
-        {CODEGEN_IV_ADD, 66, 66, 62},
-        {CODEGEN_IV_ADD, 66, 66, 17},
-        {CODEGEN_IV_SUB, 66, 66, 65},
-        {CODEGEN_IV_MUL, 67, 15, 27},
-        {CODEGEN_IV_ADD, 67, 66, 67},
-        {CODEGEN_IV_MUL, 66, 15, 28},
-        {CODEGEN_IV_ADD, 66, 67, 66},
-        {CODEGEN_IV_MUL, 67, 24, 25},
-        {CODEGEN_IV_ADD, 67, 66, 67},
-        {CODEGEN_IV_MUL, 66, 25, 29},
-        {CODEGEN_IV_SUB, 66, 67, 66},
-        {CODEGEN_IV_MUL, 67, 27, 16},
-        {CODEGEN_IV_ADD, 67, 66, 67},
-        {CODEGEN_IV_MUL, 66, 28, 16},
-        {CODEGEN_IV_ADD, 66, 67, 66},
-        {CODEGEN_IV_MUL, 67, 33, 53},
-        {CODEGEN_IV_ADD, 67, 66, 67},
-        {CODEGEN_IV_CONST, 66, 0, 0},
-        {CODEGEN_IV_MUL, 66, 66, 54},
-        {CODEGEN_IV_MUL, 66, 66, 56},
-        {CODEGEN_IV_ADD, 66, 67, 66},
-        {CODEGEN_IV_MUL, 67, 54, 60},
-        {CODEGEN_IV_SUB, 67, 66, 67},
-        {CODEGEN_IV_MUL, 66, 57, 58},
-        {CODEGEN_IV_SUB, 66, 67, 66},
-        {CODEGEN_IV_MUL, 67, 21, 9},
-        {CODEGEN_IV_SUB, 67, 66, 67},
-        {CODEGEN_IV_MUL, 25, 67, 20},
-        {CODEGEN_IV_SQRT, 25, 25, 0},
-        {CODEGEN_IV_NEG, 66, 8, 0},
-        {CODEGEN_IV_MUL, 68, 25, 23},
-        {CODEGEN_IV_ADD, 68, 66, 68},
-        {CODEGEN_IV_MUL, 8, 7, 68},
-        {CODEGEN_IV_MUL, 66, 8, 22},
-        {CODEGEN_IV_CONST, 69, 0, 0},
-        {CODEGEN_IV_MUL, 69, 69, 61},
-        {CODEGEN_IV_MUL, 70, 25, 69},
-        {CODEGEN_IV_CONST, 71, 2, 0},
-        {CODEGEN_IV_MUL, 71, 71, 1},
-        {CODEGEN_IV_MUL, 71, 71, 22},
-        {CODEGEN_IV_POW, 72, 1, 4},
-        {CODEGEN_IV_MUL, 73, 14, 72},
-        {CODEGEN_IV_MUL, 74, 60, 73},
-        {CODEGEN_IV_POW, 75, 0, 4},
-        {CODEGEN_IV_MUL, 76, 14, 75},
-        {CODEGEN_IV_MUL, 77, 60, 76},
-        {CODEGEN_IV_CONST, 78, 3, 0},
-        {CODEGEN_IV_MUL, 78, 78, 16},
-        {CODEGEN_IV_MUL, 78, 78, 55},
-        {CODEGEN_IV_POW, 79, 14, 3},
-        {CODEGEN_IV_MUL, 80, 16, 79},
-        {CODEGEN_IV_CONST, 81, 4, 0},
-        {CODEGEN_IV_MUL, 81, 81, 15},
-        {CODEGEN_IV_MUL, 81, 81, 80},
-        {CODEGEN_IV_POW, 82, 0, 6},
-        {CODEGEN_IV_MUL, 83, 38, 75},
-        {CODEGEN_IV_CONST, 84, 0, 0},
-        {CODEGEN_IV_MUL, 84, 84, 29},
-        {CODEGEN_IV_CONST, 85, 0, 0},
-        {CODEGEN_IV_MUL, 85, 85, 24},
-        {CODEGEN_IV_MUL, 86, 14, 26},
-        {CODEGEN_IV_MUL, 87, 24, 16},
-        {CODEGEN_IV_MUL, 88, 14, 87},
-        {CODEGEN_IV_POW, 89, 1, 5},
-        {CODEGEN_IV_MUL, 89, 89, 0},
-        {CODEGEN_IV_CONST, 90, 0, 0},
-        {CODEGEN_IV_MUL, 90, 90, 38},
-        {CODEGEN_IV_CONST, 91, 5, 0},
-        {CODEGEN_IV_POW, 92, 0, 5},
-        {CODEGEN_IV_MUL, 92, 91, 92},
-        {CODEGEN_IV_POW, 91, 38, 2},
-        {CODEGEN_IV_MUL, 93, 1, 52},
-        {CODEGEN_IV_MUL, 94, 0, 84},
-        {CODEGEN_IV_MUL, 95, 93, 94},
-        {CODEGEN_IV_MUL, 96, 1, 91},
-        {CODEGEN_IV_MUL, 97, 94, 96},
-        {CODEGEN_IV_CONST, 94, 6, 0},
-        {CODEGEN_IV_MUL, 94, 94, 58},
-        {CODEGEN_IV_CONST, 98, 6, 0},
-        {CODEGEN_IV_MUL, 98, 98, 52},
-        {CODEGEN_IV_CONST, 99, 0, 0},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 82},
-        {CODEGEN_IV_NEG, 99, 99, 0},
-        {CODEGEN_IV_MUL, 100, 60, 86},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 60, 88},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 60, 95},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 60, 97},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 83, 84},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 83, 85},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 14, 42},
-        {CODEGEN_IV_MUL, 100, 100, 92},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 14, 89},
-        {CODEGEN_IV_MUL, 99, 99, 90},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 15, 30},
-        {CODEGEN_IV_MUL, 100, 100, 90},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 6, 0},
-        {CODEGEN_IV_MUL, 99, 99, 15},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 75},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 26, 38},
-        {CODEGEN_IV_MUL, 100, 100, 57},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 30, 38},
-        {CODEGEN_IV_MUL, 99, 99, 94},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 16, 38},
-        {CODEGEN_IV_MUL, 100, 100, 59},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 0, 0},
-        {CODEGEN_IV_MUL, 99, 99, 16},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 72},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 100, 4, 0},
-        {CODEGEN_IV_MUL, 100, 100, 35},
-        {CODEGEN_IV_MUL, 100, 100, 38},
-        {CODEGEN_IV_MUL, 100, 100, 21},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 7, 0},
-        {CODEGEN_IV_MUL, 99, 99, 13},
-        {CODEGEN_IV_MUL, 99, 99, 79},
-        {CODEGEN_IV_MUL, 99, 99, 21},
-        {CODEGEN_IV_ADD, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 14, 15},
-        {CODEGEN_IV_MUL, 100, 100, 29},
-        {CODEGEN_IV_MUL, 100, 100, 60},
-        {CODEGEN_IV_SUB, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 14, 29},
-        {CODEGEN_IV_MUL, 99, 99, 16},
-        {CODEGEN_IV_MUL, 99, 99, 60},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 100, 8, 0},
-        {CODEGEN_IV_MUL, 100, 100, 15},
-        {CODEGEN_IV_MUL, 100, 100, 38},
-        {CODEGEN_IV_MUL, 100, 100, 52},
-        {CODEGEN_IV_MUL, 100, 100, 75},
-        {CODEGEN_IV_SUB, 100, 99, 100},
-        {CODEGEN_IV_MUL, 99, 15, 38},
-        {CODEGEN_IV_MUL, 99, 99, 3},
-        {CODEGEN_IV_MUL, 99, 99, 2},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_MUL, 100, 26, 16},
-        {CODEGEN_IV_MUL, 100, 100, 38},
-        {CODEGEN_IV_MUL, 100, 100, 98},
-        {CODEGEN_IV_ADD, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 7, 0},
-        {CODEGEN_IV_MUL, 99, 99, 16},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 52},
-        {CODEGEN_IV_MUL, 99, 99, 72},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 100, 0, 0},
-        {CODEGEN_IV_MUL, 100, 100, 1},
-        {CODEGEN_IV_MUL, 100, 100, 0},
-        {CODEGEN_IV_MUL, 100, 100, 24},
-        {CODEGEN_IV_MUL, 100, 100, 52},
-        {CODEGEN_IV_MUL, 100, 100, 60},
-        {CODEGEN_IV_SUB, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 0, 0},
-        {CODEGEN_IV_MUL, 99, 99, 1},
-        {CODEGEN_IV_MUL, 99, 99, 0},
-        {CODEGEN_IV_MUL, 99, 99, 24},
-        {CODEGEN_IV_MUL, 99, 99, 60},
-        {CODEGEN_IV_MUL, 99, 99, 91},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 100, 3, 0},
-        {CODEGEN_IV_MUL, 100, 100, 1},
-        {CODEGEN_IV_MUL, 100, 100, 14},
-        {CODEGEN_IV_MUL, 100, 100, 24},
-        {CODEGEN_IV_MUL, 100, 100, 38},
-        {CODEGEN_IV_MUL, 100, 100, 21},
-        {CODEGEN_IV_SUB, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 3, 0},
-        {CODEGEN_IV_MUL, 99, 99, 1},
-        {CODEGEN_IV_MUL, 99, 99, 14},
-        {CODEGEN_IV_MUL, 99, 99, 29},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 21},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 100, 0, 0},
-        {CODEGEN_IV_MUL, 100, 100, 0},
-        {CODEGEN_IV_MUL, 100, 100, 14},
-        {CODEGEN_IV_MUL, 100, 100, 24},
-        {CODEGEN_IV_MUL, 100, 100, 34},
-        {CODEGEN_IV_MUL, 100, 100, 38},
-        {CODEGEN_IV_SUB, 100, 99, 100},
-        {CODEGEN_IV_CONST, 99, 0, 0},
-        {CODEGEN_IV_MUL, 99, 99, 0},
-        {CODEGEN_IV_MUL, 99, 99, 14},
-        {CODEGEN_IV_MUL, 99, 99, 29},
-        {CODEGEN_IV_MUL, 99, 99, 34},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_SUB, 99, 100, 99},
-        {CODEGEN_IV_CONST, 90, 9, 0},
-        {CODEGEN_IV_MUL, 90, 90, 74},
-        {CODEGEN_IV_NEG, 90, 90, 0},
-        {CODEGEN_IV_CONST, 83, 9, 0},
-        {CODEGEN_IV_MUL, 83, 83, 77},
-        {CODEGEN_IV_SUB, 83, 90, 83},
-        {CODEGEN_IV_SUB, 83, 83, 99},
-        {CODEGEN_IV_MUL, 90, 60, 78},
-        {CODEGEN_IV_SUB, 90, 83, 90},
-        {CODEGEN_IV_MUL, 83, 60, 81},
-        {CODEGEN_IV_SUB, 83, 90, 83},
-        {CODEGEN_IV_CONST, 90, 4, 0},
-        {CODEGEN_IV_MUL, 90, 90, 1},
-        {CODEGEN_IV_MUL, 90, 90, 52},
-        {CODEGEN_IV_MUL, 90, 90, 60},
-        {CODEGEN_IV_MUL, 90, 90, 21},
-        {CODEGEN_IV_ADD, 90, 83, 90},
-        {CODEGEN_IV_CONST, 83, 4, 0},
-        {CODEGEN_IV_MUL, 83, 83, 0},
-        {CODEGEN_IV_MUL, 83, 83, 34},
-        {CODEGEN_IV_MUL, 83, 83, 52},
-        {CODEGEN_IV_MUL, 83, 83, 60},
-        {CODEGEN_IV_ADD, 83, 90, 83},
-        {CODEGEN_IV_CONST, 90, 1, 0},
-        {CODEGEN_IV_POW, 100, 60, 1},
-        {CODEGEN_IV_DIV, 100, 90, 100},
-        {CODEGEN_IV_MUL, 90, 12, 100},
-        {CODEGEN_IV_MUL, 101, 5, 83},
-        {CODEGEN_IV_MUL, 101, 101, 90},
-        {CODEGEN_IV_MUL, 102, 55, 57},
-        {CODEGEN_IV_CONST, 103, 6, 0},
-        {CODEGEN_IV_MUL, 103, 103, 15},
-        {CODEGEN_IV_MUL, 104, 103, 80},
-        {CODEGEN_IV_NEG, 105, 74, 0},
-        {CODEGEN_IV_SUB, 105, 105, 77},
-        {CODEGEN_IV_SUB, 105, 105, 99},
-        {CODEGEN_IV_MUL, 106, 104, 60},
-        {CODEGEN_IV_SUB, 106, 105, 106},
-        {CODEGEN_IV_MUL, 105, 60, 102},
-        {CODEGEN_IV_SUB, 105, 106, 105},
-        {CODEGEN_IV_CONST, 106, 6, 0},
-        {CODEGEN_IV_MUL, 106, 106, 1},
-        {CODEGEN_IV_MUL, 106, 106, 52},
-        {CODEGEN_IV_MUL, 106, 106, 60},
-        {CODEGEN_IV_MUL, 106, 106, 21},
-        {CODEGEN_IV_ADD, 106, 105, 106},
-        {CODEGEN_IV_CONST, 105, 6, 0},
-        {CODEGEN_IV_MUL, 105, 105, 0},
-        {CODEGEN_IV_MUL, 105, 105, 34},
-        {CODEGEN_IV_MUL, 105, 105, 52},
-        {CODEGEN_IV_MUL, 105, 105, 60},
-        {CODEGEN_IV_ADD, 105, 106, 105},
-        {CODEGEN_IV_MUL, 99, 71, 90},
-        {CODEGEN_IV_MUL, 77, 6, 99},
-        {CODEGEN_IV_CONST, 74, 1, 0},
-        {CODEGEN_IV_POW, 106, 25, 1},
-        {CODEGEN_IV_DIV, 106, 74, 106},
-        {CODEGEN_IV_MUL, 74, 3, 69},
-        {CODEGEN_IV_NEG, 74, 74, 0},
-        {CODEGEN_IV_MUL, 107, 2, 69},
-        {CODEGEN_IV_SUB, 107, 74, 107},
-        {CODEGEN_IV_CONST, 74, 10, 0},
-        {CODEGEN_IV_MUL, 74, 74, 100},
-        {CODEGEN_IV_MUL, 108, 107, 74},
-        {CODEGEN_IV_NEG, 109, 54, 0},
-        {CODEGEN_IV_ADD, 109, 109, 61},
-        {CODEGEN_IV_ADD, 109, 109, 63},
-        {CODEGEN_IV_SUB, 109, 109, 64},
-        {CODEGEN_IV_MUL, 110, 109, 20},
-        {CODEGEN_IV_CONST, 111, 0, 0},
-        {CODEGEN_IV_MUL, 111, 111, 91},
-        {CODEGEN_IV_MUL, 112, 0, 13},
-        {CODEGEN_IV_NEG, 112, 112, 0},
-        {CODEGEN_IV_MUL, 113, 24, 63},
-        {CODEGEN_IV_SUB, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 29, 64},
-        {CODEGEN_IV_SUB, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 31, 38},
-        {CODEGEN_IV_SUB, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 16, 63},
-        {CODEGEN_IV_SUB, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 16, 64},
-        {CODEGEN_IV_SUB, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 35, 10},
-        {CODEGEN_IV_SUB, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 40, 60},
-        {CODEGEN_IV_SUB, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 43, 60},
-        {CODEGEN_IV_SUB, 112, 113, 112},
-        {CODEGEN_IV_CONST, 113, 6, 0},
-        {CODEGEN_IV_MUL, 113, 113, 14},
-        {CODEGEN_IV_MUL, 113, 113, 33},
-        {CODEGEN_IV_MUL, 113, 113, 38},
-        {CODEGEN_IV_SUB, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 15, 111},
-        {CODEGEN_IV_MUL, 112, 112, 54},
-        {CODEGEN_IV_SUB, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 34, 38},
-        {CODEGEN_IV_MUL, 113, 113, 9},
-        {CODEGEN_IV_ADD, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 1, 0},
-        {CODEGEN_IV_MUL, 112, 112, 14},
-        {CODEGEN_IV_MUL, 112, 112, 60},
-        {CODEGEN_IV_ADD, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 1, 0},
-        {CODEGEN_IV_MUL, 113, 113, 24},
-        {CODEGEN_IV_MUL, 113, 113, 38},
-        {CODEGEN_IV_ADD, 113, 112, 113},
-        {CODEGEN_IV_CONST, 112, 0, 0},
-        {CODEGEN_IV_MUL, 112, 112, 1},
-        {CODEGEN_IV_MUL, 112, 112, 0},
-        {CODEGEN_IV_MUL, 112, 112, 27},
-        {CODEGEN_IV_MUL, 112, 112, 38},
-        {CODEGEN_IV_ADD, 112, 113, 112},
-        {CODEGEN_IV_CONST, 113, 0, 0},
-        {CODEGEN_IV_MUL, 113, 113, 1},
-        {CODEGEN_IV_MUL, 113, 113, 0},
-        {CODEGEN_IV_MUL, 113, 113, 28},
-        {CODEGEN_IV_MUL, 113, 113, 38},
-        {CODEGEN_IV_ADD, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 1, 0},
-        {CODEGEN_IV_MUL, 112, 112, 29},
-        {CODEGEN_IV_MUL, 112, 112, 38},
-        {CODEGEN_IV_ADD, 112, 113, 112},
-        {CODEGEN_IV_MUL, 113, 1, 14},
-        {CODEGEN_IV_MUL, 113, 113, 29},
-        {CODEGEN_IV_MUL, 113, 113, 10},
-        {CODEGEN_IV_ADD, 113, 112, 113},
-        {CODEGEN_IV_MUL, 112, 1, 24},
-        {CODEGEN_IV_MUL, 112, 112, 38},
-        {CODEGEN_IV_MUL, 112, 112, 9},
-        {CODEGEN_IV_ADD, 112, 113, 112},
-        {CODEGEN_IV_CONST, 113, 0, 0},
-        {CODEGEN_IV_MUL, 113, 113, 0},
-        {CODEGEN_IV_MUL, 113, 113, 15},
-        {CODEGEN_IV_MUL, 113, 113, 52},
-        {CODEGEN_IV_MUL, 113, 113, 10},
-        {CODEGEN_IV_ADD, 113, 112, 113},
-        {CODEGEN_IV_CONST, 112, 6, 0},
-        {CODEGEN_IV_MUL, 112, 112, 14},
-        {CODEGEN_IV_MUL, 112, 112, 15},
-        {CODEGEN_IV_MUL, 112, 112, 16},
-        {CODEGEN_IV_MUL, 112, 112, 38},
-        {CODEGEN_IV_ADD, 112, 113, 112},
-        {CODEGEN_IV_MUL, 10, 108, 110},
-        {CODEGEN_IV_MUL, 9, 112, 20},
-        {CODEGEN_IV_ADD, 9, 10, 9},
-        {CODEGEN_IV_MUL, 10, 67, 69},
-        {CODEGEN_IV_ADD, 10, 9, 10},
-        {CODEGEN_IV_MUL, 9, 16, 91},
-        {CODEGEN_IV_MUL, 64, 103, 9},
-        {CODEGEN_IV_CONST, 63, 1, 0},
-        {CODEGEN_IV_POW, 13, 20, 3},
-        {CODEGEN_IV_DIV, 13, 63, 13},
-        {CODEGEN_IV_MUL, 63, 7, 13},
-        {CODEGEN_IV_CONST, 35, 7, 0},
-        {CODEGEN_IV_MUL, 35, 35, 9},
-        {CODEGEN_IV_MUL, 28, 15, 35},
-        {CODEGEN_IV_MUL, 27, 10, 61},
-        {CODEGEN_IV_MUL, 113, 38, 60},
-        {CODEGEN_IV_MUL, 114, 113, 72},
-        {CODEGEN_IV_MUL, 115, 113, 75},
-        {CODEGEN_IV_MUL, 116, 15, 113},
-        {CODEGEN_IV_CONST, 117, 7, 0},
-        {CODEGEN_IV_MUL, 117, 117, 113},
-        {CODEGEN_IV_MUL, 118, 113, 16},
-        {CODEGEN_IV_MUL, 118, 118, 58},
-        {CODEGEN_IV_MUL, 58, 34, 21},
-        {CODEGEN_IV_MUL, 119, 58, 91},
-        {CODEGEN_IV_CONST, 120, 3, 0},
-        {CODEGEN_IV_MUL, 120, 120, 31},
-        {CODEGEN_IV_MUL, 31, 120, 91},
-        {CODEGEN_IV_MUL, 121, 0, 34},
-        {CODEGEN_IV_MUL, 122, 121, 91},
-        {CODEGEN_IV_MUL, 123, 30, 55},
-        {CODEGEN_IV_MUL, 124, 121, 52},
-        {CODEGEN_IV_MUL, 121, 120, 52},
-        {CODEGEN_IV_CONST, 120, 4, 0},
-        {CODEGEN_IV_MUL, 120, 120, 119},
-        {CODEGEN_IV_CONST, 125, 0, 0},
-        {CODEGEN_IV_MUL, 125, 125, 123},
-        {CODEGEN_IV_SUB, 125, 120, 125},
-        {CODEGEN_IV_CONST, 120, 0, 0},
-        {CODEGEN_IV_MUL, 120, 120, 14},
-        {CODEGEN_IV_MUL, 120, 120, 82},
-        {CODEGEN_IV_ADD, 120, 125, 120},
-        {CODEGEN_IV_CONST, 125, 7, 0},
-        {CODEGEN_IV_POW, 126, 14, 4},
-        {CODEGEN_IV_MUL, 126, 125, 126},
-        {CODEGEN_IV_MUL, 126, 126, 58},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 24, 31},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 24, 121},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 103, 76},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 111, 89},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_CONST, 120, 8, 0},
-        {CODEGEN_IV_MUL, 120, 120, 9},
-        {CODEGEN_IV_MUL, 120, 120, 73},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 35, 86},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 26, 113},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_CONST, 126, 6, 0},
-        {CODEGEN_IV_MUL, 126, 126, 26},
-        {CODEGEN_IV_MUL, 126, 126, 80},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 113, 30},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 113, 87},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 116, 29},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_CONST, 126, 4, 0},
-        {CODEGEN_IV_MUL, 126, 126, 58},
-        {CODEGEN_IV_MUL, 126, 126, 52},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_CONST, 120, 11, 0},
-        {CODEGEN_IV_MUL, 120, 120, 119},
-        {CODEGEN_IV_MUL, 120, 120, 52},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 31, 29},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 122, 84},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 122, 85},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_CONST, 120, 7, 0},
-        {CODEGEN_IV_MUL, 120, 120, 123},
-        {CODEGEN_IV_MUL, 120, 120, 91},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 124, 84},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 124, 85},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 121, 29},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 53, 89},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 55, 59},
-        {CODEGEN_IV_ADD, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 57, 73},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 57, 86},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_CONST, 120, 7, 0},
-        {CODEGEN_IV_MUL, 120, 120, 72},
-        {CODEGEN_IV_MUL, 120, 120, 80},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 76, 84},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 76, 85},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 92, 93},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 92, 96},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_MUL, 126, 14, 16},
-        {CODEGEN_IV_MUL, 126, 126, 59},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_CONST, 120, 8, 0},
-        {CODEGEN_IV_MUL, 120, 120, 15},
-        {CODEGEN_IV_MUL, 120, 120, 75},
-        {CODEGEN_IV_MUL, 120, 120, 79},
-        {CODEGEN_IV_ADD, 120, 126, 120},
-        {CODEGEN_IV_CONST, 126, 12, 0},
-        {CODEGEN_IV_MUL, 126, 126, 15},
-        {CODEGEN_IV_MUL, 126, 126, 76},
-        {CODEGEN_IV_MUL, 126, 126, 91},
-        {CODEGEN_IV_SUB, 126, 120, 126},
-        {CODEGEN_IV_MUL, 120, 103, 30},
-        {CODEGEN_IV_MUL, 120, 120, 79},
-        {CODEGEN_IV_SUB, 120, 126, 120},
-        {CODEGEN_IV_CONST, 96, 11, 0},
-        {CODEGEN_IV_MUL, 96, 96, 113},
-        {CODEGEN_IV_MUL, 113, 5, 99},
-        {CODEGEN_IV_NEG, 99, 40, 0},
-        {CODEGEN_IV_SUB, 99, 99, 43},
-        {CODEGEN_IV_MUL, 93, 1, 0},
-        {CODEGEN_IV_MUL, 93, 93, 14},
-        {CODEGEN_IV_ADD, 93, 99, 93},
-        {CODEGEN_IV_MUL, 93, 20, 93},
-        {CODEGEN_IV_CONST, 43, 1, 0},
-        {CODEGEN_IV_MUL, 40, 3, 2},
-        {CODEGEN_IV_DIV, 40, 43, 40},
-        {CODEGEN_IV_MUL, 43, 107, 100},
-        {CODEGEN_IV_MUL, 100, 7, 106},
-        {CODEGEN_IV_MUL, 100, 100, 68},
-        {CODEGEN_IV_MUL, 100, 100, 23},
-        {CODEGEN_IV_MUL, 99, 0, 15},
-        {CODEGEN_IV_MUL, 99, 99, 13},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 92, 6, 105},
-        {CODEGEN_IV_CONST, 6, 0, 0},
-        {CODEGEN_IV_MUL, 6, 6, 116},
-        {CODEGEN_IV_ADD, 6, 6, 86},
-        {CODEGEN_IV_ADD, 6, 6, 88},
-        {CODEGEN_IV_ADD, 6, 6, 95},
-        {CODEGEN_IV_ADD, 6, 6, 97},
-        {CODEGEN_IV_MUL, 89, 14, 15},
-        {CODEGEN_IV_MUL, 89, 89, 29},
-        {CODEGEN_IV_SUB, 89, 6, 89},
-        {CODEGEN_IV_MUL, 6, 14, 29},
-        {CODEGEN_IV_MUL, 6, 6, 16},
-        {CODEGEN_IV_SUB, 6, 89, 6},
-        {CODEGEN_IV_CONST, 89, 0, 0},
-        {CODEGEN_IV_MUL, 89, 89, 16},
-        {CODEGEN_IV_MUL, 89, 89, 38},
-        {CODEGEN_IV_MUL, 89, 89, 60},
-        {CODEGEN_IV_SUB, 89, 6, 89},
-        {CODEGEN_IV_CONST, 6, 0, 0},
-        {CODEGEN_IV_MUL, 6, 6, 1},
-        {CODEGEN_IV_MUL, 6, 6, 0},
-        {CODEGEN_IV_MUL, 6, 6, 24},
-        {CODEGEN_IV_MUL, 6, 6, 52},
-        {CODEGEN_IV_SUB, 6, 89, 6},
-        {CODEGEN_IV_CONST, 89, 0, 0},
-        {CODEGEN_IV_MUL, 89, 89, 1},
-        {CODEGEN_IV_MUL, 89, 89, 0},
-        {CODEGEN_IV_MUL, 89, 89, 24},
-        {CODEGEN_IV_MUL, 89, 89, 91},
-        {CODEGEN_IV_SUB, 89, 6, 89},
-        {CODEGEN_IV_MUL, 97, 12, 40},
-        {CODEGEN_IV_MUL, 97, 97, 71},
-        {CODEGEN_IV_CONST, 95, 10, 0},
-        {CODEGEN_IV_MUL, 95, 95, 10},
-        {CODEGEN_IV_NEG, 88, 11, 0},
-        {CODEGEN_IV_MUL, 86, 105, 77},
-        {CODEGEN_IV_SUB, 86, 88, 86},
-        {CODEGEN_IV_MUL, 88, 66, 70},
-        {CODEGEN_IV_SUB, 88, 86, 88},
-        {CODEGEN_IV_MUL, 86, 71, 101},
-        {CODEGEN_IV_SUB, 86, 88, 86},
-        {CODEGEN_IV_CONST, 88, 10, 0},
-        {CODEGEN_IV_MUL, 88, 88, 1},
-        {CODEGEN_IV_MUL, 88, 88, 12},
-        {CODEGEN_IV_MUL, 88, 88, 4},
-        {CODEGEN_IV_MUL, 88, 88, 14},
-        {CODEGEN_IV_ADD, 88, 86, 88},
-        {CODEGEN_IV_CONST, 86, 10, 0},
-        {CODEGEN_IV_MUL, 86, 86, 7},
-        {CODEGEN_IV_MUL, 86, 86, 106},
-        {CODEGEN_IV_MUL, 86, 86, 10},
-        {CODEGEN_IV_MUL, 86, 86, 68},
-        {CODEGEN_IV_MUL, 86, 86, 23},
-        {CODEGEN_IV_ADD, 86, 88, 86},
-        {CODEGEN_IV_ADD, 23, 114, 115},
-        {CODEGEN_IV_CONST, 71, 4, 0},
-        {CODEGEN_IV_MUL, 71, 71, 118},
-        {CODEGEN_IV_ADD, 71, 23, 71},
-        {CODEGEN_IV_ADD, 71, 71, 120},
-        {CODEGEN_IV_MUL, 23, 116, 57},
-        {CODEGEN_IV_ADD, 23, 71, 23},
-        {CODEGEN_IV_MUL, 71, 117, 32},
-        {CODEGEN_IV_SUB, 71, 23, 71},
-        {CODEGEN_IV_MUL, 23, 117, 36},
-        {CODEGEN_IV_SUB, 23, 71, 23},
-        {CODEGEN_IV_MUL, 23, 77, 23},
-        {CODEGEN_IV_NEG, 23, 23, 0},
-        {CODEGEN_IV_NEG, 71, 104, 0},
-        {CODEGEN_IV_SUB, 71, 71, 89},
-        {CODEGEN_IV_SUB, 71, 71, 73},
-        {CODEGEN_IV_SUB, 71, 71, 76},
-        {CODEGEN_IV_SUB, 71, 71, 102},
-        {CODEGEN_IV_CONST, 68, 6, 0},
-        {CODEGEN_IV_MUL, 68, 68, 1},
-        {CODEGEN_IV_MUL, 68, 68, 52},
-        {CODEGEN_IV_MUL, 68, 68, 21},
-        {CODEGEN_IV_ADD, 68, 71, 68},
-        {CODEGEN_IV_CONST, 71, 6, 0},
-        {CODEGEN_IV_MUL, 71, 71, 0},
-        {CODEGEN_IV_MUL, 71, 71, 34},
-        {CODEGEN_IV_MUL, 71, 71, 52},
-        {CODEGEN_IV_ADD, 71, 68, 71},
-        {CODEGEN_IV_MUL, 71, 77, 71},
-        {CODEGEN_IV_NEG, 71, 71, 0},
-        {CODEGEN_IV_MUL, 68, 92, 97},
-        {CODEGEN_IV_SUB, 68, 71, 68},
-        {CODEGEN_IV_MUL, 68, 108, 68},
-        {CODEGEN_IV_ADD, 68, 23, 68},
-        {CODEGEN_IV_NEG, 23, 89, 0},
-        {CODEGEN_IV_CONST, 71, 9, 0},
-        {CODEGEN_IV_MUL, 71, 71, 73},
-        {CODEGEN_IV_SUB, 71, 23, 71},
-        {CODEGEN_IV_CONST, 23, 9, 0},
-        {CODEGEN_IV_MUL, 23, 23, 76},
-        {CODEGEN_IV_SUB, 23, 71, 23},
-        {CODEGEN_IV_SUB, 23, 23, 78},
-        {CODEGEN_IV_SUB, 23, 23, 81},
-        {CODEGEN_IV_CONST, 71, 4, 0},
-        {CODEGEN_IV_MUL, 71, 71, 1},
-        {CODEGEN_IV_MUL, 71, 71, 52},
-        {CODEGEN_IV_MUL, 71, 71, 21},
-        {CODEGEN_IV_ADD, 71, 23, 71},
-        {CODEGEN_IV_CONST, 23, 4, 0},
-        {CODEGEN_IV_MUL, 23, 23, 0},
-        {CODEGEN_IV_MUL, 23, 23, 34},
-        {CODEGEN_IV_MUL, 23, 23, 52},
-        {CODEGEN_IV_ADD, 23, 71, 23},
-        {CODEGEN_IV_MUL, 23, 113, 23},
-        {CODEGEN_IV_NEG, 23, 23, 0},
-        {CODEGEN_IV_MUL, 71, 5, 97},
-        {CODEGEN_IV_MUL, 71, 71, 83},
-        {CODEGEN_IV_SUB, 71, 23, 71},
-        {CODEGEN_IV_MUL, 71, 108, 71},
-        {CODEGEN_IV_ADD, 71, 68, 71},
-        {CODEGEN_IV_MUL, 68, 63, 27},
-        {CODEGEN_IV_SUB, 68, 71, 68},
-        {CODEGEN_IV_CONST, 71, 9, 0},
-        {CODEGEN_IV_MUL, 71, 71, 114},
-        {CODEGEN_IV_CONST, 23, 9, 0},
-        {CODEGEN_IV_MUL, 23, 23, 115},
-        {CODEGEN_IV_ADD, 23, 71, 23},
-        {CODEGEN_IV_CONST, 71, 13, 0},
-        {CODEGEN_IV_MUL, 71, 71, 118},
-        {CODEGEN_IV_ADD, 71, 23, 71},
-        {CODEGEN_IV_ADD, 71, 71, 120},
-        {CODEGEN_IV_CONST, 23, 3, 0},
-        {CODEGEN_IV_MUL, 23, 23, 116},
-        {CODEGEN_IV_MUL, 23, 23, 16},
-        {CODEGEN_IV_ADD, 23, 71, 23},
-        {CODEGEN_IV_MUL, 71, 96, 32},
-        {CODEGEN_IV_SUB, 71, 23, 71},
-        {CODEGEN_IV_MUL, 23, 96, 36},
-        {CODEGEN_IV_SUB, 23, 71, 23},
-        {CODEGEN_IV_MUL, 23, 113, 23},
-        {CODEGEN_IV_SUB, 23, 68, 23},
-        {CODEGEN_IV_CONST, 68, 10, 0},
-        {CODEGEN_IV_MUL, 68, 68, 100},
-        {CODEGEN_IV_MUL, 71, 108, 93},
-        {CODEGEN_IV_CONST, 105, 6, 0},
-        {CODEGEN_IV_MUL, 105, 105, 112},
-        {CODEGEN_IV_MUL, 105, 105, 61},
-        {CODEGEN_IV_ADD, 105, 71, 105},
-        {CODEGEN_IV_MUL, 71, 19, 67},
-        {CODEGEN_IV_ADD, 71, 105, 71},
-        {CODEGEN_IV_NEG, 105, 64, 0},
-        {CODEGEN_IV_SUB, 105, 105, 32},
-        {CODEGEN_IV_SUB, 105, 105, 36},
-        {CODEGEN_IV_ADD, 105, 105, 37},
-        {CODEGEN_IV_ADD, 105, 105, 39},
-        {CODEGEN_IV_SUB, 105, 105, 41},
-        {CODEGEN_IV_SUB, 105, 105, 44},
-        {CODEGEN_IV_SUB, 105, 105, 45},
-        {CODEGEN_IV_ADD, 105, 105, 46},
-        {CODEGEN_IV_ADD, 105, 105, 47},
-        {CODEGEN_IV_ADD, 105, 105, 18},
-        {CODEGEN_IV_ADD, 105, 105, 48},
-        {CODEGEN_IV_ADD, 105, 105, 49},
-        {CODEGEN_IV_ADD, 105, 105, 50},
-        {CODEGEN_IV_ADD, 105, 105, 51},
-        {CODEGEN_IV_SUB, 105, 105, 62},
-        {CODEGEN_IV_SUB, 105, 105, 17},
-        {CODEGEN_IV_ADD, 105, 105, 65},
-        {CODEGEN_IV_CONST, 14, 6, 0},
-        {CODEGEN_IV_MUL, 14, 14, 33},
-        {CODEGEN_IV_MUL, 14, 14, 91},
-        {CODEGEN_IV_ADD, 14, 105, 14},
-        {CODEGEN_IV_MUL, 105, 33, 98},
-        {CODEGEN_IV_SUB, 105, 14, 105},
-        {CODEGEN_IV_MUL, 14, 16, 94},
-        {CODEGEN_IV_ADD, 14, 105, 14},
-        {CODEGEN_IV_CONST, 105, 7, 0},
-        {CODEGEN_IV_MUL, 105, 105, 54},
-        {CODEGEN_IV_MUL, 105, 105, 56},
-        {CODEGEN_IV_SUB, 105, 14, 105},
-        {CODEGEN_IV_MUL, 105, 20, 105},
-        {CODEGEN_IV_ADD, 105, 71, 105},
-        {CODEGEN_IV_MUL, 71, 74, 110},
-        {CODEGEN_IV_NEG, 14, 28, 0},
-        {CODEGEN_IV_MUL, 11, 3, 19},
-        {CODEGEN_IV_SUB, 11, 14, 11},
-        {CODEGEN_IV_MUL, 14, 2, 19},
-        {CODEGEN_IV_SUB, 14, 11, 14},
-        {CODEGEN_IV_MUL, 14, 71, 14},
-        {CODEGEN_IV_ADD, 14, 105, 14},
-        {CODEGEN_IV_MUL, 105, 109, 43},
-        {CODEGEN_IV_MUL, 105, 105, 61},
-        {CODEGEN_IV_ADD, 105, 14, 105},
-        {CODEGEN_IV_MUL, 105, 68, 105},
-        {CODEGEN_IV_ADD, 105, 23, 105},
-        {CODEGEN_IV_MUL, 23, 99, 101},
-        {CODEGEN_IV_ADD, 23, 105, 23},
-        {CODEGEN_IV_CONST, 105, 10, 0},
-        {CODEGEN_IV_MUL, 105, 105, 12},
-        {CODEGEN_IV_MUL, 105, 105, 4},
-        {CODEGEN_IV_MUL, 105, 105, 42},
-        {CODEGEN_IV_SUB, 105, 23, 105},
-        {CODEGEN_IV_MUL, 23, 106, 27},
-        {CODEGEN_IV_MUL, 23, 23, 66},
-        {CODEGEN_IV_SUB, 23, 105, 23},
-        {CODEGEN_IV_MUL, 105, 106, 95},
-        {CODEGEN_IV_MUL, 68, 63, 70},
-        {CODEGEN_IV_NEG, 68, 68, 0},
-        {CODEGEN_IV_MUL, 14, 66, 69},
-        {CODEGEN_IV_SUB, 14, 68, 14},
-        {CODEGEN_IV_MUL, 68, 95, 66},
-        {CODEGEN_IV_DIV, 68, 68, 67},
-        {CODEGEN_IV_SUB, 68, 14, 68},
-        {CODEGEN_IV_CONST, 14, 10, 0},
-        {CODEGEN_IV_MUL, 14, 14, 7},
-        {CODEGEN_IV_MUL, 14, 14, 106},
-        {CODEGEN_IV_MUL, 14, 14, 10},
-        {CODEGEN_IV_MUL, 14, 14, 22},
-        {CODEGEN_IV_ADD, 14, 68, 14},
-        {CODEGEN_IV_MUL, 14, 105, 14},
-        {CODEGEN_IV_ADD, 14, 23, 14},
-        {CODEGEN_IV_MUL, 23, 64, 63},
-        {CODEGEN_IV_MUL, 23, 23, 67},
-        {CODEGEN_IV_ADD, 23, 14, 23},
-        {CODEGEN_IV_CONST, 14, 2, 0},
-        {CODEGEN_IV_MUL, 14, 14, 43},
-        {CODEGEN_IV_MUL, 14, 14, 100},
-        {CODEGEN_IV_MUL, 105, 109, 69},
-        {CODEGEN_IV_ADD, 105, 93, 105},
-        {CODEGEN_IV_CONST, 68, 10, 0},
-        {CODEGEN_IV_MUL, 68, 68, 107},
-        {CODEGEN_IV_MUL, 68, 68, 110},
-        {CODEGEN_IV_MUL, 68, 68, 40},
-        {CODEGEN_IV_ADD, 68, 105, 68},
-        {CODEGEN_IV_MUL, 68, 14, 68},
-        {CODEGEN_IV_ADD, 68, 23, 68},
-        {CODEGEN_IV_MUL, 23, 99, 92},
-        {CODEGEN_IV_MUL, 23, 23, 90},
-        {CODEGEN_IV_ADD, 23, 68, 23},
-        {CODEGEN_IV_MUL, 68, 19, 25},
-        {CODEGEN_IV_MUL, 68, 68, 66},
-        {CODEGEN_IV_SUB, 68, 23, 68},
-        {CODEGEN_IV_MUL, 23, 13, 28},
-        {CODEGEN_IV_MUL, 23, 23, 25},
-        {CODEGEN_IV_MUL, 23, 23, 8},
-        {CODEGEN_IV_ADD, 23, 68, 23},
+    static const codegen_iv_instruction program[664] = {
+        {CODEGEN_IV_COS, 294, 293, 0},
+        {CODEGEN_IV_MUL, 297, 281, 294},
+        {CODEGEN_IV_MUL, 298, 280, 297},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 298},
+        {CODEGEN_IV_SUB, 300, 2, 299},
+        {CODEGEN_IV_CONST, 301, 1, 0},
+        {CODEGEN_IV_POW, 302, 300, 2},
+        {CODEGEN_IV_DIV, 302, 301, 302},
+        {CODEGEN_IV_CONST, 301, 1, 0},
+        {CODEGEN_IV_POW, 303, 300, 1},
+        {CODEGEN_IV_DIV, 303, 301, 303},
+        {CODEGEN_IV_MUL, 312, 294, 10},
+        {CODEGEN_IV_MUL, 315, 294, 12},
+        {CODEGEN_IV_MUL, 316, 280, 315},
+        {CODEGEN_IV_MUL, 317, 315, 289},
+        {CODEGEN_IV_SIN, 318, 293, 0},
+        {CODEGEN_IV_MUL, 293, 12, 318},
+        {CODEGEN_IV_MUL, 319, 293, 290},
+        {CODEGEN_IV_MUL, 320, 297, 289},
+        {CODEGEN_IV_MUL, 321, 8, 320},
+        {CODEGEN_IV_MUL, 322, 281, 318},
+        {CODEGEN_IV_MUL, 323, 322, 290},
+        {CODEGEN_IV_MUL, 324, 8, 323},
+        {CODEGEN_IV_MUL, 325, 1, 320},
+        {CODEGEN_IV_MUL, 326, 8, 298},
+        {CODEGEN_IV_MUL, 327, 4, 298},
+        {CODEGEN_IV_MUL, 298, 4, 320},
+        {CODEGEN_IV_MUL, 328, 4, 323},
+        {CODEGEN_IV_MUL, 329, 6, 299},
+        {CODEGEN_IV_MUL, 330, 7, 299},
+        {CODEGEN_IV_MUL, 331, 1, 323},
+        {CODEGEN_IV_POW, 332, 294, 2},
+        {CODEGEN_IV_CONST, 333, 0, 0},
+        {CODEGEN_IV_MUL, 333, 333, 332},
+        {CODEGEN_IV_MUL, 335, 294, 0},
+        {CODEGEN_IV_MUL, 336, 318, 335},
+        {CODEGEN_IV_MUL, 338, 0, 332},
+        {CODEGEN_IV_SUB, 283, 15, 299},
+        {CODEGEN_IV_ADD, 282, 16, 300},
+        {CODEGEN_IV_MUL, 339, 283, 282},
+        {CODEGEN_IV_NEG, 340, 339, 0},
+        {CODEGEN_IV_SQRT, 340, 340, 0},
+        {CODEGEN_IV_MUL, 341, 280, 322},
+        {CODEGEN_IV_MUL, 342, 340, 341},
+        {CODEGEN_IV_MUL, 343, 297, 290},
+        {CODEGEN_IV_MUL, 297, 340, 343},
+        {CODEGEN_IV_MUL, 344, 322, 289},
+        {CODEGEN_IV_MUL, 345, 340, 344},
+        {CODEGEN_IV_ADD, 346, 17, 312},
+        {CODEGEN_IV_SUB, 346, 346, 11},
+        {CODEGEN_IV_ADD, 346, 346, 316},
+        {CODEGEN_IV_SUB, 346, 346, 317},
+        {CODEGEN_IV_SUB, 346, 346, 319},
+        {CODEGEN_IV_ADD, 346, 346, 321},
+        {CODEGEN_IV_ADD, 346, 346, 324},
+        {CODEGEN_IV_ADD, 346, 346, 325},
+        {CODEGEN_IV_SUB, 346, 346, 326},
+        {CODEGEN_IV_SUB, 346, 346, 327},
+        {CODEGEN_IV_SUB, 346, 346, 298},
+        {CODEGEN_IV_SUB, 346, 346, 328},
+        {CODEGEN_IV_SUB, 346, 346, 329},
+        {CODEGEN_IV_SUB, 346, 346, 330},
+        {CODEGEN_IV_SUB, 346, 346, 331},
+        {CODEGEN_IV_ADD, 346, 346, 342},
+        {CODEGEN_IV_ADD, 346, 346, 297},
+        {CODEGEN_IV_SUB, 346, 346, 345},
+        {CODEGEN_IV_ADD, 347, 346, 18},
+        {CODEGEN_IV_ADD, 346, 347, 19},
+        {CODEGEN_IV_ADD, 347, 346, 20},
+        {CODEGEN_IV_SUB, 346, 347, 21},
+        {CODEGEN_IV_ADD, 347, 346, 22},
+        {CODEGEN_IV_ADD, 346, 347, 23},
+        {CODEGEN_IV_MUL, 347, 11, 333},
+        {CODEGEN_IV_ADD, 347, 346, 347},
+        {CODEGEN_IV_MUL, 346, 24, 336},
+        {CODEGEN_IV_ADD, 346, 347, 346},
+        {CODEGEN_IV_MUL, 347, 13, 340},
+        {CODEGEN_IV_SUB, 347, 346, 347},
+        {CODEGEN_IV_MUL, 346, 14, 338},
+        {CODEGEN_IV_SUB, 346, 347, 346},
+        {CODEGEN_IV_SUB, 347, 346, 25},
+        {CODEGEN_IV_MUL, 305, 347, 300},
+        {CODEGEN_IV_SQRT, 305, 305, 0},
+        {CODEGEN_IV_MUL, 348, 305, 303},
+        {CODEGEN_IV_ADD, 348, 26, 348},
+        {CODEGEN_IV_MUL, 288, 287, 348},
+        {CODEGEN_IV_MUL, 346, 288, 302},
+        {CODEGEN_IV_CONST, 349, 0, 0},
+        {CODEGEN_IV_MUL, 349, 349, 341},
+        {CODEGEN_IV_MUL, 350, 305, 349},
+        {CODEGEN_IV_MUL, 351, 27, 302},
+        {CODEGEN_IV_MUL, 353, 294, 28},
+        {CODEGEN_IV_MUL, 354, 340, 353},
+        {CODEGEN_IV_MUL, 356, 294, 29},
+        {CODEGEN_IV_MUL, 357, 340, 356},
+        {CODEGEN_IV_MUL, 358, 30, 335},
+        {CODEGEN_IV_POW, 359, 294, 3},
+        {CODEGEN_IV_MUL, 360, 1, 359},
+        {CODEGEN_IV_MUL, 361, 31, 360},
+        {CODEGEN_IV_MUL, 363, 318, 29},
+        {CODEGEN_IV_MUL, 366, 294, 5},
+        {CODEGEN_IV_MUL, 368, 294, 35},
+        {CODEGEN_IV_CONST, 370, 0, 0},
+        {CODEGEN_IV_MUL, 370, 370, 318},
+        {CODEGEN_IV_POW, 371, 318, 2},
+        {CODEGEN_IV_MUL, 373, 281, 332},
+        {CODEGEN_IV_MUL, 375, 373, 38},
+        {CODEGEN_IV_MUL, 376, 281, 371},
+        {CODEGEN_IV_MUL, 377, 38, 376},
+        {CODEGEN_IV_CONST, 374, 2, 0},
+        {CODEGEN_IV_MUL, 374, 374, 338},
+        {CODEGEN_IV_CONST, 378, 2, 0},
+        {CODEGEN_IV_MUL, 378, 378, 332},
+        {CODEGEN_IV_CONST, 379, 0, 0},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_MUL, 379, 379, 32},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_MUL, 380, 340, 366},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 340, 368},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 340, 375},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 340, 377},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 363, 33},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 363, 34},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 294, 322},
+        {CODEGEN_IV_MUL, 380, 380, 37},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 294, 36},
+        {CODEGEN_IV_MUL, 379, 379, 370},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 39, 370},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 40, 318},
+        {CODEGEN_IV_MUL, 379, 379, 29},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 5, 318},
+        {CODEGEN_IV_MUL, 380, 380, 14},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 9, 318},
+        {CODEGEN_IV_MUL, 379, 379, 374},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 1, 318},
+        {CODEGEN_IV_MUL, 380, 380, 339},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 41, 318},
+        {CODEGEN_IV_MUL, 379, 379, 28},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_CONST, 380, 3, 0},
+        {CODEGEN_IV_MUL, 380, 380, 315},
+        {CODEGEN_IV_MUL, 380, 380, 318},
+        {CODEGEN_IV_MUL, 380, 380, 3},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_CONST, 379, 4, 0},
+        {CODEGEN_IV_MUL, 379, 379, 293},
+        {CODEGEN_IV_MUL, 379, 379, 359},
+        {CODEGEN_IV_MUL, 379, 379, 3},
+        {CODEGEN_IV_ADD, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 294, 0},
+        {CODEGEN_IV_MUL, 380, 380, 8},
+        {CODEGEN_IV_MUL, 380, 380, 340},
+        {CODEGEN_IV_SUB, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 294, 8},
+        {CODEGEN_IV_MUL, 379, 379, 1},
+        {CODEGEN_IV_MUL, 379, 379, 340},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 42, 318},
+        {CODEGEN_IV_MUL, 380, 380, 332},
+        {CODEGEN_IV_MUL, 380, 380, 29},
+        {CODEGEN_IV_SUB, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 0, 318},
+        {CODEGEN_IV_MUL, 379, 379, 283},
+        {CODEGEN_IV_MUL, 379, 379, 282},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 43, 318},
+        {CODEGEN_IV_MUL, 380, 380, 378},
+        {CODEGEN_IV_ADD, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 44, 318},
+        {CODEGEN_IV_MUL, 379, 379, 332},
+        {CODEGEN_IV_MUL, 379, 379, 28},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 45, 332},
+        {CODEGEN_IV_MUL, 380, 380, 340},
+        {CODEGEN_IV_SUB, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 46, 340},
+        {CODEGEN_IV_MUL, 379, 379, 371},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 47, 294},
+        {CODEGEN_IV_MUL, 380, 380, 4},
+        {CODEGEN_IV_MUL, 380, 380, 318},
+        {CODEGEN_IV_MUL, 380, 380, 3},
+        {CODEGEN_IV_SUB, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 48, 294},
+        {CODEGEN_IV_MUL, 379, 379, 8},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_MUL, 379, 379, 3},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_MUL, 380, 49, 294},
+        {CODEGEN_IV_MUL, 380, 380, 4},
+        {CODEGEN_IV_MUL, 380, 380, 12},
+        {CODEGEN_IV_MUL, 380, 380, 318},
+        {CODEGEN_IV_SUB, 380, 379, 380},
+        {CODEGEN_IV_MUL, 379, 50, 294},
+        {CODEGEN_IV_MUL, 379, 379, 8},
+        {CODEGEN_IV_MUL, 379, 379, 12},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_SUB, 379, 380, 379},
+        {CODEGEN_IV_CONST, 370, 5, 0},
+        {CODEGEN_IV_MUL, 370, 370, 354},
+        {CODEGEN_IV_NEG, 370, 370, 0},
+        {CODEGEN_IV_CONST, 363, 5, 0},
+        {CODEGEN_IV_MUL, 363, 363, 357},
+        {CODEGEN_IV_SUB, 363, 370, 363},
+        {CODEGEN_IV_SUB, 363, 363, 379},
+        {CODEGEN_IV_MUL, 370, 340, 358},
+        {CODEGEN_IV_SUB, 370, 363, 370},
+        {CODEGEN_IV_MUL, 363, 340, 361},
+        {CODEGEN_IV_SUB, 363, 370, 363},
+        {CODEGEN_IV_MUL, 370, 51, 332},
+        {CODEGEN_IV_MUL, 370, 370, 340},
+        {CODEGEN_IV_MUL, 370, 370, 3},
+        {CODEGEN_IV_ADD, 370, 363, 370},
+        {CODEGEN_IV_MUL, 363, 52, 332},
+        {CODEGEN_IV_MUL, 363, 363, 340},
+        {CODEGEN_IV_ADD, 363, 370, 363},
+        {CODEGEN_IV_CONST, 370, 1, 0},
+        {CODEGEN_IV_POW, 380, 340, 1},
+        {CODEGEN_IV_DIV, 380, 370, 380},
+        {CODEGEN_IV_MUL, 370, 292, 380},
+        {CODEGEN_IV_MUL, 381, 285, 363},
+        {CODEGEN_IV_MUL, 381, 381, 370},
+        {CODEGEN_IV_MUL, 382, 335, 14},
+        {CODEGEN_IV_MUL, 384, 53, 360},
+        {CODEGEN_IV_NEG, 385, 354, 0},
+        {CODEGEN_IV_SUB, 385, 385, 357},
+        {CODEGEN_IV_SUB, 385, 385, 379},
+        {CODEGEN_IV_MUL, 386, 384, 340},
+        {CODEGEN_IV_SUB, 386, 385, 386},
+        {CODEGEN_IV_MUL, 385, 340, 382},
+        {CODEGEN_IV_SUB, 385, 386, 385},
+        {CODEGEN_IV_MUL, 386, 54, 332},
+        {CODEGEN_IV_MUL, 386, 386, 340},
+        {CODEGEN_IV_MUL, 386, 386, 3},
+        {CODEGEN_IV_ADD, 386, 385, 386},
+        {CODEGEN_IV_MUL, 385, 55, 332},
+        {CODEGEN_IV_MUL, 385, 385, 340},
+        {CODEGEN_IV_ADD, 385, 386, 385},
+        {CODEGEN_IV_MUL, 379, 351, 370},
+        {CODEGEN_IV_MUL, 357, 286, 379},
+        {CODEGEN_IV_CONST, 354, 1, 0},
+        {CODEGEN_IV_POW, 386, 305, 1},
+        {CODEGEN_IV_DIV, 386, 354, 386},
+        {CODEGEN_IV_MUL, 354, 283, 349},
+        {CODEGEN_IV_NEG, 354, 354, 0},
+        {CODEGEN_IV_MUL, 387, 282, 349},
+        {CODEGEN_IV_SUB, 387, 354, 387},
+        {CODEGEN_IV_CONST, 354, 6, 0},
+        {CODEGEN_IV_MUL, 354, 354, 380},
+        {CODEGEN_IV_MUL, 388, 387, 354},
+        {CODEGEN_IV_ADD, 389, 56, 341},
+        {CODEGEN_IV_ADD, 389, 389, 343},
+        {CODEGEN_IV_SUB, 389, 389, 344},
+        {CODEGEN_IV_MUL, 390, 389, 300},
+        {CODEGEN_IV_CONST, 391, 0, 0},
+        {CODEGEN_IV_MUL, 391, 391, 371},
+        {CODEGEN_IV_MUL, 392, 280, 293},
+        {CODEGEN_IV_NEG, 392, 392, 0},
+        {CODEGEN_IV_MUL, 393, 4, 343},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 8, 344},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 10, 318},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 1, 343},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 1, 344},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 315, 290},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 320, 340},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 323, 340},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_CONST, 393, 2, 0},
+        {CODEGEN_IV_MUL, 393, 393, 294},
+        {CODEGEN_IV_MUL, 393, 393, 11},
+        {CODEGEN_IV_MUL, 393, 393, 318},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 0, 391},
+        {CODEGEN_IV_MUL, 392, 392, 13},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 12, 318},
+        {CODEGEN_IV_MUL, 393, 393, 289},
+        {CODEGEN_IV_ADD, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 57, 294},
+        {CODEGEN_IV_MUL, 392, 392, 340},
+        {CODEGEN_IV_ADD, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 58, 318},
+        {CODEGEN_IV_ADD, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 59, 318},
+        {CODEGEN_IV_ADD, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 60, 318},
+        {CODEGEN_IV_ADD, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 61, 318},
+        {CODEGEN_IV_ADD, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 281, 294},
+        {CODEGEN_IV_MUL, 393, 393, 8},
+        {CODEGEN_IV_MUL, 393, 393, 290},
+        {CODEGEN_IV_ADD, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 62, 318},
+        {CODEGEN_IV_MUL, 392, 392, 289},
+        {CODEGEN_IV_ADD, 392, 393, 392},
+        {CODEGEN_IV_MUL, 393, 63, 332},
+        {CODEGEN_IV_MUL, 393, 393, 290},
+        {CODEGEN_IV_ADD, 393, 392, 393},
+        {CODEGEN_IV_CONST, 392, 2, 0},
+        {CODEGEN_IV_MUL, 392, 392, 294},
+        {CODEGEN_IV_MUL, 392, 392, 0},
+        {CODEGEN_IV_MUL, 392, 392, 1},
+        {CODEGEN_IV_MUL, 392, 392, 318},
+        {CODEGEN_IV_ADD, 392, 393, 392},
+        {CODEGEN_IV_MUL, 290, 388, 390},
+        {CODEGEN_IV_MUL, 289, 392, 300},
+        {CODEGEN_IV_ADD, 289, 290, 289},
+        {CODEGEN_IV_MUL, 290, 347, 349},
+        {CODEGEN_IV_ADD, 290, 289, 290},
+        {CODEGEN_IV_MUL, 289, 1, 371},
+        {CODEGEN_IV_MUL, 344, 53, 289},
+        {CODEGEN_IV_CONST, 343, 1, 0},
+        {CODEGEN_IV_POW, 293, 300, 3},
+        {CODEGEN_IV_DIV, 293, 343, 293},
+        {CODEGEN_IV_MUL, 343, 287, 293},
+        {CODEGEN_IV_CONST, 315, 4, 0},
+        {CODEGEN_IV_MUL, 315, 315, 289},
+        {CODEGEN_IV_MUL, 308, 0, 315},
+        {CODEGEN_IV_MUL, 307, 290, 341},
+        {CODEGEN_IV_MUL, 393, 318, 340},
+        {CODEGEN_IV_MUL, 394, 393, 28},
+        {CODEGEN_IV_MUL, 395, 393, 29},
+        {CODEGEN_IV_MUL, 396, 0, 393},
+        {CODEGEN_IV_CONST, 397, 4, 0},
+        {CODEGEN_IV_MUL, 397, 397, 393},
+        {CODEGEN_IV_MUL, 398, 393, 1},
+        {CODEGEN_IV_MUL, 398, 398, 338},
+        {CODEGEN_IV_MUL, 399, 64, 371},
+        {CODEGEN_IV_MUL, 311, 65, 371},
+        {CODEGEN_IV_MUL, 402, 66, 371},
+        {CODEGEN_IV_MUL, 403, 9, 335},
+        {CODEGEN_IV_MUL, 404, 66, 332},
+        {CODEGEN_IV_MUL, 401, 65, 332},
+        {CODEGEN_IV_CONST, 400, 3, 0},
+        {CODEGEN_IV_MUL, 400, 400, 399},
+        {CODEGEN_IV_CONST, 405, 0, 0},
+        {CODEGEN_IV_MUL, 405, 405, 403},
+        {CODEGEN_IV_SUB, 405, 400, 405},
+        {CODEGEN_IV_CONST, 400, 0, 0},
+        {CODEGEN_IV_MUL, 400, 400, 294},
+        {CODEGEN_IV_MUL, 400, 400, 32},
+        {CODEGEN_IV_ADD, 400, 405, 400},
+        {CODEGEN_IV_CONST, 405, 4, 0},
+        {CODEGEN_IV_POW, 406, 294, 4},
+        {CODEGEN_IV_MUL, 406, 405, 406},
+        {CODEGEN_IV_MUL, 406, 406, 64},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 4, 311},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 4, 401},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 53, 356},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 391, 36},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_CONST, 400, 7, 0},
+        {CODEGEN_IV_MUL, 400, 400, 289},
+        {CODEGEN_IV_MUL, 400, 400, 353},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 315, 366},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 5, 393},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 67, 360},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 393, 9},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 393, 35},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 396, 8},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 68, 332},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_CONST, 400, 8, 0},
+        {CODEGEN_IV_MUL, 400, 400, 399},
+        {CODEGEN_IV_MUL, 400, 400, 332},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 311, 8},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 402, 33},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 402, 34},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_CONST, 400, 4, 0},
+        {CODEGEN_IV_MUL, 400, 400, 403},
+        {CODEGEN_IV_MUL, 400, 400, 371},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 404, 33},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 404, 34},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 401, 8},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 333, 36},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 335, 339},
+        {CODEGEN_IV_ADD, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 14, 353},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 14, 366},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 69, 360},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 356, 33},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 356, 34},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 37, 373},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 37, 376},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 294, 1},
+        {CODEGEN_IV_MUL, 406, 406, 339},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 70, 359},
+        {CODEGEN_IV_ADD, 400, 406, 400},
+        {CODEGEN_IV_MUL, 406, 71, 356},
+        {CODEGEN_IV_MUL, 406, 406, 371},
+        {CODEGEN_IV_SUB, 406, 400, 406},
+        {CODEGEN_IV_MUL, 400, 72, 359},
+        {CODEGEN_IV_SUB, 400, 406, 400},
+        {CODEGEN_IV_CONST, 376, 8, 0},
+        {CODEGEN_IV_MUL, 376, 376, 393},
+        {CODEGEN_IV_MUL, 393, 285, 379},
+        {CODEGEN_IV_NEG, 379, 320, 0},
+        {CODEGEN_IV_SUB, 379, 379, 323},
+        {CODEGEN_IV_MUL, 373, 73, 294},
+        {CODEGEN_IV_ADD, 373, 379, 373},
+        {CODEGEN_IV_MUL, 373, 300, 373},
+        {CODEGEN_IV_CONST, 323, 1, 0},
+        {CODEGEN_IV_MUL, 320, 283, 282},
+        {CODEGEN_IV_DIV, 320, 323, 320},
+        {CODEGEN_IV_MUL, 323, 387, 380},
+        {CODEGEN_IV_MUL, 380, 287, 386},
+        {CODEGEN_IV_MUL, 380, 380, 348},
+        {CODEGEN_IV_MUL, 380, 380, 303},
+        {CODEGEN_IV_MUL, 379, 74, 293},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_MUL, 372, 286, 385},
+        {CODEGEN_IV_CONST, 286, 0, 0},
+        {CODEGEN_IV_MUL, 286, 286, 396},
+        {CODEGEN_IV_ADD, 286, 286, 366},
+        {CODEGEN_IV_ADD, 286, 286, 368},
+        {CODEGEN_IV_ADD, 286, 286, 375},
+        {CODEGEN_IV_ADD, 286, 286, 377},
+        {CODEGEN_IV_MUL, 369, 294, 0},
+        {CODEGEN_IV_MUL, 369, 369, 8},
+        {CODEGEN_IV_SUB, 369, 286, 369},
+        {CODEGEN_IV_MUL, 286, 294, 8},
+        {CODEGEN_IV_MUL, 286, 286, 1},
+        {CODEGEN_IV_SUB, 286, 369, 286},
+        {CODEGEN_IV_MUL, 369, 75, 318},
+        {CODEGEN_IV_MUL, 369, 369, 340},
+        {CODEGEN_IV_SUB, 369, 286, 369},
+        {CODEGEN_IV_MUL, 286, 76, 332},
+        {CODEGEN_IV_SUB, 286, 369, 286},
+        {CODEGEN_IV_MUL, 369, 77, 371},
+        {CODEGEN_IV_SUB, 369, 286, 369},
+        {CODEGEN_IV_MUL, 377, 292, 320},
+        {CODEGEN_IV_MUL, 377, 377, 351},
+        {CODEGEN_IV_CONST, 375, 6, 0},
+        {CODEGEN_IV_MUL, 375, 375, 290},
+        {CODEGEN_IV_MUL, 366, 385, 357},
+        {CODEGEN_IV_SUB, 366, 78, 366},
+        {CODEGEN_IV_MUL, 368, 346, 350},
+        {CODEGEN_IV_SUB, 368, 366, 368},
+        {CODEGEN_IV_MUL, 366, 351, 381},
+        {CODEGEN_IV_SUB, 366, 368, 366},
+        {CODEGEN_IV_MUL, 368, 79, 294},
+        {CODEGEN_IV_ADD, 368, 366, 368},
+        {CODEGEN_IV_MUL, 366, 80, 386},
+        {CODEGEN_IV_MUL, 366, 366, 290},
+        {CODEGEN_IV_MUL, 366, 366, 348},
+        {CODEGEN_IV_MUL, 366, 366, 303},
+        {CODEGEN_IV_ADD, 366, 368, 366},
+        {CODEGEN_IV_ADD, 303, 394, 395},
+        {CODEGEN_IV_CONST, 351, 3, 0},
+        {CODEGEN_IV_MUL, 351, 351, 398},
+        {CODEGEN_IV_ADD, 351, 303, 351},
+        {CODEGEN_IV_ADD, 351, 351, 400},
+        {CODEGEN_IV_MUL, 303, 396, 14},
+        {CODEGEN_IV_ADD, 303, 351, 303},
+        {CODEGEN_IV_MUL, 351, 397, 312},
+        {CODEGEN_IV_SUB, 351, 303, 351},
+        {CODEGEN_IV_MUL, 303, 397, 316},
+        {CODEGEN_IV_SUB, 303, 351, 303},
+        {CODEGEN_IV_MUL, 303, 357, 303},
+        {CODEGEN_IV_NEG, 303, 303, 0},
+        {CODEGEN_IV_NEG, 351, 384, 0},
+        {CODEGEN_IV_SUB, 351, 351, 369},
+        {CODEGEN_IV_SUB, 351, 351, 353},
+        {CODEGEN_IV_SUB, 351, 351, 356},
+        {CODEGEN_IV_SUB, 351, 351, 382},
+        {CODEGEN_IV_MUL, 348, 81, 332},
+        {CODEGEN_IV_MUL, 348, 348, 3},
+        {CODEGEN_IV_ADD, 348, 351, 348},
+        {CODEGEN_IV_MUL, 351, 82, 332},
+        {CODEGEN_IV_ADD, 351, 348, 351},
+        {CODEGEN_IV_MUL, 351, 357, 351},
+        {CODEGEN_IV_NEG, 351, 351, 0},
+        {CODEGEN_IV_MUL, 348, 372, 377},
+        {CODEGEN_IV_SUB, 348, 351, 348},
+        {CODEGEN_IV_MUL, 348, 388, 348},
+        {CODEGEN_IV_ADD, 348, 303, 348},
+        {CODEGEN_IV_NEG, 303, 369, 0},
+        {CODEGEN_IV_CONST, 351, 5, 0},
+        {CODEGEN_IV_MUL, 351, 351, 353},
+        {CODEGEN_IV_SUB, 351, 303, 351},
+        {CODEGEN_IV_CONST, 303, 5, 0},
+        {CODEGEN_IV_MUL, 303, 303, 356},
+        {CODEGEN_IV_SUB, 303, 351, 303},
+        {CODEGEN_IV_SUB, 303, 303, 358},
+        {CODEGEN_IV_SUB, 303, 303, 361},
+        {CODEGEN_IV_MUL, 351, 83, 332},
+        {CODEGEN_IV_MUL, 351, 351, 3},
+        {CODEGEN_IV_ADD, 351, 303, 351},
+        {CODEGEN_IV_MUL, 303, 84, 332},
+        {CODEGEN_IV_ADD, 303, 351, 303},
+        {CODEGEN_IV_MUL, 303, 393, 303},
+        {CODEGEN_IV_NEG, 303, 303, 0},
+        {CODEGEN_IV_MUL, 351, 285, 377},
+        {CODEGEN_IV_MUL, 351, 351, 363},
+        {CODEGEN_IV_SUB, 351, 303, 351},
+        {CODEGEN_IV_MUL, 351, 388, 351},
+        {CODEGEN_IV_ADD, 351, 348, 351},
+        {CODEGEN_IV_MUL, 348, 343, 307},
+        {CODEGEN_IV_SUB, 348, 351, 348},
+        {CODEGEN_IV_CONST, 351, 5, 0},
+        {CODEGEN_IV_MUL, 351, 351, 394},
+        {CODEGEN_IV_CONST, 303, 5, 0},
+        {CODEGEN_IV_MUL, 303, 303, 395},
+        {CODEGEN_IV_ADD, 303, 351, 303},
+        {CODEGEN_IV_CONST, 351, 9, 0},
+        {CODEGEN_IV_MUL, 351, 351, 398},
+        {CODEGEN_IV_ADD, 351, 303, 351},
+        {CODEGEN_IV_ADD, 351, 351, 400},
+        {CODEGEN_IV_CONST, 303, 10, 0},
+        {CODEGEN_IV_MUL, 303, 303, 396},
+        {CODEGEN_IV_MUL, 303, 303, 1},
+        {CODEGEN_IV_ADD, 303, 351, 303},
+        {CODEGEN_IV_MUL, 351, 376, 312},
+        {CODEGEN_IV_SUB, 351, 303, 351},
+        {CODEGEN_IV_MUL, 303, 376, 316},
+        {CODEGEN_IV_SUB, 303, 351, 303},
+        {CODEGEN_IV_MUL, 303, 393, 303},
+        {CODEGEN_IV_SUB, 303, 348, 303},
+        {CODEGEN_IV_CONST, 348, 6, 0},
+        {CODEGEN_IV_MUL, 348, 348, 380},
+        {CODEGEN_IV_MUL, 351, 388, 373},
+        {CODEGEN_IV_CONST, 385, 2, 0},
+        {CODEGEN_IV_MUL, 385, 385, 392},
+        {CODEGEN_IV_MUL, 385, 385, 341},
+        {CODEGEN_IV_ADD, 385, 351, 385},
+        {CODEGEN_IV_MUL, 351, 299, 347},
+        {CODEGEN_IV_ADD, 351, 385, 351},
+        {CODEGEN_IV_NEG, 385, 344, 0},
+        {CODEGEN_IV_SUB, 385, 385, 312},
+        {CODEGEN_IV_SUB, 385, 385, 316},
+        {CODEGEN_IV_ADD, 385, 385, 317},
+        {CODEGEN_IV_ADD, 385, 385, 319},
+        {CODEGEN_IV_SUB, 385, 385, 321},
+        {CODEGEN_IV_SUB, 385, 385, 324},
+        {CODEGEN_IV_SUB, 385, 385, 325},
+        {CODEGEN_IV_ADD, 385, 385, 326},
+        {CODEGEN_IV_ADD, 385, 385, 327},
+        {CODEGEN_IV_ADD, 385, 385, 298},
+        {CODEGEN_IV_ADD, 385, 385, 328},
+        {CODEGEN_IV_ADD, 385, 385, 329},
+        {CODEGEN_IV_ADD, 385, 385, 330},
+        {CODEGEN_IV_ADD, 385, 385, 331},
+        {CODEGEN_IV_SUB, 385, 385, 342},
+        {CODEGEN_IV_SUB, 385, 385, 297},
+        {CODEGEN_IV_ADD, 385, 385, 345},
+        {CODEGEN_IV_MUL, 294, 85, 371},
+        {CODEGEN_IV_ADD, 294, 385, 294},
+        {CODEGEN_IV_MUL, 385, 11, 378},
+        {CODEGEN_IV_SUB, 385, 294, 385},
+        {CODEGEN_IV_MUL, 294, 1, 374},
+        {CODEGEN_IV_ADD, 294, 385, 294},
+        {CODEGEN_IV_MUL, 385, 86, 336},
+        {CODEGEN_IV_SUB, 385, 294, 385},
+        {CODEGEN_IV_MUL, 385, 300, 385},
+        {CODEGEN_IV_ADD, 385, 351, 385},
+        {CODEGEN_IV_MUL, 351, 354, 390},
+        {CODEGEN_IV_NEG, 294, 308, 0},
+        {CODEGEN_IV_MUL, 291, 283, 299},
+        {CODEGEN_IV_SUB, 291, 294, 291},
+        {CODEGEN_IV_MUL, 294, 282, 299},
+        {CODEGEN_IV_SUB, 294, 291, 294},
+        {CODEGEN_IV_MUL, 294, 351, 294},
+        {CODEGEN_IV_ADD, 294, 385, 294},
+        {CODEGEN_IV_MUL, 385, 389, 323},
+        {CODEGEN_IV_MUL, 385, 385, 341},
+        {CODEGEN_IV_ADD, 385, 294, 385},
+        {CODEGEN_IV_MUL, 385, 348, 385},
+        {CODEGEN_IV_ADD, 385, 303, 385},
+        {CODEGEN_IV_MUL, 303, 379, 381},
+        {CODEGEN_IV_ADD, 303, 385, 303},
+        {CODEGEN_IV_MUL, 385, 87, 322},
+        {CODEGEN_IV_SUB, 385, 303, 385},
+        {CODEGEN_IV_MUL, 303, 386, 307},
+        {CODEGEN_IV_MUL, 303, 303, 346},
+        {CODEGEN_IV_SUB, 303, 385, 303},
+        {CODEGEN_IV_MUL, 385, 386, 375},
+        {CODEGEN_IV_MUL, 348, 343, 350},
+        {CODEGEN_IV_NEG, 348, 348, 0},
+        {CODEGEN_IV_MUL, 294, 346, 349},
+        {CODEGEN_IV_SUB, 294, 348, 294},
+        {CODEGEN_IV_MUL, 348, 375, 346},
+        {CODEGEN_IV_DIV, 348, 348, 347},
+        {CODEGEN_IV_SUB, 348, 294, 348},
+        {CODEGEN_IV_MUL, 294, 88, 386},
+        {CODEGEN_IV_MUL, 294, 294, 290},
+        {CODEGEN_IV_MUL, 294, 294, 302},
+        {CODEGEN_IV_ADD, 294, 348, 294},
+        {CODEGEN_IV_MUL, 294, 385, 294},
+        {CODEGEN_IV_ADD, 294, 303, 294},
+        {CODEGEN_IV_MUL, 303, 344, 343},
+        {CODEGEN_IV_MUL, 303, 303, 347},
+        {CODEGEN_IV_ADD, 303, 294, 303},
+        {CODEGEN_IV_CONST, 294, 11, 0},
+        {CODEGEN_IV_MUL, 294, 294, 323},
+        {CODEGEN_IV_MUL, 294, 294, 380},
+        {CODEGEN_IV_MUL, 385, 389, 349},
+        {CODEGEN_IV_ADD, 385, 373, 385},
+        {CODEGEN_IV_CONST, 348, 6, 0},
+        {CODEGEN_IV_MUL, 348, 348, 387},
+        {CODEGEN_IV_MUL, 348, 348, 390},
+        {CODEGEN_IV_MUL, 348, 348, 320},
+        {CODEGEN_IV_ADD, 348, 385, 348},
+        {CODEGEN_IV_MUL, 348, 294, 348},
+        {CODEGEN_IV_ADD, 348, 303, 348},
+        {CODEGEN_IV_MUL, 303, 379, 372},
+        {CODEGEN_IV_MUL, 303, 303, 370},
+        {CODEGEN_IV_ADD, 303, 348, 303},
+        {CODEGEN_IV_MUL, 348, 299, 305},
+        {CODEGEN_IV_MUL, 348, 348, 346},
+        {CODEGEN_IV_SUB, 348, 303, 348},
+        {CODEGEN_IV_MUL, 303, 293, 308},
+        {CODEGEN_IV_MUL, 303, 303, 305},
+        {CODEGEN_IV_MUL, 303, 303, 288},
+        {CODEGEN_IV_ADD, 303, 348, 303},
     };
-    static const codegen_iv constants[14] = {
+    static const codegen_iv constants[12] = {
         {2, 2},
         {1, 1},
-        {CODEGEN_R(0.25), CODEGEN_R(0.25)},
-        {6, 6},
-        {12, 12},
-        {10, 10},
         {4, 4},
+        {12, 12},
         {8, 8},
-        {16, 16},
         {3, 3},
         {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+        {16, 16},
         {24, 24},
-        {32, 32},
-        {36, 36}
+        {36, 36},
+        {6, 6},
+        {CODEGEN_R(0.25), CODEGEN_R(0.25)}
     };
-    v[0] = codegen_iv_point(params->d);
-    v[1] = codegen_iv_point(params->a_2);
-    v[2] = codegen_iv_point(params->a_3);
-    v[3] = codegen_iv_point(params->a_4);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->m_3);
-    v[6] = codegen_iv_point(params->m_4);
-    v[7] = codegen_iv_point(params->k);
-    v[8] = codegen_iv_point(params->l_0);
-    v[9] = codegen_iv_point(params->x_S);
-    v[10] = codegen_iv_point(params->y_S);
-    v[11] = codegen_iv_point(params->T);
-    v[12] = codegen_iv_point(params->g);
-    v[13] = theta;
-    codegen_iv_run(program, 832, constants, v, iv_flags);
-    *iv_g = v[86];
-    *iv_dg = v[23];
+    v[280] = codegen_iv_point(params->d);
+    v[281] = codegen_iv_point(params->a_2);
+    v[285] = codegen_iv_point(params->m_3);
+    v[286] = codegen_iv_point(params->m_4);
+    v[287] = codegen_iv_point(params->k);
+    v[289] = codegen_iv_point(params->x_S);
+    v[290] = codegen_iv_point(params->y_S);
+    v[292] = codegen_iv_point(params->g);
+    v[293] = theta;
+    codegen_iv_run(program, 664, constants, v, iv_flags);
+    *iv_g = v[366];
+    *iv_dg = v[303];
 #else
-    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
-    const codegen_iv a_3 = codegen_iv_point(params->a_3);
-    const codegen_iv a_4 = codegen_iv_point(params->a_4);
-    const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv m_3 = codegen_iv_point(params->m_3);
     const codegen_iv m_4 = codegen_iv_point(params->m_4);
     const codegen_iv k = codegen_iv_point(params->k);
-    const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
     const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv T = codegen_iv_point(params->T);
     const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
-    const codegen_iv tmp1 = codegen_iv_pow(a_2, 2);
-    const codegen_iv tmp2 = codegen_iv_pow(d, 2);
-    const codegen_iv tmp3 = codegen_iv_mul(a_2, tmp0);
-    const codegen_iv tmp4 = codegen_iv_mul(d, tmp3);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), tmp4);
-    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp1, tmp2), tmp5);
-    const codegen_iv tmp7 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
-    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
-    const codegen_iv tmp9 = codegen_iv_pow(d, 3);
-    const codegen_iv tmp10 = codegen_iv_pow(a_4, 2);
-    const codegen_iv tmp11 = codegen_iv_mul(d, x_S);
-    const codegen_iv tmp12 = codegen_iv_mul(tmp1, tmp10);
-    const codegen_iv tmp13 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp14 = codegen_iv_pow(y_S, 2);
-    const codegen_iv tmp15 = codegen_iv_pow(a_3, 2);
-    const codegen_iv tmp16 = codegen_iv_mul(tmp15, tmp2);
-    const codegen_iv tmp17 = codegen_iv_mul(a_2, tmp9);
-    const codegen_iv tmp18 = codegen_iv_mul(tmp0, tmp17);
-    const codegen_iv tmp19 = codegen_iv_mul(tmp1, tmp11);
-    const codegen_iv tmp20 = codegen_iv_pow(a_2, 3);
-    const codegen_iv tmp21 = codegen_iv_mul(tmp0, tmp20);
-    const codegen_iv tmp22 = codegen_iv_mul(d, tmp21);
-    const codegen_iv tmp23 = codegen_iv_mul(tmp21, x_S);
-    const codegen_iv tmp24 = codegen_iv_sin(theta);
-    const codegen_iv tmp25 = codegen_iv_mul(tmp20, tmp24);
-    const codegen_iv tmp26 = codegen_iv_mul(tmp25, y_S);
-    const codegen_iv tmp27 = codegen_iv_mul(tmp3, x_S);
-    const codegen_iv tmp28 = codegen_iv_mul(tmp15, tmp27);
-    const codegen_iv tmp29 = codegen_iv_mul(a_2, tmp24);
-    const codegen_iv tmp30 = codegen_iv_mul(tmp29, y_S);
-    const codegen_iv tmp31 = codegen_iv_mul(tmp15, tmp30);
-    const codegen_iv tmp32 = codegen_iv_mul(tmp2, tmp27);
-    const codegen_iv tmp33 = codegen_iv_mul(tmp15, tmp4);
-    const codegen_iv tmp34 = codegen_iv_mul(tmp10, tmp4);
-    const codegen_iv tmp35 = codegen_iv_mul(tmp10, tmp27);
-    const codegen_iv tmp36 = codegen_iv_mul(tmp10, tmp30);
-    const codegen_iv tmp37 = codegen_iv_mul(tmp13, tmp5);
-    const codegen_iv tmp38 = codegen_iv_mul(tmp14, tmp5);
-    const codegen_iv tmp39 = codegen_iv_mul(tmp2, tmp30);
-    const codegen_iv tmp40 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp41 = codegen_iv_mul(codegen_iv_point(2), tmp40);
-    const codegen_iv tmp42 = codegen_iv_mul(d, y_S);
-    const codegen_iv tmp43 = codegen_iv_mul(tmp0, tmp1);
-    const codegen_iv tmp44 = codegen_iv_mul(tmp24, tmp43);
-    const codegen_iv tmp45 = codegen_iv_mul(codegen_iv_point(2), tmp2);
-    const codegen_iv tmp46 = codegen_iv_mul(tmp1, tmp40);
-    const codegen_iv tmp47 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
-    const codegen_iv tmp48 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(tmp1, tmp10), tmp15), tmp2), tmp47), tmp5);
-    const codegen_iv tmp49 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp10), tmp15), tmp47), tmp6);
-    const codegen_iv tmp50 = codegen_iv_mul(tmp48, tmp49);
-    const codegen_iv tmp51 = codegen_iv_sqrt(codegen_iv_neg(tmp50), iv_flags);
-    const codegen_iv tmp52 = codegen_iv_mul(d, tmp29);
-    const codegen_iv tmp53 = codegen_iv_mul(tmp51, tmp52);
-    const codegen_iv tmp54 = codegen_iv_mul(tmp3, y_S);
-    const codegen_iv tmp55 = codegen_iv_mul(tmp51, tmp54);
-    const codegen_iv tmp56 = codegen_iv_mul(tmp29, x_S);
-    const codegen_iv tmp57 = codegen_iv_mul(tmp51, tmp56);
-    const codegen_iv tmp58 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp12, tmp16), tmp18), tmp19), tmp22), tmp23), tmp26), tmp28), tmp31), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp53), tmp55), tmp57), codegen_iv_mul(tmp1, tmp13)), codegen_iv_mul(tmp1, tmp14)), codegen_iv_mul(tmp10, tmp11)), codegen_iv_mul(tmp11, tmp15)), codegen_iv_mul(tmp13, tmp2)), codegen_iv_mul(tmp14, tmp2)), codegen_iv_mul(tmp19, tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp42), tmp44)), codegen_iv_mul(tmp42, tmp51)), codegen_iv_mul(tmp45, tmp46)), codegen_iv_mul(tmp9, x_S));
-    const codegen_iv tmp59 = codegen_iv_sqrt(codegen_iv_mul(tmp58, tmp6), iv_flags);
-    const codegen_iv tmp60 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp59, tmp8));
-    const codegen_iv tmp61 = codegen_iv_mul(k, tmp60);
-    const codegen_iv tmp62 = codegen_iv_mul(tmp61, tmp7);
-    const codegen_iv tmp63 = codegen_iv_mul(codegen_iv_point(2), tmp52);
-    const codegen_iv tmp64 = codegen_iv_mul(tmp59, tmp63);
-    const codegen_iv tmp65 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), tmp7);
-    const codegen_iv tmp66 = codegen_iv_pow(a_2, 4);
-    const codegen_iv tmp67 = codegen_iv_mul(tmp0, tmp66);
-    const codegen_iv tmp68 = codegen_iv_mul(tmp51, tmp67);
-    const codegen_iv tmp69 = codegen_iv_pow(d, 4);
-    const codegen_iv tmp70 = codegen_iv_mul(tmp0, tmp69);
-    const codegen_iv tmp71 = codegen_iv_mul(tmp51, tmp70);
-    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp2), tmp43);
-    const codegen_iv tmp73 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp74 = codegen_iv_mul(tmp2, tmp73);
-    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp1), tmp74);
-    const codegen_iv tmp76 = codegen_iv_pow(d, 6);
-    const codegen_iv tmp77 = codegen_iv_mul(tmp24, tmp69);
-    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_point(2), tmp15);
-    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2), tmp10);
-    const codegen_iv tmp80 = codegen_iv_mul(tmp0, tmp12);
-    const codegen_iv tmp81 = codegen_iv_mul(tmp10, tmp2);
-    const codegen_iv tmp82 = codegen_iv_mul(tmp0, tmp81);
-    const codegen_iv tmp83 = codegen_iv_mul(codegen_iv_pow(a_2, 5), d);
-    const codegen_iv tmp84 = codegen_iv_mul(codegen_iv_point(2), tmp24);
-    const codegen_iv tmp85 = codegen_iv_mul(codegen_iv_point(10), codegen_iv_pow(d, 5));
-    const codegen_iv tmp86 = codegen_iv_pow(tmp24, 2);
-    const codegen_iv tmp87 = codegen_iv_mul(a_2, tmp40);
-    const codegen_iv tmp88 = codegen_iv_mul(d, tmp78);
-    const codegen_iv tmp89 = codegen_iv_mul(tmp87, tmp88);
-    const codegen_iv tmp90 = codegen_iv_mul(a_2, tmp86);
-    const codegen_iv tmp91 = codegen_iv_mul(tmp88, tmp90);
-    const codegen_iv tmp92 = codegen_iv_mul(codegen_iv_point(4), tmp46);
-    const codegen_iv tmp93 = codegen_iv_mul(codegen_iv_point(4), tmp40);
-    const codegen_iv tmp94 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp24), tmp76)), codegen_iv_mul(tmp51, tmp80)), codegen_iv_mul(tmp51, tmp82)), codegen_iv_mul(tmp51, tmp89)), codegen_iv_mul(tmp51, tmp91)), codegen_iv_mul(tmp77, tmp78)), codegen_iv_mul(tmp77, tmp79)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp29), tmp85)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp83), tmp84)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp16), tmp84)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp1), tmp24), tmp69)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp24), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp24), tmp92)), codegen_iv_mul(codegen_iv_mul(tmp2, tmp24), tmp50)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp2), tmp24), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp21), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp25), tmp73), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp15), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp15), tmp2), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp1), tmp24), tmp40), tmp69)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp1, tmp24), tmp48), tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp12, tmp2), tmp24), tmp93)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp2), tmp24), tmp40), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp10), tmp40), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp10), tmp51), tmp86)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp10), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp15), tmp24), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp10), tmp20), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp15), tmp20), tmp24));
-    const codegen_iv tmp95 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3), tmp68)), codegen_iv_mul(codegen_iv_point(3), tmp71)), tmp94), codegen_iv_mul(tmp51, tmp72)), codegen_iv_mul(tmp51, tmp75)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp40), tmp51), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp20), tmp40), tmp51));
-    const codegen_iv tmp96 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp51, 1), iv_flags);
-    const codegen_iv tmp97 = codegen_iv_mul(g, tmp96);
-    const codegen_iv tmp98 = codegen_iv_mul(codegen_iv_mul(m_3, tmp95), tmp97);
-    const codegen_iv tmp99 = codegen_iv_mul(tmp43, tmp45);
-    const codegen_iv tmp100 = codegen_iv_mul(codegen_iv_point(4), tmp1);
-    const codegen_iv tmp101 = codegen_iv_mul(tmp100, tmp74);
-    const codegen_iv tmp102 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp68), tmp71), tmp94), codegen_iv_mul(tmp101, tmp51)), codegen_iv_mul(tmp51, tmp99)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp40), tmp51), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp20), tmp40), tmp51));
-    const codegen_iv tmp103 = codegen_iv_mul(tmp65, tmp97);
-    const codegen_iv tmp104 = codegen_iv_mul(m_4, tmp103);
-    const codegen_iv tmp105 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp59, 1), iv_flags);
-    const codegen_iv tmp106 = codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp48, tmp63)), codegen_iv_mul(tmp49, tmp63));
-    const codegen_iv tmp107 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp96);
-    const codegen_iv tmp108 = codegen_iv_mul(tmp106, tmp107);
-    const codegen_iv tmp109 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp42), tmp52), tmp54), tmp56);
-    const codegen_iv tmp110 = codegen_iv_mul(tmp109, tmp6);
-    const codegen_iv tmp111 = codegen_iv_mul(codegen_iv_point(2), tmp86);
-    const codegen_iv tmp112 = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(d, tmp25)), codegen_iv_mul(tmp10, tmp54)), codegen_iv_mul(tmp15, tmp56)), codegen_iv_mul(tmp17, tmp24)), codegen_iv_mul(tmp2, tmp54)), codegen_iv_mul(tmp2, tmp56)), codegen_iv_mul(tmp21, y_S)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp30, tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp19), tmp24)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp111), tmp42)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp24), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp10), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp13), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp14), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp15), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp0), tmp15), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp10), tmp24), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp1), tmp40), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp1), tmp2), tmp24));
-    const codegen_iv tmp113 = codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp108, tmp110), codegen_iv_mul(tmp112, tmp6)), codegen_iv_mul(tmp58, tmp63));
-    const codegen_iv tmp114 = codegen_iv_mul(tmp2, tmp86);
-    const codegen_iv tmp115 = codegen_iv_mul(tmp100, tmp114);
-    const codegen_iv tmp116 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 3), iv_flags);
-    const codegen_iv tmp117 = codegen_iv_mul(k, tmp116);
-    const codegen_iv tmp118 = codegen_iv_mul(codegen_iv_point(8), tmp114);
-    const codegen_iv tmp119 = codegen_iv_mul(tmp1, tmp118);
-    const codegen_iv tmp120 = codegen_iv_mul(tmp113, tmp52);
-    const codegen_iv tmp121 = codegen_iv_mul(tmp24, tmp51);
-    const codegen_iv tmp122 = codegen_iv_mul(tmp121, tmp66);
-    const codegen_iv tmp123 = codegen_iv_mul(tmp121, tmp69);
-    const codegen_iv tmp124 = codegen_iv_mul(tmp1, tmp121);
-    const codegen_iv tmp125 = codegen_iv_mul(codegen_iv_point(8), tmp121);
-    const codegen_iv tmp126 = codegen_iv_mul(codegen_iv_mul(tmp121, tmp2), tmp46);
-    const codegen_iv tmp127 = codegen_iv_mul(tmp20, tmp9);
-    const codegen_iv tmp128 = codegen_iv_mul(tmp127, tmp86);
-    const codegen_iv tmp129 = codegen_iv_mul(codegen_iv_point(6), tmp17);
-    const codegen_iv tmp130 = codegen_iv_mul(tmp129, tmp86);
-    const codegen_iv tmp131 = codegen_iv_mul(d, tmp20);
-    const codegen_iv tmp132 = codegen_iv_mul(tmp131, tmp86);
-    const codegen_iv tmp133 = codegen_iv_mul(tmp16, tmp43);
-    const codegen_iv tmp134 = codegen_iv_mul(tmp131, tmp40);
-    const codegen_iv tmp135 = codegen_iv_mul(tmp129, tmp40);
-    const codegen_iv tmp136 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_mul(codegen_iv_point(12), tmp128), codegen_iv_mul(codegen_iv_point(2), tmp133)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), codegen_iv_pow(tmp0, 4)), tmp127)), codegen_iv_mul(tmp10, tmp130)), codegen_iv_mul(tmp10, tmp135)), codegen_iv_mul(tmp100, tmp70)), codegen_iv_mul(tmp111, tmp83)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp114), tmp67)), codegen_iv_mul(tmp118, tmp80)), codegen_iv_mul(tmp12, tmp121)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp12), tmp74)), codegen_iv_mul(tmp121, tmp16)), codegen_iv_mul(tmp121, tmp81)), codegen_iv_mul(tmp124, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp127), tmp40)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), tmp128), tmp40)), codegen_iv_mul(tmp130, tmp15)), codegen_iv_mul(tmp132, tmp78)), codegen_iv_mul(tmp132, tmp79)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp133), tmp86)), codegen_iv_mul(tmp134, tmp78)), codegen_iv_mul(tmp134, tmp79)), codegen_iv_mul(tmp135, tmp15)), codegen_iv_mul(tmp41, tmp83)), codegen_iv_mul(tmp43, tmp50)), codegen_iv_mul(tmp45, tmp67)), codegen_iv_mul(tmp45, tmp80)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp66), tmp74)), codegen_iv_mul(tmp70, tmp78)), codegen_iv_mul(tmp70, tmp79)), codegen_iv_mul(tmp85, tmp87)), codegen_iv_mul(tmp85, tmp90)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp2), tmp50)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp1), tmp69), tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(32), tmp1), tmp70), tmp86)), codegen_iv_mul(codegen_iv_mul(tmp100, tmp16), tmp73));
-    const codegen_iv tmp137 = codegen_iv_mul(codegen_iv_point(24), tmp121);
-    const codegen_iv tmp138 = codegen_iv_mul(m_3, tmp103);
-    const codegen_iv tmp139 = codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp27), tmp30), codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0)));
-    const codegen_iv tmp140 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_mul(tmp48, tmp49), iv_flags);
-    const codegen_iv tmp141 = codegen_iv_mul(tmp106, tmp96);
-    const codegen_iv tmp142 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp105), tmp60), tmp8);
-    const codegen_iv tmp143 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(d, tmp1), tmp116), tmp24);
-    const codegen_iv tmp144 = codegen_iv_mul(m_4, tmp102);
-    const codegen_iv tmp145 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(2), tmp124), tmp80), tmp82), tmp89), tmp91), codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp15)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp15), tmp2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp2), tmp24), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp10), tmp40)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp10), tmp86));
-    const codegen_iv tmp146 = codegen_iv_mul(codegen_iv_mul(g, tmp140), tmp65);
-    const codegen_iv tmp147 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp113);
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp102, tmp104)), codegen_iv_mul(tmp62, tmp64)), codegen_iv_mul(tmp65, tmp98)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), a_2), g), m_2), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp105), tmp113), tmp60), tmp8));
-    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp122, tmp123), codegen_iv_mul(codegen_iv_point(12), tmp126)), tmp136), codegen_iv_mul(tmp124, tmp45)), codegen_iv_mul(tmp125, tmp18)), codegen_iv_mul(tmp125, tmp22)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp104, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp101), tmp145), tmp67), tmp70), tmp99), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp20), tmp40)))), codegen_iv_mul(tmp144, tmp146)))), codegen_iv_mul(tmp108, codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp138, codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp145), codegen_iv_mul(codegen_iv_point(3), tmp67)), codegen_iv_mul(codegen_iv_point(3), tmp70)), tmp72), tmp75), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp40), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp20), tmp40)))), codegen_iv_mul(codegen_iv_mul(m_3, tmp146), tmp95)))), codegen_iv_mul(tmp117, tmp120)), codegen_iv_mul(tmp138, codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(3), tmp122), codegen_iv_mul(codegen_iv_point(3), tmp123)), codegen_iv_mul(codegen_iv_point(36), tmp126)), tmp136), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp124), tmp2)), codegen_iv_mul(tmp137, tmp18)), codegen_iv_mul(tmp137, tmp22)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp142), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp108, tmp139), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp112), tmp52)), codegen_iv_mul(tmp5, tmp58)), codegen_iv_mul(tmp6, codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp115), tmp18), tmp22), tmp23), tmp26), tmp28), tmp31), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp53), tmp55), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp19), tmp86)), codegen_iv_mul(tmp19, tmp93)), codegen_iv_mul(tmp2, tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp42), tmp44)))), codegen_iv_mul(codegen_iv_mul(tmp107, tmp110), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp119), codegen_iv_mul(tmp48, tmp5)), codegen_iv_mul(tmp49, tmp5)))), codegen_iv_mul(codegen_iv_mul(tmp109, tmp141), tmp52)))), codegen_iv_mul(tmp143, tmp98)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_2), tmp29)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp120), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp105, tmp147), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp117, tmp64)), codegen_iv_mul(tmp62, tmp63)), codegen_iv_div(codegen_iv_mul(tmp147, tmp62), tmp58, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp105), tmp113), tmp7)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp117), tmp58)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), tmp141), tmp142), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp109, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp106), tmp110), tmp140)))), codegen_iv_mul(codegen_iv_mul(tmp143, tmp144), tmp97)), codegen_iv_mul(codegen_iv_mul(tmp5, tmp59), tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp116, tmp119), tmp59), tmp61));
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[2], tmp4);
+    const codegen_iv tmp7 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1), tmp7, iv_flags);
+    const codegen_iv tmp10 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp11 = codegen_iv_div(codegen_iv_point(1), tmp10, iv_flags);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp0, v[10]);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp0, v[12]);
+    const codegen_iv tmp14 = codegen_iv_mul(d, tmp13);
+    const codegen_iv tmp15 = codegen_iv_mul(tmp13, x_S);
+    const codegen_iv tmp16 = codegen_iv_sin(theta);
+    const codegen_iv tmp17 = codegen_iv_mul(v[12], tmp16);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp17, y_S);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp20 = codegen_iv_mul(v[8], tmp19);
+    const codegen_iv tmp21 = codegen_iv_mul(a_2, tmp16);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp21, y_S);
+    const codegen_iv tmp23 = codegen_iv_mul(v[8], tmp22);
+    const codegen_iv tmp24 = codegen_iv_mul(v[1], tmp19);
+    const codegen_iv tmp25 = codegen_iv_mul(v[8], tmp2);
+    const codegen_iv tmp26 = codegen_iv_mul(v[4], tmp2);
+    const codegen_iv tmp27 = codegen_iv_mul(v[4], tmp19);
+    const codegen_iv tmp28 = codegen_iv_mul(v[4], tmp22);
+    const codegen_iv tmp29 = codegen_iv_mul(v[6], tmp4);
+    const codegen_iv tmp30 = codegen_iv_mul(v[7], tmp4);
+    const codegen_iv tmp31 = codegen_iv_mul(v[1], tmp22);
+    const codegen_iv tmp32 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp34 = codegen_iv_mul(codegen_iv_point(2), tmp32);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp0, v[0]);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp16, tmp35);
+    const codegen_iv tmp37 = codegen_iv_mul(v[0], tmp32);
+    const codegen_iv tmp38 = codegen_iv_sub(v[15], tmp4);
+    const codegen_iv tmp39 = codegen_iv_add(v[16], tmp5);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_neg(tmp40);
+    const codegen_iv tmp42 = codegen_iv_sqrt(tmp41, iv_flags);
+    const codegen_iv tmp43 = codegen_iv_mul(d, tmp21);
+    const codegen_iv tmp44 = codegen_iv_mul(tmp42, tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp42, tmp45);
+    const codegen_iv tmp47 = codegen_iv_mul(tmp21, x_S);
+    const codegen_iv tmp48 = codegen_iv_mul(tmp42, tmp47);
+    const codegen_iv tmp49 = codegen_iv_add(v[17], tmp12);
+    const codegen_iv tmp50 = codegen_iv_sub(tmp49, v[11]);
+    const codegen_iv tmp51 = codegen_iv_add(tmp50, tmp14);
+    const codegen_iv tmp52 = codegen_iv_sub(tmp51, tmp15);
+    const codegen_iv tmp53 = codegen_iv_sub(tmp52, tmp18);
+    const codegen_iv tmp54 = codegen_iv_add(tmp53, tmp20);
+    const codegen_iv tmp55 = codegen_iv_add(tmp54, tmp23);
+    const codegen_iv tmp56 = codegen_iv_add(tmp55, tmp24);
+    const codegen_iv tmp57 = codegen_iv_sub(tmp56, tmp25);
+    const codegen_iv tmp58 = codegen_iv_sub(tmp57, tmp26);
+    const codegen_iv tmp59 = codegen_iv_sub(tmp58, tmp27);
+    const codegen_iv tmp60 = codegen_iv_sub(tmp59, tmp28);
+    const codegen_iv tmp61 = codegen_iv_sub(tmp60, tmp29);
+    const codegen_iv tmp62 = codegen_iv_sub(tmp61, tmp30);
+    const codegen_iv tmp63 = codegen_iv_sub(tmp62, tmp31);
+    const codegen_iv tmp64 = codegen_iv_add(tmp63, tmp44);
+    const codegen_iv tmp65 = codegen_iv_add(tmp64, tmp46);
+    const codegen_iv tmp66 = codegen_iv_sub(tmp65, tmp48);
+    const codegen_iv tmp67 = codegen_iv_add(tmp66, v[18]);
+    const codegen_iv tmp68 = codegen_iv_add(tmp67, v[19]);
+    const codegen_iv tmp69 = codegen_iv_add(tmp68, v[20]);
+    const codegen_iv tmp70 = codegen_iv_sub(tmp69, v[21]);
+    const codegen_iv tmp71 = codegen_iv_add(tmp70, v[22]);
+    const codegen_iv tmp72 = codegen_iv_add(tmp71, v[23]);
+    const codegen_iv tmp73 = codegen_iv_mul(v[11], tmp34);
+    const codegen_iv tmp74 = codegen_iv_add(tmp72, tmp73);
+    const codegen_iv tmp75 = codegen_iv_mul(v[24], tmp36);
+    const codegen_iv tmp76 = codegen_iv_add(tmp74, tmp75);
+    const codegen_iv tmp77 = codegen_iv_mul(v[13], tmp42);
+    const codegen_iv tmp78 = codegen_iv_sub(tmp76, tmp77);
+    const codegen_iv tmp79 = codegen_iv_mul(v[14], tmp37);
+    const codegen_iv tmp80 = codegen_iv_sub(tmp78, tmp79);
+    const codegen_iv tmp81 = codegen_iv_sub(tmp80, v[25]);
+    const codegen_iv tmp82 = codegen_iv_mul(tmp81, tmp5);
+    const codegen_iv tmp83 = codegen_iv_sqrt(tmp82, iv_flags);
+    const codegen_iv tmp84 = codegen_iv_mul(tmp83, tmp11);
+    const codegen_iv tmp85 = codegen_iv_add(v[26], tmp84);
+    const codegen_iv tmp86 = codegen_iv_mul(k, tmp85);
+    const codegen_iv tmp87 = codegen_iv_mul(tmp86, tmp8);
+    const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(2), tmp43);
+    const codegen_iv tmp90 = codegen_iv_mul(tmp83, tmp89);
+    const codegen_iv tmp91 = codegen_iv_mul(v[27], tmp8);
+    const codegen_iv tmp92 = codegen_iv_mul(tmp0, v[28]);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp42, tmp92);
+    const codegen_iv tmp94 = codegen_iv_mul(tmp0, v[29]);
+    const codegen_iv tmp95 = codegen_iv_mul(tmp42, tmp94);
+    const codegen_iv tmp96 = codegen_iv_mul(v[30], tmp35);
+    const codegen_iv tmp97 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp98 = codegen_iv_mul(v[1], tmp97);
+    const codegen_iv tmp99 = codegen_iv_mul(v[31], tmp98);
+    const codegen_iv tmp100 = codegen_iv_mul(tmp16, v[29]);
+    const codegen_iv tmp101 = codegen_iv_mul(tmp0, v[5]);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp0, v[35]);
+    const codegen_iv tmp104 = codegen_iv_mul(codegen_iv_point(2), tmp16);
+    const codegen_iv tmp105 = codegen_iv_pow(tmp16, 2);
+    const codegen_iv tmp106 = codegen_iv_mul(a_2, tmp32);
+    const codegen_iv tmp107 = codegen_iv_mul(tmp106, v[38]);
+    const codegen_iv tmp108 = codegen_iv_mul(a_2, tmp105);
+    const codegen_iv tmp109 = codegen_iv_mul(v[38], tmp108);
+    const codegen_iv tmp111 = codegen_iv_mul(codegen_iv_point(4), tmp37);
+    const codegen_iv tmp113 = codegen_iv_mul(codegen_iv_point(4), tmp32);
+    const codegen_iv tmp115 = codegen_iv_mul(codegen_iv_point(2), tmp16);
+    const codegen_iv tmp116 = codegen_iv_mul(tmp115, v[32]);
+    const codegen_iv tmp117 = codegen_iv_neg(tmp116);
+    const codegen_iv tmp118 = codegen_iv_mul(tmp42, tmp101);
+    const codegen_iv tmp119 = codegen_iv_add(tmp117, tmp118);
+    const codegen_iv tmp120 = codegen_iv_mul(tmp42, tmp102);
+    const codegen_iv tmp121 = codegen_iv_add(tmp119, tmp120);
+    const codegen_iv tmp122 = codegen_iv_mul(tmp42, tmp107);
+    const codegen_iv tmp123 = codegen_iv_add(tmp121, tmp122);
+    const codegen_iv tmp124 = codegen_iv_mul(tmp42, tmp109);
+    const codegen_iv tmp125 = codegen_iv_add(tmp123, tmp124);
+    const codegen_iv tmp126 = codegen_iv_mul(tmp100, v[33]);
+    const codegen_iv tmp127 = codegen_iv_add(tmp125, tmp126);
+    const codegen_iv tmp128 = codegen_iv_mul(tmp100, v[34]);
+    const codegen_iv tmp129 = codegen_iv_add(tmp127, tmp128);
+    const codegen_iv tmp130 = codegen_iv_mul(tmp0, tmp21);
+    const codegen_iv tmp131 = codegen_iv_mul(tmp130, v[37]);
+    const codegen_iv tmp132 = codegen_iv_add(tmp129, tmp131);
+    const codegen_iv tmp133 = codegen_iv_mul(tmp0, v[36]);
+    const codegen_iv tmp134 = codegen_iv_mul(tmp133, tmp104);
+    const codegen_iv tmp135 = codegen_iv_add(tmp132, tmp134);
+    const codegen_iv tmp136 = codegen_iv_mul(v[39], tmp104);
+    const codegen_iv tmp137 = codegen_iv_add(tmp135, tmp136);
+    const codegen_iv tmp138 = codegen_iv_mul(v[40], tmp16);
+    const codegen_iv tmp139 = codegen_iv_mul(tmp138, v[29]);
+    const codegen_iv tmp140 = codegen_iv_sub(tmp137, tmp139);
+    const codegen_iv tmp141 = codegen_iv_mul(v[5], tmp16);
+    const codegen_iv tmp142 = codegen_iv_mul(tmp141, v[14]);
+    const codegen_iv tmp143 = codegen_iv_add(tmp140, tmp142);
+    const codegen_iv tmp144 = codegen_iv_mul(v[9], tmp16);
+    const codegen_iv tmp145 = codegen_iv_mul(tmp144, tmp111);
+    const codegen_iv tmp146 = codegen_iv_add(tmp143, tmp145);
+    const codegen_iv tmp147 = codegen_iv_mul(v[1], tmp16);
+    const codegen_iv tmp148 = codegen_iv_mul(tmp147, tmp40);
+    const codegen_iv tmp149 = codegen_iv_add(tmp146, tmp148);
+    const codegen_iv tmp150 = codegen_iv_mul(v[41], tmp16);
+    const codegen_iv tmp151 = codegen_iv_mul(tmp150, v[28]);
+    const codegen_iv tmp152 = codegen_iv_sub(tmp149, tmp151);
+    const codegen_iv tmp154 = codegen_iv_mul(codegen_iv_point(12), tmp13);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp154, tmp16);
+    const codegen_iv tmp156 = codegen_iv_mul(tmp155, v[3]);
+    const codegen_iv tmp157 = codegen_iv_add(tmp152, tmp156);
+    const codegen_iv tmp159 = codegen_iv_mul(codegen_iv_point(8), tmp17);
+    const codegen_iv tmp160 = codegen_iv_mul(tmp159, tmp97);
+    const codegen_iv tmp161 = codegen_iv_mul(tmp160, v[3]);
+    const codegen_iv tmp162 = codegen_iv_add(tmp157, tmp161);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp0, v[0]);
+    const codegen_iv tmp164 = codegen_iv_mul(tmp163, v[8]);
+    const codegen_iv tmp165 = codegen_iv_mul(tmp164, tmp42);
+    const codegen_iv tmp166 = codegen_iv_sub(tmp162, tmp165);
+    const codegen_iv tmp167 = codegen_iv_mul(tmp0, v[8]);
+    const codegen_iv tmp168 = codegen_iv_mul(tmp167, v[1]);
+    const codegen_iv tmp169 = codegen_iv_mul(tmp168, tmp42);
+    const codegen_iv tmp170 = codegen_iv_sub(tmp166, tmp169);
+    const codegen_iv tmp171 = codegen_iv_mul(v[42], tmp16);
+    const codegen_iv tmp172 = codegen_iv_mul(tmp171, tmp32);
+    const codegen_iv tmp173 = codegen_iv_mul(tmp172, v[29]);
+    const codegen_iv tmp174 = codegen_iv_sub(tmp170, tmp173);
+    const codegen_iv tmp175 = codegen_iv_mul(v[0], tmp16);
+    const codegen_iv tmp176 = codegen_iv_mul(tmp175, tmp38);
+    const codegen_iv tmp177 = codegen_iv_mul(tmp176, tmp39);
+    const codegen_iv tmp178 = codegen_iv_sub(tmp174, tmp177);
+    const codegen_iv tmp179 = codegen_iv_mul(v[43], tmp16);
+    const codegen_iv tmp180 = codegen_iv_mul(tmp179, tmp113);
+    const codegen_iv tmp181 = codegen_iv_add(tmp178, tmp180);
+    const codegen_iv tmp182 = codegen_iv_mul(v[44], tmp16);
+    const codegen_iv tmp183 = codegen_iv_mul(tmp182, tmp32);
+    const codegen_iv tmp184 = codegen_iv_mul(tmp183, v[28]);
+    const codegen_iv tmp185 = codegen_iv_sub(tmp181, tmp184);
+    const codegen_iv tmp186 = codegen_iv_mul(v[45], tmp32);
+    const codegen_iv tmp187 = codegen_iv_mul(tmp186, tmp42);
+    const codegen_iv tmp188 = codegen_iv_sub(tmp185, tmp187);
+    const codegen_iv tmp189 = codegen_iv_mul(v[46], tmp42);
+    const codegen_iv tmp190 = codegen_iv_mul(tmp189, tmp105);
+    const codegen_iv tmp191 = codegen_iv_sub(tmp188, tmp190);
+    const codegen_iv tmp192 = codegen_iv_mul(v[47], tmp0);
+    const codegen_iv tmp193 = codegen_iv_mul(tmp192, v[4]);
+    const codegen_iv tmp194 = codegen_iv_mul(tmp193, tmp16);
+    const codegen_iv tmp195 = codegen_iv_mul(tmp194, v[3]);
+    const codegen_iv tmp196 = codegen_iv_sub(tmp191, tmp195);
+    const codegen_iv tmp197 = codegen_iv_mul(v[48], tmp0);
+    const codegen_iv tmp198 = codegen_iv_mul(tmp197, v[8]);
+    const codegen_iv tmp199 = codegen_iv_mul(tmp198, tmp16);
+    const codegen_iv tmp200 = codegen_iv_mul(tmp199, v[3]);
+    const codegen_iv tmp201 = codegen_iv_sub(tmp196, tmp200);
+    const codegen_iv tmp202 = codegen_iv_mul(v[49], tmp0);
+    const codegen_iv tmp203 = codegen_iv_mul(tmp202, v[4]);
+    const codegen_iv tmp204 = codegen_iv_mul(tmp203, v[12]);
+    const codegen_iv tmp205 = codegen_iv_mul(tmp204, tmp16);
+    const codegen_iv tmp206 = codegen_iv_sub(tmp201, tmp205);
+    const codegen_iv tmp207 = codegen_iv_mul(v[50], tmp0);
+    const codegen_iv tmp208 = codegen_iv_mul(tmp207, v[8]);
+    const codegen_iv tmp209 = codegen_iv_mul(tmp208, v[12]);
+    const codegen_iv tmp210 = codegen_iv_mul(tmp209, tmp16);
+    const codegen_iv tmp211 = codegen_iv_sub(tmp206, tmp210);
+    const codegen_iv tmp213 = codegen_iv_mul(codegen_iv_point(3), tmp93);
+    const codegen_iv tmp214 = codegen_iv_neg(tmp213);
+    const codegen_iv tmp216 = codegen_iv_mul(codegen_iv_point(3), tmp95);
+    const codegen_iv tmp217 = codegen_iv_sub(tmp214, tmp216);
+    const codegen_iv tmp218 = codegen_iv_sub(tmp217, tmp211);
+    const codegen_iv tmp219 = codegen_iv_mul(tmp42, tmp96);
+    const codegen_iv tmp220 = codegen_iv_sub(tmp218, tmp219);
+    const codegen_iv tmp221 = codegen_iv_mul(tmp42, tmp99);
+    const codegen_iv tmp222 = codegen_iv_sub(tmp220, tmp221);
+    const codegen_iv tmp223 = codegen_iv_mul(v[51], tmp32);
+    const codegen_iv tmp224 = codegen_iv_mul(tmp223, tmp42);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp224, v[3]);
+    const codegen_iv tmp226 = codegen_iv_add(tmp222, tmp225);
+    const codegen_iv tmp227 = codegen_iv_mul(v[52], tmp32);
+    const codegen_iv tmp228 = codegen_iv_mul(tmp227, tmp42);
+    const codegen_iv tmp229 = codegen_iv_add(tmp226, tmp228);
+    const codegen_iv tmp231 = codegen_iv_pow(tmp42, 1);
+    const codegen_iv tmp232 = codegen_iv_div(codegen_iv_point(1), tmp231, iv_flags);
+    const codegen_iv tmp233 = codegen_iv_mul(g, tmp232);
+    const codegen_iv tmp234 = codegen_iv_mul(m_3, tmp229);
+    const codegen_iv tmp235 = codegen_iv_mul(tmp234, tmp233);
+    const codegen_iv tmp236 = codegen_iv_mul(tmp35, v[14]);
+    const codegen_iv tmp237 = codegen_iv_mul(v[53], tmp98);
+    const codegen_iv tmp238 = codegen_iv_neg(tmp93);
+    const codegen_iv tmp239 = codegen_iv_sub(tmp238, tmp95);
+    const codegen_iv tmp240 = codegen_iv_sub(tmp239, tmp211);
+    const codegen_iv tmp241 = codegen_iv_mul(tmp237, tmp42);
+    const codegen_iv tmp242 = codegen_iv_sub(tmp240, tmp241);
+    const codegen_iv tmp243 = codegen_iv_mul(tmp42, tmp236);
+    const codegen_iv tmp244 = codegen_iv_sub(tmp242, tmp243);
+    const codegen_iv tmp245 = codegen_iv_mul(v[54], tmp32);
+    const codegen_iv tmp246 = codegen_iv_mul(tmp245, tmp42);
+    const codegen_iv tmp247 = codegen_iv_mul(tmp246, v[3]);
+    const codegen_iv tmp248 = codegen_iv_add(tmp244, tmp247);
+    const codegen_iv tmp249 = codegen_iv_mul(v[55], tmp32);
+    const codegen_iv tmp250 = codegen_iv_mul(tmp249, tmp42);
+    const codegen_iv tmp251 = codegen_iv_add(tmp248, tmp250);
+    const codegen_iv tmp252 = codegen_iv_mul(tmp91, tmp233);
+    const codegen_iv tmp253 = codegen_iv_mul(m_4, tmp252);
+    const codegen_iv tmp255 = codegen_iv_pow(tmp83, 1);
+    const codegen_iv tmp256 = codegen_iv_div(codegen_iv_point(1), tmp255, iv_flags);
+    const codegen_iv tmp257 = codegen_iv_mul(tmp38, tmp89);
+    const codegen_iv tmp258 = codegen_iv_neg(tmp257);
+    const codegen_iv tmp259 = codegen_iv_mul(tmp39, tmp89);
+    const codegen_iv tmp260 = codegen_iv_sub(tmp258, tmp259);
+    const codegen_iv tmp262 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp232);
+    const codegen_iv tmp263 = codegen_iv_mul(tmp260, tmp262);
+    const codegen_iv tmp264 = codegen_iv_add(v[56], tmp43);
+    const codegen_iv tmp265 = codegen_iv_add(tmp264, tmp45);
+    const codegen_iv tmp266 = codegen_iv_sub(tmp265, tmp47);
+    const codegen_iv tmp267 = codegen_iv_mul(tmp266, tmp5);
+    const codegen_iv tmp269 = codegen_iv_mul(codegen_iv_point(2), tmp105);
+    const codegen_iv tmp270 = codegen_iv_mul(d, tmp17);
+    const codegen_iv tmp271 = codegen_iv_neg(tmp270);
+    const codegen_iv tmp272 = codegen_iv_mul(v[4], tmp45);
+    const codegen_iv tmp273 = codegen_iv_sub(tmp271, tmp272);
+    const codegen_iv tmp274 = codegen_iv_mul(v[8], tmp47);
+    const codegen_iv tmp275 = codegen_iv_sub(tmp273, tmp274);
+    const codegen_iv tmp276 = codegen_iv_mul(v[10], tmp16);
+    const codegen_iv tmp277 = codegen_iv_sub(tmp275, tmp276);
+    const codegen_iv tmp278 = codegen_iv_mul(v[1], tmp45);
+    const codegen_iv tmp279 = codegen_iv_sub(tmp277, tmp278);
+    const codegen_iv tmp280 = codegen_iv_mul(v[1], tmp47);
+    const codegen_iv tmp281 = codegen_iv_sub(tmp279, tmp280);
+    const codegen_iv tmp282 = codegen_iv_mul(tmp13, y_S);
+    const codegen_iv tmp283 = codegen_iv_sub(tmp281, tmp282);
+    const codegen_iv tmp284 = codegen_iv_mul(tmp19, tmp42);
+    const codegen_iv tmp285 = codegen_iv_sub(tmp283, tmp284);
+    const codegen_iv tmp286 = codegen_iv_mul(tmp22, tmp42);
+    const codegen_iv tmp287 = codegen_iv_sub(tmp285, tmp286);
+    const codegen_iv tmp289 = codegen_iv_mul(codegen_iv_point(4), tmp0);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp289, v[11]);
+    const codegen_iv tmp291 = codegen_iv_mul(tmp290, tmp16);
+    const codegen_iv tmp292 = codegen_iv_sub(tmp287, tmp291);
+    const codegen_iv tmp293 = codegen_iv_mul(v[0], tmp269);
+    const codegen_iv tmp294 = codegen_iv_mul(tmp293, v[13]);
+    const codegen_iv tmp295 = codegen_iv_sub(tmp292, tmp294);
+    const codegen_iv tmp296 = codegen_iv_mul(v[12], tmp16);
+    const codegen_iv tmp297 = codegen_iv_mul(tmp296, x_S);
+    const codegen_iv tmp298 = codegen_iv_add(tmp295, tmp297);
+    const codegen_iv tmp299 = codegen_iv_mul(v[57], tmp0);
+    const codegen_iv tmp300 = codegen_iv_mul(tmp299, tmp42);
+    const codegen_iv tmp301 = codegen_iv_add(tmp298, tmp300);
+    const codegen_iv tmp302 = codegen_iv_mul(v[58], tmp16);
+    const codegen_iv tmp303 = codegen_iv_add(tmp301, tmp302);
+    const codegen_iv tmp304 = codegen_iv_mul(v[59], tmp16);
+    const codegen_iv tmp305 = codegen_iv_add(tmp303, tmp304);
+    const codegen_iv tmp306 = codegen_iv_mul(v[60], tmp16);
+    const codegen_iv tmp307 = codegen_iv_add(tmp305, tmp306);
+    const codegen_iv tmp308 = codegen_iv_mul(v[61], tmp16);
+    const codegen_iv tmp309 = codegen_iv_add(tmp307, tmp308);
+    const codegen_iv tmp310 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp311 = codegen_iv_mul(tmp310, v[8]);
+    const codegen_iv tmp312 = codegen_iv_mul(tmp311, y_S);
+    const codegen_iv tmp313 = codegen_iv_add(tmp309, tmp312);
+    const codegen_iv tmp314 = codegen_iv_mul(v[62], tmp16);
+    const codegen_iv tmp315 = codegen_iv_mul(tmp314, x_S);
+    const codegen_iv tmp316 = codegen_iv_add(tmp313, tmp315);
+    const codegen_iv tmp317 = codegen_iv_mul(v[63], tmp32);
+    const codegen_iv tmp318 = codegen_iv_mul(tmp317, y_S);
+    const codegen_iv tmp319 = codegen_iv_add(tmp316, tmp318);
+    const codegen_iv tmp321 = codegen_iv_mul(codegen_iv_point(4), tmp0);
+    const codegen_iv tmp322 = codegen_iv_mul(tmp321, v[0]);
+    const codegen_iv tmp323 = codegen_iv_mul(tmp322, v[1]);
+    const codegen_iv tmp324 = codegen_iv_mul(tmp323, tmp16);
+    const codegen_iv tmp325 = codegen_iv_add(tmp319, tmp324);
+    const codegen_iv tmp326 = codegen_iv_mul(tmp263, tmp267);
+    const codegen_iv tmp327 = codegen_iv_mul(tmp325, tmp5);
+    const codegen_iv tmp328 = codegen_iv_add(tmp326, tmp327);
+    const codegen_iv tmp329 = codegen_iv_mul(tmp81, tmp89);
+    const codegen_iv tmp330 = codegen_iv_add(tmp328, tmp329);
+    const codegen_iv tmp331 = codegen_iv_mul(v[1], tmp105);
+    const codegen_iv tmp332 = codegen_iv_mul(v[53], tmp331);
+    const codegen_iv tmp334 = codegen_iv_pow(tmp5, 3);
+    const codegen_iv tmp335 = codegen_iv_div(codegen_iv_point(1), tmp334, iv_flags);
+    const codegen_iv tmp336 = codegen_iv_mul(k, tmp335);
+    const codegen_iv tmp338 = codegen_iv_mul(codegen_iv_point(8), tmp331);
+    const codegen_iv tmp339 = codegen_iv_mul(v[0], tmp338);
+    const codegen_iv tmp340 = codegen_iv_mul(tmp330, tmp43);
+    const codegen_iv tmp341 = codegen_iv_mul(tmp16, tmp42);
+    const codegen_iv tmp342 = codegen_iv_mul(tmp341, v[28]);
+    const codegen_iv tmp343 = codegen_iv_mul(tmp341, v[29]);
+    const codegen_iv tmp344 = codegen_iv_mul(v[0], tmp341);
+    const codegen_iv tmp346 = codegen_iv_mul(codegen_iv_point(8), tmp341);
+    const codegen_iv tmp347 = codegen_iv_mul(tmp341, v[1]);
+    const codegen_iv tmp348 = codegen_iv_mul(tmp347, tmp37);
+    const codegen_iv tmp349 = codegen_iv_mul(v[64], tmp105);
+    const codegen_iv tmp350 = codegen_iv_mul(v[65], tmp105);
+    const codegen_iv tmp351 = codegen_iv_mul(v[66], tmp105);
+    const codegen_iv tmp352 = codegen_iv_mul(v[9], tmp35);
+    const codegen_iv tmp353 = codegen_iv_mul(v[66], tmp32);
+    const codegen_iv tmp354 = codegen_iv_mul(v[65], tmp32);
+    const codegen_iv tmp356 = codegen_iv_mul(codegen_iv_point(12), tmp349);
+    const codegen_iv tmp358 = codegen_iv_mul(codegen_iv_point(2), tmp352);
+    const codegen_iv tmp359 = codegen_iv_sub(tmp356, tmp358);
+    const codegen_iv tmp361 = codegen_iv_mul(codegen_iv_point(2), tmp0);
+    const codegen_iv tmp362 = codegen_iv_mul(tmp361, v[32]);
+    const codegen_iv tmp363 = codegen_iv_add(tmp359, tmp362);
+    const codegen_iv tmp365 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp366 = codegen_iv_mul(codegen_iv_point(8), tmp365);
+    const codegen_iv tmp367 = codegen_iv_mul(tmp366, v[64]);
+    const codegen_iv tmp368 = codegen_iv_sub(tmp363, tmp367);
+    const codegen_iv tmp369 = codegen_iv_mul(v[4], tmp350);
+    const codegen_iv tmp370 = codegen_iv_sub(tmp368, tmp369);
+    const codegen_iv tmp371 = codegen_iv_mul(v[4], tmp354);
+    const codegen_iv tmp372 = codegen_iv_add(tmp370, tmp371);
+    const codegen_iv tmp373 = codegen_iv_mul(v[53], tmp94);
+    const codegen_iv tmp374 = codegen_iv_add(tmp372, tmp373);
+    const codegen_iv tmp375 = codegen_iv_mul(tmp269, v[36]);
+    const codegen_iv tmp376 = codegen_iv_add(tmp374, tmp375);
+    const codegen_iv tmp378 = codegen_iv_mul(codegen_iv_point(16), tmp331);
+    const codegen_iv tmp379 = codegen_iv_mul(tmp378, tmp92);
+    const codegen_iv tmp380 = codegen_iv_sub(tmp376, tmp379);
+    const codegen_iv tmp381 = codegen_iv_mul(tmp338, tmp101);
+    const codegen_iv tmp382 = codegen_iv_add(tmp380, tmp381);
+    const codegen_iv tmp383 = codegen_iv_mul(v[5], tmp341);
+    const codegen_iv tmp384 = codegen_iv_add(tmp382, tmp383);
+    const codegen_iv tmp385 = codegen_iv_mul(v[67], tmp98);
+    const codegen_iv tmp386 = codegen_iv_sub(tmp384, tmp385);
+    const codegen_iv tmp387 = codegen_iv_mul(tmp341, v[9]);
+    const codegen_iv tmp388 = codegen_iv_sub(tmp386, tmp387);
+    const codegen_iv tmp389 = codegen_iv_mul(tmp341, v[35]);
+    const codegen_iv tmp390 = codegen_iv_add(tmp388, tmp389);
+    const codegen_iv tmp391 = codegen_iv_mul(tmp344, v[8]);
+    const codegen_iv tmp392 = codegen_iv_sub(tmp390, tmp391);
+    const codegen_iv tmp393 = codegen_iv_mul(v[68], tmp32);
+    const codegen_iv tmp394 = codegen_iv_sub(tmp392, tmp393);
+    const codegen_iv tmp396 = codegen_iv_mul(codegen_iv_point(24), tmp349);
+    const codegen_iv tmp397 = codegen_iv_mul(tmp396, tmp32);
+    const codegen_iv tmp398 = codegen_iv_add(tmp394, tmp397);
+    const codegen_iv tmp399 = codegen_iv_mul(tmp350, v[8]);
+    const codegen_iv tmp400 = codegen_iv_sub(tmp398, tmp399);
+    const codegen_iv tmp401 = codegen_iv_mul(tmp351, v[33]);
+    const codegen_iv tmp402 = codegen_iv_sub(tmp400, tmp401);
+    const codegen_iv tmp403 = codegen_iv_mul(tmp351, v[34]);
+    const codegen_iv tmp404 = codegen_iv_sub(tmp402, tmp403);
+    const codegen_iv tmp406 = codegen_iv_mul(codegen_iv_point(8), tmp352);
+    const codegen_iv tmp407 = codegen_iv_mul(tmp406, tmp105);
+    const codegen_iv tmp408 = codegen_iv_add(tmp404, tmp407);
+    const codegen_iv tmp409 = codegen_iv_mul(tmp353, v[33]);
+    const codegen_iv tmp410 = codegen_iv_add(tmp408, tmp409);
+    const codegen_iv tmp411 = codegen_iv_mul(tmp353, v[34]);
+    const codegen_iv tmp412 = codegen_iv_add(tmp410, tmp411);
+    const codegen_iv tmp413 = codegen_iv_mul(tmp354, v[8]);
+    const codegen_iv tmp414 = codegen_iv_add(tmp412, tmp413);
+    const codegen_iv tmp415 = codegen_iv_mul(tmp34, v[36]);
+    const codegen_iv tmp416 = codegen_iv_sub(tmp414, tmp415);
+    const codegen_iv tmp417 = codegen_iv_mul(tmp35, tmp40);
+    const codegen_iv tmp418 = codegen_iv_add(tmp416, tmp417);
+    const codegen_iv tmp419 = codegen_iv_mul(v[14], tmp92);
+    const codegen_iv tmp420 = codegen_iv_add(tmp418, tmp419);
+    const codegen_iv tmp421 = codegen_iv_mul(v[14], tmp101);
+    const codegen_iv tmp422 = codegen_iv_sub(tmp420, tmp421);
+    const codegen_iv tmp423 = codegen_iv_mul(v[69], tmp98);
+    const codegen_iv tmp424 = codegen_iv_add(tmp422, tmp423);
+    const codegen_iv tmp425 = codegen_iv_mul(tmp94, v[33]);
+    const codegen_iv tmp426 = codegen_iv_sub(tmp424, tmp425);
+    const codegen_iv tmp427 = codegen_iv_mul(tmp94, v[34]);
+    const codegen_iv tmp428 = codegen_iv_sub(tmp426, tmp427);
+    const codegen_iv tmp429 = codegen_iv_mul(v[37], tmp106);
+    const codegen_iv tmp430 = codegen_iv_sub(tmp428, tmp429);
+    const codegen_iv tmp431 = codegen_iv_mul(v[37], tmp108);
+    const codegen_iv tmp432 = codegen_iv_add(tmp430, tmp431);
+    const codegen_iv tmp433 = codegen_iv_mul(tmp0, v[1]);
+    const codegen_iv tmp434 = codegen_iv_mul(tmp433, tmp40);
+    const codegen_iv tmp435 = codegen_iv_sub(tmp432, tmp434);
+    const codegen_iv tmp436 = codegen_iv_mul(v[70], tmp97);
+    const codegen_iv tmp437 = codegen_iv_add(tmp435, tmp436);
+    const codegen_iv tmp438 = codegen_iv_mul(v[71], tmp94);
+    const codegen_iv tmp439 = codegen_iv_mul(tmp438, tmp105);
+    const codegen_iv tmp440 = codegen_iv_sub(tmp437, tmp439);
+    const codegen_iv tmp441 = codegen_iv_mul(v[72], tmp97);
+    const codegen_iv tmp442 = codegen_iv_sub(tmp440, tmp441);
+    const codegen_iv tmp444 = codegen_iv_mul(codegen_iv_point(24), tmp341);
+    const codegen_iv tmp445 = codegen_iv_mul(m_3, tmp252);
+    const codegen_iv tmp446 = codegen_iv_neg(tmp19);
+    const codegen_iv tmp447 = codegen_iv_sub(tmp446, tmp22);
+    const codegen_iv tmp448 = codegen_iv_mul(v[73], tmp0);
+    const codegen_iv tmp449 = codegen_iv_add(tmp447, tmp448);
+    const codegen_iv tmp450 = codegen_iv_mul(tmp5, tmp449);
+    const codegen_iv tmp452 = codegen_iv_mul(tmp38, tmp39);
+    const codegen_iv tmp453 = codegen_iv_div(codegen_iv_point(1), tmp452, iv_flags);
+    const codegen_iv tmp454 = codegen_iv_mul(tmp260, tmp232);
+    const codegen_iv tmp455 = codegen_iv_mul(k, tmp256);
+    const codegen_iv tmp456 = codegen_iv_mul(tmp455, tmp85);
+    const codegen_iv tmp457 = codegen_iv_mul(tmp456, tmp11);
+    const codegen_iv tmp458 = codegen_iv_mul(v[74], tmp335);
+    const codegen_iv tmp459 = codegen_iv_mul(tmp458, tmp16);
+    const codegen_iv tmp460 = codegen_iv_mul(m_4, tmp251);
+    const codegen_iv tmp462 = codegen_iv_mul(codegen_iv_point(2), tmp344);
+    const codegen_iv tmp463 = codegen_iv_add(tmp462, tmp101);
+    const codegen_iv tmp464 = codegen_iv_add(tmp463, tmp102);
+    const codegen_iv tmp465 = codegen_iv_add(tmp464, tmp107);
+    const codegen_iv tmp466 = codegen_iv_add(tmp465, tmp109);
+    const codegen_iv tmp467 = codegen_iv_mul(tmp0, v[0]);
+    const codegen_iv tmp468 = codegen_iv_mul(tmp467, v[8]);
+    const codegen_iv tmp469 = codegen_iv_sub(tmp466, tmp468);
+    const codegen_iv tmp470 = codegen_iv_mul(tmp0, v[8]);
+    const codegen_iv tmp471 = codegen_iv_mul(tmp470, v[1]);
+    const codegen_iv tmp472 = codegen_iv_sub(tmp469, tmp471);
+    const codegen_iv tmp473 = codegen_iv_mul(v[75], tmp16);
+    const codegen_iv tmp474 = codegen_iv_mul(tmp473, tmp42);
+    const codegen_iv tmp475 = codegen_iv_sub(tmp472, tmp474);
+    const codegen_iv tmp476 = codegen_iv_mul(v[76], tmp32);
+    const codegen_iv tmp477 = codegen_iv_sub(tmp475, tmp476);
+    const codegen_iv tmp478 = codegen_iv_mul(v[77], tmp105);
+    const codegen_iv tmp479 = codegen_iv_sub(tmp477, tmp478);
+    const codegen_iv tmp480 = codegen_iv_mul(g, tmp453);
+    const codegen_iv tmp481 = codegen_iv_mul(tmp480, tmp91);
+    const codegen_iv tmp483 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp330);
+    const codegen_iv tmp484 = codegen_iv_mul(tmp251, tmp253);
+    const codegen_iv tmp485 = codegen_iv_sub(v[78], tmp484);
+    const codegen_iv tmp486 = codegen_iv_mul(tmp87, tmp90);
+    const codegen_iv tmp487 = codegen_iv_sub(tmp485, tmp486);
+    const codegen_iv tmp488 = codegen_iv_mul(tmp91, tmp235);
+    const codegen_iv tmp489 = codegen_iv_sub(tmp487, tmp488);
+    const codegen_iv tmp490 = codegen_iv_mul(v[79], tmp0);
+    const codegen_iv tmp491 = codegen_iv_add(tmp489, tmp490);
+    const codegen_iv tmp492 = codegen_iv_mul(v[80], tmp256);
+    const codegen_iv tmp493 = codegen_iv_mul(tmp492, tmp330);
+    const codegen_iv tmp494 = codegen_iv_mul(tmp493, tmp85);
+    const codegen_iv tmp495 = codegen_iv_mul(tmp494, tmp11);
+    const codegen_iv tmp496 = codegen_iv_add(tmp491, tmp495);
+    const codegen_iv tmp497 = codegen_iv_add(tmp342, tmp343);
+    const codegen_iv tmp499 = codegen_iv_mul(codegen_iv_point(12), tmp348);
+    const codegen_iv tmp500 = codegen_iv_add(tmp497, tmp499);
+    const codegen_iv tmp501 = codegen_iv_add(tmp500, tmp442);
+    const codegen_iv tmp502 = codegen_iv_mul(tmp344, v[14]);
+    const codegen_iv tmp503 = codegen_iv_add(tmp501, tmp502);
+    const codegen_iv tmp504 = codegen_iv_mul(tmp346, tmp12);
+    const codegen_iv tmp505 = codegen_iv_sub(tmp503, tmp504);
+    const codegen_iv tmp506 = codegen_iv_mul(tmp346, tmp14);
+    const codegen_iv tmp507 = codegen_iv_sub(tmp505, tmp506);
+    const codegen_iv tmp508 = codegen_iv_mul(tmp253, tmp507);
+    const codegen_iv tmp509 = codegen_iv_neg(tmp508);
+    const codegen_iv tmp510 = codegen_iv_neg(tmp237);
+    const codegen_iv tmp511 = codegen_iv_sub(tmp510, tmp479);
+    const codegen_iv tmp512 = codegen_iv_sub(tmp511, tmp92);
+    const codegen_iv tmp513 = codegen_iv_sub(tmp512, tmp94);
+    const codegen_iv tmp514 = codegen_iv_sub(tmp513, tmp236);
+    const codegen_iv tmp515 = codegen_iv_mul(v[81], tmp32);
+    const codegen_iv tmp516 = codegen_iv_mul(tmp515, v[3]);
+    const codegen_iv tmp517 = codegen_iv_add(tmp514, tmp516);
+    const codegen_iv tmp518 = codegen_iv_mul(v[82], tmp32);
+    const codegen_iv tmp519 = codegen_iv_add(tmp517, tmp518);
+    const codegen_iv tmp520 = codegen_iv_mul(tmp253, tmp519);
+    const codegen_iv tmp521 = codegen_iv_neg(tmp520);
+    const codegen_iv tmp522 = codegen_iv_mul(tmp460, tmp481);
+    const codegen_iv tmp523 = codegen_iv_sub(tmp521, tmp522);
+    const codegen_iv tmp524 = codegen_iv_mul(tmp263, tmp523);
+    const codegen_iv tmp525 = codegen_iv_add(tmp509, tmp524);
+    const codegen_iv tmp526 = codegen_iv_neg(tmp479);
+    const codegen_iv tmp528 = codegen_iv_mul(codegen_iv_point(3), tmp92);
+    const codegen_iv tmp529 = codegen_iv_sub(tmp526, tmp528);
+    const codegen_iv tmp531 = codegen_iv_mul(codegen_iv_point(3), tmp94);
+    const codegen_iv tmp532 = codegen_iv_sub(tmp529, tmp531);
+    const codegen_iv tmp533 = codegen_iv_sub(tmp532, tmp96);
+    const codegen_iv tmp534 = codegen_iv_sub(tmp533, tmp99);
+    const codegen_iv tmp535 = codegen_iv_mul(v[83], tmp32);
+    const codegen_iv tmp536 = codegen_iv_mul(tmp535, v[3]);
+    const codegen_iv tmp537 = codegen_iv_add(tmp534, tmp536);
+    const codegen_iv tmp538 = codegen_iv_mul(v[84], tmp32);
+    const codegen_iv tmp539 = codegen_iv_add(tmp537, tmp538);
+    const codegen_iv tmp540 = codegen_iv_mul(tmp445, tmp539);
+    const codegen_iv tmp541 = codegen_iv_neg(tmp540);
+    const codegen_iv tmp542 = codegen_iv_mul(m_3, tmp481);
+    const codegen_iv tmp543 = codegen_iv_mul(tmp542, tmp229);
+    const codegen_iv tmp544 = codegen_iv_sub(tmp541, tmp543);
+    const codegen_iv tmp545 = codegen_iv_mul(tmp263, tmp544);
+    const codegen_iv tmp546 = codegen_iv_add(tmp525, tmp545);
+    const codegen_iv tmp547 = codegen_iv_mul(tmp336, tmp340);
+    const codegen_iv tmp548 = codegen_iv_sub(tmp546, tmp547);
+    const codegen_iv tmp550 = codegen_iv_mul(codegen_iv_point(3), tmp342);
+    const codegen_iv tmp552 = codegen_iv_mul(codegen_iv_point(3), tmp343);
+    const codegen_iv tmp553 = codegen_iv_add(tmp550, tmp552);
+    const codegen_iv tmp555 = codegen_iv_mul(codegen_iv_point(36), tmp348);
+    const codegen_iv tmp556 = codegen_iv_add(tmp553, tmp555);
+    const codegen_iv tmp557 = codegen_iv_add(tmp556, tmp442);
+    const codegen_iv tmp559 = codegen_iv_mul(codegen_iv_point(6), tmp344);
+    const codegen_iv tmp560 = codegen_iv_mul(tmp559, v[1]);
+    const codegen_iv tmp561 = codegen_iv_add(tmp557, tmp560);
+    const codegen_iv tmp562 = codegen_iv_mul(tmp444, tmp12);
+    const codegen_iv tmp563 = codegen_iv_sub(tmp561, tmp562);
+    const codegen_iv tmp564 = codegen_iv_mul(tmp444, tmp14);
+    const codegen_iv tmp565 = codegen_iv_sub(tmp563, tmp564);
+    const codegen_iv tmp566 = codegen_iv_mul(tmp445, tmp565);
+    const codegen_iv tmp567 = codegen_iv_sub(tmp548, tmp566);
+    const codegen_iv tmp569 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp457);
+    const codegen_iv tmp570 = codegen_iv_mul(tmp263, tmp450);
+    const codegen_iv tmp572 = codegen_iv_mul(codegen_iv_point(4), tmp325);
+    const codegen_iv tmp573 = codegen_iv_mul(tmp572, tmp43);
+    const codegen_iv tmp574 = codegen_iv_add(tmp570, tmp573);
+    const codegen_iv tmp575 = codegen_iv_mul(tmp4, tmp81);
+    const codegen_iv tmp576 = codegen_iv_add(tmp574, tmp575);
+    const codegen_iv tmp577 = codegen_iv_neg(tmp332);
+    const codegen_iv tmp578 = codegen_iv_sub(tmp577, tmp12);
+    const codegen_iv tmp579 = codegen_iv_sub(tmp578, tmp14);
+    const codegen_iv tmp580 = codegen_iv_add(tmp579, tmp15);
+    const codegen_iv tmp581 = codegen_iv_add(tmp580, tmp18);
+    const codegen_iv tmp582 = codegen_iv_sub(tmp581, tmp20);
+    const codegen_iv tmp583 = codegen_iv_sub(tmp582, tmp23);
+    const codegen_iv tmp584 = codegen_iv_sub(tmp583, tmp24);
+    const codegen_iv tmp585 = codegen_iv_add(tmp584, tmp25);
+    const codegen_iv tmp586 = codegen_iv_add(tmp585, tmp26);
+    const codegen_iv tmp587 = codegen_iv_add(tmp586, tmp27);
+    const codegen_iv tmp588 = codegen_iv_add(tmp587, tmp28);
+    const codegen_iv tmp589 = codegen_iv_add(tmp588, tmp29);
+    const codegen_iv tmp590 = codegen_iv_add(tmp589, tmp30);
+    const codegen_iv tmp591 = codegen_iv_add(tmp590, tmp31);
+    const codegen_iv tmp592 = codegen_iv_sub(tmp591, tmp44);
+    const codegen_iv tmp593 = codegen_iv_sub(tmp592, tmp46);
+    const codegen_iv tmp594 = codegen_iv_add(tmp593, tmp48);
+    const codegen_iv tmp595 = codegen_iv_mul(v[85], tmp105);
+    const codegen_iv tmp596 = codegen_iv_add(tmp594, tmp595);
+    const codegen_iv tmp597 = codegen_iv_mul(v[11], tmp113);
+    const codegen_iv tmp598 = codegen_iv_sub(tmp596, tmp597);
+    const codegen_iv tmp599 = codegen_iv_mul(v[1], tmp111);
+    const codegen_iv tmp600 = codegen_iv_add(tmp598, tmp599);
+    const codegen_iv tmp601 = codegen_iv_mul(v[86], tmp36);
+    const codegen_iv tmp602 = codegen_iv_sub(tmp600, tmp601);
+    const codegen_iv tmp603 = codegen_iv_mul(tmp5, tmp602);
+    const codegen_iv tmp604 = codegen_iv_add(tmp576, tmp603);
+    const codegen_iv tmp605 = codegen_iv_mul(tmp262, tmp267);
+    const codegen_iv tmp606 = codegen_iv_neg(tmp339);
+    const codegen_iv tmp607 = codegen_iv_mul(tmp38, tmp4);
+    const codegen_iv tmp608 = codegen_iv_sub(tmp606, tmp607);
+    const codegen_iv tmp609 = codegen_iv_mul(tmp39, tmp4);
+    const codegen_iv tmp610 = codegen_iv_sub(tmp608, tmp609);
+    const codegen_iv tmp611 = codegen_iv_mul(tmp605, tmp610);
+    const codegen_iv tmp612 = codegen_iv_add(tmp604, tmp611);
+    const codegen_iv tmp613 = codegen_iv_mul(tmp266, tmp454);
+    const codegen_iv tmp614 = codegen_iv_mul(tmp613, tmp43);
+    const codegen_iv tmp615 = codegen_iv_add(tmp612, tmp614);
+    const codegen_iv tmp616 = codegen_iv_mul(tmp569, tmp615);
+    const codegen_iv tmp617 = codegen_iv_add(tmp567, tmp616);
+    const codegen_iv tmp618 = codegen_iv_mul(tmp459, tmp235);
+    const codegen_iv tmp619 = codegen_iv_add(tmp617, tmp618);
+    const codegen_iv tmp620 = codegen_iv_mul(v[87], tmp21);
+    const codegen_iv tmp621 = codegen_iv_sub(tmp619, tmp620);
+    const codegen_iv tmp622 = codegen_iv_mul(tmp256, tmp340);
+    const codegen_iv tmp623 = codegen_iv_mul(tmp622, tmp87);
+    const codegen_iv tmp624 = codegen_iv_sub(tmp621, tmp623);
+    const codegen_iv tmp625 = codegen_iv_mul(tmp256, tmp483);
+    const codegen_iv tmp626 = codegen_iv_mul(tmp336, tmp90);
+    const codegen_iv tmp627 = codegen_iv_neg(tmp626);
+    const codegen_iv tmp628 = codegen_iv_mul(tmp87, tmp89);
+    const codegen_iv tmp629 = codegen_iv_sub(tmp627, tmp628);
+    const codegen_iv tmp630 = codegen_iv_mul(tmp483, tmp87);
+    const codegen_iv tmp631 = codegen_iv_div(tmp630, tmp81, iv_flags);
+    const codegen_iv tmp632 = codegen_iv_sub(tmp629, tmp631);
+    const codegen_iv tmp633 = codegen_iv_mul(v[88], tmp256);
+    const codegen_iv tmp634 = codegen_iv_mul(tmp633, tmp330);
+    const codegen_iv tmp635 = codegen_iv_mul(tmp634, tmp8);
+    const codegen_iv tmp636 = codegen_iv_add(tmp632, tmp635);
+    const codegen_iv tmp637 = codegen_iv_mul(tmp625, tmp636);
+    const codegen_iv tmp638 = codegen_iv_add(tmp624, tmp637);
+    const codegen_iv tmp639 = codegen_iv_mul(tmp332, tmp336);
+    const codegen_iv tmp640 = codegen_iv_mul(tmp639, tmp81);
+    const codegen_iv tmp641 = codegen_iv_add(tmp638, tmp640);
+    const codegen_iv tmp643 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), tmp454);
+    const codegen_iv tmp644 = codegen_iv_mul(tmp643, tmp457);
+    const codegen_iv tmp645 = codegen_iv_mul(tmp266, tmp89);
+    const codegen_iv tmp646 = codegen_iv_add(tmp450, tmp645);
+    const codegen_iv tmp648 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp260);
+    const codegen_iv tmp649 = codegen_iv_mul(tmp648, tmp267);
+    const codegen_iv tmp650 = codegen_iv_mul(tmp649, tmp453);
+    const codegen_iv tmp651 = codegen_iv_add(tmp646, tmp650);
+    const codegen_iv tmp652 = codegen_iv_mul(tmp644, tmp651);
+    const codegen_iv tmp653 = codegen_iv_add(tmp641, tmp652);
+    const codegen_iv tmp654 = codegen_iv_mul(tmp459, tmp460);
+    const codegen_iv tmp655 = codegen_iv_mul(tmp654, tmp233);
+    const codegen_iv tmp656 = codegen_iv_add(tmp653, tmp655);
+    const codegen_iv tmp657 = codegen_iv_mul(tmp4, tmp83);
+    const codegen_iv tmp658 = codegen_iv_mul(tmp657, tmp87);
+    const codegen_iv tmp659 = codegen_iv_sub(tmp656, tmp658);
+    const codegen_iv tmp660 = codegen_iv_mul(tmp335, tmp339);
+    const codegen_iv tmp661 = codegen_iv_mul(tmp660, tmp83);
+    const codegen_iv tmp662 = codegen_iv_mul(tmp661, tmp86);
+    const codegen_iv tmp663 = codegen_iv_add(tmp659, tmp662);
+    *iv_g = tmp496;
+    *iv_dg = tmp663;
 #endif
 }
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 392 operations; as a program, 444 instructions over 65 of the slots v. */
+ * At each theta, 332 instructions (as a program, over the slots v from 280); the 112 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[444] = {
-        {CODEGEN_IV_COS, 14, 13, 0},
-        {CODEGEN_IV_POW, 15, 1, 2},
-        {CODEGEN_IV_POW, 16, 0, 2},
-        {CODEGEN_IV_MUL, 17, 1, 14},
-        {CODEGEN_IV_MUL, 18, 0, 17},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 18},
-        {CODEGEN_IV_ADD, 20, 15, 16},
-        {CODEGEN_IV_SUB, 20, 20, 19},
-        {CODEGEN_IV_POW, 21, 0, 3},
-        {CODEGEN_IV_POW, 22, 3, 2},
-        {CODEGEN_IV_MUL, 23, 0, 9},
-        {CODEGEN_IV_MUL, 24, 15, 22},
-        {CODEGEN_IV_POW, 25, 9, 2},
-        {CODEGEN_IV_POW, 26, 10, 2},
-        {CODEGEN_IV_POW, 27, 2, 2},
-        {CODEGEN_IV_MUL, 28, 27, 16},
-        {CODEGEN_IV_MUL, 29, 1, 21},
-        {CODEGEN_IV_MUL, 30, 15, 23},
-        {CODEGEN_IV_POW, 31, 1, 3},
-        {CODEGEN_IV_MUL, 32, 14, 31},
-        {CODEGEN_IV_SIN, 33, 13, 0},
-        {CODEGEN_IV_MUL, 13, 31, 33},
-        {CODEGEN_IV_MUL, 34, 17, 9},
-        {CODEGEN_IV_MUL, 35, 1, 33},
-        {CODEGEN_IV_MUL, 36, 35, 10},
-        {CODEGEN_IV_POW, 37, 14, 2},
-        {CODEGEN_IV_CONST, 38, 0, 0},
-        {CODEGEN_IV_MUL, 38, 38, 37},
-        {CODEGEN_IV_MUL, 39, 0, 10},
-        {CODEGEN_IV_MUL, 40, 15, 39},
-        {CODEGEN_IV_CONST, 41, 0, 0},
-        {CODEGEN_IV_MUL, 41, 41, 33},
-        {CODEGEN_IV_MUL, 42, 14, 41},
-        {CODEGEN_IV_MUL, 43, 15, 16},
-        {CODEGEN_IV_CONST, 44, 0, 0},
-        {CODEGEN_IV_MUL, 44, 44, 2},
-        {CODEGEN_IV_MUL, 44, 44, 3},
-        {CODEGEN_IV_SUB, 3, 15, 27},
-        {CODEGEN_IV_ADD, 3, 3, 16},
-        {CODEGEN_IV_SUB, 3, 3, 44},
-        {CODEGEN_IV_SUB, 3, 3, 19},
-        {CODEGEN_IV_SUB, 3, 3, 22},
-        {CODEGEN_IV_NEG, 2, 27, 0},
-        {CODEGEN_IV_ADD, 2, 2, 44},
-        {CODEGEN_IV_ADD, 2, 2, 20},
-        {CODEGEN_IV_SUB, 2, 2, 22},
-        {CODEGEN_IV_MUL, 44, 3, 2},
-        {CODEGEN_IV_NEG, 45, 44, 0},
-        {CODEGEN_IV_SQRT, 45, 45, 0},
-        {CODEGEN_IV_MUL, 46, 0, 35},
-        {CODEGEN_IV_MUL, 47, 17, 10},
-        {CODEGEN_IV_MUL, 17, 35, 9},
-        {CODEGEN_IV_ADD, 48, 24, 28},
-        {CODEGEN_IV_SUB, 48, 48, 30},
-        {CODEGEN_IV_MUL, 49, 0, 32},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 14, 29},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 15, 25},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 15, 26},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 25, 16},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 25, 19},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 26, 16},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 26, 19},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 27, 34},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 27, 36},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 27, 18},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 27, 23},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 30, 38},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 32, 9},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 16, 34},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 16, 36},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 13, 10},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 34, 22},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 36, 22},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 38, 43},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 39, 45},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 40, 42},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 45, 46},
-        {CODEGEN_IV_ADD, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 45, 47},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 45, 17},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 18, 22},
-        {CODEGEN_IV_SUB, 48, 49, 48},
-        {CODEGEN_IV_MUL, 49, 21, 9},
-        {CODEGEN_IV_SUB, 49, 48, 49},
-        {CODEGEN_IV_MUL, 48, 22, 23},
-        {CODEGEN_IV_ADD, 48, 49, 48},
-        {CODEGEN_IV_MUL, 23, 48, 20},
-        {CODEGEN_IV_SQRT, 23, 23, 0},
-        {CODEGEN_IV_CONST, 19, 1, 0},
-        {CODEGEN_IV_POW, 18, 20, 2},
-        {CODEGEN_IV_DIV, 18, 19, 18},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 46},
-        {CODEGEN_IV_CONST, 49, 1, 0},
-        {CODEGEN_IV_POW, 50, 20, 1},
-        {CODEGEN_IV_DIV, 50, 49, 50},
-        {CODEGEN_IV_NEG, 49, 8, 0},
-        {CODEGEN_IV_MUL, 51, 23, 50},
-        {CODEGEN_IV_ADD, 51, 49, 51},
-        {CODEGEN_IV_POW, 8, 1, 4},
-        {CODEGEN_IV_MUL, 49, 14, 45},
-        {CODEGEN_IV_MUL, 52, 8, 49},
-        {CODEGEN_IV_POW, 53, 0, 4},
-        {CODEGEN_IV_MUL, 54, 49, 53},
-        {CODEGEN_IV_MUL, 55, 43, 49},
-        {CODEGEN_IV_POW, 56, 14, 3},
-        {CODEGEN_IV_MUL, 57, 41, 53},
-        {CODEGEN_IV_MUL, 58, 33, 16},
-        {CODEGEN_IV_POW, 59, 33, 2},
-        {CODEGEN_IV_MUL, 60, 1, 0},
-        {CODEGEN_IV_MUL, 60, 60, 27},
-        {CODEGEN_IV_MUL, 60, 60, 45},
-        {CODEGEN_IV_CONST, 61, 0, 0},
-        {CODEGEN_IV_MUL, 61, 61, 59},
-        {CODEGEN_IV_CONST, 62, 0, 0},
-        {CODEGEN_IV_POW, 63, 0, 6},
-        {CODEGEN_IV_MUL, 63, 62, 63},
-        {CODEGEN_IV_MUL, 63, 63, 33},
-        {CODEGEN_IV_NEG, 63, 63, 0},
-        {CODEGEN_IV_MUL, 62, 24, 49},
-        {CODEGEN_IV_ADD, 62, 63, 62},
-        {CODEGEN_IV_MUL, 63, 27, 57},
-        {CODEGEN_IV_ADD, 63, 62, 63},
-        {CODEGEN_IV_MUL, 62, 38, 60},
-        {CODEGEN_IV_ADD, 62, 63, 62},
-        {CODEGEN_IV_MUL, 63, 44, 58},
-        {CODEGEN_IV_ADD, 63, 62, 63},
-        {CODEGEN_IV_MUL, 62, 57, 22},
-        {CODEGEN_IV_ADD, 62, 63, 62},
-        {CODEGEN_IV_MUL, 63, 60, 61},
-        {CODEGEN_IV_ADD, 63, 62, 63},
-        {CODEGEN_IV_POW, 62, 1, 5},
-        {CODEGEN_IV_MUL, 62, 62, 0},
-        {CODEGEN_IV_MUL, 62, 62, 42},
-        {CODEGEN_IV_ADD, 62, 63, 62},
-        {CODEGEN_IV_CONST, 63, 2, 0},
-        {CODEGEN_IV_POW, 64, 0, 5},
-        {CODEGEN_IV_MUL, 64, 63, 64},
-        {CODEGEN_IV_MUL, 64, 64, 14},
-        {CODEGEN_IV_MUL, 64, 64, 35},
-        {CODEGEN_IV_ADD, 64, 62, 64},
-        {CODEGEN_IV_MUL, 62, 15, 28},
-        {CODEGEN_IV_MUL, 62, 62, 41},
-        {CODEGEN_IV_ADD, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 3, 0},
-        {CODEGEN_IV_MUL, 64, 64, 15},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 53},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_MUL, 62, 24, 16},
-        {CODEGEN_IV_MUL, 62, 62, 41},
-        {CODEGEN_IV_ADD, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 3, 0},
-        {CODEGEN_IV_MUL, 64, 64, 24},
-        {CODEGEN_IV_MUL, 64, 64, 37},
-        {CODEGEN_IV_MUL, 64, 64, 58},
-        {CODEGEN_IV_ADD, 64, 62, 64},
-        {CODEGEN_IV_CONST, 62, 4, 0},
-        {CODEGEN_IV_MUL, 62, 62, 32},
-        {CODEGEN_IV_MUL, 62, 62, 33},
-        {CODEGEN_IV_MUL, 62, 62, 21},
-        {CODEGEN_IV_ADD, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 0, 0},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 16},
-        {CODEGEN_IV_MUL, 64, 64, 8},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_MUL, 62, 16, 49},
-        {CODEGEN_IV_MUL, 62, 62, 22},
-        {CODEGEN_IV_ADD, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 5, 0},
-        {CODEGEN_IV_MUL, 64, 64, 13},
-        {CODEGEN_IV_MUL, 64, 64, 56},
-        {CODEGEN_IV_MUL, 64, 64, 21},
-        {CODEGEN_IV_ADD, 64, 62, 64},
-        {CODEGEN_IV_MUL, 62, 14, 15},
-        {CODEGEN_IV_MUL, 62, 62, 27},
-        {CODEGEN_IV_MUL, 62, 62, 45},
-        {CODEGEN_IV_SUB, 62, 64, 62},
-        {CODEGEN_IV_MUL, 64, 14, 27},
-        {CODEGEN_IV_MUL, 64, 64, 16},
-        {CODEGEN_IV_MUL, 64, 64, 45},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_CONST, 62, 3, 0},
-        {CODEGEN_IV_MUL, 62, 62, 15},
-        {CODEGEN_IV_MUL, 62, 62, 28},
-        {CODEGEN_IV_MUL, 62, 62, 33},
-        {CODEGEN_IV_MUL, 62, 62, 37},
-        {CODEGEN_IV_ADD, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 6, 0},
-        {CODEGEN_IV_MUL, 64, 64, 15},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 37},
-        {CODEGEN_IV_MUL, 64, 64, 53},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_MUL, 62, 15, 33},
-        {CODEGEN_IV_MUL, 62, 62, 3},
-        {CODEGEN_IV_MUL, 62, 62, 2},
-        {CODEGEN_IV_SUB, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 5, 0},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 16},
-        {CODEGEN_IV_MUL, 64, 64, 37},
-        {CODEGEN_IV_MUL, 64, 64, 8},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_CONST, 62, 0, 0},
-        {CODEGEN_IV_MUL, 62, 62, 1},
-        {CODEGEN_IV_MUL, 62, 62, 0},
-        {CODEGEN_IV_MUL, 62, 62, 37},
-        {CODEGEN_IV_MUL, 62, 62, 45},
-        {CODEGEN_IV_MUL, 62, 62, 22},
-        {CODEGEN_IV_SUB, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 0, 0},
-        {CODEGEN_IV_MUL, 64, 64, 1},
-        {CODEGEN_IV_MUL, 64, 64, 0},
-        {CODEGEN_IV_MUL, 64, 64, 45},
-        {CODEGEN_IV_MUL, 64, 64, 59},
-        {CODEGEN_IV_MUL, 64, 64, 22},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_CONST, 62, 7, 0},
-        {CODEGEN_IV_MUL, 62, 62, 1},
-        {CODEGEN_IV_MUL, 62, 62, 14},
-        {CODEGEN_IV_MUL, 62, 62, 27},
-        {CODEGEN_IV_MUL, 62, 62, 33},
-        {CODEGEN_IV_MUL, 62, 62, 21},
-        {CODEGEN_IV_SUB, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 7, 0},
-        {CODEGEN_IV_MUL, 64, 64, 1},
-        {CODEGEN_IV_MUL, 64, 64, 14},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 21},
-        {CODEGEN_IV_MUL, 64, 64, 22},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_CONST, 62, 0, 0},
-        {CODEGEN_IV_MUL, 62, 62, 0},
-        {CODEGEN_IV_MUL, 62, 62, 14},
-        {CODEGEN_IV_MUL, 62, 62, 27},
-        {CODEGEN_IV_MUL, 62, 62, 31},
-        {CODEGEN_IV_MUL, 62, 62, 33},
-        {CODEGEN_IV_SUB, 62, 64, 62},
-        {CODEGEN_IV_CONST, 64, 0, 0},
-        {CODEGEN_IV_MUL, 64, 64, 0},
-        {CODEGEN_IV_MUL, 64, 64, 14},
-        {CODEGEN_IV_MUL, 64, 64, 31},
-        {CODEGEN_IV_MUL, 64, 64, 33},
-        {CODEGEN_IV_MUL, 64, 64, 22},
-        {CODEGEN_IV_SUB, 64, 62, 64},
-        {CODEGEN_IV_CONST, 60, 1, 0},
-        {CODEGEN_IV_POW, 59, 45, 1},
-        {CODEGEN_IV_DIV, 59, 60, 59},
-        {CODEGEN_IV_CONST, 60, 8, 0},
-        {CODEGEN_IV_MUL, 60, 60, 1},
-        {CODEGEN_IV_MUL, 60, 60, 12},
-        {CODEGEN_IV_MUL, 60, 60, 18},
-        {CODEGEN_IV_MUL, 60, 60, 59},
-        {CODEGEN_IV_NEG, 58, 11, 0},
-        {CODEGEN_IV_MUL, 57, 5, 60},
-        {CODEGEN_IV_CONST, 53, 9, 0},
-        {CODEGEN_IV_MUL, 53, 53, 52},
-        {CODEGEN_IV_NEG, 53, 53, 0},
-        {CODEGEN_IV_CONST, 49, 9, 0},
-        {CODEGEN_IV_MUL, 49, 49, 54},
-        {CODEGEN_IV_SUB, 49, 53, 49},
-        {CODEGEN_IV_CONST, 53, 7, 0},
-        {CODEGEN_IV_MUL, 53, 53, 55},
-        {CODEGEN_IV_SUB, 53, 49, 53},
-        {CODEGEN_IV_SUB, 53, 53, 64},
-        {CODEGEN_IV_CONST, 49, 4, 0},
-        {CODEGEN_IV_MUL, 49, 49, 43},
-        {CODEGEN_IV_MUL, 49, 49, 45},
-        {CODEGEN_IV_MUL, 49, 49, 56},
-        {CODEGEN_IV_SUB, 49, 53, 49},
-        {CODEGEN_IV_CONST, 53, 4, 0},
-        {CODEGEN_IV_MUL, 53, 53, 1},
-        {CODEGEN_IV_MUL, 53, 53, 37},
-        {CODEGEN_IV_MUL, 53, 53, 45},
-        {CODEGEN_IV_MUL, 53, 53, 21},
-        {CODEGEN_IV_ADD, 53, 49, 53},
-        {CODEGEN_IV_CONST, 49, 4, 0},
-        {CODEGEN_IV_MUL, 49, 49, 0},
-        {CODEGEN_IV_MUL, 49, 49, 31},
-        {CODEGEN_IV_MUL, 49, 49, 37},
-        {CODEGEN_IV_MUL, 49, 49, 45},
-        {CODEGEN_IV_ADD, 49, 53, 49},
-        {CODEGEN_IV_MUL, 49, 57, 49},
-        {CODEGEN_IV_SUB, 49, 58, 49},
-        {CODEGEN_IV_MUL, 58, 6, 60},
-        {CODEGEN_IV_NEG, 57, 52, 0},
-        {CODEGEN_IV_SUB, 57, 57, 54},
-        {CODEGEN_IV_CONST, 53, 0, 0},
-        {CODEGEN_IV_MUL, 53, 53, 55},
-        {CODEGEN_IV_SUB, 53, 57, 53},
-        {CODEGEN_IV_SUB, 53, 53, 64},
-        {CODEGEN_IV_CONST, 57, 3, 0},
-        {CODEGEN_IV_MUL, 57, 57, 43},
-        {CODEGEN_IV_MUL, 57, 57, 45},
-        {CODEGEN_IV_MUL, 57, 57, 56},
-        {CODEGEN_IV_SUB, 57, 53, 57},
-        {CODEGEN_IV_CONST, 53, 3, 0},
-        {CODEGEN_IV_MUL, 53, 53, 1},
-        {CODEGEN_IV_MUL, 53, 53, 37},
-        {CODEGEN_IV_MUL, 53, 53, 45},
-        {CODEGEN_IV_MUL, 53, 53, 21},
-        {CODEGEN_IV_ADD, 53, 57, 53},
-        {CODEGEN_IV_CONST, 57, 3, 0},
-        {CODEGEN_IV_MUL, 57, 57, 0},
-        {CODEGEN_IV_MUL, 57, 57, 31},
-        {CODEGEN_IV_MUL, 57, 57, 37},
-        {CODEGEN_IV_MUL, 57, 57, 45},
-        {CODEGEN_IV_ADD, 57, 53, 57},
-        {CODEGEN_IV_MUL, 57, 58, 57},
-        {CODEGEN_IV_SUB, 57, 49, 57},
-        {CODEGEN_IV_CONST, 49, 10, 0},
-        {CODEGEN_IV_MUL, 49, 49, 1},
-        {CODEGEN_IV_MUL, 49, 49, 12},
-        {CODEGEN_IV_MUL, 49, 49, 4},
-        {CODEGEN_IV_MUL, 49, 49, 14},
-        {CODEGEN_IV_ADD, 49, 57, 49},
-        {CODEGEN_IV_CONST, 57, 10, 0},
-        {CODEGEN_IV_MUL, 57, 57, 7},
-        {CODEGEN_IV_MUL, 57, 57, 50},
-        {CODEGEN_IV_MUL, 57, 57, 51},
-        {CODEGEN_IV_MUL, 58, 48, 19},
-        {CODEGEN_IV_MUL, 53, 0, 13},
-        {CODEGEN_IV_NEG, 53, 53, 0},
-        {CODEGEN_IV_MUL, 8, 27, 17},
-        {CODEGEN_IV_SUB, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 29, 33},
-        {CODEGEN_IV_SUB, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 32, 10},
-        {CODEGEN_IV_SUB, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 16, 47},
-        {CODEGEN_IV_SUB, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 16, 17},
-        {CODEGEN_IV_SUB, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 34, 45},
-        {CODEGEN_IV_SUB, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 36, 45},
-        {CODEGEN_IV_SUB, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 40, 61},
-        {CODEGEN_IV_SUB, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 47, 22},
-        {CODEGEN_IV_SUB, 8, 53, 8},
-        {CODEGEN_IV_CONST, 53, 3, 0},
-        {CODEGEN_IV_MUL, 53, 53, 14},
-        {CODEGEN_IV_MUL, 53, 53, 30},
-        {CODEGEN_IV_MUL, 53, 53, 33},
-        {CODEGEN_IV_SUB, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 31, 33},
-        {CODEGEN_IV_MUL, 8, 8, 9},
-        {CODEGEN_IV_ADD, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 1, 0},
-        {CODEGEN_IV_MUL, 53, 53, 14},
-        {CODEGEN_IV_MUL, 53, 53, 45},
-        {CODEGEN_IV_ADD, 53, 8, 53},
-        {CODEGEN_IV_CONST, 8, 0, 0},
-        {CODEGEN_IV_MUL, 8, 8, 1},
-        {CODEGEN_IV_MUL, 8, 8, 0},
-        {CODEGEN_IV_MUL, 8, 8, 25},
-        {CODEGEN_IV_MUL, 8, 8, 33},
-        {CODEGEN_IV_ADD, 8, 53, 8},
-        {CODEGEN_IV_CONST, 53, 0, 0},
-        {CODEGEN_IV_MUL, 53, 53, 1},
-        {CODEGEN_IV_MUL, 53, 53, 0},
-        {CODEGEN_IV_MUL, 53, 53, 26},
-        {CODEGEN_IV_MUL, 53, 53, 33},
-        {CODEGEN_IV_ADD, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 1, 0},
-        {CODEGEN_IV_MUL, 8, 8, 27},
-        {CODEGEN_IV_MUL, 8, 8, 33},
-        {CODEGEN_IV_ADD, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 1, 0},
-        {CODEGEN_IV_MUL, 53, 53, 33},
-        {CODEGEN_IV_MUL, 53, 53, 22},
-        {CODEGEN_IV_ADD, 53, 8, 53},
-        {CODEGEN_IV_MUL, 8, 1, 14},
-        {CODEGEN_IV_MUL, 8, 8, 27},
-        {CODEGEN_IV_MUL, 8, 8, 10},
-        {CODEGEN_IV_ADD, 8, 53, 8},
-        {CODEGEN_IV_MUL, 53, 1, 33},
-        {CODEGEN_IV_MUL, 53, 53, 22},
-        {CODEGEN_IV_MUL, 53, 53, 9},
-        {CODEGEN_IV_ADD, 53, 8, 53},
-        {CODEGEN_IV_CONST, 8, 0, 0},
-        {CODEGEN_IV_MUL, 8, 8, 0},
-        {CODEGEN_IV_MUL, 8, 8, 15},
-        {CODEGEN_IV_MUL, 8, 8, 37},
-        {CODEGEN_IV_MUL, 8, 8, 10},
-        {CODEGEN_IV_ADD, 8, 53, 8},
-        {CODEGEN_IV_CONST, 53, 3, 0},
-        {CODEGEN_IV_MUL, 53, 53, 14},
-        {CODEGEN_IV_MUL, 53, 53, 15},
-        {CODEGEN_IV_MUL, 53, 53, 33},
-        {CODEGEN_IV_MUL, 53, 53, 16},
-        {CODEGEN_IV_ADD, 53, 8, 53},
-        {CODEGEN_IV_MUL, 53, 20, 53},
-        {CODEGEN_IV_ADD, 53, 58, 53},
-        {CODEGEN_IV_CONST, 58, 10, 0},
-        {CODEGEN_IV_MUL, 58, 58, 59},
-        {CODEGEN_IV_MUL, 58, 58, 20},
-        {CODEGEN_IV_MUL, 8, 3, 19},
-        {CODEGEN_IV_NEG, 8, 8, 0},
-        {CODEGEN_IV_MUL, 44, 2, 19},
-        {CODEGEN_IV_SUB, 44, 8, 44},
-        {CODEGEN_IV_MUL, 44, 58, 44},
-        {CODEGEN_IV_NEG, 58, 39, 0},
-        {CODEGEN_IV_ADD, 58, 58, 46},
-        {CODEGEN_IV_ADD, 58, 58, 47},
-        {CODEGEN_IV_SUB, 58, 58, 17},
-        {CODEGEN_IV_MUL, 58, 44, 58},
-        {CODEGEN_IV_ADD, 58, 53, 58},
-        {CODEGEN_IV_MUL, 58, 57, 58},
-        {CODEGEN_IV_DIV, 58, 58, 23},
-        {CODEGEN_IV_ADD, 58, 49, 58},
-        {CODEGEN_IV_MUL, 49, 7, 23},
-        {CODEGEN_IV_MUL, 49, 49, 18},
-        {CODEGEN_IV_MUL, 49, 49, 19},
-        {CODEGEN_IV_MUL, 49, 49, 51},
-        {CODEGEN_IV_SUB, 49, 58, 49},
+    static const codegen_iv_instruction program[332] = {
+        {CODEGEN_IV_COS, 294, 293, 0},
+        {CODEGEN_IV_MUL, 297, 281, 294},
+        {CODEGEN_IV_MUL, 298, 280, 297},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 298},
+        {CODEGEN_IV_SUB, 300, 91, 299},
+        {CODEGEN_IV_MUL, 312, 294, 100},
+        {CODEGEN_IV_SIN, 313, 293, 0},
+        {CODEGEN_IV_MUL, 293, 100, 313},
+        {CODEGEN_IV_MUL, 314, 297, 289},
+        {CODEGEN_IV_MUL, 315, 281, 313},
+        {CODEGEN_IV_MUL, 316, 315, 290},
+        {CODEGEN_IV_POW, 317, 294, 2},
+        {CODEGEN_IV_CONST, 318, 0, 0},
+        {CODEGEN_IV_MUL, 318, 318, 317},
+        {CODEGEN_IV_CONST, 321, 0, 0},
+        {CODEGEN_IV_MUL, 321, 321, 313},
+        {CODEGEN_IV_MUL, 322, 294, 321},
+        {CODEGEN_IV_SUB, 283, 104, 299},
+        {CODEGEN_IV_SUB, 283, 283, 93},
+        {CODEGEN_IV_ADD, 282, 105, 300},
+        {CODEGEN_IV_SUB, 282, 282, 93},
+        {CODEGEN_IV_MUL, 324, 283, 282},
+        {CODEGEN_IV_NEG, 325, 324, 0},
+        {CODEGEN_IV_SQRT, 325, 325, 0},
+        {CODEGEN_IV_MUL, 326, 280, 315},
+        {CODEGEN_IV_MUL, 327, 297, 290},
+        {CODEGEN_IV_MUL, 297, 315, 289},
+        {CODEGEN_IV_MUL, 329, 280, 312},
+        {CODEGEN_IV_ADD, 329, 106, 329},
+        {CODEGEN_IV_MUL, 328, 294, 98},
+        {CODEGEN_IV_ADD, 328, 329, 328},
+        {CODEGEN_IV_ADD, 329, 328, 107},
+        {CODEGEN_IV_ADD, 328, 329, 108},
+        {CODEGEN_IV_ADD, 329, 328, 109},
+        {CODEGEN_IV_MUL, 328, 95, 299},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_ADD, 329, 328, 110},
+        {CODEGEN_IV_MUL, 328, 96, 299},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 97, 314},
+        {CODEGEN_IV_ADD, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 97, 316},
+        {CODEGEN_IV_ADD, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 97, 298},
+        {CODEGEN_IV_SUB, 329, 328, 329},
+        {CODEGEN_IV_SUB, 328, 329, 111},
+        {CODEGEN_IV_MUL, 329, 99, 318},
+        {CODEGEN_IV_ADD, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 312, 289},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 90, 314},
+        {CODEGEN_IV_ADD, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 90, 316},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 293, 290},
+        {CODEGEN_IV_SUB, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 314, 93},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 316, 93},
+        {CODEGEN_IV_SUB, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 318, 103},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 101, 325},
+        {CODEGEN_IV_SUB, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 102, 322},
+        {CODEGEN_IV_ADD, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 325, 326},
+        {CODEGEN_IV_ADD, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 325, 327},
+        {CODEGEN_IV_ADD, 328, 329, 328},
+        {CODEGEN_IV_MUL, 329, 325, 297},
+        {CODEGEN_IV_SUB, 329, 328, 329},
+        {CODEGEN_IV_MUL, 328, 298, 93},
+        {CODEGEN_IV_SUB, 328, 329, 328},
+        {CODEGEN_IV_SUB, 329, 328, 112},
+        {CODEGEN_IV_ADD, 328, 329, 113},
+        {CODEGEN_IV_MUL, 303, 328, 300},
+        {CODEGEN_IV_SQRT, 303, 303, 0},
+        {CODEGEN_IV_CONST, 299, 1, 0},
+        {CODEGEN_IV_POW, 298, 300, 2},
+        {CODEGEN_IV_DIV, 298, 299, 298},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 326},
+        {CODEGEN_IV_CONST, 329, 1, 0},
+        {CODEGEN_IV_POW, 330, 300, 1},
+        {CODEGEN_IV_DIV, 330, 329, 330},
+        {CODEGEN_IV_MUL, 331, 303, 330},
+        {CODEGEN_IV_ADD, 331, 114, 331},
+        {CODEGEN_IV_MUL, 329, 294, 325},
+        {CODEGEN_IV_MUL, 332, 115, 329},
+        {CODEGEN_IV_MUL, 334, 329, 116},
+        {CODEGEN_IV_MUL, 335, 103, 329},
+        {CODEGEN_IV_POW, 336, 294, 3},
+        {CODEGEN_IV_MUL, 337, 321, 116},
+        {CODEGEN_IV_MUL, 338, 313, 90},
+        {CODEGEN_IV_POW, 339, 313, 2},
+        {CODEGEN_IV_MUL, 340, 117, 325},
+        {CODEGEN_IV_CONST, 341, 0, 0},
+        {CODEGEN_IV_MUL, 341, 341, 339},
+        {CODEGEN_IV_MUL, 343, 118, 313},
+        {CODEGEN_IV_NEG, 343, 343, 0},
+        {CODEGEN_IV_MUL, 342, 94, 329},
+        {CODEGEN_IV_ADD, 342, 343, 342},
+        {CODEGEN_IV_MUL, 343, 97, 337},
+        {CODEGEN_IV_ADD, 343, 342, 343},
+        {CODEGEN_IV_MUL, 342, 318, 340},
+        {CODEGEN_IV_ADD, 342, 343, 342},
+        {CODEGEN_IV_MUL, 343, 324, 338},
+        {CODEGEN_IV_ADD, 343, 342, 343},
+        {CODEGEN_IV_MUL, 342, 337, 93},
+        {CODEGEN_IV_ADD, 342, 343, 342},
+        {CODEGEN_IV_MUL, 343, 340, 341},
+        {CODEGEN_IV_ADD, 343, 342, 343},
+        {CODEGEN_IV_MUL, 342, 119, 322},
+        {CODEGEN_IV_ADD, 342, 343, 342},
+        {CODEGEN_IV_MUL, 344, 120, 294},
+        {CODEGEN_IV_MUL, 344, 344, 315},
+        {CODEGEN_IV_ADD, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 121, 321},
+        {CODEGEN_IV_ADD, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 122, 313},
+        {CODEGEN_IV_MUL, 344, 344, 116},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 123, 321},
+        {CODEGEN_IV_ADD, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 124, 317},
+        {CODEGEN_IV_MUL, 344, 344, 338},
+        {CODEGEN_IV_ADD, 344, 342, 344},
+        {CODEGEN_IV_CONST, 342, 2, 0},
+        {CODEGEN_IV_MUL, 342, 342, 312},
+        {CODEGEN_IV_MUL, 342, 342, 313},
+        {CODEGEN_IV_MUL, 342, 342, 92},
+        {CODEGEN_IV_ADD, 342, 344, 342},
+        {CODEGEN_IV_CONST, 344, 0, 0},
+        {CODEGEN_IV_MUL, 344, 344, 313},
+        {CODEGEN_IV_MUL, 344, 344, 90},
+        {CODEGEN_IV_MUL, 344, 344, 115},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 90, 329},
+        {CODEGEN_IV_MUL, 342, 342, 93},
+        {CODEGEN_IV_ADD, 342, 344, 342},
+        {CODEGEN_IV_CONST, 344, 3, 0},
+        {CODEGEN_IV_MUL, 344, 344, 293},
+        {CODEGEN_IV_MUL, 344, 344, 336},
+        {CODEGEN_IV_MUL, 344, 344, 92},
+        {CODEGEN_IV_ADD, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 294, 89},
+        {CODEGEN_IV_MUL, 342, 342, 97},
+        {CODEGEN_IV_MUL, 342, 342, 325},
+        {CODEGEN_IV_SUB, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 294, 97},
+        {CODEGEN_IV_MUL, 344, 344, 90},
+        {CODEGEN_IV_MUL, 344, 344, 325},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 125, 313},
+        {CODEGEN_IV_MUL, 342, 342, 317},
+        {CODEGEN_IV_ADD, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 126, 313},
+        {CODEGEN_IV_MUL, 344, 344, 317},
+        {CODEGEN_IV_MUL, 344, 344, 116},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 89, 313},
+        {CODEGEN_IV_MUL, 342, 342, 283},
+        {CODEGEN_IV_MUL, 342, 342, 282},
+        {CODEGEN_IV_SUB, 342, 344, 342},
+        {CODEGEN_IV_CONST, 344, 3, 0},
+        {CODEGEN_IV_MUL, 344, 344, 313},
+        {CODEGEN_IV_MUL, 344, 344, 90},
+        {CODEGEN_IV_MUL, 344, 344, 317},
+        {CODEGEN_IV_MUL, 344, 344, 115},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 127, 317},
+        {CODEGEN_IV_MUL, 342, 342, 325},
+        {CODEGEN_IV_MUL, 342, 342, 93},
+        {CODEGEN_IV_SUB, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 128, 325},
+        {CODEGEN_IV_MUL, 344, 344, 339},
+        {CODEGEN_IV_MUL, 344, 344, 93},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 129, 294},
+        {CODEGEN_IV_MUL, 342, 342, 97},
+        {CODEGEN_IV_MUL, 342, 342, 313},
+        {CODEGEN_IV_MUL, 342, 342, 92},
+        {CODEGEN_IV_SUB, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 130, 294},
+        {CODEGEN_IV_MUL, 344, 344, 313},
+        {CODEGEN_IV_MUL, 344, 344, 92},
+        {CODEGEN_IV_MUL, 344, 344, 93},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_MUL, 342, 131, 294},
+        {CODEGEN_IV_MUL, 342, 342, 97},
+        {CODEGEN_IV_MUL, 342, 342, 100},
+        {CODEGEN_IV_MUL, 342, 342, 313},
+        {CODEGEN_IV_SUB, 342, 344, 342},
+        {CODEGEN_IV_MUL, 344, 132, 294},
+        {CODEGEN_IV_MUL, 344, 344, 100},
+        {CODEGEN_IV_MUL, 344, 344, 313},
+        {CODEGEN_IV_MUL, 344, 344, 93},
+        {CODEGEN_IV_SUB, 344, 342, 344},
+        {CODEGEN_IV_CONST, 340, 1, 0},
+        {CODEGEN_IV_POW, 339, 325, 1},
+        {CODEGEN_IV_DIV, 339, 340, 339},
+        {CODEGEN_IV_MUL, 340, 133, 298},
+        {CODEGEN_IV_MUL, 340, 340, 339},
+        {CODEGEN_IV_MUL, 337, 285, 340},
+        {CODEGEN_IV_CONST, 333, 4, 0},
+        {CODEGEN_IV_MUL, 333, 333, 332},
+        {CODEGEN_IV_NEG, 333, 333, 0},
+        {CODEGEN_IV_CONST, 329, 4, 0},
+        {CODEGEN_IV_MUL, 329, 329, 334},
+        {CODEGEN_IV_SUB, 329, 333, 329},
+        {CODEGEN_IV_CONST, 333, 5, 0},
+        {CODEGEN_IV_MUL, 333, 333, 335},
+        {CODEGEN_IV_SUB, 333, 329, 333},
+        {CODEGEN_IV_SUB, 333, 333, 344},
+        {CODEGEN_IV_MUL, 329, 135, 325},
+        {CODEGEN_IV_MUL, 329, 329, 336},
+        {CODEGEN_IV_SUB, 329, 333, 329},
+        {CODEGEN_IV_MUL, 333, 136, 317},
+        {CODEGEN_IV_MUL, 333, 333, 325},
+        {CODEGEN_IV_MUL, 333, 333, 92},
+        {CODEGEN_IV_ADD, 333, 329, 333},
+        {CODEGEN_IV_MUL, 329, 137, 317},
+        {CODEGEN_IV_MUL, 329, 329, 325},
+        {CODEGEN_IV_ADD, 329, 333, 329},
+        {CODEGEN_IV_MUL, 329, 337, 329},
+        {CODEGEN_IV_SUB, 329, 134, 329},
+        {CODEGEN_IV_MUL, 338, 286, 340},
+        {CODEGEN_IV_NEG, 337, 332, 0},
+        {CODEGEN_IV_SUB, 337, 337, 334},
+        {CODEGEN_IV_CONST, 333, 0, 0},
+        {CODEGEN_IV_MUL, 333, 333, 335},
+        {CODEGEN_IV_SUB, 333, 337, 333},
+        {CODEGEN_IV_SUB, 333, 333, 344},
+        {CODEGEN_IV_MUL, 337, 138, 325},
+        {CODEGEN_IV_MUL, 337, 337, 336},
+        {CODEGEN_IV_SUB, 337, 333, 337},
+        {CODEGEN_IV_MUL, 333, 139, 317},
+        {CODEGEN_IV_MUL, 333, 333, 325},
+        {CODEGEN_IV_MUL, 333, 333, 92},
+        {CODEGEN_IV_ADD, 333, 337, 333},
+        {CODEGEN_IV_MUL, 337, 140, 317},
+        {CODEGEN_IV_MUL, 337, 337, 325},
+        {CODEGEN_IV_ADD, 337, 333, 337},
+        {CODEGEN_IV_MUL, 337, 338, 337},
+        {CODEGEN_IV_SUB, 337, 329, 337},
+        {CODEGEN_IV_MUL, 329, 141, 294},
+        {CODEGEN_IV_ADD, 329, 337, 329},
+        {CODEGEN_IV_MUL, 337, 142, 330},
+        {CODEGEN_IV_MUL, 337, 337, 331},
+        {CODEGEN_IV_MUL, 338, 328, 299},
+        {CODEGEN_IV_MUL, 333, 280, 293},
+        {CODEGEN_IV_NEG, 333, 333, 0},
+        {CODEGEN_IV_MUL, 288, 97, 297},
+        {CODEGEN_IV_SUB, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 98, 313},
+        {CODEGEN_IV_SUB, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 312, 290},
+        {CODEGEN_IV_SUB, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 90, 327},
+        {CODEGEN_IV_SUB, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 90, 297},
+        {CODEGEN_IV_SUB, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 314, 325},
+        {CODEGEN_IV_SUB, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 316, 325},
+        {CODEGEN_IV_SUB, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 102, 341},
+        {CODEGEN_IV_SUB, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 327, 93},
+        {CODEGEN_IV_SUB, 288, 333, 288},
+        {CODEGEN_IV_CONST, 333, 6, 0},
+        {CODEGEN_IV_MUL, 333, 333, 294},
+        {CODEGEN_IV_MUL, 333, 333, 99},
+        {CODEGEN_IV_MUL, 333, 333, 313},
+        {CODEGEN_IV_SUB, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 100, 313},
+        {CODEGEN_IV_MUL, 288, 288, 289},
+        {CODEGEN_IV_ADD, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 143, 294},
+        {CODEGEN_IV_MUL, 333, 333, 325},
+        {CODEGEN_IV_ADD, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 144, 313},
+        {CODEGEN_IV_ADD, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 145, 313},
+        {CODEGEN_IV_ADD, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 146, 313},
+        {CODEGEN_IV_ADD, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 147, 313},
+        {CODEGEN_IV_MUL, 333, 333, 93},
+        {CODEGEN_IV_ADD, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 281, 294},
+        {CODEGEN_IV_MUL, 288, 288, 97},
+        {CODEGEN_IV_MUL, 288, 288, 290},
+        {CODEGEN_IV_ADD, 288, 333, 288},
+        {CODEGEN_IV_MUL, 333, 281, 313},
+        {CODEGEN_IV_MUL, 333, 333, 93},
+        {CODEGEN_IV_MUL, 333, 333, 289},
+        {CODEGEN_IV_ADD, 333, 288, 333},
+        {CODEGEN_IV_MUL, 288, 148, 317},
+        {CODEGEN_IV_MUL, 288, 288, 290},
+        {CODEGEN_IV_ADD, 288, 333, 288},
+        {CODEGEN_IV_CONST, 333, 6, 0},
+        {CODEGEN_IV_MUL, 333, 333, 294},
+        {CODEGEN_IV_MUL, 333, 333, 89},
+        {CODEGEN_IV_MUL, 333, 333, 313},
+        {CODEGEN_IV_MUL, 333, 333, 90},
+        {CODEGEN_IV_ADD, 333, 288, 333},
+        {CODEGEN_IV_MUL, 333, 300, 333},
+        {CODEGEN_IV_ADD, 333, 338, 333},
+        {CODEGEN_IV_CONST, 338, 7, 0},
+        {CODEGEN_IV_MUL, 338, 338, 339},
+        {CODEGEN_IV_MUL, 338, 338, 300},
+        {CODEGEN_IV_MUL, 288, 283, 299},
+        {CODEGEN_IV_NEG, 288, 288, 0},
+        {CODEGEN_IV_MUL, 324, 282, 299},
+        {CODEGEN_IV_SUB, 324, 288, 324},
+        {CODEGEN_IV_MUL, 324, 338, 324},
+        {CODEGEN_IV_ADD, 338, 149, 326},
+        {CODEGEN_IV_ADD, 338, 338, 327},
+        {CODEGEN_IV_SUB, 338, 338, 297},
+        {CODEGEN_IV_MUL, 338, 324, 338},
+        {CODEGEN_IV_ADD, 338, 333, 338},
+        {CODEGEN_IV_MUL, 338, 337, 338},
+        {CODEGEN_IV_DIV, 338, 338, 303},
+        {CODEGEN_IV_ADD, 338, 329, 338},
+        {CODEGEN_IV_MUL, 329, 287, 303},
+        {CODEGEN_IV_MUL, 329, 329, 298},
+        {CODEGEN_IV_MUL, 329, 329, 299},
+        {CODEGEN_IV_MUL, 329, 329, 331},
+        {CODEGEN_IV_SUB, 329, 338, 329},
     };
-    static const codegen_iv constants[11] = {
+    static const codegen_iv constants[8] = {
         {2, 2},
         {1, 1},
-        {10, 10},
-        {4, 4},
         {12, 12},
         {8, 8},
-        {16, 16},
-        {6, 6},
-        {CODEGEN_R(0.25), CODEGEN_R(0.25)},
         {3, 3},
+        {6, 6},
+        {4, 4},
         {CODEGEN_R(0.5), CODEGEN_R(0.5)}
     };
-    v[0] = codegen_iv_point(params->d);
-    v[1] = codegen_iv_point(params->a_2);
-    v[2] = codegen_iv_point(params->a_3);
-    v[3] = codegen_iv_point(params->a_4);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->m_3);
-    v[6] = codegen_iv_point(params->m_4);
-    v[7] = codegen_iv_point(params->k);
-    v[8] = codegen_iv_point(params->l_0);
-    v[9] = codegen_iv_point(params->x_S);
-    v[10] = codegen_iv_point(params->y_S);
-    v[11] = codegen_iv_point(params->T);
-    v[12] = codegen_iv_point(params->g);
-    v[13] = theta;
-    codegen_iv_run(program, 444, constants, v, iv_flags);
-    *iv_g = v[49];
+    v[280] = codegen_iv_point(params->d);
+    v[281] = codegen_iv_point(params->a_2);
+    v[285] = codegen_iv_point(params->m_3);
+    v[286] = codegen_iv_point(params->m_4);
+    v[287] = codegen_iv_point(params->k);
+    v[289] = codegen_iv_point(params->x_S);
+    v[290] = codegen_iv_point(params->y_S);
+    v[293] = theta;
+    codegen_iv_run(program, 332, constants, v, iv_flags);
+    *iv_g = v[329];
 #else
-    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
-    const codegen_iv a_3 = codegen_iv_point(params->a_3);
-    const codegen_iv a_4 = codegen_iv_point(params->a_4);
-    const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv m_3 = codegen_iv_point(params->m_3);
     const codegen_iv m_4 = codegen_iv_point(params->m_4);
     const codegen_iv k = codegen_iv_point(params->k);
-    const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
     const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
-    const codegen_iv tmp1 = codegen_iv_pow(a_2, 2);
-    const codegen_iv tmp2 = codegen_iv_pow(d, 2);
-    const codegen_iv tmp3 = codegen_iv_mul(a_2, tmp0);
-    const codegen_iv tmp4 = codegen_iv_mul(d, tmp3);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), tmp4);
-    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp1, tmp2), tmp5);
-    const codegen_iv tmp7 = codegen_iv_pow(d, 3);
-    const codegen_iv tmp8 = codegen_iv_pow(a_4, 2);
-    const codegen_iv tmp9 = codegen_iv_mul(d, x_S);
-    const codegen_iv tmp10 = codegen_iv_mul(tmp1, tmp8);
-    const codegen_iv tmp11 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp12 = codegen_iv_pow(y_S, 2);
-    const codegen_iv tmp13 = codegen_iv_pow(a_3, 2);
-    const codegen_iv tmp14 = codegen_iv_mul(tmp13, tmp2);
-    const codegen_iv tmp15 = codegen_iv_mul(a_2, tmp7);
-    const codegen_iv tmp16 = codegen_iv_mul(tmp1, tmp9);
-    const codegen_iv tmp17 = codegen_iv_pow(a_2, 3);
-    const codegen_iv tmp18 = codegen_iv_mul(tmp0, tmp17);
-    const codegen_iv tmp19 = codegen_iv_sin(theta);
-    const codegen_iv tmp20 = codegen_iv_mul(tmp17, tmp19);
-    const codegen_iv tmp21 = codegen_iv_mul(tmp3, x_S);
-    const codegen_iv tmp22 = codegen_iv_mul(a_2, tmp19);
-    const codegen_iv tmp23 = codegen_iv_mul(tmp22, y_S);
-    const codegen_iv tmp24 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp25 = codegen_iv_mul(codegen_iv_point(2), tmp24);
-    const codegen_iv tmp26 = codegen_iv_mul(d, y_S);
-    const codegen_iv tmp27 = codegen_iv_mul(tmp1, tmp26);
-    const codegen_iv tmp28 = codegen_iv_mul(codegen_iv_point(2), tmp19);
-    const codegen_iv tmp29 = codegen_iv_mul(tmp0, tmp28);
-    const codegen_iv tmp30 = codegen_iv_mul(tmp1, tmp2);
-    const codegen_iv tmp31 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
-    const codegen_iv tmp32 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(tmp1, tmp13), tmp2), tmp31), tmp5), tmp8);
-    const codegen_iv tmp33 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp31), tmp6), tmp8);
-    const codegen_iv tmp34 = codegen_iv_mul(tmp32, tmp33);
-    const codegen_iv tmp35 = codegen_iv_sqrt(codegen_iv_neg(tmp34), iv_flags);
-    const codegen_iv tmp36 = codegen_iv_mul(d, tmp22);
-    const codegen_iv tmp37 = codegen_iv_mul(tmp3, y_S);
-    const codegen_iv tmp38 = codegen_iv_mul(tmp22, x_S);
-    const codegen_iv tmp39 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(tmp10, tmp14), tmp16), codegen_iv_mul(d, tmp18)), codegen_iv_mul(tmp0, tmp15)), codegen_iv_mul(tmp1, tmp11)), codegen_iv_mul(tmp1, tmp12)), codegen_iv_mul(tmp11, tmp2)), codegen_iv_mul(tmp11, tmp5)), codegen_iv_mul(tmp12, tmp2)), codegen_iv_mul(tmp12, tmp5)), codegen_iv_mul(tmp13, tmp21)), codegen_iv_mul(tmp13, tmp23)), codegen_iv_mul(tmp13, tmp4)), codegen_iv_mul(tmp13, tmp9)), codegen_iv_mul(tmp16, tmp25)), codegen_iv_mul(tmp18, x_S)), codegen_iv_mul(tmp2, tmp21)), codegen_iv_mul(tmp2, tmp23)), codegen_iv_mul(tmp20, y_S)), codegen_iv_mul(tmp21, tmp8)), codegen_iv_mul(tmp23, tmp8)), codegen_iv_mul(tmp25, tmp30)), codegen_iv_mul(tmp26, tmp35)), codegen_iv_mul(tmp27, tmp29)), codegen_iv_mul(tmp35, tmp36)), codegen_iv_mul(tmp35, tmp37)), codegen_iv_mul(tmp35, tmp38)), codegen_iv_mul(tmp4, tmp8)), codegen_iv_mul(tmp7, x_S)), codegen_iv_mul(tmp8, tmp9));
-    const codegen_iv tmp40 = codegen_iv_sqrt(codegen_iv_mul(tmp39, tmp6), iv_flags);
-    const codegen_iv tmp41 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
-    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2), tmp36);
-    const codegen_iv tmp43 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
-    const codegen_iv tmp44 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp40, tmp43));
-    const codegen_iv tmp45 = codegen_iv_pow(a_2, 4);
-    const codegen_iv tmp46 = codegen_iv_mul(tmp0, tmp35);
-    const codegen_iv tmp47 = codegen_iv_mul(tmp45, tmp46);
-    const codegen_iv tmp48 = codegen_iv_pow(d, 4);
-    const codegen_iv tmp49 = codegen_iv_mul(tmp46, tmp48);
-    const codegen_iv tmp50 = codegen_iv_mul(tmp30, tmp46);
-    const codegen_iv tmp51 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp52 = codegen_iv_mul(tmp28, tmp48);
-    const codegen_iv tmp53 = codegen_iv_mul(tmp19, tmp2);
-    const codegen_iv tmp54 = codegen_iv_pow(tmp19, 2);
-    const codegen_iv tmp55 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp13), tmp35);
-    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(2), tmp54);
-    const codegen_iv tmp57 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), codegen_iv_pow(d, 6)), tmp19)), codegen_iv_mul(tmp10, tmp46)), codegen_iv_mul(tmp13, tmp52)), codegen_iv_mul(tmp25, tmp55)), codegen_iv_mul(tmp34, tmp53)), codegen_iv_mul(tmp52, tmp8)), codegen_iv_mul(tmp55, tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(a_2, 5), d), tmp29)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10), codegen_iv_pow(d, 5)), tmp0), tmp22)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp14), tmp28)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp1), tmp19), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp10, tmp2), tmp28)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp10), tmp24), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp18), tmp19), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp19), tmp2), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp2, tmp46), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp20), tmp51), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp1), tmp13), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp13), tmp2), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp1), tmp14), tmp19), tmp24)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp1), tmp19), tmp24), tmp48)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp1, tmp19), tmp32), tmp33)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp19), tmp2), tmp24), tmp45)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp24), tmp35), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp35), tmp54), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp13), tmp19), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp0), tmp19), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp13), tmp17), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp0), tmp17), tmp19), tmp8));
-    const codegen_iv tmp58 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp35, 1), iv_flags);
-    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), tmp41), tmp58);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(codegen_iv_mul(m_3, tmp59), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3), tmp47)), codegen_iv_mul(codegen_iv_point(3), tmp49)), codegen_iv_mul(codegen_iv_point(6), tmp50)), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp30), tmp35), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp24), tmp35), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp17), tmp24), tmp35)))), codegen_iv_mul(codegen_iv_mul(m_4, tmp59), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp47), tmp49), codegen_iv_mul(codegen_iv_point(2), tmp50)), tmp57), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp30), tmp35), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp24), tmp35), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp17), tmp24), tmp35)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), a_2), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp43), tmp44), codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp39, tmp42), codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(d, tmp20)), codegen_iv_mul(tmp13, tmp38)), codegen_iv_mul(tmp15, tmp19)), codegen_iv_mul(tmp18, y_S)), codegen_iv_mul(tmp2, tmp37)), codegen_iv_mul(tmp2, tmp38)), codegen_iv_mul(tmp21, tmp35)), codegen_iv_mul(tmp23, tmp35)), codegen_iv_mul(tmp27, tmp56)), codegen_iv_mul(tmp37, tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp16), tmp19)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp19), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0), tmp35)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp11), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp12), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp13), tmp19)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, d), tmp19), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp0), tmp13), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(a_2, tmp19), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp1), tmp24), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp1), tmp19), tmp2)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp58), tmp6), codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp32, tmp42)), codegen_iv_mul(tmp33, tmp42))), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp26), tmp36), tmp37), tmp38)))), tmp40, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp40), tmp41), tmp42), tmp44));
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[91], tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(tmp0, v[100]);
+    const codegen_iv tmp7 = codegen_iv_sin(theta);
+    const codegen_iv tmp8 = codegen_iv_mul(v[100], tmp7);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp10 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp11 = codegen_iv_mul(tmp10, y_S);
+    const codegen_iv tmp12 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp14 = codegen_iv_mul(codegen_iv_point(2), tmp12);
+    const codegen_iv tmp16 = codegen_iv_mul(codegen_iv_point(2), tmp7);
+    const codegen_iv tmp17 = codegen_iv_mul(tmp0, tmp16);
+    const codegen_iv tmp18 = codegen_iv_sub(v[104], tmp4);
+    const codegen_iv tmp19 = codegen_iv_sub(tmp18, v[93]);
+    const codegen_iv tmp20 = codegen_iv_add(v[105], tmp5);
+    const codegen_iv tmp21 = codegen_iv_sub(tmp20, v[93]);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp19, tmp21);
+    const codegen_iv tmp23 = codegen_iv_neg(tmp22);
+    const codegen_iv tmp24 = codegen_iv_sqrt(tmp23, iv_flags);
+    const codegen_iv tmp25 = codegen_iv_mul(d, tmp10);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp10, x_S);
+    const codegen_iv tmp28 = codegen_iv_mul(d, tmp6);
+    const codegen_iv tmp29 = codegen_iv_add(v[106], tmp28);
+    const codegen_iv tmp30 = codegen_iv_mul(tmp0, v[98]);
+    const codegen_iv tmp31 = codegen_iv_add(tmp29, tmp30);
+    const codegen_iv tmp32 = codegen_iv_add(tmp31, v[107]);
+    const codegen_iv tmp33 = codegen_iv_add(tmp32, v[108]);
+    const codegen_iv tmp34 = codegen_iv_add(tmp33, v[109]);
+    const codegen_iv tmp35 = codegen_iv_mul(v[95], tmp4);
+    const codegen_iv tmp36 = codegen_iv_sub(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_add(tmp36, v[110]);
+    const codegen_iv tmp38 = codegen_iv_mul(v[96], tmp4);
+    const codegen_iv tmp39 = codegen_iv_sub(tmp37, tmp38);
+    const codegen_iv tmp40 = codegen_iv_mul(v[97], tmp9);
+    const codegen_iv tmp41 = codegen_iv_add(tmp39, tmp40);
+    const codegen_iv tmp42 = codegen_iv_mul(v[97], tmp11);
+    const codegen_iv tmp43 = codegen_iv_add(tmp41, tmp42);
+    const codegen_iv tmp44 = codegen_iv_mul(v[97], tmp2);
+    const codegen_iv tmp45 = codegen_iv_sub(tmp43, tmp44);
+    const codegen_iv tmp46 = codegen_iv_sub(tmp45, v[111]);
+    const codegen_iv tmp47 = codegen_iv_mul(v[99], tmp14);
+    const codegen_iv tmp48 = codegen_iv_add(tmp46, tmp47);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp6, x_S);
+    const codegen_iv tmp50 = codegen_iv_sub(tmp48, tmp49);
+    const codegen_iv tmp51 = codegen_iv_mul(v[90], tmp9);
+    const codegen_iv tmp52 = codegen_iv_add(tmp50, tmp51);
+    const codegen_iv tmp53 = codegen_iv_mul(v[90], tmp11);
+    const codegen_iv tmp54 = codegen_iv_sub(tmp52, tmp53);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp8, y_S);
+    const codegen_iv tmp56 = codegen_iv_sub(tmp54, tmp55);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp9, v[93]);
+    const codegen_iv tmp58 = codegen_iv_sub(tmp56, tmp57);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp11, v[93]);
+    const codegen_iv tmp60 = codegen_iv_sub(tmp58, tmp59);
+    const codegen_iv tmp61 = codegen_iv_mul(tmp14, v[103]);
+    const codegen_iv tmp62 = codegen_iv_sub(tmp60, tmp61);
+    const codegen_iv tmp63 = codegen_iv_mul(v[101], tmp24);
+    const codegen_iv tmp64 = codegen_iv_sub(tmp62, tmp63);
+    const codegen_iv tmp65 = codegen_iv_mul(v[102], tmp17);
+    const codegen_iv tmp66 = codegen_iv_add(tmp64, tmp65);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp24, tmp25);
+    const codegen_iv tmp68 = codegen_iv_add(tmp66, tmp67);
+    const codegen_iv tmp69 = codegen_iv_mul(tmp24, tmp26);
+    const codegen_iv tmp70 = codegen_iv_add(tmp68, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp24, tmp27);
+    const codegen_iv tmp72 = codegen_iv_sub(tmp70, tmp71);
+    const codegen_iv tmp73 = codegen_iv_mul(tmp2, v[93]);
+    const codegen_iv tmp74 = codegen_iv_sub(tmp72, tmp73);
+    const codegen_iv tmp75 = codegen_iv_sub(tmp74, v[112]);
+    const codegen_iv tmp76 = codegen_iv_add(tmp75, v[113]);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp76, tmp5);
+    const codegen_iv tmp78 = codegen_iv_sqrt(tmp77, iv_flags);
+    const codegen_iv tmp80 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp81 = codegen_iv_div(codegen_iv_point(1), tmp80, iv_flags);
+    const codegen_iv tmp83 = codegen_iv_mul(codegen_iv_point(2), tmp25);
+    const codegen_iv tmp85 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp86 = codegen_iv_div(codegen_iv_point(1), tmp85, iv_flags);
+    const codegen_iv tmp87 = codegen_iv_mul(tmp78, tmp86);
+    const codegen_iv tmp88 = codegen_iv_add(v[114], tmp87);
+    const codegen_iv tmp89 = codegen_iv_mul(tmp0, tmp24);
+    const codegen_iv tmp90 = codegen_iv_mul(v[115], tmp89);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp89, v[116]);
+    const codegen_iv tmp92 = codegen_iv_mul(v[103], tmp89);
+    const codegen_iv tmp93 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp94 = codegen_iv_mul(tmp16, v[116]);
+    const codegen_iv tmp95 = codegen_iv_mul(tmp7, v[90]);
+    const codegen_iv tmp96 = codegen_iv_pow(tmp7, 2);
+    const codegen_iv tmp97 = codegen_iv_mul(v[117], tmp24);
+    const codegen_iv tmp99 = codegen_iv_mul(codegen_iv_point(2), tmp96);
+    const codegen_iv tmp100 = codegen_iv_mul(v[118], tmp7);
+    const codegen_iv tmp101 = codegen_iv_neg(tmp100);
+    const codegen_iv tmp102 = codegen_iv_mul(v[94], tmp89);
+    const codegen_iv tmp103 = codegen_iv_add(tmp101, tmp102);
+    const codegen_iv tmp104 = codegen_iv_mul(v[97], tmp94);
+    const codegen_iv tmp105 = codegen_iv_add(tmp103, tmp104);
+    const codegen_iv tmp106 = codegen_iv_mul(tmp14, tmp97);
+    const codegen_iv tmp107 = codegen_iv_add(tmp105, tmp106);
+    const codegen_iv tmp108 = codegen_iv_mul(tmp22, tmp95);
+    const codegen_iv tmp109 = codegen_iv_add(tmp107, tmp108);
+    const codegen_iv tmp110 = codegen_iv_mul(tmp94, v[93]);
+    const codegen_iv tmp111 = codegen_iv_add(tmp109, tmp110);
+    const codegen_iv tmp112 = codegen_iv_mul(tmp97, tmp99);
+    const codegen_iv tmp113 = codegen_iv_add(tmp111, tmp112);
+    const codegen_iv tmp114 = codegen_iv_mul(v[119], tmp17);
+    const codegen_iv tmp115 = codegen_iv_add(tmp113, tmp114);
+    const codegen_iv tmp116 = codegen_iv_mul(v[120], tmp0);
+    const codegen_iv tmp117 = codegen_iv_mul(tmp116, tmp10);
+    const codegen_iv tmp118 = codegen_iv_add(tmp115, tmp117);
+    const codegen_iv tmp119 = codegen_iv_mul(v[121], tmp16);
+    const codegen_iv tmp120 = codegen_iv_add(tmp118, tmp119);
+    const codegen_iv tmp121 = codegen_iv_mul(v[122], tmp7);
+    const codegen_iv tmp122 = codegen_iv_mul(tmp121, v[116]);
+    const codegen_iv tmp123 = codegen_iv_sub(tmp120, tmp122);
+    const codegen_iv tmp124 = codegen_iv_mul(v[123], tmp16);
+    const codegen_iv tmp125 = codegen_iv_add(tmp123, tmp124);
+    const codegen_iv tmp126 = codegen_iv_mul(v[124], tmp12);
+    const codegen_iv tmp127 = codegen_iv_mul(tmp126, tmp95);
+    const codegen_iv tmp128 = codegen_iv_add(tmp125, tmp127);
+    const codegen_iv tmp130 = codegen_iv_mul(codegen_iv_point(12), tmp6);
+    const codegen_iv tmp131 = codegen_iv_mul(tmp130, tmp7);
+    const codegen_iv tmp132 = codegen_iv_mul(tmp131, v[92]);
+    const codegen_iv tmp133 = codegen_iv_add(tmp128, tmp132);
+    const codegen_iv tmp135 = codegen_iv_mul(codegen_iv_point(2), tmp7);
+    const codegen_iv tmp136 = codegen_iv_mul(tmp135, v[90]);
+    const codegen_iv tmp137 = codegen_iv_mul(tmp136, v[115]);
+    const codegen_iv tmp138 = codegen_iv_sub(tmp133, tmp137);
+    const codegen_iv tmp139 = codegen_iv_mul(v[90], tmp89);
+    const codegen_iv tmp140 = codegen_iv_mul(tmp139, v[93]);
+    const codegen_iv tmp141 = codegen_iv_add(tmp138, tmp140);
+    const codegen_iv tmp143 = codegen_iv_mul(codegen_iv_point(8), tmp8);
+    const codegen_iv tmp144 = codegen_iv_mul(tmp143, tmp93);
+    const codegen_iv tmp145 = codegen_iv_mul(tmp144, v[92]);
+    const codegen_iv tmp146 = codegen_iv_add(tmp141, tmp145);
+    const codegen_iv tmp147 = codegen_iv_mul(tmp0, v[89]);
+    const codegen_iv tmp148 = codegen_iv_mul(tmp147, v[97]);
+    const codegen_iv tmp149 = codegen_iv_mul(tmp148, tmp24);
+    const codegen_iv tmp150 = codegen_iv_sub(tmp146, tmp149);
+    const codegen_iv tmp151 = codegen_iv_mul(tmp0, v[97]);
+    const codegen_iv tmp152 = codegen_iv_mul(tmp151, v[90]);
+    const codegen_iv tmp153 = codegen_iv_mul(tmp152, tmp24);
+    const codegen_iv tmp154 = codegen_iv_sub(tmp150, tmp153);
+    const codegen_iv tmp155 = codegen_iv_mul(v[125], tmp7);
+    const codegen_iv tmp156 = codegen_iv_mul(tmp155, tmp12);
+    const codegen_iv tmp157 = codegen_iv_add(tmp154, tmp156);
+    const codegen_iv tmp158 = codegen_iv_mul(v[126], tmp7);
+    const codegen_iv tmp159 = codegen_iv_mul(tmp158, tmp12);
+    const codegen_iv tmp160 = codegen_iv_mul(tmp159, v[116]);
+    const codegen_iv tmp161 = codegen_iv_sub(tmp157, tmp160);
+    const codegen_iv tmp162 = codegen_iv_mul(v[89], tmp7);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp162, tmp19);
+    const codegen_iv tmp164 = codegen_iv_mul(tmp163, tmp21);
+    const codegen_iv tmp165 = codegen_iv_sub(tmp161, tmp164);
+    const codegen_iv tmp167 = codegen_iv_mul(codegen_iv_point(8), tmp7);
+    const codegen_iv tmp168 = codegen_iv_mul(tmp167, v[90]);
+    const codegen_iv tmp169 = codegen_iv_mul(tmp168, tmp12);
+    const codegen_iv tmp170 = codegen_iv_mul(tmp169, v[115]);
+    const codegen_iv tmp171 = codegen_iv_sub(tmp165, tmp170);
+    const codegen_iv tmp172 = codegen_iv_mul(v[127], tmp12);
+    const codegen_iv tmp173 = codegen_iv_mul(tmp172, tmp24);
+    const codegen_iv tmp174 = codegen_iv_mul(tmp173, v[93]);
+    const codegen_iv tmp175 = codegen_iv_sub(tmp171, tmp174);
+    const codegen_iv tmp176 = codegen_iv_mul(v[128], tmp24);
+    const codegen_iv tmp177 = codegen_iv_mul(tmp176, tmp96);
+    const codegen_iv tmp178 = codegen_iv_mul(tmp177, v[93]);
+    const codegen_iv tmp179 = codegen_iv_sub(tmp175, tmp178);
+    const codegen_iv tmp180 = codegen_iv_mul(v[129], tmp0);
+    const codegen_iv tmp181 = codegen_iv_mul(tmp180, v[97]);
+    const codegen_iv tmp182 = codegen_iv_mul(tmp181, tmp7);
+    const codegen_iv tmp183 = codegen_iv_mul(tmp182, v[92]);
+    const codegen_iv tmp184 = codegen_iv_sub(tmp179, tmp183);
+    const codegen_iv tmp185 = codegen_iv_mul(v[130], tmp0);
+    const codegen_iv tmp186 = codegen_iv_mul(tmp185, tmp7);
+    const codegen_iv tmp187 = codegen_iv_mul(tmp186, v[92]);
+    const codegen_iv tmp188 = codegen_iv_mul(tmp187, v[93]);
+    const codegen_iv tmp189 = codegen_iv_sub(tmp184, tmp188);
+    const codegen_iv tmp190 = codegen_iv_mul(v[131], tmp0);
+    const codegen_iv tmp191 = codegen_iv_mul(tmp190, v[97]);
+    const codegen_iv tmp192 = codegen_iv_mul(tmp191, v[100]);
+    const codegen_iv tmp193 = codegen_iv_mul(tmp192, tmp7);
+    const codegen_iv tmp194 = codegen_iv_sub(tmp189, tmp193);
+    const codegen_iv tmp195 = codegen_iv_mul(v[132], tmp0);
+    const codegen_iv tmp196 = codegen_iv_mul(tmp195, v[100]);
+    const codegen_iv tmp197 = codegen_iv_mul(tmp196, tmp7);
+    const codegen_iv tmp198 = codegen_iv_mul(tmp197, v[93]);
+    const codegen_iv tmp199 = codegen_iv_sub(tmp194, tmp198);
+    const codegen_iv tmp201 = codegen_iv_pow(tmp24, 1);
+    const codegen_iv tmp202 = codegen_iv_div(codegen_iv_point(1), tmp201, iv_flags);
+    const codegen_iv tmp203 = codegen_iv_mul(v[133], tmp81);
+    const codegen_iv tmp204 = codegen_iv_mul(tmp203, tmp202);
+    const codegen_iv tmp205 = codegen_iv_mul(m_3, tmp204);
+    const codegen_iv tmp207 = codegen_iv_mul(codegen_iv_point(3), tmp90);
+    const codegen_iv tmp208 = codegen_iv_neg(tmp207);
+    const codegen_iv tmp210 = codegen_iv_mul(codegen_iv_point(3), tmp91);
+    const codegen_iv tmp211 = codegen_iv_sub(tmp208, tmp210);
+    const codegen_iv tmp213 = codegen_iv_mul(codegen_iv_point(6), tmp92);
+    const codegen_iv tmp214 = codegen_iv_sub(tmp211, tmp213);
+    const codegen_iv tmp215 = codegen_iv_sub(tmp214, tmp199);
+    const codegen_iv tmp216 = codegen_iv_mul(v[135], tmp24);
+    const codegen_iv tmp217 = codegen_iv_mul(tmp216, tmp93);
+    const codegen_iv tmp218 = codegen_iv_sub(tmp215, tmp217);
+    const codegen_iv tmp219 = codegen_iv_mul(v[136], tmp12);
+    const codegen_iv tmp220 = codegen_iv_mul(tmp219, tmp24);
+    const codegen_iv tmp221 = codegen_iv_mul(tmp220, v[92]);
+    const codegen_iv tmp222 = codegen_iv_add(tmp218, tmp221);
+    const codegen_iv tmp223 = codegen_iv_mul(v[137], tmp12);
+    const codegen_iv tmp224 = codegen_iv_mul(tmp223, tmp24);
+    const codegen_iv tmp225 = codegen_iv_add(tmp222, tmp224);
+    const codegen_iv tmp226 = codegen_iv_mul(tmp205, tmp225);
+    const codegen_iv tmp227 = codegen_iv_sub(v[134], tmp226);
+    const codegen_iv tmp228 = codegen_iv_mul(m_4, tmp204);
+    const codegen_iv tmp229 = codegen_iv_neg(tmp90);
+    const codegen_iv tmp230 = codegen_iv_sub(tmp229, tmp91);
+    const codegen_iv tmp232 = codegen_iv_mul(codegen_iv_point(2), tmp92);
+    const codegen_iv tmp233 = codegen_iv_sub(tmp230, tmp232);
+    const codegen_iv tmp234 = codegen_iv_sub(tmp233, tmp199);
+    const codegen_iv tmp235 = codegen_iv_mul(v[138], tmp24);
+    const codegen_iv tmp236 = codegen_iv_mul(tmp235, tmp93);
+    const codegen_iv tmp237 = codegen_iv_sub(tmp234, tmp236);
+    const codegen_iv tmp238 = codegen_iv_mul(v[139], tmp12);
+    const codegen_iv tmp239 = codegen_iv_mul(tmp238, tmp24);
+    const codegen_iv tmp240 = codegen_iv_mul(tmp239, v[92]);
+    const codegen_iv tmp241 = codegen_iv_add(tmp237, tmp240);
+    const codegen_iv tmp242 = codegen_iv_mul(v[140], tmp12);
+    const codegen_iv tmp243 = codegen_iv_mul(tmp242, tmp24);
+    const codegen_iv tmp244 = codegen_iv_add(tmp241, tmp243);
+    const codegen_iv tmp245 = codegen_iv_mul(tmp228, tmp244);
+    const codegen_iv tmp246 = codegen_iv_sub(tmp227, tmp245);
+    const codegen_iv tmp247 = codegen_iv_mul(v[141], tmp0);
+    const codegen_iv tmp248 = codegen_iv_add(tmp246, tmp247);
+    const codegen_iv tmp249 = codegen_iv_mul(v[142], tmp86);
+    const codegen_iv tmp250 = codegen_iv_mul(tmp249, tmp88);
+    const codegen_iv tmp251 = codegen_iv_mul(tmp76, tmp83);
+    const codegen_iv tmp252 = codegen_iv_mul(d, tmp8);
+    const codegen_iv tmp253 = codegen_iv_neg(tmp252);
+    const codegen_iv tmp254 = codegen_iv_mul(v[97], tmp27);
+    const codegen_iv tmp255 = codegen_iv_sub(tmp253, tmp254);
+    const codegen_iv tmp256 = codegen_iv_mul(v[98], tmp7);
+    const codegen_iv tmp257 = codegen_iv_sub(tmp255, tmp256);
+    const codegen_iv tmp258 = codegen_iv_mul(tmp6, y_S);
+    const codegen_iv tmp259 = codegen_iv_sub(tmp257, tmp258);
+    const codegen_iv tmp260 = codegen_iv_mul(v[90], tmp26);
+    const codegen_iv tmp261 = codegen_iv_sub(tmp259, tmp260);
+    const codegen_iv tmp262 = codegen_iv_mul(v[90], tmp27);
+    const codegen_iv tmp263 = codegen_iv_sub(tmp261, tmp262);
+    const codegen_iv tmp264 = codegen_iv_mul(tmp9, tmp24);
+    const codegen_iv tmp265 = codegen_iv_sub(tmp263, tmp264);
+    const codegen_iv tmp266 = codegen_iv_mul(tmp11, tmp24);
+    const codegen_iv tmp267 = codegen_iv_sub(tmp265, tmp266);
+    const codegen_iv tmp268 = codegen_iv_mul(v[102], tmp99);
+    const codegen_iv tmp269 = codegen_iv_sub(tmp267, tmp268);
+    const codegen_iv tmp270 = codegen_iv_mul(tmp26, v[93]);
+    const codegen_iv tmp271 = codegen_iv_sub(tmp269, tmp270);
+    const codegen_iv tmp273 = codegen_iv_mul(codegen_iv_point(4), tmp0);
+    const codegen_iv tmp274 = codegen_iv_mul(tmp273, v[99]);
+    const codegen_iv tmp275 = codegen_iv_mul(tmp274, tmp7);
+    const codegen_iv tmp276 = codegen_iv_sub(tmp271, tmp275);
+    const codegen_iv tmp277 = codegen_iv_mul(v[100], tmp7);
+    const codegen_iv tmp278 = codegen_iv_mul(tmp277, x_S);
+    const codegen_iv tmp279 = codegen_iv_add(tmp276, tmp278);
+    const codegen_iv tmp280 = codegen_iv_mul(v[143], tmp0);
+    const codegen_iv tmp281 = codegen_iv_mul(tmp280, tmp24);
+    const codegen_iv tmp282 = codegen_iv_add(tmp279, tmp281);
+    const codegen_iv tmp283 = codegen_iv_mul(v[144], tmp7);
+    const codegen_iv tmp284 = codegen_iv_add(tmp282, tmp283);
+    const codegen_iv tmp285 = codegen_iv_mul(v[145], tmp7);
+    const codegen_iv tmp286 = codegen_iv_add(tmp284, tmp285);
+    const codegen_iv tmp287 = codegen_iv_mul(v[146], tmp7);
+    const codegen_iv tmp288 = codegen_iv_add(tmp286, tmp287);
+    const codegen_iv tmp289 = codegen_iv_mul(v[147], tmp7);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp289, v[93]);
+    const codegen_iv tmp291 = codegen_iv_add(tmp288, tmp290);
+    const codegen_iv tmp292 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp293 = codegen_iv_mul(tmp292, v[97]);
+    const codegen_iv tmp294 = codegen_iv_mul(tmp293, y_S);
+    const codegen_iv tmp295 = codegen_iv_add(tmp291, tmp294);
+    const codegen_iv tmp296 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp297 = codegen_iv_mul(tmp296, v[93]);
+    const codegen_iv tmp298 = codegen_iv_mul(tmp297, x_S);
+    const codegen_iv tmp299 = codegen_iv_add(tmp295, tmp298);
+    const codegen_iv tmp300 = codegen_iv_mul(v[148], tmp12);
+    const codegen_iv tmp301 = codegen_iv_mul(tmp300, y_S);
+    const codegen_iv tmp302 = codegen_iv_add(tmp299, tmp301);
+    const codegen_iv tmp304 = codegen_iv_mul(codegen_iv_point(4), tmp0);
+    const codegen_iv tmp305 = codegen_iv_mul(tmp304, v[89]);
+    const codegen_iv tmp306 = codegen_iv_mul(tmp305, tmp7);
+    const codegen_iv tmp307 = codegen_iv_mul(tmp306, v[90]);
+    const codegen_iv tmp308 = codegen_iv_add(tmp302, tmp307);
+    const codegen_iv tmp309 = codegen_iv_mul(tmp5, tmp308);
+    const codegen_iv tmp310 = codegen_iv_add(tmp251, tmp309);
+    const codegen_iv tmp312 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp202);
+    const codegen_iv tmp313 = codegen_iv_mul(tmp312, tmp5);
+    const codegen_iv tmp314 = codegen_iv_mul(tmp19, tmp83);
+    const codegen_iv tmp315 = codegen_iv_neg(tmp314);
+    const codegen_iv tmp316 = codegen_iv_mul(tmp21, tmp83);
+    const codegen_iv tmp317 = codegen_iv_sub(tmp315, tmp316);
+    const codegen_iv tmp318 = codegen_iv_mul(tmp313, tmp317);
+    const codegen_iv tmp319 = codegen_iv_add(v[149], tmp25);
+    const codegen_iv tmp320 = codegen_iv_add(tmp319, tmp26);
+    const codegen_iv tmp321 = codegen_iv_sub(tmp320, tmp27);
+    const codegen_iv tmp322 = codegen_iv_mul(tmp318, tmp321);
+    const codegen_iv tmp323 = codegen_iv_add(tmp310, tmp322);
+    const codegen_iv tmp324 = codegen_iv_mul(tmp250, tmp323);
+    const codegen_iv tmp325 = codegen_iv_div(tmp324, tmp78, iv_flags);
+    const codegen_iv tmp326 = codegen_iv_add(tmp248, tmp325);
+    const codegen_iv tmp327 = codegen_iv_mul(k, tmp78);
+    const codegen_iv tmp328 = codegen_iv_mul(tmp327, tmp81);
+    const codegen_iv tmp329 = codegen_iv_mul(tmp328, tmp83);
+    const codegen_iv tmp330 = codegen_iv_mul(tmp329, tmp88);
+    const codegen_iv tmp331 = codegen_iv_sub(tmp326, tmp330);
+    *iv_g = tmp331;
 #endif
 }
 
 
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative), enclosed in outward-rounded interval arithmetic.
- * 740 operations; as a program, 850 instructions over 119 of the slots v. */
+ * At each theta, 673 instructions (as a program, over the slots v from 280); the 177 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[850] = {
-        {CODEGEN_IV_COS, 14, 13, 0},
-        {CODEGEN_IV_MUL, 15, 1, 14},
-        {CODEGEN_IV_CONST, 16, 0, 0},
-        {CODEGEN_IV_MUL, 16, 16, 12},
-        {CODEGEN_IV_MUL, 16, 16, 4},
-        {CODEGEN_IV_POW, 4, 1, 2},
-        {CODEGEN_IV_POW, 17, 0, 2},
-        {CODEGEN_IV_MUL, 18, 0, 15},
-        {CODEGEN_IV_CONST, 19, 1, 0},
-        {CODEGEN_IV_MUL, 19, 19, 18},
-        {CODEGEN_IV_ADD, 20, 4, 17},
-        {CODEGEN_IV_SUB, 20, 20, 19},
-        {CODEGEN_IV_CONST, 21, 2, 0},
-        {CODEGEN_IV_POW, 22, 20, 2},
-        {CODEGEN_IV_DIV, 22, 21, 22},
-        {CODEGEN_IV_CONST, 21, 2, 0},
-        {CODEGEN_IV_POW, 23, 20, 1},
-        {CODEGEN_IV_DIV, 23, 21, 23},
-        {CODEGEN_IV_POW, 21, 0, 3},
-        {CODEGEN_IV_POW, 24, 3, 2},
-        {CODEGEN_IV_MUL, 25, 0, 9},
-        {CODEGEN_IV_MUL, 26, 24, 4},
-        {CODEGEN_IV_POW, 27, 9, 2},
-        {CODEGEN_IV_POW, 28, 10, 2},
-        {CODEGEN_IV_POW, 29, 2, 2},
-        {CODEGEN_IV_MUL, 30, 29, 17},
-        {CODEGEN_IV_MUL, 31, 1, 21},
-        {CODEGEN_IV_MUL, 32, 14, 31},
-        {CODEGEN_IV_MUL, 33, 25, 4},
-        {CODEGEN_IV_POW, 34, 1, 3},
-        {CODEGEN_IV_MUL, 35, 14, 34},
-        {CODEGEN_IV_MUL, 36, 0, 35},
-        {CODEGEN_IV_MUL, 37, 35, 9},
-        {CODEGEN_IV_SIN, 38, 13, 0},
-        {CODEGEN_IV_MUL, 13, 34, 38},
-        {CODEGEN_IV_MUL, 39, 13, 10},
-        {CODEGEN_IV_MUL, 40, 15, 9},
-        {CODEGEN_IV_MUL, 41, 29, 40},
-        {CODEGEN_IV_MUL, 42, 1, 38},
-        {CODEGEN_IV_MUL, 43, 42, 10},
-        {CODEGEN_IV_MUL, 44, 29, 43},
-        {CODEGEN_IV_MUL, 45, 40, 17},
-        {CODEGEN_IV_MUL, 46, 29, 18},
-        {CODEGEN_IV_MUL, 47, 24, 18},
-        {CODEGEN_IV_MUL, 48, 24, 40},
-        {CODEGEN_IV_MUL, 49, 24, 43},
-        {CODEGEN_IV_MUL, 50, 27, 19},
-        {CODEGEN_IV_MUL, 51, 28, 19},
-        {CODEGEN_IV_MUL, 52, 43, 17},
-        {CODEGEN_IV_POW, 53, 14, 2},
-        {CODEGEN_IV_CONST, 54, 1, 0},
-        {CODEGEN_IV_MUL, 54, 54, 53},
-        {CODEGEN_IV_MUL, 55, 0, 10},
-        {CODEGEN_IV_CONST, 56, 1, 0},
-        {CODEGEN_IV_MUL, 56, 56, 55},
-        {CODEGEN_IV_MUL, 57, 14, 4},
-        {CODEGEN_IV_MUL, 58, 38, 57},
-        {CODEGEN_IV_CONST, 59, 1, 0},
-        {CODEGEN_IV_MUL, 59, 59, 17},
-        {CODEGEN_IV_MUL, 60, 4, 53},
-        {CODEGEN_IV_CONST, 61, 1, 0},
-        {CODEGEN_IV_MUL, 61, 61, 2},
-        {CODEGEN_IV_MUL, 61, 61, 3},
-        {CODEGEN_IV_NEG, 3, 24, 0},
-        {CODEGEN_IV_SUB, 3, 3, 29},
-        {CODEGEN_IV_ADD, 3, 3, 4},
-        {CODEGEN_IV_ADD, 3, 3, 17},
-        {CODEGEN_IV_SUB, 3, 3, 61},
-        {CODEGEN_IV_SUB, 3, 3, 19},
-        {CODEGEN_IV_NEG, 2, 24, 0},
-        {CODEGEN_IV_SUB, 2, 2, 29},
-        {CODEGEN_IV_ADD, 2, 2, 61},
-        {CODEGEN_IV_ADD, 2, 2, 20},
-        {CODEGEN_IV_MUL, 61, 3, 2},
-        {CODEGEN_IV_NEG, 62, 61, 0},
-        {CODEGEN_IV_SQRT, 62, 62, 0},
-        {CODEGEN_IV_MUL, 63, 42, 9},
-        {CODEGEN_IV_MUL, 64, 62, 63},
-        {CODEGEN_IV_MUL, 65, 0, 42},
-        {CODEGEN_IV_MUL, 66, 62, 65},
-        {CODEGEN_IV_MUL, 67, 15, 10},
-        {CODEGEN_IV_MUL, 68, 62, 67},
-        {CODEGEN_IV_ADD, 69, 26, 30},
-        {CODEGEN_IV_ADD, 69, 69, 32},
-        {CODEGEN_IV_SUB, 69, 69, 33},
-        {CODEGEN_IV_ADD, 69, 69, 36},
-        {CODEGEN_IV_SUB, 69, 69, 37},
-        {CODEGEN_IV_SUB, 69, 69, 39},
-        {CODEGEN_IV_ADD, 69, 69, 41},
-        {CODEGEN_IV_ADD, 69, 69, 44},
-        {CODEGEN_IV_ADD, 69, 69, 45},
-        {CODEGEN_IV_SUB, 69, 69, 46},
-        {CODEGEN_IV_SUB, 69, 69, 47},
-        {CODEGEN_IV_SUB, 69, 69, 48},
-        {CODEGEN_IV_SUB, 69, 69, 49},
-        {CODEGEN_IV_SUB, 69, 69, 50},
-        {CODEGEN_IV_SUB, 69, 69, 51},
-        {CODEGEN_IV_SUB, 69, 69, 52},
-        {CODEGEN_IV_ADD, 69, 69, 64},
-        {CODEGEN_IV_SUB, 69, 69, 66},
-        {CODEGEN_IV_SUB, 69, 69, 68},
-        {CODEGEN_IV_MUL, 70, 21, 9},
-        {CODEGEN_IV_SUB, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 24, 25},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 25, 29},
-        {CODEGEN_IV_SUB, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 27, 4},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 27, 17},
-        {CODEGEN_IV_ADD, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 28, 4},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 28, 17},
-        {CODEGEN_IV_ADD, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 33, 54},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 55, 62},
-        {CODEGEN_IV_ADD, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 56, 58},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 59, 60},
-        {CODEGEN_IV_SUB, 70, 69, 70},
-        {CODEGEN_IV_MUL, 25, 70, 20},
-        {CODEGEN_IV_SQRT, 25, 25, 0},
-        {CODEGEN_IV_NEG, 69, 8, 0},
-        {CODEGEN_IV_MUL, 71, 25, 23},
-        {CODEGEN_IV_ADD, 71, 69, 71},
-        {CODEGEN_IV_MUL, 8, 7, 71},
-        {CODEGEN_IV_MUL, 8, 8, 22},
-        {CODEGEN_IV_CONST, 69, 1, 0},
-        {CODEGEN_IV_MUL, 69, 69, 65},
-        {CODEGEN_IV_MUL, 72, 25, 69},
-        {CODEGEN_IV_POW, 73, 1, 4},
-        {CODEGEN_IV_MUL, 74, 14, 73},
-        {CODEGEN_IV_MUL, 75, 62, 74},
-        {CODEGEN_IV_POW, 76, 0, 4},
-        {CODEGEN_IV_MUL, 77, 14, 76},
-        {CODEGEN_IV_MUL, 78, 62, 77},
-        {CODEGEN_IV_CONST, 79, 3, 0},
-        {CODEGEN_IV_MUL, 79, 79, 53},
-        {CODEGEN_IV_MUL, 80, 0, 34},
-        {CODEGEN_IV_MUL, 81, 57, 59},
-        {CODEGEN_IV_CONST, 82, 3, 0},
-        {CODEGEN_IV_MUL, 82, 82, 4},
-        {CODEGEN_IV_POW, 83, 14, 3},
-        {CODEGEN_IV_MUL, 84, 17, 83},
-        {CODEGEN_IV_MUL, 85, 82, 84},
-        {CODEGEN_IV_POW, 86, 0, 6},
-        {CODEGEN_IV_MUL, 87, 38, 76},
-        {CODEGEN_IV_CONST, 88, 1, 0},
-        {CODEGEN_IV_MUL, 88, 88, 29},
-        {CODEGEN_IV_CONST, 89, 1, 0},
-        {CODEGEN_IV_MUL, 89, 89, 24},
-        {CODEGEN_IV_MUL, 90, 38, 59},
-        {CODEGEN_IV_MUL, 91, 14, 26},
-        {CODEGEN_IV_MUL, 92, 38, 61},
-        {CODEGEN_IV_MUL, 93, 24, 17},
-        {CODEGEN_IV_MUL, 94, 14, 93},
-        {CODEGEN_IV_POW, 95, 0, 5},
-        {CODEGEN_IV_CONST, 96, 4, 0},
-        {CODEGEN_IV_MUL, 96, 96, 95},
-        {CODEGEN_IV_POW, 97, 1, 5},
-        {CODEGEN_IV_MUL, 98, 0, 97},
-        {CODEGEN_IV_CONST, 99, 1, 0},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 100, 38, 17},
-        {CODEGEN_IV_CONST, 101, 3, 0},
-        {CODEGEN_IV_MUL, 101, 101, 60},
-        {CODEGEN_IV_MUL, 102, 1, 53},
-        {CODEGEN_IV_MUL, 103, 0, 89},
-        {CODEGEN_IV_POW, 104, 38, 2},
-        {CODEGEN_IV_MUL, 105, 1, 104},
-        {CODEGEN_IV_MUL, 106, 0, 88},
-        {CODEGEN_IV_MUL, 107, 102, 106},
-        {CODEGEN_IV_MUL, 108, 105, 106},
-        {CODEGEN_IV_MUL, 106, 36, 38},
-        {CODEGEN_IV_CONST, 109, 5, 0},
-        {CODEGEN_IV_MUL, 109, 109, 32},
-        {CODEGEN_IV_MUL, 109, 109, 38},
-        {CODEGEN_IV_MUL, 110, 107, 62},
-        {CODEGEN_IV_MUL, 111, 108, 62},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 106, 88},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 106, 89},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 109, 24},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 109, 29},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 26, 90},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_CONST, 111, 1, 0},
-        {CODEGEN_IV_MUL, 111, 111, 38},
-        {CODEGEN_IV_MUL, 111, 111, 86},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 4, 92},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 17, 92},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_CONST, 110, 6, 0},
-        {CODEGEN_IV_MUL, 110, 110, 60},
-        {CODEGEN_IV_MUL, 110, 110, 87},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 62, 91},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 62, 94},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 73, 90},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 82, 87},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 87, 88},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 87, 89},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 14, 30},
-        {CODEGEN_IV_MUL, 111, 111, 62},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 14, 42},
-        {CODEGEN_IV_MUL, 110, 110, 96},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 14, 98},
-        {CODEGEN_IV_MUL, 111, 111, 99},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_CONST, 110, 7, 0},
-        {CODEGEN_IV_MUL, 110, 110, 21},
-        {CODEGEN_IV_MUL, 110, 110, 35},
-        {CODEGEN_IV_MUL, 110, 110, 38},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_CONST, 111, 8, 0},
-        {CODEGEN_IV_MUL, 111, 111, 21},
-        {CODEGEN_IV_MUL, 111, 111, 13},
-        {CODEGEN_IV_MUL, 111, 111, 83},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 26, 79},
-        {CODEGEN_IV_MUL, 110, 110, 100},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 29, 57},
-        {CODEGEN_IV_MUL, 111, 111, 62},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 30, 38},
-        {CODEGEN_IV_MUL, 110, 110, 101},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 30, 4},
-        {CODEGEN_IV_MUL, 111, 111, 99},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_CONST, 110, 8, 0},
-        {CODEGEN_IV_MUL, 110, 110, 53},
-        {CODEGEN_IV_MUL, 110, 110, 73},
-        {CODEGEN_IV_MUL, 110, 110, 100},
-        {CODEGEN_IV_ADD, 110, 111, 110},
-        {CODEGEN_IV_MUL, 111, 62, 102},
-        {CODEGEN_IV_MUL, 111, 111, 103},
-        {CODEGEN_IV_SUB, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 62, 103},
-        {CODEGEN_IV_MUL, 110, 110, 105},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_ADD, 105, 110, 75},
-        {CODEGEN_IV_ADD, 105, 105, 78},
-        {CODEGEN_IV_MUL, 103, 62, 81},
-        {CODEGEN_IV_ADD, 103, 105, 103},
-        {CODEGEN_IV_MUL, 105, 62, 85},
-        {CODEGEN_IV_ADD, 105, 103, 105},
-        {CODEGEN_IV_MUL, 103, 31, 62},
-        {CODEGEN_IV_MUL, 103, 103, 79},
-        {CODEGEN_IV_SUB, 103, 105, 103},
-        {CODEGEN_IV_MUL, 105, 62, 79},
-        {CODEGEN_IV_MUL, 105, 105, 80},
-        {CODEGEN_IV_SUB, 105, 103, 105},
-        {CODEGEN_IV_CONST, 103, 2, 0},
-        {CODEGEN_IV_POW, 100, 62, 1},
-        {CODEGEN_IV_DIV, 100, 103, 100},
-        {CODEGEN_IV_MUL, 103, 12, 100},
-        {CODEGEN_IV_CONST, 99, 9, 0},
-        {CODEGEN_IV_MUL, 99, 99, 1},
-        {CODEGEN_IV_MUL, 99, 99, 22},
-        {CODEGEN_IV_CONST, 92, 7, 0},
-        {CODEGEN_IV_MUL, 92, 92, 53},
-        {CODEGEN_IV_MUL, 90, 17, 57},
-        {CODEGEN_IV_CONST, 87, 5, 0},
-        {CODEGEN_IV_MUL, 87, 87, 90},
-        {CODEGEN_IV_CONST, 109, 7, 0},
-        {CODEGEN_IV_MUL, 109, 109, 4},
-        {CODEGEN_IV_MUL, 109, 109, 84},
-        {CODEGEN_IV_CONST, 106, 10, 0},
-        {CODEGEN_IV_MUL, 106, 106, 75},
-        {CODEGEN_IV_ADD, 106, 110, 106},
-        {CODEGEN_IV_CONST, 111, 10, 0},
-        {CODEGEN_IV_MUL, 111, 111, 78},
-        {CODEGEN_IV_ADD, 111, 106, 111},
-        {CODEGEN_IV_MUL, 106, 87, 62},
-        {CODEGEN_IV_ADD, 106, 111, 106},
-        {CODEGEN_IV_MUL, 111, 109, 62},
-        {CODEGEN_IV_ADD, 111, 106, 111},
-        {CODEGEN_IV_MUL, 106, 92, 31},
-        {CODEGEN_IV_MUL, 106, 106, 62},
-        {CODEGEN_IV_SUB, 106, 111, 106},
-        {CODEGEN_IV_MUL, 111, 92, 62},
-        {CODEGEN_IV_MUL, 111, 111, 80},
-        {CODEGEN_IV_SUB, 111, 106, 111},
-        {CODEGEN_IV_MUL, 78, 5, 103},
-        {CODEGEN_IV_MUL, 78, 78, 111},
-        {CODEGEN_IV_CONST, 75, 2, 0},
-        {CODEGEN_IV_POW, 110, 25, 1},
-        {CODEGEN_IV_DIV, 110, 75, 110},
-        {CODEGEN_IV_MUL, 75, 3, 69},
-        {CODEGEN_IV_NEG, 75, 75, 0},
-        {CODEGEN_IV_MUL, 106, 2, 69},
-        {CODEGEN_IV_SUB, 106, 75, 106},
-        {CODEGEN_IV_CONST, 75, 0, 0},
-        {CODEGEN_IV_MUL, 75, 75, 100},
-        {CODEGEN_IV_MUL, 112, 106, 75},
-        {CODEGEN_IV_NEG, 113, 55, 0},
-        {CODEGEN_IV_SUB, 113, 113, 63},
-        {CODEGEN_IV_ADD, 113, 113, 65},
-        {CODEGEN_IV_ADD, 113, 113, 67},
-        {CODEGEN_IV_MUL, 114, 113, 20},
-        {CODEGEN_IV_CONST, 115, 3, 0},
-        {CODEGEN_IV_MUL, 115, 115, 38},
-        {CODEGEN_IV_MUL, 116, 0, 13},
-        {CODEGEN_IV_NEG, 116, 116, 0},
-        {CODEGEN_IV_MUL, 117, 24, 63},
-        {CODEGEN_IV_ADD, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 24, 65},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 24, 67},
-        {CODEGEN_IV_SUB, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 90, 115},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 27, 69},
-        {CODEGEN_IV_ADD, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 28, 69},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 29, 63},
-        {CODEGEN_IV_SUB, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 29, 65},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 29, 67},
-        {CODEGEN_IV_ADD, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 31, 38},
-        {CODEGEN_IV_SUB, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 35, 10},
-        {CODEGEN_IV_SUB, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 13, 9},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 40, 62},
-        {CODEGEN_IV_ADD, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 43, 62},
-        {CODEGEN_IV_ADD, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 17, 63},
-        {CODEGEN_IV_SUB, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 17, 67},
-        {CODEGEN_IV_SUB, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 56, 60},
-        {CODEGEN_IV_ADD, 117, 116, 117},
-        {CODEGEN_IV_MUL, 116, 18, 62},
-        {CODEGEN_IV_SUB, 116, 117, 116},
-        {CODEGEN_IV_MUL, 117, 14, 115},
-        {CODEGEN_IV_MUL, 117, 117, 33},
-        {CODEGEN_IV_SUB, 117, 116, 117},
-        {CODEGEN_IV_CONST, 116, 1, 0},
-        {CODEGEN_IV_MUL, 116, 116, 4},
-        {CODEGEN_IV_MUL, 116, 116, 55},
-        {CODEGEN_IV_MUL, 116, 116, 104},
-        {CODEGEN_IV_SUB, 116, 117, 116},
-        {CODEGEN_IV_MUL, 10, 112, 114},
-        {CODEGEN_IV_NEG, 10, 10, 0},
-        {CODEGEN_IV_MUL, 9, 116, 20},
-        {CODEGEN_IV_ADD, 9, 10, 9},
-        {CODEGEN_IV_MUL, 10, 70, 69},
-        {CODEGEN_IV_ADD, 10, 9, 10},
-        {CODEGEN_IV_CONST, 9, 0, 0},
-        {CODEGEN_IV_MUL, 9, 9, 10},
-        {CODEGEN_IV_MUL, 67, 71, 23},
-        {CODEGEN_IV_CONST, 63, 2, 0},
-        {CODEGEN_IV_POW, 18, 20, 3},
-        {CODEGEN_IV_DIV, 18, 63, 18},
-        {CODEGEN_IV_MUL, 63, 7, 18},
-        {CODEGEN_IV_MUL, 56, 10, 65},
-        {CODEGEN_IV_MUL, 13, 38, 62},
-        {CODEGEN_IV_MUL, 35, 13, 73},
-        {CODEGEN_IV_MUL, 28, 13, 76},
-        {CODEGEN_IV_MUL, 27, 13, 17},
-        {CODEGEN_IV_MUL, 27, 27, 60},
-        {CODEGEN_IV_MUL, 60, 21, 34},
-        {CODEGEN_IV_MUL, 115, 80, 104},
-        {CODEGEN_IV_CONST, 80, 5, 0},
-        {CODEGEN_IV_MUL, 80, 80, 31},
-        {CODEGEN_IV_MUL, 80, 80, 104},
-        {CODEGEN_IV_MUL, 31, 17, 104},
-        {CODEGEN_IV_CONST, 90, 1, 0},
-        {CODEGEN_IV_MUL, 90, 90, 14},
-        {CODEGEN_IV_MUL, 90, 90, 86},
-        {CODEGEN_IV_NEG, 90, 90, 0},
-        {CODEGEN_IV_CONST, 117, 8, 0},
-        {CODEGEN_IV_POW, 118, 14, 4},
-        {CODEGEN_IV_MUL, 118, 117, 118},
-        {CODEGEN_IV_MUL, 118, 118, 60},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 92, 60},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 24, 80},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 13, 26},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 13, 93},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 3, 0},
-        {CODEGEN_IV_MUL, 90, 90, 26},
-        {CODEGEN_IV_MUL, 90, 90, 84},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 115, 88},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 115, 89},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 80, 29},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 6, 0},
-        {CODEGEN_IV_MUL, 90, 90, 31},
-        {CODEGEN_IV_MUL, 90, 90, 74},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 1, 0},
-        {CODEGEN_IV_MUL, 118, 118, 30},
-        {CODEGEN_IV_MUL, 118, 118, 57},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 54, 98},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 59, 91},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 77, 88},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 77, 89},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 96, 102},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 4, 0},
-        {CODEGEN_IV_MUL, 118, 118, 1},
-        {CODEGEN_IV_MUL, 118, 118, 95},
-        {CODEGEN_IV_MUL, 118, 118, 104},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 1, 0},
-        {CODEGEN_IV_MUL, 90, 90, 0},
-        {CODEGEN_IV_MUL, 90, 90, 97},
-        {CODEGEN_IV_MUL, 90, 90, 104},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 3, 0},
-        {CODEGEN_IV_MUL, 118, 118, 14},
-        {CODEGEN_IV_MUL, 118, 118, 4},
-        {CODEGEN_IV_MUL, 118, 118, 76},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 14, 17},
-        {CODEGEN_IV_MUL, 90, 90, 61},
-        {CODEGEN_IV_ADD, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 1, 0},
-        {CODEGEN_IV_MUL, 118, 118, 14},
-        {CODEGEN_IV_MUL, 118, 118, 17},
-        {CODEGEN_IV_MUL, 118, 118, 73},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 7, 0},
-        {CODEGEN_IV_MUL, 90, 90, 21},
-        {CODEGEN_IV_MUL, 90, 90, 34},
-        {CODEGEN_IV_MUL, 90, 90, 104},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 30, 82},
-        {CODEGEN_IV_MUL, 118, 118, 83},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 6, 0},
-        {CODEGEN_IV_MUL, 90, 90, 4},
-        {CODEGEN_IV_MUL, 90, 90, 76},
-        {CODEGEN_IV_MUL, 90, 90, 83},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 11, 0},
-        {CODEGEN_IV_MUL, 118, 118, 4},
-        {CODEGEN_IV_MUL, 118, 118, 77},
-        {CODEGEN_IV_MUL, 118, 118, 104},
-        {CODEGEN_IV_ADD, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 8, 0},
-        {CODEGEN_IV_MUL, 90, 90, 17},
-        {CODEGEN_IV_MUL, 90, 90, 73},
-        {CODEGEN_IV_MUL, 90, 90, 83},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 5, 0},
-        {CODEGEN_IV_MUL, 118, 118, 1},
-        {CODEGEN_IV_MUL, 118, 118, 21},
-        {CODEGEN_IV_MUL, 118, 118, 24},
-        {CODEGEN_IV_MUL, 118, 118, 53},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 5, 0},
-        {CODEGEN_IV_MUL, 90, 90, 1},
-        {CODEGEN_IV_MUL, 90, 90, 21},
-        {CODEGEN_IV_MUL, 90, 90, 29},
-        {CODEGEN_IV_MUL, 90, 90, 53},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 1, 0},
-        {CODEGEN_IV_MUL, 118, 118, 0},
-        {CODEGEN_IV_MUL, 118, 118, 24},
-        {CODEGEN_IV_MUL, 118, 118, 34},
-        {CODEGEN_IV_MUL, 118, 118, 53},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 1, 0},
-        {CODEGEN_IV_MUL, 90, 90, 0},
-        {CODEGEN_IV_MUL, 90, 90, 29},
-        {CODEGEN_IV_MUL, 90, 90, 34},
-        {CODEGEN_IV_MUL, 90, 90, 53},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 14, 4},
-        {CODEGEN_IV_MUL, 118, 118, 3},
-        {CODEGEN_IV_MUL, 118, 118, 2},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 12, 0},
-        {CODEGEN_IV_MUL, 90, 90, 21},
-        {CODEGEN_IV_MUL, 90, 90, 34},
-        {CODEGEN_IV_MUL, 90, 90, 53},
-        {CODEGEN_IV_MUL, 90, 90, 104},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_MUL, 118, 29, 38},
-        {CODEGEN_IV_MUL, 118, 118, 4},
-        {CODEGEN_IV_MUL, 118, 118, 62},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_MUL, 90, 29, 38},
-        {CODEGEN_IV_MUL, 90, 90, 17},
-        {CODEGEN_IV_MUL, 90, 90, 62},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_CONST, 118, 8, 0},
-        {CODEGEN_IV_MUL, 118, 118, 14},
-        {CODEGEN_IV_MUL, 118, 118, 24},
-        {CODEGEN_IV_MUL, 118, 118, 4},
-        {CODEGEN_IV_MUL, 118, 118, 17},
-        {CODEGEN_IV_MUL, 118, 118, 104},
-        {CODEGEN_IV_SUB, 118, 90, 118},
-        {CODEGEN_IV_CONST, 90, 8, 0},
-        {CODEGEN_IV_MUL, 90, 90, 14},
-        {CODEGEN_IV_MUL, 90, 90, 29},
-        {CODEGEN_IV_MUL, 90, 90, 4},
-        {CODEGEN_IV_MUL, 90, 90, 17},
-        {CODEGEN_IV_MUL, 90, 90, 104},
-        {CODEGEN_IV_SUB, 90, 118, 90},
-        {CODEGEN_IV_MUL, 102, 13, 59},
-        {CODEGEN_IV_NEG, 59, 40, 0},
-        {CODEGEN_IV_SUB, 59, 59, 43},
-        {CODEGEN_IV_MUL, 98, 1, 0},
-        {CODEGEN_IV_MUL, 98, 98, 14},
-        {CODEGEN_IV_ADD, 98, 59, 98},
-        {CODEGEN_IV_MUL, 98, 20, 98},
-        {CODEGEN_IV_CONST, 43, 2, 0},
-        {CODEGEN_IV_MUL, 40, 3, 2},
-        {CODEGEN_IV_DIV, 40, 43, 40},
-        {CODEGEN_IV_MUL, 43, 100, 106},
-        {CODEGEN_IV_MUL, 59, 6, 105},
-        {CODEGEN_IV_MUL, 97, 0, 18},
-        {CODEGEN_IV_MUL, 97, 97, 38},
-        {CODEGEN_IV_MUL, 97, 97, 4},
-        {CODEGEN_IV_ADD, 96, 107, 108},
-        {CODEGEN_IV_ADD, 96, 96, 102},
-        {CODEGEN_IV_ADD, 96, 96, 91},
-        {CODEGEN_IV_ADD, 96, 96, 94},
-        {CODEGEN_IV_MUL, 95, 14, 29},
-        {CODEGEN_IV_MUL, 95, 95, 4},
-        {CODEGEN_IV_SUB, 95, 96, 95},
-        {CODEGEN_IV_MUL, 96, 14, 29},
-        {CODEGEN_IV_MUL, 96, 96, 17},
-        {CODEGEN_IV_SUB, 96, 95, 96},
-        {CODEGEN_IV_CONST, 95, 1, 0},
-        {CODEGEN_IV_MUL, 95, 95, 38},
-        {CODEGEN_IV_MUL, 95, 95, 4},
-        {CODEGEN_IV_MUL, 95, 95, 62},
-        {CODEGEN_IV_SUB, 95, 96, 95},
-        {CODEGEN_IV_CONST, 96, 1, 0},
-        {CODEGEN_IV_MUL, 96, 96, 1},
-        {CODEGEN_IV_MUL, 96, 96, 0},
-        {CODEGEN_IV_MUL, 96, 96, 24},
-        {CODEGEN_IV_MUL, 96, 96, 53},
-        {CODEGEN_IV_SUB, 96, 95, 96},
-        {CODEGEN_IV_CONST, 95, 1, 0},
-        {CODEGEN_IV_MUL, 95, 95, 1},
-        {CODEGEN_IV_MUL, 95, 95, 0},
-        {CODEGEN_IV_MUL, 95, 95, 24},
-        {CODEGEN_IV_MUL, 95, 95, 104},
-        {CODEGEN_IV_SUB, 95, 96, 95},
-        {CODEGEN_IV_MUL, 94, 12, 99},
-        {CODEGEN_IV_MUL, 94, 94, 40},
-        {CODEGEN_IV_NEG, 91, 11, 0},
-        {CODEGEN_IV_MUL, 29, 15, 16},
-        {CODEGEN_IV_ADD, 29, 91, 29},
-        {CODEGEN_IV_MUL, 91, 99, 78},
-        {CODEGEN_IV_ADD, 91, 29, 91},
-        {CODEGEN_IV_MUL, 29, 8, 72},
-        {CODEGEN_IV_SUB, 29, 91, 29},
-        {CODEGEN_IV_MUL, 91, 7, 110},
-        {CODEGEN_IV_MUL, 91, 91, 9},
-        {CODEGEN_IV_MUL, 91, 91, 67},
-        {CODEGEN_IV_ADD, 91, 29, 91},
-        {CODEGEN_IV_MUL, 29, 6, 105},
-        {CODEGEN_IV_MUL, 29, 29, 103},
-        {CODEGEN_IV_MUL, 29, 29, 99},
-        {CODEGEN_IV_ADD, 29, 91, 29},
-        {CODEGEN_IV_MUL, 99, 78, 97},
-        {CODEGEN_IV_NEG, 99, 99, 0},
-        {CODEGEN_IV_MUL, 105, 5, 111},
-        {CODEGEN_IV_MUL, 105, 105, 94},
-        {CODEGEN_IV_NEG, 105, 105, 0},
-        {CODEGEN_IV_CONST, 15, 9, 0},
-        {CODEGEN_IV_MUL, 15, 15, 1},
-        {CODEGEN_IV_MUL, 15, 15, 12},
-        {CODEGEN_IV_MUL, 15, 15, 5},
-        {CODEGEN_IV_MUL, 15, 15, 100},
-        {CODEGEN_IV_MUL, 15, 15, 22},
-        {CODEGEN_IV_NEG, 11, 87, 0},
-        {CODEGEN_IV_SUB, 11, 11, 109},
-        {CODEGEN_IV_SUB, 11, 11, 95},
-        {CODEGEN_IV_CONST, 91, 10, 0},
-        {CODEGEN_IV_MUL, 91, 91, 74},
-        {CODEGEN_IV_SUB, 91, 11, 91},
-        {CODEGEN_IV_CONST, 11, 10, 0},
-        {CODEGEN_IV_MUL, 11, 11, 77},
-        {CODEGEN_IV_SUB, 11, 91, 11},
-        {CODEGEN_IV_CONST, 91, 7, 0},
-        {CODEGEN_IV_MUL, 91, 91, 1},
-        {CODEGEN_IV_MUL, 91, 91, 21},
-        {CODEGEN_IV_MUL, 91, 91, 53},
-        {CODEGEN_IV_ADD, 91, 11, 91},
-        {CODEGEN_IV_CONST, 11, 7, 0},
-        {CODEGEN_IV_MUL, 11, 11, 0},
-        {CODEGEN_IV_MUL, 11, 11, 34},
-        {CODEGEN_IV_MUL, 11, 11, 53},
-        {CODEGEN_IV_ADD, 11, 91, 11},
-        {CODEGEN_IV_MUL, 11, 15, 11},
-        {CODEGEN_IV_ADD, 11, 105, 11},
-        {CODEGEN_IV_MUL, 11, 112, 11},
-        {CODEGEN_IV_SUB, 11, 99, 11},
-        {CODEGEN_IV_MUL, 99, 59, 94},
-        {CODEGEN_IV_NEG, 99, 99, 0},
-        {CODEGEN_IV_CONST, 105, 9, 0},
-        {CODEGEN_IV_MUL, 105, 105, 1},
-        {CODEGEN_IV_MUL, 105, 105, 12},
-        {CODEGEN_IV_MUL, 105, 105, 6},
-        {CODEGEN_IV_MUL, 105, 105, 100},
-        {CODEGEN_IV_MUL, 105, 105, 22},
-        {CODEGEN_IV_NEG, 15, 95, 0},
-        {CODEGEN_IV_SUB, 15, 15, 74},
-        {CODEGEN_IV_SUB, 15, 15, 77},
-        {CODEGEN_IV_SUB, 15, 15, 81},
-        {CODEGEN_IV_SUB, 15, 15, 85},
-        {CODEGEN_IV_CONST, 91, 3, 0},
-        {CODEGEN_IV_MUL, 91, 91, 1},
-        {CODEGEN_IV_MUL, 91, 91, 21},
-        {CODEGEN_IV_MUL, 91, 91, 53},
-        {CODEGEN_IV_ADD, 91, 15, 91},
-        {CODEGEN_IV_CONST, 15, 3, 0},
-        {CODEGEN_IV_MUL, 15, 15, 0},
-        {CODEGEN_IV_MUL, 15, 15, 34},
-        {CODEGEN_IV_MUL, 15, 15, 53},
-        {CODEGEN_IV_ADD, 15, 91, 15},
-        {CODEGEN_IV_MUL, 15, 105, 15},
-        {CODEGEN_IV_ADD, 15, 99, 15},
-        {CODEGEN_IV_MUL, 15, 112, 15},
-        {CODEGEN_IV_SUB, 15, 11, 15},
-        {CODEGEN_IV_MUL, 11, 63, 56},
-        {CODEGEN_IV_SUB, 11, 15, 11},
-        {CODEGEN_IV_MUL, 15, 16, 42},
-        {CODEGEN_IV_SUB, 15, 11, 15},
-        {CODEGEN_IV_MUL, 11, 103, 59},
-        {CODEGEN_IV_MUL, 11, 11, 97},
-        {CODEGEN_IV_SUB, 11, 15, 11},
-        {CODEGEN_IV_CONST, 15, 0, 0},
-        {CODEGEN_IV_MUL, 15, 15, 110},
-        {CODEGEN_IV_MUL, 15, 15, 10},
-        {CODEGEN_IV_MUL, 99, 63, 72},
-        {CODEGEN_IV_NEG, 99, 99, 0},
-        {CODEGEN_IV_MUL, 105, 8, 69},
-        {CODEGEN_IV_SUB, 105, 99, 105},
-        {CODEGEN_IV_MUL, 99, 9, 8},
-        {CODEGEN_IV_DIV, 99, 99, 70},
-        {CODEGEN_IV_SUB, 99, 105, 99},
-        {CODEGEN_IV_CONST, 105, 0, 0},
-        {CODEGEN_IV_MUL, 105, 105, 7},
-        {CODEGEN_IV_MUL, 105, 105, 110},
-        {CODEGEN_IV_MUL, 105, 105, 10},
-        {CODEGEN_IV_MUL, 105, 105, 22},
-        {CODEGEN_IV_ADD, 105, 99, 105},
-        {CODEGEN_IV_MUL, 105, 15, 105},
-        {CODEGEN_IV_ADD, 105, 11, 105},
-        {CODEGEN_IV_MUL, 11, 110, 56},
-        {CODEGEN_IV_MUL, 11, 11, 8},
-        {CODEGEN_IV_SUB, 11, 105, 11},
-        {CODEGEN_IV_MUL, 105, 19, 25},
-        {CODEGEN_IV_MUL, 105, 105, 8},
-        {CODEGEN_IV_SUB, 105, 11, 105},
-        {CODEGEN_IV_CONST, 11, 9, 0},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_MUL, 11, 11, 110},
-        {CODEGEN_IV_MUL, 11, 11, 67},
-        {CODEGEN_IV_MUL, 11, 11, 43},
-        {CODEGEN_IV_MUL, 15, 113, 69},
-        {CODEGEN_IV_ADD, 15, 98, 15},
-        {CODEGEN_IV_CONST, 99, 0, 0},
-        {CODEGEN_IV_MUL, 99, 99, 106},
-        {CODEGEN_IV_MUL, 99, 99, 114},
-        {CODEGEN_IV_MUL, 99, 99, 40},
-        {CODEGEN_IV_ADD, 99, 15, 99},
-        {CODEGEN_IV_MUL, 99, 11, 99},
-        {CODEGEN_IV_SUB, 99, 105, 99},
-        {CODEGEN_IV_CONST, 105, 0, 0},
-        {CODEGEN_IV_MUL, 105, 105, 7},
-        {CODEGEN_IV_MUL, 105, 105, 110},
-        {CODEGEN_IV_MUL, 105, 105, 71},
-        {CODEGEN_IV_MUL, 105, 105, 23},
-        {CODEGEN_IV_MUL, 11, 112, 98},
-        {CODEGEN_IV_NEG, 11, 11, 0},
-        {CODEGEN_IV_CONST, 15, 3, 0},
-        {CODEGEN_IV_MUL, 15, 15, 116},
-        {CODEGEN_IV_MUL, 15, 15, 65},
-        {CODEGEN_IV_ADD, 15, 11, 15},
-        {CODEGEN_IV_MUL, 11, 19, 70},
-        {CODEGEN_IV_ADD, 11, 15, 11},
-        {CODEGEN_IV_NEG, 15, 32, 0},
-        {CODEGEN_IV_SUB, 15, 15, 36},
-        {CODEGEN_IV_ADD, 15, 15, 37},
-        {CODEGEN_IV_ADD, 15, 15, 39},
-        {CODEGEN_IV_SUB, 15, 15, 41},
-        {CODEGEN_IV_SUB, 15, 15, 44},
-        {CODEGEN_IV_SUB, 15, 15, 45},
-        {CODEGEN_IV_ADD, 15, 15, 46},
-        {CODEGEN_IV_ADD, 15, 15, 47},
-        {CODEGEN_IV_ADD, 15, 15, 48},
-        {CODEGEN_IV_ADD, 15, 15, 49},
-        {CODEGEN_IV_ADD, 15, 15, 50},
-        {CODEGEN_IV_ADD, 15, 15, 51},
-        {CODEGEN_IV_ADD, 15, 15, 52},
-        {CODEGEN_IV_SUB, 15, 15, 64},
-        {CODEGEN_IV_ADD, 15, 15, 66},
-        {CODEGEN_IV_ADD, 15, 15, 68},
-        {CODEGEN_IV_MUL, 91, 31, 82},
-        {CODEGEN_IV_SUB, 91, 15, 91},
-        {CODEGEN_IV_MUL, 15, 33, 79},
-        {CODEGEN_IV_SUB, 15, 91, 15},
-        {CODEGEN_IV_CONST, 91, 3, 0},
-        {CODEGEN_IV_MUL, 91, 91, 33},
-        {CODEGEN_IV_MUL, 91, 91, 104},
-        {CODEGEN_IV_ADD, 91, 15, 91},
-        {CODEGEN_IV_MUL, 15, 17, 101},
-        {CODEGEN_IV_ADD, 15, 91, 15},
-        {CODEGEN_IV_CONST, 91, 8, 0},
-        {CODEGEN_IV_MUL, 91, 91, 55},
-        {CODEGEN_IV_MUL, 91, 91, 58},
-        {CODEGEN_IV_SUB, 91, 15, 91},
-        {CODEGEN_IV_MUL, 91, 20, 91},
-        {CODEGEN_IV_ADD, 91, 11, 91},
-        {CODEGEN_IV_MUL, 11, 75, 114},
-        {CODEGEN_IV_CONST, 15, 8, 0},
-        {CODEGEN_IV_MUL, 15, 15, 31},
-        {CODEGEN_IV_MUL, 15, 15, 4},
-        {CODEGEN_IV_NEG, 15, 15, 0},
-        {CODEGEN_IV_MUL, 24, 3, 19},
-        {CODEGEN_IV_SUB, 24, 15, 24},
-        {CODEGEN_IV_MUL, 15, 2, 19},
-        {CODEGEN_IV_SUB, 15, 24, 15},
-        {CODEGEN_IV_MUL, 15, 11, 15},
-        {CODEGEN_IV_SUB, 15, 91, 15},
-        {CODEGEN_IV_MUL, 91, 113, 43},
-        {CODEGEN_IV_MUL, 91, 91, 65},
-        {CODEGEN_IV_SUB, 91, 15, 91},
-        {CODEGEN_IV_MUL, 91, 105, 91},
-        {CODEGEN_IV_ADD, 91, 99, 91},
-        {CODEGEN_IV_CONST, 99, 9, 0},
-        {CODEGEN_IV_MUL, 99, 99, 1},
-        {CODEGEN_IV_MUL, 99, 99, 12},
-        {CODEGEN_IV_MUL, 99, 99, 5},
-        {CODEGEN_IV_MUL, 99, 99, 100},
-        {CODEGEN_IV_MUL, 99, 99, 22},
-        {CODEGEN_IV_CONST, 105, 10, 0},
-        {CODEGEN_IV_MUL, 105, 105, 35},
-        {CODEGEN_IV_NEG, 105, 105, 0},
-        {CODEGEN_IV_CONST, 15, 10, 0},
-        {CODEGEN_IV_MUL, 15, 15, 28},
-        {CODEGEN_IV_SUB, 15, 105, 15},
-        {CODEGEN_IV_CONST, 105, 13, 0},
-        {CODEGEN_IV_MUL, 105, 105, 27},
-        {CODEGEN_IV_SUB, 105, 15, 105},
-        {CODEGEN_IV_SUB, 105, 105, 90},
-        {CODEGEN_IV_CONST, 15, 5, 0},
-        {CODEGEN_IV_MUL, 15, 15, 13},
-        {CODEGEN_IV_MUL, 15, 15, 4},
-        {CODEGEN_IV_MUL, 15, 15, 17},
-        {CODEGEN_IV_SUB, 15, 105, 15},
-        {CODEGEN_IV_CONST, 105, 12, 0},
-        {CODEGEN_IV_MUL, 105, 105, 1},
-        {CODEGEN_IV_MUL, 105, 105, 14},
-        {CODEGEN_IV_MUL, 105, 105, 21},
-        {CODEGEN_IV_MUL, 105, 105, 38},
-        {CODEGEN_IV_MUL, 105, 105, 62},
-        {CODEGEN_IV_ADD, 105, 15, 105},
-        {CODEGEN_IV_CONST, 15, 12, 0},
-        {CODEGEN_IV_MUL, 15, 15, 0},
-        {CODEGEN_IV_MUL, 15, 15, 14},
-        {CODEGEN_IV_MUL, 15, 15, 34},
-        {CODEGEN_IV_MUL, 15, 15, 38},
-        {CODEGEN_IV_MUL, 15, 15, 62},
-        {CODEGEN_IV_ADD, 15, 105, 15},
-        {CODEGEN_IV_MUL, 15, 99, 15},
-        {CODEGEN_IV_ADD, 15, 91, 15},
-        {CODEGEN_IV_CONST, 91, 9, 0},
-        {CODEGEN_IV_MUL, 91, 91, 1},
-        {CODEGEN_IV_MUL, 91, 91, 12},
-        {CODEGEN_IV_MUL, 91, 91, 6},
-        {CODEGEN_IV_MUL, 91, 91, 100},
-        {CODEGEN_IV_MUL, 91, 91, 22},
-        {CODEGEN_IV_NEG, 99, 35, 0},
-        {CODEGEN_IV_SUB, 99, 99, 28},
-        {CODEGEN_IV_CONST, 105, 7, 0},
-        {CODEGEN_IV_MUL, 105, 105, 27},
-        {CODEGEN_IV_SUB, 105, 99, 105},
-        {CODEGEN_IV_SUB, 105, 105, 90},
-        {CODEGEN_IV_MUL, 99, 102, 4},
-        {CODEGEN_IV_SUB, 99, 105, 99},
-        {CODEGEN_IV_CONST, 105, 8, 0},
-        {CODEGEN_IV_MUL, 105, 105, 1},
-        {CODEGEN_IV_MUL, 105, 105, 14},
-        {CODEGEN_IV_MUL, 105, 105, 21},
-        {CODEGEN_IV_MUL, 105, 105, 38},
-        {CODEGEN_IV_MUL, 105, 105, 62},
-        {CODEGEN_IV_ADD, 105, 99, 105},
-        {CODEGEN_IV_CONST, 99, 8, 0},
-        {CODEGEN_IV_MUL, 99, 99, 0},
-        {CODEGEN_IV_MUL, 99, 99, 14},
-        {CODEGEN_IV_MUL, 99, 99, 34},
-        {CODEGEN_IV_MUL, 99, 99, 38},
-        {CODEGEN_IV_MUL, 99, 99, 62},
-        {CODEGEN_IV_ADD, 99, 105, 99},
-        {CODEGEN_IV_MUL, 99, 91, 99},
-        {CODEGEN_IV_ADD, 99, 15, 99},
-        {CODEGEN_IV_CONST, 15, 3, 0},
-        {CODEGEN_IV_MUL, 15, 15, 7},
-        {CODEGEN_IV_MUL, 15, 15, 18},
-        {CODEGEN_IV_MUL, 15, 15, 4},
-        {CODEGEN_IV_MUL, 15, 15, 17},
-        {CODEGEN_IV_MUL, 15, 15, 70},
-        {CODEGEN_IV_MUL, 15, 15, 104},
-        {CODEGEN_IV_ADD, 15, 99, 15},
-        {CODEGEN_IV_CONST, 99, 8, 0},
-        {CODEGEN_IV_MUL, 99, 99, 7},
-        {CODEGEN_IV_MUL, 99, 99, 18},
-        {CODEGEN_IV_MUL, 99, 99, 4},
-        {CODEGEN_IV_MUL, 99, 99, 17},
-        {CODEGEN_IV_MUL, 99, 99, 25},
-        {CODEGEN_IV_MUL, 99, 99, 71},
-        {CODEGEN_IV_MUL, 99, 99, 104},
-        {CODEGEN_IV_ADD, 99, 15, 99},
+    static const codegen_iv_instruction program[673] = {
+        {CODEGEN_IV_COS, 294, 293, 0},
+        {CODEGEN_IV_MUL, 295, 281, 294},
+        {CODEGEN_IV_MUL, 298, 280, 295},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 298},
+        {CODEGEN_IV_SUB, 300, 153, 299},
+        {CODEGEN_IV_CONST, 301, 1, 0},
+        {CODEGEN_IV_POW, 302, 300, 2},
+        {CODEGEN_IV_DIV, 302, 301, 302},
+        {CODEGEN_IV_CONST, 301, 1, 0},
+        {CODEGEN_IV_POW, 303, 300, 1},
+        {CODEGEN_IV_DIV, 303, 301, 303},
+        {CODEGEN_IV_MUL, 312, 294, 161},
+        {CODEGEN_IV_MUL, 315, 294, 163},
+        {CODEGEN_IV_MUL, 316, 280, 315},
+        {CODEGEN_IV_MUL, 317, 315, 289},
+        {CODEGEN_IV_SIN, 318, 293, 0},
+        {CODEGEN_IV_MUL, 293, 163, 318},
+        {CODEGEN_IV_MUL, 319, 293, 290},
+        {CODEGEN_IV_MUL, 320, 295, 289},
+        {CODEGEN_IV_MUL, 321, 159, 320},
+        {CODEGEN_IV_MUL, 322, 281, 318},
+        {CODEGEN_IV_MUL, 323, 322, 290},
+        {CODEGEN_IV_MUL, 324, 159, 323},
+        {CODEGEN_IV_MUL, 325, 320, 152},
+        {CODEGEN_IV_MUL, 326, 159, 298},
+        {CODEGEN_IV_MUL, 327, 155, 298},
+        {CODEGEN_IV_MUL, 328, 155, 320},
+        {CODEGEN_IV_MUL, 329, 155, 323},
+        {CODEGEN_IV_MUL, 330, 157, 299},
+        {CODEGEN_IV_MUL, 331, 158, 299},
+        {CODEGEN_IV_MUL, 332, 323, 152},
+        {CODEGEN_IV_POW, 333, 294, 2},
+        {CODEGEN_IV_CONST, 334, 0, 0},
+        {CODEGEN_IV_MUL, 334, 334, 333},
+        {CODEGEN_IV_MUL, 337, 294, 151},
+        {CODEGEN_IV_MUL, 338, 318, 337},
+        {CODEGEN_IV_MUL, 340, 151, 333},
+        {CODEGEN_IV_SUB, 283, 167, 299},
+        {CODEGEN_IV_ADD, 282, 168, 300},
+        {CODEGEN_IV_MUL, 341, 283, 282},
+        {CODEGEN_IV_NEG, 342, 341, 0},
+        {CODEGEN_IV_SQRT, 342, 342, 0},
+        {CODEGEN_IV_MUL, 343, 322, 289},
+        {CODEGEN_IV_MUL, 344, 342, 343},
+        {CODEGEN_IV_MUL, 345, 280, 322},
+        {CODEGEN_IV_MUL, 346, 342, 345},
+        {CODEGEN_IV_MUL, 347, 295, 290},
+        {CODEGEN_IV_MUL, 348, 342, 347},
+        {CODEGEN_IV_ADD, 349, 169, 312},
+        {CODEGEN_IV_SUB, 349, 349, 162},
+        {CODEGEN_IV_ADD, 349, 349, 316},
+        {CODEGEN_IV_SUB, 349, 349, 317},
+        {CODEGEN_IV_SUB, 349, 349, 319},
+        {CODEGEN_IV_ADD, 349, 349, 321},
+        {CODEGEN_IV_ADD, 349, 349, 324},
+        {CODEGEN_IV_ADD, 349, 349, 325},
+        {CODEGEN_IV_SUB, 349, 349, 326},
+        {CODEGEN_IV_SUB, 349, 349, 327},
+        {CODEGEN_IV_SUB, 349, 349, 328},
+        {CODEGEN_IV_SUB, 349, 349, 329},
+        {CODEGEN_IV_SUB, 349, 349, 330},
+        {CODEGEN_IV_SUB, 349, 349, 331},
+        {CODEGEN_IV_SUB, 349, 349, 332},
+        {CODEGEN_IV_ADD, 349, 349, 344},
+        {CODEGEN_IV_SUB, 349, 349, 346},
+        {CODEGEN_IV_SUB, 349, 349, 348},
+        {CODEGEN_IV_SUB, 350, 349, 170},
+        {CODEGEN_IV_ADD, 349, 350, 171},
+        {CODEGEN_IV_SUB, 350, 349, 172},
+        {CODEGEN_IV_ADD, 349, 350, 173},
+        {CODEGEN_IV_ADD, 350, 349, 174},
+        {CODEGEN_IV_ADD, 349, 350, 175},
+        {CODEGEN_IV_ADD, 350, 349, 176},
+        {CODEGEN_IV_MUL, 349, 162, 334},
+        {CODEGEN_IV_ADD, 349, 350, 349},
+        {CODEGEN_IV_MUL, 350, 164, 342},
+        {CODEGEN_IV_ADD, 350, 349, 350},
+        {CODEGEN_IV_MUL, 349, 165, 338},
+        {CODEGEN_IV_ADD, 349, 350, 349},
+        {CODEGEN_IV_MUL, 350, 166, 340},
+        {CODEGEN_IV_SUB, 350, 349, 350},
+        {CODEGEN_IV_MUL, 305, 350, 300},
+        {CODEGEN_IV_SQRT, 305, 305, 0},
+        {CODEGEN_IV_MUL, 351, 305, 303},
+        {CODEGEN_IV_ADD, 351, 177, 351},
+        {CODEGEN_IV_MUL, 288, 287, 351},
+        {CODEGEN_IV_MUL, 288, 288, 302},
+        {CODEGEN_IV_CONST, 349, 0, 0},
+        {CODEGEN_IV_MUL, 349, 349, 345},
+        {CODEGEN_IV_MUL, 352, 305, 349},
+        {CODEGEN_IV_MUL, 354, 294, 178},
+        {CODEGEN_IV_MUL, 355, 342, 354},
+        {CODEGEN_IV_MUL, 357, 294, 179},
+        {CODEGEN_IV_MUL, 358, 342, 357},
+        {CODEGEN_IV_CONST, 359, 2, 0},
+        {CODEGEN_IV_MUL, 359, 359, 333},
+        {CODEGEN_IV_MUL, 361, 337, 166},
+        {CODEGEN_IV_POW, 363, 294, 3},
+        {CODEGEN_IV_MUL, 364, 152, 363},
+        {CODEGEN_IV_MUL, 365, 181, 364},
+        {CODEGEN_IV_MUL, 367, 318, 179},
+        {CODEGEN_IV_MUL, 370, 318, 166},
+        {CODEGEN_IV_MUL, 371, 294, 156},
+        {CODEGEN_IV_MUL, 372, 318, 341},
+        {CODEGEN_IV_MUL, 374, 294, 185},
+        {CODEGEN_IV_CONST, 379, 0, 0},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_MUL, 380, 318, 152},
+        {CODEGEN_IV_CONST, 381, 2, 0},
+        {CODEGEN_IV_MUL, 381, 381, 340},
+        {CODEGEN_IV_MUL, 382, 281, 333},
+        {CODEGEN_IV_POW, 384, 318, 2},
+        {CODEGEN_IV_MUL, 385, 281, 384},
+        {CODEGEN_IV_MUL, 387, 382, 189},
+        {CODEGEN_IV_MUL, 388, 385, 189},
+        {CODEGEN_IV_MUL, 386, 316, 318},
+        {CODEGEN_IV_CONST, 389, 3, 0},
+        {CODEGEN_IV_MUL, 389, 389, 312},
+        {CODEGEN_IV_MUL, 389, 389, 318},
+        {CODEGEN_IV_MUL, 390, 387, 342},
+        {CODEGEN_IV_MUL, 391, 388, 342},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 386, 183},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 386, 184},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 389, 155},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 389, 159},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 156, 370},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_CONST, 391, 0, 0},
+        {CODEGEN_IV_MUL, 391, 391, 318},
+        {CODEGEN_IV_MUL, 391, 391, 182},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 151, 372},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 152, 372},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_CONST, 390, 4, 0},
+        {CODEGEN_IV_MUL, 390, 390, 340},
+        {CODEGEN_IV_MUL, 390, 390, 367},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 342, 371},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 342, 374},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 178, 370},
+        {CODEGEN_IV_ADD, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 181, 367},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 367, 183},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 367, 184},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 294, 160},
+        {CODEGEN_IV_MUL, 391, 391, 342},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 294, 322},
+        {CODEGEN_IV_MUL, 390, 390, 186},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 294, 187},
+        {CODEGEN_IV_MUL, 391, 391, 379},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 190, 315},
+        {CODEGEN_IV_MUL, 390, 390, 318},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 191, 293},
+        {CODEGEN_IV_MUL, 391, 391, 363},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 156, 359},
+        {CODEGEN_IV_MUL, 390, 390, 380},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 159, 337},
+        {CODEGEN_IV_MUL, 391, 391, 342},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 160, 318},
+        {CODEGEN_IV_MUL, 390, 390, 381},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 192, 379},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_CONST, 390, 5, 0},
+        {CODEGEN_IV_MUL, 390, 390, 333},
+        {CODEGEN_IV_MUL, 390, 390, 178},
+        {CODEGEN_IV_MUL, 390, 390, 380},
+        {CODEGEN_IV_ADD, 390, 391, 390},
+        {CODEGEN_IV_MUL, 391, 342, 382},
+        {CODEGEN_IV_MUL, 391, 391, 188},
+        {CODEGEN_IV_SUB, 391, 390, 391},
+        {CODEGEN_IV_MUL, 390, 342, 188},
+        {CODEGEN_IV_MUL, 390, 390, 385},
+        {CODEGEN_IV_SUB, 390, 391, 390},
+        {CODEGEN_IV_ADD, 385, 390, 355},
+        {CODEGEN_IV_ADD, 385, 385, 358},
+        {CODEGEN_IV_MUL, 383, 342, 361},
+        {CODEGEN_IV_ADD, 383, 385, 383},
+        {CODEGEN_IV_MUL, 385, 342, 365},
+        {CODEGEN_IV_ADD, 385, 383, 385},
+        {CODEGEN_IV_MUL, 383, 161, 342},
+        {CODEGEN_IV_MUL, 383, 383, 359},
+        {CODEGEN_IV_SUB, 383, 385, 383},
+        {CODEGEN_IV_MUL, 385, 342, 359},
+        {CODEGEN_IV_MUL, 385, 385, 180},
+        {CODEGEN_IV_SUB, 385, 383, 385},
+        {CODEGEN_IV_CONST, 383, 1, 0},
+        {CODEGEN_IV_POW, 380, 342, 1},
+        {CODEGEN_IV_DIV, 380, 383, 380},
+        {CODEGEN_IV_MUL, 383, 292, 380},
+        {CODEGEN_IV_MUL, 379, 193, 302},
+        {CODEGEN_IV_CONST, 372, 6, 0},
+        {CODEGEN_IV_MUL, 372, 372, 333},
+        {CODEGEN_IV_MUL, 370, 152, 337},
+        {CODEGEN_IV_CONST, 367, 3, 0},
+        {CODEGEN_IV_MUL, 367, 367, 370},
+        {CODEGEN_IV_MUL, 389, 194, 364},
+        {CODEGEN_IV_CONST, 386, 7, 0},
+        {CODEGEN_IV_MUL, 386, 386, 355},
+        {CODEGEN_IV_ADD, 386, 390, 386},
+        {CODEGEN_IV_CONST, 391, 7, 0},
+        {CODEGEN_IV_MUL, 391, 391, 358},
+        {CODEGEN_IV_ADD, 391, 386, 391},
+        {CODEGEN_IV_MUL, 386, 367, 342},
+        {CODEGEN_IV_ADD, 386, 391, 386},
+        {CODEGEN_IV_MUL, 391, 389, 342},
+        {CODEGEN_IV_ADD, 391, 386, 391},
+        {CODEGEN_IV_MUL, 386, 372, 161},
+        {CODEGEN_IV_MUL, 386, 386, 342},
+        {CODEGEN_IV_SUB, 386, 391, 386},
+        {CODEGEN_IV_MUL, 391, 372, 342},
+        {CODEGEN_IV_MUL, 391, 391, 180},
+        {CODEGEN_IV_SUB, 391, 386, 391},
+        {CODEGEN_IV_MUL, 358, 285, 383},
+        {CODEGEN_IV_MUL, 358, 358, 391},
+        {CODEGEN_IV_CONST, 355, 1, 0},
+        {CODEGEN_IV_POW, 390, 305, 1},
+        {CODEGEN_IV_DIV, 390, 355, 390},
+        {CODEGEN_IV_MUL, 355, 283, 349},
+        {CODEGEN_IV_NEG, 355, 355, 0},
+        {CODEGEN_IV_MUL, 386, 282, 349},
+        {CODEGEN_IV_SUB, 386, 355, 386},
+        {CODEGEN_IV_CONST, 355, 8, 0},
+        {CODEGEN_IV_MUL, 355, 355, 380},
+        {CODEGEN_IV_MUL, 392, 386, 355},
+        {CODEGEN_IV_SUB, 393, 195, 343},
+        {CODEGEN_IV_ADD, 393, 393, 345},
+        {CODEGEN_IV_ADD, 393, 393, 347},
+        {CODEGEN_IV_MUL, 394, 393, 300},
+        {CODEGEN_IV_CONST, 395, 2, 0},
+        {CODEGEN_IV_MUL, 395, 395, 318},
+        {CODEGEN_IV_MUL, 396, 280, 293},
+        {CODEGEN_IV_NEG, 396, 396, 0},
+        {CODEGEN_IV_MUL, 397, 155, 343},
+        {CODEGEN_IV_ADD, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 155, 345},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 155, 347},
+        {CODEGEN_IV_SUB, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 370, 395},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 157, 349},
+        {CODEGEN_IV_ADD, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 158, 349},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 159, 343},
+        {CODEGEN_IV_SUB, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 159, 345},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 159, 347},
+        {CODEGEN_IV_ADD, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 161, 318},
+        {CODEGEN_IV_SUB, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 315, 290},
+        {CODEGEN_IV_SUB, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 293, 289},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 320, 342},
+        {CODEGEN_IV_ADD, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 323, 342},
+        {CODEGEN_IV_ADD, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 152, 343},
+        {CODEGEN_IV_SUB, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 152, 347},
+        {CODEGEN_IV_SUB, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 165, 340},
+        {CODEGEN_IV_ADD, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 298, 342},
+        {CODEGEN_IV_SUB, 396, 397, 396},
+        {CODEGEN_IV_MUL, 397, 294, 395},
+        {CODEGEN_IV_MUL, 397, 397, 162},
+        {CODEGEN_IV_SUB, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 196, 384},
+        {CODEGEN_IV_SUB, 396, 397, 396},
+        {CODEGEN_IV_MUL, 290, 392, 394},
+        {CODEGEN_IV_NEG, 290, 290, 0},
+        {CODEGEN_IV_MUL, 289, 396, 300},
+        {CODEGEN_IV_ADD, 289, 290, 289},
+        {CODEGEN_IV_MUL, 290, 350, 349},
+        {CODEGEN_IV_ADD, 290, 289, 290},
+        {CODEGEN_IV_CONST, 289, 8, 0},
+        {CODEGEN_IV_MUL, 289, 289, 290},
+        {CODEGEN_IV_MUL, 347, 351, 303},
+        {CODEGEN_IV_CONST, 343, 1, 0},
+        {CODEGEN_IV_POW, 298, 300, 3},
+        {CODEGEN_IV_DIV, 298, 343, 298},
+        {CODEGEN_IV_MUL, 343, 287, 298},
+        {CODEGEN_IV_MUL, 336, 290, 345},
+        {CODEGEN_IV_MUL, 293, 318, 342},
+        {CODEGEN_IV_MUL, 315, 293, 178},
+        {CODEGEN_IV_MUL, 308, 293, 179},
+        {CODEGEN_IV_MUL, 307, 293, 152},
+        {CODEGEN_IV_MUL, 307, 307, 340},
+        {CODEGEN_IV_MUL, 395, 180, 384},
+        {CODEGEN_IV_MUL, 360, 198, 384},
+        {CODEGEN_IV_MUL, 311, 152, 384},
+        {CODEGEN_IV_CONST, 370, 0, 0},
+        {CODEGEN_IV_MUL, 370, 370, 294},
+        {CODEGEN_IV_MUL, 370, 370, 182},
+        {CODEGEN_IV_NEG, 370, 370, 0},
+        {CODEGEN_IV_CONST, 397, 5, 0},
+        {CODEGEN_IV_POW, 398, 294, 4},
+        {CODEGEN_IV_MUL, 398, 397, 398},
+        {CODEGEN_IV_MUL, 398, 398, 197},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 372, 197},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 155, 360},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 293, 156},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 293, 185},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 199, 364},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 395, 183},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 395, 184},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 360, 159},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_CONST, 370, 4, 0},
+        {CODEGEN_IV_MUL, 370, 370, 311},
+        {CODEGEN_IV_MUL, 370, 370, 354},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 200, 337},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 334, 187},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 166, 371},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 357, 183},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 357, 184},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 186, 382},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 201, 384},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 202, 384},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_CONST, 398, 2, 0},
+        {CODEGEN_IV_MUL, 398, 398, 294},
+        {CODEGEN_IV_MUL, 398, 398, 151},
+        {CODEGEN_IV_MUL, 398, 398, 179},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 294, 152},
+        {CODEGEN_IV_MUL, 370, 370, 341},
+        {CODEGEN_IV_ADD, 370, 398, 370},
+        {CODEGEN_IV_CONST, 398, 0, 0},
+        {CODEGEN_IV_MUL, 398, 398, 294},
+        {CODEGEN_IV_MUL, 398, 398, 152},
+        {CODEGEN_IV_MUL, 398, 398, 178},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 203, 384},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 204, 363},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 205, 363},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 206, 357},
+        {CODEGEN_IV_MUL, 398, 398, 384},
+        {CODEGEN_IV_ADD, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 207, 363},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 208, 333},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 209, 333},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 210, 333},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 211, 333},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 294, 151},
+        {CODEGEN_IV_MUL, 398, 398, 283},
+        {CODEGEN_IV_MUL, 398, 398, 282},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 212, 333},
+        {CODEGEN_IV_MUL, 370, 370, 384},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 398, 159, 318},
+        {CODEGEN_IV_MUL, 398, 398, 151},
+        {CODEGEN_IV_MUL, 398, 398, 342},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_MUL, 370, 159, 318},
+        {CODEGEN_IV_MUL, 370, 370, 152},
+        {CODEGEN_IV_MUL, 370, 370, 342},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_CONST, 398, 5, 0},
+        {CODEGEN_IV_MUL, 398, 398, 294},
+        {CODEGEN_IV_MUL, 398, 398, 155},
+        {CODEGEN_IV_MUL, 398, 398, 151},
+        {CODEGEN_IV_MUL, 398, 398, 152},
+        {CODEGEN_IV_MUL, 398, 398, 384},
+        {CODEGEN_IV_SUB, 398, 370, 398},
+        {CODEGEN_IV_CONST, 370, 5, 0},
+        {CODEGEN_IV_MUL, 370, 370, 294},
+        {CODEGEN_IV_MUL, 370, 370, 159},
+        {CODEGEN_IV_MUL, 370, 370, 151},
+        {CODEGEN_IV_MUL, 370, 370, 152},
+        {CODEGEN_IV_MUL, 370, 370, 384},
+        {CODEGEN_IV_SUB, 370, 398, 370},
+        {CODEGEN_IV_MUL, 382, 293, 166},
+        {CODEGEN_IV_NEG, 339, 320, 0},
+        {CODEGEN_IV_SUB, 339, 339, 323},
+        {CODEGEN_IV_MUL, 378, 213, 294},
+        {CODEGEN_IV_ADD, 378, 339, 378},
+        {CODEGEN_IV_MUL, 378, 300, 378},
+        {CODEGEN_IV_CONST, 323, 1, 0},
+        {CODEGEN_IV_MUL, 320, 283, 282},
+        {CODEGEN_IV_DIV, 320, 323, 320},
+        {CODEGEN_IV_MUL, 323, 380, 386},
+        {CODEGEN_IV_MUL, 339, 286, 385},
+        {CODEGEN_IV_MUL, 377, 280, 298},
+        {CODEGEN_IV_MUL, 377, 377, 318},
+        {CODEGEN_IV_MUL, 377, 377, 151},
+        {CODEGEN_IV_ADD, 376, 387, 388},
+        {CODEGEN_IV_ADD, 376, 376, 382},
+        {CODEGEN_IV_ADD, 376, 376, 371},
+        {CODEGEN_IV_ADD, 376, 376, 374},
+        {CODEGEN_IV_MUL, 375, 294, 159},
+        {CODEGEN_IV_MUL, 375, 375, 151},
+        {CODEGEN_IV_SUB, 375, 376, 375},
+        {CODEGEN_IV_MUL, 376, 294, 159},
+        {CODEGEN_IV_MUL, 376, 376, 152},
+        {CODEGEN_IV_SUB, 376, 375, 376},
+        {CODEGEN_IV_CONST, 375, 0, 0},
+        {CODEGEN_IV_MUL, 375, 375, 318},
+        {CODEGEN_IV_MUL, 375, 375, 151},
+        {CODEGEN_IV_MUL, 375, 375, 342},
+        {CODEGEN_IV_SUB, 375, 376, 375},
+        {CODEGEN_IV_MUL, 376, 214, 333},
+        {CODEGEN_IV_SUB, 376, 375, 376},
+        {CODEGEN_IV_MUL, 375, 215, 384},
+        {CODEGEN_IV_SUB, 375, 376, 375},
+        {CODEGEN_IV_MUL, 374, 292, 379},
+        {CODEGEN_IV_MUL, 374, 374, 320},
+        {CODEGEN_IV_MUL, 309, 295, 150},
+        {CODEGEN_IV_ADD, 309, 216, 309},
+        {CODEGEN_IV_MUL, 371, 379, 358},
+        {CODEGEN_IV_ADD, 371, 309, 371},
+        {CODEGEN_IV_MUL, 309, 288, 352},
+        {CODEGEN_IV_SUB, 309, 371, 309},
+        {CODEGEN_IV_MUL, 371, 287, 390},
+        {CODEGEN_IV_MUL, 371, 371, 289},
+        {CODEGEN_IV_MUL, 371, 371, 347},
+        {CODEGEN_IV_ADD, 371, 309, 371},
+        {CODEGEN_IV_MUL, 309, 286, 385},
+        {CODEGEN_IV_MUL, 309, 309, 383},
+        {CODEGEN_IV_MUL, 309, 309, 379},
+        {CODEGEN_IV_ADD, 309, 371, 309},
+        {CODEGEN_IV_MUL, 379, 358, 377},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_MUL, 385, 285, 391},
+        {CODEGEN_IV_MUL, 385, 385, 374},
+        {CODEGEN_IV_NEG, 385, 385, 0},
+        {CODEGEN_IV_MUL, 295, 217, 380},
+        {CODEGEN_IV_MUL, 295, 295, 302},
+        {CODEGEN_IV_NEG, 291, 367, 0},
+        {CODEGEN_IV_SUB, 291, 291, 389},
+        {CODEGEN_IV_SUB, 291, 291, 375},
+        {CODEGEN_IV_CONST, 371, 7, 0},
+        {CODEGEN_IV_MUL, 371, 371, 354},
+        {CODEGEN_IV_SUB, 371, 291, 371},
+        {CODEGEN_IV_CONST, 291, 7, 0},
+        {CODEGEN_IV_MUL, 291, 291, 357},
+        {CODEGEN_IV_SUB, 291, 371, 291},
+        {CODEGEN_IV_MUL, 371, 218, 333},
+        {CODEGEN_IV_ADD, 371, 291, 371},
+        {CODEGEN_IV_MUL, 291, 219, 333},
+        {CODEGEN_IV_ADD, 291, 371, 291},
+        {CODEGEN_IV_MUL, 291, 295, 291},
+        {CODEGEN_IV_ADD, 291, 385, 291},
+        {CODEGEN_IV_MUL, 291, 392, 291},
+        {CODEGEN_IV_SUB, 291, 379, 291},
+        {CODEGEN_IV_MUL, 379, 339, 374},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_MUL, 385, 220, 380},
+        {CODEGEN_IV_MUL, 385, 385, 302},
+        {CODEGEN_IV_NEG, 295, 375, 0},
+        {CODEGEN_IV_SUB, 295, 295, 354},
+        {CODEGEN_IV_SUB, 295, 295, 357},
+        {CODEGEN_IV_SUB, 295, 295, 361},
+        {CODEGEN_IV_SUB, 295, 295, 365},
+        {CODEGEN_IV_MUL, 371, 221, 333},
+        {CODEGEN_IV_ADD, 371, 295, 371},
+        {CODEGEN_IV_MUL, 295, 222, 333},
+        {CODEGEN_IV_ADD, 295, 371, 295},
+        {CODEGEN_IV_MUL, 295, 385, 295},
+        {CODEGEN_IV_ADD, 295, 379, 295},
+        {CODEGEN_IV_MUL, 295, 392, 295},
+        {CODEGEN_IV_SUB, 295, 291, 295},
+        {CODEGEN_IV_MUL, 291, 343, 336},
+        {CODEGEN_IV_SUB, 291, 295, 291},
+        {CODEGEN_IV_MUL, 295, 150, 322},
+        {CODEGEN_IV_SUB, 295, 291, 295},
+        {CODEGEN_IV_MUL, 291, 383, 339},
+        {CODEGEN_IV_MUL, 291, 291, 377},
+        {CODEGEN_IV_SUB, 291, 295, 291},
+        {CODEGEN_IV_CONST, 295, 8, 0},
+        {CODEGEN_IV_MUL, 295, 295, 390},
+        {CODEGEN_IV_MUL, 295, 295, 290},
+        {CODEGEN_IV_MUL, 379, 343, 352},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_MUL, 385, 288, 349},
+        {CODEGEN_IV_SUB, 385, 379, 385},
+        {CODEGEN_IV_MUL, 379, 289, 288},
+        {CODEGEN_IV_DIV, 379, 379, 350},
+        {CODEGEN_IV_SUB, 379, 385, 379},
+        {CODEGEN_IV_MUL, 385, 223, 390},
+        {CODEGEN_IV_MUL, 385, 385, 290},
+        {CODEGEN_IV_MUL, 385, 385, 302},
+        {CODEGEN_IV_ADD, 385, 379, 385},
+        {CODEGEN_IV_MUL, 385, 295, 385},
+        {CODEGEN_IV_ADD, 385, 291, 385},
+        {CODEGEN_IV_MUL, 291, 390, 336},
+        {CODEGEN_IV_MUL, 291, 291, 288},
+        {CODEGEN_IV_SUB, 291, 385, 291},
+        {CODEGEN_IV_MUL, 385, 299, 305},
+        {CODEGEN_IV_MUL, 385, 385, 288},
+        {CODEGEN_IV_SUB, 385, 291, 385},
+        {CODEGEN_IV_MUL, 291, 224, 390},
+        {CODEGEN_IV_MUL, 291, 291, 347},
+        {CODEGEN_IV_MUL, 291, 291, 323},
+        {CODEGEN_IV_MUL, 295, 393, 349},
+        {CODEGEN_IV_ADD, 295, 378, 295},
+        {CODEGEN_IV_CONST, 379, 8, 0},
+        {CODEGEN_IV_MUL, 379, 379, 386},
+        {CODEGEN_IV_MUL, 379, 379, 394},
+        {CODEGEN_IV_MUL, 379, 379, 320},
+        {CODEGEN_IV_ADD, 379, 295, 379},
+        {CODEGEN_IV_MUL, 379, 291, 379},
+        {CODEGEN_IV_SUB, 379, 385, 379},
+        {CODEGEN_IV_MUL, 385, 225, 390},
+        {CODEGEN_IV_MUL, 385, 385, 351},
+        {CODEGEN_IV_MUL, 385, 385, 303},
+        {CODEGEN_IV_MUL, 291, 392, 378},
+        {CODEGEN_IV_NEG, 291, 291, 0},
+        {CODEGEN_IV_CONST, 295, 2, 0},
+        {CODEGEN_IV_MUL, 295, 295, 396},
+        {CODEGEN_IV_MUL, 295, 295, 345},
+        {CODEGEN_IV_ADD, 295, 291, 295},
+        {CODEGEN_IV_MUL, 291, 299, 350},
+        {CODEGEN_IV_ADD, 291, 295, 291},
+        {CODEGEN_IV_NEG, 295, 312, 0},
+        {CODEGEN_IV_SUB, 295, 295, 316},
+        {CODEGEN_IV_ADD, 295, 295, 317},
+        {CODEGEN_IV_ADD, 295, 295, 319},
+        {CODEGEN_IV_SUB, 295, 295, 321},
+        {CODEGEN_IV_SUB, 295, 295, 324},
+        {CODEGEN_IV_SUB, 295, 295, 325},
+        {CODEGEN_IV_ADD, 295, 295, 326},
+        {CODEGEN_IV_ADD, 295, 295, 327},
+        {CODEGEN_IV_ADD, 295, 295, 328},
+        {CODEGEN_IV_ADD, 295, 295, 329},
+        {CODEGEN_IV_ADD, 295, 295, 330},
+        {CODEGEN_IV_ADD, 295, 295, 331},
+        {CODEGEN_IV_ADD, 295, 295, 332},
+        {CODEGEN_IV_SUB, 295, 295, 344},
+        {CODEGEN_IV_ADD, 295, 295, 346},
+        {CODEGEN_IV_ADD, 295, 295, 348},
+        {CODEGEN_IV_MUL, 371, 311, 181},
+        {CODEGEN_IV_SUB, 371, 295, 371},
+        {CODEGEN_IV_MUL, 295, 162, 359},
+        {CODEGEN_IV_SUB, 295, 371, 295},
+        {CODEGEN_IV_MUL, 371, 226, 384},
+        {CODEGEN_IV_ADD, 371, 295, 371},
+        {CODEGEN_IV_MUL, 295, 152, 381},
+        {CODEGEN_IV_ADD, 295, 371, 295},
+        {CODEGEN_IV_MUL, 371, 227, 338},
+        {CODEGEN_IV_SUB, 371, 295, 371},
+        {CODEGEN_IV_MUL, 371, 300, 371},
+        {CODEGEN_IV_ADD, 371, 291, 371},
+        {CODEGEN_IV_MUL, 291, 355, 394},
+        {CODEGEN_IV_CONST, 295, 5, 0},
+        {CODEGEN_IV_MUL, 295, 295, 311},
+        {CODEGEN_IV_MUL, 295, 295, 151},
+        {CODEGEN_IV_NEG, 295, 295, 0},
+        {CODEGEN_IV_MUL, 304, 283, 299},
+        {CODEGEN_IV_SUB, 304, 295, 304},
+        {CODEGEN_IV_MUL, 295, 282, 299},
+        {CODEGEN_IV_SUB, 295, 304, 295},
+        {CODEGEN_IV_MUL, 295, 291, 295},
+        {CODEGEN_IV_SUB, 295, 371, 295},
+        {CODEGEN_IV_MUL, 371, 393, 323},
+        {CODEGEN_IV_MUL, 371, 371, 345},
+        {CODEGEN_IV_SUB, 371, 295, 371},
+        {CODEGEN_IV_MUL, 371, 385, 371},
+        {CODEGEN_IV_ADD, 371, 379, 371},
+        {CODEGEN_IV_MUL, 379, 228, 380},
+        {CODEGEN_IV_MUL, 379, 379, 302},
+        {CODEGEN_IV_CONST, 385, 7, 0},
+        {CODEGEN_IV_MUL, 385, 385, 315},
+        {CODEGEN_IV_NEG, 385, 385, 0},
+        {CODEGEN_IV_CONST, 295, 7, 0},
+        {CODEGEN_IV_MUL, 295, 295, 308},
+        {CODEGEN_IV_SUB, 295, 385, 295},
+        {CODEGEN_IV_CONST, 385, 9, 0},
+        {CODEGEN_IV_MUL, 385, 385, 307},
+        {CODEGEN_IV_SUB, 385, 295, 385},
+        {CODEGEN_IV_SUB, 385, 385, 370},
+        {CODEGEN_IV_CONST, 295, 3, 0},
+        {CODEGEN_IV_MUL, 295, 295, 293},
+        {CODEGEN_IV_MUL, 295, 295, 151},
+        {CODEGEN_IV_MUL, 295, 295, 152},
+        {CODEGEN_IV_SUB, 295, 385, 295},
+        {CODEGEN_IV_MUL, 385, 229, 294},
+        {CODEGEN_IV_MUL, 385, 385, 154},
+        {CODEGEN_IV_MUL, 385, 385, 318},
+        {CODEGEN_IV_MUL, 385, 385, 342},
+        {CODEGEN_IV_ADD, 385, 295, 385},
+        {CODEGEN_IV_MUL, 295, 230, 294},
+        {CODEGEN_IV_MUL, 295, 295, 163},
+        {CODEGEN_IV_MUL, 295, 295, 318},
+        {CODEGEN_IV_MUL, 295, 295, 342},
+        {CODEGEN_IV_ADD, 295, 385, 295},
+        {CODEGEN_IV_MUL, 295, 379, 295},
+        {CODEGEN_IV_ADD, 295, 371, 295},
+        {CODEGEN_IV_MUL, 371, 231, 380},
+        {CODEGEN_IV_MUL, 371, 371, 302},
+        {CODEGEN_IV_NEG, 379, 315, 0},
+        {CODEGEN_IV_SUB, 379, 379, 308},
+        {CODEGEN_IV_CONST, 385, 6, 0},
+        {CODEGEN_IV_MUL, 385, 385, 307},
+        {CODEGEN_IV_SUB, 385, 379, 385},
+        {CODEGEN_IV_SUB, 385, 385, 370},
+        {CODEGEN_IV_MUL, 379, 382, 151},
+        {CODEGEN_IV_SUB, 379, 385, 379},
+        {CODEGEN_IV_MUL, 385, 232, 294},
+        {CODEGEN_IV_MUL, 385, 385, 154},
+        {CODEGEN_IV_MUL, 385, 385, 318},
+        {CODEGEN_IV_MUL, 385, 385, 342},
+        {CODEGEN_IV_ADD, 385, 379, 385},
+        {CODEGEN_IV_MUL, 379, 233, 294},
+        {CODEGEN_IV_MUL, 379, 379, 163},
+        {CODEGEN_IV_MUL, 379, 379, 318},
+        {CODEGEN_IV_MUL, 379, 379, 342},
+        {CODEGEN_IV_ADD, 379, 385, 379},
+        {CODEGEN_IV_MUL, 379, 371, 379},
+        {CODEGEN_IV_ADD, 379, 295, 379},
+        {CODEGEN_IV_MUL, 295, 234, 298},
+        {CODEGEN_IV_MUL, 295, 295, 151},
+        {CODEGEN_IV_MUL, 295, 295, 152},
+        {CODEGEN_IV_MUL, 295, 295, 350},
+        {CODEGEN_IV_MUL, 295, 295, 384},
+        {CODEGEN_IV_ADD, 295, 379, 295},
+        {CODEGEN_IV_MUL, 379, 235, 298},
+        {CODEGEN_IV_MUL, 379, 379, 151},
+        {CODEGEN_IV_MUL, 379, 379, 152},
+        {CODEGEN_IV_MUL, 379, 379, 305},
+        {CODEGEN_IV_MUL, 379, 379, 351},
+        {CODEGEN_IV_MUL, 379, 379, 384},
+        {CODEGEN_IV_ADD, 379, 295, 379},
     };
-    static const codegen_iv constants[14] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+    static const codegen_iv constants[10] = {
         {2, 2},
         {1, 1},
         {4, 4},
-        {10, 10},
         {6, 6},
         {16, 16},
-        {12, 12},
         {8, 8},
-        {CODEGEN_R(0.25), CODEGEN_R(0.25)},
+        {12, 12},
         {3, 3},
-        {32, 32},
-        {24, 24},
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
         {36, 36}
     };
-    v[0] = codegen_iv_point(params->d);
-    v[1] = codegen_iv_point(params->a_2);
-    v[2] = codegen_iv_point(params->a_3);
-    v[3] = codegen_iv_point(params->a_4);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->m_3);
-    v[6] = codegen_iv_point(params->m_4);
-    v[7] = codegen_iv_point(params->k);
-    v[8] = codegen_iv_point(params->l_0);
-    v[9] = codegen_iv_point(params->x_S);
-    v[10] = codegen_iv_point(params->y_S);
-    v[11] = codegen_iv_point(params->T);
-    v[12] = codegen_iv_point(params->g);
-    v[13] = theta;
-    codegen_iv_run(program, 850, constants, v, iv_flags);
-    *iv_g = v[29];
-    *iv_dg = v[99];
+    v[280] = codegen_iv_point(params->d);
+    v[281] = codegen_iv_point(params->a_2);
+    v[285] = codegen_iv_point(params->m_3);
+    v[286] = codegen_iv_point(params->m_4);
+    v[287] = codegen_iv_point(params->k);
+    v[289] = codegen_iv_point(params->x_S);
+    v[290] = codegen_iv_point(params->y_S);
+    v[292] = codegen_iv_point(params->g);
+    v[293] = theta;
+    codegen_iv_run(program, 673, constants, v, iv_flags);
+    *iv_g = v[309];
+    *iv_dg = v[379];
 #else
-    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
-    const codegen_iv a_3 = codegen_iv_point(params->a_3);
-    const codegen_iv a_4 = codegen_iv_point(params->a_4);
-    const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv m_3 = codegen_iv_point(params->m_3);
     const codegen_iv m_4 = codegen_iv_point(params->m_4);
     const codegen_iv k = codegen_iv_point(params->k);
-    const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
     const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv T = codegen_iv_point(params->T);
     const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_2);
-    const codegen_iv tmp3 = codegen_iv_pow(a_2, 2);
-    const codegen_iv tmp4 = codegen_iv_pow(d, 2);
-    const codegen_iv tmp5 = codegen_iv_mul(d, tmp1);
-    const codegen_iv tmp6 = codegen_iv_mul(codegen_iv_point(2), tmp5);
-    const codegen_iv tmp7 = codegen_iv_sub(codegen_iv_add(tmp3, tmp4), tmp6);
-    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 2), iv_flags);
-    const codegen_iv tmp9 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 1), iv_flags);
-    const codegen_iv tmp10 = codegen_iv_pow(d, 3);
-    const codegen_iv tmp11 = codegen_iv_pow(a_4, 2);
-    const codegen_iv tmp12 = codegen_iv_mul(d, x_S);
-    const codegen_iv tmp13 = codegen_iv_mul(tmp11, tmp3);
-    const codegen_iv tmp14 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp15 = codegen_iv_pow(y_S, 2);
-    const codegen_iv tmp16 = codegen_iv_pow(a_3, 2);
-    const codegen_iv tmp17 = codegen_iv_mul(tmp16, tmp4);
-    const codegen_iv tmp18 = codegen_iv_mul(a_2, tmp10);
-    const codegen_iv tmp19 = codegen_iv_mul(tmp0, tmp18);
-    const codegen_iv tmp20 = codegen_iv_mul(tmp12, tmp3);
-    const codegen_iv tmp21 = codegen_iv_pow(a_2, 3);
-    const codegen_iv tmp22 = codegen_iv_mul(tmp0, tmp21);
-    const codegen_iv tmp23 = codegen_iv_mul(d, tmp22);
-    const codegen_iv tmp24 = codegen_iv_mul(tmp22, x_S);
-    const codegen_iv tmp25 = codegen_iv_sin(theta);
-    const codegen_iv tmp26 = codegen_iv_mul(tmp21, tmp25);
-    const codegen_iv tmp27 = codegen_iv_mul(tmp26, y_S);
-    const codegen_iv tmp28 = codegen_iv_mul(tmp1, x_S);
-    const codegen_iv tmp29 = codegen_iv_mul(tmp16, tmp28);
-    const codegen_iv tmp30 = codegen_iv_mul(a_2, tmp25);
-    const codegen_iv tmp31 = codegen_iv_mul(tmp30, y_S);
-    const codegen_iv tmp32 = codegen_iv_mul(tmp16, tmp31);
-    const codegen_iv tmp33 = codegen_iv_mul(tmp28, tmp4);
-    const codegen_iv tmp34 = codegen_iv_mul(tmp16, tmp5);
-    const codegen_iv tmp35 = codegen_iv_mul(tmp11, tmp5);
-    const codegen_iv tmp36 = codegen_iv_mul(tmp11, tmp28);
-    const codegen_iv tmp37 = codegen_iv_mul(tmp11, tmp31);
-    const codegen_iv tmp38 = codegen_iv_mul(tmp14, tmp6);
-    const codegen_iv tmp39 = codegen_iv_mul(tmp15, tmp6);
-    const codegen_iv tmp40 = codegen_iv_mul(tmp31, tmp4);
-    const codegen_iv tmp41 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2), tmp41);
-    const codegen_iv tmp43 = codegen_iv_mul(d, y_S);
-    const codegen_iv tmp44 = codegen_iv_mul(codegen_iv_point(2), tmp43);
-    const codegen_iv tmp45 = codegen_iv_mul(tmp0, tmp3);
-    const codegen_iv tmp46 = codegen_iv_mul(tmp25, tmp45);
-    const codegen_iv tmp47 = codegen_iv_mul(codegen_iv_point(2), tmp4);
-    const codegen_iv tmp48 = codegen_iv_mul(tmp3, tmp41);
-    const codegen_iv tmp49 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
-    const codegen_iv tmp50 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), tmp16), tmp3), tmp4), tmp49), tmp6);
-    const codegen_iv tmp51 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), tmp16), tmp49), tmp7);
-    const codegen_iv tmp52 = codegen_iv_mul(tmp50, tmp51);
-    const codegen_iv tmp53 = codegen_iv_sqrt(codegen_iv_neg(tmp52), iv_flags);
-    const codegen_iv tmp54 = codegen_iv_mul(tmp30, x_S);
-    const codegen_iv tmp55 = codegen_iv_mul(tmp53, tmp54);
-    const codegen_iv tmp56 = codegen_iv_mul(d, tmp30);
-    const codegen_iv tmp57 = codegen_iv_mul(tmp53, tmp56);
-    const codegen_iv tmp58 = codegen_iv_mul(tmp1, y_S);
-    const codegen_iv tmp59 = codegen_iv_mul(tmp53, tmp58);
-    const codegen_iv tmp60 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp13, tmp17), tmp19), tmp20), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp10, x_S)), codegen_iv_mul(tmp11, tmp12)), codegen_iv_mul(tmp12, tmp16)), codegen_iv_mul(tmp14, tmp3)), codegen_iv_mul(tmp14, tmp4)), codegen_iv_mul(tmp15, tmp3)), codegen_iv_mul(tmp15, tmp4)), codegen_iv_mul(tmp20, tmp42)), codegen_iv_mul(tmp43, tmp53)), codegen_iv_mul(tmp44, tmp46)), codegen_iv_mul(tmp47, tmp48));
-    const codegen_iv tmp61 = codegen_iv_sqrt(codegen_iv_mul(tmp60, tmp7), iv_flags);
-    const codegen_iv tmp62 = codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp61, tmp9));
-    const codegen_iv tmp63 = codegen_iv_mul(codegen_iv_mul(k, tmp62), tmp8);
-    const codegen_iv tmp64 = codegen_iv_mul(codegen_iv_point(2), tmp56);
-    const codegen_iv tmp65 = codegen_iv_mul(tmp61, tmp64);
-    const codegen_iv tmp66 = codegen_iv_pow(a_2, 4);
-    const codegen_iv tmp67 = codegen_iv_mul(tmp0, tmp66);
-    const codegen_iv tmp68 = codegen_iv_mul(tmp53, tmp67);
-    const codegen_iv tmp69 = codegen_iv_pow(d, 4);
-    const codegen_iv tmp70 = codegen_iv_mul(tmp0, tmp69);
-    const codegen_iv tmp71 = codegen_iv_mul(tmp53, tmp70);
-    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_point(4), tmp41);
-    const codegen_iv tmp73 = codegen_iv_mul(d, tmp21);
-    const codegen_iv tmp74 = codegen_iv_mul(tmp45, tmp47);
-    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_point(4), tmp3);
-    const codegen_iv tmp76 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp77 = codegen_iv_mul(tmp4, tmp76);
-    const codegen_iv tmp78 = codegen_iv_mul(tmp75, tmp77);
-    const codegen_iv tmp79 = codegen_iv_pow(d, 6);
-    const codegen_iv tmp80 = codegen_iv_mul(tmp25, tmp69);
-    const codegen_iv tmp81 = codegen_iv_mul(codegen_iv_point(2), tmp16);
-    const codegen_iv tmp82 = codegen_iv_mul(codegen_iv_point(2), tmp11);
-    const codegen_iv tmp83 = codegen_iv_mul(tmp25, tmp47);
-    const codegen_iv tmp84 = codegen_iv_mul(tmp0, tmp13);
-    const codegen_iv tmp85 = codegen_iv_mul(tmp25, tmp52);
-    const codegen_iv tmp86 = codegen_iv_mul(tmp11, tmp4);
-    const codegen_iv tmp87 = codegen_iv_mul(tmp0, tmp86);
-    const codegen_iv tmp88 = codegen_iv_pow(d, 5);
-    const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(10), tmp88);
-    const codegen_iv tmp90 = codegen_iv_pow(a_2, 5);
-    const codegen_iv tmp91 = codegen_iv_mul(d, tmp90);
-    const codegen_iv tmp92 = codegen_iv_mul(codegen_iv_point(2), tmp25);
-    const codegen_iv tmp93 = codegen_iv_mul(tmp25, tmp4);
-    const codegen_iv tmp94 = codegen_iv_mul(codegen_iv_point(4), tmp48);
-    const codegen_iv tmp95 = codegen_iv_mul(a_2, tmp41);
-    const codegen_iv tmp96 = codegen_iv_mul(d, tmp82);
-    const codegen_iv tmp97 = codegen_iv_pow(tmp25, 2);
-    const codegen_iv tmp98 = codegen_iv_mul(a_2, tmp97);
-    const codegen_iv tmp99 = codegen_iv_mul(d, tmp81);
-    const codegen_iv tmp100 = codegen_iv_mul(tmp95, tmp99);
-    const codegen_iv tmp101 = codegen_iv_mul(tmp98, tmp99);
-    const codegen_iv tmp102 = codegen_iv_mul(tmp23, tmp25);
-    const codegen_iv tmp103 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp19), tmp25);
-    const codegen_iv tmp104 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(tmp100, tmp53), codegen_iv_mul(tmp101, tmp53)), codegen_iv_mul(tmp102, tmp81)), codegen_iv_mul(tmp102, tmp82)), codegen_iv_mul(tmp103, tmp11)), codegen_iv_mul(tmp103, tmp16)), codegen_iv_mul(tmp13, tmp83)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp25), tmp79)), codegen_iv_mul(tmp3, tmp85)), codegen_iv_mul(tmp4, tmp85)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp48), tmp80)), codegen_iv_mul(tmp53, tmp84)), codegen_iv_mul(tmp53, tmp87)), codegen_iv_mul(tmp66, tmp83)), codegen_iv_mul(tmp75, tmp80)), codegen_iv_mul(tmp80, tmp81)), codegen_iv_mul(tmp80, tmp82)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp17), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp30), tmp89)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp91), tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp10), tmp22), tmp25)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp10), tmp26), tmp76)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp72), tmp93)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp25), tmp94)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp3), tmp92)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp41), tmp66), tmp93)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp95), tmp96)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp96), tmp98));
-    const codegen_iv tmp105 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp104, tmp68), tmp71), codegen_iv_mul(tmp53, tmp74)), codegen_iv_mul(tmp53, tmp78)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp53), tmp72)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp72), tmp73));
-    const codegen_iv tmp106 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp53, 1), iv_flags);
-    const codegen_iv tmp107 = codegen_iv_mul(g, tmp106);
-    const codegen_iv tmp108 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), tmp8);
-    const codegen_iv tmp109 = codegen_iv_mul(codegen_iv_point(12), tmp41);
-    const codegen_iv tmp110 = codegen_iv_mul(tmp4, tmp45);
-    const codegen_iv tmp111 = codegen_iv_mul(codegen_iv_point(6), tmp110);
-    const codegen_iv tmp112 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp3), tmp77);
-    const codegen_iv tmp113 = codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp104, codegen_iv_mul(codegen_iv_point(3), tmp68)), codegen_iv_mul(codegen_iv_point(3), tmp71)), codegen_iv_mul(tmp111, tmp53)), codegen_iv_mul(tmp112, tmp53)), codegen_iv_mul(codegen_iv_mul(tmp109, tmp18), tmp53)), codegen_iv_mul(codegen_iv_mul(tmp109, tmp53), tmp73));
-    const codegen_iv tmp114 = codegen_iv_mul(codegen_iv_mul(m_3, tmp107), tmp113);
-    const codegen_iv tmp115 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp61, 1), iv_flags);
-    const codegen_iv tmp116 = codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp50, tmp64)), codegen_iv_mul(tmp51, tmp64));
-    const codegen_iv tmp117 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp106);
-    const codegen_iv tmp118 = codegen_iv_mul(tmp116, tmp117);
-    const codegen_iv tmp119 = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp43), tmp54), tmp56), tmp58);
-    const codegen_iv tmp120 = codegen_iv_mul(tmp119, tmp7);
-    const codegen_iv tmp121 = codegen_iv_mul(codegen_iv_point(4), tmp25);
-    const codegen_iv tmp122 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(d, tmp26)), codegen_iv_mul(tmp11, tmp54)), codegen_iv_mul(tmp11, tmp56)), codegen_iv_mul(tmp11, tmp58)), codegen_iv_mul(tmp110, tmp121)), codegen_iv_mul(tmp14, tmp64)), codegen_iv_mul(tmp15, tmp64)), codegen_iv_mul(tmp16, tmp54)), codegen_iv_mul(tmp16, tmp56)), codegen_iv_mul(tmp16, tmp58)), codegen_iv_mul(tmp18, tmp25)), codegen_iv_mul(tmp22, y_S)), codegen_iv_mul(tmp26, x_S)), codegen_iv_mul(tmp28, tmp53)), codegen_iv_mul(tmp31, tmp53)), codegen_iv_mul(tmp4, tmp54)), codegen_iv_mul(tmp4, tmp58)), codegen_iv_mul(tmp44, tmp48)), codegen_iv_mul(tmp5, tmp53)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp121), tmp20)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp3), tmp43), tmp97));
-    const codegen_iv tmp123 = codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp120)), codegen_iv_mul(tmp122, tmp7)), codegen_iv_mul(tmp60, tmp64));
-    const codegen_iv tmp124 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp123);
-    const codegen_iv tmp125 = codegen_iv_mul(tmp62, tmp9);
-    const codegen_iv tmp126 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp7, 3), iv_flags);
-    const codegen_iv tmp127 = codegen_iv_mul(k, tmp126);
-    const codegen_iv tmp128 = codegen_iv_mul(tmp123, tmp56);
-    const codegen_iv tmp129 = codegen_iv_mul(tmp25, tmp53);
-    const codegen_iv tmp130 = codegen_iv_mul(tmp129, tmp66);
-    const codegen_iv tmp131 = codegen_iv_mul(tmp129, tmp69);
-    const codegen_iv tmp132 = codegen_iv_mul(codegen_iv_mul(tmp129, tmp4), tmp48);
-    const codegen_iv tmp133 = codegen_iv_mul(tmp10, tmp21);
-    const codegen_iv tmp134 = codegen_iv_mul(tmp73, tmp97);
-    const codegen_iv tmp135 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp18), tmp97);
-    const codegen_iv tmp136 = codegen_iv_mul(tmp4, tmp97);
-    const codegen_iv tmp137 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp79)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), codegen_iv_pow(tmp0, 4)), tmp133)), codegen_iv_mul(tmp109, tmp133)), codegen_iv_mul(tmp11, tmp135)), codegen_iv_mul(tmp129, tmp13)), codegen_iv_mul(tmp129, tmp86)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp13), tmp77)), codegen_iv_mul(tmp134, tmp81)), codegen_iv_mul(tmp134, tmp82)), codegen_iv_mul(tmp135, tmp16)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp136), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp17), tmp45)), codegen_iv_mul(tmp42, tmp91)), codegen_iv_mul(tmp47, tmp84)), codegen_iv_mul(tmp70, tmp81)), codegen_iv_mul(tmp70, tmp82)), codegen_iv_mul(tmp89, tmp95)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10), a_2), tmp88), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp90), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp0), tmp3), tmp69)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp4), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp4), tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp10), tmp21), tmp97)), codegen_iv_mul(codegen_iv_mul(tmp17, tmp75), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp3), tmp69), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(32), tmp3), tmp70), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp4), tmp66), tmp76)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp10), tmp11), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), a_2), tmp10), tmp16), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp11), tmp21), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), d), tmp16), tmp21), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp3), tmp50), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), tmp10), tmp21), tmp41), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp16, tmp25), tmp3), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp16, tmp25), tmp4), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp0), tmp11), tmp3), tmp4), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp0), tmp16), tmp3), tmp4), tmp97));
-    const codegen_iv tmp138 = codegen_iv_mul(tmp129, tmp47);
-    const codegen_iv tmp139 = codegen_iv_mul(tmp7, codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp28), tmp31), codegen_iv_mul(codegen_iv_mul(a_2, d), tmp0)));
-    const codegen_iv tmp140 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_mul(tmp50, tmp51), iv_flags);
-    const codegen_iv tmp141 = codegen_iv_mul(tmp106, tmp116);
-    const codegen_iv tmp142 = codegen_iv_mul(m_4, tmp105);
-    const codegen_iv tmp143 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(d, tmp126), tmp25), tmp3);
-    const codegen_iv tmp144 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp100, tmp101), tmp138), tmp84), tmp87), codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp3)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp25), tmp3), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp11), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_2), d), tmp11), tmp97));
-    const codegen_iv tmp145 = codegen_iv_mul(codegen_iv_mul(g, tmp108), tmp140);
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp2)), codegen_iv_mul(tmp108, tmp114)), codegen_iv_mul(tmp63, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp115), tmp124), tmp125)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(m_4, tmp105), tmp107), tmp108));
-    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp114, tmp143)), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(m_3, tmp113), tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp111), tmp112), tmp144), codegen_iv_mul(codegen_iv_point(3), tmp67)), codegen_iv_mul(codegen_iv_point(3), tmp70)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), d), tmp21), tmp41)))))), codegen_iv_mul(tmp118, codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp142, tmp145)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp144), tmp67), tmp70), tmp74), tmp78), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), a_2), tmp10), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), d), tmp21), tmp41)))))), codegen_iv_mul(tmp127, tmp128)), codegen_iv_mul(tmp2, tmp30)), codegen_iv_mul(codegen_iv_mul(tmp107, tmp142), tmp143)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp115), tmp123), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp127, tmp65)), codegen_iv_mul(tmp63, tmp64)), codegen_iv_div(codegen_iv_mul(tmp124, tmp63), tmp60, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp115), tmp123), tmp8)))), codegen_iv_mul(codegen_iv_mul(tmp115, tmp128), tmp63)), codegen_iv_mul(codegen_iv_mul(tmp6, tmp61), tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), k), tmp115), tmp125), tmp141), codegen_iv_add(codegen_iv_add(tmp139, codegen_iv_mul(tmp119, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp116), tmp120), tmp140)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), k), tmp115), tmp62), tmp9), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(tmp118, tmp139)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp122), tmp56)), codegen_iv_mul(tmp6, tmp60)), codegen_iv_mul(tmp7, codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp19), tmp23), tmp24), tmp27), tmp29), tmp32), tmp33), tmp34), tmp35), tmp36), tmp37), tmp38), tmp39), tmp40), tmp55), tmp57), tmp59), codegen_iv_mul(tmp136, tmp75)), codegen_iv_mul(tmp20, tmp72)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp20), tmp97)), codegen_iv_mul(tmp4, tmp94)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp43), tmp46)))), codegen_iv_mul(codegen_iv_mul(tmp117, tmp120), codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp136), tmp3)), codegen_iv_mul(tmp50, tmp6)), codegen_iv_mul(tmp51, tmp6)))), codegen_iv_mul(codegen_iv_mul(tmp119, tmp141), tmp56)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_3), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_point(3), tmp130)), codegen_iv_mul(codegen_iv_point(3), tmp131)), codegen_iv_mul(codegen_iv_point(36), tmp132)), tmp137), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp129), tmp3), tmp4)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(24), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), m_4), tmp106), tmp8), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp130), tmp131), codegen_iv_mul(codegen_iv_point(12), tmp132)), tmp137), codegen_iv_mul(tmp138, tmp3)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), a_2), tmp0), tmp10), tmp25), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), d), tmp0), tmp21), tmp25), tmp53)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), k), tmp126), tmp3), tmp4), tmp60), tmp97)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), k), tmp126), tmp3), tmp4), tmp61), tmp62), tmp97));
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[153], tmp4);
+    const codegen_iv tmp7 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1), tmp7, iv_flags);
+    const codegen_iv tmp10 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp11 = codegen_iv_div(codegen_iv_point(1), tmp10, iv_flags);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp0, v[161]);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp0, v[163]);
+    const codegen_iv tmp14 = codegen_iv_mul(d, tmp13);
+    const codegen_iv tmp15 = codegen_iv_mul(tmp13, x_S);
+    const codegen_iv tmp16 = codegen_iv_sin(theta);
+    const codegen_iv tmp17 = codegen_iv_mul(v[163], tmp16);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp17, y_S);
+    const codegen_iv tmp19 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp20 = codegen_iv_mul(v[159], tmp19);
+    const codegen_iv tmp21 = codegen_iv_mul(a_2, tmp16);
+    const codegen_iv tmp22 = codegen_iv_mul(tmp21, y_S);
+    const codegen_iv tmp23 = codegen_iv_mul(v[159], tmp22);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp19, v[152]);
+    const codegen_iv tmp25 = codegen_iv_mul(v[159], tmp2);
+    const codegen_iv tmp26 = codegen_iv_mul(v[155], tmp2);
+    const codegen_iv tmp27 = codegen_iv_mul(v[155], tmp19);
+    const codegen_iv tmp28 = codegen_iv_mul(v[155], tmp22);
+    const codegen_iv tmp29 = codegen_iv_mul(v[157], tmp4);
+    const codegen_iv tmp30 = codegen_iv_mul(v[158], tmp4);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp22, v[152]);
+    const codegen_iv tmp32 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp34 = codegen_iv_mul(codegen_iv_point(2), tmp32);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp0, v[151]);
+    const codegen_iv tmp36 = codegen_iv_mul(tmp16, tmp35);
+    const codegen_iv tmp37 = codegen_iv_mul(v[151], tmp32);
+    const codegen_iv tmp38 = codegen_iv_sub(v[167], tmp4);
+    const codegen_iv tmp39 = codegen_iv_add(v[168], tmp5);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_neg(tmp40);
+    const codegen_iv tmp42 = codegen_iv_sqrt(tmp41, iv_flags);
+    const codegen_iv tmp43 = codegen_iv_mul(tmp21, x_S);
+    const codegen_iv tmp44 = codegen_iv_mul(tmp42, tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(d, tmp21);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp42, tmp45);
+    const codegen_iv tmp47 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp48 = codegen_iv_mul(tmp42, tmp47);
+    const codegen_iv tmp49 = codegen_iv_add(v[169], tmp12);
+    const codegen_iv tmp50 = codegen_iv_sub(tmp49, v[162]);
+    const codegen_iv tmp51 = codegen_iv_add(tmp50, tmp14);
+    const codegen_iv tmp52 = codegen_iv_sub(tmp51, tmp15);
+    const codegen_iv tmp53 = codegen_iv_sub(tmp52, tmp18);
+    const codegen_iv tmp54 = codegen_iv_add(tmp53, tmp20);
+    const codegen_iv tmp55 = codegen_iv_add(tmp54, tmp23);
+    const codegen_iv tmp56 = codegen_iv_add(tmp55, tmp24);
+    const codegen_iv tmp57 = codegen_iv_sub(tmp56, tmp25);
+    const codegen_iv tmp58 = codegen_iv_sub(tmp57, tmp26);
+    const codegen_iv tmp59 = codegen_iv_sub(tmp58, tmp27);
+    const codegen_iv tmp60 = codegen_iv_sub(tmp59, tmp28);
+    const codegen_iv tmp61 = codegen_iv_sub(tmp60, tmp29);
+    const codegen_iv tmp62 = codegen_iv_sub(tmp61, tmp30);
+    const codegen_iv tmp63 = codegen_iv_sub(tmp62, tmp31);
+    const codegen_iv tmp64 = codegen_iv_add(tmp63, tmp44);
+    const codegen_iv tmp65 = codegen_iv_sub(tmp64, tmp46);
+    const codegen_iv tmp66 = codegen_iv_sub(tmp65, tmp48);
+    const codegen_iv tmp67 = codegen_iv_sub(tmp66, v[170]);
+    const codegen_iv tmp68 = codegen_iv_add(tmp67, v[171]);
+    const codegen_iv tmp69 = codegen_iv_sub(tmp68, v[172]);
+    const codegen_iv tmp70 = codegen_iv_add(tmp69, v[173]);
+    const codegen_iv tmp71 = codegen_iv_add(tmp70, v[174]);
+    const codegen_iv tmp72 = codegen_iv_add(tmp71, v[175]);
+    const codegen_iv tmp73 = codegen_iv_add(tmp72, v[176]);
+    const codegen_iv tmp74 = codegen_iv_mul(v[162], tmp34);
+    const codegen_iv tmp75 = codegen_iv_add(tmp73, tmp74);
+    const codegen_iv tmp76 = codegen_iv_mul(v[164], tmp42);
+    const codegen_iv tmp77 = codegen_iv_add(tmp75, tmp76);
+    const codegen_iv tmp78 = codegen_iv_mul(v[165], tmp36);
+    const codegen_iv tmp79 = codegen_iv_add(tmp77, tmp78);
+    const codegen_iv tmp80 = codegen_iv_mul(v[166], tmp37);
+    const codegen_iv tmp81 = codegen_iv_sub(tmp79, tmp80);
+    const codegen_iv tmp82 = codegen_iv_mul(tmp81, tmp5);
+    const codegen_iv tmp83 = codegen_iv_sqrt(tmp82, iv_flags);
+    const codegen_iv tmp84 = codegen_iv_mul(tmp83, tmp11);
+    const codegen_iv tmp85 = codegen_iv_add(v[177], tmp84);
+    const codegen_iv tmp86 = codegen_iv_mul(k, tmp85);
+    const codegen_iv tmp87 = codegen_iv_mul(tmp86, tmp8);
+    const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(2), tmp45);
+    const codegen_iv tmp90 = codegen_iv_mul(tmp83, tmp89);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp0, v[178]);
+    const codegen_iv tmp92 = codegen_iv_mul(tmp42, tmp91);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp0, v[179]);
+    const codegen_iv tmp94 = codegen_iv_mul(tmp42, tmp93);
+    const codegen_iv tmp96 = codegen_iv_mul(codegen_iv_point(4), tmp32);
+    const codegen_iv tmp97 = codegen_iv_mul(tmp35, v[166]);
+    const codegen_iv tmp98 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp99 = codegen_iv_mul(v[152], tmp98);
+    const codegen_iv tmp100 = codegen_iv_mul(v[181], tmp99);
+    const codegen_iv tmp101 = codegen_iv_mul(tmp16, v[179]);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[166]);
+    const codegen_iv tmp103 = codegen_iv_mul(tmp0, v[156]);
+    const codegen_iv tmp104 = codegen_iv_mul(tmp16, tmp40);
+    const codegen_iv tmp105 = codegen_iv_mul(tmp0, v[185]);
+    const codegen_iv tmp107 = codegen_iv_mul(codegen_iv_point(2), tmp16);
+    const codegen_iv tmp108 = codegen_iv_mul(tmp16, v[152]);
+    const codegen_iv tmp110 = codegen_iv_mul(codegen_iv_point(4), tmp37);
+    const codegen_iv tmp111 = codegen_iv_mul(a_2, tmp32);
+    const codegen_iv tmp112 = codegen_iv_pow(tmp16, 2);
+    const codegen_iv tmp113 = codegen_iv_mul(a_2, tmp112);
+    const codegen_iv tmp114 = codegen_iv_mul(tmp111, v[189]);
+    const codegen_iv tmp115 = codegen_iv_mul(tmp113, v[189]);
+    const codegen_iv tmp116 = codegen_iv_mul(tmp14, tmp16);
+    const codegen_iv tmp118 = codegen_iv_mul(codegen_iv_point(6), tmp12);
+    const codegen_iv tmp119 = codegen_iv_mul(tmp118, tmp16);
+    const codegen_iv tmp120 = codegen_iv_mul(tmp114, tmp42);
+    const codegen_iv tmp121 = codegen_iv_mul(tmp115, tmp42);
+    const codegen_iv tmp122 = codegen_iv_add(tmp120, tmp121);
+    const codegen_iv tmp123 = codegen_iv_mul(tmp116, v[183]);
+    const codegen_iv tmp124 = codegen_iv_add(tmp122, tmp123);
+    const codegen_iv tmp125 = codegen_iv_mul(tmp116, v[184]);
+    const codegen_iv tmp126 = codegen_iv_add(tmp124, tmp125);
+    const codegen_iv tmp127 = codegen_iv_mul(tmp119, v[155]);
+    const codegen_iv tmp128 = codegen_iv_add(tmp126, tmp127);
+    const codegen_iv tmp129 = codegen_iv_mul(tmp119, v[159]);
+    const codegen_iv tmp130 = codegen_iv_add(tmp128, tmp129);
+    const codegen_iv tmp131 = codegen_iv_mul(v[156], tmp102);
+    const codegen_iv tmp132 = codegen_iv_sub(tmp130, tmp131);
+    const codegen_iv tmp134 = codegen_iv_mul(codegen_iv_point(2), tmp16);
+    const codegen_iv tmp135 = codegen_iv_mul(tmp134, v[182]);
+    const codegen_iv tmp136 = codegen_iv_add(tmp132, tmp135);
+    const codegen_iv tmp137 = codegen_iv_mul(v[151], tmp104);
+    const codegen_iv tmp138 = codegen_iv_add(tmp136, tmp137);
+    const codegen_iv tmp139 = codegen_iv_mul(v[152], tmp104);
+    const codegen_iv tmp140 = codegen_iv_sub(tmp138, tmp139);
+    const codegen_iv tmp142 = codegen_iv_mul(codegen_iv_point(16), tmp37);
+    const codegen_iv tmp143 = codegen_iv_mul(tmp142, tmp101);
+    const codegen_iv tmp144 = codegen_iv_add(tmp140, tmp143);
+    const codegen_iv tmp145 = codegen_iv_mul(tmp42, tmp103);
+    const codegen_iv tmp146 = codegen_iv_add(tmp144, tmp145);
+    const codegen_iv tmp147 = codegen_iv_mul(tmp42, tmp105);
+    const codegen_iv tmp148 = codegen_iv_add(tmp146, tmp147);
+    const codegen_iv tmp149 = codegen_iv_mul(v[178], tmp102);
+    const codegen_iv tmp150 = codegen_iv_add(tmp148, tmp149);
+    const codegen_iv tmp151 = codegen_iv_mul(v[181], tmp101);
+    const codegen_iv tmp152 = codegen_iv_add(tmp150, tmp151);
+    const codegen_iv tmp153 = codegen_iv_mul(tmp101, v[183]);
+    const codegen_iv tmp154 = codegen_iv_sub(tmp152, tmp153);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp101, v[184]);
+    const codegen_iv tmp156 = codegen_iv_sub(tmp154, tmp155);
+    const codegen_iv tmp157 = codegen_iv_mul(tmp0, v[160]);
+    const codegen_iv tmp158 = codegen_iv_mul(tmp157, tmp42);
+    const codegen_iv tmp159 = codegen_iv_sub(tmp156, tmp158);
+    const codegen_iv tmp160 = codegen_iv_mul(tmp0, tmp21);
+    const codegen_iv tmp161 = codegen_iv_mul(tmp160, v[186]);
+    const codegen_iv tmp162 = codegen_iv_sub(tmp159, tmp161);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp0, v[187]);
+    const codegen_iv tmp164 = codegen_iv_mul(tmp163, tmp107);
+    const codegen_iv tmp165 = codegen_iv_sub(tmp162, tmp164);
+    const codegen_iv tmp166 = codegen_iv_mul(v[190], tmp13);
+    const codegen_iv tmp167 = codegen_iv_mul(tmp166, tmp16);
+    const codegen_iv tmp168 = codegen_iv_sub(tmp165, tmp167);
+    const codegen_iv tmp169 = codegen_iv_mul(v[191], tmp17);
+    const codegen_iv tmp170 = codegen_iv_mul(tmp169, tmp98);
+    const codegen_iv tmp171 = codegen_iv_sub(tmp168, tmp170);
+    const codegen_iv tmp172 = codegen_iv_mul(v[156], tmp96);
+    const codegen_iv tmp173 = codegen_iv_mul(tmp172, tmp108);
+    const codegen_iv tmp174 = codegen_iv_sub(tmp171, tmp173);
+    const codegen_iv tmp175 = codegen_iv_mul(v[159], tmp35);
+    const codegen_iv tmp176 = codegen_iv_mul(tmp175, tmp42);
+    const codegen_iv tmp177 = codegen_iv_sub(tmp174, tmp176);
+    const codegen_iv tmp178 = codegen_iv_mul(v[160], tmp16);
+    const codegen_iv tmp179 = codegen_iv_mul(tmp178, tmp110);
+    const codegen_iv tmp180 = codegen_iv_sub(tmp177, tmp179);
+    const codegen_iv tmp181 = codegen_iv_mul(v[192], tmp107);
+    const codegen_iv tmp182 = codegen_iv_sub(tmp180, tmp181);
+    const codegen_iv tmp184 = codegen_iv_mul(codegen_iv_point(8), tmp32);
+    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[178]);
+    const codegen_iv tmp186 = codegen_iv_mul(tmp185, tmp108);
+    const codegen_iv tmp187 = codegen_iv_add(tmp182, tmp186);
+    const codegen_iv tmp188 = codegen_iv_mul(tmp42, tmp111);
+    const codegen_iv tmp189 = codegen_iv_mul(tmp188, v[188]);
+    const codegen_iv tmp190 = codegen_iv_sub(tmp187, tmp189);
+    const codegen_iv tmp191 = codegen_iv_mul(tmp42, v[188]);
+    const codegen_iv tmp192 = codegen_iv_mul(tmp191, tmp113);
+    const codegen_iv tmp193 = codegen_iv_sub(tmp190, tmp192);
+    const codegen_iv tmp194 = codegen_iv_add(tmp193, tmp92);
+    const codegen_iv tmp195 = codegen_iv_add(tmp194, tmp94);
+    const codegen_iv tmp196 = codegen_iv_mul(tmp42, tmp97);
+    const codegen_iv tmp197 = codegen_iv_add(tmp195, tmp196);
+    const codegen_iv tmp198 = codegen_iv_mul(tmp42, tmp100);
+    const codegen_iv tmp199 = codegen_iv_add(tmp197, tmp198);
+    const codegen_iv tmp200 = codegen_iv_mul(v[161], tmp42);
+    const codegen_iv tmp201 = codegen_iv_mul(tmp200, tmp96);
+    const codegen_iv tmp202 = codegen_iv_sub(tmp199, tmp201);
+    const codegen_iv tmp203 = codegen_iv_mul(tmp42, tmp96);
+    const codegen_iv tmp204 = codegen_iv_mul(tmp203, v[180]);
+    const codegen_iv tmp205 = codegen_iv_sub(tmp202, tmp204);
+    const codegen_iv tmp207 = codegen_iv_pow(tmp42, 1);
+    const codegen_iv tmp208 = codegen_iv_div(codegen_iv_point(1), tmp207, iv_flags);
+    const codegen_iv tmp209 = codegen_iv_mul(g, tmp208);
+    const codegen_iv tmp210 = codegen_iv_mul(v[193], tmp8);
+    const codegen_iv tmp212 = codegen_iv_mul(codegen_iv_point(12), tmp32);
+    const codegen_iv tmp213 = codegen_iv_mul(v[152], tmp35);
+    const codegen_iv tmp215 = codegen_iv_mul(codegen_iv_point(6), tmp213);
+    const codegen_iv tmp216 = codegen_iv_mul(v[194], tmp99);
+    const codegen_iv tmp218 = codegen_iv_mul(codegen_iv_point(3), tmp92);
+    const codegen_iv tmp219 = codegen_iv_add(tmp193, tmp218);
+    const codegen_iv tmp221 = codegen_iv_mul(codegen_iv_point(3), tmp94);
+    const codegen_iv tmp222 = codegen_iv_add(tmp219, tmp221);
+    const codegen_iv tmp223 = codegen_iv_mul(tmp215, tmp42);
+    const codegen_iv tmp224 = codegen_iv_add(tmp222, tmp223);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp216, tmp42);
+    const codegen_iv tmp226 = codegen_iv_add(tmp224, tmp225);
+    const codegen_iv tmp227 = codegen_iv_mul(tmp212, v[161]);
+    const codegen_iv tmp228 = codegen_iv_mul(tmp227, tmp42);
+    const codegen_iv tmp229 = codegen_iv_sub(tmp226, tmp228);
+    const codegen_iv tmp230 = codegen_iv_mul(tmp212, tmp42);
+    const codegen_iv tmp231 = codegen_iv_mul(tmp230, v[180]);
+    const codegen_iv tmp232 = codegen_iv_sub(tmp229, tmp231);
+    const codegen_iv tmp233 = codegen_iv_mul(m_3, tmp209);
+    const codegen_iv tmp234 = codegen_iv_mul(tmp233, tmp232);
+    const codegen_iv tmp236 = codegen_iv_pow(tmp83, 1);
+    const codegen_iv tmp237 = codegen_iv_div(codegen_iv_point(1), tmp236, iv_flags);
+    const codegen_iv tmp238 = codegen_iv_mul(tmp38, tmp89);
+    const codegen_iv tmp239 = codegen_iv_neg(tmp238);
+    const codegen_iv tmp240 = codegen_iv_mul(tmp39, tmp89);
+    const codegen_iv tmp241 = codegen_iv_sub(tmp239, tmp240);
+    const codegen_iv tmp243 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp208);
+    const codegen_iv tmp244 = codegen_iv_mul(tmp241, tmp243);
+    const codegen_iv tmp245 = codegen_iv_sub(v[195], tmp43);
+    const codegen_iv tmp246 = codegen_iv_add(tmp245, tmp45);
+    const codegen_iv tmp247 = codegen_iv_add(tmp246, tmp47);
+    const codegen_iv tmp248 = codegen_iv_mul(tmp247, tmp5);
+    const codegen_iv tmp250 = codegen_iv_mul(codegen_iv_point(4), tmp16);
+    const codegen_iv tmp251 = codegen_iv_mul(d, tmp17);
+    const codegen_iv tmp252 = codegen_iv_neg(tmp251);
+    const codegen_iv tmp253 = codegen_iv_mul(v[155], tmp43);
+    const codegen_iv tmp254 = codegen_iv_add(tmp252, tmp253);
+    const codegen_iv tmp255 = codegen_iv_mul(v[155], tmp45);
+    const codegen_iv tmp256 = codegen_iv_add(tmp254, tmp255);
+    const codegen_iv tmp257 = codegen_iv_mul(v[155], tmp47);
+    const codegen_iv tmp258 = codegen_iv_sub(tmp256, tmp257);
+    const codegen_iv tmp259 = codegen_iv_mul(tmp213, tmp250);
+    const codegen_iv tmp260 = codegen_iv_add(tmp258, tmp259);
+    const codegen_iv tmp261 = codegen_iv_mul(v[157], tmp89);
+    const codegen_iv tmp262 = codegen_iv_add(tmp260, tmp261);
+    const codegen_iv tmp263 = codegen_iv_mul(v[158], tmp89);
+    const codegen_iv tmp264 = codegen_iv_add(tmp262, tmp263);
+    const codegen_iv tmp265 = codegen_iv_mul(v[159], tmp43);
+    const codegen_iv tmp266 = codegen_iv_sub(tmp264, tmp265);
+    const codegen_iv tmp267 = codegen_iv_mul(v[159], tmp45);
+    const codegen_iv tmp268 = codegen_iv_add(tmp266, tmp267);
+    const codegen_iv tmp269 = codegen_iv_mul(v[159], tmp47);
+    const codegen_iv tmp270 = codegen_iv_add(tmp268, tmp269);
+    const codegen_iv tmp271 = codegen_iv_mul(v[161], tmp16);
+    const codegen_iv tmp272 = codegen_iv_sub(tmp270, tmp271);
+    const codegen_iv tmp273 = codegen_iv_mul(tmp13, y_S);
+    const codegen_iv tmp274 = codegen_iv_sub(tmp272, tmp273);
+    const codegen_iv tmp275 = codegen_iv_mul(tmp17, x_S);
+    const codegen_iv tmp276 = codegen_iv_add(tmp274, tmp275);
+    const codegen_iv tmp277 = codegen_iv_mul(tmp19, tmp42);
+    const codegen_iv tmp278 = codegen_iv_add(tmp276, tmp277);
+    const codegen_iv tmp279 = codegen_iv_mul(tmp22, tmp42);
+    const codegen_iv tmp280 = codegen_iv_add(tmp278, tmp279);
+    const codegen_iv tmp281 = codegen_iv_mul(v[152], tmp43);
+    const codegen_iv tmp282 = codegen_iv_sub(tmp280, tmp281);
+    const codegen_iv tmp283 = codegen_iv_mul(v[152], tmp47);
+    const codegen_iv tmp284 = codegen_iv_sub(tmp282, tmp283);
+    const codegen_iv tmp285 = codegen_iv_mul(v[165], tmp37);
+    const codegen_iv tmp286 = codegen_iv_add(tmp284, tmp285);
+    const codegen_iv tmp287 = codegen_iv_mul(tmp2, tmp42);
+    const codegen_iv tmp288 = codegen_iv_sub(tmp286, tmp287);
+    const codegen_iv tmp289 = codegen_iv_mul(tmp0, tmp250);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp289, v[162]);
+    const codegen_iv tmp291 = codegen_iv_sub(tmp288, tmp290);
+    const codegen_iv tmp292 = codegen_iv_mul(v[196], tmp112);
+    const codegen_iv tmp293 = codegen_iv_sub(tmp291, tmp292);
+    const codegen_iv tmp294 = codegen_iv_mul(tmp244, tmp248);
+    const codegen_iv tmp295 = codegen_iv_neg(tmp294);
+    const codegen_iv tmp296 = codegen_iv_mul(tmp293, tmp5);
+    const codegen_iv tmp297 = codegen_iv_add(tmp295, tmp296);
+    const codegen_iv tmp298 = codegen_iv_mul(tmp81, tmp89);
+    const codegen_iv tmp299 = codegen_iv_add(tmp297, tmp298);
+    const codegen_iv tmp301 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp299);
+    const codegen_iv tmp302 = codegen_iv_mul(tmp85, tmp11);
+    const codegen_iv tmp304 = codegen_iv_pow(tmp5, 3);
+    const codegen_iv tmp305 = codegen_iv_div(codegen_iv_point(1), tmp304, iv_flags);
+    const codegen_iv tmp306 = codegen_iv_mul(k, tmp305);
+    const codegen_iv tmp307 = codegen_iv_mul(tmp299, tmp45);
+    const codegen_iv tmp308 = codegen_iv_mul(tmp16, tmp42);
+    const codegen_iv tmp309 = codegen_iv_mul(tmp308, v[178]);
+    const codegen_iv tmp310 = codegen_iv_mul(tmp308, v[179]);
+    const codegen_iv tmp311 = codegen_iv_mul(tmp308, v[152]);
+    const codegen_iv tmp312 = codegen_iv_mul(tmp311, tmp37);
+    const codegen_iv tmp313 = codegen_iv_mul(v[180], tmp112);
+    const codegen_iv tmp314 = codegen_iv_mul(v[198], tmp112);
+    const codegen_iv tmp315 = codegen_iv_mul(v[152], tmp112);
+    const codegen_iv tmp317 = codegen_iv_mul(codegen_iv_point(2), tmp0);
+    const codegen_iv tmp318 = codegen_iv_mul(tmp317, v[182]);
+    const codegen_iv tmp319 = codegen_iv_neg(tmp318);
+    const codegen_iv tmp321 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp322 = codegen_iv_mul(codegen_iv_point(8), tmp321);
+    const codegen_iv tmp323 = codegen_iv_mul(tmp322, v[197]);
+    const codegen_iv tmp324 = codegen_iv_add(tmp319, tmp323);
+    const codegen_iv tmp325 = codegen_iv_mul(tmp212, v[197]);
+    const codegen_iv tmp326 = codegen_iv_add(tmp324, tmp325);
+    const codegen_iv tmp327 = codegen_iv_mul(v[155], tmp314);
+    const codegen_iv tmp328 = codegen_iv_add(tmp326, tmp327);
+    const codegen_iv tmp329 = codegen_iv_mul(tmp308, v[156]);
+    const codegen_iv tmp330 = codegen_iv_add(tmp328, tmp329);
+    const codegen_iv tmp331 = codegen_iv_mul(tmp308, v[185]);
+    const codegen_iv tmp332 = codegen_iv_add(tmp330, tmp331);
+    const codegen_iv tmp333 = codegen_iv_mul(v[199], tmp99);
+    const codegen_iv tmp334 = codegen_iv_add(tmp332, tmp333);
+    const codegen_iv tmp335 = codegen_iv_mul(tmp313, v[183]);
+    const codegen_iv tmp336 = codegen_iv_add(tmp334, tmp335);
+    const codegen_iv tmp337 = codegen_iv_mul(tmp313, v[184]);
+    const codegen_iv tmp338 = codegen_iv_add(tmp336, tmp337);
+    const codegen_iv tmp339 = codegen_iv_mul(tmp314, v[159]);
+    const codegen_iv tmp340 = codegen_iv_add(tmp338, tmp339);
+    const codegen_iv tmp342 = codegen_iv_mul(codegen_iv_point(16), tmp315);
+    const codegen_iv tmp343 = codegen_iv_mul(tmp342, tmp91);
+    const codegen_iv tmp344 = codegen_iv_add(tmp340, tmp343);
+    const codegen_iv tmp345 = codegen_iv_mul(v[200], tmp35);
+    const codegen_iv tmp346 = codegen_iv_add(tmp344, tmp345);
+    const codegen_iv tmp347 = codegen_iv_mul(tmp34, v[187]);
+    const codegen_iv tmp348 = codegen_iv_add(tmp346, tmp347);
+    const codegen_iv tmp349 = codegen_iv_mul(v[166], tmp103);
+    const codegen_iv tmp350 = codegen_iv_add(tmp348, tmp349);
+    const codegen_iv tmp351 = codegen_iv_mul(tmp93, v[183]);
+    const codegen_iv tmp352 = codegen_iv_add(tmp350, tmp351);
+    const codegen_iv tmp353 = codegen_iv_mul(tmp93, v[184]);
+    const codegen_iv tmp354 = codegen_iv_add(tmp352, tmp353);
+    const codegen_iv tmp355 = codegen_iv_mul(v[186], tmp111);
+    const codegen_iv tmp356 = codegen_iv_add(tmp354, tmp355);
+    const codegen_iv tmp357 = codegen_iv_mul(v[201], tmp112);
+    const codegen_iv tmp358 = codegen_iv_sub(tmp356, tmp357);
+    const codegen_iv tmp359 = codegen_iv_mul(v[202], tmp112);
+    const codegen_iv tmp360 = codegen_iv_sub(tmp358, tmp359);
+    const codegen_iv tmp362 = codegen_iv_mul(codegen_iv_point(4), tmp0);
+    const codegen_iv tmp363 = codegen_iv_mul(tmp362, v[151]);
+    const codegen_iv tmp364 = codegen_iv_mul(tmp363, v[179]);
+    const codegen_iv tmp365 = codegen_iv_sub(tmp360, tmp364);
+    const codegen_iv tmp366 = codegen_iv_mul(tmp0, v[152]);
+    const codegen_iv tmp367 = codegen_iv_mul(tmp366, tmp40);
+    const codegen_iv tmp368 = codegen_iv_add(tmp365, tmp367);
+    const codegen_iv tmp370 = codegen_iv_mul(codegen_iv_point(2), tmp0);
+    const codegen_iv tmp371 = codegen_iv_mul(tmp370, v[152]);
+    const codegen_iv tmp372 = codegen_iv_mul(tmp371, v[178]);
+    const codegen_iv tmp373 = codegen_iv_sub(tmp368, tmp372);
+    const codegen_iv tmp374 = codegen_iv_mul(v[203], tmp112);
+    const codegen_iv tmp375 = codegen_iv_sub(tmp373, tmp374);
+    const codegen_iv tmp376 = codegen_iv_mul(v[204], tmp98);
+    const codegen_iv tmp377 = codegen_iv_add(tmp375, tmp376);
+    const codegen_iv tmp378 = codegen_iv_mul(v[205], tmp98);
+    const codegen_iv tmp379 = codegen_iv_sub(tmp377, tmp378);
+    const codegen_iv tmp380 = codegen_iv_mul(v[206], tmp93);
+    const codegen_iv tmp381 = codegen_iv_mul(tmp380, tmp112);
+    const codegen_iv tmp382 = codegen_iv_add(tmp379, tmp381);
+    const codegen_iv tmp383 = codegen_iv_mul(v[207], tmp98);
+    const codegen_iv tmp384 = codegen_iv_sub(tmp382, tmp383);
+    const codegen_iv tmp385 = codegen_iv_mul(v[208], tmp32);
+    const codegen_iv tmp386 = codegen_iv_sub(tmp384, tmp385);
+    const codegen_iv tmp387 = codegen_iv_mul(v[209], tmp32);
+    const codegen_iv tmp388 = codegen_iv_sub(tmp386, tmp387);
+    const codegen_iv tmp389 = codegen_iv_mul(v[210], tmp32);
+    const codegen_iv tmp390 = codegen_iv_sub(tmp388, tmp389);
+    const codegen_iv tmp391 = codegen_iv_mul(v[211], tmp32);
+    const codegen_iv tmp392 = codegen_iv_sub(tmp390, tmp391);
+    const codegen_iv tmp393 = codegen_iv_mul(tmp0, v[151]);
+    const codegen_iv tmp394 = codegen_iv_mul(tmp393, tmp38);
+    const codegen_iv tmp395 = codegen_iv_mul(tmp394, tmp39);
+    const codegen_iv tmp396 = codegen_iv_sub(tmp392, tmp395);
+    const codegen_iv tmp397 = codegen_iv_mul(v[212], tmp32);
+    const codegen_iv tmp398 = codegen_iv_mul(tmp397, tmp112);
+    const codegen_iv tmp399 = codegen_iv_sub(tmp396, tmp398);
+    const codegen_iv tmp400 = codegen_iv_mul(v[159], tmp16);
+    const codegen_iv tmp401 = codegen_iv_mul(tmp400, v[151]);
+    const codegen_iv tmp402 = codegen_iv_mul(tmp401, tmp42);
+    const codegen_iv tmp403 = codegen_iv_sub(tmp399, tmp402);
+    const codegen_iv tmp404 = codegen_iv_mul(v[159], tmp16);
+    const codegen_iv tmp405 = codegen_iv_mul(tmp404, v[152]);
+    const codegen_iv tmp406 = codegen_iv_mul(tmp405, tmp42);
+    const codegen_iv tmp407 = codegen_iv_sub(tmp403, tmp406);
+    const codegen_iv tmp409 = codegen_iv_mul(codegen_iv_point(8), tmp0);
+    const codegen_iv tmp410 = codegen_iv_mul(tmp409, v[155]);
+    const codegen_iv tmp411 = codegen_iv_mul(tmp410, v[151]);
+    const codegen_iv tmp412 = codegen_iv_mul(tmp411, v[152]);
+    const codegen_iv tmp413 = codegen_iv_mul(tmp412, tmp112);
+    const codegen_iv tmp414 = codegen_iv_sub(tmp407, tmp413);
+    const codegen_iv tmp416 = codegen_iv_mul(codegen_iv_point(8), tmp0);
+    const codegen_iv tmp417 = codegen_iv_mul(tmp416, v[159]);
+    const codegen_iv tmp418 = codegen_iv_mul(tmp417, v[151]);
+    const codegen_iv tmp419 = codegen_iv_mul(tmp418, v[152]);
+    const codegen_iv tmp420 = codegen_iv_mul(tmp419, tmp112);
+    const codegen_iv tmp421 = codegen_iv_sub(tmp414, tmp420);
+    const codegen_iv tmp422 = codegen_iv_mul(tmp308, v[166]);
+    const codegen_iv tmp423 = codegen_iv_neg(tmp19);
+    const codegen_iv tmp424 = codegen_iv_sub(tmp423, tmp22);
+    const codegen_iv tmp425 = codegen_iv_mul(v[213], tmp0);
+    const codegen_iv tmp426 = codegen_iv_add(tmp424, tmp425);
+    const codegen_iv tmp427 = codegen_iv_mul(tmp5, tmp426);
+    const codegen_iv tmp429 = codegen_iv_mul(tmp38, tmp39);
+    const codegen_iv tmp430 = codegen_iv_div(codegen_iv_point(1), tmp429, iv_flags);
+    const codegen_iv tmp431 = codegen_iv_mul(tmp208, tmp241);
+    const codegen_iv tmp432 = codegen_iv_mul(m_4, tmp205);
+    const codegen_iv tmp433 = codegen_iv_mul(d, tmp305);
+    const codegen_iv tmp434 = codegen_iv_mul(tmp433, tmp16);
+    const codegen_iv tmp435 = codegen_iv_mul(tmp434, v[151]);
+    const codegen_iv tmp436 = codegen_iv_add(tmp114, tmp115);
+    const codegen_iv tmp437 = codegen_iv_add(tmp436, tmp422);
+    const codegen_iv tmp438 = codegen_iv_add(tmp437, tmp103);
+    const codegen_iv tmp439 = codegen_iv_add(tmp438, tmp105);
+    const codegen_iv tmp440 = codegen_iv_mul(tmp0, v[159]);
+    const codegen_iv tmp441 = codegen_iv_mul(tmp440, v[151]);
+    const codegen_iv tmp442 = codegen_iv_sub(tmp439, tmp441);
+    const codegen_iv tmp443 = codegen_iv_mul(tmp0, v[159]);
+    const codegen_iv tmp444 = codegen_iv_mul(tmp443, v[152]);
+    const codegen_iv tmp445 = codegen_iv_sub(tmp442, tmp444);
+    const codegen_iv tmp447 = codegen_iv_mul(codegen_iv_point(2), tmp16);
+    const codegen_iv tmp448 = codegen_iv_mul(tmp447, v[151]);
+    const codegen_iv tmp449 = codegen_iv_mul(tmp448, tmp42);
+    const codegen_iv tmp450 = codegen_iv_sub(tmp445, tmp449);
+    const codegen_iv tmp451 = codegen_iv_mul(v[214], tmp32);
+    const codegen_iv tmp452 = codegen_iv_sub(tmp450, tmp451);
+    const codegen_iv tmp453 = codegen_iv_mul(v[215], tmp112);
+    const codegen_iv tmp454 = codegen_iv_sub(tmp452, tmp453);
+    const codegen_iv tmp455 = codegen_iv_mul(g, tmp210);
+    const codegen_iv tmp456 = codegen_iv_mul(tmp455, tmp430);
+    const codegen_iv tmp457 = codegen_iv_mul(tmp1, v[150]);
+    const codegen_iv tmp458 = codegen_iv_add(v[216], tmp457);
+    const codegen_iv tmp459 = codegen_iv_mul(tmp210, tmp234);
+    const codegen_iv tmp460 = codegen_iv_add(tmp458, tmp459);
+    const codegen_iv tmp461 = codegen_iv_mul(tmp87, tmp90);
+    const codegen_iv tmp462 = codegen_iv_sub(tmp460, tmp461);
+    const codegen_iv tmp463 = codegen_iv_mul(k, tmp237);
+    const codegen_iv tmp464 = codegen_iv_mul(tmp463, tmp301);
+    const codegen_iv tmp465 = codegen_iv_mul(tmp464, tmp302);
+    const codegen_iv tmp466 = codegen_iv_add(tmp462, tmp465);
+    const codegen_iv tmp467 = codegen_iv_mul(m_4, tmp205);
+    const codegen_iv tmp468 = codegen_iv_mul(tmp467, tmp209);
+    const codegen_iv tmp469 = codegen_iv_mul(tmp468, tmp210);
+    const codegen_iv tmp470 = codegen_iv_add(tmp466, tmp469);
+    const codegen_iv tmp471 = codegen_iv_mul(tmp234, tmp435);
+    const codegen_iv tmp472 = codegen_iv_neg(tmp471);
+    const codegen_iv tmp473 = codegen_iv_mul(m_3, tmp232);
+    const codegen_iv tmp474 = codegen_iv_mul(tmp473, tmp456);
+    const codegen_iv tmp475 = codegen_iv_neg(tmp474);
+    const codegen_iv tmp476 = codegen_iv_mul(v[217], tmp208);
+    const codegen_iv tmp477 = codegen_iv_mul(tmp476, tmp8);
+    const codegen_iv tmp478 = codegen_iv_neg(tmp215);
+    const codegen_iv tmp479 = codegen_iv_sub(tmp478, tmp216);
+    const codegen_iv tmp480 = codegen_iv_sub(tmp479, tmp454);
+    const codegen_iv tmp482 = codegen_iv_mul(codegen_iv_point(3), tmp91);
+    const codegen_iv tmp483 = codegen_iv_sub(tmp480, tmp482);
+    const codegen_iv tmp485 = codegen_iv_mul(codegen_iv_point(3), tmp93);
+    const codegen_iv tmp486 = codegen_iv_sub(tmp483, tmp485);
+    const codegen_iv tmp487 = codegen_iv_mul(v[218], tmp32);
+    const codegen_iv tmp488 = codegen_iv_add(tmp486, tmp487);
+    const codegen_iv tmp489 = codegen_iv_mul(v[219], tmp32);
+    const codegen_iv tmp490 = codegen_iv_add(tmp488, tmp489);
+    const codegen_iv tmp491 = codegen_iv_mul(tmp477, tmp490);
+    const codegen_iv tmp492 = codegen_iv_add(tmp475, tmp491);
+    const codegen_iv tmp493 = codegen_iv_mul(tmp244, tmp492);
+    const codegen_iv tmp494 = codegen_iv_sub(tmp472, tmp493);
+    const codegen_iv tmp495 = codegen_iv_mul(tmp432, tmp456);
+    const codegen_iv tmp496 = codegen_iv_neg(tmp495);
+    const codegen_iv tmp497 = codegen_iv_mul(v[220], tmp208);
+    const codegen_iv tmp498 = codegen_iv_mul(tmp497, tmp8);
+    const codegen_iv tmp499 = codegen_iv_neg(tmp454);
+    const codegen_iv tmp500 = codegen_iv_sub(tmp499, tmp91);
+    const codegen_iv tmp501 = codegen_iv_sub(tmp500, tmp93);
+    const codegen_iv tmp502 = codegen_iv_sub(tmp501, tmp97);
+    const codegen_iv tmp503 = codegen_iv_sub(tmp502, tmp100);
+    const codegen_iv tmp504 = codegen_iv_mul(v[221], tmp32);
+    const codegen_iv tmp505 = codegen_iv_add(tmp503, tmp504);
+    const codegen_iv tmp506 = codegen_iv_mul(v[222], tmp32);
+    const codegen_iv tmp507 = codegen_iv_add(tmp505, tmp506);
+    const codegen_iv tmp508 = codegen_iv_mul(tmp498, tmp507);
+    const codegen_iv tmp509 = codegen_iv_add(tmp496, tmp508);
+    const codegen_iv tmp510 = codegen_iv_mul(tmp244, tmp509);
+    const codegen_iv tmp511 = codegen_iv_sub(tmp494, tmp510);
+    const codegen_iv tmp512 = codegen_iv_mul(tmp306, tmp307);
+    const codegen_iv tmp513 = codegen_iv_sub(tmp511, tmp512);
+    const codegen_iv tmp514 = codegen_iv_mul(v[150], tmp21);
+    const codegen_iv tmp515 = codegen_iv_sub(tmp513, tmp514);
+    const codegen_iv tmp516 = codegen_iv_mul(tmp209, tmp432);
+    const codegen_iv tmp517 = codegen_iv_mul(tmp516, tmp435);
+    const codegen_iv tmp518 = codegen_iv_sub(tmp515, tmp517);
+    const codegen_iv tmp520 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp237);
+    const codegen_iv tmp521 = codegen_iv_mul(tmp520, tmp299);
+    const codegen_iv tmp522 = codegen_iv_mul(tmp306, tmp90);
+    const codegen_iv tmp523 = codegen_iv_neg(tmp522);
+    const codegen_iv tmp524 = codegen_iv_mul(tmp87, tmp89);
+    const codegen_iv tmp525 = codegen_iv_sub(tmp523, tmp524);
+    const codegen_iv tmp526 = codegen_iv_mul(tmp301, tmp87);
+    const codegen_iv tmp527 = codegen_iv_div(tmp526, tmp81, iv_flags);
+    const codegen_iv tmp528 = codegen_iv_sub(tmp525, tmp527);
+    const codegen_iv tmp529 = codegen_iv_mul(v[223], tmp237);
+    const codegen_iv tmp530 = codegen_iv_mul(tmp529, tmp299);
+    const codegen_iv tmp531 = codegen_iv_mul(tmp530, tmp8);
+    const codegen_iv tmp532 = codegen_iv_add(tmp528, tmp531);
+    const codegen_iv tmp533 = codegen_iv_mul(tmp521, tmp532);
+    const codegen_iv tmp534 = codegen_iv_add(tmp518, tmp533);
+    const codegen_iv tmp535 = codegen_iv_mul(tmp237, tmp307);
+    const codegen_iv tmp536 = codegen_iv_mul(tmp535, tmp87);
+    const codegen_iv tmp537 = codegen_iv_sub(tmp534, tmp536);
+    const codegen_iv tmp538 = codegen_iv_mul(tmp4, tmp83);
+    const codegen_iv tmp539 = codegen_iv_mul(tmp538, tmp87);
+    const codegen_iv tmp540 = codegen_iv_sub(tmp537, tmp539);
+    const codegen_iv tmp541 = codegen_iv_mul(v[224], tmp237);
+    const codegen_iv tmp542 = codegen_iv_mul(tmp541, tmp302);
+    const codegen_iv tmp543 = codegen_iv_mul(tmp542, tmp431);
+    const codegen_iv tmp544 = codegen_iv_mul(tmp247, tmp89);
+    const codegen_iv tmp545 = codegen_iv_add(tmp427, tmp544);
+    const codegen_iv tmp547 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp241);
+    const codegen_iv tmp548 = codegen_iv_mul(tmp547, tmp248);
+    const codegen_iv tmp549 = codegen_iv_mul(tmp548, tmp430);
+    const codegen_iv tmp550 = codegen_iv_add(tmp545, tmp549);
+    const codegen_iv tmp551 = codegen_iv_mul(tmp543, tmp550);
+    const codegen_iv tmp552 = codegen_iv_sub(tmp540, tmp551);
+    const codegen_iv tmp553 = codegen_iv_mul(v[225], tmp237);
+    const codegen_iv tmp554 = codegen_iv_mul(tmp553, tmp85);
+    const codegen_iv tmp555 = codegen_iv_mul(tmp554, tmp11);
+    const codegen_iv tmp556 = codegen_iv_mul(tmp244, tmp427);
+    const codegen_iv tmp557 = codegen_iv_neg(tmp556);
+    const codegen_iv tmp559 = codegen_iv_mul(codegen_iv_point(4), tmp293);
+    const codegen_iv tmp560 = codegen_iv_mul(tmp559, tmp45);
+    const codegen_iv tmp561 = codegen_iv_add(tmp557, tmp560);
+    const codegen_iv tmp562 = codegen_iv_mul(tmp4, tmp81);
+    const codegen_iv tmp563 = codegen_iv_add(tmp561, tmp562);
+    const codegen_iv tmp564 = codegen_iv_neg(tmp12);
+    const codegen_iv tmp565 = codegen_iv_sub(tmp564, tmp14);
+    const codegen_iv tmp566 = codegen_iv_add(tmp565, tmp15);
+    const codegen_iv tmp567 = codegen_iv_add(tmp566, tmp18);
+    const codegen_iv tmp568 = codegen_iv_sub(tmp567, tmp20);
+    const codegen_iv tmp569 = codegen_iv_sub(tmp568, tmp23);
+    const codegen_iv tmp570 = codegen_iv_sub(tmp569, tmp24);
+    const codegen_iv tmp571 = codegen_iv_add(tmp570, tmp25);
+    const codegen_iv tmp572 = codegen_iv_add(tmp571, tmp26);
+    const codegen_iv tmp573 = codegen_iv_add(tmp572, tmp27);
+    const codegen_iv tmp574 = codegen_iv_add(tmp573, tmp28);
+    const codegen_iv tmp575 = codegen_iv_add(tmp574, tmp29);
+    const codegen_iv tmp576 = codegen_iv_add(tmp575, tmp30);
+    const codegen_iv tmp577 = codegen_iv_add(tmp576, tmp31);
+    const codegen_iv tmp578 = codegen_iv_sub(tmp577, tmp44);
+    const codegen_iv tmp579 = codegen_iv_add(tmp578, tmp46);
+    const codegen_iv tmp580 = codegen_iv_add(tmp579, tmp48);
+    const codegen_iv tmp581 = codegen_iv_mul(tmp315, v[181]);
+    const codegen_iv tmp582 = codegen_iv_sub(tmp580, tmp581);
+    const codegen_iv tmp583 = codegen_iv_mul(v[162], tmp96);
+    const codegen_iv tmp584 = codegen_iv_sub(tmp582, tmp583);
+    const codegen_iv tmp585 = codegen_iv_mul(v[226], tmp112);
+    const codegen_iv tmp586 = codegen_iv_add(tmp584, tmp585);
+    const codegen_iv tmp587 = codegen_iv_mul(v[152], tmp110);
+    const codegen_iv tmp588 = codegen_iv_add(tmp586, tmp587);
+    const codegen_iv tmp589 = codegen_iv_mul(v[227], tmp36);
+    const codegen_iv tmp590 = codegen_iv_sub(tmp588, tmp589);
+    const codegen_iv tmp591 = codegen_iv_mul(tmp5, tmp590);
+    const codegen_iv tmp592 = codegen_iv_add(tmp563, tmp591);
+    const codegen_iv tmp593 = codegen_iv_mul(tmp243, tmp248);
+    const codegen_iv tmp595 = codegen_iv_mul(codegen_iv_point(8), tmp315);
+    const codegen_iv tmp596 = codegen_iv_mul(tmp595, v[151]);
+    const codegen_iv tmp597 = codegen_iv_neg(tmp596);
+    const codegen_iv tmp598 = codegen_iv_mul(tmp38, tmp4);
+    const codegen_iv tmp599 = codegen_iv_sub(tmp597, tmp598);
+    const codegen_iv tmp600 = codegen_iv_mul(tmp39, tmp4);
+    const codegen_iv tmp601 = codegen_iv_sub(tmp599, tmp600);
+    const codegen_iv tmp602 = codegen_iv_mul(tmp593, tmp601);
+    const codegen_iv tmp603 = codegen_iv_sub(tmp592, tmp602);
+    const codegen_iv tmp604 = codegen_iv_mul(tmp247, tmp431);
+    const codegen_iv tmp605 = codegen_iv_mul(tmp604, tmp45);
+    const codegen_iv tmp606 = codegen_iv_sub(tmp603, tmp605);
+    const codegen_iv tmp607 = codegen_iv_mul(tmp555, tmp606);
+    const codegen_iv tmp608 = codegen_iv_add(tmp552, tmp607);
+    const codegen_iv tmp609 = codegen_iv_mul(v[228], tmp208);
+    const codegen_iv tmp610 = codegen_iv_mul(tmp609, tmp8);
+    const codegen_iv tmp612 = codegen_iv_mul(codegen_iv_point(3), tmp309);
+    const codegen_iv tmp613 = codegen_iv_neg(tmp612);
+    const codegen_iv tmp615 = codegen_iv_mul(codegen_iv_point(3), tmp310);
+    const codegen_iv tmp616 = codegen_iv_sub(tmp613, tmp615);
+    const codegen_iv tmp618 = codegen_iv_mul(codegen_iv_point(36), tmp312);
+    const codegen_iv tmp619 = codegen_iv_sub(tmp616, tmp618);
+    const codegen_iv tmp620 = codegen_iv_sub(tmp619, tmp421);
+    const codegen_iv tmp622 = codegen_iv_mul(codegen_iv_point(6), tmp308);
+    const codegen_iv tmp623 = codegen_iv_mul(tmp622, v[151]);
+    const codegen_iv tmp624 = codegen_iv_mul(tmp623, v[152]);
+    const codegen_iv tmp625 = codegen_iv_sub(tmp620, tmp624);
+    const codegen_iv tmp626 = codegen_iv_mul(v[229], tmp0);
+    const codegen_iv tmp627 = codegen_iv_mul(tmp626, v[154]);
+    const codegen_iv tmp628 = codegen_iv_mul(tmp627, tmp16);
+    const codegen_iv tmp629 = codegen_iv_mul(tmp628, tmp42);
+    const codegen_iv tmp630 = codegen_iv_add(tmp625, tmp629);
+    const codegen_iv tmp631 = codegen_iv_mul(v[230], tmp0);
+    const codegen_iv tmp632 = codegen_iv_mul(tmp631, v[163]);
+    const codegen_iv tmp633 = codegen_iv_mul(tmp632, tmp16);
+    const codegen_iv tmp634 = codegen_iv_mul(tmp633, tmp42);
+    const codegen_iv tmp635 = codegen_iv_add(tmp630, tmp634);
+    const codegen_iv tmp636 = codegen_iv_mul(tmp610, tmp635);
+    const codegen_iv tmp637 = codegen_iv_add(tmp608, tmp636);
+    const codegen_iv tmp638 = codegen_iv_mul(v[231], tmp208);
+    const codegen_iv tmp639 = codegen_iv_mul(tmp638, tmp8);
+    const codegen_iv tmp640 = codegen_iv_neg(tmp309);
+    const codegen_iv tmp641 = codegen_iv_sub(tmp640, tmp310);
+    const codegen_iv tmp643 = codegen_iv_mul(codegen_iv_point(12), tmp312);
+    const codegen_iv tmp644 = codegen_iv_sub(tmp641, tmp643);
+    const codegen_iv tmp645 = codegen_iv_sub(tmp644, tmp421);
+    const codegen_iv tmp646 = codegen_iv_mul(tmp422, v[151]);
+    const codegen_iv tmp647 = codegen_iv_sub(tmp645, tmp646);
+    const codegen_iv tmp648 = codegen_iv_mul(v[232], tmp0);
+    const codegen_iv tmp649 = codegen_iv_mul(tmp648, v[154]);
+    const codegen_iv tmp650 = codegen_iv_mul(tmp649, tmp16);
+    const codegen_iv tmp651 = codegen_iv_mul(tmp650, tmp42);
+    const codegen_iv tmp652 = codegen_iv_add(tmp647, tmp651);
+    const codegen_iv tmp653 = codegen_iv_mul(v[233], tmp0);
+    const codegen_iv tmp654 = codegen_iv_mul(tmp653, v[163]);
+    const codegen_iv tmp655 = codegen_iv_mul(tmp654, tmp16);
+    const codegen_iv tmp656 = codegen_iv_mul(tmp655, tmp42);
+    const codegen_iv tmp657 = codegen_iv_add(tmp652, tmp656);
+    const codegen_iv tmp658 = codegen_iv_mul(tmp639, tmp657);
+    const codegen_iv tmp659 = codegen_iv_add(tmp637, tmp658);
+    const codegen_iv tmp660 = codegen_iv_mul(v[234], tmp305);
+    const codegen_iv tmp661 = codegen_iv_mul(tmp660, v[151]);
+    const codegen_iv tmp662 = codegen_iv_mul(tmp661, v[152]);
+    const codegen_iv tmp663 = codegen_iv_mul(tmp662, tmp81);
+    const codegen_iv tmp664 = codegen_iv_mul(tmp663, tmp112);
+    const codegen_iv tmp665 = codegen_iv_add(tmp659, tmp664);
+    const codegen_iv tmp666 = codegen_iv_mul(v[235], tmp305);
+    const codegen_iv tmp667 = codegen_iv_mul(tmp666, v[151]);
+    const codegen_iv tmp668 = codegen_iv_mul(tmp667, v[152]);
+    const codegen_iv tmp669 = codegen_iv_mul(tmp668, tmp83);
+    const codegen_iv tmp670 = codegen_iv_mul(tmp669, tmp85);
+    const codegen_iv tmp671 = codegen_iv_mul(tmp670, tmp112);
+    const codegen_iv tmp672 = codegen_iv_add(tmp665, tmp671);
+    *iv_g = tmp470;
+    *iv_dg = tmp672;
 #endif
 }
 
 
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
- * 325 operations; as a program, 360 instructions over 74 of the slots v. */
+ * At each theta, 297 instructions (as a program, over the slots v from 280); the 63 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[360] = {
-        {CODEGEN_IV_COS, 14, 13, 0},
-        {CODEGEN_IV_MUL, 15, 1, 14},
-        {CODEGEN_IV_POW, 16, 1, 2},
-        {CODEGEN_IV_POW, 17, 0, 2},
-        {CODEGEN_IV_MUL, 18, 0, 15},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 18},
-        {CODEGEN_IV_ADD, 20, 16, 17},
-        {CODEGEN_IV_SUB, 20, 20, 19},
-        {CODEGEN_IV_POW, 21, 0, 3},
-        {CODEGEN_IV_POW, 22, 3, 2},
-        {CODEGEN_IV_MUL, 23, 0, 9},
-        {CODEGEN_IV_MUL, 24, 16, 22},
-        {CODEGEN_IV_POW, 25, 9, 2},
-        {CODEGEN_IV_POW, 26, 10, 2},
-        {CODEGEN_IV_POW, 27, 2, 2},
-        {CODEGEN_IV_MUL, 28, 27, 17},
-        {CODEGEN_IV_MUL, 29, 1, 21},
-        {CODEGEN_IV_MUL, 30, 14, 29},
-        {CODEGEN_IV_MUL, 31, 16, 23},
-        {CODEGEN_IV_POW, 32, 1, 3},
-        {CODEGEN_IV_MUL, 33, 14, 32},
-        {CODEGEN_IV_MUL, 34, 0, 33},
-        {CODEGEN_IV_SIN, 35, 13, 0},
-        {CODEGEN_IV_MUL, 13, 32, 35},
-        {CODEGEN_IV_MUL, 36, 15, 9},
-        {CODEGEN_IV_MUL, 37, 1, 35},
-        {CODEGEN_IV_MUL, 38, 37, 10},
-        {CODEGEN_IV_POW, 39, 14, 2},
-        {CODEGEN_IV_CONST, 40, 0, 0},
-        {CODEGEN_IV_MUL, 40, 40, 39},
-        {CODEGEN_IV_MUL, 41, 0, 10},
-        {CODEGEN_IV_MUL, 42, 16, 41},
-        {CODEGEN_IV_CONST, 43, 0, 0},
-        {CODEGEN_IV_MUL, 43, 43, 35},
-        {CODEGEN_IV_MUL, 44, 14, 43},
-        {CODEGEN_IV_MUL, 45, 16, 17},
-        {CODEGEN_IV_CONST, 46, 0, 0},
-        {CODEGEN_IV_MUL, 46, 46, 2},
-        {CODEGEN_IV_MUL, 46, 46, 3},
-        {CODEGEN_IV_NEG, 3, 27, 0},
-        {CODEGEN_IV_ADD, 3, 3, 16},
-        {CODEGEN_IV_ADD, 3, 3, 17},
-        {CODEGEN_IV_SUB, 3, 3, 46},
-        {CODEGEN_IV_SUB, 3, 3, 19},
-        {CODEGEN_IV_SUB, 3, 3, 22},
-        {CODEGEN_IV_NEG, 2, 27, 0},
-        {CODEGEN_IV_ADD, 2, 2, 46},
-        {CODEGEN_IV_ADD, 2, 2, 20},
-        {CODEGEN_IV_SUB, 2, 2, 22},
-        {CODEGEN_IV_MUL, 46, 3, 2},
-        {CODEGEN_IV_NEG, 47, 46, 0},
-        {CODEGEN_IV_SQRT, 47, 47, 0},
-        {CODEGEN_IV_MUL, 48, 37, 9},
-        {CODEGEN_IV_MUL, 49, 0, 37},
-        {CODEGEN_IV_MUL, 50, 15, 10},
-        {CODEGEN_IV_ADD, 51, 24, 28},
-        {CODEGEN_IV_ADD, 51, 51, 30},
-        {CODEGEN_IV_SUB, 51, 51, 31},
-        {CODEGEN_IV_ADD, 51, 51, 34},
-        {CODEGEN_IV_MUL, 52, 25, 16},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 25, 17},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 25, 19},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 26, 16},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 26, 17},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 26, 19},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 27, 36},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 27, 38},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 27, 18},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 27, 23},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 31, 40},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 33, 9},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 13, 10},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 36, 17},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 36, 22},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 38, 17},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 38, 22},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 40, 45},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 41, 47},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 42, 44},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 47, 48},
-        {CODEGEN_IV_ADD, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 47, 49},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 47, 50},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 18, 22},
-        {CODEGEN_IV_SUB, 51, 52, 51},
-        {CODEGEN_IV_MUL, 52, 21, 9},
-        {CODEGEN_IV_SUB, 52, 51, 52},
-        {CODEGEN_IV_MUL, 51, 22, 23},
-        {CODEGEN_IV_ADD, 51, 52, 51},
-        {CODEGEN_IV_MUL, 23, 51, 20},
-        {CODEGEN_IV_SQRT, 23, 23, 0},
-        {CODEGEN_IV_CONST, 19, 1, 0},
-        {CODEGEN_IV_POW, 52, 20, 2},
-        {CODEGEN_IV_DIV, 52, 19, 52},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 49},
-        {CODEGEN_IV_CONST, 53, 1, 0},
-        {CODEGEN_IV_POW, 54, 20, 1},
-        {CODEGEN_IV_DIV, 54, 53, 54},
-        {CODEGEN_IV_NEG, 53, 8, 0},
-        {CODEGEN_IV_MUL, 55, 23, 54},
-        {CODEGEN_IV_ADD, 55, 53, 55},
-        {CODEGEN_IV_MUL, 55, 7, 55},
-        {CODEGEN_IV_POW, 8, 1, 4},
-        {CODEGEN_IV_MUL, 7, 14, 47},
-        {CODEGEN_IV_MUL, 53, 8, 7},
-        {CODEGEN_IV_POW, 56, 0, 4},
-        {CODEGEN_IV_MUL, 57, 7, 56},
-        {CODEGEN_IV_CONST, 58, 2, 0},
-        {CODEGEN_IV_MUL, 58, 58, 39},
-        {CODEGEN_IV_MUL, 59, 47, 58},
-        {CODEGEN_IV_MUL, 60, 0, 32},
-        {CODEGEN_IV_MUL, 32, 45, 7},
-        {CODEGEN_IV_POW, 61, 14, 3},
-        {CODEGEN_IV_CONST, 62, 2, 0},
-        {CODEGEN_IV_MUL, 62, 62, 45},
-        {CODEGEN_IV_MUL, 63, 43, 56},
-        {CODEGEN_IV_MUL, 64, 17, 43},
-        {CODEGEN_IV_MUL, 65, 16, 35},
-        {CODEGEN_IV_MUL, 66, 56, 65},
-        {CODEGEN_IV_MUL, 56, 35, 17},
-        {CODEGEN_IV_MUL, 67, 39, 56},
-        {CODEGEN_IV_MUL, 68, 1, 0},
-        {CODEGEN_IV_MUL, 68, 68, 47},
-        {CODEGEN_IV_MUL, 69, 68, 22},
-        {CODEGEN_IV_CONST, 70, 0, 0},
-        {CODEGEN_IV_POW, 71, 35, 2},
-        {CODEGEN_IV_MUL, 71, 70, 71},
-        {CODEGEN_IV_MUL, 70, 27, 68},
-        {CODEGEN_IV_MUL, 68, 34, 43},
-        {CODEGEN_IV_CONST, 34, 3, 0},
-        {CODEGEN_IV_MUL, 34, 34, 30},
-        {CODEGEN_IV_MUL, 34, 34, 35},
-        {CODEGEN_IV_CONST, 30, 2, 0},
-        {CODEGEN_IV_MUL, 30, 30, 66},
-        {CODEGEN_IV_POW, 72, 0, 6},
-        {CODEGEN_IV_MUL, 72, 72, 43},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 24, 7},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 24, 64},
-        {CODEGEN_IV_SUB, 72, 30, 72},
-        {CODEGEN_IV_CONST, 30, 2, 0},
-        {CODEGEN_IV_MUL, 30, 30, 24},
-        {CODEGEN_IV_MUL, 30, 30, 67},
-        {CODEGEN_IV_SUB, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 27, 63},
-        {CODEGEN_IV_SUB, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 27, 68},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 27, 34},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 28, 7},
-        {CODEGEN_IV_SUB, 30, 72, 30},
-        {CODEGEN_IV_CONST, 72, 4, 0},
-        {CODEGEN_IV_MUL, 72, 72, 39},
-        {CODEGEN_IV_MUL, 72, 72, 66},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 40, 69},
-        {CODEGEN_IV_SUB, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 40, 70},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 46, 65},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 46, 56},
-        {CODEGEN_IV_SUB, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 8, 64},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_CONST, 72, 5, 0},
-        {CODEGEN_IV_MUL, 72, 72, 8},
-        {CODEGEN_IV_MUL, 72, 72, 67},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 63, 22},
-        {CODEGEN_IV_SUB, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 69, 71},
-        {CODEGEN_IV_SUB, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 71, 70},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_MUL, 72, 68, 22},
-        {CODEGEN_IV_ADD, 72, 30, 72},
-        {CODEGEN_IV_MUL, 30, 34, 22},
-        {CODEGEN_IV_ADD, 30, 72, 30},
-        {CODEGEN_IV_POW, 72, 1, 5},
-        {CODEGEN_IV_MUL, 72, 72, 0},
-        {CODEGEN_IV_MUL, 72, 72, 44},
-        {CODEGEN_IV_SUB, 72, 30, 72},
-        {CODEGEN_IV_CONST, 30, 6, 0},
-        {CODEGEN_IV_POW, 73, 0, 5},
-        {CODEGEN_IV_MUL, 73, 30, 73},
-        {CODEGEN_IV_MUL, 73, 73, 14},
-        {CODEGEN_IV_MUL, 73, 73, 37},
-        {CODEGEN_IV_SUB, 73, 72, 73},
-        {CODEGEN_IV_MUL, 72, 27, 16},
-        {CODEGEN_IV_MUL, 72, 72, 7},
-        {CODEGEN_IV_SUB, 72, 73, 72},
-        {CODEGEN_IV_MUL, 73, 28, 16},
-        {CODEGEN_IV_MUL, 73, 73, 43},
-        {CODEGEN_IV_SUB, 73, 72, 73},
-        {CODEGEN_IV_MUL, 72, 28, 58},
-        {CODEGEN_IV_MUL, 72, 72, 65},
-        {CODEGEN_IV_SUB, 72, 73, 72},
-        {CODEGEN_IV_CONST, 73, 7, 0},
-        {CODEGEN_IV_MUL, 73, 73, 33},
-        {CODEGEN_IV_MUL, 73, 73, 35},
-        {CODEGEN_IV_MUL, 73, 73, 21},
-        {CODEGEN_IV_SUB, 73, 72, 73},
-        {CODEGEN_IV_CONST, 72, 5, 0},
-        {CODEGEN_IV_MUL, 72, 72, 13},
-        {CODEGEN_IV_MUL, 72, 72, 61},
-        {CODEGEN_IV_MUL, 72, 72, 21},
-        {CODEGEN_IV_SUB, 72, 73, 72},
-        {CODEGEN_IV_MUL, 73, 17, 7},
-        {CODEGEN_IV_MUL, 73, 73, 22},
-        {CODEGEN_IV_ADD, 73, 72, 73},
-        {CODEGEN_IV_CONST, 21, 1, 0},
-        {CODEGEN_IV_POW, 34, 47, 1},
-        {CODEGEN_IV_DIV, 34, 21, 34},
-        {CODEGEN_IV_CONST, 21, 8, 0},
-        {CODEGEN_IV_MUL, 21, 21, 1},
-        {CODEGEN_IV_MUL, 21, 21, 12},
-        {CODEGEN_IV_MUL, 21, 21, 52},
-        {CODEGEN_IV_MUL, 21, 21, 34},
-        {CODEGEN_IV_CONST, 1, 7, 0},
-        {CODEGEN_IV_MUL, 1, 1, 47},
-        {CODEGEN_IV_MUL, 68, 39, 1},
-        {CODEGEN_IV_MUL, 39, 14, 35},
-        {CODEGEN_IV_NEG, 14, 11, 0},
-        {CODEGEN_IV_CONST, 70, 9, 0},
-        {CODEGEN_IV_MUL, 70, 70, 12},
-        {CODEGEN_IV_MUL, 70, 70, 4},
-        {CODEGEN_IV_MUL, 70, 70, 15},
-        {CODEGEN_IV_ADD, 70, 14, 70},
-        {CODEGEN_IV_MUL, 14, 5, 21},
-        {CODEGEN_IV_CONST, 69, 10, 0},
-        {CODEGEN_IV_MUL, 69, 69, 53},
-        {CODEGEN_IV_CONST, 67, 10, 0},
-        {CODEGEN_IV_MUL, 67, 67, 57},
-        {CODEGEN_IV_ADD, 67, 69, 67},
-        {CODEGEN_IV_CONST, 69, 3, 0},
-        {CODEGEN_IV_MUL, 69, 69, 32},
-        {CODEGEN_IV_ADD, 69, 67, 69},
-        {CODEGEN_IV_ADD, 69, 69, 73},
-        {CODEGEN_IV_MUL, 67, 29, 68},
-        {CODEGEN_IV_SUB, 67, 69, 67},
-        {CODEGEN_IV_MUL, 69, 60, 68},
-        {CODEGEN_IV_SUB, 69, 67, 69},
-        {CODEGEN_IV_MUL, 67, 45, 61},
-        {CODEGEN_IV_MUL, 67, 67, 1},
-        {CODEGEN_IV_ADD, 67, 69, 67},
-        {CODEGEN_IV_MUL, 67, 14, 67},
-        {CODEGEN_IV_ADD, 67, 70, 67},
-        {CODEGEN_IV_MUL, 70, 6, 21},
-        {CODEGEN_IV_ADD, 14, 53, 57},
-        {CODEGEN_IV_CONST, 69, 0, 0},
-        {CODEGEN_IV_MUL, 69, 69, 32},
-        {CODEGEN_IV_ADD, 69, 14, 69},
-        {CODEGEN_IV_ADD, 69, 69, 73},
-        {CODEGEN_IV_MUL, 14, 29, 59},
-        {CODEGEN_IV_SUB, 14, 69, 14},
-        {CODEGEN_IV_MUL, 69, 59, 60},
-        {CODEGEN_IV_SUB, 69, 14, 69},
-        {CODEGEN_IV_MUL, 14, 47, 61},
-        {CODEGEN_IV_MUL, 14, 14, 62},
-        {CODEGEN_IV_ADD, 14, 69, 14},
-        {CODEGEN_IV_MUL, 14, 70, 14},
-        {CODEGEN_IV_ADD, 14, 67, 14},
-        {CODEGEN_IV_CONST, 67, 9, 0},
-        {CODEGEN_IV_MUL, 67, 67, 54},
-        {CODEGEN_IV_MUL, 67, 67, 55},
-        {CODEGEN_IV_MUL, 70, 51, 19},
-        {CODEGEN_IV_MUL, 69, 0, 13},
-        {CODEGEN_IV_NEG, 69, 69, 0},
-        {CODEGEN_IV_MUL, 56, 25, 19},
-        {CODEGEN_IV_ADD, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 26, 19},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 27, 48},
-        {CODEGEN_IV_SUB, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 27, 49},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 27, 50},
-        {CODEGEN_IV_ADD, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 29, 35},
-        {CODEGEN_IV_SUB, 69, 56, 69},
-        {CODEGEN_IV_CONST, 56, 2, 0},
-        {CODEGEN_IV_MUL, 56, 56, 31},
-        {CODEGEN_IV_MUL, 56, 56, 39},
-        {CODEGEN_IV_SUB, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 33, 10},
-        {CODEGEN_IV_SUB, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 13, 9},
-        {CODEGEN_IV_ADD, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 36, 47},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 38, 47},
-        {CODEGEN_IV_ADD, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 40, 42},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 42, 71},
-        {CODEGEN_IV_SUB, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 17, 48},
-        {CODEGEN_IV_SUB, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 17, 50},
-        {CODEGEN_IV_SUB, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 47, 18},
-        {CODEGEN_IV_SUB, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 48, 22},
-        {CODEGEN_IV_ADD, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 49, 22},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 56, 50, 22},
-        {CODEGEN_IV_SUB, 56, 69, 56},
-        {CODEGEN_IV_MUL, 69, 62, 39},
-        {CODEGEN_IV_ADD, 69, 56, 69},
-        {CODEGEN_IV_MUL, 69, 20, 69},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_CONST, 70, 9, 0},
-        {CODEGEN_IV_MUL, 70, 70, 20},
-        {CODEGEN_IV_MUL, 70, 70, 34},
-        {CODEGEN_IV_MUL, 56, 3, 19},
-        {CODEGEN_IV_NEG, 56, 56, 0},
-        {CODEGEN_IV_MUL, 66, 2, 19},
-        {CODEGEN_IV_SUB, 66, 56, 66},
-        {CODEGEN_IV_MUL, 66, 70, 66},
-        {CODEGEN_IV_NEG, 70, 41, 0},
-        {CODEGEN_IV_SUB, 70, 70, 48},
-        {CODEGEN_IV_ADD, 70, 70, 49},
-        {CODEGEN_IV_ADD, 70, 70, 50},
-        {CODEGEN_IV_MUL, 70, 66, 70},
-        {CODEGEN_IV_SUB, 70, 69, 70},
-        {CODEGEN_IV_MUL, 70, 67, 70},
-        {CODEGEN_IV_DIV, 70, 70, 23},
-        {CODEGEN_IV_ADD, 70, 14, 70},
-        {CODEGEN_IV_MUL, 14, 23, 52},
-        {CODEGEN_IV_MUL, 14, 14, 19},
-        {CODEGEN_IV_MUL, 14, 14, 55},
-        {CODEGEN_IV_SUB, 14, 70, 14},
+    static const codegen_iv_instruction program[297] = {
+        {CODEGEN_IV_COS, 294, 293, 0},
+        {CODEGEN_IV_MUL, 295, 281, 294},
+        {CODEGEN_IV_MUL, 298, 280, 295},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 298},
+        {CODEGEN_IV_SUB, 300, 238, 299},
+        {CODEGEN_IV_MUL, 310, 294, 246},
+        {CODEGEN_IV_MUL, 313, 294, 248},
+        {CODEGEN_IV_MUL, 314, 280, 313},
+        {CODEGEN_IV_SIN, 315, 293, 0},
+        {CODEGEN_IV_MUL, 293, 248, 315},
+        {CODEGEN_IV_MUL, 316, 295, 289},
+        {CODEGEN_IV_MUL, 317, 281, 315},
+        {CODEGEN_IV_MUL, 318, 317, 290},
+        {CODEGEN_IV_POW, 319, 294, 2},
+        {CODEGEN_IV_CONST, 320, 0, 0},
+        {CODEGEN_IV_MUL, 320, 320, 319},
+        {CODEGEN_IV_CONST, 323, 0, 0},
+        {CODEGEN_IV_MUL, 323, 323, 315},
+        {CODEGEN_IV_MUL, 324, 294, 323},
+        {CODEGEN_IV_SUB, 283, 252, 299},
+        {CODEGEN_IV_SUB, 283, 283, 240},
+        {CODEGEN_IV_ADD, 282, 253, 300},
+        {CODEGEN_IV_SUB, 282, 282, 240},
+        {CODEGEN_IV_MUL, 326, 283, 282},
+        {CODEGEN_IV_NEG, 327, 326, 0},
+        {CODEGEN_IV_SQRT, 327, 327, 0},
+        {CODEGEN_IV_MUL, 328, 317, 289},
+        {CODEGEN_IV_MUL, 329, 280, 317},
+        {CODEGEN_IV_MUL, 330, 295, 290},
+        {CODEGEN_IV_ADD, 331, 254, 310},
+        {CODEGEN_IV_SUB, 331, 331, 247},
+        {CODEGEN_IV_ADD, 331, 331, 314},
+        {CODEGEN_IV_ADD, 332, 331, 255},
+        {CODEGEN_IV_ADD, 331, 332, 256},
+        {CODEGEN_IV_MUL, 332, 242, 299},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_ADD, 331, 332, 257},
+        {CODEGEN_IV_ADD, 332, 331, 258},
+        {CODEGEN_IV_MUL, 331, 243, 299},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 244, 316},
+        {CODEGEN_IV_ADD, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 244, 318},
+        {CODEGEN_IV_ADD, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 244, 298},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_SUB, 331, 332, 259},
+        {CODEGEN_IV_MUL, 332, 247, 320},
+        {CODEGEN_IV_ADD, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 313, 289},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 293, 290},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 316, 237},
+        {CODEGEN_IV_ADD, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 316, 240},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 318, 237},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 318, 240},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 320, 251},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 249, 327},
+        {CODEGEN_IV_ADD, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 250, 324},
+        {CODEGEN_IV_ADD, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 327, 328},
+        {CODEGEN_IV_ADD, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 327, 329},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_MUL, 332, 327, 330},
+        {CODEGEN_IV_SUB, 332, 331, 332},
+        {CODEGEN_IV_MUL, 331, 298, 240},
+        {CODEGEN_IV_SUB, 331, 332, 331},
+        {CODEGEN_IV_SUB, 332, 331, 260},
+        {CODEGEN_IV_ADD, 331, 332, 261},
+        {CODEGEN_IV_MUL, 303, 331, 300},
+        {CODEGEN_IV_SQRT, 303, 303, 0},
+        {CODEGEN_IV_CONST, 299, 1, 0},
+        {CODEGEN_IV_POW, 332, 300, 2},
+        {CODEGEN_IV_DIV, 332, 299, 332},
+        {CODEGEN_IV_CONST, 299, 0, 0},
+        {CODEGEN_IV_MUL, 299, 299, 329},
+        {CODEGEN_IV_CONST, 333, 1, 0},
+        {CODEGEN_IV_POW, 334, 300, 1},
+        {CODEGEN_IV_DIV, 334, 333, 334},
+        {CODEGEN_IV_MUL, 335, 303, 334},
+        {CODEGEN_IV_ADD, 335, 262, 335},
+        {CODEGEN_IV_MUL, 335, 287, 335},
+        {CODEGEN_IV_MUL, 287, 294, 327},
+        {CODEGEN_IV_MUL, 333, 263, 287},
+        {CODEGEN_IV_MUL, 337, 287, 264},
+        {CODEGEN_IV_CONST, 338, 2, 0},
+        {CODEGEN_IV_MUL, 338, 338, 319},
+        {CODEGEN_IV_MUL, 339, 327, 338},
+        {CODEGEN_IV_MUL, 312, 251, 287},
+        {CODEGEN_IV_POW, 341, 294, 3},
+        {CODEGEN_IV_MUL, 343, 323, 264},
+        {CODEGEN_IV_MUL, 344, 237, 323},
+        {CODEGEN_IV_MUL, 345, 236, 315},
+        {CODEGEN_IV_MUL, 346, 264, 345},
+        {CODEGEN_IV_MUL, 336, 315, 237},
+        {CODEGEN_IV_MUL, 347, 319, 336},
+        {CODEGEN_IV_MUL, 348, 267, 327},
+        {CODEGEN_IV_MUL, 349, 348, 240},
+        {CODEGEN_IV_CONST, 350, 0, 0},
+        {CODEGEN_IV_POW, 351, 315, 2},
+        {CODEGEN_IV_MUL, 351, 350, 351},
+        {CODEGEN_IV_MUL, 350, 244, 348},
+        {CODEGEN_IV_MUL, 348, 314, 323},
+        {CODEGEN_IV_CONST, 314, 3, 0},
+        {CODEGEN_IV_MUL, 314, 314, 310},
+        {CODEGEN_IV_MUL, 314, 314, 315},
+        {CODEGEN_IV_CONST, 310, 2, 0},
+        {CODEGEN_IV_MUL, 310, 310, 346},
+        {CODEGEN_IV_MUL, 352, 268, 323},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 241, 287},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 241, 344},
+        {CODEGEN_IV_SUB, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 269, 347},
+        {CODEGEN_IV_SUB, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 244, 343},
+        {CODEGEN_IV_SUB, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 244, 348},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 244, 314},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 245, 287},
+        {CODEGEN_IV_SUB, 310, 352, 310},
+        {CODEGEN_IV_CONST, 352, 4, 0},
+        {CODEGEN_IV_MUL, 352, 352, 319},
+        {CODEGEN_IV_MUL, 352, 352, 346},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 320, 349},
+        {CODEGEN_IV_SUB, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 320, 350},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 326, 345},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 326, 336},
+        {CODEGEN_IV_SUB, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 263, 344},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 270, 347},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 343, 240},
+        {CODEGEN_IV_SUB, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 349, 351},
+        {CODEGEN_IV_SUB, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 351, 350},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 348, 240},
+        {CODEGEN_IV_ADD, 352, 310, 352},
+        {CODEGEN_IV_MUL, 310, 314, 240},
+        {CODEGEN_IV_ADD, 310, 352, 310},
+        {CODEGEN_IV_MUL, 352, 271, 324},
+        {CODEGEN_IV_SUB, 352, 310, 352},
+        {CODEGEN_IV_MUL, 353, 272, 294},
+        {CODEGEN_IV_MUL, 353, 353, 317},
+        {CODEGEN_IV_SUB, 353, 352, 353},
+        {CODEGEN_IV_MUL, 352, 273, 287},
+        {CODEGEN_IV_SUB, 352, 353, 352},
+        {CODEGEN_IV_MUL, 353, 274, 323},
+        {CODEGEN_IV_SUB, 353, 352, 353},
+        {CODEGEN_IV_MUL, 352, 245, 338},
+        {CODEGEN_IV_MUL, 352, 352, 345},
+        {CODEGEN_IV_SUB, 352, 353, 352},
+        {CODEGEN_IV_CONST, 353, 5, 0},
+        {CODEGEN_IV_MUL, 353, 353, 313},
+        {CODEGEN_IV_MUL, 353, 353, 315},
+        {CODEGEN_IV_MUL, 353, 353, 239},
+        {CODEGEN_IV_SUB, 353, 352, 353},
+        {CODEGEN_IV_CONST, 352, 6, 0},
+        {CODEGEN_IV_MUL, 352, 352, 293},
+        {CODEGEN_IV_MUL, 352, 352, 341},
+        {CODEGEN_IV_MUL, 352, 352, 239},
+        {CODEGEN_IV_SUB, 352, 353, 352},
+        {CODEGEN_IV_MUL, 353, 237, 287},
+        {CODEGEN_IV_MUL, 353, 353, 240},
+        {CODEGEN_IV_ADD, 353, 352, 353},
+        {CODEGEN_IV_CONST, 301, 1, 0},
+        {CODEGEN_IV_POW, 314, 327, 1},
+        {CODEGEN_IV_DIV, 314, 301, 314},
+        {CODEGEN_IV_MUL, 301, 275, 332},
+        {CODEGEN_IV_MUL, 301, 301, 314},
+        {CODEGEN_IV_CONST, 281, 5, 0},
+        {CODEGEN_IV_MUL, 281, 281, 327},
+        {CODEGEN_IV_MUL, 348, 319, 281},
+        {CODEGEN_IV_MUL, 319, 294, 315},
+        {CODEGEN_IV_MUL, 350, 277, 295},
+        {CODEGEN_IV_ADD, 350, 276, 350},
+        {CODEGEN_IV_MUL, 294, 285, 301},
+        {CODEGEN_IV_CONST, 349, 7, 0},
+        {CODEGEN_IV_MUL, 349, 349, 333},
+        {CODEGEN_IV_CONST, 347, 7, 0},
+        {CODEGEN_IV_MUL, 347, 347, 337},
+        {CODEGEN_IV_ADD, 347, 349, 347},
+        {CODEGEN_IV_CONST, 349, 3, 0},
+        {CODEGEN_IV_MUL, 349, 349, 312},
+        {CODEGEN_IV_ADD, 349, 347, 349},
+        {CODEGEN_IV_ADD, 349, 349, 353},
+        {CODEGEN_IV_MUL, 347, 246, 348},
+        {CODEGEN_IV_SUB, 347, 349, 347},
+        {CODEGEN_IV_MUL, 349, 265, 348},
+        {CODEGEN_IV_SUB, 349, 347, 349},
+        {CODEGEN_IV_MUL, 347, 251, 341},
+        {CODEGEN_IV_MUL, 347, 347, 281},
+        {CODEGEN_IV_ADD, 347, 349, 347},
+        {CODEGEN_IV_MUL, 347, 294, 347},
+        {CODEGEN_IV_ADD, 347, 350, 347},
+        {CODEGEN_IV_MUL, 350, 286, 301},
+        {CODEGEN_IV_ADD, 294, 333, 337},
+        {CODEGEN_IV_CONST, 349, 0, 0},
+        {CODEGEN_IV_MUL, 349, 349, 312},
+        {CODEGEN_IV_ADD, 349, 294, 349},
+        {CODEGEN_IV_ADD, 349, 349, 353},
+        {CODEGEN_IV_MUL, 294, 246, 339},
+        {CODEGEN_IV_SUB, 294, 349, 294},
+        {CODEGEN_IV_MUL, 349, 339, 265},
+        {CODEGEN_IV_SUB, 349, 294, 349},
+        {CODEGEN_IV_MUL, 294, 327, 341},
+        {CODEGEN_IV_MUL, 294, 294, 266},
+        {CODEGEN_IV_ADD, 294, 349, 294},
+        {CODEGEN_IV_MUL, 294, 350, 294},
+        {CODEGEN_IV_ADD, 294, 347, 294},
+        {CODEGEN_IV_CONST, 347, 8, 0},
+        {CODEGEN_IV_MUL, 347, 347, 334},
+        {CODEGEN_IV_MUL, 347, 347, 335},
+        {CODEGEN_IV_MUL, 350, 331, 299},
+        {CODEGEN_IV_MUL, 349, 280, 293},
+        {CODEGEN_IV_NEG, 349, 349, 0},
+        {CODEGEN_IV_MUL, 336, 242, 299},
+        {CODEGEN_IV_ADD, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 243, 299},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 244, 328},
+        {CODEGEN_IV_SUB, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 244, 329},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 244, 330},
+        {CODEGEN_IV_ADD, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 246, 315},
+        {CODEGEN_IV_SUB, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 278, 319},
+        {CODEGEN_IV_SUB, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 313, 290},
+        {CODEGEN_IV_SUB, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 293, 289},
+        {CODEGEN_IV_ADD, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 316, 327},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 318, 327},
+        {CODEGEN_IV_ADD, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 320, 250},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 250, 351},
+        {CODEGEN_IV_SUB, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 237, 328},
+        {CODEGEN_IV_SUB, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 237, 330},
+        {CODEGEN_IV_SUB, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 327, 298},
+        {CODEGEN_IV_SUB, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 328, 240},
+        {CODEGEN_IV_ADD, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 329, 240},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 336, 330, 240},
+        {CODEGEN_IV_SUB, 336, 349, 336},
+        {CODEGEN_IV_MUL, 349, 266, 319},
+        {CODEGEN_IV_ADD, 349, 336, 349},
+        {CODEGEN_IV_MUL, 349, 300, 349},
+        {CODEGEN_IV_ADD, 349, 350, 349},
+        {CODEGEN_IV_CONST, 350, 8, 0},
+        {CODEGEN_IV_MUL, 350, 350, 300},
+        {CODEGEN_IV_MUL, 350, 350, 314},
+        {CODEGEN_IV_MUL, 336, 283, 299},
+        {CODEGEN_IV_NEG, 336, 336, 0},
+        {CODEGEN_IV_MUL, 346, 282, 299},
+        {CODEGEN_IV_SUB, 346, 336, 346},
+        {CODEGEN_IV_MUL, 346, 350, 346},
+        {CODEGEN_IV_SUB, 350, 279, 328},
+        {CODEGEN_IV_ADD, 350, 350, 329},
+        {CODEGEN_IV_ADD, 350, 350, 330},
+        {CODEGEN_IV_MUL, 350, 346, 350},
+        {CODEGEN_IV_SUB, 350, 349, 350},
+        {CODEGEN_IV_MUL, 350, 347, 350},
+        {CODEGEN_IV_DIV, 350, 350, 303},
+        {CODEGEN_IV_ADD, 350, 294, 350},
+        {CODEGEN_IV_MUL, 294, 303, 332},
+        {CODEGEN_IV_MUL, 294, 294, 299},
+        {CODEGEN_IV_MUL, 294, 294, 335},
+        {CODEGEN_IV_SUB, 294, 350, 294},
     };
-    static const codegen_iv constants[11] = {
+    static const codegen_iv constants[9] = {
         {2, 2},
         {1, 1},
         {4, 4},
         {6, 6},
         {16, 16},
-        {8, 8},
-        {10, 10},
         {12, 12},
-        {CODEGEN_R(0.25), CODEGEN_R(0.25)},
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
-        {3, 3}
+        {8, 8},
+        {3, 3},
+        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
     };
-    v[0] = codegen_iv_point(params->d);
-    v[1] = codegen_iv_point(params->a_2);
-    v[2] = codegen_iv_point(params->a_3);
-    v[3] = codegen_iv_point(params->a_4);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->m_3);
-    v[6] = codegen_iv_point(params->m_4);
-    v[7] = codegen_iv_point(params->k);
-    v[8] = codegen_iv_point(params->l_0);
-    v[9] = codegen_iv_point(params->x_S);
-    v[10] = codegen_iv_point(params->y_S);
-    v[11] = codegen_iv_point(params->T);
-    v[12] = codegen_iv_point(params->g);
-    v[13] = theta;
-    codegen_iv_run(program, 360, constants, v, iv_flags);
-    *iv_g = v[14];
+    v[280] = codegen_iv_point(params->d);
+    v[281] = codegen_iv_point(params->a_2);
+    v[285] = codegen_iv_point(params->m_3);
+    v[286] = codegen_iv_point(params->m_4);
+    v[287] = codegen_iv_point(params->k);
+    v[289] = codegen_iv_point(params->x_S);
+    v[290] = codegen_iv_point(params->y_S);
+    v[293] = theta;
+    codegen_iv_run(program, 297, constants, v, iv_flags);
+    *iv_g = v[294];
 #else
-    (void)v;
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
-    const codegen_iv a_3 = codegen_iv_point(params->a_3);
-    const codegen_iv a_4 = codegen_iv_point(params->a_4);
-    const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv m_3 = codegen_iv_point(params->m_3);
     const codegen_iv m_4 = codegen_iv_point(params->m_4);
     const codegen_iv k = codegen_iv_point(params->k);
-    const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
     const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
-    const codegen_iv tmp2 = codegen_iv_pow(a_2, 2);
-    const codegen_iv tmp3 = codegen_iv_pow(d, 2);
-    const codegen_iv tmp4 = codegen_iv_mul(d, tmp1);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_point(2), tmp4);
-    const codegen_iv tmp6 = codegen_iv_sub(codegen_iv_add(tmp2, tmp3), tmp5);
-    const codegen_iv tmp7 = codegen_iv_pow(d, 3);
-    const codegen_iv tmp8 = codegen_iv_pow(a_4, 2);
-    const codegen_iv tmp9 = codegen_iv_mul(d, x_S);
-    const codegen_iv tmp10 = codegen_iv_mul(tmp2, tmp8);
-    const codegen_iv tmp11 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp12 = codegen_iv_pow(y_S, 2);
-    const codegen_iv tmp13 = codegen_iv_pow(a_3, 2);
-    const codegen_iv tmp14 = codegen_iv_mul(tmp13, tmp3);
-    const codegen_iv tmp15 = codegen_iv_mul(a_2, tmp7);
-    const codegen_iv tmp16 = codegen_iv_mul(tmp0, tmp15);
-    const codegen_iv tmp17 = codegen_iv_mul(tmp2, tmp9);
-    const codegen_iv tmp18 = codegen_iv_pow(a_2, 3);
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[238], tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(tmp0, v[246]);
+    const codegen_iv tmp7 = codegen_iv_mul(tmp0, v[248]);
+    const codegen_iv tmp8 = codegen_iv_mul(d, tmp7);
+    const codegen_iv tmp9 = codegen_iv_sin(theta);
+    const codegen_iv tmp10 = codegen_iv_mul(v[248], tmp9);
+    const codegen_iv tmp11 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp12 = codegen_iv_mul(a_2, tmp9);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp12, y_S);
+    const codegen_iv tmp14 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp16 = codegen_iv_mul(codegen_iv_point(2), tmp14);
+    const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2), tmp9);
     const codegen_iv tmp19 = codegen_iv_mul(tmp0, tmp18);
-    const codegen_iv tmp20 = codegen_iv_mul(d, tmp19);
-    const codegen_iv tmp21 = codegen_iv_sin(theta);
-    const codegen_iv tmp22 = codegen_iv_mul(tmp18, tmp21);
-    const codegen_iv tmp23 = codegen_iv_mul(tmp1, x_S);
-    const codegen_iv tmp24 = codegen_iv_mul(a_2, tmp21);
-    const codegen_iv tmp25 = codegen_iv_mul(tmp24, y_S);
-    const codegen_iv tmp26 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp27 = codegen_iv_mul(codegen_iv_point(2), tmp26);
-    const codegen_iv tmp28 = codegen_iv_mul(d, y_S);
-    const codegen_iv tmp29 = codegen_iv_mul(tmp2, tmp28);
-    const codegen_iv tmp30 = codegen_iv_mul(codegen_iv_point(2), tmp21);
-    const codegen_iv tmp31 = codegen_iv_mul(tmp0, tmp30);
-    const codegen_iv tmp32 = codegen_iv_mul(tmp2, tmp3);
-    const codegen_iv tmp33 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), a_3), a_4);
-    const codegen_iv tmp34 = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp2), tmp3), tmp33), tmp5), tmp8);
-    const codegen_iv tmp35 = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(tmp13), tmp33), tmp6), tmp8);
-    const codegen_iv tmp36 = codegen_iv_mul(tmp34, tmp35);
-    const codegen_iv tmp37 = codegen_iv_sqrt(codegen_iv_neg(tmp36), iv_flags);
-    const codegen_iv tmp38 = codegen_iv_mul(tmp24, x_S);
-    const codegen_iv tmp39 = codegen_iv_mul(d, tmp24);
-    const codegen_iv tmp40 = codegen_iv_mul(tmp1, y_S);
-    const codegen_iv tmp41 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp10, tmp14), tmp16), tmp17), tmp20), codegen_iv_mul(tmp11, tmp2)), codegen_iv_mul(tmp11, tmp3)), codegen_iv_mul(tmp11, tmp5)), codegen_iv_mul(tmp12, tmp2)), codegen_iv_mul(tmp12, tmp3)), codegen_iv_mul(tmp12, tmp5)), codegen_iv_mul(tmp13, tmp23)), codegen_iv_mul(tmp13, tmp25)), codegen_iv_mul(tmp13, tmp4)), codegen_iv_mul(tmp13, tmp9)), codegen_iv_mul(tmp17, tmp27)), codegen_iv_mul(tmp19, x_S)), codegen_iv_mul(tmp22, y_S)), codegen_iv_mul(tmp23, tmp3)), codegen_iv_mul(tmp23, tmp8)), codegen_iv_mul(tmp25, tmp3)), codegen_iv_mul(tmp25, tmp8)), codegen_iv_mul(tmp27, tmp32)), codegen_iv_mul(tmp28, tmp37)), codegen_iv_mul(tmp29, tmp31)), codegen_iv_mul(tmp37, tmp38)), codegen_iv_mul(tmp37, tmp39)), codegen_iv_mul(tmp37, tmp40)), codegen_iv_mul(tmp4, tmp8)), codegen_iv_mul(tmp7, x_S)), codegen_iv_mul(tmp8, tmp9));
-    const codegen_iv tmp42 = codegen_iv_sqrt(codegen_iv_mul(tmp41, tmp6), iv_flags);
-    const codegen_iv tmp43 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 2), iv_flags);
-    const codegen_iv tmp44 = codegen_iv_mul(codegen_iv_point(2), tmp39);
-    const codegen_iv tmp45 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp6, 1), iv_flags);
-    const codegen_iv tmp46 = codegen_iv_mul(k, codegen_iv_add(codegen_iv_neg(l_0), codegen_iv_mul(tmp42, tmp45)));
-    const codegen_iv tmp47 = codegen_iv_pow(a_2, 4);
-    const codegen_iv tmp48 = codegen_iv_mul(tmp0, tmp37);
-    const codegen_iv tmp49 = codegen_iv_mul(tmp47, tmp48);
-    const codegen_iv tmp50 = codegen_iv_pow(d, 4);
-    const codegen_iv tmp51 = codegen_iv_mul(tmp48, tmp50);
-    const codegen_iv tmp52 = codegen_iv_mul(codegen_iv_point(4), tmp26);
-    const codegen_iv tmp53 = codegen_iv_mul(tmp37, tmp52);
-    const codegen_iv tmp54 = codegen_iv_mul(d, tmp18);
-    const codegen_iv tmp55 = codegen_iv_mul(tmp32, tmp48);
-    const codegen_iv tmp56 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp57 = codegen_iv_mul(codegen_iv_point(4), tmp32);
-    const codegen_iv tmp58 = codegen_iv_mul(tmp30, tmp50);
-    const codegen_iv tmp59 = codegen_iv_mul(tmp3, tmp30);
-    const codegen_iv tmp60 = codegen_iv_mul(tmp2, tmp21);
-    const codegen_iv tmp61 = codegen_iv_mul(tmp50, tmp60);
-    const codegen_iv tmp62 = codegen_iv_mul(tmp21, tmp3);
-    const codegen_iv tmp63 = codegen_iv_mul(tmp26, tmp62);
-    const codegen_iv tmp64 = codegen_iv_mul(codegen_iv_mul(a_2, d), tmp37);
-    const codegen_iv tmp65 = codegen_iv_mul(tmp64, tmp8);
-    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(2), codegen_iv_pow(tmp21, 2));
-    const codegen_iv tmp67 = codegen_iv_mul(tmp13, tmp64);
-    const codegen_iv tmp68 = codegen_iv_mul(tmp20, tmp30);
-    const codegen_iv tmp69 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp16), tmp21);
-    const codegen_iv tmp70 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(4), tmp61), codegen_iv_mul(codegen_iv_pow(d, 6), tmp30)), codegen_iv_mul(tmp10, tmp48)), codegen_iv_mul(tmp10, tmp59)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp10), tmp63)), codegen_iv_mul(tmp13, tmp58)), codegen_iv_mul(tmp13, tmp68)), codegen_iv_mul(tmp13, tmp69)), codegen_iv_mul(tmp14, tmp48)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(16), tmp26), tmp61)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp67)), codegen_iv_mul(tmp36, tmp60)), codegen_iv_mul(tmp36, tmp62)), codegen_iv_mul(tmp47, tmp59)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp47), tmp63)), codegen_iv_mul(tmp58, tmp8)), codegen_iv_mul(tmp65, tmp66)), codegen_iv_mul(tmp66, tmp67)), codegen_iv_mul(tmp68, tmp8)), codegen_iv_mul(tmp69, tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(a_2, 5), d), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(10), codegen_iv_pow(d, 5)), tmp0), tmp24)), codegen_iv_mul(codegen_iv_mul(tmp13, tmp2), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp14, tmp2), tmp30)), codegen_iv_mul(codegen_iv_mul(tmp14, tmp52), tmp60)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(12), tmp19), tmp21), tmp7)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), tmp22), tmp56), tmp7)), codegen_iv_mul(codegen_iv_mul(tmp3, tmp48), tmp8));
-    const codegen_iv tmp71 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp37, 1), iv_flags);
-    const codegen_iv tmp72 = codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.25)), a_2), g), tmp43), tmp71);
-    const codegen_iv tmp73 = codegen_iv_mul(codegen_iv_point(12), tmp37);
-    const codegen_iv tmp74 = codegen_iv_mul(tmp26, tmp73);
-    const codegen_iv tmp75 = codegen_iv_mul(tmp0, tmp21);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), m_2), tmp1)), codegen_iv_mul(codegen_iv_mul(m_3, tmp72), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(codegen_iv_point(3), tmp49), codegen_iv_mul(codegen_iv_point(3), tmp51)), codegen_iv_mul(codegen_iv_point(6), tmp55)), tmp70), codegen_iv_mul(tmp15, tmp74)), codegen_iv_mul(tmp54, tmp74)), codegen_iv_mul(codegen_iv_mul(tmp32, tmp56), tmp73)))), codegen_iv_mul(codegen_iv_mul(m_4, tmp72), codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp49, tmp51), codegen_iv_mul(codegen_iv_point(2), tmp55)), tmp70), codegen_iv_mul(tmp15, tmp53)), codegen_iv_mul(tmp53, tmp54)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp56), tmp57)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp45), tmp46), codegen_iv_sub(codegen_iv_add(codegen_iv_mul(tmp41, tmp44), codegen_iv_mul(tmp6, codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_neg(codegen_iv_mul(d, tmp22)), codegen_iv_mul(tmp11, tmp44)), codegen_iv_mul(tmp12, tmp44)), codegen_iv_mul(tmp13, tmp38)), codegen_iv_mul(tmp13, tmp39)), codegen_iv_mul(tmp13, tmp40)), codegen_iv_mul(tmp15, tmp21)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp17), tmp75)), codegen_iv_mul(tmp19, y_S)), codegen_iv_mul(tmp22, x_S)), codegen_iv_mul(tmp23, tmp37)), codegen_iv_mul(tmp25, tmp37)), codegen_iv_mul(tmp27, tmp29)), codegen_iv_mul(tmp29, tmp66)), codegen_iv_mul(tmp3, tmp38)), codegen_iv_mul(tmp3, tmp40)), codegen_iv_mul(tmp37, tmp4)), codegen_iv_mul(tmp38, tmp8)), codegen_iv_mul(tmp39, tmp8)), codegen_iv_mul(tmp40, tmp8)), codegen_iv_mul(tmp57, tmp75)))), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp6), tmp71), codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(tmp34, tmp44)), codegen_iv_mul(tmp35, tmp44))), codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp28), tmp38), tmp39), tmp40)))), tmp42, iv_flags)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp42, tmp43), tmp44), tmp46));
+    const codegen_iv tmp20 = codegen_iv_sub(v[252], tmp4);
+    const codegen_iv tmp21 = codegen_iv_sub(tmp20, v[240]);
+    const codegen_iv tmp22 = codegen_iv_add(v[253], tmp5);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[240]);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp21, tmp23);
+    const codegen_iv tmp25 = codegen_iv_neg(tmp24);
+    const codegen_iv tmp26 = codegen_iv_sqrt(tmp25, iv_flags);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp12, x_S);
+    const codegen_iv tmp28 = codegen_iv_mul(d, tmp12);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp1, y_S);
+    const codegen_iv tmp30 = codegen_iv_add(v[254], tmp6);
+    const codegen_iv tmp31 = codegen_iv_sub(tmp30, v[247]);
+    const codegen_iv tmp32 = codegen_iv_add(tmp31, tmp8);
+    const codegen_iv tmp33 = codegen_iv_add(tmp32, v[255]);
+    const codegen_iv tmp34 = codegen_iv_add(tmp33, v[256]);
+    const codegen_iv tmp35 = codegen_iv_mul(v[242], tmp4);
+    const codegen_iv tmp36 = codegen_iv_sub(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_add(tmp36, v[257]);
+    const codegen_iv tmp38 = codegen_iv_add(tmp37, v[258]);
+    const codegen_iv tmp39 = codegen_iv_mul(v[243], tmp4);
+    const codegen_iv tmp40 = codegen_iv_sub(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_mul(v[244], tmp11);
+    const codegen_iv tmp42 = codegen_iv_add(tmp40, tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(v[244], tmp13);
+    const codegen_iv tmp44 = codegen_iv_add(tmp42, tmp43);
+    const codegen_iv tmp45 = codegen_iv_mul(v[244], tmp2);
+    const codegen_iv tmp46 = codegen_iv_sub(tmp44, tmp45);
+    const codegen_iv tmp47 = codegen_iv_sub(tmp46, v[259]);
+    const codegen_iv tmp48 = codegen_iv_mul(v[247], tmp16);
+    const codegen_iv tmp49 = codegen_iv_add(tmp47, tmp48);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp7, x_S);
+    const codegen_iv tmp51 = codegen_iv_sub(tmp49, tmp50);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp10, y_S);
+    const codegen_iv tmp53 = codegen_iv_sub(tmp51, tmp52);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp11, v[237]);
+    const codegen_iv tmp55 = codegen_iv_add(tmp53, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp11, v[240]);
+    const codegen_iv tmp57 = codegen_iv_sub(tmp55, tmp56);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp13, v[237]);
+    const codegen_iv tmp59 = codegen_iv_sub(tmp57, tmp58);
+    const codegen_iv tmp60 = codegen_iv_mul(tmp13, v[240]);
+    const codegen_iv tmp61 = codegen_iv_sub(tmp59, tmp60);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp16, v[251]);
+    const codegen_iv tmp63 = codegen_iv_sub(tmp61, tmp62);
+    const codegen_iv tmp64 = codegen_iv_mul(v[249], tmp26);
+    const codegen_iv tmp65 = codegen_iv_add(tmp63, tmp64);
+    const codegen_iv tmp66 = codegen_iv_mul(v[250], tmp19);
+    const codegen_iv tmp67 = codegen_iv_add(tmp65, tmp66);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp26, tmp27);
+    const codegen_iv tmp69 = codegen_iv_add(tmp67, tmp68);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp26, tmp28);
+    const codegen_iv tmp71 = codegen_iv_sub(tmp69, tmp70);
+    const codegen_iv tmp72 = codegen_iv_mul(tmp26, tmp29);
+    const codegen_iv tmp73 = codegen_iv_sub(tmp71, tmp72);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp2, v[240]);
+    const codegen_iv tmp75 = codegen_iv_sub(tmp73, tmp74);
+    const codegen_iv tmp76 = codegen_iv_sub(tmp75, v[260]);
+    const codegen_iv tmp77 = codegen_iv_add(tmp76, v[261]);
+    const codegen_iv tmp78 = codegen_iv_mul(tmp77, tmp5);
+    const codegen_iv tmp79 = codegen_iv_sqrt(tmp78, iv_flags);
+    const codegen_iv tmp81 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp82 = codegen_iv_div(codegen_iv_point(1), tmp81, iv_flags);
+    const codegen_iv tmp84 = codegen_iv_mul(codegen_iv_point(2), tmp28);
+    const codegen_iv tmp86 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp87 = codegen_iv_div(codegen_iv_point(1), tmp86, iv_flags);
+    const codegen_iv tmp88 = codegen_iv_mul(tmp79, tmp87);
+    const codegen_iv tmp89 = codegen_iv_add(v[262], tmp88);
+    const codegen_iv tmp90 = codegen_iv_mul(k, tmp89);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp0, tmp26);
+    const codegen_iv tmp92 = codegen_iv_mul(v[263], tmp91);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp91, v[264]);
+    const codegen_iv tmp95 = codegen_iv_mul(codegen_iv_point(4), tmp14);
+    const codegen_iv tmp96 = codegen_iv_mul(tmp26, tmp95);
+    const codegen_iv tmp97 = codegen_iv_mul(v[251], tmp91);
+    const codegen_iv tmp98 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp99 = codegen_iv_mul(tmp18, v[264]);
+    const codegen_iv tmp100 = codegen_iv_mul(v[237], tmp18);
+    const codegen_iv tmp101 = codegen_iv_mul(v[236], tmp9);
+    const codegen_iv tmp102 = codegen_iv_mul(v[264], tmp101);
+    const codegen_iv tmp103 = codegen_iv_mul(tmp9, v[237]);
+    const codegen_iv tmp104 = codegen_iv_mul(tmp14, tmp103);
+    const codegen_iv tmp105 = codegen_iv_mul(v[267], tmp26);
+    const codegen_iv tmp106 = codegen_iv_mul(tmp105, v[240]);
+    const codegen_iv tmp108 = codegen_iv_pow(tmp9, 2);
+    const codegen_iv tmp109 = codegen_iv_mul(codegen_iv_point(2), tmp108);
+    const codegen_iv tmp110 = codegen_iv_mul(v[244], tmp105);
+    const codegen_iv tmp111 = codegen_iv_mul(tmp8, tmp18);
+    const codegen_iv tmp113 = codegen_iv_mul(codegen_iv_point(6), tmp6);
+    const codegen_iv tmp114 = codegen_iv_mul(tmp113, tmp9);
+    const codegen_iv tmp116 = codegen_iv_mul(codegen_iv_point(4), tmp102);
+    const codegen_iv tmp117 = codegen_iv_mul(v[268], tmp18);
+    const codegen_iv tmp118 = codegen_iv_add(tmp116, tmp117);
+    const codegen_iv tmp119 = codegen_iv_mul(v[241], tmp91);
+    const codegen_iv tmp120 = codegen_iv_add(tmp118, tmp119);
+    const codegen_iv tmp121 = codegen_iv_mul(v[241], tmp100);
+    const codegen_iv tmp122 = codegen_iv_sub(tmp120, tmp121);
+    const codegen_iv tmp123 = codegen_iv_mul(v[269], tmp104);
+    const codegen_iv tmp124 = codegen_iv_sub(tmp122, tmp123);
+    const codegen_iv tmp125 = codegen_iv_mul(v[244], tmp99);
+    const codegen_iv tmp126 = codegen_iv_sub(tmp124, tmp125);
+    const codegen_iv tmp127 = codegen_iv_mul(v[244], tmp111);
+    const codegen_iv tmp128 = codegen_iv_add(tmp126, tmp127);
+    const codegen_iv tmp129 = codegen_iv_mul(v[244], tmp114);
+    const codegen_iv tmp130 = codegen_iv_add(tmp128, tmp129);
+    const codegen_iv tmp131 = codegen_iv_mul(v[245], tmp91);
+    const codegen_iv tmp132 = codegen_iv_sub(tmp130, tmp131);
+    const codegen_iv tmp134 = codegen_iv_mul(codegen_iv_point(16), tmp14);
+    const codegen_iv tmp135 = codegen_iv_mul(tmp134, tmp102);
+    const codegen_iv tmp136 = codegen_iv_add(tmp132, tmp135);
+    const codegen_iv tmp137 = codegen_iv_mul(tmp16, tmp106);
+    const codegen_iv tmp138 = codegen_iv_sub(tmp136, tmp137);
+    const codegen_iv tmp139 = codegen_iv_mul(tmp16, tmp110);
+    const codegen_iv tmp140 = codegen_iv_add(tmp138, tmp139);
+    const codegen_iv tmp141 = codegen_iv_mul(tmp24, tmp101);
+    const codegen_iv tmp142 = codegen_iv_add(tmp140, tmp141);
+    const codegen_iv tmp143 = codegen_iv_mul(tmp24, tmp103);
+    const codegen_iv tmp144 = codegen_iv_sub(tmp142, tmp143);
+    const codegen_iv tmp145 = codegen_iv_mul(v[263], tmp100);
+    const codegen_iv tmp146 = codegen_iv_add(tmp144, tmp145);
+    const codegen_iv tmp147 = codegen_iv_mul(v[270], tmp104);
+    const codegen_iv tmp148 = codegen_iv_add(tmp146, tmp147);
+    const codegen_iv tmp149 = codegen_iv_mul(tmp99, v[240]);
+    const codegen_iv tmp150 = codegen_iv_sub(tmp148, tmp149);
+    const codegen_iv tmp151 = codegen_iv_mul(tmp106, tmp109);
+    const codegen_iv tmp152 = codegen_iv_sub(tmp150, tmp151);
+    const codegen_iv tmp153 = codegen_iv_mul(tmp109, tmp110);
+    const codegen_iv tmp154 = codegen_iv_add(tmp152, tmp153);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp111, v[240]);
+    const codegen_iv tmp156 = codegen_iv_add(tmp154, tmp155);
+    const codegen_iv tmp157 = codegen_iv_mul(tmp114, v[240]);
+    const codegen_iv tmp158 = codegen_iv_add(tmp156, tmp157);
+    const codegen_iv tmp159 = codegen_iv_mul(v[271], tmp19);
+    const codegen_iv tmp160 = codegen_iv_sub(tmp158, tmp159);
+    const codegen_iv tmp161 = codegen_iv_mul(v[272], tmp0);
+    const codegen_iv tmp162 = codegen_iv_mul(tmp161, tmp12);
+    const codegen_iv tmp163 = codegen_iv_sub(tmp160, tmp162);
+    const codegen_iv tmp164 = codegen_iv_mul(v[273], tmp91);
+    const codegen_iv tmp165 = codegen_iv_sub(tmp163, tmp164);
+    const codegen_iv tmp166 = codegen_iv_mul(v[274], tmp18);
+    const codegen_iv tmp167 = codegen_iv_sub(tmp165, tmp166);
+    const codegen_iv tmp168 = codegen_iv_mul(v[245], tmp95);
+    const codegen_iv tmp169 = codegen_iv_mul(tmp168, tmp101);
+    const codegen_iv tmp170 = codegen_iv_sub(tmp167, tmp169);
+    const codegen_iv tmp172 = codegen_iv_mul(codegen_iv_point(12), tmp7);
+    const codegen_iv tmp173 = codegen_iv_mul(tmp172, tmp9);
+    const codegen_iv tmp174 = codegen_iv_mul(tmp173, v[239]);
+    const codegen_iv tmp175 = codegen_iv_sub(tmp170, tmp174);
+    const codegen_iv tmp177 = codegen_iv_mul(codegen_iv_point(8), tmp10);
+    const codegen_iv tmp178 = codegen_iv_mul(tmp177, tmp98);
+    const codegen_iv tmp179 = codegen_iv_mul(tmp178, v[239]);
+    const codegen_iv tmp180 = codegen_iv_sub(tmp175, tmp179);
+    const codegen_iv tmp181 = codegen_iv_mul(v[237], tmp91);
+    const codegen_iv tmp182 = codegen_iv_mul(tmp181, v[240]);
+    const codegen_iv tmp183 = codegen_iv_add(tmp180, tmp182);
+    const codegen_iv tmp185 = codegen_iv_pow(tmp26, 1);
+    const codegen_iv tmp186 = codegen_iv_div(codegen_iv_point(1), tmp185, iv_flags);
+    const codegen_iv tmp187 = codegen_iv_mul(v[275], tmp82);
+    const codegen_iv tmp188 = codegen_iv_mul(tmp187, tmp186);
+    const codegen_iv tmp190 = codegen_iv_mul(codegen_iv_point(12), tmp26);
+    const codegen_iv tmp191 = codegen_iv_mul(tmp14, tmp190);
+    const codegen_iv tmp192 = codegen_iv_mul(tmp0, tmp9);
+    const codegen_iv tmp193 = codegen_iv_mul(v[277], tmp1);
+    const codegen_iv tmp194 = codegen_iv_add(v[276], tmp193);
+    const codegen_iv tmp195 = codegen_iv_mul(m_3, tmp188);
+    const codegen_iv tmp197 = codegen_iv_mul(codegen_iv_point(3), tmp92);
+    const codegen_iv tmp199 = codegen_iv_mul(codegen_iv_point(3), tmp93);
+    const codegen_iv tmp200 = codegen_iv_add(tmp197, tmp199);
+    const codegen_iv tmp202 = codegen_iv_mul(codegen_iv_point(6), tmp97);
+    const codegen_iv tmp203 = codegen_iv_add(tmp200, tmp202);
+    const codegen_iv tmp204 = codegen_iv_add(tmp203, tmp183);
+    const codegen_iv tmp205 = codegen_iv_mul(v[246], tmp191);
+    const codegen_iv tmp206 = codegen_iv_sub(tmp204, tmp205);
+    const codegen_iv tmp207 = codegen_iv_mul(v[265], tmp191);
+    const codegen_iv tmp208 = codegen_iv_sub(tmp206, tmp207);
+    const codegen_iv tmp209 = codegen_iv_mul(v[251], tmp98);
+    const codegen_iv tmp210 = codegen_iv_mul(tmp209, tmp190);
+    const codegen_iv tmp211 = codegen_iv_add(tmp208, tmp210);
+    const codegen_iv tmp212 = codegen_iv_mul(tmp195, tmp211);
+    const codegen_iv tmp213 = codegen_iv_add(tmp194, tmp212);
+    const codegen_iv tmp214 = codegen_iv_mul(m_4, tmp188);
+    const codegen_iv tmp215 = codegen_iv_add(tmp92, tmp93);
+    const codegen_iv tmp217 = codegen_iv_mul(codegen_iv_point(2), tmp97);
+    const codegen_iv tmp218 = codegen_iv_add(tmp215, tmp217);
+    const codegen_iv tmp219 = codegen_iv_add(tmp218, tmp183);
+    const codegen_iv tmp220 = codegen_iv_mul(v[246], tmp96);
+    const codegen_iv tmp221 = codegen_iv_sub(tmp219, tmp220);
+    const codegen_iv tmp222 = codegen_iv_mul(tmp96, v[265]);
+    const codegen_iv tmp223 = codegen_iv_sub(tmp221, tmp222);
+    const codegen_iv tmp224 = codegen_iv_mul(tmp26, tmp98);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp224, v[266]);
+    const codegen_iv tmp226 = codegen_iv_add(tmp223, tmp225);
+    const codegen_iv tmp227 = codegen_iv_mul(tmp214, tmp226);
+    const codegen_iv tmp228 = codegen_iv_add(tmp213, tmp227);
+    const codegen_iv tmp230 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp87);
+    const codegen_iv tmp231 = codegen_iv_mul(tmp230, tmp90);
+    const codegen_iv tmp232 = codegen_iv_mul(tmp77, tmp84);
+    const codegen_iv tmp233 = codegen_iv_mul(d, tmp10);
+    const codegen_iv tmp234 = codegen_iv_neg(tmp233);
+    const codegen_iv tmp235 = codegen_iv_mul(v[242], tmp84);
+    const codegen_iv tmp236 = codegen_iv_add(tmp234, tmp235);
+    const codegen_iv tmp237 = codegen_iv_mul(v[243], tmp84);
+    const codegen_iv tmp238 = codegen_iv_add(tmp236, tmp237);
+    const codegen_iv tmp239 = codegen_iv_mul(v[244], tmp27);
+    const codegen_iv tmp240 = codegen_iv_sub(tmp238, tmp239);
+    const codegen_iv tmp241 = codegen_iv_mul(v[244], tmp28);
+    const codegen_iv tmp242 = codegen_iv_add(tmp240, tmp241);
+    const codegen_iv tmp243 = codegen_iv_mul(v[244], tmp29);
+    const codegen_iv tmp244 = codegen_iv_add(tmp242, tmp243);
+    const codegen_iv tmp245 = codegen_iv_mul(v[246], tmp9);
+    const codegen_iv tmp246 = codegen_iv_sub(tmp244, tmp245);
+    const codegen_iv tmp247 = codegen_iv_mul(v[278], tmp192);
+    const codegen_iv tmp248 = codegen_iv_sub(tmp246, tmp247);
+    const codegen_iv tmp249 = codegen_iv_mul(tmp7, y_S);
+    const codegen_iv tmp250 = codegen_iv_sub(tmp248, tmp249);
+    const codegen_iv tmp251 = codegen_iv_mul(tmp10, x_S);
+    const codegen_iv tmp252 = codegen_iv_add(tmp250, tmp251);
+    const codegen_iv tmp253 = codegen_iv_mul(tmp11, tmp26);
+    const codegen_iv tmp254 = codegen_iv_add(tmp252, tmp253);
+    const codegen_iv tmp255 = codegen_iv_mul(tmp13, tmp26);
+    const codegen_iv tmp256 = codegen_iv_add(tmp254, tmp255);
+    const codegen_iv tmp257 = codegen_iv_mul(tmp16, v[250]);
+    const codegen_iv tmp258 = codegen_iv_add(tmp256, tmp257);
+    const codegen_iv tmp259 = codegen_iv_mul(v[250], tmp109);
+    const codegen_iv tmp260 = codegen_iv_sub(tmp258, tmp259);
+    const codegen_iv tmp261 = codegen_iv_mul(v[237], tmp27);
+    const codegen_iv tmp262 = codegen_iv_sub(tmp260, tmp261);
+    const codegen_iv tmp263 = codegen_iv_mul(v[237], tmp29);
+    const codegen_iv tmp264 = codegen_iv_sub(tmp262, tmp263);
+    const codegen_iv tmp265 = codegen_iv_mul(tmp26, tmp2);
+    const codegen_iv tmp266 = codegen_iv_sub(tmp264, tmp265);
+    const codegen_iv tmp267 = codegen_iv_mul(tmp27, v[240]);
+    const codegen_iv tmp268 = codegen_iv_add(tmp266, tmp267);
+    const codegen_iv tmp269 = codegen_iv_mul(tmp28, v[240]);
+    const codegen_iv tmp270 = codegen_iv_add(tmp268, tmp269);
+    const codegen_iv tmp271 = codegen_iv_mul(tmp29, v[240]);
+    const codegen_iv tmp272 = codegen_iv_sub(tmp270, tmp271);
+    const codegen_iv tmp273 = codegen_iv_mul(v[266], tmp192);
+    const codegen_iv tmp274 = codegen_iv_add(tmp272, tmp273);
+    const codegen_iv tmp275 = codegen_iv_mul(tmp5, tmp274);
+    const codegen_iv tmp276 = codegen_iv_add(tmp232, tmp275);
+    const codegen_iv tmp278 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp5);
+    const codegen_iv tmp279 = codegen_iv_mul(tmp278, tmp186);
+    const codegen_iv tmp280 = codegen_iv_mul(tmp21, tmp84);
+    const codegen_iv tmp281 = codegen_iv_neg(tmp280);
+    const codegen_iv tmp282 = codegen_iv_mul(tmp23, tmp84);
+    const codegen_iv tmp283 = codegen_iv_sub(tmp281, tmp282);
+    const codegen_iv tmp284 = codegen_iv_mul(tmp279, tmp283);
+    const codegen_iv tmp285 = codegen_iv_sub(v[279], tmp27);
+    const codegen_iv tmp286 = codegen_iv_add(tmp285, tmp28);
+    const codegen_iv tmp287 = codegen_iv_add(tmp286, tmp29);
+    const codegen_iv tmp288 = codegen_iv_mul(tmp284, tmp287);
+    const codegen_iv tmp289 = codegen_iv_sub(tmp276, tmp288);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp231, tmp289);
+    const codegen_iv tmp291 = codegen_iv_div(tmp290, tmp79, iv_flags);
+    const codegen_iv tmp292 = codegen_iv_add(tmp228, tmp291);
+    const codegen_iv tmp293 = codegen_iv_mul(tmp79, tmp82);
+    const codegen_iv tmp294 = codegen_iv_mul(tmp293, tmp84);
+    const codegen_iv tmp295 = codegen_iv_mul(tmp294, tmp90);
+    const codegen_iv tmp296 = codegen_iv_sub(tmp292, tmp295);
+    *iv_g = tmp296;
 #endif
 }
 
 
-four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, unsigned mode,
-                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                            unsigned *flags,
-                                            codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS])
+/* The operations of every enclosure above that theta does not reach (of the parameters
+ * alone), into v[0..280): no division or square root among them, which raise flags
+ * (those wait for theta, so that each enclosure's flags are its own). */
+static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
+{
+    unsigned flags = 0u;
+    { /* enclose_mode_0 */
+        static const codegen_iv_instruction program[168] = {
+            {CODEGEN_IV_POW, 0, 281, 2},
+            {CODEGEN_IV_POW, 1, 280, 2},
+            {CODEGEN_IV_ADD, 2, 0, 1},
+            {CODEGEN_IV_POW, 3, 280, 3},
+            {CODEGEN_IV_POW, 4, 283, 2},
+            {CODEGEN_IV_MUL, 305, 280, 289},
+            {CODEGEN_IV_MUL, 5, 0, 4},
+            {CODEGEN_IV_POW, 6, 289, 2},
+            {CODEGEN_IV_POW, 7, 290, 2},
+            {CODEGEN_IV_POW, 8, 282, 2},
+            {CODEGEN_IV_MUL, 9, 8, 1},
+            {CODEGEN_IV_MUL, 10, 281, 3},
+            {CODEGEN_IV_MUL, 11, 0, 305},
+            {CODEGEN_IV_POW, 12, 281, 3},
+            {CODEGEN_IV_MUL, 13, 280, 290},
+            {CODEGEN_IV_CONST, 337, 0, 0},
+            {CODEGEN_IV_MUL, 14, 337, 1},
+            {CODEGEN_IV_CONST, 339, 0, 0},
+            {CODEGEN_IV_MUL, 339, 339, 282},
+            {CODEGEN_IV_MUL, 339, 339, 283},
+            {CODEGEN_IV_SUB, 283, 0, 4},
+            {CODEGEN_IV_SUB, 283, 283, 8},
+            {CODEGEN_IV_ADD, 283, 283, 1},
+            {CODEGEN_IV_SUB, 15, 283, 339},
+            {CODEGEN_IV_NEG, 282, 4, 0},
+            {CODEGEN_IV_SUB, 282, 282, 8},
+            {CODEGEN_IV_ADD, 16, 282, 339},
+            {CODEGEN_IV_ADD, 17, 5, 9},
+            {CODEGEN_IV_MUL, 18, 0, 6},
+            {CODEGEN_IV_MUL, 19, 0, 7},
+            {CODEGEN_IV_MUL, 20, 4, 305},
+            {CODEGEN_IV_MUL, 21, 305, 8},
+            {CODEGEN_IV_MUL, 22, 6, 1},
+            {CODEGEN_IV_MUL, 23, 7, 1},
+            {CODEGEN_IV_CONST, 346, 0, 0},
+            {CODEGEN_IV_MUL, 24, 346, 13},
+            {CODEGEN_IV_MUL, 25, 3, 289},
+            {CODEGEN_IV_NEG, 26, 288, 0},
+            {CODEGEN_IV_CONST, 351, 1, 0},
+            {CODEGEN_IV_MUL, 27, 351, 281},
+            {CODEGEN_IV_POW, 28, 281, 4},
+            {CODEGEN_IV_POW, 29, 280, 4},
+            {CODEGEN_IV_CONST, 358, 2, 0},
+            {CODEGEN_IV_MUL, 30, 358, 1},
+            {CODEGEN_IV_CONST, 361, 3, 0},
+            {CODEGEN_IV_MUL, 31, 361, 0},
+            {CODEGEN_IV_POW, 32, 280, 6},
+            {CODEGEN_IV_CONST, 364, 0, 0},
+            {CODEGEN_IV_MUL, 33, 364, 8},
+            {CODEGEN_IV_CONST, 365, 0, 0},
+            {CODEGEN_IV_MUL, 34, 365, 4},
+            {CODEGEN_IV_MUL, 35, 4, 1},
+            {CODEGEN_IV_POW, 369, 281, 5},
+            {CODEGEN_IV_MUL, 36, 369, 280},
+            {CODEGEN_IV_CONST, 371, 4, 0},
+            {CODEGEN_IV_POW, 372, 280, 5},
+            {CODEGEN_IV_MUL, 37, 371, 372},
+            {CODEGEN_IV_MUL, 38, 280, 33},
+            {CODEGEN_IV_MUL, 39, 0, 9},
+            {CODEGEN_IV_CONST, 379, 5, 0},
+            {CODEGEN_IV_MUL, 40, 379, 0},
+            {CODEGEN_IV_CONST, 379, 0, 0},
+            {CODEGEN_IV_MUL, 41, 379, 1},
+            {CODEGEN_IV_CONST, 380, 6, 0},
+            {CODEGEN_IV_MUL, 42, 380, 0},
+            {CODEGEN_IV_MUL, 43, 5, 1},
+            {CODEGEN_IV_CONST, 379, 7, 0},
+            {CODEGEN_IV_MUL, 44, 379, 1},
+            {CODEGEN_IV_CONST, 380, 0, 0},
+            {CODEGEN_IV_MUL, 380, 380, 281},
+            {CODEGEN_IV_MUL, 380, 380, 280},
+            {CODEGEN_IV_MUL, 45, 380, 4},
+            {CODEGEN_IV_CONST, 379, 0, 0},
+            {CODEGEN_IV_MUL, 379, 379, 281},
+            {CODEGEN_IV_MUL, 379, 379, 280},
+            {CODEGEN_IV_MUL, 46, 379, 4},
+            {CODEGEN_IV_CONST, 380, 2, 0},
+            {CODEGEN_IV_MUL, 47, 380, 281},
+            {CODEGEN_IV_CONST, 379, 2, 0},
+            {CODEGEN_IV_MUL, 48, 379, 281},
+            {CODEGEN_IV_CONST, 380, 0, 0},
+            {CODEGEN_IV_MUL, 49, 380, 280},
+            {CODEGEN_IV_CONST, 379, 0, 0},
+            {CODEGEN_IV_MUL, 50, 379, 280},
+            {CODEGEN_IV_CONST, 370, 3, 0},
+            {CODEGEN_IV_MUL, 51, 370, 281},
+            {CODEGEN_IV_CONST, 363, 3, 0},
+            {CODEGEN_IV_MUL, 363, 363, 280},
+            {CODEGEN_IV_MUL, 52, 363, 12},
+            {CODEGEN_IV_CONST, 383, 5, 0},
+            {CODEGEN_IV_MUL, 53, 383, 0},
+            {CODEGEN_IV_CONST, 386, 5, 0},
+            {CODEGEN_IV_MUL, 54, 386, 281},
+            {CODEGEN_IV_CONST, 385, 5, 0},
+            {CODEGEN_IV_MUL, 385, 385, 280},
+            {CODEGEN_IV_MUL, 55, 385, 12},
+            {CODEGEN_IV_NEG, 56, 13, 0},
+            {CODEGEN_IV_MUL, 57, 281, 280},
+            {CODEGEN_IV_MUL, 393, 281, 280},
+            {CODEGEN_IV_MUL, 58, 393, 4},
+            {CODEGEN_IV_CONST, 392, 0, 0},
+            {CODEGEN_IV_MUL, 392, 392, 281},
+            {CODEGEN_IV_MUL, 392, 392, 280},
+            {CODEGEN_IV_MUL, 59, 392, 6},
+            {CODEGEN_IV_CONST, 393, 0, 0},
+            {CODEGEN_IV_MUL, 393, 393, 281},
+            {CODEGEN_IV_MUL, 393, 393, 280},
+            {CODEGEN_IV_MUL, 60, 393, 7},
+            {CODEGEN_IV_MUL, 392, 281, 280},
+            {CODEGEN_IV_MUL, 61, 392, 8},
+            {CODEGEN_IV_MUL, 62, 281, 4},
+            {CODEGEN_IV_CONST, 393, 0, 0},
+            {CODEGEN_IV_MUL, 393, 393, 280},
+            {CODEGEN_IV_MUL, 63, 393, 0},
+            {CODEGEN_IV_MUL, 64, 12, 3},
+            {CODEGEN_IV_CONST, 400, 2, 0},
+            {CODEGEN_IV_MUL, 65, 400, 10},
+            {CODEGEN_IV_MUL, 66, 280, 12},
+            {CODEGEN_IV_CONST, 406, 5, 0},
+            {CODEGEN_IV_MUL, 67, 406, 5},
+            {CODEGEN_IV_CONST, 406, 3, 0},
+            {CODEGEN_IV_MUL, 68, 406, 64},
+            {CODEGEN_IV_CONST, 400, 7, 0},
+            {CODEGEN_IV_MUL, 69, 400, 28},
+            {CODEGEN_IV_CONST, 400, 6, 0},
+            {CODEGEN_IV_MUL, 400, 400, 0},
+            {CODEGEN_IV_MUL, 70, 400, 29},
+            {CODEGEN_IV_CONST, 406, 8, 0},
+            {CODEGEN_IV_MUL, 71, 406, 0},
+            {CODEGEN_IV_MUL, 72, 53, 9},
+            {CODEGEN_IV_MUL, 73, 281, 280},
+            {CODEGEN_IV_MUL, 74, 280, 0},
+            {CODEGEN_IV_CONST, 369, 0, 0},
+            {CODEGEN_IV_MUL, 75, 369, 1},
+            {CODEGEN_IV_CONST, 286, 0, 0},
+            {CODEGEN_IV_MUL, 286, 286, 281},
+            {CODEGEN_IV_MUL, 286, 286, 280},
+            {CODEGEN_IV_MUL, 76, 286, 4},
+            {CODEGEN_IV_CONST, 369, 0, 0},
+            {CODEGEN_IV_MUL, 369, 369, 281},
+            {CODEGEN_IV_MUL, 369, 369, 280},
+            {CODEGEN_IV_MUL, 77, 369, 4},
+            {CODEGEN_IV_NEG, 78, 291, 0},
+            {CODEGEN_IV_CONST, 368, 9, 0},
+            {CODEGEN_IV_MUL, 368, 368, 281},
+            {CODEGEN_IV_MUL, 368, 368, 292},
+            {CODEGEN_IV_MUL, 79, 368, 284},
+            {CODEGEN_IV_CONST, 366, 9, 0},
+            {CODEGEN_IV_MUL, 80, 366, 287},
+            {CODEGEN_IV_CONST, 348, 5, 0},
+            {CODEGEN_IV_MUL, 81, 348, 281},
+            {CODEGEN_IV_CONST, 351, 5, 0},
+            {CODEGEN_IV_MUL, 351, 351, 280},
+            {CODEGEN_IV_MUL, 82, 351, 12},
+            {CODEGEN_IV_CONST, 351, 3, 0},
+            {CODEGEN_IV_MUL, 83, 351, 281},
+            {CODEGEN_IV_CONST, 303, 3, 0},
+            {CODEGEN_IV_MUL, 303, 303, 280},
+            {CODEGEN_IV_MUL, 84, 303, 12},
+            {CODEGEN_IV_CONST, 294, 5, 0},
+            {CODEGEN_IV_MUL, 85, 294, 11},
+            {CODEGEN_IV_CONST, 385, 7, 0},
+            {CODEGEN_IV_MUL, 86, 385, 13},
+            {CODEGEN_IV_CONST, 385, 9, 0},
+            {CODEGEN_IV_MUL, 385, 385, 292},
+            {CODEGEN_IV_MUL, 87, 385, 284},
+            {CODEGEN_IV_CONST, 294, 9, 0},
+            {CODEGEN_IV_MUL, 88, 294, 287},
+        };
+        static const codegen_iv constants[10] = {
+            {2, 2},
+            {CODEGEN_R(0.25), CODEGEN_R(0.25)},
+            {6, 6},
+            {12, 12},
+            {10, 10},
+            {4, 4},
+            {16, 16},
+            {8, 8},
+            {32, 32},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[280] = codegen_iv_point(params->d);
+        v[281] = codegen_iv_point(params->a_2);
+        v[282] = codegen_iv_point(params->a_3);
+        v[283] = codegen_iv_point(params->a_4);
+        v[284] = codegen_iv_point(params->m_2);
+        v[287] = codegen_iv_point(params->k);
+        v[288] = codegen_iv_point(params->l_0);
+        v[289] = codegen_iv_point(params->x_S);
+        v[290] = codegen_iv_point(params->y_S);
+        v[291] = codegen_iv_point(params->T);
+        v[292] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 168, constants, v, &flags);
+    }
+    { /* enclose_value_mode_0 */
+        static const codegen_iv_instruction program[112] = {
+            {CODEGEN_IV_POW, 89, 281, 2},
+            {CODEGEN_IV_POW, 90, 280, 2},
+            {CODEGEN_IV_ADD, 91, 89, 90},
+            {CODEGEN_IV_POW, 92, 280, 3},
+            {CODEGEN_IV_POW, 93, 283, 2},
+            {CODEGEN_IV_MUL, 303, 280, 289},
+            {CODEGEN_IV_MUL, 94, 89, 93},
+            {CODEGEN_IV_POW, 95, 289, 2},
+            {CODEGEN_IV_POW, 96, 290, 2},
+            {CODEGEN_IV_POW, 97, 282, 2},
+            {CODEGEN_IV_MUL, 308, 97, 90},
+            {CODEGEN_IV_MUL, 98, 281, 92},
+            {CODEGEN_IV_MUL, 99, 89, 303},
+            {CODEGEN_IV_POW, 100, 281, 3},
+            {CODEGEN_IV_MUL, 101, 280, 290},
+            {CODEGEN_IV_MUL, 102, 89, 101},
+            {CODEGEN_IV_MUL, 103, 89, 90},
+            {CODEGEN_IV_CONST, 324, 0, 0},
+            {CODEGEN_IV_MUL, 324, 324, 282},
+            {CODEGEN_IV_MUL, 324, 324, 283},
+            {CODEGEN_IV_SUB, 283, 89, 97},
+            {CODEGEN_IV_ADD, 283, 283, 90},
+            {CODEGEN_IV_SUB, 104, 283, 324},
+            {CODEGEN_IV_NEG, 282, 97, 0},
+            {CODEGEN_IV_ADD, 105, 282, 324},
+            {CODEGEN_IV_ADD, 328, 94, 308},
+            {CODEGEN_IV_SUB, 106, 328, 99},
+            {CODEGEN_IV_MUL, 107, 89, 95},
+            {CODEGEN_IV_MUL, 108, 89, 96},
+            {CODEGEN_IV_MUL, 109, 95, 90},
+            {CODEGEN_IV_MUL, 110, 96, 90},
+            {CODEGEN_IV_MUL, 111, 97, 303},
+            {CODEGEN_IV_MUL, 112, 92, 289},
+            {CODEGEN_IV_MUL, 113, 93, 303},
+            {CODEGEN_IV_NEG, 114, 288, 0},
+            {CODEGEN_IV_POW, 115, 281, 4},
+            {CODEGEN_IV_POW, 116, 280, 4},
+            {CODEGEN_IV_MUL, 340, 281, 280},
+            {CODEGEN_IV_MUL, 117, 340, 97},
+            {CODEGEN_IV_CONST, 342, 0, 0},
+            {CODEGEN_IV_POW, 343, 280, 6},
+            {CODEGEN_IV_MUL, 118, 342, 343},
+            {CODEGEN_IV_POW, 342, 281, 5},
+            {CODEGEN_IV_MUL, 119, 342, 280},
+            {CODEGEN_IV_CONST, 343, 1, 0},
+            {CODEGEN_IV_POW, 344, 280, 5},
+            {CODEGEN_IV_MUL, 120, 343, 344},
+            {CODEGEN_IV_MUL, 121, 89, 308},
+            {CODEGEN_IV_CONST, 344, 2, 0},
+            {CODEGEN_IV_MUL, 122, 344, 89},
+            {CODEGEN_IV_MUL, 123, 94, 90},
+            {CODEGEN_IV_CONST, 344, 2, 0},
+            {CODEGEN_IV_MUL, 124, 344, 94},
+            {CODEGEN_IV_CONST, 342, 2, 0},
+            {CODEGEN_IV_MUL, 342, 342, 89},
+            {CODEGEN_IV_MUL, 125, 342, 308},
+            {CODEGEN_IV_CONST, 344, 3, 0},
+            {CODEGEN_IV_MUL, 126, 344, 89},
+            {CODEGEN_IV_CONST, 342, 0, 0},
+            {CODEGEN_IV_MUL, 342, 342, 281},
+            {CODEGEN_IV_MUL, 127, 342, 280},
+            {CODEGEN_IV_CONST, 344, 0, 0},
+            {CODEGEN_IV_MUL, 344, 344, 281},
+            {CODEGEN_IV_MUL, 128, 344, 280},
+            {CODEGEN_IV_CONST, 342, 4, 0},
+            {CODEGEN_IV_MUL, 129, 342, 281},
+            {CODEGEN_IV_CONST, 344, 4, 0},
+            {CODEGEN_IV_MUL, 130, 344, 281},
+            {CODEGEN_IV_CONST, 342, 0, 0},
+            {CODEGEN_IV_MUL, 131, 342, 280},
+            {CODEGEN_IV_CONST, 344, 0, 0},
+            {CODEGEN_IV_MUL, 132, 344, 280},
+            {CODEGEN_IV_CONST, 340, 5, 0},
+            {CODEGEN_IV_MUL, 340, 340, 281},
+            {CODEGEN_IV_MUL, 133, 340, 292},
+            {CODEGEN_IV_NEG, 134, 291, 0},
+            {CODEGEN_IV_CONST, 329, 6, 0},
+            {CODEGEN_IV_MUL, 135, 329, 103},
+            {CODEGEN_IV_CONST, 333, 6, 0},
+            {CODEGEN_IV_MUL, 136, 333, 281},
+            {CODEGEN_IV_CONST, 329, 6, 0},
+            {CODEGEN_IV_MUL, 329, 329, 280},
+            {CODEGEN_IV_MUL, 137, 329, 100},
+            {CODEGEN_IV_CONST, 337, 2, 0},
+            {CODEGEN_IV_MUL, 138, 337, 103},
+            {CODEGEN_IV_CONST, 333, 2, 0},
+            {CODEGEN_IV_MUL, 139, 333, 281},
+            {CODEGEN_IV_CONST, 337, 2, 0},
+            {CODEGEN_IV_MUL, 337, 337, 280},
+            {CODEGEN_IV_MUL, 140, 337, 100},
+            {CODEGEN_IV_CONST, 329, 7, 0},
+            {CODEGEN_IV_MUL, 329, 329, 281},
+            {CODEGEN_IV_MUL, 329, 329, 292},
+            {CODEGEN_IV_MUL, 141, 329, 284},
+            {CODEGEN_IV_CONST, 337, 7, 0},
+            {CODEGEN_IV_MUL, 142, 337, 287},
+            {CODEGEN_IV_MUL, 143, 281, 280},
+            {CODEGEN_IV_CONST, 288, 0, 0},
+            {CODEGEN_IV_MUL, 288, 288, 281},
+            {CODEGEN_IV_MUL, 288, 288, 280},
+            {CODEGEN_IV_MUL, 144, 288, 95},
+            {CODEGEN_IV_CONST, 333, 0, 0},
+            {CODEGEN_IV_MUL, 333, 333, 281},
+            {CODEGEN_IV_MUL, 333, 333, 280},
+            {CODEGEN_IV_MUL, 145, 333, 96},
+            {CODEGEN_IV_MUL, 288, 281, 280},
+            {CODEGEN_IV_MUL, 146, 288, 97},
+            {CODEGEN_IV_MUL, 147, 281, 280},
+            {CODEGEN_IV_CONST, 288, 0, 0},
+            {CODEGEN_IV_MUL, 288, 288, 280},
+            {CODEGEN_IV_MUL, 148, 288, 89},
+            {CODEGEN_IV_NEG, 149, 101, 0},
+        };
+        static const codegen_iv constants[8] = {
+            {2, 2},
+            {10, 10},
+            {4, 4},
+            {16, 16},
+            {6, 6},
+            {CODEGEN_R(0.25), CODEGEN_R(0.25)},
+            {12, 12},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[280] = codegen_iv_point(params->d);
+        v[281] = codegen_iv_point(params->a_2);
+        v[282] = codegen_iv_point(params->a_3);
+        v[283] = codegen_iv_point(params->a_4);
+        v[284] = codegen_iv_point(params->m_2);
+        v[287] = codegen_iv_point(params->k);
+        v[288] = codegen_iv_point(params->l_0);
+        v[289] = codegen_iv_point(params->x_S);
+        v[290] = codegen_iv_point(params->y_S);
+        v[291] = codegen_iv_point(params->T);
+        v[292] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 112, constants, v, &flags);
+    }
+    { /* enclose_mode_1 */
+        static const codegen_iv_instruction program[177] = {
+            {CODEGEN_IV_CONST, 296, 0, 0},
+            {CODEGEN_IV_MUL, 296, 296, 292},
+            {CODEGEN_IV_MUL, 150, 296, 284},
+            {CODEGEN_IV_POW, 151, 281, 2},
+            {CODEGEN_IV_POW, 152, 280, 2},
+            {CODEGEN_IV_ADD, 153, 151, 152},
+            {CODEGEN_IV_POW, 154, 280, 3},
+            {CODEGEN_IV_POW, 155, 283, 2},
+            {CODEGEN_IV_MUL, 305, 280, 289},
+            {CODEGEN_IV_MUL, 156, 155, 151},
+            {CODEGEN_IV_POW, 157, 289, 2},
+            {CODEGEN_IV_POW, 158, 290, 2},
+            {CODEGEN_IV_POW, 159, 282, 2},
+            {CODEGEN_IV_MUL, 160, 159, 152},
+            {CODEGEN_IV_MUL, 161, 281, 154},
+            {CODEGEN_IV_MUL, 162, 305, 151},
+            {CODEGEN_IV_POW, 163, 281, 3},
+            {CODEGEN_IV_MUL, 164, 280, 290},
+            {CODEGEN_IV_CONST, 336, 1, 0},
+            {CODEGEN_IV_MUL, 165, 336, 164},
+            {CODEGEN_IV_CONST, 339, 1, 0},
+            {CODEGEN_IV_MUL, 166, 339, 152},
+            {CODEGEN_IV_CONST, 341, 1, 0},
+            {CODEGEN_IV_MUL, 341, 341, 282},
+            {CODEGEN_IV_MUL, 341, 341, 283},
+            {CODEGEN_IV_NEG, 283, 155, 0},
+            {CODEGEN_IV_SUB, 283, 283, 159},
+            {CODEGEN_IV_ADD, 283, 283, 151},
+            {CODEGEN_IV_ADD, 283, 283, 152},
+            {CODEGEN_IV_SUB, 167, 283, 341},
+            {CODEGEN_IV_NEG, 282, 155, 0},
+            {CODEGEN_IV_SUB, 282, 282, 159},
+            {CODEGEN_IV_ADD, 168, 282, 341},
+            {CODEGEN_IV_ADD, 169, 156, 160},
+            {CODEGEN_IV_MUL, 170, 154, 289},
+            {CODEGEN_IV_MUL, 171, 155, 305},
+            {CODEGEN_IV_MUL, 172, 305, 159},
+            {CODEGEN_IV_MUL, 173, 157, 151},
+            {CODEGEN_IV_MUL, 174, 157, 152},
+            {CODEGEN_IV_MUL, 175, 158, 151},
+            {CODEGEN_IV_MUL, 176, 158, 152},
+            {CODEGEN_IV_NEG, 177, 288, 0},
+            {CODEGEN_IV_POW, 178, 281, 4},
+            {CODEGEN_IV_POW, 179, 280, 4},
+            {CODEGEN_IV_MUL, 180, 280, 163},
+            {CODEGEN_IV_CONST, 362, 2, 0},
+            {CODEGEN_IV_MUL, 181, 362, 151},
+            {CODEGEN_IV_POW, 182, 280, 6},
+            {CODEGEN_IV_CONST, 368, 1, 0},
+            {CODEGEN_IV_MUL, 183, 368, 159},
+            {CODEGEN_IV_CONST, 369, 1, 0},
+            {CODEGEN_IV_MUL, 184, 369, 155},
+            {CODEGEN_IV_MUL, 185, 155, 152},
+            {CODEGEN_IV_POW, 375, 280, 5},
+            {CODEGEN_IV_CONST, 376, 3, 0},
+            {CODEGEN_IV_MUL, 186, 376, 375},
+            {CODEGEN_IV_POW, 377, 281, 5},
+            {CODEGEN_IV_MUL, 187, 280, 377},
+            {CODEGEN_IV_MUL, 188, 280, 184},
+            {CODEGEN_IV_MUL, 189, 280, 183},
+            {CODEGEN_IV_CONST, 390, 4, 0},
+            {CODEGEN_IV_MUL, 190, 390, 154},
+            {CODEGEN_IV_CONST, 391, 5, 0},
+            {CODEGEN_IV_MUL, 191, 391, 154},
+            {CODEGEN_IV_MUL, 192, 160, 151},
+            {CODEGEN_IV_CONST, 379, 6, 0},
+            {CODEGEN_IV_MUL, 193, 379, 281},
+            {CODEGEN_IV_CONST, 389, 4, 0},
+            {CODEGEN_IV_MUL, 194, 389, 151},
+            {CODEGEN_IV_NEG, 195, 164, 0},
+            {CODEGEN_IV_CONST, 396, 1, 0},
+            {CODEGEN_IV_MUL, 396, 396, 151},
+            {CODEGEN_IV_MUL, 196, 396, 164},
+            {CODEGEN_IV_MUL, 197, 154, 163},
+            {CODEGEN_IV_CONST, 360, 7, 0},
+            {CODEGEN_IV_MUL, 198, 360, 161},
+            {CODEGEN_IV_CONST, 370, 2, 0},
+            {CODEGEN_IV_MUL, 199, 370, 156},
+            {CODEGEN_IV_CONST, 398, 1, 0},
+            {CODEGEN_IV_MUL, 200, 398, 160},
+            {CODEGEN_IV_CONST, 398, 3, 0},
+            {CODEGEN_IV_MUL, 398, 398, 281},
+            {CODEGEN_IV_MUL, 201, 398, 375},
+            {CODEGEN_IV_CONST, 370, 1, 0},
+            {CODEGEN_IV_MUL, 370, 370, 280},
+            {CODEGEN_IV_MUL, 202, 370, 377},
+            {CODEGEN_IV_CONST, 370, 4, 0},
+            {CODEGEN_IV_MUL, 370, 370, 154},
+            {CODEGEN_IV_MUL, 203, 370, 163},
+            {CODEGEN_IV_MUL, 204, 160, 181},
+            {CODEGEN_IV_CONST, 370, 8, 0},
+            {CODEGEN_IV_MUL, 370, 370, 151},
+            {CODEGEN_IV_MUL, 205, 370, 179},
+            {CODEGEN_IV_CONST, 398, 9, 0},
+            {CODEGEN_IV_MUL, 206, 398, 151},
+            {CODEGEN_IV_CONST, 370, 5, 0},
+            {CODEGEN_IV_MUL, 370, 370, 152},
+            {CODEGEN_IV_MUL, 207, 370, 178},
+            {CODEGEN_IV_CONST, 398, 7, 0},
+            {CODEGEN_IV_MUL, 398, 398, 281},
+            {CODEGEN_IV_MUL, 398, 398, 154},
+            {CODEGEN_IV_MUL, 208, 398, 155},
+            {CODEGEN_IV_CONST, 370, 7, 0},
+            {CODEGEN_IV_MUL, 370, 370, 281},
+            {CODEGEN_IV_MUL, 370, 370, 154},
+            {CODEGEN_IV_MUL, 209, 370, 159},
+            {CODEGEN_IV_CONST, 398, 1, 0},
+            {CODEGEN_IV_MUL, 398, 398, 280},
+            {CODEGEN_IV_MUL, 398, 398, 155},
+            {CODEGEN_IV_MUL, 210, 398, 163},
+            {CODEGEN_IV_CONST, 370, 1, 0},
+            {CODEGEN_IV_MUL, 370, 370, 280},
+            {CODEGEN_IV_MUL, 370, 370, 159},
+            {CODEGEN_IV_MUL, 211, 370, 163},
+            {CODEGEN_IV_CONST, 370, 10, 0},
+            {CODEGEN_IV_MUL, 370, 370, 154},
+            {CODEGEN_IV_MUL, 212, 370, 163},
+            {CODEGEN_IV_MUL, 213, 281, 280},
+            {CODEGEN_IV_CONST, 376, 1, 0},
+            {CODEGEN_IV_MUL, 376, 376, 281},
+            {CODEGEN_IV_MUL, 376, 376, 280},
+            {CODEGEN_IV_MUL, 214, 376, 155},
+            {CODEGEN_IV_CONST, 375, 1, 0},
+            {CODEGEN_IV_MUL, 375, 375, 281},
+            {CODEGEN_IV_MUL, 375, 375, 280},
+            {CODEGEN_IV_MUL, 215, 375, 155},
+            {CODEGEN_IV_NEG, 216, 291, 0},
+            {CODEGEN_IV_CONST, 295, 6, 0},
+            {CODEGEN_IV_MUL, 295, 295, 281},
+            {CODEGEN_IV_MUL, 295, 295, 292},
+            {CODEGEN_IV_MUL, 217, 295, 285},
+            {CODEGEN_IV_CONST, 371, 4, 0},
+            {CODEGEN_IV_MUL, 371, 371, 281},
+            {CODEGEN_IV_MUL, 218, 371, 154},
+            {CODEGEN_IV_CONST, 291, 4, 0},
+            {CODEGEN_IV_MUL, 291, 291, 280},
+            {CODEGEN_IV_MUL, 219, 291, 163},
+            {CODEGEN_IV_CONST, 385, 6, 0},
+            {CODEGEN_IV_MUL, 385, 385, 281},
+            {CODEGEN_IV_MUL, 385, 385, 292},
+            {CODEGEN_IV_MUL, 220, 385, 286},
+            {CODEGEN_IV_CONST, 371, 2, 0},
+            {CODEGEN_IV_MUL, 371, 371, 281},
+            {CODEGEN_IV_MUL, 221, 371, 154},
+            {CODEGEN_IV_CONST, 295, 2, 0},
+            {CODEGEN_IV_MUL, 295, 295, 280},
+            {CODEGEN_IV_MUL, 222, 295, 163},
+            {CODEGEN_IV_CONST, 385, 0, 0},
+            {CODEGEN_IV_MUL, 223, 385, 287},
+            {CODEGEN_IV_CONST, 291, 6, 0},
+            {CODEGEN_IV_MUL, 224, 291, 287},
+            {CODEGEN_IV_CONST, 385, 0, 0},
+            {CODEGEN_IV_MUL, 225, 385, 287},
+            {CODEGEN_IV_CONST, 371, 2, 0},
+            {CODEGEN_IV_MUL, 226, 371, 162},
+            {CODEGEN_IV_CONST, 371, 5, 0},
+            {CODEGEN_IV_MUL, 227, 371, 164},
+            {CODEGEN_IV_CONST, 379, 6, 0},
+            {CODEGEN_IV_MUL, 379, 379, 281},
+            {CODEGEN_IV_MUL, 379, 379, 292},
+            {CODEGEN_IV_MUL, 228, 379, 285},
+            {CODEGEN_IV_CONST, 385, 10, 0},
+            {CODEGEN_IV_MUL, 229, 385, 281},
+            {CODEGEN_IV_CONST, 295, 10, 0},
+            {CODEGEN_IV_MUL, 230, 295, 280},
+            {CODEGEN_IV_CONST, 371, 6, 0},
+            {CODEGEN_IV_MUL, 371, 371, 281},
+            {CODEGEN_IV_MUL, 371, 371, 292},
+            {CODEGEN_IV_MUL, 231, 371, 286},
+            {CODEGEN_IV_CONST, 385, 5, 0},
+            {CODEGEN_IV_MUL, 232, 385, 281},
+            {CODEGEN_IV_CONST, 379, 5, 0},
+            {CODEGEN_IV_MUL, 233, 379, 280},
+            {CODEGEN_IV_CONST, 295, 2, 0},
+            {CODEGEN_IV_MUL, 234, 295, 287},
+            {CODEGEN_IV_CONST, 379, 5, 0},
+            {CODEGEN_IV_MUL, 235, 379, 287},
+        };
+        static const codegen_iv constants[11] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {2, 2},
+            {4, 4},
+            {10, 10},
+            {12, 12},
+            {8, 8},
+            {CODEGEN_R(0.25), CODEGEN_R(0.25)},
+            {6, 6},
+            {16, 16},
+            {32, 32},
+            {24, 24}
+        };
+        v[280] = codegen_iv_point(params->d);
+        v[281] = codegen_iv_point(params->a_2);
+        v[282] = codegen_iv_point(params->a_3);
+        v[283] = codegen_iv_point(params->a_4);
+        v[284] = codegen_iv_point(params->m_2);
+        v[285] = codegen_iv_point(params->m_3);
+        v[286] = codegen_iv_point(params->m_4);
+        v[287] = codegen_iv_point(params->k);
+        v[288] = codegen_iv_point(params->l_0);
+        v[289] = codegen_iv_point(params->x_S);
+        v[290] = codegen_iv_point(params->y_S);
+        v[291] = codegen_iv_point(params->T);
+        v[292] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 177, constants, v, &flags);
+    }
+    { /* enclose_value_mode_1 */
+        static const codegen_iv_instruction program[63] = {
+            {CODEGEN_IV_POW, 236, 281, 2},
+            {CODEGEN_IV_POW, 237, 280, 2},
+            {CODEGEN_IV_ADD, 238, 236, 237},
+            {CODEGEN_IV_POW, 239, 280, 3},
+            {CODEGEN_IV_POW, 240, 283, 2},
+            {CODEGEN_IV_MUL, 303, 280, 289},
+            {CODEGEN_IV_MUL, 241, 236, 240},
+            {CODEGEN_IV_POW, 242, 289, 2},
+            {CODEGEN_IV_POW, 243, 290, 2},
+            {CODEGEN_IV_POW, 244, 282, 2},
+            {CODEGEN_IV_MUL, 245, 244, 237},
+            {CODEGEN_IV_MUL, 246, 281, 239},
+            {CODEGEN_IV_MUL, 247, 236, 303},
+            {CODEGEN_IV_POW, 248, 281, 3},
+            {CODEGEN_IV_MUL, 249, 280, 290},
+            {CODEGEN_IV_MUL, 250, 236, 249},
+            {CODEGEN_IV_MUL, 251, 236, 237},
+            {CODEGEN_IV_CONST, 326, 0, 0},
+            {CODEGEN_IV_MUL, 326, 326, 282},
+            {CODEGEN_IV_MUL, 326, 326, 283},
+            {CODEGEN_IV_NEG, 283, 244, 0},
+            {CODEGEN_IV_ADD, 283, 283, 236},
+            {CODEGEN_IV_ADD, 283, 283, 237},
+            {CODEGEN_IV_SUB, 252, 283, 326},
+            {CODEGEN_IV_NEG, 282, 244, 0},
+            {CODEGEN_IV_ADD, 253, 282, 326},
+            {CODEGEN_IV_ADD, 254, 241, 245},
+            {CODEGEN_IV_MUL, 255, 242, 236},
+            {CODEGEN_IV_MUL, 256, 242, 237},
+            {CODEGEN_IV_MUL, 257, 243, 236},
+            {CODEGEN_IV_MUL, 258, 243, 237},
+            {CODEGEN_IV_MUL, 259, 244, 303},
+            {CODEGEN_IV_MUL, 260, 239, 289},
+            {CODEGEN_IV_MUL, 261, 240, 303},
+            {CODEGEN_IV_NEG, 262, 288, 0},
+            {CODEGEN_IV_POW, 263, 281, 4},
+            {CODEGEN_IV_POW, 264, 280, 4},
+            {CODEGEN_IV_MUL, 265, 280, 248},
+            {CODEGEN_IV_CONST, 342, 1, 0},
+            {CODEGEN_IV_MUL, 266, 342, 251},
+            {CODEGEN_IV_MUL, 267, 281, 280},
+            {CODEGEN_IV_POW, 268, 280, 6},
+            {CODEGEN_IV_CONST, 310, 1, 0},
+            {CODEGEN_IV_MUL, 269, 310, 241},
+            {CODEGEN_IV_CONST, 352, 2, 0},
+            {CODEGEN_IV_MUL, 270, 352, 263},
+            {CODEGEN_IV_POW, 352, 281, 5},
+            {CODEGEN_IV_MUL, 271, 352, 280},
+            {CODEGEN_IV_CONST, 310, 3, 0},
+            {CODEGEN_IV_POW, 353, 280, 5},
+            {CODEGEN_IV_MUL, 272, 310, 353},
+            {CODEGEN_IV_MUL, 273, 244, 236},
+            {CODEGEN_IV_MUL, 274, 245, 236},
+            {CODEGEN_IV_CONST, 301, 4, 0},
+            {CODEGEN_IV_MUL, 301, 301, 281},
+            {CODEGEN_IV_MUL, 275, 301, 292},
+            {CODEGEN_IV_NEG, 276, 291, 0},
+            {CODEGEN_IV_CONST, 350, 5, 0},
+            {CODEGEN_IV_MUL, 350, 350, 292},
+            {CODEGEN_IV_MUL, 277, 350, 284},
+            {CODEGEN_IV_CONST, 336, 1, 0},
+            {CODEGEN_IV_MUL, 278, 336, 247},
+            {CODEGEN_IV_NEG, 279, 249, 0},
+        };
+        static const codegen_iv constants[6] = {
+            {2, 2},
+            {4, 4},
+            {8, 8},
+            {10, 10},
+            {CODEGEN_R(0.25), CODEGEN_R(0.25)},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[280] = codegen_iv_point(params->d);
+        v[281] = codegen_iv_point(params->a_2);
+        v[282] = codegen_iv_point(params->a_3);
+        v[283] = codegen_iv_point(params->a_4);
+        v[284] = codegen_iv_point(params->m_2);
+        v[288] = codegen_iv_point(params->l_0);
+        v[289] = codegen_iv_point(params->x_S);
+        v[290] = codegen_iv_point(params->y_S);
+        v[291] = codegen_iv_point(params->T);
+        v[292] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 63, constants, v, &flags);
+    }
+    (void)params;
+    (void)flags;
+}
+
+four_bar_status four_bar_enclosure_prepare(const four_bar_params *params,
+                                        codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return FOUR_BAR_OK;
+}
+
+four_bar_status four_bar_enclosure_kernel_prepared(const four_bar_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
@@ -12918,6 +14400,15 @@ four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, un
     default:
         return FOUR_BAR_ERR_ARGUMENT;
     }
+}
+
+four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return four_bar_enclosure_kernel_prepared(params, mode, theta, g, dg, flags, slots);
 }
 
 four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,

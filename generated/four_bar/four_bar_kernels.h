@@ -186,5 +186,14 @@ four_bar_status four_bar_enclosure_kernel_work(const four_bar_params *params, un
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                             unsigned *flags,
                                             codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS]);
+/* The enclosures' operations that theta does not reach, for these parameters, into slots:
+ * once per parameter set, before any number of _enclosure_kernel_prepared calls on the same
+ * parameters and slots (_enclosure_kernel_work is the two together). */
+four_bar_status four_bar_enclosure_prepare(const four_bar_params *params,
+                                        codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS]);
+four_bar_status four_bar_enclosure_kernel_prepared(const four_bar_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[FOUR_BAR_ENCLOSURE_SLOTS]);
 
 #endif /* FOUR_BAR_KERNELS_H */

@@ -37,13 +37,21 @@ static void assembly_conditions(const void *params, codegen_real theta, codegen_
     four_bar_assembly_conditions_kernel((const four_bar_params *)params, theta, out);
 }
 
-/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+/* The enclosures of G and G' as codegen_isolate and the analysis call them, after
+ * prepare_enclosure. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
     const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
-    return (int)four_bar_enclosure_kernel_work((const four_bar_params *)c->params, mode, theta,
-                                                g, dg, flags, c->slots);
+    return (int)four_bar_enclosure_kernel_prepared((const four_bar_params *)c->params, mode,
+                                                    theta, g, dg, flags, c->slots);
+}
+
+/* What enclose needs of the parameters alone, once per analysis. */
+static void prepare_enclosure(const void *context)
+{
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    (void)four_bar_enclosure_prepare((const four_bar_params *)c->params, c->slots);
 }
 
 static int sigma(const void *params, codegen_real *out, codegen_real *bound, void *values,
@@ -163,6 +171,7 @@ static const codegen_model model = {
     .mode_linearisation = mode_linearisation,
     .assembly_conditions = assembly_conditions,
     .enclose = enclose,
+    .prepare_enclosure = prepare_enclosure,
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,

@@ -1433,6 +1433,9 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     c->model = model;
     c->enclosure.params = params;
     c->enclosure.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
+    if (model->prepare_enclosure != NULL) {
+        model->prepare_enclosure(&c->enclosure);
+    }
     c->at_root = scratch;
     c->at_next = c->at_root + model->state.size;
     c->at_line = c->at_next + model->state.size;

@@ -4917,1275 +4917,1869 @@ slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
- * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
- * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
- * bit either way. */
+ * inline calls, one local per operation (faster on a host: the isolation route ~15 %, but
+ * the compiler gives temporaries their own stack slots, up to ~20 KB in one frame). The
+ * same bounds bit for bit either way. The
+ * operations theta does not reach run once per parameter set (prepare_enclosures), their
+ * values kept in v[0..90). */
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * 296 operations; as a program, 320 instructions over 79 of the slots v. */
+ * At each theta, 283 instructions (as a program, over the slots v from 90); the 37 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[320] = {
-        {CODEGEN_IV_COS, 13, 12, 0},
-        {CODEGEN_IV_MUL, 14, 9, 0},
-        {CODEGEN_IV_SIN, 9, 12, 0},
-        {CODEGEN_IV_MUL, 12, 0, 9},
-        {CODEGEN_IV_ADD, 15, 2, 1},
-        {CODEGEN_IV_SUB, 15, 15, 12},
-        {CODEGEN_IV_SUB, 16, 2, 1},
-        {CODEGEN_IV_SUB, 16, 16, 12},
-        {CODEGEN_IV_MUL, 1, 15, 16},
-        {CODEGEN_IV_NEG, 17, 1, 0},
-        {CODEGEN_IV_SQRT, 18, 17, 0},
-        {CODEGEN_IV_MUL, 19, 9, 18},
-        {CODEGEN_IV_NEG, 20, 19, 0},
-        {CODEGEN_IV_MUL, 21, 2, 13},
-        {CODEGEN_IV_ADD, 21, 20, 21},
-        {CODEGEN_IV_MUL, 20, 13, 12},
-        {CODEGEN_IV_SUB, 20, 21, 20},
-        {CODEGEN_IV_DIV, 20, 20, 18},
-        {CODEGEN_IV_POW, 21, 2, 2},
-        {CODEGEN_IV_POW, 22, 7, 2},
-        {CODEGEN_IV_CONST, 23, 0, 0},
-        {CODEGEN_IV_MUL, 23, 23, 2},
-        {CODEGEN_IV_MUL, 24, 0, 13},
-        {CODEGEN_IV_CONST, 25, 0, 0},
-        {CODEGEN_IV_MUL, 25, 25, 7},
-        {CODEGEN_IV_POW, 26, 0, 2},
-        {CODEGEN_IV_POW, 27, 13, 2},
-        {CODEGEN_IV_MUL, 28, 26, 27},
-        {CODEGEN_IV_MUL, 29, 25, 18},
-        {CODEGEN_IV_ADD, 30, 21, 22},
-        {CODEGEN_IV_ADD, 30, 30, 28},
-        {CODEGEN_IV_SUB, 30, 30, 29},
-        {CODEGEN_IV_ADD, 30, 30, 17},
-        {CODEGEN_IV_POW, 31, 8, 2},
-        {CODEGEN_IV_ADD, 31, 30, 31},
-        {CODEGEN_IV_MUL, 30, 23, 8},
-        {CODEGEN_IV_SUB, 30, 31, 30},
-        {CODEGEN_IV_MUL, 31, 24, 25},
-        {CODEGEN_IV_SUB, 31, 30, 31},
-        {CODEGEN_IV_CONST, 30, 0, 0},
-        {CODEGEN_IV_MUL, 30, 30, 24},
-        {CODEGEN_IV_MUL, 30, 30, 18},
-        {CODEGEN_IV_ADD, 30, 31, 30},
-        {CODEGEN_IV_SQRT, 8, 30, 0},
-        {CODEGEN_IV_MUL, 31, 0, 5},
-        {CODEGEN_IV_CONST, 5, 1, 0},
-        {CODEGEN_IV_MUL, 5, 5, 11},
-        {CODEGEN_IV_MUL, 5, 5, 12},
-        {CODEGEN_IV_SQRT, 32, 17, 0},
-        {CODEGEN_IV_POW, 32, 32, 3},
-        {CODEGEN_IV_CONST, 33, 2, 0},
-        {CODEGEN_IV_POW, 34, 32, 1},
-        {CODEGEN_IV_DIV, 34, 33, 34},
-        {CODEGEN_IV_MUL, 33, 0, 27},
-        {CODEGEN_IV_MUL, 35, 21, 33},
-        {CODEGEN_IV_POW, 36, 0, 3},
-        {CODEGEN_IV_POW, 37, 9, 2},
-        {CODEGEN_IV_MUL, 38, 27, 36},
-        {CODEGEN_IV_MUL, 38, 38, 37},
-        {CODEGEN_IV_MUL, 27, 23, 9},
-        {CODEGEN_IV_MUL, 39, 28, 27},
-        {CODEGEN_IV_MUL, 40, 2, 9},
-        {CODEGEN_IV_MUL, 9, 40, 1},
-        {CODEGEN_IV_MUL, 41, 0, 37},
-        {CODEGEN_IV_MUL, 42, 41, 1},
-        {CODEGEN_IV_MUL, 43, 13, 32},
-        {CODEGEN_IV_MUL, 44, 33, 1},
-        {CODEGEN_IV_SQRT, 45, 30, 0},
-        {CODEGEN_IV_POW, 45, 45, 3},
-        {CODEGEN_IV_MUL, 46, 6, 41},
-        {CODEGEN_IV_MUL, 47, 6, 1},
-        {CODEGEN_IV_CONST, 48, 0, 0},
-        {CODEGEN_IV_MUL, 48, 48, 1},
-        {CODEGEN_IV_MUL, 49, 2, 13},
-        {CODEGEN_IV_MUL, 49, 49, 12},
-        {CODEGEN_IV_MUL, 12, 6, 49},
-        {CODEGEN_IV_POW, 50, 15, 2},
-        {CODEGEN_IV_POW, 51, 16, 2},
-        {CODEGEN_IV_MUL, 51, 50, 51},
-        {CODEGEN_IV_MUL, 16, 21, 26},
-        {CODEGEN_IV_POW, 15, 13, 3},
-        {CODEGEN_IV_MUL, 50, 6, 15},
-        {CODEGEN_IV_MUL, 52, 16, 50},
-        {CODEGEN_IV_MUL, 53, 36, 50},
-        {CODEGEN_IV_MUL, 54, 6, 32},
-        {CODEGEN_IV_MUL, 55, 32, 46},
-        {CODEGEN_IV_POW, 56, 0, 4},
-        {CODEGEN_IV_MUL, 57, 37, 56},
-        {CODEGEN_IV_MUL, 58, 50, 57},
-        {CODEGEN_IV_CONST, 50, 3, 0},
-        {CODEGEN_IV_MUL, 50, 50, 7},
-        {CODEGEN_IV_MUL, 59, 26, 1},
-        {CODEGEN_IV_MUL, 60, 6, 37},
-        {CODEGEN_IV_CONST, 61, 4, 0},
-        {CODEGEN_IV_MUL, 61, 61, 7},
-        {CODEGEN_IV_POW, 62, 13, 4},
-        {CODEGEN_IV_MUL, 63, 6, 18},
-        {CODEGEN_IV_MUL, 64, 62, 63},
-        {CODEGEN_IV_MUL, 65, 13, 51},
-        {CODEGEN_IV_MUL, 66, 26, 60},
-        {CODEGEN_IV_MUL, 26, 22, 63},
-        {CODEGEN_IV_CONST, 63, 4, 0},
-        {CODEGEN_IV_MUL, 63, 63, 54},
-        {CODEGEN_IV_MUL, 67, 6, 23},
-        {CODEGEN_IV_MUL, 67, 67, 19},
-        {CODEGEN_IV_MUL, 23, 45, 7},
-        {CODEGEN_IV_MUL, 68, 6, 30},
-        {CODEGEN_IV_MUL, 69, 15, 68},
-        {CODEGEN_IV_MUL, 70, 68, 7},
-        {CODEGEN_IV_MUL, 71, 36, 27},
-        {CODEGEN_IV_MUL, 27, 45, 15},
-        {CODEGEN_IV_MUL, 15, 30, 54},
-        {CODEGEN_IV_CONST, 72, 5, 0},
-        {CODEGEN_IV_MUL, 72, 72, 49},
-        {CODEGEN_IV_MUL, 72, 72, 1},
-        {CODEGEN_IV_MUL, 73, 13, 45},
-        {CODEGEN_IV_MUL, 74, 32, 45},
-        {CODEGEN_IV_CONST, 32, 5, 0},
-        {CODEGEN_IV_MUL, 32, 32, 37},
-        {CODEGEN_IV_MUL, 32, 32, 59},
-        {CODEGEN_IV_CONST, 75, 0, 0},
-        {CODEGEN_IV_MUL, 75, 75, 74},
-        {CODEGEN_IV_NEG, 76, 10, 0},
-        {CODEGEN_IV_MUL, 77, 14, 20},
-        {CODEGEN_IV_SUB, 77, 76, 77},
-        {CODEGEN_IV_CONST, 76, 1, 0},
-        {CODEGEN_IV_MUL, 76, 76, 0},
-        {CODEGEN_IV_MUL, 76, 76, 11},
-        {CODEGEN_IV_MUL, 76, 76, 3},
-        {CODEGEN_IV_MUL, 76, 76, 13},
-        {CODEGEN_IV_ADD, 76, 77, 76},
-        {CODEGEN_IV_CONST, 77, 1, 0},
-        {CODEGEN_IV_MUL, 77, 77, 0},
-        {CODEGEN_IV_MUL, 77, 77, 11},
-        {CODEGEN_IV_MUL, 77, 77, 4},
-        {CODEGEN_IV_MUL, 77, 77, 13},
-        {CODEGEN_IV_ADD, 77, 76, 77},
-        {CODEGEN_IV_MUL, 76, 20, 31},
-        {CODEGEN_IV_SUB, 78, 6, 8},
-        {CODEGEN_IV_MUL, 78, 76, 78},
-        {CODEGEN_IV_ADD, 76, 24, 18},
-        {CODEGEN_IV_SUB, 76, 76, 7},
-        {CODEGEN_IV_MUL, 76, 78, 76},
-        {CODEGEN_IV_DIV, 76, 76, 8},
-        {CODEGEN_IV_SUB, 76, 77, 76},
-        {CODEGEN_IV_MUL, 18, 3, 5},
-        {CODEGEN_IV_NEG, 18, 18, 0},
-        {CODEGEN_IV_MUL, 8, 4, 5},
-        {CODEGEN_IV_SUB, 8, 18, 8},
-        {CODEGEN_IV_MUL, 18, 14, 34},
-        {CODEGEN_IV_ADD, 24, 35, 38},
-        {CODEGEN_IV_SUB, 24, 24, 39},
-        {CODEGEN_IV_SUB, 24, 24, 9},
-        {CODEGEN_IV_ADD, 24, 24, 42},
-        {CODEGEN_IV_ADD, 24, 24, 43},
-        {CODEGEN_IV_SUB, 24, 24, 44},
-        {CODEGEN_IV_MUL, 24, 18, 24},
-        {CODEGEN_IV_ADD, 24, 8, 24},
-        {CODEGEN_IV_MUL, 8, 31, 34},
-        {CODEGEN_IV_MUL, 18, 22, 55},
-        {CODEGEN_IV_MUL, 20, 29, 52},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 29, 58},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_CONST, 20, 0, 0},
-        {CODEGEN_IV_MUL, 20, 20, 30},
-        {CODEGEN_IV_MUL, 20, 20, 55},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_CONST, 18, 0, 0},
-        {CODEGEN_IV_MUL, 18, 18, 33},
-        {CODEGEN_IV_MUL, 18, 18, 15},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 33, 75},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 35, 54},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 35, 26},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 35, 23},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 35, 70},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 38, 26},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 38, 63},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 38, 23},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 38, 70},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 39, 23},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 39, 70},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 40, 15},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 40, 74},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_CONST, 18, 4, 0},
-        {CODEGEN_IV_MUL, 18, 18, 9},
-        {CODEGEN_IV_MUL, 18, 18, 53},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 9, 23},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 9, 70},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 41, 75},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 42, 23},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 42, 70},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 43, 23},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 43, 70},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 44, 23},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 44, 70},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 45, 72},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_SQRT, 20, 17, 0},
-        {CODEGEN_IV_POW, 20, 20, 5},
-        {CODEGEN_IV_MUL, 20, 46, 20},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 48, 52},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_CONST, 20, 0, 0},
-        {CODEGEN_IV_MUL, 20, 20, 12},
-        {CODEGEN_IV_MUL, 20, 20, 51},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 51, 73},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 16, 69},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 16, 27},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 57, 69},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 57, 27},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_CONST, 20, 3, 0},
-        {CODEGEN_IV_MUL, 20, 20, 58},
-        {CODEGEN_IV_MUL, 20, 20, 1},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 59, 69},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 59, 27},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_CONST, 18, 3, 0},
-        {CODEGEN_IV_MUL, 18, 18, 65},
-        {CODEGEN_IV_MUL, 18, 18, 66},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 65, 68},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 68, 72},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 69, 71},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 71, 27},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 73, 32},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_POW, 18, 0, 5},
-        {CODEGEN_IV_MUL, 18, 18, 37},
-        {CODEGEN_IV_MUL, 18, 18, 64},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 13, 68},
-        {CODEGEN_IV_MUL, 20, 20, 32},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 21, 36},
-        {CODEGEN_IV_MUL, 18, 18, 64},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 22, 28},
-        {CODEGEN_IV_MUL, 20, 20, 67},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 22, 48},
-        {CODEGEN_IV_MUL, 18, 18, 12},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 25, 35},
-        {CODEGEN_IV_MUL, 20, 20, 47},
-        {CODEGEN_IV_ADD, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 25, 46},
-        {CODEGEN_IV_MUL, 18, 18, 51},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 28, 40},
-        {CODEGEN_IV_MUL, 20, 20, 63},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 38, 47},
-        {CODEGEN_IV_MUL, 18, 18, 61},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 43, 61},
-        {CODEGEN_IV_MUL, 20, 20, 66},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 49, 54},
-        {CODEGEN_IV_MUL, 18, 18, 50},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_MUL, 20, 56, 62},
-        {CODEGEN_IV_MUL, 20, 20, 67},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_MUL, 18, 2, 53},
-        {CODEGEN_IV_MUL, 18, 18, 50},
-        {CODEGEN_IV_MUL, 18, 18, 19},
-        {CODEGEN_IV_ADD, 18, 20, 18},
-        {CODEGEN_IV_CONST, 20, 6, 0},
-        {CODEGEN_IV_MUL, 20, 20, 6},
-        {CODEGEN_IV_MUL, 20, 20, 28},
-        {CODEGEN_IV_MUL, 20, 20, 9},
-        {CODEGEN_IV_MUL, 20, 20, 7},
-        {CODEGEN_IV_SUB, 20, 18, 20},
-        {CODEGEN_IV_CONST, 18, 0, 0},
-        {CODEGEN_IV_MUL, 18, 18, 13},
-        {CODEGEN_IV_MUL, 18, 18, 22},
-        {CODEGEN_IV_MUL, 18, 18, 59},
-        {CODEGEN_IV_MUL, 18, 18, 60},
-        {CODEGEN_IV_SUB, 18, 20, 18},
-        {CODEGEN_IV_MUL, 18, 8, 18},
-        {CODEGEN_IV_DIV, 18, 18, 45},
-        {CODEGEN_IV_ADD, 18, 24, 18},
+    static const codegen_iv_instruction program[283] = {
+        {CODEGEN_IV_COS, 103, 102, 0},
+        {CODEGEN_IV_SIN, 99, 102, 0},
+        {CODEGEN_IV_MUL, 102, 90, 99},
+        {CODEGEN_IV_SUB, 105, 1, 102},
+        {CODEGEN_IV_SUB, 106, 2, 102},
+        {CODEGEN_IV_MUL, 91, 105, 106},
+        {CODEGEN_IV_NEG, 107, 91, 0},
+        {CODEGEN_IV_SQRT, 108, 107, 0},
+        {CODEGEN_IV_MUL, 109, 99, 108},
+        {CODEGEN_IV_NEG, 110, 109, 0},
+        {CODEGEN_IV_MUL, 111, 92, 103},
+        {CODEGEN_IV_ADD, 111, 110, 111},
+        {CODEGEN_IV_MUL, 110, 103, 102},
+        {CODEGEN_IV_SUB, 110, 111, 110},
+        {CODEGEN_IV_DIV, 110, 110, 108},
+        {CODEGEN_IV_MUL, 114, 90, 103},
+        {CODEGEN_IV_POW, 117, 103, 2},
+        {CODEGEN_IV_MUL, 118, 7, 117},
+        {CODEGEN_IV_MUL, 119, 6, 108},
+        {CODEGEN_IV_ADD, 120, 8, 118},
+        {CODEGEN_IV_SUB, 120, 120, 119},
+        {CODEGEN_IV_ADD, 120, 120, 107},
+        {CODEGEN_IV_ADD, 121, 120, 9},
+        {CODEGEN_IV_SUB, 120, 121, 10},
+        {CODEGEN_IV_MUL, 121, 114, 6},
+        {CODEGEN_IV_SUB, 121, 120, 121},
+        {CODEGEN_IV_CONST, 120, 0, 0},
+        {CODEGEN_IV_MUL, 120, 120, 114},
+        {CODEGEN_IV_MUL, 120, 120, 108},
+        {CODEGEN_IV_ADD, 120, 121, 120},
+        {CODEGEN_IV_SQRT, 98, 120, 0},
+        {CODEGEN_IV_MUL, 95, 12, 102},
+        {CODEGEN_IV_SQRT, 122, 107, 0},
+        {CODEGEN_IV_POW, 122, 122, 3},
+        {CODEGEN_IV_CONST, 123, 1, 0},
+        {CODEGEN_IV_POW, 124, 122, 1},
+        {CODEGEN_IV_DIV, 124, 123, 124},
+        {CODEGEN_IV_MUL, 123, 90, 117},
+        {CODEGEN_IV_MUL, 125, 3, 123},
+        {CODEGEN_IV_POW, 127, 99, 2},
+        {CODEGEN_IV_MUL, 128, 117, 13},
+        {CODEGEN_IV_MUL, 128, 128, 127},
+        {CODEGEN_IV_MUL, 117, 5, 99},
+        {CODEGEN_IV_MUL, 129, 118, 117},
+        {CODEGEN_IV_MUL, 130, 92, 99},
+        {CODEGEN_IV_MUL, 99, 130, 91},
+        {CODEGEN_IV_MUL, 131, 90, 127},
+        {CODEGEN_IV_MUL, 132, 131, 91},
+        {CODEGEN_IV_MUL, 133, 103, 122},
+        {CODEGEN_IV_MUL, 134, 123, 91},
+        {CODEGEN_IV_SQRT, 135, 120, 0},
+        {CODEGEN_IV_POW, 135, 135, 3},
+        {CODEGEN_IV_MUL, 136, 96, 131},
+        {CODEGEN_IV_MUL, 137, 96, 91},
+        {CODEGEN_IV_CONST, 138, 0, 0},
+        {CODEGEN_IV_MUL, 138, 138, 91},
+        {CODEGEN_IV_MUL, 139, 92, 103},
+        {CODEGEN_IV_MUL, 139, 139, 102},
+        {CODEGEN_IV_MUL, 102, 96, 139},
+        {CODEGEN_IV_POW, 140, 105, 2},
+        {CODEGEN_IV_POW, 141, 106, 2},
+        {CODEGEN_IV_MUL, 141, 140, 141},
+        {CODEGEN_IV_POW, 105, 103, 3},
+        {CODEGEN_IV_MUL, 140, 96, 105},
+        {CODEGEN_IV_MUL, 142, 14, 140},
+        {CODEGEN_IV_MUL, 143, 13, 140},
+        {CODEGEN_IV_MUL, 144, 96, 122},
+        {CODEGEN_IV_MUL, 145, 122, 136},
+        {CODEGEN_IV_MUL, 147, 127, 15},
+        {CODEGEN_IV_MUL, 148, 140, 147},
+        {CODEGEN_IV_MUL, 149, 7, 91},
+        {CODEGEN_IV_MUL, 150, 96, 127},
+        {CODEGEN_IV_POW, 152, 103, 4},
+        {CODEGEN_IV_MUL, 153, 96, 108},
+        {CODEGEN_IV_MUL, 154, 152, 153},
+        {CODEGEN_IV_MUL, 155, 103, 141},
+        {CODEGEN_IV_MUL, 156, 7, 150},
+        {CODEGEN_IV_MUL, 116, 4, 153},
+        {CODEGEN_IV_CONST, 153, 2, 0},
+        {CODEGEN_IV_MUL, 153, 153, 144},
+        {CODEGEN_IV_MUL, 157, 18, 109},
+        {CODEGEN_IV_MUL, 113, 135, 97},
+        {CODEGEN_IV_MUL, 158, 96, 120},
+        {CODEGEN_IV_MUL, 159, 105, 158},
+        {CODEGEN_IV_MUL, 160, 158, 97},
+        {CODEGEN_IV_MUL, 161, 13, 117},
+        {CODEGEN_IV_MUL, 117, 135, 105},
+        {CODEGEN_IV_MUL, 105, 120, 144},
+        {CODEGEN_IV_CONST, 162, 3, 0},
+        {CODEGEN_IV_MUL, 162, 162, 139},
+        {CODEGEN_IV_MUL, 162, 162, 91},
+        {CODEGEN_IV_MUL, 163, 103, 135},
+        {CODEGEN_IV_MUL, 164, 122, 135},
+        {CODEGEN_IV_CONST, 122, 3, 0},
+        {CODEGEN_IV_MUL, 122, 122, 127},
+        {CODEGEN_IV_MUL, 122, 122, 149},
+        {CODEGEN_IV_CONST, 165, 0, 0},
+        {CODEGEN_IV_MUL, 165, 165, 164},
+        {CODEGEN_IV_MUL, 167, 0, 110},
+        {CODEGEN_IV_SUB, 167, 19, 167},
+        {CODEGEN_IV_MUL, 166, 20, 103},
+        {CODEGEN_IV_ADD, 166, 167, 166},
+        {CODEGEN_IV_MUL, 167, 21, 103},
+        {CODEGEN_IV_ADD, 167, 166, 167},
+        {CODEGEN_IV_MUL, 166, 110, 11},
+        {CODEGEN_IV_SUB, 168, 96, 98},
+        {CODEGEN_IV_MUL, 168, 166, 168},
+        {CODEGEN_IV_ADD, 166, 114, 108},
+        {CODEGEN_IV_SUB, 166, 166, 97},
+        {CODEGEN_IV_MUL, 166, 168, 166},
+        {CODEGEN_IV_DIV, 166, 166, 98},
+        {CODEGEN_IV_SUB, 166, 167, 166},
+        {CODEGEN_IV_MUL, 108, 93, 95},
+        {CODEGEN_IV_NEG, 108, 108, 0},
+        {CODEGEN_IV_MUL, 98, 94, 95},
+        {CODEGEN_IV_SUB, 98, 108, 98},
+        {CODEGEN_IV_MUL, 108, 0, 124},
+        {CODEGEN_IV_ADD, 114, 125, 128},
+        {CODEGEN_IV_SUB, 114, 114, 129},
+        {CODEGEN_IV_SUB, 114, 114, 99},
+        {CODEGEN_IV_ADD, 114, 114, 132},
+        {CODEGEN_IV_ADD, 114, 114, 133},
+        {CODEGEN_IV_SUB, 114, 114, 134},
+        {CODEGEN_IV_MUL, 114, 108, 114},
+        {CODEGEN_IV_ADD, 114, 98, 114},
+        {CODEGEN_IV_MUL, 98, 11, 124},
+        {CODEGEN_IV_MUL, 108, 4, 145},
+        {CODEGEN_IV_MUL, 110, 119, 142},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 119, 148},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_CONST, 110, 0, 0},
+        {CODEGEN_IV_MUL, 110, 110, 120},
+        {CODEGEN_IV_MUL, 110, 110, 145},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_CONST, 108, 0, 0},
+        {CODEGEN_IV_MUL, 108, 108, 123},
+        {CODEGEN_IV_MUL, 108, 108, 105},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 123, 165},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 125, 144},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 125, 116},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 125, 113},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 125, 160},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 128, 116},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 128, 153},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 128, 113},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 128, 160},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 129, 113},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 129, 160},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 130, 105},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 130, 164},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_CONST, 108, 2, 0},
+        {CODEGEN_IV_MUL, 108, 108, 99},
+        {CODEGEN_IV_MUL, 108, 108, 143},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 99, 113},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 99, 160},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 131, 165},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 132, 113},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 132, 160},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 133, 113},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 133, 160},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 134, 113},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 134, 160},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 135, 162},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_SQRT, 110, 107, 0},
+        {CODEGEN_IV_POW, 110, 110, 5},
+        {CODEGEN_IV_MUL, 110, 136, 110},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 138, 142},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_CONST, 110, 0, 0},
+        {CODEGEN_IV_MUL, 110, 110, 102},
+        {CODEGEN_IV_MUL, 110, 110, 141},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 141, 163},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 14, 159},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 14, 117},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 147, 159},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 147, 117},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_CONST, 110, 4, 0},
+        {CODEGEN_IV_MUL, 110, 110, 148},
+        {CODEGEN_IV_MUL, 110, 110, 91},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 149, 159},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 149, 117},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_CONST, 108, 4, 0},
+        {CODEGEN_IV_MUL, 108, 108, 155},
+        {CODEGEN_IV_MUL, 108, 108, 156},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 155, 158},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 158, 162},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 159, 161},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 161, 117},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 163, 122},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 22, 127},
+        {CODEGEN_IV_MUL, 108, 108, 154},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 103, 158},
+        {CODEGEN_IV_MUL, 110, 110, 122},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 23, 154},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 4, 118},
+        {CODEGEN_IV_MUL, 110, 110, 157},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 4, 138},
+        {CODEGEN_IV_MUL, 108, 108, 102},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 6, 125},
+        {CODEGEN_IV_MUL, 110, 110, 137},
+        {CODEGEN_IV_ADD, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 6, 136},
+        {CODEGEN_IV_MUL, 108, 108, 141},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 118, 130},
+        {CODEGEN_IV_MUL, 110, 110, 153},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 128, 137},
+        {CODEGEN_IV_MUL, 108, 108, 17},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 133, 17},
+        {CODEGEN_IV_MUL, 110, 110, 156},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 139, 144},
+        {CODEGEN_IV_MUL, 108, 108, 16},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 15, 152},
+        {CODEGEN_IV_MUL, 110, 110, 157},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_MUL, 108, 92, 143},
+        {CODEGEN_IV_MUL, 108, 108, 16},
+        {CODEGEN_IV_MUL, 108, 108, 109},
+        {CODEGEN_IV_ADD, 108, 110, 108},
+        {CODEGEN_IV_MUL, 110, 24, 118},
+        {CODEGEN_IV_MUL, 110, 110, 99},
+        {CODEGEN_IV_MUL, 110, 110, 97},
+        {CODEGEN_IV_SUB, 110, 108, 110},
+        {CODEGEN_IV_CONST, 108, 0, 0},
+        {CODEGEN_IV_MUL, 108, 108, 103},
+        {CODEGEN_IV_MUL, 108, 108, 4},
+        {CODEGEN_IV_MUL, 108, 108, 149},
+        {CODEGEN_IV_MUL, 108, 108, 150},
+        {CODEGEN_IV_SUB, 108, 110, 108},
+        {CODEGEN_IV_MUL, 108, 98, 108},
+        {CODEGEN_IV_DIV, 108, 108, 135},
+        {CODEGEN_IV_ADD, 108, 114, 108},
     };
-    static const codegen_iv constants[7] = {
+    static const codegen_iv constants[5] = {
         {2, 2},
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
         {1, 1},
-        {4, 4},
         {6, 6},
         {3, 3},
-        {8, 8}
+        {4, 4}
     };
-    v[0] = codegen_iv_point(params->R);
-    v[1] = codegen_iv_point(params->l);
-    v[2] = codegen_iv_point(params->e);
-    v[3] = codegen_iv_point(params->m_1);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_0);
-    v[7] = codegen_iv_point(params->x_S);
-    v[8] = codegen_iv_point(params->y_S);
-    v[9] = codegen_iv_point(params->F);
-    v[10] = codegen_iv_point(params->T);
-    v[11] = codegen_iv_point(params->g);
-    v[12] = theta;
-    codegen_iv_run(program, 320, constants, v, iv_flags);
-    *iv_g = v[76];
-    *iv_dg = v[18];
+    v[90] = codegen_iv_point(params->R);
+    v[92] = codegen_iv_point(params->e);
+    v[93] = codegen_iv_point(params->m_1);
+    v[94] = codegen_iv_point(params->m_2);
+    v[96] = codegen_iv_point(params->l_0);
+    v[97] = codegen_iv_point(params->x_S);
+    v[102] = theta;
+    codegen_iv_run(program, 283, constants, v, iv_flags);
+    *iv_g = v[166];
+    *iv_dg = v[108];
 #else
-    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
-    const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
     const codegen_iv m_1 = codegen_iv_point(params->m_1);
     const codegen_iv m_2 = codegen_iv_point(params->m_2);
-    const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
-    const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
-    const codegen_iv tmp1 = codegen_iv_mul(F, R);
-    const codegen_iv tmp2 = codegen_iv_sin(theta);
-    const codegen_iv tmp3 = codegen_iv_mul(R, tmp2);
-    const codegen_iv tmp4 = codegen_iv_sub(codegen_iv_add(e, l), tmp3);
-    const codegen_iv tmp5 = codegen_iv_sub(codegen_iv_sub(e, l), tmp3);
-    const codegen_iv tmp6 = codegen_iv_mul(tmp4, tmp5);
-    const codegen_iv tmp7 = codegen_iv_neg(tmp6);
-    const codegen_iv tmp8 = codegen_iv_sqrt(tmp7, iv_flags);
-    const codegen_iv tmp9 = codegen_iv_mul(tmp2, tmp8);
-    const codegen_iv tmp10 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(codegen_iv_neg(tmp9), codegen_iv_mul(e, tmp0)), codegen_iv_mul(tmp0, tmp3)), tmp8, iv_flags);
-    const codegen_iv tmp11 = codegen_iv_pow(e, 2);
-    const codegen_iv tmp12 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2), e);
-    const codegen_iv tmp14 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp15 = codegen_iv_mul(codegen_iv_point(2), x_S);
-    const codegen_iv tmp16 = codegen_iv_pow(R, 2);
-    const codegen_iv tmp17 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp18 = codegen_iv_mul(tmp16, tmp17);
-    const codegen_iv tmp19 = codegen_iv_mul(tmp15, tmp8);
-    const codegen_iv tmp20 = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(tmp11, tmp12), tmp18), tmp19), tmp7), codegen_iv_pow(y_S, 2)), codegen_iv_mul(tmp13, y_S)), codegen_iv_mul(tmp14, tmp15)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp14), tmp8));
-    const codegen_iv tmp21 = codegen_iv_sqrt(tmp20, iv_flags);
-    const codegen_iv tmp22 = codegen_iv_mul(R, k);
-    const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), tmp3);
-    const codegen_iv tmp24 = codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 3);
-    const codegen_iv tmp25 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp24, 1), iv_flags);
-    const codegen_iv tmp26 = codegen_iv_mul(R, tmp17);
-    const codegen_iv tmp27 = codegen_iv_mul(tmp11, tmp26);
-    const codegen_iv tmp28 = codegen_iv_pow(R, 3);
-    const codegen_iv tmp29 = codegen_iv_pow(tmp2, 2);
-    const codegen_iv tmp30 = codegen_iv_mul(codegen_iv_mul(tmp17, tmp28), tmp29);
-    const codegen_iv tmp31 = codegen_iv_mul(tmp13, tmp2);
-    const codegen_iv tmp32 = codegen_iv_mul(tmp18, tmp31);
-    const codegen_iv tmp33 = codegen_iv_mul(e, tmp2);
-    const codegen_iv tmp34 = codegen_iv_mul(tmp33, tmp6);
-    const codegen_iv tmp35 = codegen_iv_mul(R, tmp29);
-    const codegen_iv tmp36 = codegen_iv_mul(tmp35, tmp6);
-    const codegen_iv tmp37 = codegen_iv_mul(tmp0, tmp24);
-    const codegen_iv tmp38 = codegen_iv_mul(tmp26, tmp6);
-    const codegen_iv tmp39 = codegen_iv_pow(codegen_iv_sqrt(tmp20, iv_flags), 3);
-    const codegen_iv tmp40 = codegen_iv_mul(l_0, tmp35);
-    const codegen_iv tmp41 = codegen_iv_mul(l_0, tmp6);
-    const codegen_iv tmp42 = codegen_iv_mul(codegen_iv_point(2), tmp6);
-    const codegen_iv tmp43 = codegen_iv_mul(codegen_iv_mul(e, tmp0), tmp3);
-    const codegen_iv tmp44 = codegen_iv_mul(l_0, tmp43);
-    const codegen_iv tmp45 = codegen_iv_mul(codegen_iv_pow(tmp4, 2), codegen_iv_pow(tmp5, 2));
-    const codegen_iv tmp46 = codegen_iv_mul(tmp11, tmp16);
-    const codegen_iv tmp47 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp48 = codegen_iv_mul(l_0, tmp47);
-    const codegen_iv tmp49 = codegen_iv_mul(tmp46, tmp48);
-    const codegen_iv tmp50 = codegen_iv_mul(tmp28, tmp48);
-    const codegen_iv tmp51 = codegen_iv_mul(l_0, tmp24);
-    const codegen_iv tmp52 = codegen_iv_mul(tmp24, tmp40);
-    const codegen_iv tmp53 = codegen_iv_pow(R, 4);
-    const codegen_iv tmp54 = codegen_iv_mul(tmp29, tmp53);
-    const codegen_iv tmp55 = codegen_iv_mul(tmp48, tmp54);
-    const codegen_iv tmp56 = codegen_iv_mul(codegen_iv_point(4), x_S);
-    const codegen_iv tmp57 = codegen_iv_mul(tmp16, tmp6);
-    const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp29);
-    const codegen_iv tmp59 = codegen_iv_mul(codegen_iv_point(6), x_S);
-    const codegen_iv tmp60 = codegen_iv_pow(tmp0, 4);
-    const codegen_iv tmp61 = codegen_iv_mul(l_0, tmp8);
-    const codegen_iv tmp62 = codegen_iv_mul(tmp60, tmp61);
-    const codegen_iv tmp63 = codegen_iv_mul(tmp0, tmp45);
-    const codegen_iv tmp64 = codegen_iv_mul(tmp16, tmp58);
-    const codegen_iv tmp65 = codegen_iv_mul(tmp12, tmp61);
-    const codegen_iv tmp66 = codegen_iv_mul(codegen_iv_point(6), tmp51);
-    const codegen_iv tmp67 = codegen_iv_mul(codegen_iv_mul(l_0, tmp13), tmp9);
-    const codegen_iv tmp68 = codegen_iv_mul(tmp39, x_S);
-    const codegen_iv tmp69 = codegen_iv_mul(l_0, tmp20);
-    const codegen_iv tmp70 = codegen_iv_mul(tmp47, tmp69);
-    const codegen_iv tmp71 = codegen_iv_mul(tmp69, x_S);
-    const codegen_iv tmp72 = codegen_iv_mul(tmp28, tmp31);
-    const codegen_iv tmp73 = codegen_iv_mul(tmp39, tmp47);
-    const codegen_iv tmp74 = codegen_iv_mul(tmp20, tmp51);
-    const codegen_iv tmp75 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp43), tmp6);
-    const codegen_iv tmp76 = codegen_iv_mul(tmp0, tmp39);
-    const codegen_iv tmp77 = codegen_iv_mul(tmp24, tmp39);
-    const codegen_iv tmp78 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp29), tmp57);
-    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(2), tmp77);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(tmp1, tmp10)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp10, tmp22), codegen_iv_sub(l_0, tmp21)), codegen_iv_sub(codegen_iv_add(tmp14, tmp8), x_S)), tmp21, iv_flags));
-    *iv_dg = codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp23)), codegen_iv_mul(m_2, tmp23)), codegen_iv_mul(codegen_iv_mul(tmp1, tmp25), codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(tmp27, tmp30), tmp32), tmp34), tmp36), tmp37), tmp38))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp22, tmp25), codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(tmp12, tmp52), codegen_iv_mul(tmp19, tmp49)), codegen_iv_mul(tmp19, tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp20), tmp52)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp74)), codegen_iv_mul(tmp26, tmp79)), codegen_iv_mul(tmp27, tmp51)), codegen_iv_mul(tmp27, tmp65)), codegen_iv_mul(tmp27, tmp68)), codegen_iv_mul(tmp27, tmp71)), codegen_iv_mul(tmp30, tmp65)), codegen_iv_mul(tmp30, tmp66)), codegen_iv_mul(tmp30, tmp68)), codegen_iv_mul(tmp30, tmp71)), codegen_iv_mul(tmp32, tmp68)), codegen_iv_mul(tmp32, tmp71)), codegen_iv_mul(tmp33, tmp74)), codegen_iv_mul(tmp33, tmp77)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp34), tmp50)), codegen_iv_mul(tmp34, tmp68)), codegen_iv_mul(tmp34, tmp71)), codegen_iv_mul(tmp35, tmp79)), codegen_iv_mul(tmp36, tmp68)), codegen_iv_mul(tmp36, tmp71)), codegen_iv_mul(tmp37, tmp68)), codegen_iv_mul(tmp37, tmp71)), codegen_iv_mul(tmp38, tmp68)), codegen_iv_mul(tmp38, tmp71)), codegen_iv_mul(tmp39, tmp75)), codegen_iv_mul(tmp40, codegen_iv_pow(codegen_iv_sqrt(tmp7, iv_flags), 5))), codegen_iv_mul(tmp42, tmp49)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp44), tmp45)), codegen_iv_mul(tmp45, tmp76)), codegen_iv_mul(tmp46, tmp70)), codegen_iv_mul(tmp46, tmp73)), codegen_iv_mul(tmp54, tmp70)), codegen_iv_mul(tmp54, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp55), tmp6)), codegen_iv_mul(tmp57, tmp70)), codegen_iv_mul(tmp57, tmp73)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp63), tmp64)), codegen_iv_mul(tmp63, tmp69)), codegen_iv_mul(tmp69, tmp75)), codegen_iv_mul(tmp70, tmp72)), codegen_iv_mul(tmp72, tmp73)), codegen_iv_mul(tmp76, tmp78)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp29), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp0, tmp69), tmp78)), codegen_iv_mul(codegen_iv_mul(tmp11, tmp28), tmp62)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp18), tmp67)), codegen_iv_mul(codegen_iv_mul(tmp12, tmp42), tmp44)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp27), tmp41)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp40), tmp45)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp33), tmp66)), codegen_iv_mul(codegen_iv_mul(tmp30, tmp41), tmp59)), codegen_iv_mul(codegen_iv_mul(tmp37, tmp59), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp43, tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(tmp53, tmp60), tmp67)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp50), tmp56), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp18), tmp34), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp0), tmp12), tmp57), tmp58))), tmp39, iv_flags));
+    const codegen_iv tmp1 = codegen_iv_sin(theta);
+    const codegen_iv tmp2 = codegen_iv_mul(R, tmp1);
+    const codegen_iv tmp3 = codegen_iv_sub(v[1], tmp2);
+    const codegen_iv tmp4 = codegen_iv_sub(v[2], tmp2);
+    const codegen_iv tmp5 = codegen_iv_mul(tmp3, tmp4);
+    const codegen_iv tmp6 = codegen_iv_neg(tmp5);
+    const codegen_iv tmp7 = codegen_iv_sqrt(tmp6, iv_flags);
+    const codegen_iv tmp8 = codegen_iv_mul(tmp1, tmp7);
+    const codegen_iv tmp9 = codegen_iv_neg(tmp8);
+    const codegen_iv tmp10 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp11 = codegen_iv_add(tmp9, tmp10);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp0, tmp2);
+    const codegen_iv tmp13 = codegen_iv_sub(tmp11, tmp12);
+    const codegen_iv tmp14 = codegen_iv_div(tmp13, tmp7, iv_flags);
+    const codegen_iv tmp15 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp16 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp17 = codegen_iv_mul(v[7], tmp16);
+    const codegen_iv tmp18 = codegen_iv_mul(v[6], tmp7);
+    const codegen_iv tmp19 = codegen_iv_add(v[8], tmp17);
+    const codegen_iv tmp20 = codegen_iv_sub(tmp19, tmp18);
+    const codegen_iv tmp21 = codegen_iv_add(tmp20, tmp6);
+    const codegen_iv tmp22 = codegen_iv_add(tmp21, v[9]);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[10]);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp15, v[6]);
+    const codegen_iv tmp25 = codegen_iv_sub(tmp23, tmp24);
+    const codegen_iv tmp27 = codegen_iv_mul(codegen_iv_point(2), tmp15);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp27, tmp7);
+    const codegen_iv tmp29 = codegen_iv_add(tmp25, tmp28);
+    const codegen_iv tmp30 = codegen_iv_sqrt(tmp29, iv_flags);
+    const codegen_iv tmp31 = codegen_iv_mul(v[12], tmp2);
+    const codegen_iv tmp32 = codegen_iv_sqrt(tmp6, iv_flags);
+    const codegen_iv tmp33 = codegen_iv_pow(tmp32, 3);
+    const codegen_iv tmp35 = codegen_iv_pow(tmp33, 1);
+    const codegen_iv tmp36 = codegen_iv_div(codegen_iv_point(1), tmp35, iv_flags);
+    const codegen_iv tmp37 = codegen_iv_mul(R, tmp16);
+    const codegen_iv tmp38 = codegen_iv_mul(v[3], tmp37);
+    const codegen_iv tmp39 = codegen_iv_pow(tmp1, 2);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp16, v[13]);
+    const codegen_iv tmp41 = codegen_iv_mul(tmp40, tmp39);
+    const codegen_iv tmp42 = codegen_iv_mul(v[5], tmp1);
+    const codegen_iv tmp43 = codegen_iv_mul(tmp17, tmp42);
+    const codegen_iv tmp44 = codegen_iv_mul(e, tmp1);
+    const codegen_iv tmp45 = codegen_iv_mul(tmp44, tmp5);
+    const codegen_iv tmp46 = codegen_iv_mul(R, tmp39);
+    const codegen_iv tmp47 = codegen_iv_mul(tmp46, tmp5);
+    const codegen_iv tmp48 = codegen_iv_mul(tmp0, tmp33);
+    const codegen_iv tmp49 = codegen_iv_mul(tmp37, tmp5);
+    const codegen_iv tmp50 = codegen_iv_sqrt(tmp29, iv_flags);
+    const codegen_iv tmp51 = codegen_iv_pow(tmp50, 3);
+    const codegen_iv tmp52 = codegen_iv_mul(l_0, tmp46);
+    const codegen_iv tmp53 = codegen_iv_mul(l_0, tmp5);
+    const codegen_iv tmp55 = codegen_iv_mul(codegen_iv_point(2), tmp5);
+    const codegen_iv tmp56 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp57 = codegen_iv_mul(tmp56, tmp2);
+    const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp57);
+    const codegen_iv tmp59 = codegen_iv_pow(tmp3, 2);
+    const codegen_iv tmp60 = codegen_iv_pow(tmp4, 2);
+    const codegen_iv tmp61 = codegen_iv_mul(tmp59, tmp60);
+    const codegen_iv tmp62 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp63 = codegen_iv_mul(l_0, tmp62);
+    const codegen_iv tmp64 = codegen_iv_mul(v[14], tmp63);
+    const codegen_iv tmp65 = codegen_iv_mul(v[13], tmp63);
+    const codegen_iv tmp66 = codegen_iv_mul(l_0, tmp33);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp33, tmp52);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp39, v[15]);
+    const codegen_iv tmp69 = codegen_iv_mul(tmp63, tmp68);
+    const codegen_iv tmp70 = codegen_iv_mul(v[7], tmp5);
+    const codegen_iv tmp71 = codegen_iv_mul(l_0, tmp39);
+    const codegen_iv tmp72 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp73 = codegen_iv_mul(l_0, tmp7);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp72, tmp73);
+    const codegen_iv tmp75 = codegen_iv_mul(tmp0, tmp61);
+    const codegen_iv tmp76 = codegen_iv_mul(v[7], tmp71);
+    const codegen_iv tmp77 = codegen_iv_mul(v[4], tmp73);
+    const codegen_iv tmp79 = codegen_iv_mul(codegen_iv_point(6), tmp66);
+    const codegen_iv tmp80 = codegen_iv_mul(v[18], tmp8);
+    const codegen_iv tmp81 = codegen_iv_mul(tmp51, x_S);
+    const codegen_iv tmp82 = codegen_iv_mul(l_0, tmp29);
+    const codegen_iv tmp83 = codegen_iv_mul(tmp62, tmp82);
+    const codegen_iv tmp84 = codegen_iv_mul(tmp82, x_S);
+    const codegen_iv tmp85 = codegen_iv_mul(v[13], tmp42);
+    const codegen_iv tmp86 = codegen_iv_mul(tmp51, tmp62);
+    const codegen_iv tmp87 = codegen_iv_mul(tmp29, tmp66);
+    const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(3), tmp57);
+    const codegen_iv tmp90 = codegen_iv_mul(tmp89, tmp5);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp0, tmp51);
+    const codegen_iv tmp92 = codegen_iv_mul(tmp33, tmp51);
+    const codegen_iv tmp94 = codegen_iv_mul(codegen_iv_point(3), tmp39);
+    const codegen_iv tmp95 = codegen_iv_mul(tmp94, tmp70);
+    const codegen_iv tmp97 = codegen_iv_mul(codegen_iv_point(2), tmp92);
+    const codegen_iv tmp98 = codegen_iv_mul(v[0], tmp14);
+    const codegen_iv tmp99 = codegen_iv_sub(v[19], tmp98);
+    const codegen_iv tmp100 = codegen_iv_mul(v[20], tmp0);
+    const codegen_iv tmp101 = codegen_iv_add(tmp99, tmp100);
+    const codegen_iv tmp102 = codegen_iv_mul(v[21], tmp0);
+    const codegen_iv tmp103 = codegen_iv_add(tmp101, tmp102);
+    const codegen_iv tmp104 = codegen_iv_mul(tmp14, v[11]);
+    const codegen_iv tmp105 = codegen_iv_sub(l_0, tmp30);
+    const codegen_iv tmp106 = codegen_iv_mul(tmp104, tmp105);
+    const codegen_iv tmp107 = codegen_iv_add(tmp15, tmp7);
+    const codegen_iv tmp108 = codegen_iv_sub(tmp107, x_S);
+    const codegen_iv tmp109 = codegen_iv_mul(tmp106, tmp108);
+    const codegen_iv tmp110 = codegen_iv_div(tmp109, tmp30, iv_flags);
+    const codegen_iv tmp111 = codegen_iv_sub(tmp103, tmp110);
+    const codegen_iv tmp112 = codegen_iv_mul(m_1, tmp31);
+    const codegen_iv tmp113 = codegen_iv_neg(tmp112);
+    const codegen_iv tmp114 = codegen_iv_mul(m_2, tmp31);
+    const codegen_iv tmp115 = codegen_iv_sub(tmp113, tmp114);
+    const codegen_iv tmp116 = codegen_iv_mul(v[0], tmp36);
+    const codegen_iv tmp117 = codegen_iv_add(tmp38, tmp41);
+    const codegen_iv tmp118 = codegen_iv_sub(tmp117, tmp43);
+    const codegen_iv tmp119 = codegen_iv_sub(tmp118, tmp45);
+    const codegen_iv tmp120 = codegen_iv_add(tmp119, tmp47);
+    const codegen_iv tmp121 = codegen_iv_add(tmp120, tmp48);
+    const codegen_iv tmp122 = codegen_iv_sub(tmp121, tmp49);
+    const codegen_iv tmp123 = codegen_iv_mul(tmp116, tmp122);
+    const codegen_iv tmp124 = codegen_iv_add(tmp115, tmp123);
+    const codegen_iv tmp125 = codegen_iv_mul(v[11], tmp36);
+    const codegen_iv tmp126 = codegen_iv_mul(v[4], tmp67);
+    const codegen_iv tmp127 = codegen_iv_mul(tmp18, tmp64);
+    const codegen_iv tmp128 = codegen_iv_sub(tmp126, tmp127);
+    const codegen_iv tmp129 = codegen_iv_mul(tmp18, tmp69);
+    const codegen_iv tmp130 = codegen_iv_sub(tmp128, tmp129);
+    const codegen_iv tmp132 = codegen_iv_mul(codegen_iv_point(2), tmp29);
+    const codegen_iv tmp133 = codegen_iv_mul(tmp132, tmp67);
+    const codegen_iv tmp134 = codegen_iv_sub(tmp130, tmp133);
+    const codegen_iv tmp136 = codegen_iv_mul(codegen_iv_point(2), tmp37);
+    const codegen_iv tmp137 = codegen_iv_mul(tmp136, tmp87);
+    const codegen_iv tmp138 = codegen_iv_add(tmp134, tmp137);
+    const codegen_iv tmp139 = codegen_iv_mul(tmp37, tmp97);
+    const codegen_iv tmp140 = codegen_iv_sub(tmp138, tmp139);
+    const codegen_iv tmp141 = codegen_iv_mul(tmp38, tmp66);
+    const codegen_iv tmp142 = codegen_iv_add(tmp140, tmp141);
+    const codegen_iv tmp143 = codegen_iv_mul(tmp38, tmp77);
+    const codegen_iv tmp144 = codegen_iv_add(tmp142, tmp143);
+    const codegen_iv tmp145 = codegen_iv_mul(tmp38, tmp81);
+    const codegen_iv tmp146 = codegen_iv_add(tmp144, tmp145);
+    const codegen_iv tmp147 = codegen_iv_mul(tmp38, tmp84);
+    const codegen_iv tmp148 = codegen_iv_sub(tmp146, tmp147);
+    const codegen_iv tmp149 = codegen_iv_mul(tmp41, tmp77);
+    const codegen_iv tmp150 = codegen_iv_add(tmp148, tmp149);
+    const codegen_iv tmp151 = codegen_iv_mul(tmp41, tmp79);
+    const codegen_iv tmp152 = codegen_iv_add(tmp150, tmp151);
+    const codegen_iv tmp153 = codegen_iv_mul(tmp41, tmp81);
+    const codegen_iv tmp154 = codegen_iv_add(tmp152, tmp153);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp41, tmp84);
+    const codegen_iv tmp156 = codegen_iv_sub(tmp154, tmp155);
+    const codegen_iv tmp157 = codegen_iv_mul(tmp43, tmp81);
+    const codegen_iv tmp158 = codegen_iv_sub(tmp156, tmp157);
+    const codegen_iv tmp159 = codegen_iv_mul(tmp43, tmp84);
+    const codegen_iv tmp160 = codegen_iv_add(tmp158, tmp159);
+    const codegen_iv tmp161 = codegen_iv_mul(tmp44, tmp87);
+    const codegen_iv tmp162 = codegen_iv_add(tmp160, tmp161);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp44, tmp92);
+    const codegen_iv tmp164 = codegen_iv_sub(tmp162, tmp163);
+    const codegen_iv tmp166 = codegen_iv_mul(codegen_iv_point(6), tmp45);
+    const codegen_iv tmp167 = codegen_iv_mul(tmp166, tmp65);
+    const codegen_iv tmp168 = codegen_iv_add(tmp164, tmp167);
+    const codegen_iv tmp169 = codegen_iv_mul(tmp45, tmp81);
+    const codegen_iv tmp170 = codegen_iv_sub(tmp168, tmp169);
+    const codegen_iv tmp171 = codegen_iv_mul(tmp45, tmp84);
+    const codegen_iv tmp172 = codegen_iv_add(tmp170, tmp171);
+    const codegen_iv tmp173 = codegen_iv_mul(tmp46, tmp97);
+    const codegen_iv tmp174 = codegen_iv_add(tmp172, tmp173);
+    const codegen_iv tmp175 = codegen_iv_mul(tmp47, tmp81);
+    const codegen_iv tmp176 = codegen_iv_add(tmp174, tmp175);
+    const codegen_iv tmp177 = codegen_iv_mul(tmp47, tmp84);
+    const codegen_iv tmp178 = codegen_iv_sub(tmp176, tmp177);
+    const codegen_iv tmp179 = codegen_iv_mul(tmp48, tmp81);
+    const codegen_iv tmp180 = codegen_iv_add(tmp178, tmp179);
+    const codegen_iv tmp181 = codegen_iv_mul(tmp48, tmp84);
+    const codegen_iv tmp182 = codegen_iv_sub(tmp180, tmp181);
+    const codegen_iv tmp183 = codegen_iv_mul(tmp49, tmp81);
+    const codegen_iv tmp184 = codegen_iv_sub(tmp182, tmp183);
+    const codegen_iv tmp185 = codegen_iv_mul(tmp49, tmp84);
+    const codegen_iv tmp186 = codegen_iv_add(tmp184, tmp185);
+    const codegen_iv tmp187 = codegen_iv_mul(tmp51, tmp90);
+    const codegen_iv tmp188 = codegen_iv_add(tmp186, tmp187);
+    const codegen_iv tmp189 = codegen_iv_sqrt(tmp6, iv_flags);
+    const codegen_iv tmp190 = codegen_iv_pow(tmp189, 5);
+    const codegen_iv tmp191 = codegen_iv_mul(tmp52, tmp190);
+    const codegen_iv tmp192 = codegen_iv_add(tmp188, tmp191);
+    const codegen_iv tmp193 = codegen_iv_mul(tmp55, tmp64);
+    const codegen_iv tmp194 = codegen_iv_sub(tmp192, tmp193);
+    const codegen_iv tmp196 = codegen_iv_mul(codegen_iv_point(2), tmp58);
+    const codegen_iv tmp197 = codegen_iv_mul(tmp196, tmp61);
+    const codegen_iv tmp198 = codegen_iv_sub(tmp194, tmp197);
+    const codegen_iv tmp199 = codegen_iv_mul(tmp61, tmp91);
+    const codegen_iv tmp200 = codegen_iv_sub(tmp198, tmp199);
+    const codegen_iv tmp201 = codegen_iv_mul(v[14], tmp83);
+    const codegen_iv tmp202 = codegen_iv_add(tmp200, tmp201);
+    const codegen_iv tmp203 = codegen_iv_mul(v[14], tmp86);
+    const codegen_iv tmp204 = codegen_iv_sub(tmp202, tmp203);
+    const codegen_iv tmp205 = codegen_iv_mul(tmp68, tmp83);
+    const codegen_iv tmp206 = codegen_iv_add(tmp204, tmp205);
+    const codegen_iv tmp207 = codegen_iv_mul(tmp68, tmp86);
+    const codegen_iv tmp208 = codegen_iv_sub(tmp206, tmp207);
+    const codegen_iv tmp210 = codegen_iv_mul(codegen_iv_point(4), tmp69);
+    const codegen_iv tmp211 = codegen_iv_mul(tmp210, tmp5);
+    const codegen_iv tmp212 = codegen_iv_sub(tmp208, tmp211);
+    const codegen_iv tmp213 = codegen_iv_mul(tmp70, tmp83);
+    const codegen_iv tmp214 = codegen_iv_sub(tmp212, tmp213);
+    const codegen_iv tmp215 = codegen_iv_mul(tmp70, tmp86);
+    const codegen_iv tmp216 = codegen_iv_add(tmp214, tmp215);
+    const codegen_iv tmp218 = codegen_iv_mul(codegen_iv_point(4), tmp75);
+    const codegen_iv tmp219 = codegen_iv_mul(tmp218, tmp76);
+    const codegen_iv tmp220 = codegen_iv_add(tmp216, tmp219);
+    const codegen_iv tmp221 = codegen_iv_mul(tmp75, tmp82);
+    const codegen_iv tmp222 = codegen_iv_add(tmp220, tmp221);
+    const codegen_iv tmp223 = codegen_iv_mul(tmp82, tmp90);
+    const codegen_iv tmp224 = codegen_iv_sub(tmp222, tmp223);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp83, tmp85);
+    const codegen_iv tmp226 = codegen_iv_sub(tmp224, tmp225);
+    const codegen_iv tmp227 = codegen_iv_mul(tmp85, tmp86);
+    const codegen_iv tmp228 = codegen_iv_add(tmp226, tmp227);
+    const codegen_iv tmp229 = codegen_iv_mul(tmp91, tmp95);
+    const codegen_iv tmp230 = codegen_iv_sub(tmp228, tmp229);
+    const codegen_iv tmp231 = codegen_iv_mul(v[22], tmp39);
+    const codegen_iv tmp232 = codegen_iv_mul(tmp231, tmp74);
+    const codegen_iv tmp233 = codegen_iv_add(tmp230, tmp232);
+    const codegen_iv tmp234 = codegen_iv_mul(tmp0, tmp82);
+    const codegen_iv tmp235 = codegen_iv_mul(tmp234, tmp95);
+    const codegen_iv tmp236 = codegen_iv_add(tmp233, tmp235);
+    const codegen_iv tmp237 = codegen_iv_mul(v[23], tmp74);
+    const codegen_iv tmp238 = codegen_iv_add(tmp236, tmp237);
+    const codegen_iv tmp239 = codegen_iv_mul(v[4], tmp17);
+    const codegen_iv tmp240 = codegen_iv_mul(tmp239, tmp80);
+    const codegen_iv tmp241 = codegen_iv_sub(tmp238, tmp240);
+    const codegen_iv tmp242 = codegen_iv_mul(v[4], tmp55);
+    const codegen_iv tmp243 = codegen_iv_mul(tmp242, tmp58);
+    const codegen_iv tmp244 = codegen_iv_add(tmp241, tmp243);
+    const codegen_iv tmp245 = codegen_iv_mul(v[6], tmp38);
+    const codegen_iv tmp246 = codegen_iv_mul(tmp245, tmp53);
+    const codegen_iv tmp247 = codegen_iv_add(tmp244, tmp246);
+    const codegen_iv tmp248 = codegen_iv_mul(v[6], tmp52);
+    const codegen_iv tmp249 = codegen_iv_mul(tmp248, tmp61);
+    const codegen_iv tmp250 = codegen_iv_sub(tmp247, tmp249);
+    const codegen_iv tmp251 = codegen_iv_mul(tmp17, tmp44);
+    const codegen_iv tmp252 = codegen_iv_mul(tmp251, tmp79);
+    const codegen_iv tmp253 = codegen_iv_sub(tmp250, tmp252);
+    const codegen_iv tmp254 = codegen_iv_mul(tmp41, tmp53);
+    const codegen_iv tmp255 = codegen_iv_mul(tmp254, v[17]);
+    const codegen_iv tmp256 = codegen_iv_add(tmp253, tmp255);
+    const codegen_iv tmp257 = codegen_iv_mul(tmp48, v[17]);
+    const codegen_iv tmp258 = codegen_iv_mul(tmp257, tmp76);
+    const codegen_iv tmp259 = codegen_iv_sub(tmp256, tmp258);
+    const codegen_iv tmp260 = codegen_iv_mul(tmp57, tmp66);
+    const codegen_iv tmp261 = codegen_iv_mul(tmp260, v[16]);
+    const codegen_iv tmp262 = codegen_iv_add(tmp259, tmp261);
+    const codegen_iv tmp263 = codegen_iv_mul(v[15], tmp72);
+    const codegen_iv tmp264 = codegen_iv_mul(tmp263, tmp80);
+    const codegen_iv tmp265 = codegen_iv_sub(tmp262, tmp264);
+    const codegen_iv tmp266 = codegen_iv_mul(e, tmp65);
+    const codegen_iv tmp267 = codegen_iv_mul(tmp266, v[16]);
+    const codegen_iv tmp268 = codegen_iv_mul(tmp267, tmp8);
+    const codegen_iv tmp269 = codegen_iv_add(tmp265, tmp268);
+    const codegen_iv tmp270 = codegen_iv_mul(v[24], tmp17);
+    const codegen_iv tmp271 = codegen_iv_mul(tmp270, tmp45);
+    const codegen_iv tmp272 = codegen_iv_mul(tmp271, x_S);
+    const codegen_iv tmp273 = codegen_iv_sub(tmp269, tmp272);
+    const codegen_iv tmp275 = codegen_iv_mul(codegen_iv_point(2), tmp0);
+    const codegen_iv tmp276 = codegen_iv_mul(tmp275, v[4]);
+    const codegen_iv tmp277 = codegen_iv_mul(tmp276, tmp70);
+    const codegen_iv tmp278 = codegen_iv_mul(tmp277, tmp71);
+    const codegen_iv tmp279 = codegen_iv_sub(tmp273, tmp278);
+    const codegen_iv tmp280 = codegen_iv_mul(tmp125, tmp279);
+    const codegen_iv tmp281 = codegen_iv_div(tmp280, tmp51, iv_flags);
+    const codegen_iv tmp282 = codegen_iv_add(tmp124, tmp281);
+    *iv_g = tmp111;
+    *iv_dg = tmp282;
 #endif
 }
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 62 operations; as a program, 66 instructions over 20 of the slots v. */
+ * At each theta, 46 instructions (as a program, over the slots v from 90); the 20 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[66] = {
-        {CODEGEN_IV_COS, 13, 12, 0},
-        {CODEGEN_IV_SIN, 14, 12, 0},
-        {CODEGEN_IV_MUL, 12, 0, 14},
-        {CODEGEN_IV_SUB, 15, 2, 1},
-        {CODEGEN_IV_SUB, 15, 15, 12},
-        {CODEGEN_IV_ADD, 16, 2, 1},
-        {CODEGEN_IV_SUB, 16, 16, 12},
-        {CODEGEN_IV_MUL, 16, 15, 16},
-        {CODEGEN_IV_NEG, 16, 16, 0},
-        {CODEGEN_IV_SQRT, 1, 16, 0},
-        {CODEGEN_IV_MUL, 15, 2, 13},
-        {CODEGEN_IV_MUL, 17, 13, 12},
-        {CODEGEN_IV_SUB, 17, 15, 17},
-        {CODEGEN_IV_MUL, 15, 14, 1},
-        {CODEGEN_IV_SUB, 15, 17, 15},
-        {CODEGEN_IV_MUL, 15, 0, 15},
-        {CODEGEN_IV_DIV, 15, 15, 1},
-        {CODEGEN_IV_MUL, 12, 0, 13},
-        {CODEGEN_IV_CONST, 14, 0, 0},
-        {CODEGEN_IV_MUL, 14, 14, 7},
-        {CODEGEN_IV_POW, 17, 2, 2},
-        {CODEGEN_IV_ADD, 17, 17, 16},
-        {CODEGEN_IV_POW, 18, 7, 2},
-        {CODEGEN_IV_ADD, 18, 17, 18},
-        {CODEGEN_IV_POW, 17, 8, 2},
-        {CODEGEN_IV_ADD, 17, 18, 17},
-        {CODEGEN_IV_POW, 18, 0, 2},
-        {CODEGEN_IV_POW, 19, 13, 2},
-        {CODEGEN_IV_MUL, 19, 18, 19},
-        {CODEGEN_IV_ADD, 19, 17, 19},
-        {CODEGEN_IV_CONST, 17, 0, 0},
-        {CODEGEN_IV_MUL, 17, 17, 2},
-        {CODEGEN_IV_MUL, 17, 17, 8},
-        {CODEGEN_IV_SUB, 17, 19, 17},
-        {CODEGEN_IV_CONST, 19, 0, 0},
-        {CODEGEN_IV_MUL, 19, 19, 1},
-        {CODEGEN_IV_MUL, 19, 19, 12},
-        {CODEGEN_IV_ADD, 19, 17, 19},
-        {CODEGEN_IV_MUL, 17, 1, 14},
-        {CODEGEN_IV_SUB, 17, 19, 17},
-        {CODEGEN_IV_MUL, 19, 12, 14},
-        {CODEGEN_IV_SUB, 19, 17, 19},
-        {CODEGEN_IV_SQRT, 19, 19, 0},
-        {CODEGEN_IV_NEG, 8, 10, 0},
-        {CODEGEN_IV_MUL, 14, 9, 15},
-        {CODEGEN_IV_SUB, 14, 8, 14},
-        {CODEGEN_IV_CONST, 8, 1, 0},
-        {CODEGEN_IV_MUL, 8, 8, 0},
-        {CODEGEN_IV_MUL, 8, 8, 11},
-        {CODEGEN_IV_MUL, 8, 8, 3},
-        {CODEGEN_IV_MUL, 8, 8, 13},
-        {CODEGEN_IV_ADD, 8, 14, 8},
-        {CODEGEN_IV_CONST, 14, 1, 0},
-        {CODEGEN_IV_MUL, 14, 14, 0},
-        {CODEGEN_IV_MUL, 14, 14, 11},
-        {CODEGEN_IV_MUL, 14, 14, 4},
-        {CODEGEN_IV_MUL, 14, 14, 13},
-        {CODEGEN_IV_ADD, 14, 8, 14},
-        {CODEGEN_IV_MUL, 8, 5, 15},
-        {CODEGEN_IV_SUB, 16, 6, 19},
-        {CODEGEN_IV_MUL, 16, 8, 16},
-        {CODEGEN_IV_ADD, 8, 1, 12},
-        {CODEGEN_IV_SUB, 8, 8, 7},
-        {CODEGEN_IV_MUL, 8, 16, 8},
-        {CODEGEN_IV_DIV, 8, 8, 19},
-        {CODEGEN_IV_SUB, 8, 14, 8},
+    static const codegen_iv_instruction program[46] = {
+        {CODEGEN_IV_COS, 103, 102, 0},
+        {CODEGEN_IV_SIN, 104, 102, 0},
+        {CODEGEN_IV_MUL, 102, 90, 104},
+        {CODEGEN_IV_SUB, 105, 25, 102},
+        {CODEGEN_IV_SUB, 106, 26, 102},
+        {CODEGEN_IV_MUL, 106, 105, 106},
+        {CODEGEN_IV_NEG, 106, 106, 0},
+        {CODEGEN_IV_SQRT, 91, 106, 0},
+        {CODEGEN_IV_MUL, 105, 92, 103},
+        {CODEGEN_IV_MUL, 107, 103, 102},
+        {CODEGEN_IV_SUB, 107, 105, 107},
+        {CODEGEN_IV_MUL, 105, 104, 91},
+        {CODEGEN_IV_SUB, 105, 107, 105},
+        {CODEGEN_IV_MUL, 105, 90, 105},
+        {CODEGEN_IV_DIV, 105, 105, 91},
+        {CODEGEN_IV_MUL, 102, 90, 103},
+        {CODEGEN_IV_ADD, 107, 28, 106},
+        {CODEGEN_IV_ADD, 108, 107, 29},
+        {CODEGEN_IV_ADD, 107, 108, 30},
+        {CODEGEN_IV_POW, 109, 103, 2},
+        {CODEGEN_IV_MUL, 109, 31, 109},
+        {CODEGEN_IV_ADD, 109, 107, 109},
+        {CODEGEN_IV_SUB, 107, 109, 32},
+        {CODEGEN_IV_CONST, 109, 0, 0},
+        {CODEGEN_IV_MUL, 109, 109, 91},
+        {CODEGEN_IV_MUL, 109, 109, 102},
+        {CODEGEN_IV_ADD, 109, 107, 109},
+        {CODEGEN_IV_MUL, 107, 91, 27},
+        {CODEGEN_IV_SUB, 107, 109, 107},
+        {CODEGEN_IV_MUL, 109, 102, 27},
+        {CODEGEN_IV_SUB, 109, 107, 109},
+        {CODEGEN_IV_SQRT, 109, 109, 0},
+        {CODEGEN_IV_MUL, 104, 99, 105},
+        {CODEGEN_IV_SUB, 104, 33, 104},
+        {CODEGEN_IV_MUL, 98, 34, 103},
+        {CODEGEN_IV_ADD, 98, 104, 98},
+        {CODEGEN_IV_MUL, 104, 35, 103},
+        {CODEGEN_IV_ADD, 104, 98, 104},
+        {CODEGEN_IV_MUL, 98, 95, 105},
+        {CODEGEN_IV_SUB, 106, 96, 109},
+        {CODEGEN_IV_MUL, 106, 98, 106},
+        {CODEGEN_IV_ADD, 98, 91, 102},
+        {CODEGEN_IV_SUB, 98, 98, 97},
+        {CODEGEN_IV_MUL, 98, 106, 98},
+        {CODEGEN_IV_DIV, 98, 98, 109},
+        {CODEGEN_IV_SUB, 98, 104, 98},
     };
-    static const codegen_iv constants[2] = {
-        {2, 2},
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+    static const codegen_iv constants[1] = {
+        {2, 2}
     };
-    v[0] = codegen_iv_point(params->R);
-    v[1] = codegen_iv_point(params->l);
-    v[2] = codegen_iv_point(params->e);
-    v[3] = codegen_iv_point(params->m_1);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_0);
-    v[7] = codegen_iv_point(params->x_S);
-    v[8] = codegen_iv_point(params->y_S);
-    v[9] = codegen_iv_point(params->F);
-    v[10] = codegen_iv_point(params->T);
-    v[11] = codegen_iv_point(params->g);
-    v[12] = theta;
-    codegen_iv_run(program, 66, constants, v, iv_flags);
-    *iv_g = v[8];
+    v[90] = codegen_iv_point(params->R);
+    v[92] = codegen_iv_point(params->e);
+    v[95] = codegen_iv_point(params->k);
+    v[96] = codegen_iv_point(params->l_0);
+    v[97] = codegen_iv_point(params->x_S);
+    v[99] = codegen_iv_point(params->F);
+    v[102] = theta;
+    codegen_iv_run(program, 46, constants, v, iv_flags);
+    *iv_g = v[98];
 #else
-    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
-    const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
-    const codegen_iv m_1 = codegen_iv_point(params->m_1);
-    const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
-    const codegen_iv y_S = codegen_iv_point(params->y_S);
     const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_sin(theta);
     const codegen_iv tmp2 = codegen_iv_mul(R, tmp1);
-    const codegen_iv tmp3 = codegen_iv_neg(codegen_iv_mul(codegen_iv_sub(codegen_iv_sub(e, l), tmp2), codegen_iv_sub(codegen_iv_add(e, l), tmp2)));
-    const codegen_iv tmp4 = codegen_iv_sqrt(tmp3, iv_flags);
-    const codegen_iv tmp5 = codegen_iv_div(codegen_iv_mul(R, codegen_iv_sub(codegen_iv_sub(codegen_iv_mul(e, tmp0), codegen_iv_mul(tmp0, tmp2)), codegen_iv_mul(tmp1, tmp4))), tmp4, iv_flags);
-    const codegen_iv tmp6 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp7 = codegen_iv_mul(codegen_iv_point(2), x_S);
-    const codegen_iv tmp8 = codegen_iv_sqrt(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_pow(e, 2), tmp3), codegen_iv_pow(x_S, 2)), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_pow(R, 2), codegen_iv_pow(tmp0, 2))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp4), tmp6)), codegen_iv_mul(tmp4, tmp7)), codegen_iv_mul(tmp6, tmp7)), iv_flags);
-    *iv_g = codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_neg(T), codegen_iv_mul(F, tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_1), tmp0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), R), g), m_2), tmp0)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp5), codegen_iv_sub(l_0, tmp8)), codegen_iv_sub(codegen_iv_add(tmp4, tmp6), x_S)), tmp8, iv_flags));
+    const codegen_iv tmp3 = codegen_iv_sub(v[25], tmp2);
+    const codegen_iv tmp4 = codegen_iv_sub(v[26], tmp2);
+    const codegen_iv tmp5 = codegen_iv_mul(tmp3, tmp4);
+    const codegen_iv tmp6 = codegen_iv_neg(tmp5);
+    const codegen_iv tmp7 = codegen_iv_sqrt(tmp6, iv_flags);
+    const codegen_iv tmp8 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp0, tmp2);
+    const codegen_iv tmp10 = codegen_iv_sub(tmp8, tmp9);
+    const codegen_iv tmp11 = codegen_iv_mul(tmp1, tmp7);
+    const codegen_iv tmp12 = codegen_iv_sub(tmp10, tmp11);
+    const codegen_iv tmp13 = codegen_iv_mul(R, tmp12);
+    const codegen_iv tmp14 = codegen_iv_div(tmp13, tmp7, iv_flags);
+    const codegen_iv tmp15 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp16 = codegen_iv_add(v[28], tmp6);
+    const codegen_iv tmp17 = codegen_iv_add(tmp16, v[29]);
+    const codegen_iv tmp18 = codegen_iv_add(tmp17, v[30]);
+    const codegen_iv tmp19 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp20 = codegen_iv_mul(v[31], tmp19);
+    const codegen_iv tmp21 = codegen_iv_add(tmp18, tmp20);
+    const codegen_iv tmp22 = codegen_iv_sub(tmp21, v[32]);
+    const codegen_iv tmp24 = codegen_iv_mul(codegen_iv_point(2), tmp7);
+    const codegen_iv tmp25 = codegen_iv_mul(tmp24, tmp15);
+    const codegen_iv tmp26 = codegen_iv_add(tmp22, tmp25);
+    const codegen_iv tmp27 = codegen_iv_mul(tmp7, v[27]);
+    const codegen_iv tmp28 = codegen_iv_sub(tmp26, tmp27);
+    const codegen_iv tmp29 = codegen_iv_mul(tmp15, v[27]);
+    const codegen_iv tmp30 = codegen_iv_sub(tmp28, tmp29);
+    const codegen_iv tmp31 = codegen_iv_sqrt(tmp30, iv_flags);
+    const codegen_iv tmp32 = codegen_iv_mul(F, tmp14);
+    const codegen_iv tmp33 = codegen_iv_sub(v[33], tmp32);
+    const codegen_iv tmp34 = codegen_iv_mul(v[34], tmp0);
+    const codegen_iv tmp35 = codegen_iv_add(tmp33, tmp34);
+    const codegen_iv tmp36 = codegen_iv_mul(v[35], tmp0);
+    const codegen_iv tmp37 = codegen_iv_add(tmp35, tmp36);
+    const codegen_iv tmp38 = codegen_iv_mul(k, tmp14);
+    const codegen_iv tmp39 = codegen_iv_sub(l_0, tmp31);
+    const codegen_iv tmp40 = codegen_iv_mul(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_add(tmp7, tmp15);
+    const codegen_iv tmp42 = codegen_iv_sub(tmp41, x_S);
+    const codegen_iv tmp43 = codegen_iv_mul(tmp40, tmp42);
+    const codegen_iv tmp44 = codegen_iv_div(tmp43, tmp31, iv_flags);
+    const codegen_iv tmp45 = codegen_iv_sub(tmp37, tmp44);
+    *iv_g = tmp45;
 #endif
 }
 
 
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative), enclosed in outward-rounded interval arithmetic.
- * 406 operations; as a program, 441 instructions over 73 of the slots v. */
+ * At each theta, 357 instructions (as a program, over the slots v from 90); the 84 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[441] = {
-        {CODEGEN_IV_COS, 13, 12, 0},
-        {CODEGEN_IV_MUL, 14, 0, 13},
-        {CODEGEN_IV_CONST, 15, 0, 0},
-        {CODEGEN_IV_MUL, 15, 15, 11},
-        {CODEGEN_IV_MUL, 11, 14, 15},
-        {CODEGEN_IV_MUL, 16, 9, 0},
-        {CODEGEN_IV_SIN, 9, 12, 0},
-        {CODEGEN_IV_MUL, 12, 0, 9},
-        {CODEGEN_IV_ADD, 17, 2, 1},
-        {CODEGEN_IV_SUB, 17, 17, 12},
-        {CODEGEN_IV_SUB, 18, 2, 1},
-        {CODEGEN_IV_SUB, 18, 18, 12},
-        {CODEGEN_IV_MUL, 1, 17, 18},
-        {CODEGEN_IV_NEG, 19, 1, 0},
-        {CODEGEN_IV_SQRT, 20, 19, 0},
-        {CODEGEN_IV_MUL, 21, 2, 13},
-        {CODEGEN_IV_MUL, 22, 20, 9},
-        {CODEGEN_IV_ADD, 23, 21, 22},
-        {CODEGEN_IV_MUL, 24, 13, 12},
-        {CODEGEN_IV_SUB, 24, 23, 24},
-        {CODEGEN_IV_DIV, 24, 24, 20},
-        {CODEGEN_IV_POW, 23, 2, 2},
-        {CODEGEN_IV_POW, 25, 7, 2},
-        {CODEGEN_IV_CONST, 26, 1, 0},
-        {CODEGEN_IV_MUL, 26, 26, 2},
-        {CODEGEN_IV_CONST, 27, 1, 0},
-        {CODEGEN_IV_MUL, 27, 27, 7},
-        {CODEGEN_IV_POW, 28, 0, 2},
-        {CODEGEN_IV_POW, 29, 13, 2},
-        {CODEGEN_IV_MUL, 30, 28, 29},
-        {CODEGEN_IV_ADD, 31, 19, 23},
-        {CODEGEN_IV_ADD, 31, 31, 25},
-        {CODEGEN_IV_ADD, 31, 31, 30},
-        {CODEGEN_IV_POW, 32, 8, 2},
-        {CODEGEN_IV_ADD, 32, 31, 32},
-        {CODEGEN_IV_CONST, 31, 1, 0},
-        {CODEGEN_IV_MUL, 31, 31, 14},
-        {CODEGEN_IV_MUL, 31, 31, 20},
-        {CODEGEN_IV_SUB, 31, 32, 31},
-        {CODEGEN_IV_MUL, 32, 14, 27},
-        {CODEGEN_IV_SUB, 32, 31, 32},
-        {CODEGEN_IV_MUL, 31, 20, 27},
-        {CODEGEN_IV_ADD, 31, 32, 31},
-        {CODEGEN_IV_MUL, 32, 26, 8},
-        {CODEGEN_IV_SUB, 32, 31, 32},
-        {CODEGEN_IV_SQRT, 8, 32, 0},
-        {CODEGEN_IV_MUL, 14, 0, 5},
-        {CODEGEN_IV_MUL, 5, 15, 12},
-        {CODEGEN_IV_SQRT, 15, 19, 0},
-        {CODEGEN_IV_POW, 15, 15, 3},
-        {CODEGEN_IV_CONST, 31, 2, 0},
-        {CODEGEN_IV_POW, 33, 15, 1},
-        {CODEGEN_IV_DIV, 33, 31, 33},
-        {CODEGEN_IV_MUL, 31, 26, 9},
-        {CODEGEN_IV_MUL, 26, 30, 31},
-        {CODEGEN_IV_POW, 34, 0, 3},
-        {CODEGEN_IV_POW, 35, 9, 2},
-        {CODEGEN_IV_MUL, 36, 2, 9},
-        {CODEGEN_IV_MUL, 37, 36, 1},
-        {CODEGEN_IV_MUL, 38, 0, 29},
-        {CODEGEN_IV_MUL, 39, 38, 1},
-        {CODEGEN_IV_MUL, 40, 13, 15},
-        {CODEGEN_IV_SQRT, 41, 32, 0},
-        {CODEGEN_IV_POW, 41, 41, 3},
-        {CODEGEN_IV_MUL, 42, 0, 35},
-        {CODEGEN_IV_MUL, 43, 6, 42},
-        {CODEGEN_IV_POW, 44, 17, 2},
-        {CODEGEN_IV_POW, 45, 18, 2},
-        {CODEGEN_IV_MUL, 46, 44, 45},
-        {CODEGEN_IV_MUL, 47, 23, 28},
-        {CODEGEN_IV_POW, 48, 13, 3},
-        {CODEGEN_IV_MUL, 49, 6, 48},
-        {CODEGEN_IV_MUL, 50, 49, 1},
-        {CODEGEN_IV_MUL, 51, 21, 12},
-        {CODEGEN_IV_CONST, 12, 1, 0},
-        {CODEGEN_IV_MUL, 12, 12, 6},
-        {CODEGEN_IV_MUL, 21, 23, 38},
-        {CODEGEN_IV_MUL, 52, 6, 15},
-        {CODEGEN_IV_POW, 53, 0, 4},
-        {CODEGEN_IV_MUL, 54, 35, 53},
-        {CODEGEN_IV_CONST, 55, 3, 0},
-        {CODEGEN_IV_MUL, 55, 55, 7},
-        {CODEGEN_IV_MUL, 56, 28, 1},
-        {CODEGEN_IV_MUL, 57, 35, 56},
-        {CODEGEN_IV_POW, 58, 13, 4},
-        {CODEGEN_IV_MUL, 59, 6, 20},
-        {CODEGEN_IV_MUL, 60, 58, 59},
-        {CODEGEN_IV_MUL, 61, 25, 59},
-        {CODEGEN_IV_MUL, 59, 29, 34},
-        {CODEGEN_IV_MUL, 59, 59, 35},
-        {CODEGEN_IV_MUL, 62, 6, 32},
-        {CODEGEN_IV_MUL, 63, 62, 7},
-        {CODEGEN_IV_MUL, 64, 41, 48},
-        {CODEGEN_IV_MUL, 65, 48, 62},
-        {CODEGEN_IV_MUL, 66, 41, 7},
-        {CODEGEN_IV_MUL, 67, 13, 41},
-        {CODEGEN_IV_MUL, 68, 15, 62},
-        {CODEGEN_IV_NEG, 69, 10, 0},
-        {CODEGEN_IV_MUL, 70, 3, 11},
-        {CODEGEN_IV_ADD, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 4, 11},
-        {CODEGEN_IV_ADD, 69, 70, 69},
-        {CODEGEN_IV_MUL, 70, 24, 16},
-        {CODEGEN_IV_ADD, 70, 69, 70},
-        {CODEGEN_IV_MUL, 69, 24, 14},
-        {CODEGEN_IV_SUB, 71, 6, 8},
-        {CODEGEN_IV_MUL, 71, 69, 71},
-        {CODEGEN_IV_NEG, 69, 20, 0},
-        {CODEGEN_IV_SUB, 69, 69, 7},
-        {CODEGEN_IV_MUL, 72, 0, 13},
-        {CODEGEN_IV_ADD, 72, 69, 72},
-        {CODEGEN_IV_MUL, 72, 71, 72},
-        {CODEGEN_IV_DIV, 72, 72, 8},
-        {CODEGEN_IV_ADD, 72, 70, 72},
-        {CODEGEN_IV_MUL, 11, 3, 5},
-        {CODEGEN_IV_NEG, 11, 11, 0},
-        {CODEGEN_IV_MUL, 8, 4, 5},
-        {CODEGEN_IV_SUB, 8, 11, 8},
-        {CODEGEN_IV_MUL, 11, 33, 16},
-        {CODEGEN_IV_NEG, 24, 26, 0},
-        {CODEGEN_IV_SUB, 24, 24, 37},
-        {CODEGEN_IV_SUB, 24, 24, 39},
-        {CODEGEN_IV_SUB, 24, 24, 40},
-        {CODEGEN_IV_MUL, 10, 0, 23},
-        {CODEGEN_IV_MUL, 10, 10, 29},
-        {CODEGEN_IV_ADD, 10, 24, 10},
-        {CODEGEN_IV_MUL, 24, 29, 34},
-        {CODEGEN_IV_MUL, 24, 24, 35},
-        {CODEGEN_IV_ADD, 24, 10, 24},
-        {CODEGEN_IV_MUL, 10, 0, 35},
-        {CODEGEN_IV_MUL, 10, 10, 17},
-        {CODEGEN_IV_MUL, 10, 10, 18},
-        {CODEGEN_IV_ADD, 10, 24, 10},
-        {CODEGEN_IV_MUL, 10, 11, 10},
-        {CODEGEN_IV_SUB, 10, 8, 10},
-        {CODEGEN_IV_MUL, 8, 14, 33},
-        {CODEGEN_IV_SQRT, 11, 19, 0},
-        {CODEGEN_IV_POW, 11, 11, 5},
-        {CODEGEN_IV_MUL, 11, 11, 43},
-        {CODEGEN_IV_NEG, 11, 11, 0},
-        {CODEGEN_IV_MUL, 24, 26, 66},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 36, 68},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 37, 66},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 38},
-        {CODEGEN_IV_MUL, 11, 11, 68},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 39, 66},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 40, 66},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 46, 67},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 47},
-        {CODEGEN_IV_MUL, 11, 11, 50},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 47, 64},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 3, 0},
-        {CODEGEN_IV_MUL, 11, 11, 50},
-        {CODEGEN_IV_MUL, 11, 11, 54},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 21, 52},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 21, 61},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 21, 63},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 4, 0},
-        {CODEGEN_IV_MUL, 11, 11, 52},
-        {CODEGEN_IV_MUL, 11, 11, 59},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 54, 64},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 56, 65},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 5, 0},
-        {CODEGEN_IV_MUL, 24, 24, 57},
-        {CODEGEN_IV_MUL, 24, 24, 67},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 61, 59},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 59, 63},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_POW, 11, 0, 5},
-        {CODEGEN_IV_MUL, 11, 11, 35},
-        {CODEGEN_IV_MUL, 11, 11, 60},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 23, 34},
-        {CODEGEN_IV_MUL, 24, 24, 60},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 25, 15},
-        {CODEGEN_IV_MUL, 11, 11, 43},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 27, 43},
-        {CODEGEN_IV_MUL, 24, 24, 46},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 15},
-        {CODEGEN_IV_MUL, 11, 11, 41},
-        {CODEGEN_IV_MUL, 11, 11, 42},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 31, 34},
-        {CODEGEN_IV_MUL, 24, 24, 65},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 42, 63},
-        {CODEGEN_IV_MUL, 11, 11, 1},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 46, 51},
-        {CODEGEN_IV_MUL, 24, 24, 12},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 51, 52},
-        {CODEGEN_IV_MUL, 11, 11, 55},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 5, 0},
-        {CODEGEN_IV_MUL, 24, 24, 51},
-        {CODEGEN_IV_MUL, 24, 24, 62},
-        {CODEGEN_IV_MUL, 24, 24, 1},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 0},
-        {CODEGEN_IV_MUL, 11, 11, 29},
-        {CODEGEN_IV_MUL, 11, 11, 15},
-        {CODEGEN_IV_MUL, 11, 11, 41},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 2, 15},
-        {CODEGEN_IV_MUL, 24, 24, 41},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 6, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 30},
-        {CODEGEN_IV_MUL, 11, 11, 37},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 13, 25},
-        {CODEGEN_IV_MUL, 24, 24, 12},
-        {CODEGEN_IV_MUL, 24, 24, 57},
-        {CODEGEN_IV_SUB, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 32},
-        {CODEGEN_IV_MUL, 11, 11, 15},
-        {CODEGEN_IV_MUL, 11, 11, 35},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 0, 23},
-        {CODEGEN_IV_MUL, 24, 24, 29},
-        {CODEGEN_IV_MUL, 24, 24, 41},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 2, 22},
-        {CODEGEN_IV_MUL, 11, 11, 34},
-        {CODEGEN_IV_MUL, 11, 11, 49},
-        {CODEGEN_IV_MUL, 11, 11, 55},
-        {CODEGEN_IV_SUB, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 1, 0},
-        {CODEGEN_IV_MUL, 24, 24, 2},
-        {CODEGEN_IV_MUL, 24, 24, 34},
-        {CODEGEN_IV_MUL, 24, 24, 41},
-        {CODEGEN_IV_MUL, 24, 24, 48},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 6, 13},
-        {CODEGEN_IV_MUL, 11, 11, 32},
-        {CODEGEN_IV_MUL, 11, 11, 15},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 6, 13},
-        {CODEGEN_IV_MUL, 24, 24, 32},
-        {CODEGEN_IV_MUL, 24, 24, 44},
-        {CODEGEN_IV_MUL, 24, 24, 45},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 6, 23},
-        {CODEGEN_IV_MUL, 11, 11, 28},
-        {CODEGEN_IV_MUL, 11, 11, 32},
-        {CODEGEN_IV_MUL, 11, 11, 48},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 6, 32},
-        {CODEGEN_IV_MUL, 24, 24, 35},
-        {CODEGEN_IV_MUL, 24, 24, 48},
-        {CODEGEN_IV_MUL, 24, 24, 53},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 28, 41},
-        {CODEGEN_IV_MUL, 11, 11, 48},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 29, 34},
-        {CODEGEN_IV_MUL, 24, 24, 35},
-        {CODEGEN_IV_MUL, 24, 24, 41},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 0, 35},
-        {CODEGEN_IV_MUL, 11, 11, 41},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 1, 0},
-        {CODEGEN_IV_MUL, 24, 24, 2},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 20},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_MUL, 24, 24, 53},
-        {CODEGEN_IV_MUL, 24, 24, 58},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 4, 0},
-        {CODEGEN_IV_MUL, 11, 11, 2},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 28},
-        {CODEGEN_IV_MUL, 11, 11, 29},
-        {CODEGEN_IV_MUL, 11, 11, 15},
-        {CODEGEN_IV_MUL, 11, 11, 9},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 4, 0},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 13},
-        {CODEGEN_IV_MUL, 24, 24, 28},
-        {CODEGEN_IV_MUL, 24, 24, 15},
-        {CODEGEN_IV_MUL, 24, 24, 35},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 3, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 13},
-        {CODEGEN_IV_MUL, 11, 11, 28},
-        {CODEGEN_IV_MUL, 11, 11, 35},
-        {CODEGEN_IV_MUL, 11, 11, 44},
-        {CODEGEN_IV_MUL, 11, 11, 45},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 1, 0},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 20},
-        {CODEGEN_IV_MUL, 24, 24, 23},
-        {CODEGEN_IV_MUL, 24, 24, 28},
-        {CODEGEN_IV_MUL, 24, 24, 48},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 20},
-        {CODEGEN_IV_MUL, 11, 11, 35},
-        {CODEGEN_IV_MUL, 11, 11, 48},
-        {CODEGEN_IV_MUL, 11, 11, 53},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 5, 0},
-        {CODEGEN_IV_MUL, 24, 24, 0},
-        {CODEGEN_IV_MUL, 24, 24, 2},
-        {CODEGEN_IV_MUL, 24, 24, 13},
-        {CODEGEN_IV_MUL, 24, 24, 41},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_MUL, 24, 24, 17},
-        {CODEGEN_IV_MUL, 24, 24, 18},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 23},
-        {CODEGEN_IV_MUL, 11, 11, 29},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 24, 0, 6},
-        {CODEGEN_IV_MUL, 24, 24, 29},
-        {CODEGEN_IV_MUL, 24, 24, 32},
-        {CODEGEN_IV_MUL, 24, 24, 17},
-        {CODEGEN_IV_MUL, 24, 24, 18},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 2},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 20},
-        {CODEGEN_IV_MUL, 11, 11, 25},
-        {CODEGEN_IV_MUL, 11, 11, 28},
-        {CODEGEN_IV_MUL, 11, 11, 29},
-        {CODEGEN_IV_MUL, 11, 11, 9},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 1, 0},
-        {CODEGEN_IV_MUL, 24, 24, 2},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 28},
-        {CODEGEN_IV_MUL, 24, 24, 29},
-        {CODEGEN_IV_MUL, 24, 24, 32},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_MUL, 11, 2, 6},
-        {CODEGEN_IV_MUL, 11, 11, 32},
-        {CODEGEN_IV_MUL, 11, 11, 9},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_MUL, 11, 11, 7},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 4, 0},
-        {CODEGEN_IV_MUL, 24, 24, 2},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 34},
-        {CODEGEN_IV_MUL, 24, 24, 48},
-        {CODEGEN_IV_MUL, 24, 24, 9},
-        {CODEGEN_IV_MUL, 24, 24, 17},
-        {CODEGEN_IV_MUL, 24, 24, 18},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 5, 0},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 13},
-        {CODEGEN_IV_MUL, 11, 11, 28},
-        {CODEGEN_IV_MUL, 11, 11, 32},
-        {CODEGEN_IV_MUL, 11, 11, 35},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_CONST, 24, 4, 0},
-        {CODEGEN_IV_MUL, 24, 24, 6},
-        {CODEGEN_IV_MUL, 24, 24, 29},
-        {CODEGEN_IV_MUL, 24, 24, 34},
-        {CODEGEN_IV_MUL, 24, 24, 35},
-        {CODEGEN_IV_MUL, 24, 24, 17},
-        {CODEGEN_IV_MUL, 24, 24, 18},
-        {CODEGEN_IV_MUL, 24, 24, 7},
-        {CODEGEN_IV_ADD, 24, 11, 24},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 0},
-        {CODEGEN_IV_MUL, 11, 11, 2},
-        {CODEGEN_IV_MUL, 11, 11, 6},
-        {CODEGEN_IV_MUL, 11, 11, 13},
-        {CODEGEN_IV_MUL, 11, 11, 25},
-        {CODEGEN_IV_MUL, 11, 11, 9},
-        {CODEGEN_IV_MUL, 11, 11, 17},
-        {CODEGEN_IV_MUL, 11, 11, 18},
-        {CODEGEN_IV_ADD, 11, 24, 11},
-        {CODEGEN_IV_MUL, 11, 8, 11},
-        {CODEGEN_IV_DIV, 11, 11, 41},
-        {CODEGEN_IV_SUB, 11, 10, 11},
+    static const codegen_iv_instruction program[357] = {
+        {CODEGEN_IV_COS, 103, 102, 0},
+        {CODEGEN_IV_MUL, 104, 90, 103},
+        {CODEGEN_IV_MUL, 101, 104, 36},
+        {CODEGEN_IV_SIN, 99, 102, 0},
+        {CODEGEN_IV_MUL, 102, 90, 99},
+        {CODEGEN_IV_SUB, 107, 38, 102},
+        {CODEGEN_IV_SUB, 108, 39, 102},
+        {CODEGEN_IV_MUL, 91, 107, 108},
+        {CODEGEN_IV_NEG, 109, 91, 0},
+        {CODEGEN_IV_SQRT, 110, 109, 0},
+        {CODEGEN_IV_MUL, 111, 92, 103},
+        {CODEGEN_IV_MUL, 112, 110, 99},
+        {CODEGEN_IV_ADD, 113, 111, 112},
+        {CODEGEN_IV_MUL, 114, 103, 102},
+        {CODEGEN_IV_SUB, 114, 113, 114},
+        {CODEGEN_IV_DIV, 114, 114, 110},
+        {CODEGEN_IV_POW, 119, 103, 2},
+        {CODEGEN_IV_MUL, 120, 44, 119},
+        {CODEGEN_IV_ADD, 121, 109, 40},
+        {CODEGEN_IV_ADD, 121, 121, 41},
+        {CODEGEN_IV_ADD, 121, 121, 120},
+        {CODEGEN_IV_ADD, 122, 121, 45},
+        {CODEGEN_IV_CONST, 121, 0, 0},
+        {CODEGEN_IV_MUL, 121, 121, 104},
+        {CODEGEN_IV_MUL, 121, 121, 110},
+        {CODEGEN_IV_SUB, 121, 122, 121},
+        {CODEGEN_IV_MUL, 122, 104, 43},
+        {CODEGEN_IV_SUB, 122, 121, 122},
+        {CODEGEN_IV_MUL, 121, 110, 43},
+        {CODEGEN_IV_ADD, 121, 122, 121},
+        {CODEGEN_IV_SUB, 122, 121, 46},
+        {CODEGEN_IV_SQRT, 98, 122, 0},
+        {CODEGEN_IV_MUL, 95, 36, 102},
+        {CODEGEN_IV_SQRT, 105, 109, 0},
+        {CODEGEN_IV_POW, 105, 105, 3},
+        {CODEGEN_IV_CONST, 121, 1, 0},
+        {CODEGEN_IV_POW, 123, 105, 1},
+        {CODEGEN_IV_DIV, 123, 121, 123},
+        {CODEGEN_IV_MUL, 121, 42, 99},
+        {CODEGEN_IV_MUL, 116, 120, 121},
+        {CODEGEN_IV_POW, 125, 99, 2},
+        {CODEGEN_IV_MUL, 126, 92, 99},
+        {CODEGEN_IV_MUL, 127, 126, 91},
+        {CODEGEN_IV_MUL, 128, 90, 119},
+        {CODEGEN_IV_MUL, 129, 128, 91},
+        {CODEGEN_IV_MUL, 130, 103, 105},
+        {CODEGEN_IV_SQRT, 131, 122, 0},
+        {CODEGEN_IV_POW, 131, 131, 3},
+        {CODEGEN_IV_MUL, 132, 90, 125},
+        {CODEGEN_IV_MUL, 133, 96, 132},
+        {CODEGEN_IV_POW, 134, 107, 2},
+        {CODEGEN_IV_POW, 135, 108, 2},
+        {CODEGEN_IV_MUL, 136, 134, 135},
+        {CODEGEN_IV_POW, 138, 103, 3},
+        {CODEGEN_IV_MUL, 139, 96, 138},
+        {CODEGEN_IV_MUL, 140, 139, 91},
+        {CODEGEN_IV_MUL, 141, 111, 102},
+        {CODEGEN_IV_MUL, 111, 40, 128},
+        {CODEGEN_IV_MUL, 142, 96, 105},
+        {CODEGEN_IV_MUL, 144, 125, 51},
+        {CODEGEN_IV_MUL, 146, 44, 91},
+        {CODEGEN_IV_MUL, 147, 125, 146},
+        {CODEGEN_IV_POW, 148, 103, 4},
+        {CODEGEN_IV_MUL, 149, 96, 110},
+        {CODEGEN_IV_MUL, 150, 148, 149},
+        {CODEGEN_IV_MUL, 151, 41, 149},
+        {CODEGEN_IV_MUL, 149, 119, 48},
+        {CODEGEN_IV_MUL, 149, 149, 125},
+        {CODEGEN_IV_MUL, 152, 96, 122},
+        {CODEGEN_IV_MUL, 153, 152, 97},
+        {CODEGEN_IV_MUL, 154, 131, 138},
+        {CODEGEN_IV_MUL, 155, 138, 152},
+        {CODEGEN_IV_MUL, 156, 131, 97},
+        {CODEGEN_IV_MUL, 157, 103, 131},
+        {CODEGEN_IV_MUL, 158, 105, 152},
+        {CODEGEN_IV_MUL, 160, 93, 101},
+        {CODEGEN_IV_ADD, 160, 53, 160},
+        {CODEGEN_IV_MUL, 159, 94, 101},
+        {CODEGEN_IV_ADD, 159, 160, 159},
+        {CODEGEN_IV_MUL, 160, 114, 37},
+        {CODEGEN_IV_ADD, 160, 159, 160},
+        {CODEGEN_IV_MUL, 159, 114, 47},
+        {CODEGEN_IV_SUB, 161, 96, 98},
+        {CODEGEN_IV_MUL, 161, 159, 161},
+        {CODEGEN_IV_NEG, 159, 110, 0},
+        {CODEGEN_IV_SUB, 159, 159, 97},
+        {CODEGEN_IV_MUL, 162, 90, 103},
+        {CODEGEN_IV_ADD, 162, 159, 162},
+        {CODEGEN_IV_MUL, 162, 161, 162},
+        {CODEGEN_IV_DIV, 162, 162, 98},
+        {CODEGEN_IV_ADD, 162, 160, 162},
+        {CODEGEN_IV_MUL, 101, 93, 95},
+        {CODEGEN_IV_NEG, 101, 101, 0},
+        {CODEGEN_IV_MUL, 98, 94, 95},
+        {CODEGEN_IV_SUB, 98, 101, 98},
+        {CODEGEN_IV_MUL, 101, 123, 37},
+        {CODEGEN_IV_NEG, 114, 116, 0},
+        {CODEGEN_IV_SUB, 114, 114, 127},
+        {CODEGEN_IV_SUB, 114, 114, 129},
+        {CODEGEN_IV_SUB, 114, 114, 130},
+        {CODEGEN_IV_MUL, 100, 54, 119},
+        {CODEGEN_IV_ADD, 100, 114, 100},
+        {CODEGEN_IV_MUL, 114, 119, 48},
+        {CODEGEN_IV_MUL, 114, 114, 125},
+        {CODEGEN_IV_ADD, 114, 100, 114},
+        {CODEGEN_IV_MUL, 100, 90, 125},
+        {CODEGEN_IV_MUL, 100, 100, 107},
+        {CODEGEN_IV_MUL, 100, 100, 108},
+        {CODEGEN_IV_ADD, 100, 114, 100},
+        {CODEGEN_IV_MUL, 100, 101, 100},
+        {CODEGEN_IV_SUB, 100, 98, 100},
+        {CODEGEN_IV_MUL, 98, 47, 123},
+        {CODEGEN_IV_SQRT, 101, 109, 0},
+        {CODEGEN_IV_POW, 101, 101, 5},
+        {CODEGEN_IV_MUL, 101, 101, 133},
+        {CODEGEN_IV_NEG, 101, 101, 0},
+        {CODEGEN_IV_MUL, 114, 116, 156},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 126, 158},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 127, 156},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_CONST, 101, 0, 0},
+        {CODEGEN_IV_MUL, 101, 101, 128},
+        {CODEGEN_IV_MUL, 101, 101, 158},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 129, 156},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 130, 156},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 136, 157},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 55, 140},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 49, 154},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_CONST, 101, 2, 0},
+        {CODEGEN_IV_MUL, 101, 101, 140},
+        {CODEGEN_IV_MUL, 101, 101, 144},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 111, 142},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 111, 151},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 111, 153},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_CONST, 101, 3, 0},
+        {CODEGEN_IV_MUL, 101, 101, 142},
+        {CODEGEN_IV_MUL, 101, 101, 149},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 144, 154},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 146, 155},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_CONST, 114, 4, 0},
+        {CODEGEN_IV_MUL, 114, 114, 147},
+        {CODEGEN_IV_MUL, 114, 114, 157},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 151, 149},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 149, 153},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 56, 125},
+        {CODEGEN_IV_MUL, 101, 101, 150},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 57, 150},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 41, 105},
+        {CODEGEN_IV_MUL, 101, 101, 133},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 43, 133},
+        {CODEGEN_IV_MUL, 114, 114, 136},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_CONST, 101, 0, 0},
+        {CODEGEN_IV_MUL, 101, 101, 105},
+        {CODEGEN_IV_MUL, 101, 101, 131},
+        {CODEGEN_IV_MUL, 101, 101, 132},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 121, 48},
+        {CODEGEN_IV_MUL, 114, 114, 155},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 132, 153},
+        {CODEGEN_IV_MUL, 101, 101, 91},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 136, 141},
+        {CODEGEN_IV_MUL, 114, 114, 50},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 141, 142},
+        {CODEGEN_IV_MUL, 101, 101, 52},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_CONST, 114, 4, 0},
+        {CODEGEN_IV_MUL, 114, 114, 141},
+        {CODEGEN_IV_MUL, 114, 114, 152},
+        {CODEGEN_IV_MUL, 114, 114, 91},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 58, 119},
+        {CODEGEN_IV_MUL, 101, 101, 105},
+        {CODEGEN_IV_MUL, 101, 101, 131},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 92, 105},
+        {CODEGEN_IV_MUL, 114, 114, 131},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 59, 120},
+        {CODEGEN_IV_MUL, 101, 101, 127},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 103, 41},
+        {CODEGEN_IV_MUL, 114, 114, 50},
+        {CODEGEN_IV_MUL, 114, 114, 147},
+        {CODEGEN_IV_SUB, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 60, 122},
+        {CODEGEN_IV_MUL, 101, 101, 105},
+        {CODEGEN_IV_MUL, 101, 101, 125},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 61, 119},
+        {CODEGEN_IV_MUL, 114, 114, 131},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 92, 112},
+        {CODEGEN_IV_MUL, 101, 101, 48},
+        {CODEGEN_IV_MUL, 101, 101, 139},
+        {CODEGEN_IV_MUL, 101, 101, 52},
+        {CODEGEN_IV_SUB, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 62, 131},
+        {CODEGEN_IV_MUL, 114, 114, 138},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 96, 103},
+        {CODEGEN_IV_MUL, 101, 101, 122},
+        {CODEGEN_IV_MUL, 101, 101, 105},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 96, 103},
+        {CODEGEN_IV_MUL, 114, 114, 122},
+        {CODEGEN_IV_MUL, 114, 114, 134},
+        {CODEGEN_IV_MUL, 114, 114, 135},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 63, 122},
+        {CODEGEN_IV_MUL, 101, 101, 138},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 96, 122},
+        {CODEGEN_IV_MUL, 114, 114, 125},
+        {CODEGEN_IV_MUL, 114, 114, 138},
+        {CODEGEN_IV_MUL, 114, 114, 51},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 44, 131},
+        {CODEGEN_IV_MUL, 101, 101, 138},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 119, 48},
+        {CODEGEN_IV_MUL, 114, 114, 125},
+        {CODEGEN_IV_MUL, 114, 114, 131},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 90, 125},
+        {CODEGEN_IV_MUL, 101, 101, 131},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 64, 110},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_MUL, 114, 114, 51},
+        {CODEGEN_IV_MUL, 114, 114, 148},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 65, 119},
+        {CODEGEN_IV_MUL, 101, 101, 105},
+        {CODEGEN_IV_MUL, 101, 101, 99},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 66, 103},
+        {CODEGEN_IV_MUL, 114, 114, 44},
+        {CODEGEN_IV_MUL, 114, 114, 105},
+        {CODEGEN_IV_MUL, 114, 114, 125},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 67, 103},
+        {CODEGEN_IV_MUL, 101, 101, 44},
+        {CODEGEN_IV_MUL, 101, 101, 125},
+        {CODEGEN_IV_MUL, 101, 101, 134},
+        {CODEGEN_IV_MUL, 101, 101, 135},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 68, 110},
+        {CODEGEN_IV_MUL, 114, 114, 40},
+        {CODEGEN_IV_MUL, 114, 114, 44},
+        {CODEGEN_IV_MUL, 114, 114, 138},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 69, 110},
+        {CODEGEN_IV_MUL, 101, 101, 125},
+        {CODEGEN_IV_MUL, 101, 101, 138},
+        {CODEGEN_IV_MUL, 101, 101, 51},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 70, 103},
+        {CODEGEN_IV_MUL, 114, 114, 131},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_MUL, 114, 114, 107},
+        {CODEGEN_IV_MUL, 114, 114, 108},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 71, 119},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 72, 119},
+        {CODEGEN_IV_MUL, 114, 114, 122},
+        {CODEGEN_IV_MUL, 114, 114, 107},
+        {CODEGEN_IV_MUL, 114, 114, 108},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 73, 110},
+        {CODEGEN_IV_MUL, 101, 101, 41},
+        {CODEGEN_IV_MUL, 101, 101, 44},
+        {CODEGEN_IV_MUL, 101, 101, 119},
+        {CODEGEN_IV_MUL, 101, 101, 99},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 74, 119},
+        {CODEGEN_IV_MUL, 114, 114, 122},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 75, 122},
+        {CODEGEN_IV_MUL, 101, 101, 99},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_MUL, 101, 101, 97},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 76, 138},
+        {CODEGEN_IV_MUL, 114, 114, 99},
+        {CODEGEN_IV_MUL, 114, 114, 107},
+        {CODEGEN_IV_MUL, 114, 114, 108},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 77, 103},
+        {CODEGEN_IV_MUL, 101, 101, 44},
+        {CODEGEN_IV_MUL, 101, 101, 122},
+        {CODEGEN_IV_MUL, 101, 101, 125},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 114, 78, 119},
+        {CODEGEN_IV_MUL, 114, 114, 48},
+        {CODEGEN_IV_MUL, 114, 114, 125},
+        {CODEGEN_IV_MUL, 114, 114, 107},
+        {CODEGEN_IV_MUL, 114, 114, 108},
+        {CODEGEN_IV_MUL, 114, 114, 97},
+        {CODEGEN_IV_ADD, 114, 101, 114},
+        {CODEGEN_IV_MUL, 101, 79, 103},
+        {CODEGEN_IV_MUL, 101, 101, 41},
+        {CODEGEN_IV_MUL, 101, 101, 99},
+        {CODEGEN_IV_MUL, 101, 101, 107},
+        {CODEGEN_IV_MUL, 101, 101, 108},
+        {CODEGEN_IV_ADD, 101, 114, 101},
+        {CODEGEN_IV_MUL, 101, 98, 101},
+        {CODEGEN_IV_DIV, 101, 101, 131},
+        {CODEGEN_IV_SUB, 101, 100, 101},
     };
-    static const codegen_iv constants[7] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+    static const codegen_iv constants[5] = {
         {2, 2},
         {1, 1},
         {4, 4},
         {6, 6},
-        {3, 3},
-        {8, 8}
+        {3, 3}
     };
-    v[0] = codegen_iv_point(params->R);
-    v[1] = codegen_iv_point(params->l);
-    v[2] = codegen_iv_point(params->e);
-    v[3] = codegen_iv_point(params->m_1);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_0);
-    v[7] = codegen_iv_point(params->x_S);
-    v[8] = codegen_iv_point(params->y_S);
-    v[9] = codegen_iv_point(params->F);
-    v[10] = codegen_iv_point(params->T);
-    v[11] = codegen_iv_point(params->g);
-    v[12] = theta;
-    codegen_iv_run(program, 441, constants, v, iv_flags);
-    *iv_g = v[72];
-    *iv_dg = v[11];
+    v[90] = codegen_iv_point(params->R);
+    v[92] = codegen_iv_point(params->e);
+    v[93] = codegen_iv_point(params->m_1);
+    v[94] = codegen_iv_point(params->m_2);
+    v[96] = codegen_iv_point(params->l_0);
+    v[97] = codegen_iv_point(params->x_S);
+    v[102] = theta;
+    codegen_iv_run(program, 357, constants, v, iv_flags);
+    *iv_g = v[162];
+    *iv_dg = v[101];
 #else
-    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
-    const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
     const codegen_iv m_1 = codegen_iv_point(params->m_1);
     const codegen_iv m_2 = codegen_iv_point(params->m_2);
-    const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
-    const codegen_iv y_S = codegen_iv_point(params->y_S);
-    const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g);
-    const codegen_iv tmp3 = codegen_iv_mul(tmp1, tmp2);
-    const codegen_iv tmp4 = codegen_iv_mul(F, R);
-    const codegen_iv tmp5 = codegen_iv_sin(theta);
-    const codegen_iv tmp6 = codegen_iv_mul(R, tmp5);
-    const codegen_iv tmp7 = codegen_iv_sub(codegen_iv_add(e, l), tmp6);
-    const codegen_iv tmp8 = codegen_iv_sub(codegen_iv_sub(e, l), tmp6);
-    const codegen_iv tmp9 = codegen_iv_mul(tmp7, tmp8);
-    const codegen_iv tmp10 = codegen_iv_neg(tmp9);
-    const codegen_iv tmp11 = codegen_iv_sqrt(tmp10, iv_flags);
-    const codegen_iv tmp12 = codegen_iv_mul(e, tmp0);
-    const codegen_iv tmp13 = codegen_iv_mul(tmp11, tmp5);
-    const codegen_iv tmp14 = codegen_iv_div(codegen_iv_sub(codegen_iv_add(tmp12, tmp13), codegen_iv_mul(tmp0, tmp6)), tmp11, iv_flags);
-    const codegen_iv tmp15 = codegen_iv_pow(e, 2);
-    const codegen_iv tmp16 = codegen_iv_pow(x_S, 2);
-    const codegen_iv tmp17 = codegen_iv_mul(codegen_iv_point(2), e);
-    const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2), x_S);
-    const codegen_iv tmp19 = codegen_iv_pow(R, 2);
-    const codegen_iv tmp20 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp21 = codegen_iv_mul(tmp19, tmp20);
-    const codegen_iv tmp22 = codegen_iv_sub(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(tmp10, tmp15), tmp16), tmp21), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp1), tmp11)), codegen_iv_mul(tmp1, tmp18)), codegen_iv_mul(tmp11, tmp18)), codegen_iv_mul(tmp17, y_S));
-    const codegen_iv tmp23 = codegen_iv_sqrt(tmp22, iv_flags);
-    const codegen_iv tmp24 = codegen_iv_mul(R, k);
-    const codegen_iv tmp25 = codegen_iv_mul(tmp2, tmp6);
-    const codegen_iv tmp26 = codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 3);
-    const codegen_iv tmp27 = codegen_iv_div(codegen_iv_point(1.0), codegen_iv_pow(tmp26, 1), iv_flags);
-    const codegen_iv tmp28 = codegen_iv_mul(tmp17, tmp5);
-    const codegen_iv tmp29 = codegen_iv_mul(tmp21, tmp28);
-    const codegen_iv tmp30 = codegen_iv_pow(R, 3);
-    const codegen_iv tmp31 = codegen_iv_pow(tmp5, 2);
-    const codegen_iv tmp32 = codegen_iv_mul(e, tmp5);
-    const codegen_iv tmp33 = codegen_iv_mul(tmp32, tmp9);
-    const codegen_iv tmp34 = codegen_iv_mul(R, tmp20);
-    const codegen_iv tmp35 = codegen_iv_mul(tmp34, tmp9);
-    const codegen_iv tmp36 = codegen_iv_mul(tmp0, tmp26);
-    const codegen_iv tmp37 = codegen_iv_pow(codegen_iv_sqrt(tmp22, iv_flags), 3);
-    const codegen_iv tmp38 = codegen_iv_mul(R, tmp31);
-    const codegen_iv tmp39 = codegen_iv_mul(l_0, tmp38);
-    const codegen_iv tmp40 = codegen_iv_pow(tmp7, 2);
-    const codegen_iv tmp41 = codegen_iv_pow(tmp8, 2);
-    const codegen_iv tmp42 = codegen_iv_mul(tmp40, tmp41);
-    const codegen_iv tmp43 = codegen_iv_mul(tmp15, tmp19);
-    const codegen_iv tmp44 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp45 = codegen_iv_mul(l_0, tmp44);
-    const codegen_iv tmp46 = codegen_iv_mul(tmp45, tmp9);
-    const codegen_iv tmp47 = codegen_iv_mul(tmp12, tmp6);
-    const codegen_iv tmp48 = codegen_iv_mul(codegen_iv_point(2), l_0);
-    const codegen_iv tmp49 = codegen_iv_mul(tmp15, tmp34);
-    const codegen_iv tmp50 = codegen_iv_mul(l_0, tmp26);
-    const codegen_iv tmp51 = codegen_iv_pow(R, 4);
-    const codegen_iv tmp52 = codegen_iv_mul(tmp31, tmp51);
-    const codegen_iv tmp53 = codegen_iv_mul(codegen_iv_point(4), x_S);
-    const codegen_iv tmp54 = codegen_iv_mul(tmp19, tmp9);
-    const codegen_iv tmp55 = codegen_iv_mul(tmp31, tmp54);
-    const codegen_iv tmp56 = codegen_iv_pow(tmp0, 4);
-    const codegen_iv tmp57 = codegen_iv_mul(l_0, tmp11);
-    const codegen_iv tmp58 = codegen_iv_mul(tmp56, tmp57);
-    const codegen_iv tmp59 = codegen_iv_mul(tmp16, tmp57);
-    const codegen_iv tmp60 = codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31);
-    const codegen_iv tmp61 = codegen_iv_mul(l_0, tmp22);
-    const codegen_iv tmp62 = codegen_iv_mul(tmp61, x_S);
-    const codegen_iv tmp63 = codegen_iv_mul(tmp37, tmp44);
-    const codegen_iv tmp64 = codegen_iv_mul(tmp44, tmp61);
-    const codegen_iv tmp65 = codegen_iv_mul(tmp37, x_S);
-    const codegen_iv tmp66 = codegen_iv_mul(tmp0, tmp37);
-    const codegen_iv tmp67 = codegen_iv_mul(tmp26, tmp61);
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(m_1, tmp3)), codegen_iv_mul(m_2, tmp3)), codegen_iv_mul(tmp14, tmp4)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp14, tmp24), codegen_iv_sub(l_0, tmp23)), codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp11), x_S), codegen_iv_mul(R, tmp0))), tmp23, iv_flags));
-    *iv_dg = codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(m_1, tmp25)), codegen_iv_mul(m_2, tmp25)), codegen_iv_mul(codegen_iv_mul(tmp27, tmp4), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(tmp29), tmp33), tmp35), tmp36), codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20)), codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp7), tmp8)))), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(tmp24, tmp27), codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_neg(codegen_iv_mul(codegen_iv_pow(codegen_iv_sqrt(tmp10, iv_flags), 5), tmp39)), codegen_iv_mul(tmp29, tmp65)), codegen_iv_mul(tmp32, tmp67)), codegen_iv_mul(tmp33, tmp65)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp34), tmp67)), codegen_iv_mul(tmp35, tmp65)), codegen_iv_mul(tmp36, tmp65)), codegen_iv_mul(tmp42, tmp66)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp43), tmp46)), codegen_iv_mul(tmp43, tmp63)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), tmp46), tmp52)), codegen_iv_mul(tmp49, tmp50)), codegen_iv_mul(tmp49, tmp59)), codegen_iv_mul(tmp49, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), tmp50), tmp60)), codegen_iv_mul(tmp52, tmp63)), codegen_iv_mul(tmp54, tmp64)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp55), tmp66)), codegen_iv_mul(tmp59, tmp60)), codegen_iv_mul(tmp60, tmp62)), codegen_iv_mul(codegen_iv_mul(codegen_iv_pow(R, 5), tmp31), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp15, tmp30), tmp58)), codegen_iv_mul(codegen_iv_mul(tmp16, tmp26), tmp39)), codegen_iv_mul(codegen_iv_mul(tmp18, tmp39), tmp42)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp26), tmp37), tmp38)), codegen_iv_mul(codegen_iv_mul(tmp28, tmp30), tmp64)), codegen_iv_mul(codegen_iv_mul(tmp38, tmp62), tmp9)), codegen_iv_mul(codegen_iv_mul(tmp42, tmp47), tmp48)), codegen_iv_mul(codegen_iv_mul(tmp47, tmp50), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), tmp47), tmp61), tmp9)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), tmp20), tmp26), tmp37)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp26), tmp37), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(8), l_0), tmp21), tmp33), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp0, tmp16), tmp48), tmp55)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp22), tmp26), tmp31)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp15), tmp20), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, tmp13), tmp30), tmp45), tmp53)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), tmp30), tmp37), tmp44), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp26), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp0), tmp22), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp15), tmp19), tmp22), tmp44)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(l_0, tmp22), tmp31), tmp44), tmp51)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp19, tmp37), tmp44), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(tmp20, tmp30), tmp31), tmp37), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, tmp31), tmp37), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp5), tmp51), tmp56)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp19), tmp20), tmp26), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp0), tmp19), tmp26), tmp31), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(4), l_0), tmp0), tmp19), tmp31), tmp40), tmp41)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp15), tmp19), tmp44), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), l_0), tmp11), tmp31), tmp44), tmp51), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), R), e), tmp0), tmp37), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), l_0), tmp15), tmp20), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(R, l_0), tmp20), tmp22), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp11), tmp16), tmp19), tmp20), tmp5)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), l_0), tmp19), tmp20), tmp22), tmp5), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(e, l_0), tmp22), tmp5), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), e), l_0), tmp30), tmp44), tmp5), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(3), l_0), tmp0), tmp19), tmp22), tmp31), tmp7), tmp8)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(6), l_0), tmp20), tmp30), tmp31), tmp7), tmp8), x_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), R), e), l_0), tmp0), tmp16), tmp5), tmp7), tmp8))), tmp37, iv_flags));
+    const codegen_iv tmp2 = codegen_iv_mul(tmp1, v[36]);
+    const codegen_iv tmp3 = codegen_iv_sin(theta);
+    const codegen_iv tmp4 = codegen_iv_mul(R, tmp3);
+    const codegen_iv tmp5 = codegen_iv_sub(v[38], tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(v[39], tmp4);
+    const codegen_iv tmp7 = codegen_iv_mul(tmp5, tmp6);
+    const codegen_iv tmp8 = codegen_iv_neg(tmp7);
+    const codegen_iv tmp9 = codegen_iv_sqrt(tmp8, iv_flags);
+    const codegen_iv tmp10 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp11 = codegen_iv_mul(tmp9, tmp3);
+    const codegen_iv tmp12 = codegen_iv_add(tmp10, tmp11);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp0, tmp4);
+    const codegen_iv tmp14 = codegen_iv_sub(tmp12, tmp13);
+    const codegen_iv tmp15 = codegen_iv_div(tmp14, tmp9, iv_flags);
+    const codegen_iv tmp16 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp17 = codegen_iv_mul(v[44], tmp16);
+    const codegen_iv tmp18 = codegen_iv_add(tmp8, v[40]);
+    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[41]);
+    const codegen_iv tmp20 = codegen_iv_add(tmp19, tmp17);
+    const codegen_iv tmp21 = codegen_iv_add(tmp20, v[45]);
+    const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_point(2), tmp1);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp23, tmp9);
+    const codegen_iv tmp25 = codegen_iv_sub(tmp21, tmp24);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp1, v[43]);
+    const codegen_iv tmp27 = codegen_iv_sub(tmp25, tmp26);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp9, v[43]);
+    const codegen_iv tmp29 = codegen_iv_add(tmp27, tmp28);
+    const codegen_iv tmp30 = codegen_iv_sub(tmp29, v[46]);
+    const codegen_iv tmp31 = codegen_iv_sqrt(tmp30, iv_flags);
+    const codegen_iv tmp32 = codegen_iv_mul(v[36], tmp4);
+    const codegen_iv tmp33 = codegen_iv_sqrt(tmp8, iv_flags);
+    const codegen_iv tmp34 = codegen_iv_pow(tmp33, 3);
+    const codegen_iv tmp36 = codegen_iv_pow(tmp34, 1);
+    const codegen_iv tmp37 = codegen_iv_div(codegen_iv_point(1), tmp36, iv_flags);
+    const codegen_iv tmp38 = codegen_iv_mul(v[42], tmp3);
+    const codegen_iv tmp39 = codegen_iv_mul(tmp17, tmp38);
+    const codegen_iv tmp40 = codegen_iv_pow(tmp3, 2);
+    const codegen_iv tmp41 = codegen_iv_mul(e, tmp3);
+    const codegen_iv tmp42 = codegen_iv_mul(tmp41, tmp7);
+    const codegen_iv tmp43 = codegen_iv_mul(R, tmp16);
+    const codegen_iv tmp44 = codegen_iv_mul(tmp43, tmp7);
+    const codegen_iv tmp45 = codegen_iv_mul(tmp0, tmp34);
+    const codegen_iv tmp46 = codegen_iv_sqrt(tmp30, iv_flags);
+    const codegen_iv tmp47 = codegen_iv_pow(tmp46, 3);
+    const codegen_iv tmp48 = codegen_iv_mul(R, tmp40);
+    const codegen_iv tmp49 = codegen_iv_mul(l_0, tmp48);
+    const codegen_iv tmp50 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp51 = codegen_iv_pow(tmp6, 2);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp50, tmp51);
+    const codegen_iv tmp53 = codegen_iv_pow(tmp0, 3);
+    const codegen_iv tmp54 = codegen_iv_mul(l_0, tmp53);
+    const codegen_iv tmp55 = codegen_iv_mul(tmp54, tmp7);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp10, tmp4);
+    const codegen_iv tmp57 = codegen_iv_mul(v[40], tmp43);
+    const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp34);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp40, v[51]);
+    const codegen_iv tmp60 = codegen_iv_mul(v[44], tmp7);
+    const codegen_iv tmp61 = codegen_iv_mul(tmp40, tmp60);
+    const codegen_iv tmp62 = codegen_iv_pow(tmp0, 4);
+    const codegen_iv tmp63 = codegen_iv_mul(l_0, tmp9);
+    const codegen_iv tmp64 = codegen_iv_mul(tmp62, tmp63);
+    const codegen_iv tmp65 = codegen_iv_mul(v[41], tmp63);
+    const codegen_iv tmp66 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp67 = codegen_iv_mul(tmp66, tmp40);
+    const codegen_iv tmp68 = codegen_iv_mul(l_0, tmp30);
+    const codegen_iv tmp69 = codegen_iv_mul(tmp68, x_S);
+    const codegen_iv tmp70 = codegen_iv_mul(tmp47, tmp53);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp53, tmp68);
+    const codegen_iv tmp72 = codegen_iv_mul(tmp47, x_S);
+    const codegen_iv tmp73 = codegen_iv_mul(tmp0, tmp47);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp34, tmp68);
+    const codegen_iv tmp75 = codegen_iv_mul(m_1, tmp2);
+    const codegen_iv tmp76 = codegen_iv_add(v[53], tmp75);
+    const codegen_iv tmp77 = codegen_iv_mul(m_2, tmp2);
+    const codegen_iv tmp78 = codegen_iv_add(tmp76, tmp77);
+    const codegen_iv tmp79 = codegen_iv_mul(tmp15, v[37]);
+    const codegen_iv tmp80 = codegen_iv_add(tmp78, tmp79);
+    const codegen_iv tmp81 = codegen_iv_mul(tmp15, v[47]);
+    const codegen_iv tmp82 = codegen_iv_sub(l_0, tmp31);
+    const codegen_iv tmp83 = codegen_iv_mul(tmp81, tmp82);
+    const codegen_iv tmp84 = codegen_iv_neg(tmp9);
+    const codegen_iv tmp85 = codegen_iv_sub(tmp84, x_S);
+    const codegen_iv tmp86 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp87 = codegen_iv_add(tmp85, tmp86);
+    const codegen_iv tmp88 = codegen_iv_mul(tmp83, tmp87);
+    const codegen_iv tmp89 = codegen_iv_div(tmp88, tmp31, iv_flags);
+    const codegen_iv tmp90 = codegen_iv_add(tmp80, tmp89);
+    const codegen_iv tmp91 = codegen_iv_mul(m_1, tmp32);
+    const codegen_iv tmp92 = codegen_iv_neg(tmp91);
+    const codegen_iv tmp93 = codegen_iv_mul(m_2, tmp32);
+    const codegen_iv tmp94 = codegen_iv_sub(tmp92, tmp93);
+    const codegen_iv tmp95 = codegen_iv_mul(tmp37, v[37]);
+    const codegen_iv tmp96 = codegen_iv_neg(tmp39);
+    const codegen_iv tmp97 = codegen_iv_sub(tmp96, tmp42);
+    const codegen_iv tmp98 = codegen_iv_sub(tmp97, tmp44);
+    const codegen_iv tmp99 = codegen_iv_sub(tmp98, tmp45);
+    const codegen_iv tmp100 = codegen_iv_mul(v[54], tmp16);
+    const codegen_iv tmp101 = codegen_iv_add(tmp99, tmp100);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp103 = codegen_iv_mul(tmp102, tmp40);
+    const codegen_iv tmp104 = codegen_iv_add(tmp101, tmp103);
+    const codegen_iv tmp105 = codegen_iv_mul(R, tmp40);
+    const codegen_iv tmp106 = codegen_iv_mul(tmp105, tmp5);
+    const codegen_iv tmp107 = codegen_iv_mul(tmp106, tmp6);
+    const codegen_iv tmp108 = codegen_iv_add(tmp104, tmp107);
+    const codegen_iv tmp109 = codegen_iv_mul(tmp95, tmp108);
+    const codegen_iv tmp110 = codegen_iv_sub(tmp94, tmp109);
+    const codegen_iv tmp111 = codegen_iv_mul(v[47], tmp37);
+    const codegen_iv tmp112 = codegen_iv_sqrt(tmp8, iv_flags);
+    const codegen_iv tmp113 = codegen_iv_pow(tmp112, 5);
+    const codegen_iv tmp114 = codegen_iv_mul(tmp113, tmp49);
+    const codegen_iv tmp115 = codegen_iv_neg(tmp114);
+    const codegen_iv tmp116 = codegen_iv_mul(tmp39, tmp72);
+    const codegen_iv tmp117 = codegen_iv_sub(tmp115, tmp116);
+    const codegen_iv tmp118 = codegen_iv_mul(tmp41, tmp74);
+    const codegen_iv tmp119 = codegen_iv_sub(tmp117, tmp118);
+    const codegen_iv tmp120 = codegen_iv_mul(tmp42, tmp72);
+    const codegen_iv tmp121 = codegen_iv_sub(tmp119, tmp120);
+    const codegen_iv tmp123 = codegen_iv_mul(codegen_iv_point(2), tmp43);
+    const codegen_iv tmp124 = codegen_iv_mul(tmp123, tmp74);
+    const codegen_iv tmp125 = codegen_iv_sub(tmp121, tmp124);
+    const codegen_iv tmp126 = codegen_iv_mul(tmp44, tmp72);
+    const codegen_iv tmp127 = codegen_iv_sub(tmp125, tmp126);
+    const codegen_iv tmp128 = codegen_iv_mul(tmp45, tmp72);
+    const codegen_iv tmp129 = codegen_iv_sub(tmp127, tmp128);
+    const codegen_iv tmp130 = codegen_iv_mul(tmp52, tmp73);
+    const codegen_iv tmp131 = codegen_iv_sub(tmp129, tmp130);
+    const codegen_iv tmp132 = codegen_iv_mul(v[55], tmp55);
+    const codegen_iv tmp133 = codegen_iv_sub(tmp131, tmp132);
+    const codegen_iv tmp134 = codegen_iv_mul(v[49], tmp70);
+    const codegen_iv tmp135 = codegen_iv_sub(tmp133, tmp134);
+    const codegen_iv tmp137 = codegen_iv_mul(codegen_iv_point(4), tmp55);
+    const codegen_iv tmp138 = codegen_iv_mul(tmp137, tmp59);
+    const codegen_iv tmp139 = codegen_iv_sub(tmp135, tmp138);
+    const codegen_iv tmp140 = codegen_iv_mul(tmp57, tmp58);
+    const codegen_iv tmp141 = codegen_iv_sub(tmp139, tmp140);
+    const codegen_iv tmp142 = codegen_iv_mul(tmp57, tmp65);
+    const codegen_iv tmp143 = codegen_iv_sub(tmp141, tmp142);
+    const codegen_iv tmp144 = codegen_iv_mul(tmp57, tmp69);
+    const codegen_iv tmp145 = codegen_iv_sub(tmp143, tmp144);
+    const codegen_iv tmp147 = codegen_iv_mul(codegen_iv_point(6), tmp58);
+    const codegen_iv tmp148 = codegen_iv_mul(tmp147, tmp67);
+    const codegen_iv tmp149 = codegen_iv_sub(tmp145, tmp148);
+    const codegen_iv tmp150 = codegen_iv_mul(tmp59, tmp70);
+    const codegen_iv tmp151 = codegen_iv_sub(tmp149, tmp150);
+    const codegen_iv tmp152 = codegen_iv_mul(tmp60, tmp71);
+    const codegen_iv tmp153 = codegen_iv_sub(tmp151, tmp152);
+    const codegen_iv tmp155 = codegen_iv_mul(codegen_iv_point(3), tmp61);
+    const codegen_iv tmp156 = codegen_iv_mul(tmp155, tmp73);
+    const codegen_iv tmp157 = codegen_iv_sub(tmp153, tmp156);
+    const codegen_iv tmp158 = codegen_iv_mul(tmp65, tmp67);
+    const codegen_iv tmp159 = codegen_iv_sub(tmp157, tmp158);
+    const codegen_iv tmp160 = codegen_iv_mul(tmp67, tmp69);
+    const codegen_iv tmp161 = codegen_iv_sub(tmp159, tmp160);
+    const codegen_iv tmp162 = codegen_iv_mul(v[56], tmp40);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp162, tmp64);
+    const codegen_iv tmp164 = codegen_iv_sub(tmp161, tmp163);
+    const codegen_iv tmp165 = codegen_iv_mul(v[57], tmp64);
+    const codegen_iv tmp166 = codegen_iv_sub(tmp164, tmp165);
+    const codegen_iv tmp167 = codegen_iv_mul(v[41], tmp34);
+    const codegen_iv tmp168 = codegen_iv_mul(tmp167, tmp49);
+    const codegen_iv tmp169 = codegen_iv_sub(tmp166, tmp168);
+    const codegen_iv tmp170 = codegen_iv_mul(v[43], tmp49);
+    const codegen_iv tmp171 = codegen_iv_mul(tmp170, tmp52);
+    const codegen_iv tmp172 = codegen_iv_sub(tmp169, tmp171);
+    const codegen_iv tmp174 = codegen_iv_mul(codegen_iv_point(2), tmp34);
+    const codegen_iv tmp175 = codegen_iv_mul(tmp174, tmp47);
+    const codegen_iv tmp176 = codegen_iv_mul(tmp175, tmp48);
+    const codegen_iv tmp177 = codegen_iv_sub(tmp172, tmp176);
+    const codegen_iv tmp178 = codegen_iv_mul(tmp38, v[48]);
+    const codegen_iv tmp179 = codegen_iv_mul(tmp178, tmp71);
+    const codegen_iv tmp180 = codegen_iv_sub(tmp177, tmp179);
+    const codegen_iv tmp181 = codegen_iv_mul(tmp48, tmp69);
+    const codegen_iv tmp182 = codegen_iv_mul(tmp181, tmp7);
+    const codegen_iv tmp183 = codegen_iv_sub(tmp180, tmp182);
+    const codegen_iv tmp184 = codegen_iv_mul(tmp52, tmp56);
+    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[50]);
+    const codegen_iv tmp186 = codegen_iv_sub(tmp183, tmp185);
+    const codegen_iv tmp187 = codegen_iv_mul(tmp56, tmp58);
+    const codegen_iv tmp188 = codegen_iv_mul(tmp187, v[52]);
+    const codegen_iv tmp189 = codegen_iv_sub(tmp186, tmp188);
+    const codegen_iv tmp191 = codegen_iv_mul(codegen_iv_point(3), tmp56);
+    const codegen_iv tmp192 = codegen_iv_mul(tmp191, tmp68);
+    const codegen_iv tmp193 = codegen_iv_mul(tmp192, tmp7);
+    const codegen_iv tmp194 = codegen_iv_sub(tmp189, tmp193);
+    const codegen_iv tmp195 = codegen_iv_mul(v[58], tmp16);
+    const codegen_iv tmp196 = codegen_iv_mul(tmp195, tmp34);
+    const codegen_iv tmp197 = codegen_iv_mul(tmp196, tmp47);
+    const codegen_iv tmp198 = codegen_iv_add(tmp194, tmp197);
+    const codegen_iv tmp199 = codegen_iv_mul(e, tmp34);
+    const codegen_iv tmp200 = codegen_iv_mul(tmp199, tmp47);
+    const codegen_iv tmp201 = codegen_iv_mul(tmp200, tmp3);
+    const codegen_iv tmp202 = codegen_iv_add(tmp198, tmp201);
+    const codegen_iv tmp203 = codegen_iv_mul(v[59], tmp17);
+    const codegen_iv tmp204 = codegen_iv_mul(tmp203, tmp42);
+    const codegen_iv tmp205 = codegen_iv_mul(tmp204, x_S);
+    const codegen_iv tmp206 = codegen_iv_sub(tmp202, tmp205);
+    const codegen_iv tmp207 = codegen_iv_mul(tmp0, v[41]);
+    const codegen_iv tmp208 = codegen_iv_mul(tmp207, v[50]);
+    const codegen_iv tmp209 = codegen_iv_mul(tmp208, tmp61);
+    const codegen_iv tmp210 = codegen_iv_sub(tmp206, tmp209);
+    const codegen_iv tmp211 = codegen_iv_mul(v[60], tmp30);
+    const codegen_iv tmp212 = codegen_iv_mul(tmp211, tmp34);
+    const codegen_iv tmp213 = codegen_iv_mul(tmp212, tmp40);
+    const codegen_iv tmp214 = codegen_iv_add(tmp210, tmp213);
+    const codegen_iv tmp215 = codegen_iv_mul(v[61], tmp16);
+    const codegen_iv tmp216 = codegen_iv_mul(tmp215, tmp47);
+    const codegen_iv tmp217 = codegen_iv_mul(tmp216, x_S);
+    const codegen_iv tmp218 = codegen_iv_add(tmp214, tmp217);
+    const codegen_iv tmp219 = codegen_iv_mul(e, tmp11);
+    const codegen_iv tmp220 = codegen_iv_mul(tmp219, v[48]);
+    const codegen_iv tmp221 = codegen_iv_mul(tmp220, tmp54);
+    const codegen_iv tmp222 = codegen_iv_mul(tmp221, v[52]);
+    const codegen_iv tmp223 = codegen_iv_sub(tmp218, tmp222);
+    const codegen_iv tmp224 = codegen_iv_mul(v[62], tmp47);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp224, tmp53);
+    const codegen_iv tmp226 = codegen_iv_mul(tmp225, tmp3);
+    const codegen_iv tmp227 = codegen_iv_add(tmp223, tmp226);
+    const codegen_iv tmp228 = codegen_iv_mul(l_0, tmp0);
+    const codegen_iv tmp229 = codegen_iv_mul(tmp228, tmp30);
+    const codegen_iv tmp230 = codegen_iv_mul(tmp229, tmp34);
+    const codegen_iv tmp231 = codegen_iv_mul(tmp230, x_S);
+    const codegen_iv tmp232 = codegen_iv_add(tmp227, tmp231);
+    const codegen_iv tmp233 = codegen_iv_mul(l_0, tmp0);
+    const codegen_iv tmp234 = codegen_iv_mul(tmp233, tmp30);
+    const codegen_iv tmp235 = codegen_iv_mul(tmp234, tmp50);
+    const codegen_iv tmp236 = codegen_iv_mul(tmp235, tmp51);
+    const codegen_iv tmp237 = codegen_iv_add(tmp232, tmp236);
+    const codegen_iv tmp238 = codegen_iv_mul(v[63], tmp30);
+    const codegen_iv tmp239 = codegen_iv_mul(tmp238, tmp53);
+    const codegen_iv tmp240 = codegen_iv_add(tmp237, tmp239);
+    const codegen_iv tmp241 = codegen_iv_mul(l_0, tmp30);
+    const codegen_iv tmp242 = codegen_iv_mul(tmp241, tmp40);
+    const codegen_iv tmp243 = codegen_iv_mul(tmp242, tmp53);
+    const codegen_iv tmp244 = codegen_iv_mul(tmp243, v[51]);
+    const codegen_iv tmp245 = codegen_iv_add(tmp240, tmp244);
+    const codegen_iv tmp246 = codegen_iv_mul(v[44], tmp47);
+    const codegen_iv tmp247 = codegen_iv_mul(tmp246, tmp53);
+    const codegen_iv tmp248 = codegen_iv_mul(tmp247, tmp5);
+    const codegen_iv tmp249 = codegen_iv_mul(tmp248, tmp6);
+    const codegen_iv tmp250 = codegen_iv_add(tmp245, tmp249);
+    const codegen_iv tmp251 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp252 = codegen_iv_mul(tmp251, tmp40);
+    const codegen_iv tmp253 = codegen_iv_mul(tmp252, tmp47);
+    const codegen_iv tmp254 = codegen_iv_mul(tmp253, x_S);
+    const codegen_iv tmp255 = codegen_iv_add(tmp250, tmp254);
+    const codegen_iv tmp256 = codegen_iv_mul(R, tmp40);
+    const codegen_iv tmp257 = codegen_iv_mul(tmp256, tmp47);
+    const codegen_iv tmp258 = codegen_iv_mul(tmp257, tmp5);
+    const codegen_iv tmp259 = codegen_iv_mul(tmp258, tmp6);
+    const codegen_iv tmp260 = codegen_iv_mul(tmp259, x_S);
+    const codegen_iv tmp261 = codegen_iv_add(tmp255, tmp260);
+    const codegen_iv tmp262 = codegen_iv_mul(v[64], tmp9);
+    const codegen_iv tmp263 = codegen_iv_mul(tmp262, tmp3);
+    const codegen_iv tmp264 = codegen_iv_mul(tmp263, v[51]);
+    const codegen_iv tmp265 = codegen_iv_mul(tmp264, tmp62);
+    const codegen_iv tmp266 = codegen_iv_add(tmp261, tmp265);
+    const codegen_iv tmp267 = codegen_iv_mul(v[65], tmp16);
+    const codegen_iv tmp268 = codegen_iv_mul(tmp267, tmp34);
+    const codegen_iv tmp269 = codegen_iv_mul(tmp268, tmp3);
+    const codegen_iv tmp270 = codegen_iv_add(tmp266, tmp269);
+    const codegen_iv tmp271 = codegen_iv_mul(v[66], tmp0);
+    const codegen_iv tmp272 = codegen_iv_mul(tmp271, v[44]);
+    const codegen_iv tmp273 = codegen_iv_mul(tmp272, tmp34);
+    const codegen_iv tmp274 = codegen_iv_mul(tmp273, tmp40);
+    const codegen_iv tmp275 = codegen_iv_mul(tmp274, x_S);
+    const codegen_iv tmp276 = codegen_iv_add(tmp270, tmp275);
+    const codegen_iv tmp277 = codegen_iv_mul(v[67], tmp0);
+    const codegen_iv tmp278 = codegen_iv_mul(tmp277, v[44]);
+    const codegen_iv tmp279 = codegen_iv_mul(tmp278, tmp40);
+    const codegen_iv tmp280 = codegen_iv_mul(tmp279, tmp50);
+    const codegen_iv tmp281 = codegen_iv_mul(tmp280, tmp51);
+    const codegen_iv tmp282 = codegen_iv_add(tmp276, tmp281);
+    const codegen_iv tmp283 = codegen_iv_mul(v[68], tmp9);
+    const codegen_iv tmp284 = codegen_iv_mul(tmp283, v[40]);
+    const codegen_iv tmp285 = codegen_iv_mul(tmp284, v[44]);
+    const codegen_iv tmp286 = codegen_iv_mul(tmp285, tmp53);
+    const codegen_iv tmp287 = codegen_iv_mul(tmp286, x_S);
+    const codegen_iv tmp288 = codegen_iv_add(tmp282, tmp287);
+    const codegen_iv tmp289 = codegen_iv_mul(v[69], tmp9);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp289, tmp40);
+    const codegen_iv tmp291 = codegen_iv_mul(tmp290, tmp53);
+    const codegen_iv tmp292 = codegen_iv_mul(tmp291, v[51]);
+    const codegen_iv tmp293 = codegen_iv_mul(tmp292, x_S);
+    const codegen_iv tmp294 = codegen_iv_add(tmp288, tmp293);
+    const codegen_iv tmp295 = codegen_iv_mul(v[70], tmp0);
+    const codegen_iv tmp296 = codegen_iv_mul(tmp295, tmp47);
+    const codegen_iv tmp297 = codegen_iv_mul(tmp296, tmp3);
+    const codegen_iv tmp298 = codegen_iv_mul(tmp297, tmp5);
+    const codegen_iv tmp299 = codegen_iv_mul(tmp298, tmp6);
+    const codegen_iv tmp300 = codegen_iv_add(tmp294, tmp299);
+    const codegen_iv tmp301 = codegen_iv_mul(v[71], tmp16);
+    const codegen_iv tmp302 = codegen_iv_mul(tmp301, tmp5);
+    const codegen_iv tmp303 = codegen_iv_mul(tmp302, tmp6);
+    const codegen_iv tmp304 = codegen_iv_mul(tmp303, x_S);
+    const codegen_iv tmp305 = codegen_iv_add(tmp300, tmp304);
+    const codegen_iv tmp306 = codegen_iv_mul(v[72], tmp16);
+    const codegen_iv tmp307 = codegen_iv_mul(tmp306, tmp30);
+    const codegen_iv tmp308 = codegen_iv_mul(tmp307, tmp5);
+    const codegen_iv tmp309 = codegen_iv_mul(tmp308, tmp6);
+    const codegen_iv tmp310 = codegen_iv_mul(tmp309, x_S);
+    const codegen_iv tmp311 = codegen_iv_add(tmp305, tmp310);
+    const codegen_iv tmp312 = codegen_iv_mul(v[73], tmp9);
+    const codegen_iv tmp313 = codegen_iv_mul(tmp312, v[41]);
+    const codegen_iv tmp314 = codegen_iv_mul(tmp313, v[44]);
+    const codegen_iv tmp315 = codegen_iv_mul(tmp314, tmp16);
+    const codegen_iv tmp316 = codegen_iv_mul(tmp315, tmp3);
+    const codegen_iv tmp317 = codegen_iv_add(tmp311, tmp316);
+    const codegen_iv tmp318 = codegen_iv_mul(v[74], tmp16);
+    const codegen_iv tmp319 = codegen_iv_mul(tmp318, tmp30);
+    const codegen_iv tmp320 = codegen_iv_mul(tmp319, tmp3);
+    const codegen_iv tmp321 = codegen_iv_mul(tmp320, x_S);
+    const codegen_iv tmp322 = codegen_iv_add(tmp317, tmp321);
+    const codegen_iv tmp323 = codegen_iv_mul(v[75], tmp30);
+    const codegen_iv tmp324 = codegen_iv_mul(tmp323, tmp3);
+    const codegen_iv tmp325 = codegen_iv_mul(tmp324, tmp5);
+    const codegen_iv tmp326 = codegen_iv_mul(tmp325, tmp6);
+    const codegen_iv tmp327 = codegen_iv_mul(tmp326, x_S);
+    const codegen_iv tmp328 = codegen_iv_add(tmp322, tmp327);
+    const codegen_iv tmp329 = codegen_iv_mul(v[76], tmp53);
+    const codegen_iv tmp330 = codegen_iv_mul(tmp329, tmp3);
+    const codegen_iv tmp331 = codegen_iv_mul(tmp330, tmp5);
+    const codegen_iv tmp332 = codegen_iv_mul(tmp331, tmp6);
+    const codegen_iv tmp333 = codegen_iv_add(tmp328, tmp332);
+    const codegen_iv tmp334 = codegen_iv_mul(v[77], tmp0);
+    const codegen_iv tmp335 = codegen_iv_mul(tmp334, v[44]);
+    const codegen_iv tmp336 = codegen_iv_mul(tmp335, tmp30);
+    const codegen_iv tmp337 = codegen_iv_mul(tmp336, tmp40);
+    const codegen_iv tmp338 = codegen_iv_mul(tmp337, tmp5);
+    const codegen_iv tmp339 = codegen_iv_mul(tmp338, tmp6);
+    const codegen_iv tmp340 = codegen_iv_add(tmp333, tmp339);
+    const codegen_iv tmp341 = codegen_iv_mul(v[78], tmp16);
+    const codegen_iv tmp342 = codegen_iv_mul(tmp341, v[48]);
+    const codegen_iv tmp343 = codegen_iv_mul(tmp342, tmp40);
+    const codegen_iv tmp344 = codegen_iv_mul(tmp343, tmp5);
+    const codegen_iv tmp345 = codegen_iv_mul(tmp344, tmp6);
+    const codegen_iv tmp346 = codegen_iv_mul(tmp345, x_S);
+    const codegen_iv tmp347 = codegen_iv_add(tmp340, tmp346);
+    const codegen_iv tmp348 = codegen_iv_mul(v[79], tmp0);
+    const codegen_iv tmp349 = codegen_iv_mul(tmp348, v[41]);
+    const codegen_iv tmp350 = codegen_iv_mul(tmp349, tmp3);
+    const codegen_iv tmp351 = codegen_iv_mul(tmp350, tmp5);
+    const codegen_iv tmp352 = codegen_iv_mul(tmp351, tmp6);
+    const codegen_iv tmp353 = codegen_iv_add(tmp347, tmp352);
+    const codegen_iv tmp354 = codegen_iv_mul(tmp111, tmp353);
+    const codegen_iv tmp355 = codegen_iv_div(tmp354, tmp47, iv_flags);
+    const codegen_iv tmp356 = codegen_iv_sub(tmp110, tmp355);
+    *iv_g = tmp90;
+    *iv_dg = tmp356;
 #endif
 }
 
 
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
- * 59 operations; as a program, 63 instructions over 20 of the slots v. */
+ * At each theta, 49 instructions (as a program, over the slots v from 90); the 14 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[63] = {
-        {CODEGEN_IV_COS, 13, 12, 0},
-        {CODEGEN_IV_MUL, 14, 0, 13},
-        {CODEGEN_IV_CONST, 15, 0, 0},
-        {CODEGEN_IV_MUL, 15, 15, 11},
-        {CODEGEN_IV_MUL, 15, 15, 14},
-        {CODEGEN_IV_SIN, 11, 12, 0},
-        {CODEGEN_IV_MUL, 12, 0, 11},
-        {CODEGEN_IV_SUB, 16, 2, 1},
-        {CODEGEN_IV_SUB, 16, 16, 12},
-        {CODEGEN_IV_ADD, 17, 2, 1},
-        {CODEGEN_IV_SUB, 17, 17, 12},
-        {CODEGEN_IV_MUL, 17, 16, 17},
-        {CODEGEN_IV_NEG, 17, 17, 0},
-        {CODEGEN_IV_SQRT, 1, 17, 0},
-        {CODEGEN_IV_MUL, 16, 2, 13},
-        {CODEGEN_IV_MUL, 18, 13, 12},
-        {CODEGEN_IV_SUB, 18, 16, 18},
-        {CODEGEN_IV_MUL, 16, 11, 1},
-        {CODEGEN_IV_ADD, 16, 18, 16},
-        {CODEGEN_IV_MUL, 16, 0, 16},
-        {CODEGEN_IV_DIV, 16, 16, 1},
-        {CODEGEN_IV_CONST, 12, 1, 0},
-        {CODEGEN_IV_MUL, 12, 12, 7},
-        {CODEGEN_IV_POW, 11, 2, 2},
-        {CODEGEN_IV_ADD, 11, 11, 17},
-        {CODEGEN_IV_POW, 18, 7, 2},
-        {CODEGEN_IV_ADD, 18, 11, 18},
-        {CODEGEN_IV_POW, 11, 8, 2},
-        {CODEGEN_IV_ADD, 11, 18, 11},
-        {CODEGEN_IV_POW, 18, 0, 2},
-        {CODEGEN_IV_POW, 19, 13, 2},
-        {CODEGEN_IV_MUL, 19, 18, 19},
-        {CODEGEN_IV_ADD, 19, 11, 19},
-        {CODEGEN_IV_CONST, 11, 1, 0},
-        {CODEGEN_IV_MUL, 11, 11, 2},
-        {CODEGEN_IV_MUL, 11, 11, 8},
-        {CODEGEN_IV_SUB, 11, 19, 11},
-        {CODEGEN_IV_CONST, 19, 1, 0},
-        {CODEGEN_IV_MUL, 19, 19, 14},
-        {CODEGEN_IV_MUL, 19, 19, 1},
-        {CODEGEN_IV_SUB, 19, 11, 19},
-        {CODEGEN_IV_MUL, 11, 14, 12},
-        {CODEGEN_IV_SUB, 11, 19, 11},
-        {CODEGEN_IV_MUL, 19, 1, 12},
-        {CODEGEN_IV_ADD, 19, 11, 19},
-        {CODEGEN_IV_SQRT, 19, 19, 0},
-        {CODEGEN_IV_NEG, 8, 10, 0},
-        {CODEGEN_IV_MUL, 12, 9, 16},
-        {CODEGEN_IV_ADD, 12, 8, 12},
-        {CODEGEN_IV_MUL, 8, 3, 15},
-        {CODEGEN_IV_ADD, 8, 12, 8},
-        {CODEGEN_IV_MUL, 12, 4, 15},
-        {CODEGEN_IV_ADD, 12, 8, 12},
-        {CODEGEN_IV_MUL, 8, 5, 16},
-        {CODEGEN_IV_SUB, 17, 6, 19},
-        {CODEGEN_IV_MUL, 17, 8, 17},
-        {CODEGEN_IV_NEG, 8, 1, 0},
-        {CODEGEN_IV_SUB, 8, 8, 7},
-        {CODEGEN_IV_MUL, 14, 0, 13},
-        {CODEGEN_IV_ADD, 14, 8, 14},
-        {CODEGEN_IV_MUL, 14, 17, 14},
-        {CODEGEN_IV_DIV, 14, 14, 19},
-        {CODEGEN_IV_ADD, 14, 12, 14},
+    static const codegen_iv_instruction program[49] = {
+        {CODEGEN_IV_COS, 103, 102, 0},
+        {CODEGEN_IV_MUL, 104, 90, 103},
+        {CODEGEN_IV_MUL, 105, 80, 104},
+        {CODEGEN_IV_SIN, 101, 102, 0},
+        {CODEGEN_IV_MUL, 102, 90, 101},
+        {CODEGEN_IV_SUB, 106, 81, 102},
+        {CODEGEN_IV_SUB, 107, 82, 102},
+        {CODEGEN_IV_MUL, 107, 106, 107},
+        {CODEGEN_IV_NEG, 107, 107, 0},
+        {CODEGEN_IV_SQRT, 91, 107, 0},
+        {CODEGEN_IV_MUL, 106, 92, 103},
+        {CODEGEN_IV_MUL, 108, 103, 102},
+        {CODEGEN_IV_SUB, 108, 106, 108},
+        {CODEGEN_IV_MUL, 106, 101, 91},
+        {CODEGEN_IV_ADD, 106, 108, 106},
+        {CODEGEN_IV_MUL, 106, 90, 106},
+        {CODEGEN_IV_DIV, 106, 106, 91},
+        {CODEGEN_IV_ADD, 101, 84, 107},
+        {CODEGEN_IV_ADD, 108, 101, 85},
+        {CODEGEN_IV_ADD, 101, 108, 86},
+        {CODEGEN_IV_POW, 109, 103, 2},
+        {CODEGEN_IV_MUL, 109, 87, 109},
+        {CODEGEN_IV_ADD, 109, 101, 109},
+        {CODEGEN_IV_SUB, 101, 109, 88},
+        {CODEGEN_IV_CONST, 109, 0, 0},
+        {CODEGEN_IV_MUL, 109, 109, 104},
+        {CODEGEN_IV_MUL, 109, 109, 91},
+        {CODEGEN_IV_SUB, 109, 101, 109},
+        {CODEGEN_IV_MUL, 101, 104, 83},
+        {CODEGEN_IV_SUB, 101, 109, 101},
+        {CODEGEN_IV_MUL, 109, 91, 83},
+        {CODEGEN_IV_ADD, 109, 101, 109},
+        {CODEGEN_IV_SQRT, 109, 109, 0},
+        {CODEGEN_IV_MUL, 102, 99, 106},
+        {CODEGEN_IV_ADD, 102, 89, 102},
+        {CODEGEN_IV_MUL, 98, 93, 105},
+        {CODEGEN_IV_ADD, 98, 102, 98},
+        {CODEGEN_IV_MUL, 102, 94, 105},
+        {CODEGEN_IV_ADD, 102, 98, 102},
+        {CODEGEN_IV_MUL, 98, 95, 106},
+        {CODEGEN_IV_SUB, 107, 96, 109},
+        {CODEGEN_IV_MUL, 107, 98, 107},
+        {CODEGEN_IV_NEG, 98, 91, 0},
+        {CODEGEN_IV_SUB, 98, 98, 97},
+        {CODEGEN_IV_MUL, 104, 90, 103},
+        {CODEGEN_IV_ADD, 104, 98, 104},
+        {CODEGEN_IV_MUL, 104, 107, 104},
+        {CODEGEN_IV_DIV, 104, 104, 109},
+        {CODEGEN_IV_ADD, 104, 102, 104},
     };
-    static const codegen_iv constants[2] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+    static const codegen_iv constants[1] = {
         {2, 2}
     };
-    v[0] = codegen_iv_point(params->R);
-    v[1] = codegen_iv_point(params->l);
-    v[2] = codegen_iv_point(params->e);
-    v[3] = codegen_iv_point(params->m_1);
-    v[4] = codegen_iv_point(params->m_2);
-    v[5] = codegen_iv_point(params->k);
-    v[6] = codegen_iv_point(params->l_0);
-    v[7] = codegen_iv_point(params->x_S);
-    v[8] = codegen_iv_point(params->y_S);
-    v[9] = codegen_iv_point(params->F);
-    v[10] = codegen_iv_point(params->T);
-    v[11] = codegen_iv_point(params->g);
-    v[12] = theta;
-    codegen_iv_run(program, 63, constants, v, iv_flags);
-    *iv_g = v[14];
+    v[90] = codegen_iv_point(params->R);
+    v[92] = codegen_iv_point(params->e);
+    v[93] = codegen_iv_point(params->m_1);
+    v[94] = codegen_iv_point(params->m_2);
+    v[95] = codegen_iv_point(params->k);
+    v[96] = codegen_iv_point(params->l_0);
+    v[97] = codegen_iv_point(params->x_S);
+    v[99] = codegen_iv_point(params->F);
+    v[102] = theta;
+    codegen_iv_run(program, 49, constants, v, iv_flags);
+    *iv_g = v[104];
 #else
-    (void)v;
     const codegen_iv R = codegen_iv_point(params->R);
-    const codegen_iv l = codegen_iv_point(params->l);
     const codegen_iv e = codegen_iv_point(params->e);
     const codegen_iv m_1 = codegen_iv_point(params->m_1);
     const codegen_iv m_2 = codegen_iv_point(params->m_2);
     const codegen_iv k = codegen_iv_point(params->k);
     const codegen_iv l_0 = codegen_iv_point(params->l_0);
     const codegen_iv x_S = codegen_iv_point(params->x_S);
-    const codegen_iv y_S = codegen_iv_point(params->y_S);
     const codegen_iv F = codegen_iv_point(params->F);
-    const codegen_iv T = codegen_iv_point(params->T);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), g), tmp1);
+    const codegen_iv tmp2 = codegen_iv_mul(v[80], tmp1);
     const codegen_iv tmp3 = codegen_iv_sin(theta);
     const codegen_iv tmp4 = codegen_iv_mul(R, tmp3);
-    const codegen_iv tmp5 = codegen_iv_neg(codegen_iv_mul(codegen_iv_sub(codegen_iv_sub(e, l), tmp4), codegen_iv_sub(codegen_iv_add(e, l), tmp4)));
-    const codegen_iv tmp6 = codegen_iv_sqrt(tmp5, iv_flags);
-    const codegen_iv tmp7 = codegen_iv_div(codegen_iv_mul(R, codegen_iv_add(codegen_iv_sub(codegen_iv_mul(e, tmp0), codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp3, tmp6))), tmp6, iv_flags);
-    const codegen_iv tmp8 = codegen_iv_mul(codegen_iv_point(2), x_S);
-    const codegen_iv tmp9 = codegen_iv_sqrt(codegen_iv_add(codegen_iv_sub(codegen_iv_sub(codegen_iv_sub(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_pow(e, 2), tmp5), codegen_iv_pow(x_S, 2)), codegen_iv_pow(y_S, 2)), codegen_iv_mul(codegen_iv_pow(R, 2), codegen_iv_pow(tmp0, 2))), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), e), y_S)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(2), tmp1), tmp6)), codegen_iv_mul(tmp1, tmp8)), codegen_iv_mul(tmp6, tmp8)), iv_flags);
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_neg(T), codegen_iv_mul(F, tmp7)), codegen_iv_mul(m_1, tmp2)), codegen_iv_mul(m_2, tmp2)), codegen_iv_div(codegen_iv_mul(codegen_iv_mul(codegen_iv_mul(k, tmp7), codegen_iv_sub(l_0, tmp9)), codegen_iv_add(codegen_iv_sub(codegen_iv_neg(tmp6), x_S), codegen_iv_mul(R, tmp0))), tmp9, iv_flags));
+    const codegen_iv tmp5 = codegen_iv_sub(v[81], tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(v[82], tmp4);
+    const codegen_iv tmp7 = codegen_iv_mul(tmp5, tmp6);
+    const codegen_iv tmp8 = codegen_iv_neg(tmp7);
+    const codegen_iv tmp9 = codegen_iv_sqrt(tmp8, iv_flags);
+    const codegen_iv tmp10 = codegen_iv_mul(e, tmp0);
+    const codegen_iv tmp11 = codegen_iv_mul(tmp0, tmp4);
+    const codegen_iv tmp12 = codegen_iv_sub(tmp10, tmp11);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp3, tmp9);
+    const codegen_iv tmp14 = codegen_iv_add(tmp12, tmp13);
+    const codegen_iv tmp15 = codegen_iv_mul(R, tmp14);
+    const codegen_iv tmp16 = codegen_iv_div(tmp15, tmp9, iv_flags);
+    const codegen_iv tmp17 = codegen_iv_add(v[84], tmp8);
+    const codegen_iv tmp18 = codegen_iv_add(tmp17, v[85]);
+    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[86]);
+    const codegen_iv tmp20 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp21 = codegen_iv_mul(v[87], tmp20);
+    const codegen_iv tmp22 = codegen_iv_add(tmp19, tmp21);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[88]);
+    const codegen_iv tmp25 = codegen_iv_mul(codegen_iv_point(2), tmp1);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp25, tmp9);
+    const codegen_iv tmp27 = codegen_iv_sub(tmp23, tmp26);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp1, v[83]);
+    const codegen_iv tmp29 = codegen_iv_sub(tmp27, tmp28);
+    const codegen_iv tmp30 = codegen_iv_mul(tmp9, v[83]);
+    const codegen_iv tmp31 = codegen_iv_add(tmp29, tmp30);
+    const codegen_iv tmp32 = codegen_iv_sqrt(tmp31, iv_flags);
+    const codegen_iv tmp33 = codegen_iv_mul(F, tmp16);
+    const codegen_iv tmp34 = codegen_iv_add(v[89], tmp33);
+    const codegen_iv tmp35 = codegen_iv_mul(m_1, tmp2);
+    const codegen_iv tmp36 = codegen_iv_add(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_mul(m_2, tmp2);
+    const codegen_iv tmp38 = codegen_iv_add(tmp36, tmp37);
+    const codegen_iv tmp39 = codegen_iv_mul(k, tmp16);
+    const codegen_iv tmp40 = codegen_iv_sub(l_0, tmp32);
+    const codegen_iv tmp41 = codegen_iv_mul(tmp39, tmp40);
+    const codegen_iv tmp42 = codegen_iv_neg(tmp9);
+    const codegen_iv tmp43 = codegen_iv_sub(tmp42, x_S);
+    const codegen_iv tmp44 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp45 = codegen_iv_add(tmp43, tmp44);
+    const codegen_iv tmp46 = codegen_iv_mul(tmp41, tmp45);
+    const codegen_iv tmp47 = codegen_iv_div(tmp46, tmp32, iv_flags);
+    const codegen_iv tmp48 = codegen_iv_add(tmp38, tmp47);
+    *iv_g = tmp48;
 #endif
 }
 
 
-slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params *params, unsigned mode,
-                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                            unsigned *flags,
-                                            codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS])
+/* The operations of every enclosure above that theta does not reach (of the parameters
+ * alone), into v[0..90): no division or square root among them, which raise flags
+ * (those wait for theta, so that each enclosure's flags are its own). */
+static void prepare_enclosures(const slider_crank_params *params, codegen_iv *v)
+{
+    unsigned flags = 0u;
+    { /* enclose_mode_0 */
+        static const codegen_iv_instruction program[37] = {
+            {CODEGEN_IV_MUL, 0, 99, 90},
+            {CODEGEN_IV_ADD, 1, 92, 91},
+            {CODEGEN_IV_SUB, 2, 92, 91},
+            {CODEGEN_IV_POW, 3, 92, 2},
+            {CODEGEN_IV_POW, 4, 97, 2},
+            {CODEGEN_IV_CONST, 113, 0, 0},
+            {CODEGEN_IV_MUL, 5, 113, 92},
+            {CODEGEN_IV_CONST, 115, 0, 0},
+            {CODEGEN_IV_MUL, 6, 115, 97},
+            {CODEGEN_IV_POW, 7, 90, 2},
+            {CODEGEN_IV_ADD, 8, 3, 4},
+            {CODEGEN_IV_POW, 9, 98, 2},
+            {CODEGEN_IV_MUL, 10, 5, 98},
+            {CODEGEN_IV_MUL, 11, 90, 95},
+            {CODEGEN_IV_CONST, 95, 1, 0},
+            {CODEGEN_IV_MUL, 12, 95, 101},
+            {CODEGEN_IV_POW, 13, 90, 3},
+            {CODEGEN_IV_MUL, 14, 3, 7},
+            {CODEGEN_IV_POW, 15, 90, 4},
+            {CODEGEN_IV_CONST, 140, 2, 0},
+            {CODEGEN_IV_MUL, 16, 140, 97},
+            {CODEGEN_IV_CONST, 151, 3, 0},
+            {CODEGEN_IV_MUL, 17, 151, 97},
+            {CODEGEN_IV_MUL, 18, 96, 5},
+            {CODEGEN_IV_NEG, 19, 100, 0},
+            {CODEGEN_IV_CONST, 166, 1, 0},
+            {CODEGEN_IV_MUL, 166, 166, 90},
+            {CODEGEN_IV_MUL, 166, 166, 101},
+            {CODEGEN_IV_MUL, 20, 166, 93},
+            {CODEGEN_IV_CONST, 167, 1, 0},
+            {CODEGEN_IV_MUL, 167, 167, 90},
+            {CODEGEN_IV_MUL, 167, 167, 101},
+            {CODEGEN_IV_MUL, 21, 167, 94},
+            {CODEGEN_IV_POW, 22, 90, 5},
+            {CODEGEN_IV_MUL, 23, 3, 13},
+            {CODEGEN_IV_CONST, 110, 4, 0},
+            {CODEGEN_IV_MUL, 24, 110, 96},
+        };
+        static const codegen_iv constants[5] = {
+            {2, 2},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {4, 4},
+            {6, 6},
+            {8, 8}
+        };
+        v[90] = codegen_iv_point(params->R);
+        v[91] = codegen_iv_point(params->l);
+        v[92] = codegen_iv_point(params->e);
+        v[93] = codegen_iv_point(params->m_1);
+        v[94] = codegen_iv_point(params->m_2);
+        v[95] = codegen_iv_point(params->k);
+        v[96] = codegen_iv_point(params->l_0);
+        v[97] = codegen_iv_point(params->x_S);
+        v[98] = codegen_iv_point(params->y_S);
+        v[99] = codegen_iv_point(params->F);
+        v[100] = codegen_iv_point(params->T);
+        v[101] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 37, constants, v, &flags);
+    }
+    { /* enclose_value_mode_0 */
+        static const codegen_iv_instruction program[20] = {
+            {CODEGEN_IV_SUB, 25, 92, 91},
+            {CODEGEN_IV_ADD, 26, 92, 91},
+            {CODEGEN_IV_CONST, 104, 0, 0},
+            {CODEGEN_IV_MUL, 27, 104, 97},
+            {CODEGEN_IV_POW, 28, 92, 2},
+            {CODEGEN_IV_POW, 29, 97, 2},
+            {CODEGEN_IV_POW, 30, 98, 2},
+            {CODEGEN_IV_POW, 31, 90, 2},
+            {CODEGEN_IV_CONST, 107, 0, 0},
+            {CODEGEN_IV_MUL, 107, 107, 92},
+            {CODEGEN_IV_MUL, 32, 107, 98},
+            {CODEGEN_IV_NEG, 33, 100, 0},
+            {CODEGEN_IV_CONST, 98, 1, 0},
+            {CODEGEN_IV_MUL, 98, 98, 90},
+            {CODEGEN_IV_MUL, 98, 98, 101},
+            {CODEGEN_IV_MUL, 34, 98, 93},
+            {CODEGEN_IV_CONST, 104, 1, 0},
+            {CODEGEN_IV_MUL, 104, 104, 90},
+            {CODEGEN_IV_MUL, 104, 104, 101},
+            {CODEGEN_IV_MUL, 35, 104, 94},
+        };
+        static const codegen_iv constants[2] = {
+            {2, 2},
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[90] = codegen_iv_point(params->R);
+        v[91] = codegen_iv_point(params->l);
+        v[92] = codegen_iv_point(params->e);
+        v[93] = codegen_iv_point(params->m_1);
+        v[94] = codegen_iv_point(params->m_2);
+        v[97] = codegen_iv_point(params->x_S);
+        v[98] = codegen_iv_point(params->y_S);
+        v[100] = codegen_iv_point(params->T);
+        v[101] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 20, constants, v, &flags);
+    }
+    { /* enclose_mode_1 */
+        static const codegen_iv_instruction program[84] = {
+            {CODEGEN_IV_CONST, 105, 0, 0},
+            {CODEGEN_IV_MUL, 36, 105, 101},
+            {CODEGEN_IV_MUL, 37, 99, 90},
+            {CODEGEN_IV_ADD, 38, 92, 91},
+            {CODEGEN_IV_SUB, 39, 92, 91},
+            {CODEGEN_IV_POW, 40, 92, 2},
+            {CODEGEN_IV_POW, 41, 97, 2},
+            {CODEGEN_IV_CONST, 116, 1, 0},
+            {CODEGEN_IV_MUL, 42, 116, 92},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 43, 117, 97},
+            {CODEGEN_IV_POW, 44, 90, 2},
+            {CODEGEN_IV_POW, 45, 98, 2},
+            {CODEGEN_IV_MUL, 46, 42, 98},
+            {CODEGEN_IV_MUL, 47, 90, 95},
+            {CODEGEN_IV_POW, 48, 90, 3},
+            {CODEGEN_IV_MUL, 49, 40, 44},
+            {CODEGEN_IV_CONST, 102, 1, 0},
+            {CODEGEN_IV_MUL, 50, 102, 96},
+            {CODEGEN_IV_POW, 51, 90, 4},
+            {CODEGEN_IV_CONST, 145, 2, 0},
+            {CODEGEN_IV_MUL, 52, 145, 97},
+            {CODEGEN_IV_NEG, 53, 100, 0},
+            {CODEGEN_IV_MUL, 54, 90, 40},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 55, 101, 49},
+            {CODEGEN_IV_POW, 56, 90, 5},
+            {CODEGEN_IV_MUL, 57, 40, 48},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 58, 101, 90},
+            {CODEGEN_IV_CONST, 101, 3, 0},
+            {CODEGEN_IV_MUL, 59, 101, 96},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 101, 101, 90},
+            {CODEGEN_IV_MUL, 60, 101, 96},
+            {CODEGEN_IV_MUL, 61, 90, 40},
+            {CODEGEN_IV_CONST, 114, 1, 0},
+            {CODEGEN_IV_MUL, 114, 114, 92},
+            {CODEGEN_IV_MUL, 62, 114, 48},
+            {CODEGEN_IV_MUL, 101, 96, 40},
+            {CODEGEN_IV_MUL, 63, 101, 44},
+            {CODEGEN_IV_CONST, 114, 1, 0},
+            {CODEGEN_IV_MUL, 114, 114, 92},
+            {CODEGEN_IV_MUL, 64, 114, 96},
+            {CODEGEN_IV_CONST, 101, 4, 0},
+            {CODEGEN_IV_MUL, 101, 101, 92},
+            {CODEGEN_IV_MUL, 101, 101, 96},
+            {CODEGEN_IV_MUL, 65, 101, 44},
+            {CODEGEN_IV_CONST, 114, 4, 0},
+            {CODEGEN_IV_MUL, 66, 114, 96},
+            {CODEGEN_IV_CONST, 101, 2, 0},
+            {CODEGEN_IV_MUL, 67, 101, 96},
+            {CODEGEN_IV_CONST, 114, 1, 0},
+            {CODEGEN_IV_MUL, 68, 114, 96},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 69, 101, 96},
+            {CODEGEN_IV_CONST, 114, 5, 0},
+            {CODEGEN_IV_MUL, 114, 114, 90},
+            {CODEGEN_IV_MUL, 70, 114, 92},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 101, 101, 90},
+            {CODEGEN_IV_MUL, 101, 101, 96},
+            {CODEGEN_IV_MUL, 71, 101, 40},
+            {CODEGEN_IV_MUL, 72, 90, 96},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 101, 101, 92},
+            {CODEGEN_IV_MUL, 73, 101, 96},
+            {CODEGEN_IV_CONST, 114, 1, 0},
+            {CODEGEN_IV_MUL, 114, 114, 92},
+            {CODEGEN_IV_MUL, 114, 114, 96},
+            {CODEGEN_IV_MUL, 74, 114, 44},
+            {CODEGEN_IV_MUL, 75, 92, 96},
+            {CODEGEN_IV_CONST, 114, 4, 0},
+            {CODEGEN_IV_MUL, 114, 114, 92},
+            {CODEGEN_IV_MUL, 114, 114, 96},
+            {CODEGEN_IV_MUL, 76, 114, 48},
+            {CODEGEN_IV_CONST, 101, 5, 0},
+            {CODEGEN_IV_MUL, 77, 101, 96},
+            {CODEGEN_IV_CONST, 114, 4, 0},
+            {CODEGEN_IV_MUL, 78, 114, 96},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 101, 101, 90},
+            {CODEGEN_IV_MUL, 101, 101, 92},
+            {CODEGEN_IV_MUL, 79, 101, 96},
+        };
+        static const codegen_iv constants[6] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {2, 2},
+            {4, 4},
+            {8, 8},
+            {6, 6},
+            {3, 3}
+        };
+        v[90] = codegen_iv_point(params->R);
+        v[91] = codegen_iv_point(params->l);
+        v[92] = codegen_iv_point(params->e);
+        v[95] = codegen_iv_point(params->k);
+        v[96] = codegen_iv_point(params->l_0);
+        v[97] = codegen_iv_point(params->x_S);
+        v[98] = codegen_iv_point(params->y_S);
+        v[99] = codegen_iv_point(params->F);
+        v[100] = codegen_iv_point(params->T);
+        v[101] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 84, constants, v, &flags);
+    }
+    { /* enclose_value_mode_1 */
+        static const codegen_iv_instruction program[14] = {
+            {CODEGEN_IV_CONST, 105, 0, 0},
+            {CODEGEN_IV_MUL, 80, 105, 101},
+            {CODEGEN_IV_SUB, 81, 92, 91},
+            {CODEGEN_IV_ADD, 82, 92, 91},
+            {CODEGEN_IV_CONST, 102, 1, 0},
+            {CODEGEN_IV_MUL, 83, 102, 97},
+            {CODEGEN_IV_POW, 84, 92, 2},
+            {CODEGEN_IV_POW, 85, 97, 2},
+            {CODEGEN_IV_POW, 86, 98, 2},
+            {CODEGEN_IV_POW, 87, 90, 2},
+            {CODEGEN_IV_CONST, 101, 1, 0},
+            {CODEGEN_IV_MUL, 101, 101, 92},
+            {CODEGEN_IV_MUL, 88, 101, 98},
+            {CODEGEN_IV_NEG, 89, 100, 0},
+        };
+        static const codegen_iv constants[2] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)},
+            {2, 2}
+        };
+        v[90] = codegen_iv_point(params->R);
+        v[91] = codegen_iv_point(params->l);
+        v[92] = codegen_iv_point(params->e);
+        v[97] = codegen_iv_point(params->x_S);
+        v[98] = codegen_iv_point(params->y_S);
+        v[100] = codegen_iv_point(params->T);
+        v[101] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 14, constants, v, &flags);
+    }
+    (void)params;
+    (void)flags;
+}
+
+slider_crank_status slider_crank_enclosure_prepare(const slider_crank_params *params,
+                                        codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return SLIDER_CRANK_OK;
+}
+
+slider_crank_status slider_crank_enclosure_kernel_prepared(const slider_crank_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
@@ -6206,6 +6800,15 @@ slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params
     default:
         return SLIDER_CRANK_ERR_ARGUMENT;
     }
+}
+
+slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return slider_crank_enclosure_kernel_prepared(params, mode, theta, g, dg, flags, slots);
 }
 
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,

@@ -186,5 +186,14 @@ slider_crank_status slider_crank_enclosure_kernel_work(const slider_crank_params
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                             unsigned *flags,
                                             codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS]);
+/* The enclosures' operations that theta does not reach, for these parameters, into slots:
+ * once per parameter set, before any number of _enclosure_kernel_prepared calls on the same
+ * parameters and slots (_enclosure_kernel_work is the two together). */
+slider_crank_status slider_crank_enclosure_prepare(const slider_crank_params *params,
+                                        codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS]);
+slider_crank_status slider_crank_enclosure_kernel_prepared(const slider_crank_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[SLIDER_CRANK_ENCLOSURE_SLOTS]);
 
 #endif /* SLIDER_CRANK_KERNELS_H */

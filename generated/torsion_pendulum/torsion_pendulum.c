@@ -667,135 +667,175 @@ torsion_pendulum_status torsion_pendulum_equilibrium_state(const torsion_pendulu
 }
 /* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
  * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
- * nested inline calls (faster on a host: the isolation route ~15 %, but the compiler gives
- * every temporary its own stack slot, up to ~20 KB in one frame). The same bounds bit for
- * bit either way. */
+ * inline calls, one local per operation (faster on a host: the isolation route ~15 %, but
+ * the compiler gives temporaries their own stack slots, up to ~20 KB in one frame). The
+ * same bounds bit for bit either way. The
+ * operations theta does not reach run once per parameter set (prepare_enclosures), their
+ * values kept in v[0..6). */
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * 21 operations; as a program, 22 instructions over 11 of the slots v. */
+ * At each theta, 16 instructions (as a program, over the slots v from 6); the 6 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            codegen_iv *iv_dg,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[22] = {
-        {CODEGEN_IV_SIN, 8, 7, 0},
-        {CODEGEN_IV_MUL, 9, 5, 0},
-        {CODEGEN_IV_COS, 5, 7, 0},
-        {CODEGEN_IV_MUL, 10, 6, 0},
-        {CODEGEN_IV_MUL, 0, 2, 10},
-        {CODEGEN_IV_CONST, 2, 0, 0},
-        {CODEGEN_IV_MUL, 2, 2, 1},
-        {CODEGEN_IV_MUL, 2, 2, 10},
-        {CODEGEN_IV_SUB, 10, 7, 4},
-        {CODEGEN_IV_MUL, 10, 3, 10},
-        {CODEGEN_IV_MUL, 1, 8, 9},
-        {CODEGEN_IV_ADD, 1, 10, 1},
-        {CODEGEN_IV_MUL, 10, 5, 0},
-        {CODEGEN_IV_ADD, 10, 1, 10},
-        {CODEGEN_IV_MUL, 1, 5, 2},
-        {CODEGEN_IV_ADD, 1, 10, 1},
-        {CODEGEN_IV_MUL, 4, 8, 0},
-        {CODEGEN_IV_SUB, 4, 3, 4},
-        {CODEGEN_IV_MUL, 7, 8, 2},
-        {CODEGEN_IV_SUB, 7, 4, 7},
-        {CODEGEN_IV_MUL, 4, 9, 5},
-        {CODEGEN_IV_ADD, 4, 7, 4},
+    static const codegen_iv_instruction program[16] = {
+        {CODEGEN_IV_SIN, 14, 13, 0},
+        {CODEGEN_IV_COS, 11, 13, 0},
+        {CODEGEN_IV_SUB, 16, 13, 10},
+        {CODEGEN_IV_MUL, 16, 9, 16},
+        {CODEGEN_IV_MUL, 7, 14, 0},
+        {CODEGEN_IV_ADD, 7, 16, 7},
+        {CODEGEN_IV_MUL, 16, 11, 1},
+        {CODEGEN_IV_ADD, 16, 7, 16},
+        {CODEGEN_IV_MUL, 7, 11, 2},
+        {CODEGEN_IV_ADD, 7, 16, 7},
+        {CODEGEN_IV_MUL, 10, 14, 1},
+        {CODEGEN_IV_SUB, 10, 9, 10},
+        {CODEGEN_IV_MUL, 13, 14, 2},
+        {CODEGEN_IV_SUB, 13, 10, 13},
+        {CODEGEN_IV_MUL, 10, 0, 11},
+        {CODEGEN_IV_ADD, 10, 13, 10},
     };
-    static const codegen_iv constants[1] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
-    };
-    v[0] = codegen_iv_point(params->l);
-    v[1] = codegen_iv_point(params->m);
-    v[2] = codegen_iv_point(params->m_t);
-    v[3] = codegen_iv_point(params->k_t);
-    v[4] = codegen_iv_point(params->theta_0);
-    v[5] = codegen_iv_point(params->F_x);
-    v[6] = codegen_iv_point(params->g);
-    v[7] = theta;
-    codegen_iv_run(program, 22, constants, v, iv_flags);
-    *iv_g = v[1];
-    *iv_dg = v[4];
+    v[9] = codegen_iv_point(params->k_t);
+    v[10] = codegen_iv_point(params->theta_0);
+    v[13] = theta;
+    codegen_iv_run(program, 16, NULL, v, iv_flags);
+    *iv_g = v[7];
+    *iv_dg = v[10];
 #else
-    (void)v;
     (void)iv_flags;
-    const codegen_iv l = codegen_iv_point(params->l);
-    const codegen_iv m = codegen_iv_point(params->m);
-    const codegen_iv m_t = codegen_iv_point(params->m_t);
     const codegen_iv k_t = codegen_iv_point(params->k_t);
     const codegen_iv theta_0 = codegen_iv_point(params->theta_0);
-    const codegen_iv F_x = codegen_iv_point(params->F_x);
-    const codegen_iv g = codegen_iv_point(params->g);
     const codegen_iv tmp0 = codegen_iv_sin(theta);
-    const codegen_iv tmp1 = codegen_iv_mul(F_x, l);
-    const codegen_iv tmp2 = codegen_iv_cos(theta);
-    const codegen_iv tmp3 = codegen_iv_mul(g, l);
-    const codegen_iv tmp4 = codegen_iv_mul(m_t, tmp3);
-    const codegen_iv tmp5 = codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp3);
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(tmp0, tmp1)), codegen_iv_mul(tmp2, tmp4)), codegen_iv_mul(tmp2, tmp5));
-    *iv_dg = codegen_iv_add(codegen_iv_sub(codegen_iv_sub(k_t, codegen_iv_mul(tmp0, tmp4)), codegen_iv_mul(tmp0, tmp5)), codegen_iv_mul(tmp1, tmp2));
+    const codegen_iv tmp1 = codegen_iv_cos(theta);
+    const codegen_iv tmp2 = codegen_iv_sub(theta, theta_0);
+    const codegen_iv tmp3 = codegen_iv_mul(k_t, tmp2);
+    const codegen_iv tmp4 = codegen_iv_mul(tmp0, v[0]);
+    const codegen_iv tmp5 = codegen_iv_add(tmp3, tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(tmp1, v[1]);
+    const codegen_iv tmp7 = codegen_iv_add(tmp5, tmp6);
+    const codegen_iv tmp8 = codegen_iv_mul(tmp1, v[2]);
+    const codegen_iv tmp9 = codegen_iv_add(tmp7, tmp8);
+    const codegen_iv tmp10 = codegen_iv_mul(tmp0, v[1]);
+    const codegen_iv tmp11 = codegen_iv_sub(k_t, tmp10);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp0, v[2]);
+    const codegen_iv tmp13 = codegen_iv_sub(tmp11, tmp12);
+    const codegen_iv tmp14 = codegen_iv_mul(v[0], tmp1);
+    const codegen_iv tmp15 = codegen_iv_add(tmp13, tmp14);
+    *iv_g = tmp9;
+    *iv_dg = tmp15;
 #endif
 }
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * 14 operations; as a program, 15 instructions over 11 of the slots v. */
+ * At each theta, 11 instructions (as a program, over the slots v from 6); the 4 theta does not reach
+ * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
                            unsigned *iv_flags, codegen_iv *v)
 {
 #ifndef CODEGEN_INLINE_INTERVALS
-    static const codegen_iv_instruction program[15] = {
-        {CODEGEN_IV_MUL, 8, 6, 0},
-        {CODEGEN_IV_COS, 9, 7, 0},
-        {CODEGEN_IV_MUL, 9, 8, 9},
-        {CODEGEN_IV_SUB, 6, 7, 4},
-        {CODEGEN_IV_MUL, 6, 3, 6},
-        {CODEGEN_IV_CONST, 8, 0, 0},
-        {CODEGEN_IV_MUL, 8, 8, 1},
-        {CODEGEN_IV_MUL, 8, 8, 9},
-        {CODEGEN_IV_ADD, 8, 6, 8},
-        {CODEGEN_IV_MUL, 6, 2, 9},
-        {CODEGEN_IV_ADD, 6, 8, 6},
-        {CODEGEN_IV_MUL, 8, 5, 0},
-        {CODEGEN_IV_SIN, 10, 7, 0},
-        {CODEGEN_IV_MUL, 10, 8, 10},
-        {CODEGEN_IV_ADD, 10, 6, 10},
+    static const codegen_iv_instruction program[11] = {
+        {CODEGEN_IV_COS, 15, 13, 0},
+        {CODEGEN_IV_MUL, 15, 3, 15},
+        {CODEGEN_IV_SUB, 12, 13, 10},
+        {CODEGEN_IV_MUL, 12, 9, 12},
+        {CODEGEN_IV_MUL, 14, 4, 15},
+        {CODEGEN_IV_ADD, 14, 12, 14},
+        {CODEGEN_IV_MUL, 12, 8, 15},
+        {CODEGEN_IV_ADD, 12, 14, 12},
+        {CODEGEN_IV_SIN, 16, 13, 0},
+        {CODEGEN_IV_MUL, 16, 5, 16},
+        {CODEGEN_IV_ADD, 16, 12, 16},
     };
-    static const codegen_iv constants[1] = {
-        {CODEGEN_R(0.5), CODEGEN_R(0.5)}
-    };
-    v[0] = codegen_iv_point(params->l);
-    v[1] = codegen_iv_point(params->m);
-    v[2] = codegen_iv_point(params->m_t);
-    v[3] = codegen_iv_point(params->k_t);
-    v[4] = codegen_iv_point(params->theta_0);
-    v[5] = codegen_iv_point(params->F_x);
-    v[6] = codegen_iv_point(params->g);
-    v[7] = theta;
-    codegen_iv_run(program, 15, constants, v, iv_flags);
-    *iv_g = v[10];
+    v[8] = codegen_iv_point(params->m_t);
+    v[9] = codegen_iv_point(params->k_t);
+    v[10] = codegen_iv_point(params->theta_0);
+    v[13] = theta;
+    codegen_iv_run(program, 11, NULL, v, iv_flags);
+    *iv_g = v[16];
 #else
-    (void)v;
     (void)iv_flags;
-    const codegen_iv l = codegen_iv_point(params->l);
-    const codegen_iv m = codegen_iv_point(params->m);
     const codegen_iv m_t = codegen_iv_point(params->m_t);
     const codegen_iv k_t = codegen_iv_point(params->k_t);
     const codegen_iv theta_0 = codegen_iv_point(params->theta_0);
-    const codegen_iv F_x = codegen_iv_point(params->F_x);
-    const codegen_iv g = codegen_iv_point(params->g);
-    const codegen_iv tmp0 = codegen_iv_mul(codegen_iv_mul(g, l), codegen_iv_cos(theta));
-    *iv_g = codegen_iv_add(codegen_iv_add(codegen_iv_add(codegen_iv_mul(k_t, codegen_iv_sub(theta, theta_0)), codegen_iv_mul(codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), m), tmp0)), codegen_iv_mul(m_t, tmp0)), codegen_iv_mul(codegen_iv_mul(F_x, l), codegen_iv_sin(theta)));
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(v[3], tmp0);
+    const codegen_iv tmp2 = codegen_iv_sub(theta, theta_0);
+    const codegen_iv tmp3 = codegen_iv_mul(k_t, tmp2);
+    const codegen_iv tmp4 = codegen_iv_mul(v[4], tmp1);
+    const codegen_iv tmp5 = codegen_iv_add(tmp3, tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(m_t, tmp1);
+    const codegen_iv tmp7 = codegen_iv_add(tmp5, tmp6);
+    const codegen_iv tmp8 = codegen_iv_sin(theta);
+    const codegen_iv tmp9 = codegen_iv_mul(v[5], tmp8);
+    const codegen_iv tmp10 = codegen_iv_add(tmp7, tmp9);
+    *iv_g = tmp10;
 #endif
 }
 
 
-torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pendulum_params *params, unsigned mode,
-                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
-                                            unsigned *flags,
-                                            codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS])
+/* The operations of every enclosure above that theta does not reach (of the parameters
+ * alone), into v[0..6): no division or square root among them, which raise flags
+ * (those wait for theta, so that each enclosure's flags are its own). */
+static void prepare_enclosures(const torsion_pendulum_params *params, codegen_iv *v)
+{
+    unsigned flags = 0u;
+    { /* enclose_mode_0 */
+        static const codegen_iv_instruction program[6] = {
+            {CODEGEN_IV_MUL, 0, 11, 6},
+            {CODEGEN_IV_MUL, 16, 12, 6},
+            {CODEGEN_IV_MUL, 1, 8, 16},
+            {CODEGEN_IV_CONST, 8, 0, 0},
+            {CODEGEN_IV_MUL, 8, 8, 7},
+            {CODEGEN_IV_MUL, 2, 8, 16},
+        };
+        static const codegen_iv constants[1] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[6] = codegen_iv_point(params->l);
+        v[7] = codegen_iv_point(params->m);
+        v[8] = codegen_iv_point(params->m_t);
+        v[11] = codegen_iv_point(params->F_x);
+        v[12] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 6, constants, v, &flags);
+    }
+    { /* enclose_value_mode_0 */
+        static const codegen_iv_instruction program[4] = {
+            {CODEGEN_IV_MUL, 3, 12, 6},
+            {CODEGEN_IV_CONST, 14, 0, 0},
+            {CODEGEN_IV_MUL, 4, 14, 7},
+            {CODEGEN_IV_MUL, 5, 11, 6},
+        };
+        static const codegen_iv constants[1] = {
+            {CODEGEN_R(0.5), CODEGEN_R(0.5)}
+        };
+        v[6] = codegen_iv_point(params->l);
+        v[7] = codegen_iv_point(params->m);
+        v[11] = codegen_iv_point(params->F_x);
+        v[12] = codegen_iv_point(params->g);
+        codegen_iv_run(program, 4, constants, v, &flags);
+    }
+    (void)params;
+    (void)flags;
+}
+
+torsion_pendulum_status torsion_pendulum_enclosure_prepare(const torsion_pendulum_params *params,
+                                        codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return TORSION_PENDULUM_OK;
+}
+
+torsion_pendulum_status torsion_pendulum_enclosure_kernel_prepared(const torsion_pendulum_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS])
 {
     *flags = 0u;
     switch (mode) {
@@ -809,6 +849,15 @@ torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pen
     default:
         return TORSION_PENDULUM_ERR_ARGUMENT;
     }
+}
+
+torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pendulum_params *params, unsigned mode,
+                                            codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                            unsigned *flags,
+                                            codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS])
+{
+    prepare_enclosures(params, slots);
+    return torsion_pendulum_enclosure_kernel_prepared(params, mode, theta, g, dg, flags, slots);
 }
 
 torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,

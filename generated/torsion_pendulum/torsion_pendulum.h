@@ -36,7 +36,7 @@ extern "C" {
 #define TORSION_PENDULUM_N_POINT_COORDS 2
 #define TORSION_PENDULUM_N_REDUCED 3
 #define TORSION_PENDULUM_N_ROOTS 0
-#define TORSION_PENDULUM_ENCLOSURE_SLOTS 11 /* the interval programs' slots */
+#define TORSION_PENDULUM_ENCLOSURE_SLOTS 17 /* the interval programs' slots (6 kept per parameter set) */
 
 /* Status codes: TORSION_PENDULUM_OK is zero; torsion_pendulum_status_message() explains the others. */
 typedef enum torsion_pendulum_status {

@@ -100,5 +100,14 @@ torsion_pendulum_status torsion_pendulum_enclosure_kernel_work(const torsion_pen
                                             codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                             unsigned *flags,
                                             codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS]);
+/* The enclosures' operations that theta does not reach, for these parameters, into slots:
+ * once per parameter set, before any number of _enclosure_kernel_prepared calls on the same
+ * parameters and slots (_enclosure_kernel_work is the two together). */
+torsion_pendulum_status torsion_pendulum_enclosure_prepare(const torsion_pendulum_params *params,
+                                        codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS]);
+torsion_pendulum_status torsion_pendulum_enclosure_kernel_prepared(const torsion_pendulum_params *params, unsigned mode,
+                                                codegen_iv theta, codegen_iv *g, codegen_iv *dg,
+                                                unsigned *flags,
+                                                codegen_iv slots[TORSION_PENDULUM_ENCLOSURE_SLOTS]);
 
 #endif /* TORSION_PENDULUM_KERNELS_H */

@@ -22,13 +22,21 @@ static void equilibrium_state(const void *params, codegen_real theta, codegen_re
     torsion_pendulum_equilibrium_state_kernel((const torsion_pendulum_params *)params, theta, out);
 }
 
-/* The enclosures of G and G' as codegen_isolate and codegen_certify call them. */
+/* The enclosures of G and G' as codegen_isolate and the analysis call them, after
+ * prepare_enclosure. */
 static int enclose(const void *context, unsigned mode, codegen_iv theta, codegen_iv *g,
                    codegen_iv *dg, unsigned *flags)
 {
     const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
-    return (int)torsion_pendulum_enclosure_kernel_work((const torsion_pendulum_params *)c->params, mode, theta,
-                                                g, dg, flags, c->slots);
+    return (int)torsion_pendulum_enclosure_kernel_prepared((const torsion_pendulum_params *)c->params, mode,
+                                                    theta, g, dg, flags, c->slots);
+}
+
+/* What enclose needs of the parameters alone, once per analysis. */
+static void prepare_enclosure(const void *context)
+{
+    const codegen_enclosure_context *c = (const codegen_enclosure_context *)context;
+    (void)torsion_pendulum_enclosure_prepare((const torsion_pendulum_params *)c->params, c->slots);
 }
 
 /* The centre of the coordinate's range [rad]. */
@@ -82,6 +90,7 @@ static const codegen_model model = {
     .check_params = check_params,
     .equilibrium_state = equilibrium_state,
     .enclose = enclose,
+    .prepare_enclosure = prepare_enclosure,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
     .linearisation = linearisation,

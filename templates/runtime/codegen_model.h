@@ -207,8 +207,10 @@ struct codegen_model {
     /* every condition on every mode, then their scales: out[2 * n_modes * n_conditions]
      * (NULL: no conditions) */
     void (*assembly_conditions)(const void *params, codegen_real theta, codegen_real *out);
-    /* G and G' enclosed over theta on a mode; context: a codegen_enclosure_context */
+    /* G and G' enclosed over theta on a mode; context: a codegen_enclosure_context, made
+     * ready for its parameters by prepare_enclosure (NULL: nothing to prepare) */
     codegen_enclosure enclose;
+    void (*prepare_enclosure)(const void *context);
     /* the polynomial's coefficients (NULL: no polynomial route) and, unless bound is NULL, a
      * bound on each one's error (CODEGEN_HUGE where there is none); values and errors: its
      * program's memory */

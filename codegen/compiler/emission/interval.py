@@ -47,6 +47,7 @@ class IntervalProgram:
     constants: tuple[tuple[str, str], ...]
     outputs: tuple[int, ...]   # the slot of each output
     n_slots: int
+    first_input: int = 0       # the slot of inputs[0] (the others follow)
 
 
 @dataclass(frozen=True)
@@ -59,6 +60,151 @@ class IntervalBody:
     operations: int
     program: IntervalProgram                  # the same as instructions for codegen_iv_run
     unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
+
+
+@dataclass(frozen=True)
+class SplitProgram:
+    """A program in two parts over one array of slots, the same operations on the same
+    operands (the same bounds bit for bit): the head, the instructions no varying input
+    reaches, run once per parameter set, writes each value the tail reads into its own fixed
+    slot; the tail, the rest, runs at each theta. Both keep their inputs and scratch at or
+    above ``base``, above every program's fixed slots."""
+
+    head: IntervalProgram
+    tail: IntervalProgram
+    n_fixed: int   # fixed slots it writes: [first fixed, + n_fixed)
+
+
+#: Operations that can raise flags stay in the tail, so that each call's flags are its own.
+_FLAGGED = frozenset({"div", "sqrt"})
+
+
+def _operands(op: IntervalInstruction) -> tuple[int, ...]:
+    if op.operation == "const":
+        return ()
+    if op.operation in ("add", "sub", "mul", "div"):
+        return op.left, op.right
+    return (op.left,)
+
+
+def split_program(program: IntervalProgram, varying: set[str], first_fixed: int,
+                  base: int) -> SplitProgram:
+    """program split at the inputs named in ``varying`` (theta): its head's values the tail
+    reads go to the fixed slots first_fixed, first_fixed + 1, ...; every other slot s of
+    program becomes base + s. Constants are written where they are read (in either part,
+    or both); square roots and divisions are left to the tail (_FLAGGED)."""
+    code = program.instructions
+    varying_input = {i for i, name in enumerate(program.inputs) if name in varying}
+    producer: dict[int, tuple[str, int]] = {i: ("input", i) for i in range(len(program.inputs))}
+    sources: list[list[tuple[str, int]]] = []  # each instruction's operands' producers
+    in_tail: list[bool] = []
+    for op in code:
+        sources.append([producer[slot] for slot in _operands(op)])
+        in_tail.append(op.operation != "const" and (op.operation in _FLAGGED or any(
+            (kind == "input" and k in varying_input) or (kind == "op" and in_tail[k])
+            for kind, k in sources[-1])))
+        producer[op.destination] = ("op", len(in_tail) - 1)
+    outputs = [producer[slot] for slot in program.outputs]
+    read_by_tail = {k for j, srcs in enumerate(sources) if in_tail[j]
+                    for kind, k in srcs if kind == "op"}
+    read_by_tail |= {k for kind, k in outputs if kind == "op"}
+    read_by_head = {k for j, srcs in enumerate(sources) if not in_tail[j]
+                    for kind, k in srcs if kind == "op"}
+    constant = [op.operation == "const" for op in code]
+    fixed = {}
+    for k in sorted(read_by_tail):
+        if not in_tail[k] and not constant[k]:
+            fixed[k] = first_fixed + len(fixed)
+
+    def slot(source: tuple[str, int]) -> int:
+        kind, k = source
+        if kind == "op" and k in fixed:
+            return fixed[k]
+        return base + (k if kind == "input" else code[k].destination)
+
+    def part(keep, results) -> IntervalProgram:
+        kept = [k for k in range(len(code)) if keep(k)]
+        constants: dict[int, int] = {}
+        instructions = []
+        for k in kept:
+            op = code[k]
+            if constant[k]:
+                left = constants.setdefault(op.left, len(constants))
+                right = 0
+            else:
+                operands = [slot(source) for source in sources[k]]
+                left = operands[0]
+                right = operands[1] if len(operands) > 1 else op.right  # pow: its exponent
+            instructions.append(IntervalInstruction(op.operation, slot(("op", k)), left, right))
+        return IntervalProgram(program.inputs, tuple(instructions),
+                               tuple(program.constants[c] for c in constants),
+                               tuple(slot(source) for source in results),
+                               base + program.n_slots, first_input=base)
+
+    head = part(lambda k: not in_tail[k] and (not constant[k] or k in read_by_head), [])
+    tail = part(lambda k: in_tail[k] or (constant[k] and k in read_by_tail), outputs)
+    return SplitProgram(head=head, tail=tail, n_fixed=len(fixed))
+
+
+@dataclass(frozen=True)
+class InlineTail:
+    """A tail as C statements, one local per instruction (the inline form of
+    CODEGEN_INLINE_INTERVALS): the same operations as the program, in its order."""
+
+    unpack: tuple[tuple[str, int], ...]        # (input, its slot) the tail reads
+    statements: tuple[tuple[str, str], ...]    # (local, C expression of type codegen_iv)
+    outputs: tuple[str, ...]
+    unused: tuple[str, ...]                    # of params, the flags and the slots v
+
+
+def inline_tail(tail: IntervalProgram, varying: set[str], flags: str) -> InlineTail:
+    """The tail as statements: an input read by its name (a parameter unpacked as a point,
+    theta as the function's own argument), a fixed slot s as v[s], a constant as a
+    literal."""
+    prefix = _temporary_prefix({sp.Symbol(name) for name in tail.inputs})
+    text = {tail.first_input + i: name for i, name in enumerate(tail.inputs)}
+    statements, flagged, fixed = [], False, False
+
+    def operand(slot: int) -> str:
+        nonlocal fixed
+        if slot < tail.first_input:
+            fixed = True
+            return f"v[{slot}]"
+        return text[slot]
+
+    for k, op in enumerate(tail.instructions):
+        if op.operation == "const":
+            lo, hi = tail.constants[op.left]
+            text[op.destination] = (f"codegen_iv_point({lo})" if lo == hi
+                                    else f"codegen_iv_make({lo}, {hi})")
+            continue
+        args = [operand(slot) for slot in _operands(op)]
+        if op.operation == "pow":
+            args.append(str(op.right))
+        if op.operation in _FLAGGED:
+            args.append(flags)
+            flagged = True
+        name = f"{prefix}{k}"
+        statements.append((name, f"codegen_iv_{op.operation}({', '.join(args)})"))
+        text[op.destination] = name
+    outputs = tuple(operand(slot) for slot in tail.outputs)
+    read = inputs_read(tail)
+    unpack = tuple((name, slot) for name, slot in read if name not in varying)
+    unused = tuple(sorted(varying - {name for name, _ in read})) + (
+        () if unpack else ("params",)) + (() if flagged else (flags,)) + (
+        () if fixed else ("v",))
+    return InlineTail(unpack, tuple(statements), outputs, unused)
+
+
+def inputs_read(program: IntervalProgram) -> tuple[tuple[str, int], ...]:
+    """The inputs an instruction or an output reads, with their slots, in input order."""
+    live = {program.first_input + i for i in range(len(program.inputs))}
+    read = set()
+    for op in program.instructions:
+        read |= live.intersection(_operands(op))
+        live.discard(op.destination)
+    read |= live.intersection(program.outputs)
+    return tuple((program.inputs[slot - program.first_input], slot) for slot in sorted(read))
 
 
 def _exact(value: sp.Expr) -> tuple[Fraction, int]:

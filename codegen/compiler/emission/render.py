@@ -16,7 +16,7 @@ import jinja2
 import sympy as sp
 
 from ... import __version__
-from .interval import interval_body
+from .interval import inline_tail, inputs_read, interval_body, split_program
 from .multibody import MultibodyPlan
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
@@ -238,10 +238,26 @@ def _enclosure(plan: Plan) -> dict:
                               enclosure.definitions)
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
         modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
-    slots = max(max(m["body"].program.n_slots, m["value"].program.n_slots) for m in modes)
-    instructions = sum(len(m[k].program.instructions) for m in modes for k in ("body", "value"))
+    programs = [m[k].program for m in modes for k in ("body", "value")]
+    # theta's operations apart from the parameters' (run once per parameter set), the
+    # latter's values in slots [0, fixed) below every program's own
+    fixed = sum(split_program(p, {theta}, 0, 0).n_fixed for p in programs)
+    first = 0
+    for m in modes:
+        for k in ("body", "value"):
+            split = split_program(m[k].program, {theta}, first, fixed)
+            first += split.n_fixed
+            m[f"{k}_split"] = {"head": split.head, "tail": split.tail,
+                               "head_inputs": inputs_read(split.head),
+                               "tail_inputs": inputs_read(split.tail),
+                               "inline": inline_tail(split.tail, {theta}, "iv_flags")}
+    heads = [(f"enclose_{'' if k == 'body' else 'value_'}mode_{n}", m[f"{k}_split"])
+             for n, m in enumerate(modes) for k in ("body", "value")
+             if m[f"{k}_split"]["head"].instructions]
+    slots = fixed + max(p.n_slots for p in programs)
+    instructions = sum(len(p.instructions) for p in programs)
     return {"theta": theta, "equation": enclosure.equation, "modes": modes, "slots": slots,
-            "inline": instructions <= INLINE_INSTRUCTIONS}
+            "fixed": fixed, "heads": heads, "inline": instructions <= INLINE_INSTRUCTIONS}
 
 
 #: Interval programs (every mode's, in all) up to this many instructions are also written as
