@@ -25,6 +25,11 @@ typedef struct codegen_root_span { double lo, hi; double theta; double free_lo, 
 codegen_roots_status codegen_poly_root_spans(const double *sigma, const double *bound, int degree,
                                              codegen_root_span *spans, int *n_spans,
                                              double *work);
+codegen_roots_status codegen_poly_real_roots_work(const double *sigma, int degree, double *theta,
+                                                  int *n_roots, double *work);
+codegen_roots_status codegen_poly_real_roots_after_spans(const double *sigma, int degree,
+                                                         double *theta, int *n_roots,
+                                                         double *work);
 """
 OK, UNPROVEN = 0, 5
 TWO_PI = 2 * math.pi
@@ -198,3 +203,37 @@ def test_every_real_root_of_every_polynomial_within_the_bounds_is_in_a_span(
     for theta in _perturbed_real_roots(sigma, bound, rng):
         assert any(covers(s, theta) or covers(s, theta + 1e-12) or covers(s, theta - 1e-12)
                    for s in spans), (theta, spans)
+
+
+@settings(max_examples=60, deadline=None)
+@given(real=st.lists(st.floats(-50, 50, allow_nan=False).filter(lambda x: abs(x) > 1e-3),
+                     min_size=0, max_size=8),
+       pairs=st.lists(st.tuples(st.floats(-5, 5), st.floats(1e-6, 5)), max_size=3),
+       doubled=st.booleans(), infinite=st.integers(0, 1), zero=st.booleans())
+def test_real_roots_after_the_spans_are_those_found_afresh_bit_for_bit(
+        spans_lib, real, pairs, doubled, infinite, zero):
+    """The finder that reuses the spans' iteration (where its polynomial is theirs) and the
+    one that runs its own give the same roots, bit for bit: a vanishing end coefficient
+    (a root at 0 or at infinity) and clusters included."""
+    ffi, lib = spans_lib
+    real = real + real[:1] if doubled else real
+    coeffs = exact_polynomial(real + [0] * zero, pairs, at_infinity=infinite)
+    if len(coeffs) < 2:
+        return
+    sigma, bound = rounded(coeffs, 1e-15)
+    degree = len(sigma) - 1
+    c_sigma = ffi.new("double[]", sigma)
+    found = []
+    for after_spans in (False, True):
+        work = ffi.new("double[]", 16 * degree + 16)
+        if after_spans:
+            spans, n = ffi.new("codegen_root_span[]", degree), ffi.new("int *")
+            if lib.codegen_poly_root_spans(c_sigma, ffi.new("double[]", bound), degree, spans,
+                                           n, work) != OK:
+                return
+        theta, count = ffi.new("double[]", degree), ffi.new("int *", -1)
+        run = (lib.codegen_poly_real_roots_after_spans if after_spans
+               else lib.codegen_poly_real_roots_work)
+        status = run(c_sigma, degree, theta, count, work)
+        found.append((status, [float(t).hex() for t in theta[0:max(count[0], 0)]]))
+    assert found[0] == found[1]

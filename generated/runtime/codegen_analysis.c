@@ -918,15 +918,17 @@ static int list_cluster_lengths(const call *c, const codegen_root_span *s, const
 /* The roots of the polynomial in spans that are not simple, as the root finder places them
  * and study_root classifies them, where they are no equilibrium: extraneous, where the
  * mechanism cannot be assembled, or singular (the equilibria there are the isolation's);
- * and the roots of a negative length there that the finder merged with a neighbour. */
+ * and the roots of a negative length there that the finder merged with a neighbour. The
+ * finder reuses the spans' iteration, left in the workspace's roots (nothing else writes
+ * there in between). */
 static int list_cluster_roots(const call *c, void *workspace, const result_view *work,
                               const codegen_root_span *spans, int n)
 {
     const codegen_model *model = c->model;
     codegen_real *theta = (codegen_real *)field(workspace, model->workspace.theta);
     int i, count, status;
-    if ((int)codegen_poly_real_roots_work(work->sigma, model->degree, theta, &count,
-                                          (codegen_real *)field(workspace, model->workspace.roots))
+    if ((int)codegen_poly_real_roots_after_spans(work->sigma, model->degree, theta, &count,
+                                                 (codegen_real *)field(workspace, model->workspace.roots))
         != CODEGEN_OK) {
         count = 0; /* (every zero of G is accounted for already) */
     }

@@ -800,13 +800,19 @@ static int certain_sign(const codegen_real *f, int n, codegen_real x)
  * theta (room for m), or 0 if the fast path cannot vouch for them (then nothing is meant by
  * theta). work: 7 m + 1 values. */
 static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codegen_real *theta, int *n,
-                      codegen_real *work)
+                      codegen_real *work, const codegen_real *iterated)
 {
     codegen_real *const zr = work, *const zi = zr + m, *const rad = zi + m, *const scratch = rad + m;
     codegen_real *const da = scratch + (m + 1), *const dq = da + m;   /* scratch: hull, then done */
-    aberth_start(a, m, zr, zi, scratch);
-    if (!aberth(a, m, zr, zi, scratch)) {
-        return 0;
+    if (iterated != NULL) { /* the iteration's result on this same a, from the spans */
+        for (int i = 0; i < 2 * m; ++i) {
+            zr[i] = iterated[i];
+        }
+    } else {
+        aberth_start(a, m, zr, zi, scratch);
+        if (!aberth(a, m, zr, zi, scratch)) {
+            return 0;
+        }
     }
     /* Centres within rounding of the real axis are moved onto it (any centres would do: the
      * discs are sized afterwards; a complex pair so moved gives two overlapping discs). */
@@ -885,6 +891,11 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
  * the polynomial that is double because two branches vanish there, as at theta = pi where a
  * force balances gravity) is proven by G's signs this far from it. */
 #define SPAN_REACH (CODEGEN_R(16.0) * CODEGEN_SQRT_EPSILON)
+
+/* Where codegen_poly_root_spans leaves its iteration's result in work (as it was when the
+ * iteration stopped: real parts, then imaginary), beyond its own arrays (13 degree + 4) and everything real_roots' fast path
+ * writes before reading it (fast_roots' arrays end below 12 degree + 7). */
+#define SPANS_ITERATED(work, degree) ((work) + 14 * (degree) + 16)
 
 static codegen_real span_reach_lo(const codegen_root_span *s)
 {
@@ -1039,6 +1050,10 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
     span_start(b, m, zr, zi, scratch);
     if (!aberth(b, m, zr, zi, scratch)) {
         return CODEGEN_ROOTS_UNPROVEN;
+    }
+    for (int i = 0; i < m; ++i) { /* for codegen_poly_real_roots_after_spans */
+        SPANS_ITERATED(work, m)[i] = zr[i];
+        SPANS_ITERATED(work, m)[m + i] = zi[i];
     }
     /* A coefficient exactly 0 with no error at the chart's origin is an exact root there (theta
      * = 0, or pi in the reversed chart): Aberth leaves it at 0 with an imaginary part of 1e-291
@@ -1244,7 +1259,8 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
 
 /* Both entry points: fast = 1 tries fast_roots before the isolation by derivatives. */
 static codegen_roots_status real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
-                                       int *n_roots, codegen_real *work, int fast)
+                                       int *n_roots, codegen_real *work, int fast,
+                                       const codegen_real *iterated)
 {
     codegen_real amax = 0;
     int nout = 0;
@@ -1296,7 +1312,7 @@ static codegen_roots_status real_roots(const codegen_real *sigma, int degree, co
             q[m - i] = s[lo + i];
         }
         int found;
-        if (!(fast && fast_roots(a, q, m, out + nout, &found, chart))) {
+        if (!(fast && fast_roots(a, q, m, out + nout, &found, chart, m == degree ? iterated : NULL))) {
             found = isolated_roots(a, q, m, out + nout, r, chart);
         }
         nout += found;
@@ -1342,12 +1358,37 @@ static codegen_roots_status real_roots(const codegen_real *sigma, int degree, co
 codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
                                                   int *n_roots, codegen_real *work)
 {
-    return real_roots(sigma, degree, theta, n_roots, work, 1);
+    return real_roots(sigma, degree, theta, n_roots, work, 1, NULL);
+}
+
+codegen_roots_status codegen_poly_real_roots_after_spans(const codegen_real *sigma, int degree,
+                                                         codegen_real *theta, int *n_roots,
+                                                         codegen_real *work)
+{
+    const codegen_real *iterated = NULL;
+    codegen_real amax = 0;
+    int e, same = degree >= 1 && sigma != NULL && work != NULL;
+    /* the iteration real_roots would run is the spans' where their polynomial is its own:
+     * the same scale and chart, and no vanishing end coefficient (checked before work is
+     * written: spans keep theirs at its start) */
+    for (int i = 0; same && i <= degree; ++i) {
+        amax = codegen_fmax(amax, codegen_fabs(sigma[i]));
+    }
+    if (same && amax > 0 && isfinite(amax)) {
+        (void)codegen_frexp(amax, &e);
+        for (int i = 0; same && i <= degree; ++i) {
+            same = work[i] == codegen_ldexp(sigma[i], -e);
+        }
+        if (same && work[0] != 0 && work[degree] != 0) {
+            iterated = SPANS_ITERATED(work, degree);
+        }
+    }
+    return real_roots(sigma, degree, theta, n_roots, work, 1, iterated);
 }
 
 codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *sigma, int degree,
                                                             codegen_real *theta, int *n_roots,
                                                             codegen_real *work)
 {
-    return real_roots(sigma, degree, theta, n_roots, work, 0);
+    return real_roots(sigma, degree, theta, n_roots, work, 0, NULL);
 }

@@ -81,6 +81,14 @@ typedef struct codegen_root_span {
                             number, none included (a cluster, or a complex pair near the axis) */
 } codegen_root_span;
 
+/* codegen_poly_real_roots_work on the sigma codegen_poly_root_spans last returned
+ * CODEGEN_ROOTS_OK on, in the same work, unchanged since: the same results bit for bit,
+ * without running again the iteration the spans ran where it is the one this would run (the
+ * same polynomial in the same chart and scale). */
+codegen_roots_status codegen_poly_real_roots_after_spans(const codegen_real *sigma, int degree,
+                                                         codegen_real *theta, int *n_roots,
+                                                         codegen_real *work);
+
 /* The values of working memory codegen_poly_root_spans needs for a degree. */
 #define CODEGEN_SPANS_WORK(degree) (16 * (degree) + 16)
 
