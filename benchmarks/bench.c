@@ -209,14 +209,17 @@ static double pass_spans(const bench_data *d)
 /* The enclosures of G that decide the spans, as analyze_by_spans runs them for a simple
  * span: on the mode of the root found there, G over the span and at its two ends; on each
  * other mode (and on every mode for an extraneous root) G over the span alone. Run at the
- * intervals of the results of _analyze (d->results), which is what the proof evaluates. */
+ * intervals of the results of _analyze (d->results), which is what the proof evaluates,
+ * after the operations of the parameters alone, once per set, as the analysis runs them. */
 static double pass_enclosures(const bench_data *d)
 {
+    static codegen_iv slots[SIZE(_ENCLOSURE_SLOTS)];
     double sum = 0.0;
     size_t i;
     for (i = 0; i < d->n_sets; ++i) {
         const analysis_t *r = &d->results[i];
         int j;
+        (void)LIB(_enclosure_prepare)(&d->params[i], slots);
         for (j = 0; j < r->n_roots; ++j) {
             const codegen_equilibrium *e = &r->roots[j];
             const int proven = e->kind == CODEGEN_EQUILIBRIUM || e->kind == CODEGEN_OTHER_ASSEMBLY;
@@ -225,12 +228,12 @@ static double pass_enclosures(const bench_data *d)
             codegen_iv g;
             unsigned mode, flags;
             for (mode = 0u; mode < SIZE(_N_MODES); ++mode) {
-                (void)LIB(_enclosure_kernel)(&d->params[i], mode, span, &g, NULL, &flags);
+                (void)LIB(_enclosure_kernel_prepared)(&d->params[i], mode, span, &g, NULL, &flags, slots);
                 sum += g.hi;
                 if (proven && mode == own) {
-                    (void)LIB(_enclosure_kernel)(&d->params[i], mode, codegen_iv_point(e->theta_lo), &g, NULL, &flags);
+                    (void)LIB(_enclosure_kernel_prepared)(&d->params[i], mode, codegen_iv_point(e->theta_lo), &g, NULL, &flags, slots);
                     sum += g.hi;
-                    (void)LIB(_enclosure_kernel)(&d->params[i], mode, codegen_iv_point(e->theta_hi), &g, NULL, &flags);
+                    (void)LIB(_enclosure_kernel_prepared)(&d->params[i], mode, codegen_iv_point(e->theta_hi), &g, NULL, &flags, slots);
                     sum += g.hi;
                 }
             }
