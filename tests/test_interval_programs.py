@@ -2,8 +2,8 @@
 
 By default a library runs its interval enclosures of G and G' as programs
 (codegen_iv_run over a few slots: small stack and code, for firmware); compiled with
--DCODEGEN_INLINE_INTERVALS it expands them as nested inline calls (faster on a host; the
-Python extension's form). A driver prints PREFIX_enclosure of every mode over random
+-DCODEGEN_INLINE_INTERVALS it expands them as inline calls, one local per operation (faster
+on a host; the Python extension's form). A driver prints PREFIX_enclosure of every mode over random
 intervals, from narrow to several turns wide, at parameter sets around the example; it is
 compiled in both forms and in both real types, and the outputs must agree exactly. The
 layer below is tested on its own too: the emission's slot allocation never reads a slot
@@ -146,7 +146,7 @@ def test_programs_compute_their_expressions(seed):
     r = sp.sqrt(x**2 + y**2 - 2 * x * y * c)
     g = s * x + r / (2 + c) - x * s**3 + sp.Rational(1, 3) * (y - r) * s / r
     exprs = [g, sp.diff(g, theta)]
-    body = interval_body(exprs, ("x", "y"), {"theta"}, "flags")
+    body = interval_body(exprs, ("x", "y"), {"theta"})
     program = body.program
     assert program.n_slots < len(program.instructions)  # consumed values are reused
     point = {"x": rng.uniform(1, 2), "y": rng.uniform(0.1, 0.9), "theta": rng.uniform(-3, 3)}
@@ -159,7 +159,7 @@ def test_programs_compute_their_expressions(seed):
 def test_an_output_read_again_by_a_later_output_keeps_its_slot():
     x, theta = sp.symbols("x theta")
     shared = sp.sin(theta) * x
-    body = interval_body([shared, shared + sp.cos(theta) * shared], ("x",), {"theta"}, "f")
+    body = interval_body([shared, shared + sp.cos(theta) * shared], ("x",), {"theta"})
     got = _run(body.program, {"x": 1.5, "theta": 0.7})
     assert got == pytest.approx([1.5 * math.sin(0.7), 1.5 * math.sin(0.7) * (1 + math.cos(0.7))])
 
@@ -172,7 +172,7 @@ def _split_example(seed: int):
     g = (x**3 * y + 2) * s + r / (x * y + c) - (x - y) ** 2 * s**3 + (y / x) * c + sp.sqrt(y)
     exprs = [g, sp.diff(g, theta)]
     point = {"x": rng.uniform(1, 2), "y": rng.uniform(0.1, 0.9), "theta": rng.uniform(-3, 3)}
-    return interval_body(exprs, ("x", "y"), {"theta"}, "flags").program, point
+    return interval_body(exprs, ("x", "y"), {"theta"}).program, point
 
 
 @pytest.mark.parametrize("seed", range(5))

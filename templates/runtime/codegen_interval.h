@@ -257,11 +257,11 @@ codegen_iv codegen_iv_sin(codegen_iv a);
 
 /* ---- Interval programs ---- */
 
-/* A long enclosure written as nested calls keeps every temporary in its own stack slot
- * (gcc: 19.6 KB in one frame for the four-bar); as a table of three-address instructions
+/* A long enclosure written as inline calls keeps every temporary in its own stack slot
+ * (gcc: ~20 KB in one frame for the four-bar); as a table of three-address instructions
  * over caller-provided slots, run by codegen_iv_run, it needs only the slots, reused as soon
  * as a value is consumed, and far less code. Each instruction calls the operation above
- * that the nested form calls, so both give the same bounds bit for bit. */
+ * that the inline form calls, so both give the same bounds bit for bit. */
 typedef enum codegen_iv_operation {
     CODEGEN_IV_CONST, /* v[destination] = constants[left] */
     CODEGEN_IV_ADD,   /* v[destination] = v[left] + v[right] */

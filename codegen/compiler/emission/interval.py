@@ -1,12 +1,14 @@
 """Expressions as interval programs for the runtime's outward-rounded arithmetic
 (templates/runtime/codegen_interval.h), for the certified isolation of G's zeros.
 
-Each expression becomes nested calls (codegen_iv_add(a, codegen_iv_mul(b, c))) after one
-common-subexpression pass, so every value has exactly one enclosure. Constants that the real
-type cannot hold (1/3, pi) are enclosed between the numbers of that type just below and
-above them, computed exactly here for double and for float (``CODEGEN_BOUND`` picks one when
-the library is compiled); square roots and divisions report, through ``flags``, where a radicand may
-reach below zero or a divisor hold zero.
+Each expression becomes three-address instructions over reused slots (a program that
+codegen_iv_run executes) after one common-subexpression pass, so every value has exactly one
+enclosure; a program splits where theta first enters (split_program), and its part at theta
+can be written as inline C (inline_tail). Constants that the real type cannot hold (1/3, pi)
+are enclosed between the numbers of that type just below and above them, computed exactly
+here for double and for float (``CODEGEN_BOUND`` picks one when the library is compiled);
+square roots and divisions report, through the runtime's flags, where a radicand may reach
+below zero or a divisor hold zero.
 """
 from __future__ import annotations
 
@@ -52,14 +54,10 @@ class IntervalProgram:
 
 @dataclass(frozen=True)
 class IntervalBody:
-    """One mode's program: parameters as point intervals, temporaries, then G and G'."""
+    """Expressions as one interval program, and their operation count (for the docs)."""
 
-    unpack: tuple[str, ...]                   # parameter names used
-    temporaries: tuple[tuple[str, str], ...]  # (name, C expression of type codegen_iv)
-    outputs: tuple[str, ...]                  # C expressions of G and G'
     operations: int
-    program: IntervalProgram                  # the same as instructions for codegen_iv_run
-    unused: tuple[str, ...] = ()              # inputs, and the flags pointer, it never reads
+    program: IntervalProgram
 
 
 @dataclass(frozen=True)
@@ -247,32 +245,6 @@ def _literal(x: float) -> str:
     return x.hex()
 
 
-class _Text:
-    """Operations as nested C calls: the inline form of a program."""
-
-    def __init__(self, flags: str):
-        self._flags = flags
-        self.flagged = False  # whether an operation that raises flags was printed
-
-    def symbol(self, name: str) -> str:
-        return name
-
-    def constant(self, value: sp.Expr) -> str:
-        lo, hi = _bound_texts(value)
-        return f"codegen_iv_point({lo})" if lo == hi else f"codegen_iv_make({lo}, {hi})"
-
-    def one(self) -> str:
-        return "codegen_iv_point(1.0)"
-
-    def apply(self, operation: str, *operands: str, flags: bool = False) -> str:
-        extra = [self._flags] if flags else []
-        self.flagged |= flags
-        return f"codegen_iv_{operation}({', '.join([*operands, *extra])})"
-
-    def power(self, operand: str, n: int) -> str:
-        return f"codegen_iv_pow({operand}, {n})"
-
-
 class _Tape:
     """Operations as instructions over slots: the program form. A value made inside an
     expression (scratch) is freed when an operation consumes it; a named value (an input or
@@ -314,7 +286,7 @@ class _Tape:
     def one(self) -> int:
         return self.constant(sp.S.One)
 
-    def apply(self, operation: str, *operands: int, flags: bool = False) -> int:
+    def apply(self, operation: str, *operands: int) -> int:
         self._consume(*operands)
         return self._take(operation, *operands)
 
@@ -374,8 +346,7 @@ def _bound_texts(value: sp.Expr) -> tuple[str, str]:
 
 class _Writer:
     """Walks an expression in the interval rules, writing each operation through ``out``
-    (_Text, or _Tape for a program the runtime runs): both see the same operations on the
-    same operands, so the two forms compute the same bounds bit for bit."""
+    (a _Tape)."""
 
     def __init__(self, out):
         self.out = out
@@ -405,7 +376,7 @@ class _Writer:
             numerators = [p for p in parts if not (p.is_Pow and p.exp.is_negative)]
             total = self._product(numerators)
             if denominators:
-                total = out.apply("div", total, self._product(denominators), flags=True)
+                total = out.apply("div", total, self._product(denominators))
             return total
         if expr.is_Pow:
             return self._power(expr.base, expr.exp)
@@ -429,19 +400,19 @@ class _Writer:
         out = self.out
         if exp.is_negative:
             one = out.one()
-            return out.apply("div", one, self._power(base, -exp), flags=True)
+            return out.apply("div", one, self._power(base, -exp))
         if exp.is_Integer:
             return out.power(self.write(base), int(exp))
         if exp.is_Rational and exp.q & (exp.q - 1) == 0:   # q = 2^k: k nested square roots
             root = self.write(base)
             for _ in range(exp.q.bit_length() - 1):
-                root = out.apply("sqrt", root, flags=True)
+                root = out.apply("sqrt", root)
             return root if exp.p == 1 else out.power(root, int(exp.p))
         raise ValueError(f"no interval rule for the power {exp} in {base ** exp}")
 
 
 def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set[str],
-                  flags: str, definitions=()) -> IntervalBody:
+                  definitions=()) -> IntervalBody:
     """exprs (in the parameters and ``inputs``, and the symbols of ``definitions``, a
     straight-line program: (symbol, expression) in order) as one interval program."""
     program = needed_definitions(definitions, exprs)
@@ -449,19 +420,13 @@ def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set
     replacements, reduced = shared_with_program(program, exprs, _temporary_prefix(used))
     if program:
         replacements = in_dependency_order(replacements)
-    printer = _Text(flags)
-    writer = _Writer(printer)
     names = {s.name for s in used} - {symbol.name for symbol, _ in program}
     unknown = names - set(parameters) - inputs
     if unknown:
         raise ValueError(f"symbols {sorted(unknown)} are neither parameters nor inputs")
     operations = sum(sp.count_ops(e) for _, e in replacements) + sum(
         sp.count_ops(e) for e in reduced)
-    temporaries = tuple((str(s), writer.write(e)) for s, e in replacements)
-    outputs = tuple(writer.write(e) for e in reduced)
-    unpack = tuple(p for p in parameters if p in names)
-    return IntervalBody(
-        unpack=unpack, temporaries=temporaries, outputs=outputs, operations=int(operations),
-        unused=tuple(sorted(inputs - names)) + (() if printer.flagged else (flags,)),
-        program=_program([*unpack, *sorted(inputs)],
-                         [(str(s), e) for s, e in replacements], reduced))
+    unpack = [p for p in parameters if p in names]
+    return IntervalBody(operations=int(operations),
+                        program=_program([*unpack, *sorted(inputs)],
+                                         [(str(s), e) for s, e in replacements], reduced))

@@ -84,7 +84,7 @@ def build_multibody_plan(d: Multibody) -> MultibodyPlan:
     )
     names = tuple(symbol for symbol, _ in _fields(d))
     box = interval_body([*d.generalised_force, *d.stiffness], names,
-                        {t.name for t in d.theta}, "iv_flags", d.program)
+                        {t.name for t in d.theta}, d.program)
     return MultibodyPlan(
         prefix=m.name, title=m.title or m.name, points=tuple(d.points), loads=loads_of(user),
         parameters=tuple((p.symbol.name, p.unit, p.description, p.example_value)

@@ -232,9 +232,9 @@ def _enclosure(plan: Plan) -> dict:
     assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
     modes = []
     for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
-        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta}, "iv_flags",
+        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta},
                              enclosure.definitions)
-        value = interval_body([sp.sympify(g)], names, {theta}, "iv_flags",   # G alone: cheaper
+        value = interval_body([sp.sympify(g)], names, {theta},   # G alone: cheaper
                               enclosure.definitions)
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
         modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
