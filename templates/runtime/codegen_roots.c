@@ -893,8 +893,9 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
 #define SPAN_REACH (CODEGEN_R(16.0) * CODEGEN_SQRT_EPSILON)
 
 /* Where codegen_poly_root_spans leaves its iteration's result in work (as it was when the
- * iteration stopped: real parts, then imaginary), beyond its own arrays (13 degree + 4) and everything real_roots' fast path
- * writes before reading it (fast_roots' arrays end below 12 degree + 7). */
+ * iteration stopped: real parts, then imaginary), beyond its own arrays (13 degree + 4) and
+ * everything real_roots' fast path writes before reading it (fast_roots' arrays end below
+ * 12 degree + 7). */
 #define SPANS_ITERATED(work, degree) ((work) + 14 * (degree) + 16)
 
 static codegen_real span_reach_lo(const codegen_root_span *s)
@@ -1257,10 +1258,12 @@ codegen_roots_status codegen_poly_real_roots(const codegen_real *sigma, int degr
     return codegen_poly_real_roots_work(sigma, degree, theta, n_roots, work);
 }
 
-/* Both entry points: fast = 1 tries fast_roots before the isolation by derivatives. */
+/* Every entry point: fast = 1 tries fast_roots before the isolation by derivatives;
+ * after_spans = 1 starts fast_roots from the iteration codegen_poly_root_spans left in work
+ * where its polynomial is the one fast_roots would iterate on (see below). */
 static codegen_roots_status real_roots(const codegen_real *sigma, int degree, codegen_real *theta,
                                        int *n_roots, codegen_real *work, int fast,
-                                       const codegen_real *iterated)
+                                       int after_spans)
 {
     codegen_real amax = 0;
     int nout = 0;
@@ -1286,10 +1289,14 @@ static codegen_roots_status real_roots(const codegen_real *sigma, int degree, co
         return CODEGEN_ROOTS_ERR_ZERO_POLYNOMIAL;
     }
 
-    /* Power-of-two scaling is exact: results do not depend on the overall magnitude. */
+    /* Power-of-two scaling is exact: results do not depend on the overall magnitude. The
+     * spans keep their scaled polynomial where s goes: each coefficient is compared before
+     * it is overwritten. */
     (void)codegen_frexp(amax, &e);
     for (int i = 0; i <= degree; ++i) {
-        s[i] = codegen_ldexp(sigma[i], -e);
+        const codegen_real scaled = codegen_ldexp(sigma[i], -e);
+        after_spans = after_spans && s[i] == scaled;
+        s[i] = scaled;
     }
     int lo = 0;
     int hi = degree;
@@ -1312,7 +1319,10 @@ static codegen_roots_status real_roots(const codegen_real *sigma, int degree, co
             q[m - i] = s[lo + i];
         }
         int found;
-        if (!(fast && fast_roots(a, q, m, out + nout, &found, chart, m == degree ? iterated : NULL))) {
+        /* the spans' polynomial in the same chart and scale, with neither end coefficient 0
+         * (m == degree): the very iteration fast_roots would run */
+        const codegen_real *iterated = after_spans && m == degree ? SPANS_ITERATED(work, degree) : NULL;
+        if (!(fast && fast_roots(a, q, m, out + nout, &found, chart, iterated))) {
             found = isolated_roots(a, q, m, out + nout, r, chart);
         }
         nout += found;
@@ -1358,37 +1368,19 @@ static codegen_roots_status real_roots(const codegen_real *sigma, int degree, co
 codegen_roots_status codegen_poly_real_roots_work(const codegen_real *sigma, int degree, codegen_real *theta,
                                                   int *n_roots, codegen_real *work)
 {
-    return real_roots(sigma, degree, theta, n_roots, work, 1, NULL);
+    return real_roots(sigma, degree, theta, n_roots, work, 1, 0);
 }
 
 codegen_roots_status codegen_poly_real_roots_after_spans(const codegen_real *sigma, int degree,
                                                          codegen_real *theta, int *n_roots,
                                                          codegen_real *work)
 {
-    const codegen_real *iterated = NULL;
-    codegen_real amax = 0;
-    int e, same = degree >= 1 && sigma != NULL && work != NULL;
-    /* the iteration real_roots would run is the spans' where their polynomial is its own:
-     * the same scale and chart, and no vanishing end coefficient (checked before work is
-     * written: spans keep theirs at its start) */
-    for (int i = 0; same && i <= degree; ++i) {
-        amax = codegen_fmax(amax, codegen_fabs(sigma[i]));
-    }
-    if (same && amax > 0 && isfinite(amax)) {
-        (void)codegen_frexp(amax, &e);
-        for (int i = 0; same && i <= degree; ++i) {
-            same = work[i] == codegen_ldexp(sigma[i], -e);
-        }
-        if (same && work[0] != 0 && work[degree] != 0) {
-            iterated = SPANS_ITERATED(work, degree);
-        }
-    }
-    return real_roots(sigma, degree, theta, n_roots, work, 1, iterated);
+    return real_roots(sigma, degree, theta, n_roots, work, 1, 1);
 }
 
 codegen_roots_status codegen_poly_real_roots_reference_work(const codegen_real *sigma, int degree,
                                                             codegen_real *theta, int *n_roots,
                                                             codegen_real *work)
 {
-    return real_roots(sigma, degree, theta, n_roots, work, 0, NULL);
+    return real_roots(sigma, degree, theta, n_roots, work, 0, 0);
 }
