@@ -638,24 +638,42 @@ static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real
     return CODEGEN_OK;
 }
 
-/* Whether G of one mode vanishes in a simple span: sign_test on the span, then, while G's
- * signs at the ends are within rounding of 0, on intervals grown 64-fold about it within
- * its free interval, which holds no other root of the polynomial (the zero of G, if any, is
- * the span's root all the same: in [lo, hi]). */
+/* Each end of [lo, hi] moved out by SPAN_GROWTH times its width, within the free interval. */
+#define SPAN_GROWTH CODEGEN_R(64.0)
+static void grow_span(codegen_real *lo, codegen_real *hi, const codegen_root_span *s)
+{
+    const codegen_real grow = SPAN_GROWTH * (*hi - *lo);
+    *lo = codegen_fmax(s->free_lo, *lo - grow);
+    *hi = codegen_fmin(s->free_hi, *hi + grow);
+}
+
+/* Whether G of one mode vanishes in a simple span: sign_test on the span and, while G's signs
+ * at the ends are within rounding of 0, on intervals grown about it within its free interval,
+ * which holds no other root of the polynomial (the zero of G, if any, is the span's root all
+ * the same: in [lo, hi]). The span grown once is tried first: the span is as narrow as the
+ * polynomial's root is accurate, and on about half the spans that hold a zero, G's signs at
+ * its own ends are within G's rounding of 0. Only if that cannot decide (it may take in a
+ * pole or a square root's edge that the span does not hold) does the sequence run from the
+ * span itself. */
 static int span_zeros(const call *c, unsigned mode, const codegen_root_span *s,
                       span_outcome *outcome)
 {
     codegen_real lo = s->lo, hi = s->hi;
+    int smooth, status;
+    grow_span(&lo, &hi, s);
+    status = sign_test(c, mode, lo, hi, outcome, &smooth);
+    if (status != CODEGEN_OK || *outcome != SPAN_UNDECIDED) {
+        return status;
+    }
+    lo = s->lo;
+    hi = s->hi;
     for (;;) {
-        int smooth;
-        const int status = sign_test(c, mode, lo, hi, outcome, &smooth);
+        status = sign_test(c, mode, lo, hi, outcome, &smooth);
         if (status != CODEGEN_OK || *outcome != SPAN_UNDECIDED || !smooth
             || (lo <= s->free_lo && hi >= s->free_hi)) {
             return status;
         }
-        const codegen_real grow = CODEGEN_R(64.0) * (hi - lo);
-        lo = codegen_fmax(s->free_lo, lo - grow);
-        hi = codegen_fmin(s->free_hi, hi + grow);
+        grow_span(&lo, &hi, s);
     }
 }
 
