@@ -792,7 +792,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp31 = 4*tmp0;
         const codegen_real tmp32 = tmp11*tmp6;
         const codegen_real tmp33 = tmp31*tmp32;
-        const codegen_real tmp34 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp34 = (d*d*d*d*d);
         const codegen_real tmp35 = a_2*tmp34;
         const codegen_real tmp36 = 2*tmp3;
         const codegen_real tmp37 = 4*tmp3;
@@ -828,7 +828,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp67 = tmp20*tmp66;
         const codegen_real tmp68 = 2*tmp11;
         const codegen_real tmp69 = tmp0*tmp30*tmp68 + tmp65 + tmp67;
-        const codegen_real tmp70 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp70 = (a_2*a_2*a_2*a_2*a_2);
         const codegen_real tmp71 = tmp13*tmp70;
         const codegen_real tmp72 = tmp3*tmp71;
         const codegen_real tmp73 = tmp2*tmp60;
@@ -870,7 +870,7 @@ void four_bar_reduced_coefficients_kernel(const four_bar_params *params, codegen
         const codegen_real tmp107 = tmp0*tmp6;
         const codegen_real tmp108 = -tmp0*tmp106 - 16*tmp107*tmp66 - tmp20*tmp5*tmp76 + tmp20*tmp61;
         const codegen_real tmp109 = 3*tmp100 - tmp101*tmp102 - tmp101*tmp20*tmp54 + tmp103*tmp94 + tmp105*tmp20 + tmp108 + 3*tmp99;
-        const codegen_real tmp110 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp110 = (d*d*d*d*d*d);
         const codegen_real tmp111 = 2*tmp66;
         const codegen_real tmp112 = tmp44*tmp5;
         const codegen_real tmp113 = tmp112*tmp20;
@@ -1146,7 +1146,7 @@ codegen_real four_bar_angular_acceleration_kernel(const four_bar_params *params,
         const codegen_real tmp31 = 4*tmp0;
         const codegen_real tmp32 = tmp11*tmp6;
         const codegen_real tmp33 = tmp31*tmp32;
-        const codegen_real tmp34 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp34 = (d*d*d*d*d);
         const codegen_real tmp35 = a_2*tmp34;
         const codegen_real tmp36 = 2*tmp3;
         const codegen_real tmp37 = 4*tmp3;
@@ -1182,7 +1182,7 @@ codegen_real four_bar_angular_acceleration_kernel(const four_bar_params *params,
         const codegen_real tmp67 = tmp20*tmp66;
         const codegen_real tmp68 = 2*tmp11;
         const codegen_real tmp69 = tmp0*tmp30*tmp68 + tmp65 + tmp67;
-        const codegen_real tmp70 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp70 = (a_2*a_2*a_2*a_2*a_2);
         const codegen_real tmp71 = tmp13*tmp70;
         const codegen_real tmp72 = tmp3*tmp71;
         const codegen_real tmp73 = tmp2*tmp60;
@@ -1224,7 +1224,7 @@ codegen_real four_bar_angular_acceleration_kernel(const four_bar_params *params,
         const codegen_real tmp107 = tmp0*tmp6;
         const codegen_real tmp108 = -tmp0*tmp106 - 16*tmp107*tmp66 - tmp20*tmp5*tmp76 + tmp20*tmp61;
         const codegen_real tmp109 = 3*tmp100 - tmp101*tmp102 - tmp101*tmp20*tmp54 + tmp103*tmp94 + tmp105*tmp20 + tmp108 + 3*tmp99;
-        const codegen_real tmp110 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp110 = (d*d*d*d*d*d);
         const codegen_real tmp111 = 2*tmp66;
         const codegen_real tmp112 = tmp44*tmp5;
         const codegen_real tmp113 = tmp112*tmp20;
@@ -1528,7 +1528,7 @@ void four_bar_equilibrium_residual_kernel(const four_bar_params *params, codegen
         const codegen_real tmp49 = 6*tmp29*tmp48;
         const codegen_real tmp50 = d*tmp46;
         const codegen_real tmp51 = tmp36*tmp50;
-        const codegen_real tmp52 = codegen_pow(a_2, CODEGEN_R(5.0))*d*tmp42 - codegen_pow(d, CODEGEN_R(6.0))*tmp36 + 10*codegen_pow(d, CODEGEN_R(5.0))*tmp0*tmp45 - tmp1*tmp39 - 8*tmp1*tmp41 + tmp2*tmp40 - tmp2*tmp49 - tmp2*tmp51 + 8*tmp20*tmp25*tmp44 + 12*tmp20*tmp29*tmp46 + 4*tmp21*tmp37*tmp43 - 16*tmp21*tmp38 + tmp27*tmp39 + 4*tmp27*tmp41 + tmp3*tmp40 - tmp3*tmp49 - tmp3*tmp51 + tmp36*tmp43*tmp5 - 4*tmp38;
+        const codegen_real tmp52 = (a_2*a_2*a_2*a_2*a_2)*d*tmp42 - (d*d*d*d*d*d)*tmp36 + 10*(d*d*d*d*d)*tmp0*tmp45 - tmp1*tmp39 - 8*tmp1*tmp41 + tmp2*tmp40 - tmp2*tmp49 - tmp2*tmp51 + 8*tmp20*tmp25*tmp44 + 12*tmp20*tmp29*tmp46 + 4*tmp21*tmp37*tmp43 - 16*tmp21*tmp38 + tmp27*tmp39 + 4*tmp27*tmp41 + tmp3*tmp40 - tmp3*tmp49 - tmp3*tmp51 + tmp36*tmp43*tmp5 - 4*tmp38;
         const codegen_real tmp53 = -2*a_2*d*tmp15*tmp21*tmp3 - 2*a_2*d*tmp15*tmp3*tmp31 - tmp0*tmp15*tmp2*tmp5 - tmp0*tmp15*tmp2*tmp6 - tmp11*tmp13*tmp29*tmp5 + tmp14*tmp30 + tmp16*tmp27 + tmp16*tmp28 + tmp32*tmp34 + tmp34*tmp35 + tmp52;
         const codegen_real tmp54 = 1/(tmp12*tmp12);
         const codegen_real g = params->g;
@@ -1870,18 +1870,18 @@ void four_bar_equilibrium_branches_kernel(const four_bar_params *params, codegen
         const codegen_real tmp82 = tmp8*tmp80;
         const codegen_real tmp83 = -tmp0*tmp71*tmp8 + tmp1*tmp71*tmp9 + tmp25*tmp71 - tmp28*tmp71 - tmp39*tmp81 + tmp39*tmp82 - tmp62*tmp81 + tmp62*tmp82;
         const codegen_real tmp84 = -tmp30*tmp76 + tmp40*tmp75*tmp79 + 3*tmp72 + 3*tmp74 - tmp76*tmp77 + 6*tmp78 + tmp83;
-        const codegen_real tmp85 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp85 = (d*d*d*d*d*d);
         const codegen_real tmp86 = tmp44*tmp73;
         const codegen_real tmp87 = tmp8*tmp86;
         const codegen_real tmp88 = tmp86*tmp9;
         const codegen_real tmp89 = tmp1*tmp17;
         const codegen_real tmp90 = tmp13*tmp89;
-        const codegen_real tmp91 = codegen_pow(a_2, CODEGEN_R(5.0))*d*tmp45;
+        const codegen_real tmp91 = (a_2*a_2*a_2*a_2*a_2)*d*tmp45;
         const codegen_real tmp92 = tmp0*tmp28*tmp44;
         const codegen_real tmp93 = tmp1*tmp44;
         const codegen_real tmp94 = tmp25*tmp93;
         const codegen_real tmp95 = 8*tmp29*tmp37*tmp79;
-        const codegen_real tmp96 = 10*codegen_pow(d, CODEGEN_R(5.0))*tmp18*tmp2;
+        const codegen_real tmp96 = 10*(d*d*d*d*d)*tmp18*tmp2;
         const codegen_real tmp97 = 12*tmp17*tmp29*tmp34;
         const codegen_real tmp98 = tmp0*tmp17;
         const codegen_real tmp99 = 4*tmp38;
@@ -7059,14 +7059,14 @@ void four_bar_sigma_fast_kernel(const four_bar_params *params, codegen_real out[
         const codegen_real tmp173 = (((codegen_real)1/2))*a_2*k*tmp10*tmp170 - tmp172;
         const codegen_real tmp174 = tmp17*tmp19;
         const codegen_real tmp175 = 24*tmp174;
-        const codegen_real tmp176 = codegen_pow(a_2, CODEGEN_R(5.0))*tmp114;
-        const codegen_real tmp177 = 20*a_2*codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp176 = (a_2*a_2*a_2*a_2*a_2)*tmp114;
+        const codegen_real tmp177 = 20*a_2*(d*d*d*d*d);
         const codegen_real tmp178 = tmp1*tmp81;
         const codegen_real tmp179 = tmp2*tmp81;
         const codegen_real tmp180 = tmp1*tmp104;
         const codegen_real tmp181 = tmp104*tmp2;
         const codegen_real tmp182 = tmp176 + tmp177 - tmp178 - tmp179 - tmp180 - tmp181;
-        const codegen_real tmp183 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp183 = (d*d*d*d*d*d);
         const codegen_real tmp184 = 12*tmp87;
         const codegen_real tmp185 = tmp32*tmp6;
         const codegen_real tmp186 = tmp1*tmp184 - 12*tmp183 + tmp184*tmp2 + 4*tmp185 + tmp33*tmp47 + 8*tmp5*tmp87 + 4*tmp6*tmp85;
@@ -7870,7 +7870,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp30 = tmp0*tmp29;
         const codegen_real tmp31 = tmp11*tmp30;
         const codegen_real tmp32 = 2*tmp3;
-        const codegen_real tmp33 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp33 = (d*d*d*d*d);
         const codegen_real tmp34 = a_2*tmp33;
         const codegen_real tmp35 = tmp24*tmp3;
         const codegen_real tmp36 = tmp11*tmp7;
@@ -7902,7 +7902,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp62 = tmp29*tmp41;
         const codegen_real tmp63 = 2*tmp30;
         const codegen_real tmp64 = tmp11*tmp63 + tmp61 + tmp62;
-        const codegen_real tmp65 = codegen_pow(a_2, CODEGEN_R(5.0))*d;
+        const codegen_real tmp65 = (a_2*a_2*a_2*a_2*a_2)*d;
         const codegen_real tmp66 = tmp32*tmp65;
         const codegen_real tmp67 = tmp29*tmp57;
         const codegen_real tmp68 = tmp18*tmp55;
@@ -7934,7 +7934,7 @@ void four_bar_linearisation_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp92 = tmp0*tmp11;
         const codegen_real tmp93 = tmp91*tmp92;
         const codegen_real tmp94 = 12*tmp93;
-        const codegen_real tmp95 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp95 = (d*d*d*d*d*d);
         const codegen_real tmp96 = 2*tmp2;
         const codegen_real tmp97 = tmp41*tmp96;
         const codegen_real tmp98 = tmp38*tmp8;
@@ -8155,7 +8155,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp30 = tmp0*tmp29;
         const codegen_real tmp31 = tmp11*tmp30;
         const codegen_real tmp32 = 2*tmp3;
-        const codegen_real tmp33 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp33 = (d*d*d*d*d);
         const codegen_real tmp34 = a_2*tmp33;
         const codegen_real tmp35 = tmp24*tmp3;
         const codegen_real tmp36 = tmp11*tmp7;
@@ -8187,7 +8187,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp62 = tmp29*tmp41;
         const codegen_real tmp63 = 2*tmp30;
         const codegen_real tmp64 = tmp11*tmp63 + tmp61 + tmp62;
-        const codegen_real tmp65 = codegen_pow(a_2, CODEGEN_R(5.0))*d;
+        const codegen_real tmp65 = (a_2*a_2*a_2*a_2*a_2)*d;
         const codegen_real tmp66 = tmp32*tmp65;
         const codegen_real tmp67 = tmp29*tmp57;
         const codegen_real tmp68 = tmp18*tmp55;
@@ -8222,7 +8222,7 @@ void four_bar_vibration_kernel(const four_bar_params *params, codegen_real theta
         const codegen_real tmp95 = tmp0*tmp11;
         const codegen_real tmp96 = tmp94*tmp95;
         const codegen_real tmp97 = 12*tmp96;
-        const codegen_real tmp98 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp98 = (d*d*d*d*d*d);
         const codegen_real tmp99 = 2*tmp2;
         const codegen_real tmp100 = tmp41*tmp99;
         const codegen_real tmp101 = tmp38*tmp8;
@@ -8516,7 +8516,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp97 = tmp89*tmp96;
         const codegen_real tmp98 = 6*tmp91 + 3*tmp95 + 3*tmp97;
         const codegen_real tmp99 = 2*tmp57;
-        const codegen_real tmp100 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp100 = (a_2*a_2*a_2*a_2*a_2);
         const codegen_real tmp101 = d*tmp100;
         const codegen_real tmp102 = tmp1*tmp3;
         const codegen_real tmp103 = tmp19*tmp99;
@@ -8537,7 +8537,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp118 = tmp117*tmp9;
         const codegen_real tmp119 = tmp113 + tmp115 + tmp116 - tmp118;
         const codegen_real tmp120 = -12*tmp109 - tmp110*tmp111 + tmp119;
-        const codegen_real tmp121 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp121 = (d*d*d*d*d);
         const codegen_real tmp122 = a_2*tmp121;
         const codegen_real tmp123 = 4*tmp31;
         const codegen_real tmp124 = tmp19*tmp57;
@@ -8583,7 +8583,7 @@ void four_bar_mode_linearisation_kernel(const four_bar_params *params, codegen_r
         const codegen_real tmp164 = tmp52*tmp8;
         const codegen_real tmp165 = -tmp102*tmp16*tmp8 - tmp114*tmp16*tmp3 - tmp139*tmp163 + tmp139*tmp164 - tmp142*tmp163 + tmp142*tmp164 + tmp146*tmp16 + tmp16*tmp162;
         const codegen_real tmp166 = -tmp132*tmp16*tmp88 + 3*tmp153 + 3*tmp154 - tmp155*tmp88 + tmp157*tmp16 + tmp16*tmp161 + tmp165;
-        const codegen_real tmp167 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp167 = (d*d*d*d*d*d);
         const codegen_real tmp168 = 2*tmp18;
         const codegen_real tmp169 = tmp168*tmp96;
         const codegen_real tmp170 = tmp169*tmp8;
@@ -9061,7 +9061,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp142 = 3*tmp117 + 3*tmp120 - tmp121*tmp124 - tmp123*tmp17 + tmp125*tmp127 + tmp127*tmp129 + tmp141;
         const codegen_real tmp143 = tmp15*tmp21;
         const codegen_real tmp144 = tmp1*tmp143;
-        const codegen_real tmp145 = 2*codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp145 = 2*(d*d*d*d*d*d);
         const codegen_real tmp146 = tmp145*tmp21;
         const codegen_real tmp147 = tmp118*tmp21;
         const codegen_real tmp148 = 4*tmp0;
@@ -9076,7 +9076,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp157 = tmp147*tmp156*tmp49;
         const codegen_real tmp158 = tmp1*tmp49;
         const codegen_real tmp159 = 8*tmp150*tmp158;
-        const codegen_real tmp160 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp160 = (a_2*a_2*a_2*a_2*a_2);
         const codegen_real tmp162 = tmp153*tmp160*tmp161;
         const codegen_real tmp163 = 2*tmp34;
         const codegen_real tmp164 = tmp0*tmp163;
@@ -9085,7 +9085,7 @@ void four_bar_equilibrium_state_kernel(const four_bar_params *params, codegen_re
         const codegen_real tmp167 = tmp1*tmp166*tmp21;
         const codegen_real tmp168 = 8*tmp128;
         const codegen_real tmp169 = tmp168*tmp37*tmp47;
-        const codegen_real tmp170 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp170 = (d*d*d*d*d);
         const codegen_real tmp171 = 10*tmp170*tmp21*tmp3;
         const codegen_real tmp172 = 12*tmp37;
         const codegen_real tmp173 = tmp2*tmp47;
@@ -9442,7 +9442,7 @@ void four_bar_motion_signs1_kernel(const four_bar_params *params, codegen_real t
         const codegen_real m_2 = params->m_2;
         const codegen_real tmp101 = m_2*tmp0;
         const codegen_real tmp102 = (((codegen_real)1/4))*tmp101;
-        const codegen_real tmp103 = codegen_pow(a_2, CODEGEN_R(5.0));
+        const codegen_real tmp103 = (a_2*a_2*a_2*a_2*a_2);
         const codegen_real tmp104 = -2*d*tmp103*tmp84;
         const codegen_real tmp105 = tmp0*tmp11;
         const codegen_real tmp106 = tmp105*tmp22;
@@ -9466,7 +9466,7 @@ void four_bar_motion_signs1_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp125 = tmp124*tmp20;
         const codegen_real tmp126 = 6*tmp22;
         const codegen_real tmp127 = tmp116*tmp126 + 3*tmp122 + 3*tmp125;
-        const codegen_real tmp128 = codegen_pow(d, CODEGEN_R(5.0));
+        const codegen_real tmp128 = (d*d*d*d*d);
         const codegen_real tmp129 = tmp1*tmp10;
         const codegen_real tmp130 = tmp129*tmp22;
         const codegen_real tmp131 = tmp130*tmp20;
@@ -9519,7 +9519,7 @@ void four_bar_motion_signs1_kernel(const four_bar_params *params, codegen_real t
         const codegen_real tmp176 = 2*tmp11;
         const codegen_real tmp177 = a_2*tmp21;
         const codegen_real tmp178 = tmp177*tmp39;
-        const codegen_real tmp179 = codegen_pow(d, CODEGEN_R(6.0));
+        const codegen_real tmp179 = (d*d*d*d*d*d);
         const codegen_real tmp180 = 4*tmp0;
         const codegen_real tmp181 = tmp26*tmp37;
         const codegen_real tmp182 = tmp103*tmp4;

@@ -23,6 +23,9 @@ from .plan import CFunction
 C_REAL, CFFI_REAL = "codegen_real", "double"
 #: Integers up to this size are exact in float as well as in double.
 EXACT_INTEGER = 2**24
+#: Integer (and half-integer) powers up to this are written as products: libm's pow costs
+#: tens of multiplications (the four-bar's kernels raise lengths to the 5th and 6th).
+MAX_PRODUCT_POWER = 8
 #: libm as SymPy's C printer names it, and as codegen_real.h maps it for the real type.
 _LIBM_CALL = re.compile(r"(?<![\w.])(atan2|atan|ceil|copysign|cos|fabs|fma|fmax|fmin|pow|sin|"
                         r"sqrt|tan)\(")
@@ -76,7 +79,7 @@ class RealPrinter(C99CodePrinter):
 
     def _print_Pow(self, expr):
         base, exp = expr.base, expr.exp
-        if exp.is_Rational and exp.q in (1, 2) and 0 < abs(exp) <= 4 and exp != sp.S.Half:
+        if exp.is_Rational and exp.q in (1, 2) and 0 < abs(exp) <= MAX_PRODUCT_POWER and exp != sp.S.Half:
             whole, half = divmod(abs(exp.p), 2) if exp.q == 2 else (abs(exp.p), 0)
             b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"])
             factors = [b] * whole + ([self._print(sp.sqrt(base))] if half else [])
@@ -84,7 +87,7 @@ class RealPrinter(C99CodePrinter):
             if exp > 0:
                 return product if len(factors) == 1 else f"({product})"
             return f"1/({product})"
-        if exp.is_Integer:  # pow(x, 5) would call the double pow through <tgmath.h>
+        if exp.is_Integer:  # pow(x, 9) would call the double pow through <tgmath.h>
             b = self._print(base)
             return f"pow({b}, CODEGEN_R({int(exp)}.0))"
         return super()._print_Pow(expr)
