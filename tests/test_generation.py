@@ -74,7 +74,7 @@ def test_generated_files_name_their_origin_and_no_timestamp():
         assert "2026" not in text and "UTC" not in text, f"{name} carries a date"
 
 
-@pytest.mark.parametrize("form", ["", "-DCODEGEN_INLINE_INTERVALS"],
+@pytest.mark.parametrize("form", ["-DCODEGEN_INTERVAL_PROGRAMS", "-DCODEGEN_INLINE_INTERVALS"],
                          ids=["interval-programs", "inline-intervals"])
 @pytest.mark.parametrize("source", sorted(f"{p.parent.name}/{p.name}"
                                           for p in GENERATED.glob("*/*.c")))

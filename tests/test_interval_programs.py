@@ -1,9 +1,10 @@
 """The two forms of every generated enclosure give the same bounds bit for bit.
 
-By default a library runs its interval enclosures of G and G' as programs
-(codegen_iv_run over a few slots: small stack and code, for firmware); compiled with
--DCODEGEN_INLINE_INTERVALS it expands them as inline calls, one local per operation (faster
-on a host; the Python extension's form). A driver prints PREFIX_enclosure of every mode over random
+A library runs its interval enclosures of G and G' as programs (codegen_iv_run over a few
+slots: small stack and code, for firmware; the default on 32-bit targets, or
+-DCODEGEN_INTERVAL_PROGRAMS) or expands them as inline calls, one local per operation
+(-DCODEGEN_INLINE_INTERVALS; faster, the default on 64-bit targets and the Python
+extension's form). A driver prints PREFIX_enclosure of every mode over random
 intervals, from narrow to several turns wide, at parameter sets around the example; it is
 compiled in both forms and in both real types, and the outputs must agree exactly. The
 layer below is tested on its own too: the emission's slot allocation never reads a slot
@@ -93,7 +94,7 @@ def _inputs(name: str, seed: int) -> str:
 @pytest.mark.parametrize("name", MECHANISMS)
 def test_interval_programs_and_inline_enclosures_agree_bit_for_bit(name, real, tmp_path):
     flags = ["-DCODEGEN_FLOAT"] if real == "float" else []
-    programs = _driver(tmp_path, name, flags)
+    programs = _driver(tmp_path, name, [*flags, "-DCODEGEN_INTERVAL_PROGRAMS"])
     inline = _driver(tmp_path, name, [*flags, "-DCODEGEN_INLINE_INTERVALS"])
     for seed in (1, 2):
         text = _inputs(name, seed)

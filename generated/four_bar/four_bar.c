@@ -9728,10 +9728,11 @@ four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIG
     codegen_real work[CODEGEN_ROOTS_WORK(FOUR_BAR_DEGREE)];
     return four_bar_poly_real_roots_kernel_work(sigma, theta, n_roots, work);
 }
-/* Each mode's enclosures. By default as interval programs, run by codegen_iv_run over the
- * caller's slots v (small stack and code: for firmware); with CODEGEN_INLINE_INTERVALS, as
- * inline calls, one local per operation (faster on a host: the isolation route ~15 %, but
- * the compiler gives temporaries their own stack slots, up to ~20 KB in one frame). The
+/* Each mode's enclosures. With CODEGEN_INLINE_INTERVALS (by default on 64-bit targets:
+ * codegen_interval.h) as inline calls, one local per operation (fastest where they stay in
+ * registers); otherwise, or with CODEGEN_INTERVAL_PROGRAMS, as interval programs run by
+ * codegen_iv_run over the caller's slots v (small stack and code: for firmware, where the
+ * inline form's temporaries take their own stack slots, up to ~20 KB in one frame). The
  * same bounds bit for bit either way. The
  * operations theta does not reach run once per parameter set (prepare_enclosures), their
  * values kept in v[0..280). */

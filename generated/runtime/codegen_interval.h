@@ -257,11 +257,23 @@ codegen_iv codegen_iv_sin(codegen_iv a);
 
 /* ---- Interval programs ---- */
 
-/* A long enclosure written as inline calls keeps every temporary in its own stack slot
- * (gcc: ~20 KB in one frame for the four-bar); as a table of three-address instructions
- * over caller-provided slots, run by codegen_iv_run, it needs only the slots, reused as soon
- * as a value is consumed, and far less code. Each instruction calls the operation above
- * that the inline form calls, so both give the same bounds bit for bit. */
+/* A long enclosure written as inline calls, one local per operation, is fastest where the
+ * compiler keeps them in registers, but on a 32-bit target with single-precision registers
+ * it gives temporaries their own stack slots (gcc on a Cortex-M4: 19 KB in one frame for the
+ * four-bar). As a table of three-address instructions over caller-provided slots, run by
+ * codegen_iv_run, it needs only the slots, reused as soon as a value is consumed, and far less
+ * code. Each instruction calls the operation above that the inline form calls, so both give
+ * the same bounds bit for bit. The generated libraries take the inline form where
+ * CODEGEN_INLINE_INTERVALS is defined, as it is by default on 64-bit x86 and ARM (frames of
+ * a few hundred bytes there, and analyses ~10 % faster), and the programs otherwise: define
+ * CODEGEN_INTERVAL_PROGRAMS for them on any target (a thread with a small stack, less code). */
+#if defined(CODEGEN_INLINE_INTERVALS) && defined(CODEGEN_INTERVAL_PROGRAMS)
+#error "codegen_interval.h: CODEGEN_INLINE_INTERVALS and CODEGEN_INTERVAL_PROGRAMS both defined"
+#endif
+#if !defined(CODEGEN_INLINE_INTERVALS) && !defined(CODEGEN_INTERVAL_PROGRAMS) \
+    && (defined(__x86_64__) || defined(_M_X64) || defined(__aarch64__) || defined(_M_ARM64))
+#define CODEGEN_INLINE_INTERVALS 1
+#endif
 typedef enum codegen_iv_operation {
     CODEGEN_IV_CONST, /* v[destination] = constants[left] */
     CODEGEN_IV_ADD,   /* v[destination] = v[left] + v[right] */
