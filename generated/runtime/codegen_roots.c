@@ -545,23 +545,20 @@ static int cdiv(codegen_real ar, codegen_real ai, codegen_real br, codegen_real 
     return 1;
 }
 
-/* p (value s) and p' (value d) at the complex point x by Horner's rule, where p has the
- * coefficients a[0..m], or a[m..0] when reversed (the polynomial x^m p(1/x)); *mag receives
- * sum |a_i| |x|^i. Complex Horner is within 8 (m + 1) eps of *mag of the truth (each complex
- * product and sum adds at most (2 + sqrt 2) eps). */
+/* p at the complex point x by Horner's rule, where p has the coefficients a[0..m], or a[m..0]
+ * when reversed (the polynomial x^m p(1/x)); *mag receives sum |a_i| |x|^i. Complex Horner
+ * is within 8 (m + 1) eps of *mag of the truth (each complex product and sum adds at most
+ * (2 + sqrt 2) eps). */
 static void chorner(const codegen_real *a, int m, int reversed, codegen_real xr, codegen_real xi,
-                    codegen_real *s, codegen_real *d, codegen_real *mag)
+                    codegen_real *s, codegen_real *mag)
 {
     const codegen_real ax = codegen_sqrt(xr * xr + xi * xi);
     const int step = reversed ? 1 : -1;                 /* from the top coefficient down */
     const codegen_real *c = reversed ? a : a + m;
-    codegen_real sr = *c, si = 0, dr = 0, di = 0;
+    codegen_real sr = *c, si = 0;
     codegen_real g = codegen_fabs(sr);
     for (int k = m - 1; k >= 0; --k) {
         c += step;
-        const codegen_real tr = dr * xr - di * xi + sr;
-        di = dr * xi + di * xr + si;
-        dr = tr;
         const codegen_real ur = sr * xr - si * xi + *c;
         si = sr * xi + si * xr;
         sr = ur;
@@ -569,43 +566,126 @@ static void chorner(const codegen_real *a, int m, int reversed, codegen_real xr,
     }
     s[0] = sr;
     s[1] = si;
-    d[0] = dr;
-    d[1] = di;
     *mag = g;
 }
 
 #define CR_HORNER_ERR(m, mag) (CODEGEN_R(8.0) * (codegen_real)((m) + 1) * CODEGEN_EPSILON * (mag))
 
-/* chorner at z where |z| <= 1; beyond, of the reversed polynomial r(y) = y^m p(1/y) at y = 1/z
- * (nothing overflows, whatever |z|). Returns 1 in the second case. */
-static int chorner_at(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *s,
-                      codegen_real *d, codegen_real *mag)
+/* The chart for z: y = z where |z| <= 1, else y = 1/z, of the reversed polynomial
+ * r(y) = y^m p(1/y) (nothing overflows, whatever |z|). Returns 1 in the second case. */
+static int chart_point(codegen_real zr, codegen_real zi, codegen_real *yr, codegen_real *yi)
 {
     const codegen_real z2 = zr * zr + zi * zi;
     const int reversed = z2 > 1;
-    chorner(a, m, reversed, reversed ? zr / z2 : zr, reversed ? -zi / z2 : zi, s, d, mag);
+    *yr = reversed ? zr / z2 : zr;
+    *yi = reversed ? -zi / z2 : zi;
     return reversed;
 }
 
-/* The Newton correction N = p(z) / p'(z); for |z| > 1 from r (chorner_at) at y = 1/z:
- * N = z / (m - y r'(y) / r(y)).
+/* chorner in the chart of z. Returns 1 where it took the reversed polynomial. */
+static int chorner_at(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *s,
+                      codegen_real *mag)
+{
+    codegen_real yr, yi;
+    const int reversed = chart_point(zr, zi, &yr, &yi);
+    chorner(a, m, reversed, yr, yi, s, mag);
+    return reversed;
+}
+
+/* p and p' at x + iy in real arithmetic, for the iteration (Knuth 4.6.4): with
+ * q(t) = t^2 - r t + n (r = 2x, n = x^2 + y^2), which vanishes at x + iy, B runs the division
+ * of p by q (p(x + iy) = B_m - x B_{m-1} + i y B_{m-1}) and D, one coefficient behind, the
+ * division of the quotient (p' = B_{m-1} - 2 y^2 D_{m-3} + 2 i y (D_{m-2} - x D_{m-3})): half
+ * the operations of complex Horner, and a shorter chain. Its rounding is not bounded: the
+ * iteration only steers, and the discs bound their values afresh (chorner). */
+typedef struct steer {
+    const codegen_real *c;          /* the next coefficient */
+    int step;
+    codegen_real x, y, r, n, ax;
+    codegen_real b1, b2, d1, d2, g; /* B_k, B_{k-1}, D_{k-1}, D_{k-2}; sum |a_i| |x|^i */
+} steer;
+
+static void steer_start(steer *h, const codegen_real *a, int m, int reversed, codegen_real x,
+                        codegen_real y)
+{
+    h->step = reversed ? 1 : -1;
+    h->c = reversed ? a : a + m;
+    h->x = x;
+    h->y = y;
+    h->r = 2 * x;
+    h->n = x * x + y * y;
+    h->ax = codegen_sqrt(h->n);
+    h->b1 = *h->c;
+    h->b2 = h->d1 = h->d2 = 0;
+    h->g = codegen_fabs(*h->c);
+}
+
+static inline void steer_next(steer *h)
+{
+    h->c += h->step;
+    const codegen_real dn = h->b2 + h->r * h->d1 - h->n * h->d2;
+    h->d2 = h->d1;
+    h->d1 = dn;
+    const codegen_real bn = *h->c + h->r * h->b1 - h->n * h->b2;
+    h->b2 = h->b1;
+    h->b1 = bn;
+    h->g = h->g * h->ax + codegen_fabs(*h->c);
+}
+
+/* out: p (2), p' (2), sum |a_i| |x|^i */
+static void steer_end(const steer *h, codegen_real *out)
+{
+    out[0] = h->b1 - h->x * h->b2;
+    out[1] = h->y * h->b2;
+    out[2] = h->b2 - 2 * h->y * h->y * h->d2;
+    out[3] = 2 * h->y * (h->d1 - h->x * h->d2);
+    out[4] = h->g;
+}
+
+/* p and p' in the charts of two points at once: two independent chains (one where k < 0). */
+static void steer_values(const codegen_real *a, int m, const codegen_real *zr, const codegen_real *zi,
+                         int i, int k, int *reversed, codegen_real (*out)[5])
+{
+    steer h[2];
+    const int n = k < 0 ? 1 : 2;
+    for (int t = 0; t < n; ++t) {
+        const int j = t == 0 ? i : k;
+        codegen_real yr, yi;
+        reversed[t] = chart_point(zr[j], zi[j], &yr, &yi);
+        steer_start(&h[t], a, m, reversed[t], yr, yi);
+    }
+    if (n == 2) {
+        for (int s = 0; s < m; ++s) {
+            steer_next(&h[0]);
+            steer_next(&h[1]);
+        }
+    } else {
+        for (int s = 0; s < m; ++s) {
+            steer_next(&h[0]);
+        }
+    }
+    for (int t = 0; t < n; ++t) {
+        steer_end(&h[t], out[t]);
+    }
+}
+
+/* The Newton correction N = p(z) / p'(z) from steer_values' v in z's chart; for |z| > 1
+ * from r at y = 1/z: N = z / (m - y r'(y) / r(y)).
  * *small = 1 when |p(z)| is within Horner's error bound: z is a root to working precision.
  * Returns 0 where the correction does not exist (p'(z) = 0, or not finite). */
-static int newton_ratio(const codegen_real *a, int m, codegen_real zr, codegen_real zi, codegen_real *nr,
-                        codegen_real *ni, int *small)
+static int newton_ratio(const codegen_real *v, int reversed, int m, codegen_real zr, codegen_real zi,
+                        codegen_real *nr, codegen_real *ni, int *small)
 {
-    codegen_real s[2], d[2], mag;
-    const int reversed = chorner_at(a, m, zr, zi, s, d, &mag);
-    const codegen_real err = CR_HORNER_ERR(m, mag);
-    *small = s[0] * s[0] + s[1] * s[1] <= err * err;
+    const codegen_real err = CR_HORNER_ERR(m, v[4]);
+    *small = v[0] * v[0] + v[1] * v[1] <= err * err;
     if (*small) {
         return 1;
     }
     if (!reversed) {
-        return cdiv(s[0], s[1], d[0], d[1], nr, ni);
+        return cdiv(v[0], v[1], v[2], v[3], nr, ni);
     }
     codegen_real qr, qi;                                  /* r'(y) / r(y), then y times it */
-    if (!cdiv(d[0], d[1], s[0], s[1], &qr, &qi)) {
+    if (!cdiv(v[2], v[3], v[0], v[1], &qr, &qi)) {
         return 0;
     }
     const codegen_real z2 = zr * zr + zi * zi, yr = zr / z2, yi = -zi / z2;
@@ -663,7 +743,9 @@ static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen
 
 /* Gauss-Seidel Ehrlich-Aberth sweeps: z_i -= N / (1 - N sum_{j != i} 1 / (z_i - z_j)), N the
  * Newton correction, until every z_i is a root to working precision or moves by less than its
- * resolution. done: m values of scratch. Returns 1 when all converged. */
+ * resolution. Each z_i's values are taken together with those of the next z_k still moving,
+ * which stays where it is until its own turn (the same iteration, two chains at once).
+ * done: m values of scratch. Returns 1 when all converged. */
 static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi, codegen_real *done)
 {
     int left = m;
@@ -671,13 +753,24 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
         done[i] = 0;
     }
     for (int it = 0; it < CR_FAST_MAXIT && left > 0; ++it) {
+        codegen_real values[2][5];
+        int reversed[2], ahead = -1;
         for (int i = 0; i < m; ++i) {
             codegen_real nr, ni, sr = 0, si = 0, wr, wi;
-            int small;
+            int small, t = 1;
             if (done[i] != 0) {
                 continue;
             }
-            if (!newton_ratio(a, m, zr[i], zi[i], &nr, &ni, &small)) {
+            if (i != ahead) {
+                int k = i + 1;
+                while (k < m && done[k] != 0) {
+                    ++k;
+                }
+                ahead = k < m ? k : -1;
+                steer_values(a, m, zr, zi, i, ahead, reversed, values);
+                t = 0;
+            }
+            if (!newton_ratio(values[t], reversed[t], m, zr[i], zi[i], &nr, &ni, &small)) {
                 return 0;
             }
             if (small) {
@@ -744,27 +837,37 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
     const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
     const codegen_real lead = bound != NULL ? codegen_fabs(a[m]) - bound[m] : codegen_fabs(a[m]);
     if (!(value >= 0)) {
-        codegen_real s[2], d[2], mag;
-        (void)chorner_at(a, m, zr[i], zi[i], s, d, &mag);
+        codegen_real s[2], mag;
+        (void)chorner_at(a, m, zr[i], zi[i], s, &mag);
         value = codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag);
     }
     codegen_real t = (codegen_real)m * (value + widen) / lead;
-    /* prod_j (f / |z_i - z_j|), f = |z_i| or 1, as the square root of the product of the
-     * squares (one square root, not m - 1) where every factor and partial product stays
-     * normal and finite, so that each operation keeps its relative rounding (the factor 2
-     * below covers them); else factor by factor */
-    const codegen_real f2 = reversed ? az * az : 1;
-    codegen_real squares = 1;
+    /* prod_j (f / |z_i - z_j|), f = |z_i| or 1, as one over the square root of the product of
+     * |z_i - z_j|^2 / f^2 (one division and one square root, not m - 1: products in two chains,
+     * every other factor in each) where every factor and partial product stays normal and
+     * finite, so that each operation keeps its relative rounding (the factor 2 below covers
+     * them); else factor by factor */
+    const codegen_real f2 = reversed ? az * az : 1, shrink = 1 / f2;
+    codegen_real even = 1, odd = 1;
     int normal = f2 < CODEGEN_REAL_MAX;
     for (int j = 0; j < m && normal; ++j) {
         if (j != i) {
             const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j], d2 = dr * dr + di * di;
-            squares = squares * f2 / d2;
-            normal = d2 >= CODEGEN_REAL_MIN && squares >= CODEGEN_REAL_MIN && squares < CODEGEN_REAL_MAX;
+            const codegen_real q = d2 * shrink;
+            if (j & 1) {
+                odd = odd * q;
+            } else {
+                even = even * q;
+            }
+            normal = d2 >= CODEGEN_REAL_MIN && q >= CODEGEN_REAL_MIN && q < CODEGEN_REAL_MAX
+                  && even >= CODEGEN_REAL_MIN && even < CODEGEN_REAL_MAX
+                  && odd >= CODEGEN_REAL_MIN && odd < CODEGEN_REAL_MAX;
         }
     }
+    const codegen_real squares = even * odd;
+    normal = normal && squares >= CODEGEN_REAL_MIN && squares < CODEGEN_REAL_MAX;
     if (normal) {
-        t = t * codegen_sqrt(squares);
+        t = t / codegen_sqrt(squares);
     } else {
         for (int j = 0; j < m; ++j) {
             if (j != i) {
