@@ -31,8 +31,10 @@ MECHANISMS = generated_libraries(GENERATED, several=False)  # theirs: tests/test
 DRIVER = r"""
 #include <stdio.h>
 #include "%(prefix)s.h"
+#include "%(prefix)s_kernels.h"
 
-/* Parameters (the header's order), then "lo hi" lines: every mode's enclosure as hex. */
+/* Parameters (the header's order), then "lo hi" lines: every mode's enclosure as hex, then
+ * the kernel's G alone (dg NULL) and its flags alone (g NULL too). */
 int main(void)
 {
     %(prefix)s_params params;
@@ -52,9 +54,16 @@ int main(void)
             int status;
             t[0] = (codegen_real)theta[0];
             t[1] = (codegen_real)theta[1];
+            codegen_iv value;
+            unsigned value_flags = 0, smooth_flags = 0;
             status = (int)%(prefix)s_enclosure(&params, mode, t, g, dg, &flags);
-            printf("%%d %%a %%a %%a %%a %%u\n", status, (double)g[0], (double)g[1], (double)dg[0],
-                   (double)dg[1], flags);
+            (void)%(prefix)s_enclosure_kernel(&params, mode, codegen_iv_make(t[0], t[1]), &value,
+                                              NULL, &value_flags);
+            (void)%(prefix)s_enclosure_kernel(&params, mode, codegen_iv_make(t[0], t[1]), NULL,
+                                              NULL, &smooth_flags);
+            printf("%%d %%a %%a %%a %%a %%u %%a %%a %%u %%u\n", status, (double)g[0], (double)g[1],
+                   (double)dg[0], (double)dg[1], flags, (double)value.lo, (double)value.hi,
+                   value_flags, smooth_flags);
         }
     }
     return 0;
@@ -104,6 +113,25 @@ def test_interval_programs_and_inline_enclosures_agree_bit_for_bit(name, real, t
                            check=True).stdout
         assert a.count("\n") == 400 * int(load(name).SPEC["sizes"]["N_MODES"])
         assert a == b
+
+
+@pytest.mark.parametrize("name", MECHANISMS)
+def test_the_flags_alone_say_where_g_is_smooth(name, tmp_path):
+    """The flags-only enclosure (g NULL: G's divisions and square roots alone, which the
+    analysis' sign tests ask where a span is expected to hold a zero) raises the flags G's own
+    enclosure raises: the same operations on the same expressions. Where it raises none, G's
+    enclosure is finite (no pole, every root defined). (The intervals reach several turns: the
+    four-bar's and the slider-crank's raise flags on a few hundred of them.)"""
+    exe = _driver(tmp_path, name, [])
+    for seed in (1, 2):
+        for line in subprocess.run([str(exe)], input=_inputs(name, seed), capture_output=True,
+                                   text=True, check=True).stdout.splitlines():
+            fields = line.split()
+            lo, hi = float.fromhex(fields[6]), float.fromhex(fields[7])
+            value_flags, smooth_flags = int(fields[8]), int(fields[9])
+            assert smooth_flags == value_flags, line
+            if smooth_flags == 0:
+                assert math.isfinite(lo) and math.isfinite(hi), line
 
 
 def _number(text: str) -> float:

@@ -153,7 +153,8 @@ doughty_status doughty_poly_real_roots_kernel_work(const codegen_real sigma[DOUG
 
 /* doughty_enclosure on an interval of codegen_iv (mode < DOUGHTY_N_MODES, else
  * DOUGHTY_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
- * (a smaller program; the flags are those G's own operations raise). */
+ * (a smaller program; the flags are those G's own operations raise); with g NULL too, only
+ * G's divisions and square roots run, for their flags (whether G is smooth over theta). */
 doughty_status doughty_enclosure_kernel(const doughty_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

@@ -9735,10 +9735,10 @@ four_bar_status four_bar_poly_real_roots(const codegen_real sigma[FOUR_BAR_N_SIG
  * inline form's temporaries take their own stack slots, up to ~20 KB in one frame). The
  * same bounds bit for bit either way. The
  * operations theta does not reach run once per parameter set (prepare_enclosures), their
- * values kept in v[0..280). */
+ * values kept in v[0..326). */
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * At each theta, 664 instructions (as a program, over the slots v from 280); the 168 theta does not reach
+ * At each theta, 664 instructions (as a program, over the slots v from 326); the 168 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_mode_0(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -9747,670 +9747,670 @@ static void enclose_mode_0(const four_bar_params *params, codegen_iv theta,
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[664] = {
-        {CODEGEN_IV_COS, 294, 293, 0},
-        {CODEGEN_IV_MUL, 297, 281, 294},
-        {CODEGEN_IV_MUL, 298, 280, 297},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 298},
-        {CODEGEN_IV_SUB, 300, 2, 299},
-        {CODEGEN_IV_CONST, 301, 1, 0},
-        {CODEGEN_IV_POW, 302, 300, 2},
-        {CODEGEN_IV_DIV, 302, 301, 302},
-        {CODEGEN_IV_CONST, 301, 1, 0},
-        {CODEGEN_IV_POW, 303, 300, 1},
-        {CODEGEN_IV_DIV, 303, 301, 303},
-        {CODEGEN_IV_MUL, 312, 294, 10},
-        {CODEGEN_IV_MUL, 315, 294, 12},
-        {CODEGEN_IV_MUL, 316, 280, 315},
-        {CODEGEN_IV_MUL, 317, 315, 289},
-        {CODEGEN_IV_SIN, 318, 293, 0},
-        {CODEGEN_IV_MUL, 293, 12, 318},
-        {CODEGEN_IV_MUL, 319, 293, 290},
-        {CODEGEN_IV_MUL, 320, 297, 289},
-        {CODEGEN_IV_MUL, 321, 8, 320},
-        {CODEGEN_IV_MUL, 322, 281, 318},
-        {CODEGEN_IV_MUL, 323, 322, 290},
-        {CODEGEN_IV_MUL, 324, 8, 323},
-        {CODEGEN_IV_MUL, 325, 1, 320},
-        {CODEGEN_IV_MUL, 326, 8, 298},
-        {CODEGEN_IV_MUL, 327, 4, 298},
-        {CODEGEN_IV_MUL, 298, 4, 320},
-        {CODEGEN_IV_MUL, 328, 4, 323},
-        {CODEGEN_IV_MUL, 329, 6, 299},
-        {CODEGEN_IV_MUL, 330, 7, 299},
-        {CODEGEN_IV_MUL, 331, 1, 323},
-        {CODEGEN_IV_POW, 332, 294, 2},
-        {CODEGEN_IV_CONST, 333, 0, 0},
-        {CODEGEN_IV_MUL, 333, 333, 332},
-        {CODEGEN_IV_MUL, 335, 294, 0},
-        {CODEGEN_IV_MUL, 336, 318, 335},
-        {CODEGEN_IV_MUL, 338, 0, 332},
-        {CODEGEN_IV_SUB, 283, 15, 299},
-        {CODEGEN_IV_ADD, 282, 16, 300},
-        {CODEGEN_IV_MUL, 339, 283, 282},
-        {CODEGEN_IV_NEG, 340, 339, 0},
-        {CODEGEN_IV_SQRT, 340, 340, 0},
-        {CODEGEN_IV_MUL, 341, 280, 322},
-        {CODEGEN_IV_MUL, 342, 340, 341},
-        {CODEGEN_IV_MUL, 343, 297, 290},
-        {CODEGEN_IV_MUL, 297, 340, 343},
-        {CODEGEN_IV_MUL, 344, 322, 289},
-        {CODEGEN_IV_MUL, 345, 340, 344},
-        {CODEGEN_IV_ADD, 346, 17, 312},
-        {CODEGEN_IV_SUB, 346, 346, 11},
-        {CODEGEN_IV_ADD, 346, 346, 316},
-        {CODEGEN_IV_SUB, 346, 346, 317},
-        {CODEGEN_IV_SUB, 346, 346, 319},
-        {CODEGEN_IV_ADD, 346, 346, 321},
-        {CODEGEN_IV_ADD, 346, 346, 324},
-        {CODEGEN_IV_ADD, 346, 346, 325},
-        {CODEGEN_IV_SUB, 346, 346, 326},
-        {CODEGEN_IV_SUB, 346, 346, 327},
-        {CODEGEN_IV_SUB, 346, 346, 298},
-        {CODEGEN_IV_SUB, 346, 346, 328},
-        {CODEGEN_IV_SUB, 346, 346, 329},
-        {CODEGEN_IV_SUB, 346, 346, 330},
-        {CODEGEN_IV_SUB, 346, 346, 331},
-        {CODEGEN_IV_ADD, 346, 346, 342},
-        {CODEGEN_IV_ADD, 346, 346, 297},
-        {CODEGEN_IV_SUB, 346, 346, 345},
-        {CODEGEN_IV_ADD, 347, 346, 18},
-        {CODEGEN_IV_ADD, 346, 347, 19},
-        {CODEGEN_IV_ADD, 347, 346, 20},
-        {CODEGEN_IV_SUB, 346, 347, 21},
-        {CODEGEN_IV_ADD, 347, 346, 22},
-        {CODEGEN_IV_ADD, 346, 347, 23},
-        {CODEGEN_IV_MUL, 347, 11, 333},
-        {CODEGEN_IV_ADD, 347, 346, 347},
-        {CODEGEN_IV_MUL, 346, 24, 336},
-        {CODEGEN_IV_ADD, 346, 347, 346},
-        {CODEGEN_IV_MUL, 347, 13, 340},
-        {CODEGEN_IV_SUB, 347, 346, 347},
-        {CODEGEN_IV_MUL, 346, 14, 338},
-        {CODEGEN_IV_SUB, 346, 347, 346},
-        {CODEGEN_IV_SUB, 347, 346, 25},
-        {CODEGEN_IV_MUL, 305, 347, 300},
-        {CODEGEN_IV_SQRT, 305, 305, 0},
-        {CODEGEN_IV_MUL, 348, 305, 303},
-        {CODEGEN_IV_ADD, 348, 26, 348},
-        {CODEGEN_IV_MUL, 288, 287, 348},
-        {CODEGEN_IV_MUL, 346, 288, 302},
-        {CODEGEN_IV_CONST, 349, 0, 0},
-        {CODEGEN_IV_MUL, 349, 349, 341},
-        {CODEGEN_IV_MUL, 350, 305, 349},
-        {CODEGEN_IV_MUL, 351, 27, 302},
-        {CODEGEN_IV_MUL, 353, 294, 28},
-        {CODEGEN_IV_MUL, 354, 340, 353},
-        {CODEGEN_IV_MUL, 356, 294, 29},
-        {CODEGEN_IV_MUL, 357, 340, 356},
-        {CODEGEN_IV_MUL, 358, 30, 335},
-        {CODEGEN_IV_POW, 359, 294, 3},
-        {CODEGEN_IV_MUL, 360, 1, 359},
-        {CODEGEN_IV_MUL, 361, 31, 360},
-        {CODEGEN_IV_MUL, 363, 318, 29},
-        {CODEGEN_IV_MUL, 366, 294, 5},
-        {CODEGEN_IV_MUL, 368, 294, 35},
-        {CODEGEN_IV_CONST, 370, 0, 0},
-        {CODEGEN_IV_MUL, 370, 370, 318},
-        {CODEGEN_IV_POW, 371, 318, 2},
-        {CODEGEN_IV_MUL, 373, 281, 332},
-        {CODEGEN_IV_MUL, 375, 373, 38},
-        {CODEGEN_IV_MUL, 376, 281, 371},
-        {CODEGEN_IV_MUL, 377, 38, 376},
-        {CODEGEN_IV_CONST, 374, 2, 0},
-        {CODEGEN_IV_MUL, 374, 374, 338},
-        {CODEGEN_IV_CONST, 378, 2, 0},
-        {CODEGEN_IV_MUL, 378, 378, 332},
+        {CODEGEN_IV_COS, 340, 339, 0},
+        {CODEGEN_IV_MUL, 343, 327, 340},
+        {CODEGEN_IV_MUL, 344, 326, 343},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 344},
+        {CODEGEN_IV_SUB, 346, 2, 345},
+        {CODEGEN_IV_CONST, 347, 1, 0},
+        {CODEGEN_IV_POW, 348, 346, 2},
+        {CODEGEN_IV_DIV, 348, 347, 348},
+        {CODEGEN_IV_CONST, 347, 1, 0},
+        {CODEGEN_IV_POW, 349, 346, 1},
+        {CODEGEN_IV_DIV, 349, 347, 349},
+        {CODEGEN_IV_MUL, 358, 340, 10},
+        {CODEGEN_IV_MUL, 361, 340, 12},
+        {CODEGEN_IV_MUL, 362, 326, 361},
+        {CODEGEN_IV_MUL, 363, 361, 335},
+        {CODEGEN_IV_SIN, 364, 339, 0},
+        {CODEGEN_IV_MUL, 339, 12, 364},
+        {CODEGEN_IV_MUL, 365, 339, 336},
+        {CODEGEN_IV_MUL, 366, 343, 335},
+        {CODEGEN_IV_MUL, 367, 8, 366},
+        {CODEGEN_IV_MUL, 368, 327, 364},
+        {CODEGEN_IV_MUL, 369, 368, 336},
+        {CODEGEN_IV_MUL, 370, 8, 369},
+        {CODEGEN_IV_MUL, 371, 1, 366},
+        {CODEGEN_IV_MUL, 372, 8, 344},
+        {CODEGEN_IV_MUL, 373, 4, 344},
+        {CODEGEN_IV_MUL, 344, 4, 366},
+        {CODEGEN_IV_MUL, 374, 4, 369},
+        {CODEGEN_IV_MUL, 375, 6, 345},
+        {CODEGEN_IV_MUL, 376, 7, 345},
+        {CODEGEN_IV_MUL, 377, 1, 369},
+        {CODEGEN_IV_POW, 378, 340, 2},
         {CODEGEN_IV_CONST, 379, 0, 0},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_MUL, 379, 379, 32},
-        {CODEGEN_IV_NEG, 379, 379, 0},
-        {CODEGEN_IV_MUL, 380, 340, 366},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 340, 368},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 340, 375},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 340, 377},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 363, 33},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 363, 34},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 294, 322},
-        {CODEGEN_IV_MUL, 380, 380, 37},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 294, 36},
-        {CODEGEN_IV_MUL, 379, 379, 370},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 39, 370},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 40, 318},
-        {CODEGEN_IV_MUL, 379, 379, 29},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 5, 318},
-        {CODEGEN_IV_MUL, 380, 380, 14},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 9, 318},
-        {CODEGEN_IV_MUL, 379, 379, 374},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 1, 318},
-        {CODEGEN_IV_MUL, 380, 380, 339},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 41, 318},
-        {CODEGEN_IV_MUL, 379, 379, 28},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_CONST, 380, 3, 0},
-        {CODEGEN_IV_MUL, 380, 380, 315},
-        {CODEGEN_IV_MUL, 380, 380, 318},
-        {CODEGEN_IV_MUL, 380, 380, 3},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_CONST, 379, 4, 0},
-        {CODEGEN_IV_MUL, 379, 379, 293},
-        {CODEGEN_IV_MUL, 379, 379, 359},
-        {CODEGEN_IV_MUL, 379, 379, 3},
-        {CODEGEN_IV_ADD, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 294, 0},
-        {CODEGEN_IV_MUL, 380, 380, 8},
-        {CODEGEN_IV_MUL, 380, 380, 340},
-        {CODEGEN_IV_SUB, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 294, 8},
-        {CODEGEN_IV_MUL, 379, 379, 1},
-        {CODEGEN_IV_MUL, 379, 379, 340},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 42, 318},
-        {CODEGEN_IV_MUL, 380, 380, 332},
-        {CODEGEN_IV_MUL, 380, 380, 29},
-        {CODEGEN_IV_SUB, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 0, 318},
-        {CODEGEN_IV_MUL, 379, 379, 283},
-        {CODEGEN_IV_MUL, 379, 379, 282},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 43, 318},
-        {CODEGEN_IV_MUL, 380, 380, 378},
-        {CODEGEN_IV_ADD, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 44, 318},
-        {CODEGEN_IV_MUL, 379, 379, 332},
-        {CODEGEN_IV_MUL, 379, 379, 28},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 45, 332},
-        {CODEGEN_IV_MUL, 380, 380, 340},
-        {CODEGEN_IV_SUB, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 46, 340},
-        {CODEGEN_IV_MUL, 379, 379, 371},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 47, 294},
-        {CODEGEN_IV_MUL, 380, 380, 4},
-        {CODEGEN_IV_MUL, 380, 380, 318},
-        {CODEGEN_IV_MUL, 380, 380, 3},
-        {CODEGEN_IV_SUB, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 48, 294},
-        {CODEGEN_IV_MUL, 379, 379, 8},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_MUL, 379, 379, 3},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_MUL, 380, 49, 294},
-        {CODEGEN_IV_MUL, 380, 380, 4},
-        {CODEGEN_IV_MUL, 380, 380, 12},
-        {CODEGEN_IV_MUL, 380, 380, 318},
-        {CODEGEN_IV_SUB, 380, 379, 380},
-        {CODEGEN_IV_MUL, 379, 50, 294},
-        {CODEGEN_IV_MUL, 379, 379, 8},
-        {CODEGEN_IV_MUL, 379, 379, 12},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_SUB, 379, 380, 379},
-        {CODEGEN_IV_CONST, 370, 5, 0},
-        {CODEGEN_IV_MUL, 370, 370, 354},
-        {CODEGEN_IV_NEG, 370, 370, 0},
-        {CODEGEN_IV_CONST, 363, 5, 0},
-        {CODEGEN_IV_MUL, 363, 363, 357},
-        {CODEGEN_IV_SUB, 363, 370, 363},
-        {CODEGEN_IV_SUB, 363, 363, 379},
-        {CODEGEN_IV_MUL, 370, 340, 358},
-        {CODEGEN_IV_SUB, 370, 363, 370},
-        {CODEGEN_IV_MUL, 363, 340, 361},
-        {CODEGEN_IV_SUB, 363, 370, 363},
-        {CODEGEN_IV_MUL, 370, 51, 332},
-        {CODEGEN_IV_MUL, 370, 370, 340},
-        {CODEGEN_IV_MUL, 370, 370, 3},
-        {CODEGEN_IV_ADD, 370, 363, 370},
-        {CODEGEN_IV_MUL, 363, 52, 332},
-        {CODEGEN_IV_MUL, 363, 363, 340},
-        {CODEGEN_IV_ADD, 363, 370, 363},
-        {CODEGEN_IV_CONST, 370, 1, 0},
-        {CODEGEN_IV_POW, 380, 340, 1},
-        {CODEGEN_IV_DIV, 380, 370, 380},
-        {CODEGEN_IV_MUL, 370, 292, 380},
-        {CODEGEN_IV_MUL, 381, 285, 363},
-        {CODEGEN_IV_MUL, 381, 381, 370},
-        {CODEGEN_IV_MUL, 382, 335, 14},
-        {CODEGEN_IV_MUL, 384, 53, 360},
-        {CODEGEN_IV_NEG, 385, 354, 0},
-        {CODEGEN_IV_SUB, 385, 385, 357},
-        {CODEGEN_IV_SUB, 385, 385, 379},
-        {CODEGEN_IV_MUL, 386, 384, 340},
-        {CODEGEN_IV_SUB, 386, 385, 386},
-        {CODEGEN_IV_MUL, 385, 340, 382},
-        {CODEGEN_IV_SUB, 385, 386, 385},
-        {CODEGEN_IV_MUL, 386, 54, 332},
-        {CODEGEN_IV_MUL, 386, 386, 340},
-        {CODEGEN_IV_MUL, 386, 386, 3},
-        {CODEGEN_IV_ADD, 386, 385, 386},
-        {CODEGEN_IV_MUL, 385, 55, 332},
-        {CODEGEN_IV_MUL, 385, 385, 340},
-        {CODEGEN_IV_ADD, 385, 386, 385},
-        {CODEGEN_IV_MUL, 379, 351, 370},
-        {CODEGEN_IV_MUL, 357, 286, 379},
-        {CODEGEN_IV_CONST, 354, 1, 0},
-        {CODEGEN_IV_POW, 386, 305, 1},
-        {CODEGEN_IV_DIV, 386, 354, 386},
-        {CODEGEN_IV_MUL, 354, 283, 349},
-        {CODEGEN_IV_NEG, 354, 354, 0},
-        {CODEGEN_IV_MUL, 387, 282, 349},
-        {CODEGEN_IV_SUB, 387, 354, 387},
-        {CODEGEN_IV_CONST, 354, 6, 0},
-        {CODEGEN_IV_MUL, 354, 354, 380},
-        {CODEGEN_IV_MUL, 388, 387, 354},
-        {CODEGEN_IV_ADD, 389, 56, 341},
-        {CODEGEN_IV_ADD, 389, 389, 343},
-        {CODEGEN_IV_SUB, 389, 389, 344},
-        {CODEGEN_IV_MUL, 390, 389, 300},
-        {CODEGEN_IV_CONST, 391, 0, 0},
-        {CODEGEN_IV_MUL, 391, 391, 371},
-        {CODEGEN_IV_MUL, 392, 280, 293},
-        {CODEGEN_IV_NEG, 392, 392, 0},
-        {CODEGEN_IV_MUL, 393, 4, 343},
-        {CODEGEN_IV_SUB, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 8, 344},
-        {CODEGEN_IV_SUB, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 10, 318},
-        {CODEGEN_IV_SUB, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 1, 343},
-        {CODEGEN_IV_SUB, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 1, 344},
-        {CODEGEN_IV_SUB, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 315, 290},
-        {CODEGEN_IV_SUB, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 320, 340},
-        {CODEGEN_IV_SUB, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 323, 340},
-        {CODEGEN_IV_SUB, 392, 393, 392},
-        {CODEGEN_IV_CONST, 393, 2, 0},
-        {CODEGEN_IV_MUL, 393, 393, 294},
-        {CODEGEN_IV_MUL, 393, 393, 11},
-        {CODEGEN_IV_MUL, 393, 393, 318},
-        {CODEGEN_IV_SUB, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 0, 391},
-        {CODEGEN_IV_MUL, 392, 392, 13},
-        {CODEGEN_IV_SUB, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 12, 318},
-        {CODEGEN_IV_MUL, 393, 393, 289},
+        {CODEGEN_IV_MUL, 379, 379, 378},
+        {CODEGEN_IV_MUL, 381, 340, 0},
+        {CODEGEN_IV_MUL, 382, 364, 381},
+        {CODEGEN_IV_MUL, 384, 0, 378},
+        {CODEGEN_IV_SUB, 329, 15, 345},
+        {CODEGEN_IV_ADD, 328, 16, 346},
+        {CODEGEN_IV_MUL, 385, 329, 328},
+        {CODEGEN_IV_NEG, 386, 385, 0},
+        {CODEGEN_IV_SQRT, 386, 386, 0},
+        {CODEGEN_IV_MUL, 387, 326, 368},
+        {CODEGEN_IV_MUL, 388, 386, 387},
+        {CODEGEN_IV_MUL, 389, 343, 336},
+        {CODEGEN_IV_MUL, 343, 386, 389},
+        {CODEGEN_IV_MUL, 390, 368, 335},
+        {CODEGEN_IV_MUL, 391, 386, 390},
+        {CODEGEN_IV_ADD, 392, 17, 358},
+        {CODEGEN_IV_SUB, 392, 392, 11},
+        {CODEGEN_IV_ADD, 392, 392, 362},
+        {CODEGEN_IV_SUB, 392, 392, 363},
+        {CODEGEN_IV_SUB, 392, 392, 365},
+        {CODEGEN_IV_ADD, 392, 392, 367},
+        {CODEGEN_IV_ADD, 392, 392, 370},
+        {CODEGEN_IV_ADD, 392, 392, 371},
+        {CODEGEN_IV_SUB, 392, 392, 372},
+        {CODEGEN_IV_SUB, 392, 392, 373},
+        {CODEGEN_IV_SUB, 392, 392, 344},
+        {CODEGEN_IV_SUB, 392, 392, 374},
+        {CODEGEN_IV_SUB, 392, 392, 375},
+        {CODEGEN_IV_SUB, 392, 392, 376},
+        {CODEGEN_IV_SUB, 392, 392, 377},
+        {CODEGEN_IV_ADD, 392, 392, 388},
+        {CODEGEN_IV_ADD, 392, 392, 343},
+        {CODEGEN_IV_SUB, 392, 392, 391},
+        {CODEGEN_IV_ADD, 393, 392, 18},
+        {CODEGEN_IV_ADD, 392, 393, 19},
+        {CODEGEN_IV_ADD, 393, 392, 20},
+        {CODEGEN_IV_SUB, 392, 393, 21},
+        {CODEGEN_IV_ADD, 393, 392, 22},
+        {CODEGEN_IV_ADD, 392, 393, 23},
+        {CODEGEN_IV_MUL, 393, 11, 379},
         {CODEGEN_IV_ADD, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 57, 294},
-        {CODEGEN_IV_MUL, 392, 392, 340},
+        {CODEGEN_IV_MUL, 392, 24, 382},
         {CODEGEN_IV_ADD, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 58, 318},
-        {CODEGEN_IV_ADD, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 59, 318},
-        {CODEGEN_IV_ADD, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 60, 318},
-        {CODEGEN_IV_ADD, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 61, 318},
-        {CODEGEN_IV_ADD, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 281, 294},
-        {CODEGEN_IV_MUL, 393, 393, 8},
-        {CODEGEN_IV_MUL, 393, 393, 290},
-        {CODEGEN_IV_ADD, 393, 392, 393},
-        {CODEGEN_IV_MUL, 392, 62, 318},
-        {CODEGEN_IV_MUL, 392, 392, 289},
-        {CODEGEN_IV_ADD, 392, 393, 392},
-        {CODEGEN_IV_MUL, 393, 63, 332},
-        {CODEGEN_IV_MUL, 393, 393, 290},
-        {CODEGEN_IV_ADD, 393, 392, 393},
-        {CODEGEN_IV_CONST, 392, 2, 0},
-        {CODEGEN_IV_MUL, 392, 392, 294},
-        {CODEGEN_IV_MUL, 392, 392, 0},
-        {CODEGEN_IV_MUL, 392, 392, 1},
-        {CODEGEN_IV_MUL, 392, 392, 318},
-        {CODEGEN_IV_ADD, 392, 393, 392},
-        {CODEGEN_IV_MUL, 290, 388, 390},
-        {CODEGEN_IV_MUL, 289, 392, 300},
-        {CODEGEN_IV_ADD, 289, 290, 289},
-        {CODEGEN_IV_MUL, 290, 347, 349},
-        {CODEGEN_IV_ADD, 290, 289, 290},
-        {CODEGEN_IV_MUL, 289, 1, 371},
-        {CODEGEN_IV_MUL, 344, 53, 289},
-        {CODEGEN_IV_CONST, 343, 1, 0},
-        {CODEGEN_IV_POW, 293, 300, 3},
-        {CODEGEN_IV_DIV, 293, 343, 293},
-        {CODEGEN_IV_MUL, 343, 287, 293},
-        {CODEGEN_IV_CONST, 315, 4, 0},
-        {CODEGEN_IV_MUL, 315, 315, 289},
-        {CODEGEN_IV_MUL, 308, 0, 315},
-        {CODEGEN_IV_MUL, 307, 290, 341},
-        {CODEGEN_IV_MUL, 393, 318, 340},
-        {CODEGEN_IV_MUL, 394, 393, 28},
-        {CODEGEN_IV_MUL, 395, 393, 29},
-        {CODEGEN_IV_MUL, 396, 0, 393},
-        {CODEGEN_IV_CONST, 397, 4, 0},
-        {CODEGEN_IV_MUL, 397, 397, 393},
-        {CODEGEN_IV_MUL, 398, 393, 1},
-        {CODEGEN_IV_MUL, 398, 398, 338},
-        {CODEGEN_IV_MUL, 399, 64, 371},
-        {CODEGEN_IV_MUL, 311, 65, 371},
-        {CODEGEN_IV_MUL, 402, 66, 371},
-        {CODEGEN_IV_MUL, 403, 9, 335},
-        {CODEGEN_IV_MUL, 404, 66, 332},
-        {CODEGEN_IV_MUL, 401, 65, 332},
-        {CODEGEN_IV_CONST, 400, 3, 0},
-        {CODEGEN_IV_MUL, 400, 400, 399},
-        {CODEGEN_IV_CONST, 405, 0, 0},
-        {CODEGEN_IV_MUL, 405, 405, 403},
-        {CODEGEN_IV_SUB, 405, 400, 405},
-        {CODEGEN_IV_CONST, 400, 0, 0},
-        {CODEGEN_IV_MUL, 400, 400, 294},
-        {CODEGEN_IV_MUL, 400, 400, 32},
-        {CODEGEN_IV_ADD, 400, 405, 400},
-        {CODEGEN_IV_CONST, 405, 4, 0},
-        {CODEGEN_IV_POW, 406, 294, 4},
-        {CODEGEN_IV_MUL, 406, 405, 406},
-        {CODEGEN_IV_MUL, 406, 406, 64},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 4, 311},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 4, 401},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 53, 356},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 391, 36},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_CONST, 400, 7, 0},
-        {CODEGEN_IV_MUL, 400, 400, 289},
-        {CODEGEN_IV_MUL, 400, 400, 353},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 315, 366},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 5, 393},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 67, 360},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 393, 9},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 393, 35},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 396, 8},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 68, 332},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_CONST, 400, 8, 0},
-        {CODEGEN_IV_MUL, 400, 400, 399},
-        {CODEGEN_IV_MUL, 400, 400, 332},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 311, 8},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 402, 33},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 402, 34},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_CONST, 400, 4, 0},
-        {CODEGEN_IV_MUL, 400, 400, 403},
-        {CODEGEN_IV_MUL, 400, 400, 371},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 404, 33},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 404, 34},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 401, 8},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 333, 36},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 335, 339},
-        {CODEGEN_IV_ADD, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 14, 353},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 14, 366},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 69, 360},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 356, 33},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 356, 34},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 37, 373},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 37, 376},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 294, 1},
-        {CODEGEN_IV_MUL, 406, 406, 339},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 70, 359},
-        {CODEGEN_IV_ADD, 400, 406, 400},
-        {CODEGEN_IV_MUL, 406, 71, 356},
-        {CODEGEN_IV_MUL, 406, 406, 371},
-        {CODEGEN_IV_SUB, 406, 400, 406},
-        {CODEGEN_IV_MUL, 400, 72, 359},
-        {CODEGEN_IV_SUB, 400, 406, 400},
-        {CODEGEN_IV_CONST, 376, 8, 0},
-        {CODEGEN_IV_MUL, 376, 376, 393},
-        {CODEGEN_IV_MUL, 393, 285, 379},
-        {CODEGEN_IV_NEG, 379, 320, 0},
-        {CODEGEN_IV_SUB, 379, 379, 323},
-        {CODEGEN_IV_MUL, 373, 73, 294},
-        {CODEGEN_IV_ADD, 373, 379, 373},
-        {CODEGEN_IV_MUL, 373, 300, 373},
-        {CODEGEN_IV_CONST, 323, 1, 0},
-        {CODEGEN_IV_MUL, 320, 283, 282},
-        {CODEGEN_IV_DIV, 320, 323, 320},
-        {CODEGEN_IV_MUL, 323, 387, 380},
-        {CODEGEN_IV_MUL, 380, 287, 386},
-        {CODEGEN_IV_MUL, 380, 380, 348},
-        {CODEGEN_IV_MUL, 380, 380, 303},
-        {CODEGEN_IV_MUL, 379, 74, 293},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_MUL, 372, 286, 385},
-        {CODEGEN_IV_CONST, 286, 0, 0},
-        {CODEGEN_IV_MUL, 286, 286, 396},
-        {CODEGEN_IV_ADD, 286, 286, 366},
-        {CODEGEN_IV_ADD, 286, 286, 368},
-        {CODEGEN_IV_ADD, 286, 286, 375},
-        {CODEGEN_IV_ADD, 286, 286, 377},
-        {CODEGEN_IV_MUL, 369, 294, 0},
-        {CODEGEN_IV_MUL, 369, 369, 8},
-        {CODEGEN_IV_SUB, 369, 286, 369},
-        {CODEGEN_IV_MUL, 286, 294, 8},
-        {CODEGEN_IV_MUL, 286, 286, 1},
-        {CODEGEN_IV_SUB, 286, 369, 286},
-        {CODEGEN_IV_MUL, 369, 75, 318},
-        {CODEGEN_IV_MUL, 369, 369, 340},
-        {CODEGEN_IV_SUB, 369, 286, 369},
-        {CODEGEN_IV_MUL, 286, 76, 332},
-        {CODEGEN_IV_SUB, 286, 369, 286},
-        {CODEGEN_IV_MUL, 369, 77, 371},
-        {CODEGEN_IV_SUB, 369, 286, 369},
-        {CODEGEN_IV_MUL, 377, 292, 320},
-        {CODEGEN_IV_MUL, 377, 377, 351},
-        {CODEGEN_IV_CONST, 375, 6, 0},
-        {CODEGEN_IV_MUL, 375, 375, 290},
-        {CODEGEN_IV_MUL, 366, 385, 357},
-        {CODEGEN_IV_SUB, 366, 78, 366},
-        {CODEGEN_IV_MUL, 368, 346, 350},
-        {CODEGEN_IV_SUB, 368, 366, 368},
-        {CODEGEN_IV_MUL, 366, 351, 381},
-        {CODEGEN_IV_SUB, 366, 368, 366},
-        {CODEGEN_IV_MUL, 368, 79, 294},
-        {CODEGEN_IV_ADD, 368, 366, 368},
-        {CODEGEN_IV_MUL, 366, 80, 386},
-        {CODEGEN_IV_MUL, 366, 366, 290},
-        {CODEGEN_IV_MUL, 366, 366, 348},
-        {CODEGEN_IV_MUL, 366, 366, 303},
-        {CODEGEN_IV_ADD, 366, 368, 366},
-        {CODEGEN_IV_ADD, 303, 394, 395},
-        {CODEGEN_IV_CONST, 351, 3, 0},
-        {CODEGEN_IV_MUL, 351, 351, 398},
-        {CODEGEN_IV_ADD, 351, 303, 351},
-        {CODEGEN_IV_ADD, 351, 351, 400},
-        {CODEGEN_IV_MUL, 303, 396, 14},
-        {CODEGEN_IV_ADD, 303, 351, 303},
-        {CODEGEN_IV_MUL, 351, 397, 312},
-        {CODEGEN_IV_SUB, 351, 303, 351},
-        {CODEGEN_IV_MUL, 303, 397, 316},
-        {CODEGEN_IV_SUB, 303, 351, 303},
-        {CODEGEN_IV_MUL, 303, 357, 303},
-        {CODEGEN_IV_NEG, 303, 303, 0},
-        {CODEGEN_IV_NEG, 351, 384, 0},
-        {CODEGEN_IV_SUB, 351, 351, 369},
-        {CODEGEN_IV_SUB, 351, 351, 353},
-        {CODEGEN_IV_SUB, 351, 351, 356},
-        {CODEGEN_IV_SUB, 351, 351, 382},
-        {CODEGEN_IV_MUL, 348, 81, 332},
-        {CODEGEN_IV_MUL, 348, 348, 3},
-        {CODEGEN_IV_ADD, 348, 351, 348},
-        {CODEGEN_IV_MUL, 351, 82, 332},
-        {CODEGEN_IV_ADD, 351, 348, 351},
-        {CODEGEN_IV_MUL, 351, 357, 351},
-        {CODEGEN_IV_NEG, 351, 351, 0},
-        {CODEGEN_IV_MUL, 348, 372, 377},
-        {CODEGEN_IV_SUB, 348, 351, 348},
-        {CODEGEN_IV_MUL, 348, 388, 348},
-        {CODEGEN_IV_ADD, 348, 303, 348},
-        {CODEGEN_IV_NEG, 303, 369, 0},
-        {CODEGEN_IV_CONST, 351, 5, 0},
-        {CODEGEN_IV_MUL, 351, 351, 353},
-        {CODEGEN_IV_SUB, 351, 303, 351},
-        {CODEGEN_IV_CONST, 303, 5, 0},
-        {CODEGEN_IV_MUL, 303, 303, 356},
-        {CODEGEN_IV_SUB, 303, 351, 303},
-        {CODEGEN_IV_SUB, 303, 303, 358},
-        {CODEGEN_IV_SUB, 303, 303, 361},
-        {CODEGEN_IV_MUL, 351, 83, 332},
-        {CODEGEN_IV_MUL, 351, 351, 3},
-        {CODEGEN_IV_ADD, 351, 303, 351},
-        {CODEGEN_IV_MUL, 303, 84, 332},
-        {CODEGEN_IV_ADD, 303, 351, 303},
-        {CODEGEN_IV_MUL, 303, 393, 303},
-        {CODEGEN_IV_NEG, 303, 303, 0},
-        {CODEGEN_IV_MUL, 351, 285, 377},
-        {CODEGEN_IV_MUL, 351, 351, 363},
-        {CODEGEN_IV_SUB, 351, 303, 351},
-        {CODEGEN_IV_MUL, 351, 388, 351},
-        {CODEGEN_IV_ADD, 351, 348, 351},
-        {CODEGEN_IV_MUL, 348, 343, 307},
-        {CODEGEN_IV_SUB, 348, 351, 348},
-        {CODEGEN_IV_CONST, 351, 5, 0},
-        {CODEGEN_IV_MUL, 351, 351, 394},
-        {CODEGEN_IV_CONST, 303, 5, 0},
-        {CODEGEN_IV_MUL, 303, 303, 395},
-        {CODEGEN_IV_ADD, 303, 351, 303},
-        {CODEGEN_IV_CONST, 351, 9, 0},
-        {CODEGEN_IV_MUL, 351, 351, 398},
-        {CODEGEN_IV_ADD, 351, 303, 351},
-        {CODEGEN_IV_ADD, 351, 351, 400},
-        {CODEGEN_IV_CONST, 303, 10, 0},
-        {CODEGEN_IV_MUL, 303, 303, 396},
-        {CODEGEN_IV_MUL, 303, 303, 1},
-        {CODEGEN_IV_ADD, 303, 351, 303},
-        {CODEGEN_IV_MUL, 351, 376, 312},
-        {CODEGEN_IV_SUB, 351, 303, 351},
-        {CODEGEN_IV_MUL, 303, 376, 316},
-        {CODEGEN_IV_SUB, 303, 351, 303},
-        {CODEGEN_IV_MUL, 303, 393, 303},
-        {CODEGEN_IV_SUB, 303, 348, 303},
-        {CODEGEN_IV_CONST, 348, 6, 0},
-        {CODEGEN_IV_MUL, 348, 348, 380},
-        {CODEGEN_IV_MUL, 351, 388, 373},
-        {CODEGEN_IV_CONST, 385, 2, 0},
-        {CODEGEN_IV_MUL, 385, 385, 392},
-        {CODEGEN_IV_MUL, 385, 385, 341},
-        {CODEGEN_IV_ADD, 385, 351, 385},
-        {CODEGEN_IV_MUL, 351, 299, 347},
-        {CODEGEN_IV_ADD, 351, 385, 351},
-        {CODEGEN_IV_NEG, 385, 344, 0},
-        {CODEGEN_IV_SUB, 385, 385, 312},
-        {CODEGEN_IV_SUB, 385, 385, 316},
-        {CODEGEN_IV_ADD, 385, 385, 317},
-        {CODEGEN_IV_ADD, 385, 385, 319},
-        {CODEGEN_IV_SUB, 385, 385, 321},
-        {CODEGEN_IV_SUB, 385, 385, 324},
-        {CODEGEN_IV_SUB, 385, 385, 325},
-        {CODEGEN_IV_ADD, 385, 385, 326},
-        {CODEGEN_IV_ADD, 385, 385, 327},
-        {CODEGEN_IV_ADD, 385, 385, 298},
-        {CODEGEN_IV_ADD, 385, 385, 328},
-        {CODEGEN_IV_ADD, 385, 385, 329},
-        {CODEGEN_IV_ADD, 385, 385, 330},
-        {CODEGEN_IV_ADD, 385, 385, 331},
-        {CODEGEN_IV_SUB, 385, 385, 342},
-        {CODEGEN_IV_SUB, 385, 385, 297},
-        {CODEGEN_IV_ADD, 385, 385, 345},
-        {CODEGEN_IV_MUL, 294, 85, 371},
-        {CODEGEN_IV_ADD, 294, 385, 294},
-        {CODEGEN_IV_MUL, 385, 11, 378},
-        {CODEGEN_IV_SUB, 385, 294, 385},
-        {CODEGEN_IV_MUL, 294, 1, 374},
-        {CODEGEN_IV_ADD, 294, 385, 294},
-        {CODEGEN_IV_MUL, 385, 86, 336},
-        {CODEGEN_IV_SUB, 385, 294, 385},
-        {CODEGEN_IV_MUL, 385, 300, 385},
-        {CODEGEN_IV_ADD, 385, 351, 385},
-        {CODEGEN_IV_MUL, 351, 354, 390},
-        {CODEGEN_IV_NEG, 294, 308, 0},
-        {CODEGEN_IV_MUL, 291, 283, 299},
-        {CODEGEN_IV_SUB, 291, 294, 291},
-        {CODEGEN_IV_MUL, 294, 282, 299},
-        {CODEGEN_IV_SUB, 294, 291, 294},
-        {CODEGEN_IV_MUL, 294, 351, 294},
-        {CODEGEN_IV_ADD, 294, 385, 294},
-        {CODEGEN_IV_MUL, 385, 389, 323},
-        {CODEGEN_IV_MUL, 385, 385, 341},
-        {CODEGEN_IV_ADD, 385, 294, 385},
-        {CODEGEN_IV_MUL, 385, 348, 385},
-        {CODEGEN_IV_ADD, 385, 303, 385},
-        {CODEGEN_IV_MUL, 303, 379, 381},
-        {CODEGEN_IV_ADD, 303, 385, 303},
-        {CODEGEN_IV_MUL, 385, 87, 322},
-        {CODEGEN_IV_SUB, 385, 303, 385},
-        {CODEGEN_IV_MUL, 303, 386, 307},
-        {CODEGEN_IV_MUL, 303, 303, 346},
-        {CODEGEN_IV_SUB, 303, 385, 303},
-        {CODEGEN_IV_MUL, 385, 386, 375},
-        {CODEGEN_IV_MUL, 348, 343, 350},
-        {CODEGEN_IV_NEG, 348, 348, 0},
-        {CODEGEN_IV_MUL, 294, 346, 349},
-        {CODEGEN_IV_SUB, 294, 348, 294},
-        {CODEGEN_IV_MUL, 348, 375, 346},
-        {CODEGEN_IV_DIV, 348, 348, 347},
-        {CODEGEN_IV_SUB, 348, 294, 348},
-        {CODEGEN_IV_MUL, 294, 88, 386},
-        {CODEGEN_IV_MUL, 294, 294, 290},
-        {CODEGEN_IV_MUL, 294, 294, 302},
-        {CODEGEN_IV_ADD, 294, 348, 294},
-        {CODEGEN_IV_MUL, 294, 385, 294},
-        {CODEGEN_IV_ADD, 294, 303, 294},
-        {CODEGEN_IV_MUL, 303, 344, 343},
-        {CODEGEN_IV_MUL, 303, 303, 347},
-        {CODEGEN_IV_ADD, 303, 294, 303},
-        {CODEGEN_IV_CONST, 294, 11, 0},
-        {CODEGEN_IV_MUL, 294, 294, 323},
-        {CODEGEN_IV_MUL, 294, 294, 380},
-        {CODEGEN_IV_MUL, 385, 389, 349},
-        {CODEGEN_IV_ADD, 385, 373, 385},
-        {CODEGEN_IV_CONST, 348, 6, 0},
-        {CODEGEN_IV_MUL, 348, 348, 387},
-        {CODEGEN_IV_MUL, 348, 348, 390},
-        {CODEGEN_IV_MUL, 348, 348, 320},
-        {CODEGEN_IV_ADD, 348, 385, 348},
-        {CODEGEN_IV_MUL, 348, 294, 348},
-        {CODEGEN_IV_ADD, 348, 303, 348},
-        {CODEGEN_IV_MUL, 303, 379, 372},
-        {CODEGEN_IV_MUL, 303, 303, 370},
-        {CODEGEN_IV_ADD, 303, 348, 303},
-        {CODEGEN_IV_MUL, 348, 299, 305},
-        {CODEGEN_IV_MUL, 348, 348, 346},
-        {CODEGEN_IV_SUB, 348, 303, 348},
-        {CODEGEN_IV_MUL, 303, 293, 308},
-        {CODEGEN_IV_MUL, 303, 303, 305},
-        {CODEGEN_IV_MUL, 303, 303, 288},
-        {CODEGEN_IV_ADD, 303, 348, 303},
+        {CODEGEN_IV_MUL, 393, 13, 386},
+        {CODEGEN_IV_SUB, 393, 392, 393},
+        {CODEGEN_IV_MUL, 392, 14, 384},
+        {CODEGEN_IV_SUB, 392, 393, 392},
+        {CODEGEN_IV_SUB, 393, 392, 25},
+        {CODEGEN_IV_MUL, 351, 393, 346},
+        {CODEGEN_IV_SQRT, 351, 351, 0},
+        {CODEGEN_IV_MUL, 394, 351, 349},
+        {CODEGEN_IV_ADD, 394, 26, 394},
+        {CODEGEN_IV_MUL, 334, 333, 394},
+        {CODEGEN_IV_MUL, 392, 334, 348},
+        {CODEGEN_IV_CONST, 395, 0, 0},
+        {CODEGEN_IV_MUL, 395, 395, 387},
+        {CODEGEN_IV_MUL, 396, 351, 395},
+        {CODEGEN_IV_MUL, 397, 27, 348},
+        {CODEGEN_IV_MUL, 399, 340, 28},
+        {CODEGEN_IV_MUL, 400, 386, 399},
+        {CODEGEN_IV_MUL, 402, 340, 29},
+        {CODEGEN_IV_MUL, 403, 386, 402},
+        {CODEGEN_IV_MUL, 404, 30, 381},
+        {CODEGEN_IV_POW, 405, 340, 3},
+        {CODEGEN_IV_MUL, 406, 1, 405},
+        {CODEGEN_IV_MUL, 407, 31, 406},
+        {CODEGEN_IV_MUL, 409, 364, 29},
+        {CODEGEN_IV_MUL, 412, 340, 5},
+        {CODEGEN_IV_MUL, 414, 340, 35},
+        {CODEGEN_IV_CONST, 416, 0, 0},
+        {CODEGEN_IV_MUL, 416, 416, 364},
+        {CODEGEN_IV_POW, 417, 364, 2},
+        {CODEGEN_IV_MUL, 419, 327, 378},
+        {CODEGEN_IV_MUL, 421, 419, 38},
+        {CODEGEN_IV_MUL, 422, 327, 417},
+        {CODEGEN_IV_MUL, 423, 38, 422},
+        {CODEGEN_IV_CONST, 420, 2, 0},
+        {CODEGEN_IV_MUL, 420, 420, 384},
+        {CODEGEN_IV_CONST, 424, 2, 0},
+        {CODEGEN_IV_MUL, 424, 424, 378},
+        {CODEGEN_IV_CONST, 425, 0, 0},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_MUL, 425, 425, 32},
+        {CODEGEN_IV_NEG, 425, 425, 0},
+        {CODEGEN_IV_MUL, 426, 386, 412},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 386, 414},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 386, 421},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 386, 423},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 409, 33},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 409, 34},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 340, 368},
+        {CODEGEN_IV_MUL, 426, 426, 37},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 340, 36},
+        {CODEGEN_IV_MUL, 425, 425, 416},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 39, 416},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 40, 364},
+        {CODEGEN_IV_MUL, 425, 425, 29},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 5, 364},
+        {CODEGEN_IV_MUL, 426, 426, 14},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 9, 364},
+        {CODEGEN_IV_MUL, 425, 425, 420},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 1, 364},
+        {CODEGEN_IV_MUL, 426, 426, 385},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 41, 364},
+        {CODEGEN_IV_MUL, 425, 425, 28},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_CONST, 426, 3, 0},
+        {CODEGEN_IV_MUL, 426, 426, 361},
+        {CODEGEN_IV_MUL, 426, 426, 364},
+        {CODEGEN_IV_MUL, 426, 426, 3},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_CONST, 425, 4, 0},
+        {CODEGEN_IV_MUL, 425, 425, 339},
+        {CODEGEN_IV_MUL, 425, 425, 405},
+        {CODEGEN_IV_MUL, 425, 425, 3},
+        {CODEGEN_IV_ADD, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 340, 0},
+        {CODEGEN_IV_MUL, 426, 426, 8},
+        {CODEGEN_IV_MUL, 426, 426, 386},
+        {CODEGEN_IV_SUB, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 340, 8},
+        {CODEGEN_IV_MUL, 425, 425, 1},
+        {CODEGEN_IV_MUL, 425, 425, 386},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 42, 364},
+        {CODEGEN_IV_MUL, 426, 426, 378},
+        {CODEGEN_IV_MUL, 426, 426, 29},
+        {CODEGEN_IV_SUB, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 0, 364},
+        {CODEGEN_IV_MUL, 425, 425, 329},
+        {CODEGEN_IV_MUL, 425, 425, 328},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 43, 364},
+        {CODEGEN_IV_MUL, 426, 426, 424},
+        {CODEGEN_IV_ADD, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 44, 364},
+        {CODEGEN_IV_MUL, 425, 425, 378},
+        {CODEGEN_IV_MUL, 425, 425, 28},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 45, 378},
+        {CODEGEN_IV_MUL, 426, 426, 386},
+        {CODEGEN_IV_SUB, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 46, 386},
+        {CODEGEN_IV_MUL, 425, 425, 417},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 47, 340},
+        {CODEGEN_IV_MUL, 426, 426, 4},
+        {CODEGEN_IV_MUL, 426, 426, 364},
+        {CODEGEN_IV_MUL, 426, 426, 3},
+        {CODEGEN_IV_SUB, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 48, 340},
+        {CODEGEN_IV_MUL, 425, 425, 8},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_MUL, 425, 425, 3},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_MUL, 426, 49, 340},
+        {CODEGEN_IV_MUL, 426, 426, 4},
+        {CODEGEN_IV_MUL, 426, 426, 12},
+        {CODEGEN_IV_MUL, 426, 426, 364},
+        {CODEGEN_IV_SUB, 426, 425, 426},
+        {CODEGEN_IV_MUL, 425, 50, 340},
+        {CODEGEN_IV_MUL, 425, 425, 8},
+        {CODEGEN_IV_MUL, 425, 425, 12},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_SUB, 425, 426, 425},
+        {CODEGEN_IV_CONST, 416, 5, 0},
+        {CODEGEN_IV_MUL, 416, 416, 400},
+        {CODEGEN_IV_NEG, 416, 416, 0},
+        {CODEGEN_IV_CONST, 409, 5, 0},
+        {CODEGEN_IV_MUL, 409, 409, 403},
+        {CODEGEN_IV_SUB, 409, 416, 409},
+        {CODEGEN_IV_SUB, 409, 409, 425},
+        {CODEGEN_IV_MUL, 416, 386, 404},
+        {CODEGEN_IV_SUB, 416, 409, 416},
+        {CODEGEN_IV_MUL, 409, 386, 407},
+        {CODEGEN_IV_SUB, 409, 416, 409},
+        {CODEGEN_IV_MUL, 416, 51, 378},
+        {CODEGEN_IV_MUL, 416, 416, 386},
+        {CODEGEN_IV_MUL, 416, 416, 3},
+        {CODEGEN_IV_ADD, 416, 409, 416},
+        {CODEGEN_IV_MUL, 409, 52, 378},
+        {CODEGEN_IV_MUL, 409, 409, 386},
+        {CODEGEN_IV_ADD, 409, 416, 409},
+        {CODEGEN_IV_CONST, 416, 1, 0},
+        {CODEGEN_IV_POW, 426, 386, 1},
+        {CODEGEN_IV_DIV, 426, 416, 426},
+        {CODEGEN_IV_MUL, 416, 338, 426},
+        {CODEGEN_IV_MUL, 427, 331, 409},
+        {CODEGEN_IV_MUL, 427, 427, 416},
+        {CODEGEN_IV_MUL, 428, 381, 14},
+        {CODEGEN_IV_MUL, 430, 53, 406},
+        {CODEGEN_IV_NEG, 431, 400, 0},
+        {CODEGEN_IV_SUB, 431, 431, 403},
+        {CODEGEN_IV_SUB, 431, 431, 425},
+        {CODEGEN_IV_MUL, 432, 430, 386},
+        {CODEGEN_IV_SUB, 432, 431, 432},
+        {CODEGEN_IV_MUL, 431, 386, 428},
+        {CODEGEN_IV_SUB, 431, 432, 431},
+        {CODEGEN_IV_MUL, 432, 54, 378},
+        {CODEGEN_IV_MUL, 432, 432, 386},
+        {CODEGEN_IV_MUL, 432, 432, 3},
+        {CODEGEN_IV_ADD, 432, 431, 432},
+        {CODEGEN_IV_MUL, 431, 55, 378},
+        {CODEGEN_IV_MUL, 431, 431, 386},
+        {CODEGEN_IV_ADD, 431, 432, 431},
+        {CODEGEN_IV_MUL, 425, 397, 416},
+        {CODEGEN_IV_MUL, 403, 332, 425},
+        {CODEGEN_IV_CONST, 400, 1, 0},
+        {CODEGEN_IV_POW, 432, 351, 1},
+        {CODEGEN_IV_DIV, 432, 400, 432},
+        {CODEGEN_IV_MUL, 400, 329, 395},
+        {CODEGEN_IV_NEG, 400, 400, 0},
+        {CODEGEN_IV_MUL, 433, 328, 395},
+        {CODEGEN_IV_SUB, 433, 400, 433},
+        {CODEGEN_IV_CONST, 400, 6, 0},
+        {CODEGEN_IV_MUL, 400, 400, 426},
+        {CODEGEN_IV_MUL, 434, 433, 400},
+        {CODEGEN_IV_ADD, 435, 56, 387},
+        {CODEGEN_IV_ADD, 435, 435, 389},
+        {CODEGEN_IV_SUB, 435, 435, 390},
+        {CODEGEN_IV_MUL, 436, 435, 346},
+        {CODEGEN_IV_CONST, 437, 0, 0},
+        {CODEGEN_IV_MUL, 437, 437, 417},
+        {CODEGEN_IV_MUL, 438, 326, 339},
+        {CODEGEN_IV_NEG, 438, 438, 0},
+        {CODEGEN_IV_MUL, 439, 4, 389},
+        {CODEGEN_IV_SUB, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 8, 390},
+        {CODEGEN_IV_SUB, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 10, 364},
+        {CODEGEN_IV_SUB, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 1, 389},
+        {CODEGEN_IV_SUB, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 1, 390},
+        {CODEGEN_IV_SUB, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 361, 336},
+        {CODEGEN_IV_SUB, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 366, 386},
+        {CODEGEN_IV_SUB, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 369, 386},
+        {CODEGEN_IV_SUB, 438, 439, 438},
+        {CODEGEN_IV_CONST, 439, 2, 0},
+        {CODEGEN_IV_MUL, 439, 439, 340},
+        {CODEGEN_IV_MUL, 439, 439, 11},
+        {CODEGEN_IV_MUL, 439, 439, 364},
+        {CODEGEN_IV_SUB, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 0, 437},
+        {CODEGEN_IV_MUL, 438, 438, 13},
+        {CODEGEN_IV_SUB, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 12, 364},
+        {CODEGEN_IV_MUL, 439, 439, 335},
+        {CODEGEN_IV_ADD, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 57, 340},
+        {CODEGEN_IV_MUL, 438, 438, 386},
+        {CODEGEN_IV_ADD, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 58, 364},
+        {CODEGEN_IV_ADD, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 59, 364},
+        {CODEGEN_IV_ADD, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 60, 364},
+        {CODEGEN_IV_ADD, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 61, 364},
+        {CODEGEN_IV_ADD, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 327, 340},
+        {CODEGEN_IV_MUL, 439, 439, 8},
+        {CODEGEN_IV_MUL, 439, 439, 336},
+        {CODEGEN_IV_ADD, 439, 438, 439},
+        {CODEGEN_IV_MUL, 438, 62, 364},
+        {CODEGEN_IV_MUL, 438, 438, 335},
+        {CODEGEN_IV_ADD, 438, 439, 438},
+        {CODEGEN_IV_MUL, 439, 63, 378},
+        {CODEGEN_IV_MUL, 439, 439, 336},
+        {CODEGEN_IV_ADD, 439, 438, 439},
+        {CODEGEN_IV_CONST, 438, 2, 0},
+        {CODEGEN_IV_MUL, 438, 438, 340},
+        {CODEGEN_IV_MUL, 438, 438, 0},
+        {CODEGEN_IV_MUL, 438, 438, 1},
+        {CODEGEN_IV_MUL, 438, 438, 364},
+        {CODEGEN_IV_ADD, 438, 439, 438},
+        {CODEGEN_IV_MUL, 336, 434, 436},
+        {CODEGEN_IV_MUL, 335, 438, 346},
+        {CODEGEN_IV_ADD, 335, 336, 335},
+        {CODEGEN_IV_MUL, 336, 393, 395},
+        {CODEGEN_IV_ADD, 336, 335, 336},
+        {CODEGEN_IV_MUL, 335, 1, 417},
+        {CODEGEN_IV_MUL, 390, 53, 335},
+        {CODEGEN_IV_CONST, 389, 1, 0},
+        {CODEGEN_IV_POW, 339, 346, 3},
+        {CODEGEN_IV_DIV, 339, 389, 339},
+        {CODEGEN_IV_MUL, 389, 333, 339},
+        {CODEGEN_IV_CONST, 361, 4, 0},
+        {CODEGEN_IV_MUL, 361, 361, 335},
+        {CODEGEN_IV_MUL, 354, 0, 361},
+        {CODEGEN_IV_MUL, 353, 336, 387},
+        {CODEGEN_IV_MUL, 439, 364, 386},
+        {CODEGEN_IV_MUL, 440, 439, 28},
+        {CODEGEN_IV_MUL, 441, 439, 29},
+        {CODEGEN_IV_MUL, 442, 0, 439},
+        {CODEGEN_IV_CONST, 443, 4, 0},
+        {CODEGEN_IV_MUL, 443, 443, 439},
+        {CODEGEN_IV_MUL, 444, 439, 1},
+        {CODEGEN_IV_MUL, 444, 444, 384},
+        {CODEGEN_IV_MUL, 445, 64, 417},
+        {CODEGEN_IV_MUL, 357, 65, 417},
+        {CODEGEN_IV_MUL, 448, 66, 417},
+        {CODEGEN_IV_MUL, 449, 9, 381},
+        {CODEGEN_IV_MUL, 450, 66, 378},
+        {CODEGEN_IV_MUL, 447, 65, 378},
+        {CODEGEN_IV_CONST, 446, 3, 0},
+        {CODEGEN_IV_MUL, 446, 446, 445},
+        {CODEGEN_IV_CONST, 451, 0, 0},
+        {CODEGEN_IV_MUL, 451, 451, 449},
+        {CODEGEN_IV_SUB, 451, 446, 451},
+        {CODEGEN_IV_CONST, 446, 0, 0},
+        {CODEGEN_IV_MUL, 446, 446, 340},
+        {CODEGEN_IV_MUL, 446, 446, 32},
+        {CODEGEN_IV_ADD, 446, 451, 446},
+        {CODEGEN_IV_CONST, 451, 4, 0},
+        {CODEGEN_IV_POW, 452, 340, 4},
+        {CODEGEN_IV_MUL, 452, 451, 452},
+        {CODEGEN_IV_MUL, 452, 452, 64},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 4, 357},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 4, 447},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 53, 402},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 437, 36},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_CONST, 446, 7, 0},
+        {CODEGEN_IV_MUL, 446, 446, 335},
+        {CODEGEN_IV_MUL, 446, 446, 399},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 361, 412},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 5, 439},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 67, 406},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 439, 9},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 439, 35},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 442, 8},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 68, 378},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_CONST, 446, 8, 0},
+        {CODEGEN_IV_MUL, 446, 446, 445},
+        {CODEGEN_IV_MUL, 446, 446, 378},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 357, 8},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 448, 33},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 448, 34},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_CONST, 446, 4, 0},
+        {CODEGEN_IV_MUL, 446, 446, 449},
+        {CODEGEN_IV_MUL, 446, 446, 417},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 450, 33},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 450, 34},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 447, 8},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 379, 36},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 381, 385},
+        {CODEGEN_IV_ADD, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 14, 399},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 14, 412},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 69, 406},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 402, 33},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 402, 34},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 37, 419},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 37, 422},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 340, 1},
+        {CODEGEN_IV_MUL, 452, 452, 385},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 70, 405},
+        {CODEGEN_IV_ADD, 446, 452, 446},
+        {CODEGEN_IV_MUL, 452, 71, 402},
+        {CODEGEN_IV_MUL, 452, 452, 417},
+        {CODEGEN_IV_SUB, 452, 446, 452},
+        {CODEGEN_IV_MUL, 446, 72, 405},
+        {CODEGEN_IV_SUB, 446, 452, 446},
+        {CODEGEN_IV_CONST, 422, 8, 0},
+        {CODEGEN_IV_MUL, 422, 422, 439},
+        {CODEGEN_IV_MUL, 439, 331, 425},
+        {CODEGEN_IV_NEG, 425, 366, 0},
+        {CODEGEN_IV_SUB, 425, 425, 369},
+        {CODEGEN_IV_MUL, 419, 73, 340},
+        {CODEGEN_IV_ADD, 419, 425, 419},
+        {CODEGEN_IV_MUL, 419, 346, 419},
+        {CODEGEN_IV_CONST, 369, 1, 0},
+        {CODEGEN_IV_MUL, 366, 329, 328},
+        {CODEGEN_IV_DIV, 366, 369, 366},
+        {CODEGEN_IV_MUL, 369, 433, 426},
+        {CODEGEN_IV_MUL, 426, 333, 432},
+        {CODEGEN_IV_MUL, 426, 426, 394},
+        {CODEGEN_IV_MUL, 426, 426, 349},
+        {CODEGEN_IV_MUL, 425, 74, 339},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_MUL, 418, 332, 431},
+        {CODEGEN_IV_CONST, 332, 0, 0},
+        {CODEGEN_IV_MUL, 332, 332, 442},
+        {CODEGEN_IV_ADD, 332, 332, 412},
+        {CODEGEN_IV_ADD, 332, 332, 414},
+        {CODEGEN_IV_ADD, 332, 332, 421},
+        {CODEGEN_IV_ADD, 332, 332, 423},
+        {CODEGEN_IV_MUL, 415, 340, 0},
+        {CODEGEN_IV_MUL, 415, 415, 8},
+        {CODEGEN_IV_SUB, 415, 332, 415},
+        {CODEGEN_IV_MUL, 332, 340, 8},
+        {CODEGEN_IV_MUL, 332, 332, 1},
+        {CODEGEN_IV_SUB, 332, 415, 332},
+        {CODEGEN_IV_MUL, 415, 75, 364},
+        {CODEGEN_IV_MUL, 415, 415, 386},
+        {CODEGEN_IV_SUB, 415, 332, 415},
+        {CODEGEN_IV_MUL, 332, 76, 378},
+        {CODEGEN_IV_SUB, 332, 415, 332},
+        {CODEGEN_IV_MUL, 415, 77, 417},
+        {CODEGEN_IV_SUB, 415, 332, 415},
+        {CODEGEN_IV_MUL, 423, 338, 366},
+        {CODEGEN_IV_MUL, 423, 423, 397},
+        {CODEGEN_IV_CONST, 421, 6, 0},
+        {CODEGEN_IV_MUL, 421, 421, 336},
+        {CODEGEN_IV_MUL, 412, 431, 403},
+        {CODEGEN_IV_SUB, 412, 78, 412},
+        {CODEGEN_IV_MUL, 414, 392, 396},
+        {CODEGEN_IV_SUB, 414, 412, 414},
+        {CODEGEN_IV_MUL, 412, 397, 427},
+        {CODEGEN_IV_SUB, 412, 414, 412},
+        {CODEGEN_IV_MUL, 414, 79, 340},
+        {CODEGEN_IV_ADD, 414, 412, 414},
+        {CODEGEN_IV_MUL, 412, 80, 432},
+        {CODEGEN_IV_MUL, 412, 412, 336},
+        {CODEGEN_IV_MUL, 412, 412, 394},
+        {CODEGEN_IV_MUL, 412, 412, 349},
+        {CODEGEN_IV_ADD, 412, 414, 412},
+        {CODEGEN_IV_ADD, 349, 440, 441},
+        {CODEGEN_IV_CONST, 397, 3, 0},
+        {CODEGEN_IV_MUL, 397, 397, 444},
+        {CODEGEN_IV_ADD, 397, 349, 397},
+        {CODEGEN_IV_ADD, 397, 397, 446},
+        {CODEGEN_IV_MUL, 349, 442, 14},
+        {CODEGEN_IV_ADD, 349, 397, 349},
+        {CODEGEN_IV_MUL, 397, 443, 358},
+        {CODEGEN_IV_SUB, 397, 349, 397},
+        {CODEGEN_IV_MUL, 349, 443, 362},
+        {CODEGEN_IV_SUB, 349, 397, 349},
+        {CODEGEN_IV_MUL, 349, 403, 349},
+        {CODEGEN_IV_NEG, 349, 349, 0},
+        {CODEGEN_IV_NEG, 397, 430, 0},
+        {CODEGEN_IV_SUB, 397, 397, 415},
+        {CODEGEN_IV_SUB, 397, 397, 399},
+        {CODEGEN_IV_SUB, 397, 397, 402},
+        {CODEGEN_IV_SUB, 397, 397, 428},
+        {CODEGEN_IV_MUL, 394, 81, 378},
+        {CODEGEN_IV_MUL, 394, 394, 3},
+        {CODEGEN_IV_ADD, 394, 397, 394},
+        {CODEGEN_IV_MUL, 397, 82, 378},
+        {CODEGEN_IV_ADD, 397, 394, 397},
+        {CODEGEN_IV_MUL, 397, 403, 397},
+        {CODEGEN_IV_NEG, 397, 397, 0},
+        {CODEGEN_IV_MUL, 394, 418, 423},
+        {CODEGEN_IV_SUB, 394, 397, 394},
+        {CODEGEN_IV_MUL, 394, 434, 394},
+        {CODEGEN_IV_ADD, 394, 349, 394},
+        {CODEGEN_IV_NEG, 349, 415, 0},
+        {CODEGEN_IV_CONST, 397, 5, 0},
+        {CODEGEN_IV_MUL, 397, 397, 399},
+        {CODEGEN_IV_SUB, 397, 349, 397},
+        {CODEGEN_IV_CONST, 349, 5, 0},
+        {CODEGEN_IV_MUL, 349, 349, 402},
+        {CODEGEN_IV_SUB, 349, 397, 349},
+        {CODEGEN_IV_SUB, 349, 349, 404},
+        {CODEGEN_IV_SUB, 349, 349, 407},
+        {CODEGEN_IV_MUL, 397, 83, 378},
+        {CODEGEN_IV_MUL, 397, 397, 3},
+        {CODEGEN_IV_ADD, 397, 349, 397},
+        {CODEGEN_IV_MUL, 349, 84, 378},
+        {CODEGEN_IV_ADD, 349, 397, 349},
+        {CODEGEN_IV_MUL, 349, 439, 349},
+        {CODEGEN_IV_NEG, 349, 349, 0},
+        {CODEGEN_IV_MUL, 397, 331, 423},
+        {CODEGEN_IV_MUL, 397, 397, 409},
+        {CODEGEN_IV_SUB, 397, 349, 397},
+        {CODEGEN_IV_MUL, 397, 434, 397},
+        {CODEGEN_IV_ADD, 397, 394, 397},
+        {CODEGEN_IV_MUL, 394, 389, 353},
+        {CODEGEN_IV_SUB, 394, 397, 394},
+        {CODEGEN_IV_CONST, 397, 5, 0},
+        {CODEGEN_IV_MUL, 397, 397, 440},
+        {CODEGEN_IV_CONST, 349, 5, 0},
+        {CODEGEN_IV_MUL, 349, 349, 441},
+        {CODEGEN_IV_ADD, 349, 397, 349},
+        {CODEGEN_IV_CONST, 397, 9, 0},
+        {CODEGEN_IV_MUL, 397, 397, 444},
+        {CODEGEN_IV_ADD, 397, 349, 397},
+        {CODEGEN_IV_ADD, 397, 397, 446},
+        {CODEGEN_IV_CONST, 349, 10, 0},
+        {CODEGEN_IV_MUL, 349, 349, 442},
+        {CODEGEN_IV_MUL, 349, 349, 1},
+        {CODEGEN_IV_ADD, 349, 397, 349},
+        {CODEGEN_IV_MUL, 397, 422, 358},
+        {CODEGEN_IV_SUB, 397, 349, 397},
+        {CODEGEN_IV_MUL, 349, 422, 362},
+        {CODEGEN_IV_SUB, 349, 397, 349},
+        {CODEGEN_IV_MUL, 349, 439, 349},
+        {CODEGEN_IV_SUB, 349, 394, 349},
+        {CODEGEN_IV_CONST, 394, 6, 0},
+        {CODEGEN_IV_MUL, 394, 394, 426},
+        {CODEGEN_IV_MUL, 397, 434, 419},
+        {CODEGEN_IV_CONST, 431, 2, 0},
+        {CODEGEN_IV_MUL, 431, 431, 438},
+        {CODEGEN_IV_MUL, 431, 431, 387},
+        {CODEGEN_IV_ADD, 431, 397, 431},
+        {CODEGEN_IV_MUL, 397, 345, 393},
+        {CODEGEN_IV_ADD, 397, 431, 397},
+        {CODEGEN_IV_NEG, 431, 390, 0},
+        {CODEGEN_IV_SUB, 431, 431, 358},
+        {CODEGEN_IV_SUB, 431, 431, 362},
+        {CODEGEN_IV_ADD, 431, 431, 363},
+        {CODEGEN_IV_ADD, 431, 431, 365},
+        {CODEGEN_IV_SUB, 431, 431, 367},
+        {CODEGEN_IV_SUB, 431, 431, 370},
+        {CODEGEN_IV_SUB, 431, 431, 371},
+        {CODEGEN_IV_ADD, 431, 431, 372},
+        {CODEGEN_IV_ADD, 431, 431, 373},
+        {CODEGEN_IV_ADD, 431, 431, 344},
+        {CODEGEN_IV_ADD, 431, 431, 374},
+        {CODEGEN_IV_ADD, 431, 431, 375},
+        {CODEGEN_IV_ADD, 431, 431, 376},
+        {CODEGEN_IV_ADD, 431, 431, 377},
+        {CODEGEN_IV_SUB, 431, 431, 388},
+        {CODEGEN_IV_SUB, 431, 431, 343},
+        {CODEGEN_IV_ADD, 431, 431, 391},
+        {CODEGEN_IV_MUL, 340, 85, 417},
+        {CODEGEN_IV_ADD, 340, 431, 340},
+        {CODEGEN_IV_MUL, 431, 11, 424},
+        {CODEGEN_IV_SUB, 431, 340, 431},
+        {CODEGEN_IV_MUL, 340, 1, 420},
+        {CODEGEN_IV_ADD, 340, 431, 340},
+        {CODEGEN_IV_MUL, 431, 86, 382},
+        {CODEGEN_IV_SUB, 431, 340, 431},
+        {CODEGEN_IV_MUL, 431, 346, 431},
+        {CODEGEN_IV_ADD, 431, 397, 431},
+        {CODEGEN_IV_MUL, 397, 400, 436},
+        {CODEGEN_IV_NEG, 340, 354, 0},
+        {CODEGEN_IV_MUL, 337, 329, 345},
+        {CODEGEN_IV_SUB, 337, 340, 337},
+        {CODEGEN_IV_MUL, 340, 328, 345},
+        {CODEGEN_IV_SUB, 340, 337, 340},
+        {CODEGEN_IV_MUL, 340, 397, 340},
+        {CODEGEN_IV_ADD, 340, 431, 340},
+        {CODEGEN_IV_MUL, 431, 435, 369},
+        {CODEGEN_IV_MUL, 431, 431, 387},
+        {CODEGEN_IV_ADD, 431, 340, 431},
+        {CODEGEN_IV_MUL, 431, 394, 431},
+        {CODEGEN_IV_ADD, 431, 349, 431},
+        {CODEGEN_IV_MUL, 349, 425, 427},
+        {CODEGEN_IV_ADD, 349, 431, 349},
+        {CODEGEN_IV_MUL, 431, 87, 368},
+        {CODEGEN_IV_SUB, 431, 349, 431},
+        {CODEGEN_IV_MUL, 349, 432, 353},
+        {CODEGEN_IV_MUL, 349, 349, 392},
+        {CODEGEN_IV_SUB, 349, 431, 349},
+        {CODEGEN_IV_MUL, 431, 432, 421},
+        {CODEGEN_IV_MUL, 394, 389, 396},
+        {CODEGEN_IV_NEG, 394, 394, 0},
+        {CODEGEN_IV_MUL, 340, 392, 395},
+        {CODEGEN_IV_SUB, 340, 394, 340},
+        {CODEGEN_IV_MUL, 394, 421, 392},
+        {CODEGEN_IV_DIV, 394, 394, 393},
+        {CODEGEN_IV_SUB, 394, 340, 394},
+        {CODEGEN_IV_MUL, 340, 88, 432},
+        {CODEGEN_IV_MUL, 340, 340, 336},
+        {CODEGEN_IV_MUL, 340, 340, 348},
+        {CODEGEN_IV_ADD, 340, 394, 340},
+        {CODEGEN_IV_MUL, 340, 431, 340},
+        {CODEGEN_IV_ADD, 340, 349, 340},
+        {CODEGEN_IV_MUL, 349, 390, 389},
+        {CODEGEN_IV_MUL, 349, 349, 393},
+        {CODEGEN_IV_ADD, 349, 340, 349},
+        {CODEGEN_IV_CONST, 340, 11, 0},
+        {CODEGEN_IV_MUL, 340, 340, 369},
+        {CODEGEN_IV_MUL, 340, 340, 426},
+        {CODEGEN_IV_MUL, 431, 435, 395},
+        {CODEGEN_IV_ADD, 431, 419, 431},
+        {CODEGEN_IV_CONST, 394, 6, 0},
+        {CODEGEN_IV_MUL, 394, 394, 433},
+        {CODEGEN_IV_MUL, 394, 394, 436},
+        {CODEGEN_IV_MUL, 394, 394, 366},
+        {CODEGEN_IV_ADD, 394, 431, 394},
+        {CODEGEN_IV_MUL, 394, 340, 394},
+        {CODEGEN_IV_ADD, 394, 349, 394},
+        {CODEGEN_IV_MUL, 349, 425, 418},
+        {CODEGEN_IV_MUL, 349, 349, 416},
+        {CODEGEN_IV_ADD, 349, 394, 349},
+        {CODEGEN_IV_MUL, 394, 345, 351},
+        {CODEGEN_IV_MUL, 394, 394, 392},
+        {CODEGEN_IV_SUB, 394, 349, 394},
+        {CODEGEN_IV_MUL, 349, 339, 354},
+        {CODEGEN_IV_MUL, 349, 349, 351},
+        {CODEGEN_IV_MUL, 349, 349, 334},
+        {CODEGEN_IV_ADD, 349, 394, 349},
     };
     static const codegen_iv constants[12] = {
         {2, 2},
@@ -10426,18 +10426,18 @@ static void enclose_mode_0(const four_bar_params *params, codegen_iv theta,
         {6, 6},
         {CODEGEN_R(0.25), CODEGEN_R(0.25)}
     };
-    v[280] = codegen_iv_point(params->d);
-    v[281] = codegen_iv_point(params->a_2);
-    v[285] = codegen_iv_point(params->m_3);
-    v[286] = codegen_iv_point(params->m_4);
-    v[287] = codegen_iv_point(params->k);
-    v[289] = codegen_iv_point(params->x_S);
-    v[290] = codegen_iv_point(params->y_S);
-    v[292] = codegen_iv_point(params->g);
-    v[293] = theta;
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[331] = codegen_iv_point(params->m_3);
+    v[332] = codegen_iv_point(params->m_4);
+    v[333] = codegen_iv_point(params->k);
+    v[335] = codegen_iv_point(params->x_S);
+    v[336] = codegen_iv_point(params->y_S);
+    v[338] = codegen_iv_point(params->g);
+    v[339] = theta;
     codegen_iv_run(program, 664, constants, v, iv_flags);
-    *iv_g = v[366];
-    *iv_dg = v[303];
+    *iv_g = v[412];
+    *iv_dg = v[349];
 #else
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
@@ -11074,7 +11074,7 @@ static void enclose_mode_0(const four_bar_params *params, codegen_iv theta,
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * At each theta, 332 instructions (as a program, over the slots v from 280); the 112 theta does not reach
+ * At each theta, 332 instructions (as a program, over the slots v from 326); the 112 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -11082,338 +11082,338 @@ static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[332] = {
-        {CODEGEN_IV_COS, 294, 293, 0},
-        {CODEGEN_IV_MUL, 297, 281, 294},
-        {CODEGEN_IV_MUL, 298, 280, 297},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 298},
-        {CODEGEN_IV_SUB, 300, 91, 299},
-        {CODEGEN_IV_MUL, 312, 294, 100},
-        {CODEGEN_IV_SIN, 313, 293, 0},
-        {CODEGEN_IV_MUL, 293, 100, 313},
-        {CODEGEN_IV_MUL, 314, 297, 289},
-        {CODEGEN_IV_MUL, 315, 281, 313},
-        {CODEGEN_IV_MUL, 316, 315, 290},
-        {CODEGEN_IV_POW, 317, 294, 2},
-        {CODEGEN_IV_CONST, 318, 0, 0},
-        {CODEGEN_IV_MUL, 318, 318, 317},
-        {CODEGEN_IV_CONST, 321, 0, 0},
-        {CODEGEN_IV_MUL, 321, 321, 313},
-        {CODEGEN_IV_MUL, 322, 294, 321},
-        {CODEGEN_IV_SUB, 283, 104, 299},
-        {CODEGEN_IV_SUB, 283, 283, 93},
-        {CODEGEN_IV_ADD, 282, 105, 300},
-        {CODEGEN_IV_SUB, 282, 282, 93},
-        {CODEGEN_IV_MUL, 324, 283, 282},
-        {CODEGEN_IV_NEG, 325, 324, 0},
-        {CODEGEN_IV_SQRT, 325, 325, 0},
-        {CODEGEN_IV_MUL, 326, 280, 315},
-        {CODEGEN_IV_MUL, 327, 297, 290},
-        {CODEGEN_IV_MUL, 297, 315, 289},
-        {CODEGEN_IV_MUL, 329, 280, 312},
-        {CODEGEN_IV_ADD, 329, 106, 329},
-        {CODEGEN_IV_MUL, 328, 294, 98},
-        {CODEGEN_IV_ADD, 328, 329, 328},
-        {CODEGEN_IV_ADD, 329, 328, 107},
-        {CODEGEN_IV_ADD, 328, 329, 108},
-        {CODEGEN_IV_ADD, 329, 328, 109},
-        {CODEGEN_IV_MUL, 328, 95, 299},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_ADD, 329, 328, 110},
-        {CODEGEN_IV_MUL, 328, 96, 299},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 97, 314},
-        {CODEGEN_IV_ADD, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 97, 316},
-        {CODEGEN_IV_ADD, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 97, 298},
-        {CODEGEN_IV_SUB, 329, 328, 329},
-        {CODEGEN_IV_SUB, 328, 329, 111},
-        {CODEGEN_IV_MUL, 329, 99, 318},
-        {CODEGEN_IV_ADD, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 312, 289},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 90, 314},
-        {CODEGEN_IV_ADD, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 90, 316},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 293, 290},
-        {CODEGEN_IV_SUB, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 314, 93},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 316, 93},
-        {CODEGEN_IV_SUB, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 318, 103},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 101, 325},
-        {CODEGEN_IV_SUB, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 102, 322},
-        {CODEGEN_IV_ADD, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 325, 326},
-        {CODEGEN_IV_ADD, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 325, 327},
-        {CODEGEN_IV_ADD, 328, 329, 328},
-        {CODEGEN_IV_MUL, 329, 325, 297},
-        {CODEGEN_IV_SUB, 329, 328, 329},
-        {CODEGEN_IV_MUL, 328, 298, 93},
-        {CODEGEN_IV_SUB, 328, 329, 328},
-        {CODEGEN_IV_SUB, 329, 328, 112},
-        {CODEGEN_IV_ADD, 328, 329, 113},
-        {CODEGEN_IV_MUL, 303, 328, 300},
-        {CODEGEN_IV_SQRT, 303, 303, 0},
-        {CODEGEN_IV_CONST, 299, 1, 0},
-        {CODEGEN_IV_POW, 298, 300, 2},
-        {CODEGEN_IV_DIV, 298, 299, 298},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 326},
-        {CODEGEN_IV_CONST, 329, 1, 0},
-        {CODEGEN_IV_POW, 330, 300, 1},
-        {CODEGEN_IV_DIV, 330, 329, 330},
-        {CODEGEN_IV_MUL, 331, 303, 330},
-        {CODEGEN_IV_ADD, 331, 114, 331},
-        {CODEGEN_IV_MUL, 329, 294, 325},
-        {CODEGEN_IV_MUL, 332, 115, 329},
-        {CODEGEN_IV_MUL, 334, 329, 116},
-        {CODEGEN_IV_MUL, 335, 103, 329},
-        {CODEGEN_IV_POW, 336, 294, 3},
-        {CODEGEN_IV_MUL, 337, 321, 116},
-        {CODEGEN_IV_MUL, 338, 313, 90},
-        {CODEGEN_IV_POW, 339, 313, 2},
-        {CODEGEN_IV_MUL, 340, 117, 325},
-        {CODEGEN_IV_CONST, 341, 0, 0},
-        {CODEGEN_IV_MUL, 341, 341, 339},
-        {CODEGEN_IV_MUL, 343, 118, 313},
-        {CODEGEN_IV_NEG, 343, 343, 0},
-        {CODEGEN_IV_MUL, 342, 94, 329},
-        {CODEGEN_IV_ADD, 342, 343, 342},
-        {CODEGEN_IV_MUL, 343, 97, 337},
-        {CODEGEN_IV_ADD, 343, 342, 343},
-        {CODEGEN_IV_MUL, 342, 318, 340},
-        {CODEGEN_IV_ADD, 342, 343, 342},
-        {CODEGEN_IV_MUL, 343, 324, 338},
-        {CODEGEN_IV_ADD, 343, 342, 343},
-        {CODEGEN_IV_MUL, 342, 337, 93},
-        {CODEGEN_IV_ADD, 342, 343, 342},
-        {CODEGEN_IV_MUL, 343, 340, 341},
-        {CODEGEN_IV_ADD, 343, 342, 343},
-        {CODEGEN_IV_MUL, 342, 119, 322},
-        {CODEGEN_IV_ADD, 342, 343, 342},
-        {CODEGEN_IV_MUL, 344, 120, 294},
-        {CODEGEN_IV_MUL, 344, 344, 315},
-        {CODEGEN_IV_ADD, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 121, 321},
-        {CODEGEN_IV_ADD, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 122, 313},
-        {CODEGEN_IV_MUL, 344, 344, 116},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 123, 321},
-        {CODEGEN_IV_ADD, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 124, 317},
-        {CODEGEN_IV_MUL, 344, 344, 338},
-        {CODEGEN_IV_ADD, 344, 342, 344},
-        {CODEGEN_IV_CONST, 342, 2, 0},
-        {CODEGEN_IV_MUL, 342, 342, 312},
-        {CODEGEN_IV_MUL, 342, 342, 313},
-        {CODEGEN_IV_MUL, 342, 342, 92},
-        {CODEGEN_IV_ADD, 342, 344, 342},
-        {CODEGEN_IV_CONST, 344, 0, 0},
-        {CODEGEN_IV_MUL, 344, 344, 313},
-        {CODEGEN_IV_MUL, 344, 344, 90},
-        {CODEGEN_IV_MUL, 344, 344, 115},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 90, 329},
-        {CODEGEN_IV_MUL, 342, 342, 93},
-        {CODEGEN_IV_ADD, 342, 344, 342},
-        {CODEGEN_IV_CONST, 344, 3, 0},
-        {CODEGEN_IV_MUL, 344, 344, 293},
-        {CODEGEN_IV_MUL, 344, 344, 336},
-        {CODEGEN_IV_MUL, 344, 344, 92},
-        {CODEGEN_IV_ADD, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 294, 89},
-        {CODEGEN_IV_MUL, 342, 342, 97},
-        {CODEGEN_IV_MUL, 342, 342, 325},
-        {CODEGEN_IV_SUB, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 294, 97},
-        {CODEGEN_IV_MUL, 344, 344, 90},
-        {CODEGEN_IV_MUL, 344, 344, 325},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 125, 313},
-        {CODEGEN_IV_MUL, 342, 342, 317},
-        {CODEGEN_IV_ADD, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 126, 313},
-        {CODEGEN_IV_MUL, 344, 344, 317},
-        {CODEGEN_IV_MUL, 344, 344, 116},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 89, 313},
-        {CODEGEN_IV_MUL, 342, 342, 283},
-        {CODEGEN_IV_MUL, 342, 342, 282},
-        {CODEGEN_IV_SUB, 342, 344, 342},
-        {CODEGEN_IV_CONST, 344, 3, 0},
-        {CODEGEN_IV_MUL, 344, 344, 313},
-        {CODEGEN_IV_MUL, 344, 344, 90},
-        {CODEGEN_IV_MUL, 344, 344, 317},
-        {CODEGEN_IV_MUL, 344, 344, 115},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 127, 317},
-        {CODEGEN_IV_MUL, 342, 342, 325},
-        {CODEGEN_IV_MUL, 342, 342, 93},
-        {CODEGEN_IV_SUB, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 128, 325},
-        {CODEGEN_IV_MUL, 344, 344, 339},
-        {CODEGEN_IV_MUL, 344, 344, 93},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 129, 294},
-        {CODEGEN_IV_MUL, 342, 342, 97},
-        {CODEGEN_IV_MUL, 342, 342, 313},
-        {CODEGEN_IV_MUL, 342, 342, 92},
-        {CODEGEN_IV_SUB, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 130, 294},
-        {CODEGEN_IV_MUL, 344, 344, 313},
-        {CODEGEN_IV_MUL, 344, 344, 92},
-        {CODEGEN_IV_MUL, 344, 344, 93},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_MUL, 342, 131, 294},
-        {CODEGEN_IV_MUL, 342, 342, 97},
-        {CODEGEN_IV_MUL, 342, 342, 100},
-        {CODEGEN_IV_MUL, 342, 342, 313},
-        {CODEGEN_IV_SUB, 342, 344, 342},
-        {CODEGEN_IV_MUL, 344, 132, 294},
-        {CODEGEN_IV_MUL, 344, 344, 100},
-        {CODEGEN_IV_MUL, 344, 344, 313},
-        {CODEGEN_IV_MUL, 344, 344, 93},
-        {CODEGEN_IV_SUB, 344, 342, 344},
-        {CODEGEN_IV_CONST, 340, 1, 0},
-        {CODEGEN_IV_POW, 339, 325, 1},
-        {CODEGEN_IV_DIV, 339, 340, 339},
-        {CODEGEN_IV_MUL, 340, 133, 298},
-        {CODEGEN_IV_MUL, 340, 340, 339},
-        {CODEGEN_IV_MUL, 337, 285, 340},
-        {CODEGEN_IV_CONST, 333, 4, 0},
-        {CODEGEN_IV_MUL, 333, 333, 332},
-        {CODEGEN_IV_NEG, 333, 333, 0},
-        {CODEGEN_IV_CONST, 329, 4, 0},
-        {CODEGEN_IV_MUL, 329, 329, 334},
-        {CODEGEN_IV_SUB, 329, 333, 329},
-        {CODEGEN_IV_CONST, 333, 5, 0},
-        {CODEGEN_IV_MUL, 333, 333, 335},
-        {CODEGEN_IV_SUB, 333, 329, 333},
-        {CODEGEN_IV_SUB, 333, 333, 344},
-        {CODEGEN_IV_MUL, 329, 135, 325},
-        {CODEGEN_IV_MUL, 329, 329, 336},
-        {CODEGEN_IV_SUB, 329, 333, 329},
-        {CODEGEN_IV_MUL, 333, 136, 317},
-        {CODEGEN_IV_MUL, 333, 333, 325},
-        {CODEGEN_IV_MUL, 333, 333, 92},
-        {CODEGEN_IV_ADD, 333, 329, 333},
-        {CODEGEN_IV_MUL, 329, 137, 317},
-        {CODEGEN_IV_MUL, 329, 329, 325},
-        {CODEGEN_IV_ADD, 329, 333, 329},
-        {CODEGEN_IV_MUL, 329, 337, 329},
-        {CODEGEN_IV_SUB, 329, 134, 329},
-        {CODEGEN_IV_MUL, 338, 286, 340},
-        {CODEGEN_IV_NEG, 337, 332, 0},
-        {CODEGEN_IV_SUB, 337, 337, 334},
-        {CODEGEN_IV_CONST, 333, 0, 0},
-        {CODEGEN_IV_MUL, 333, 333, 335},
-        {CODEGEN_IV_SUB, 333, 337, 333},
-        {CODEGEN_IV_SUB, 333, 333, 344},
-        {CODEGEN_IV_MUL, 337, 138, 325},
-        {CODEGEN_IV_MUL, 337, 337, 336},
-        {CODEGEN_IV_SUB, 337, 333, 337},
-        {CODEGEN_IV_MUL, 333, 139, 317},
-        {CODEGEN_IV_MUL, 333, 333, 325},
-        {CODEGEN_IV_MUL, 333, 333, 92},
-        {CODEGEN_IV_ADD, 333, 337, 333},
-        {CODEGEN_IV_MUL, 337, 140, 317},
-        {CODEGEN_IV_MUL, 337, 337, 325},
-        {CODEGEN_IV_ADD, 337, 333, 337},
-        {CODEGEN_IV_MUL, 337, 338, 337},
-        {CODEGEN_IV_SUB, 337, 329, 337},
-        {CODEGEN_IV_MUL, 329, 141, 294},
-        {CODEGEN_IV_ADD, 329, 337, 329},
-        {CODEGEN_IV_MUL, 337, 142, 330},
-        {CODEGEN_IV_MUL, 337, 337, 331},
-        {CODEGEN_IV_MUL, 338, 328, 299},
-        {CODEGEN_IV_MUL, 333, 280, 293},
-        {CODEGEN_IV_NEG, 333, 333, 0},
-        {CODEGEN_IV_MUL, 288, 97, 297},
-        {CODEGEN_IV_SUB, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 98, 313},
-        {CODEGEN_IV_SUB, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 312, 290},
-        {CODEGEN_IV_SUB, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 90, 327},
-        {CODEGEN_IV_SUB, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 90, 297},
-        {CODEGEN_IV_SUB, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 314, 325},
-        {CODEGEN_IV_SUB, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 316, 325},
-        {CODEGEN_IV_SUB, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 102, 341},
-        {CODEGEN_IV_SUB, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 327, 93},
-        {CODEGEN_IV_SUB, 288, 333, 288},
-        {CODEGEN_IV_CONST, 333, 6, 0},
-        {CODEGEN_IV_MUL, 333, 333, 294},
-        {CODEGEN_IV_MUL, 333, 333, 99},
-        {CODEGEN_IV_MUL, 333, 333, 313},
-        {CODEGEN_IV_SUB, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 100, 313},
-        {CODEGEN_IV_MUL, 288, 288, 289},
-        {CODEGEN_IV_ADD, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 143, 294},
-        {CODEGEN_IV_MUL, 333, 333, 325},
-        {CODEGEN_IV_ADD, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 144, 313},
-        {CODEGEN_IV_ADD, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 145, 313},
-        {CODEGEN_IV_ADD, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 146, 313},
-        {CODEGEN_IV_ADD, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 147, 313},
-        {CODEGEN_IV_MUL, 333, 333, 93},
-        {CODEGEN_IV_ADD, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 281, 294},
-        {CODEGEN_IV_MUL, 288, 288, 97},
-        {CODEGEN_IV_MUL, 288, 288, 290},
-        {CODEGEN_IV_ADD, 288, 333, 288},
-        {CODEGEN_IV_MUL, 333, 281, 313},
-        {CODEGEN_IV_MUL, 333, 333, 93},
-        {CODEGEN_IV_MUL, 333, 333, 289},
-        {CODEGEN_IV_ADD, 333, 288, 333},
-        {CODEGEN_IV_MUL, 288, 148, 317},
-        {CODEGEN_IV_MUL, 288, 288, 290},
-        {CODEGEN_IV_ADD, 288, 333, 288},
-        {CODEGEN_IV_CONST, 333, 6, 0},
-        {CODEGEN_IV_MUL, 333, 333, 294},
-        {CODEGEN_IV_MUL, 333, 333, 89},
-        {CODEGEN_IV_MUL, 333, 333, 313},
-        {CODEGEN_IV_MUL, 333, 333, 90},
-        {CODEGEN_IV_ADD, 333, 288, 333},
-        {CODEGEN_IV_MUL, 333, 300, 333},
-        {CODEGEN_IV_ADD, 333, 338, 333},
-        {CODEGEN_IV_CONST, 338, 7, 0},
-        {CODEGEN_IV_MUL, 338, 338, 339},
-        {CODEGEN_IV_MUL, 338, 338, 300},
-        {CODEGEN_IV_MUL, 288, 283, 299},
-        {CODEGEN_IV_NEG, 288, 288, 0},
-        {CODEGEN_IV_MUL, 324, 282, 299},
-        {CODEGEN_IV_SUB, 324, 288, 324},
-        {CODEGEN_IV_MUL, 324, 338, 324},
-        {CODEGEN_IV_ADD, 338, 149, 326},
-        {CODEGEN_IV_ADD, 338, 338, 327},
-        {CODEGEN_IV_SUB, 338, 338, 297},
-        {CODEGEN_IV_MUL, 338, 324, 338},
-        {CODEGEN_IV_ADD, 338, 333, 338},
-        {CODEGEN_IV_MUL, 338, 337, 338},
-        {CODEGEN_IV_DIV, 338, 338, 303},
-        {CODEGEN_IV_ADD, 338, 329, 338},
-        {CODEGEN_IV_MUL, 329, 287, 303},
-        {CODEGEN_IV_MUL, 329, 329, 298},
-        {CODEGEN_IV_MUL, 329, 329, 299},
-        {CODEGEN_IV_MUL, 329, 329, 331},
-        {CODEGEN_IV_SUB, 329, 338, 329},
+        {CODEGEN_IV_COS, 340, 339, 0},
+        {CODEGEN_IV_MUL, 343, 327, 340},
+        {CODEGEN_IV_MUL, 344, 326, 343},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 344},
+        {CODEGEN_IV_SUB, 346, 91, 345},
+        {CODEGEN_IV_MUL, 358, 340, 100},
+        {CODEGEN_IV_SIN, 359, 339, 0},
+        {CODEGEN_IV_MUL, 339, 100, 359},
+        {CODEGEN_IV_MUL, 360, 343, 335},
+        {CODEGEN_IV_MUL, 361, 327, 359},
+        {CODEGEN_IV_MUL, 362, 361, 336},
+        {CODEGEN_IV_POW, 363, 340, 2},
+        {CODEGEN_IV_CONST, 364, 0, 0},
+        {CODEGEN_IV_MUL, 364, 364, 363},
+        {CODEGEN_IV_CONST, 367, 0, 0},
+        {CODEGEN_IV_MUL, 367, 367, 359},
+        {CODEGEN_IV_MUL, 368, 340, 367},
+        {CODEGEN_IV_SUB, 329, 104, 345},
+        {CODEGEN_IV_SUB, 329, 329, 93},
+        {CODEGEN_IV_ADD, 328, 105, 346},
+        {CODEGEN_IV_SUB, 328, 328, 93},
+        {CODEGEN_IV_MUL, 370, 329, 328},
+        {CODEGEN_IV_NEG, 371, 370, 0},
+        {CODEGEN_IV_SQRT, 371, 371, 0},
+        {CODEGEN_IV_MUL, 372, 326, 361},
+        {CODEGEN_IV_MUL, 373, 343, 336},
+        {CODEGEN_IV_MUL, 343, 361, 335},
+        {CODEGEN_IV_MUL, 375, 326, 358},
+        {CODEGEN_IV_ADD, 375, 106, 375},
+        {CODEGEN_IV_MUL, 374, 340, 98},
+        {CODEGEN_IV_ADD, 374, 375, 374},
+        {CODEGEN_IV_ADD, 375, 374, 107},
+        {CODEGEN_IV_ADD, 374, 375, 108},
+        {CODEGEN_IV_ADD, 375, 374, 109},
+        {CODEGEN_IV_MUL, 374, 95, 345},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_ADD, 375, 374, 110},
+        {CODEGEN_IV_MUL, 374, 96, 345},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 97, 360},
+        {CODEGEN_IV_ADD, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 97, 362},
+        {CODEGEN_IV_ADD, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 97, 344},
+        {CODEGEN_IV_SUB, 375, 374, 375},
+        {CODEGEN_IV_SUB, 374, 375, 111},
+        {CODEGEN_IV_MUL, 375, 99, 364},
+        {CODEGEN_IV_ADD, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 358, 335},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 90, 360},
+        {CODEGEN_IV_ADD, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 90, 362},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 339, 336},
+        {CODEGEN_IV_SUB, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 360, 93},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 362, 93},
+        {CODEGEN_IV_SUB, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 364, 103},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 101, 371},
+        {CODEGEN_IV_SUB, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 102, 368},
+        {CODEGEN_IV_ADD, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 371, 372},
+        {CODEGEN_IV_ADD, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 371, 373},
+        {CODEGEN_IV_ADD, 374, 375, 374},
+        {CODEGEN_IV_MUL, 375, 371, 343},
+        {CODEGEN_IV_SUB, 375, 374, 375},
+        {CODEGEN_IV_MUL, 374, 344, 93},
+        {CODEGEN_IV_SUB, 374, 375, 374},
+        {CODEGEN_IV_SUB, 375, 374, 112},
+        {CODEGEN_IV_ADD, 374, 375, 113},
+        {CODEGEN_IV_MUL, 349, 374, 346},
+        {CODEGEN_IV_SQRT, 349, 349, 0},
+        {CODEGEN_IV_CONST, 345, 1, 0},
+        {CODEGEN_IV_POW, 344, 346, 2},
+        {CODEGEN_IV_DIV, 344, 345, 344},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 372},
+        {CODEGEN_IV_CONST, 375, 1, 0},
+        {CODEGEN_IV_POW, 376, 346, 1},
+        {CODEGEN_IV_DIV, 376, 375, 376},
+        {CODEGEN_IV_MUL, 377, 349, 376},
+        {CODEGEN_IV_ADD, 377, 114, 377},
+        {CODEGEN_IV_MUL, 375, 340, 371},
+        {CODEGEN_IV_MUL, 378, 115, 375},
+        {CODEGEN_IV_MUL, 380, 375, 116},
+        {CODEGEN_IV_MUL, 381, 103, 375},
+        {CODEGEN_IV_POW, 382, 340, 3},
+        {CODEGEN_IV_MUL, 383, 367, 116},
+        {CODEGEN_IV_MUL, 384, 359, 90},
+        {CODEGEN_IV_POW, 385, 359, 2},
+        {CODEGEN_IV_MUL, 386, 117, 371},
+        {CODEGEN_IV_CONST, 387, 0, 0},
+        {CODEGEN_IV_MUL, 387, 387, 385},
+        {CODEGEN_IV_MUL, 389, 118, 359},
+        {CODEGEN_IV_NEG, 389, 389, 0},
+        {CODEGEN_IV_MUL, 388, 94, 375},
+        {CODEGEN_IV_ADD, 388, 389, 388},
+        {CODEGEN_IV_MUL, 389, 97, 383},
+        {CODEGEN_IV_ADD, 389, 388, 389},
+        {CODEGEN_IV_MUL, 388, 364, 386},
+        {CODEGEN_IV_ADD, 388, 389, 388},
+        {CODEGEN_IV_MUL, 389, 370, 384},
+        {CODEGEN_IV_ADD, 389, 388, 389},
+        {CODEGEN_IV_MUL, 388, 383, 93},
+        {CODEGEN_IV_ADD, 388, 389, 388},
+        {CODEGEN_IV_MUL, 389, 386, 387},
+        {CODEGEN_IV_ADD, 389, 388, 389},
+        {CODEGEN_IV_MUL, 388, 119, 368},
+        {CODEGEN_IV_ADD, 388, 389, 388},
+        {CODEGEN_IV_MUL, 390, 120, 340},
+        {CODEGEN_IV_MUL, 390, 390, 361},
+        {CODEGEN_IV_ADD, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 121, 367},
+        {CODEGEN_IV_ADD, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 122, 359},
+        {CODEGEN_IV_MUL, 390, 390, 116},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 123, 367},
+        {CODEGEN_IV_ADD, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 124, 363},
+        {CODEGEN_IV_MUL, 390, 390, 384},
+        {CODEGEN_IV_ADD, 390, 388, 390},
+        {CODEGEN_IV_CONST, 388, 2, 0},
+        {CODEGEN_IV_MUL, 388, 388, 358},
+        {CODEGEN_IV_MUL, 388, 388, 359},
+        {CODEGEN_IV_MUL, 388, 388, 92},
+        {CODEGEN_IV_ADD, 388, 390, 388},
+        {CODEGEN_IV_CONST, 390, 0, 0},
+        {CODEGEN_IV_MUL, 390, 390, 359},
+        {CODEGEN_IV_MUL, 390, 390, 90},
+        {CODEGEN_IV_MUL, 390, 390, 115},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 90, 375},
+        {CODEGEN_IV_MUL, 388, 388, 93},
+        {CODEGEN_IV_ADD, 388, 390, 388},
+        {CODEGEN_IV_CONST, 390, 3, 0},
+        {CODEGEN_IV_MUL, 390, 390, 339},
+        {CODEGEN_IV_MUL, 390, 390, 382},
+        {CODEGEN_IV_MUL, 390, 390, 92},
+        {CODEGEN_IV_ADD, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 340, 89},
+        {CODEGEN_IV_MUL, 388, 388, 97},
+        {CODEGEN_IV_MUL, 388, 388, 371},
+        {CODEGEN_IV_SUB, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 340, 97},
+        {CODEGEN_IV_MUL, 390, 390, 90},
+        {CODEGEN_IV_MUL, 390, 390, 371},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 125, 359},
+        {CODEGEN_IV_MUL, 388, 388, 363},
+        {CODEGEN_IV_ADD, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 126, 359},
+        {CODEGEN_IV_MUL, 390, 390, 363},
+        {CODEGEN_IV_MUL, 390, 390, 116},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 89, 359},
+        {CODEGEN_IV_MUL, 388, 388, 329},
+        {CODEGEN_IV_MUL, 388, 388, 328},
+        {CODEGEN_IV_SUB, 388, 390, 388},
+        {CODEGEN_IV_CONST, 390, 3, 0},
+        {CODEGEN_IV_MUL, 390, 390, 359},
+        {CODEGEN_IV_MUL, 390, 390, 90},
+        {CODEGEN_IV_MUL, 390, 390, 363},
+        {CODEGEN_IV_MUL, 390, 390, 115},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 127, 363},
+        {CODEGEN_IV_MUL, 388, 388, 371},
+        {CODEGEN_IV_MUL, 388, 388, 93},
+        {CODEGEN_IV_SUB, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 128, 371},
+        {CODEGEN_IV_MUL, 390, 390, 385},
+        {CODEGEN_IV_MUL, 390, 390, 93},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 129, 340},
+        {CODEGEN_IV_MUL, 388, 388, 97},
+        {CODEGEN_IV_MUL, 388, 388, 359},
+        {CODEGEN_IV_MUL, 388, 388, 92},
+        {CODEGEN_IV_SUB, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 130, 340},
+        {CODEGEN_IV_MUL, 390, 390, 359},
+        {CODEGEN_IV_MUL, 390, 390, 92},
+        {CODEGEN_IV_MUL, 390, 390, 93},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_MUL, 388, 131, 340},
+        {CODEGEN_IV_MUL, 388, 388, 97},
+        {CODEGEN_IV_MUL, 388, 388, 100},
+        {CODEGEN_IV_MUL, 388, 388, 359},
+        {CODEGEN_IV_SUB, 388, 390, 388},
+        {CODEGEN_IV_MUL, 390, 132, 340},
+        {CODEGEN_IV_MUL, 390, 390, 100},
+        {CODEGEN_IV_MUL, 390, 390, 359},
+        {CODEGEN_IV_MUL, 390, 390, 93},
+        {CODEGEN_IV_SUB, 390, 388, 390},
+        {CODEGEN_IV_CONST, 386, 1, 0},
+        {CODEGEN_IV_POW, 385, 371, 1},
+        {CODEGEN_IV_DIV, 385, 386, 385},
+        {CODEGEN_IV_MUL, 386, 133, 344},
+        {CODEGEN_IV_MUL, 386, 386, 385},
+        {CODEGEN_IV_MUL, 383, 331, 386},
+        {CODEGEN_IV_CONST, 379, 4, 0},
+        {CODEGEN_IV_MUL, 379, 379, 378},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_CONST, 375, 4, 0},
+        {CODEGEN_IV_MUL, 375, 375, 380},
+        {CODEGEN_IV_SUB, 375, 379, 375},
+        {CODEGEN_IV_CONST, 379, 5, 0},
+        {CODEGEN_IV_MUL, 379, 379, 381},
+        {CODEGEN_IV_SUB, 379, 375, 379},
+        {CODEGEN_IV_SUB, 379, 379, 390},
+        {CODEGEN_IV_MUL, 375, 135, 371},
+        {CODEGEN_IV_MUL, 375, 375, 382},
+        {CODEGEN_IV_SUB, 375, 379, 375},
+        {CODEGEN_IV_MUL, 379, 136, 363},
+        {CODEGEN_IV_MUL, 379, 379, 371},
+        {CODEGEN_IV_MUL, 379, 379, 92},
+        {CODEGEN_IV_ADD, 379, 375, 379},
+        {CODEGEN_IV_MUL, 375, 137, 363},
+        {CODEGEN_IV_MUL, 375, 375, 371},
+        {CODEGEN_IV_ADD, 375, 379, 375},
+        {CODEGEN_IV_MUL, 375, 383, 375},
+        {CODEGEN_IV_SUB, 375, 134, 375},
+        {CODEGEN_IV_MUL, 384, 332, 386},
+        {CODEGEN_IV_NEG, 383, 378, 0},
+        {CODEGEN_IV_SUB, 383, 383, 380},
+        {CODEGEN_IV_CONST, 379, 0, 0},
+        {CODEGEN_IV_MUL, 379, 379, 381},
+        {CODEGEN_IV_SUB, 379, 383, 379},
+        {CODEGEN_IV_SUB, 379, 379, 390},
+        {CODEGEN_IV_MUL, 383, 138, 371},
+        {CODEGEN_IV_MUL, 383, 383, 382},
+        {CODEGEN_IV_SUB, 383, 379, 383},
+        {CODEGEN_IV_MUL, 379, 139, 363},
+        {CODEGEN_IV_MUL, 379, 379, 371},
+        {CODEGEN_IV_MUL, 379, 379, 92},
+        {CODEGEN_IV_ADD, 379, 383, 379},
+        {CODEGEN_IV_MUL, 383, 140, 363},
+        {CODEGEN_IV_MUL, 383, 383, 371},
+        {CODEGEN_IV_ADD, 383, 379, 383},
+        {CODEGEN_IV_MUL, 383, 384, 383},
+        {CODEGEN_IV_SUB, 383, 375, 383},
+        {CODEGEN_IV_MUL, 375, 141, 340},
+        {CODEGEN_IV_ADD, 375, 383, 375},
+        {CODEGEN_IV_MUL, 383, 142, 376},
+        {CODEGEN_IV_MUL, 383, 383, 377},
+        {CODEGEN_IV_MUL, 384, 374, 345},
+        {CODEGEN_IV_MUL, 379, 326, 339},
+        {CODEGEN_IV_NEG, 379, 379, 0},
+        {CODEGEN_IV_MUL, 334, 97, 343},
+        {CODEGEN_IV_SUB, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 98, 359},
+        {CODEGEN_IV_SUB, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 358, 336},
+        {CODEGEN_IV_SUB, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 90, 373},
+        {CODEGEN_IV_SUB, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 90, 343},
+        {CODEGEN_IV_SUB, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 360, 371},
+        {CODEGEN_IV_SUB, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 362, 371},
+        {CODEGEN_IV_SUB, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 102, 387},
+        {CODEGEN_IV_SUB, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 373, 93},
+        {CODEGEN_IV_SUB, 334, 379, 334},
+        {CODEGEN_IV_CONST, 379, 6, 0},
+        {CODEGEN_IV_MUL, 379, 379, 340},
+        {CODEGEN_IV_MUL, 379, 379, 99},
+        {CODEGEN_IV_MUL, 379, 379, 359},
+        {CODEGEN_IV_SUB, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 100, 359},
+        {CODEGEN_IV_MUL, 334, 334, 335},
+        {CODEGEN_IV_ADD, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 143, 340},
+        {CODEGEN_IV_MUL, 379, 379, 371},
+        {CODEGEN_IV_ADD, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 144, 359},
+        {CODEGEN_IV_ADD, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 145, 359},
+        {CODEGEN_IV_ADD, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 146, 359},
+        {CODEGEN_IV_ADD, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 147, 359},
+        {CODEGEN_IV_MUL, 379, 379, 93},
+        {CODEGEN_IV_ADD, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 327, 340},
+        {CODEGEN_IV_MUL, 334, 334, 97},
+        {CODEGEN_IV_MUL, 334, 334, 336},
+        {CODEGEN_IV_ADD, 334, 379, 334},
+        {CODEGEN_IV_MUL, 379, 327, 359},
+        {CODEGEN_IV_MUL, 379, 379, 93},
+        {CODEGEN_IV_MUL, 379, 379, 335},
+        {CODEGEN_IV_ADD, 379, 334, 379},
+        {CODEGEN_IV_MUL, 334, 148, 363},
+        {CODEGEN_IV_MUL, 334, 334, 336},
+        {CODEGEN_IV_ADD, 334, 379, 334},
+        {CODEGEN_IV_CONST, 379, 6, 0},
+        {CODEGEN_IV_MUL, 379, 379, 340},
+        {CODEGEN_IV_MUL, 379, 379, 89},
+        {CODEGEN_IV_MUL, 379, 379, 359},
+        {CODEGEN_IV_MUL, 379, 379, 90},
+        {CODEGEN_IV_ADD, 379, 334, 379},
+        {CODEGEN_IV_MUL, 379, 346, 379},
+        {CODEGEN_IV_ADD, 379, 384, 379},
+        {CODEGEN_IV_CONST, 384, 7, 0},
+        {CODEGEN_IV_MUL, 384, 384, 385},
+        {CODEGEN_IV_MUL, 384, 384, 346},
+        {CODEGEN_IV_MUL, 334, 329, 345},
+        {CODEGEN_IV_NEG, 334, 334, 0},
+        {CODEGEN_IV_MUL, 370, 328, 345},
+        {CODEGEN_IV_SUB, 370, 334, 370},
+        {CODEGEN_IV_MUL, 370, 384, 370},
+        {CODEGEN_IV_ADD, 384, 149, 372},
+        {CODEGEN_IV_ADD, 384, 384, 373},
+        {CODEGEN_IV_SUB, 384, 384, 343},
+        {CODEGEN_IV_MUL, 384, 370, 384},
+        {CODEGEN_IV_ADD, 384, 379, 384},
+        {CODEGEN_IV_MUL, 384, 383, 384},
+        {CODEGEN_IV_DIV, 384, 384, 349},
+        {CODEGEN_IV_ADD, 384, 375, 384},
+        {CODEGEN_IV_MUL, 375, 333, 349},
+        {CODEGEN_IV_MUL, 375, 375, 344},
+        {CODEGEN_IV_MUL, 375, 375, 345},
+        {CODEGEN_IV_MUL, 375, 375, 377},
+        {CODEGEN_IV_SUB, 375, 384, 375},
     };
     static const codegen_iv constants[8] = {
         {2, 2},
@@ -11425,16 +11425,16 @@ static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta
         {4, 4},
         {CODEGEN_R(0.5), CODEGEN_R(0.5)}
     };
-    v[280] = codegen_iv_point(params->d);
-    v[281] = codegen_iv_point(params->a_2);
-    v[285] = codegen_iv_point(params->m_3);
-    v[286] = codegen_iv_point(params->m_4);
-    v[287] = codegen_iv_point(params->k);
-    v[289] = codegen_iv_point(params->x_S);
-    v[290] = codegen_iv_point(params->y_S);
-    v[293] = theta;
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[331] = codegen_iv_point(params->m_3);
+    v[332] = codegen_iv_point(params->m_4);
+    v[333] = codegen_iv_point(params->k);
+    v[335] = codegen_iv_point(params->x_S);
+    v[336] = codegen_iv_point(params->y_S);
+    v[339] = theta;
     codegen_iv_run(program, 332, constants, v, iv_flags);
-    *iv_g = v[329];
+    *iv_g = v[375];
 #else
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
@@ -11761,8 +11761,218 @@ static void enclose_value_mode_0(const four_bar_params *params, codegen_iv theta
 }
 
 
+/* The divisions and square roots of G on assembly mode 0 alone, for their flags: whether G is smooth over theta.
+ * At each theta, 91 instructions (as a program, over the slots v from 326); the 33 theta does not reach
+ * ran in prepare_enclosures. */
+static void enclose_smooth_mode_0(const four_bar_params *params, codegen_iv theta,
+                           unsigned *iv_flags, codegen_iv *v)
+{
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[91] = {
+        {CODEGEN_IV_COS, 335, 332, 0},
+        {CODEGEN_IV_MUL, 336, 327, 335},
+        {CODEGEN_IV_MUL, 337, 326, 336},
+        {CODEGEN_IV_CONST, 338, 0, 0},
+        {CODEGEN_IV_MUL, 338, 338, 337},
+        {CODEGEN_IV_SUB, 339, 151, 338},
+        {CODEGEN_IV_MUL, 348, 158, 335},
+        {CODEGEN_IV_SIN, 349, 332, 0},
+        {CODEGEN_IV_MUL, 332, 349, 331},
+        {CODEGEN_IV_MUL, 350, 336, 330},
+        {CODEGEN_IV_MUL, 351, 327, 332},
+        {CODEGEN_IV_CONST, 352, 0, 0},
+        {CODEGEN_IV_POW, 353, 335, 2},
+        {CODEGEN_IV_MUL, 353, 352, 353},
+        {CODEGEN_IV_ADD, 329, 159, 339},
+        {CODEGEN_IV_SUB, 329, 329, 153},
+        {CODEGEN_IV_SUB, 328, 160, 338},
+        {CODEGEN_IV_SUB, 328, 328, 153},
+        {CODEGEN_IV_MUL, 328, 329, 328},
+        {CODEGEN_IV_NEG, 328, 328, 0},
+        {CODEGEN_IV_SQRT, 328, 328, 0},
+        {CODEGEN_IV_MUL, 352, 326, 328},
+        {CODEGEN_IV_MUL, 329, 327, 349},
+        {CODEGEN_IV_MUL, 327, 326, 348},
+        {CODEGEN_IV_ADD, 327, 161, 327},
+        {CODEGEN_IV_ADD, 349, 327, 162},
+        {CODEGEN_IV_ADD, 327, 349, 163},
+        {CODEGEN_IV_ADD, 349, 327, 164},
+        {CODEGEN_IV_ADD, 327, 349, 165},
+        {CODEGEN_IV_ADD, 349, 327, 166},
+        {CODEGEN_IV_ADD, 327, 349, 167},
+        {CODEGEN_IV_MUL, 349, 150, 350},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 150, 351},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 154, 338},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 155, 338},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 156, 350},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 156, 351},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 156, 337},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_SUB, 327, 349, 168},
+        {CODEGEN_IV_MUL, 349, 157, 353},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 158, 332},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 348, 330},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 350, 153},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 351, 153},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 352, 329},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 352, 331},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 336, 152},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 337, 153},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_SUB, 327, 349, 169},
+        {CODEGEN_IV_ADD, 349, 327, 170},
+        {CODEGEN_IV_MUL, 327, 171, 353},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 328, 329},
+        {CODEGEN_IV_MUL, 349, 349, 330},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 328, 336},
+        {CODEGEN_IV_MUL, 327, 327, 331},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 172, 332},
+        {CODEGEN_IV_MUL, 349, 349, 335},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 349, 339, 349},
+        {CODEGEN_IV_SQRT, 349, 349, 0},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 330, 349, 1},
+        {CODEGEN_IV_DIV, 330, 331, 330},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 342, 328, 1},
+        {CODEGEN_IV_DIV, 342, 331, 342},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 341, 339, 2},
+        {CODEGEN_IV_DIV, 341, 331, 341},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 340, 339, 1},
+        {CODEGEN_IV_DIV, 340, 331, 340},
+    };
+    static const codegen_iv constants[2] = {
+        {2, 2},
+        {1, 1}
+    };
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[330] = codegen_iv_point(params->x_S);
+    v[331] = codegen_iv_point(params->y_S);
+    v[332] = theta;
+    codegen_iv_run(program, 91, constants, v, iv_flags);
+#else
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[151], tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(v[158], tmp0);
+    const codegen_iv tmp7 = codegen_iv_sin(theta);
+    const codegen_iv tmp8 = codegen_iv_mul(tmp7, y_S);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp10 = codegen_iv_mul(a_2, tmp8);
+    const codegen_iv tmp12 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2), tmp12);
+    const codegen_iv tmp14 = codegen_iv_add(v[159], tmp5);
+    const codegen_iv tmp15 = codegen_iv_sub(tmp14, v[153]);
+    const codegen_iv tmp16 = codegen_iv_sub(v[160], tmp4);
+    const codegen_iv tmp17 = codegen_iv_sub(tmp16, v[153]);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp15, tmp17);
+    const codegen_iv tmp19 = codegen_iv_neg(tmp18);
+    const codegen_iv tmp20 = codegen_iv_sqrt(tmp19, iv_flags);
+    const codegen_iv tmp21 = codegen_iv_mul(d, tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp23 = codegen_iv_mul(d, tmp6);
+    const codegen_iv tmp24 = codegen_iv_add(v[161], tmp23);
+    const codegen_iv tmp25 = codegen_iv_add(tmp24, v[162]);
+    const codegen_iv tmp26 = codegen_iv_add(tmp25, v[163]);
+    const codegen_iv tmp27 = codegen_iv_add(tmp26, v[164]);
+    const codegen_iv tmp28 = codegen_iv_add(tmp27, v[165]);
+    const codegen_iv tmp29 = codegen_iv_add(tmp28, v[166]);
+    const codegen_iv tmp30 = codegen_iv_add(tmp29, v[167]);
+    const codegen_iv tmp31 = codegen_iv_mul(v[150], tmp9);
+    const codegen_iv tmp32 = codegen_iv_add(tmp30, tmp31);
+    const codegen_iv tmp33 = codegen_iv_mul(v[150], tmp10);
+    const codegen_iv tmp34 = codegen_iv_sub(tmp32, tmp33);
+    const codegen_iv tmp35 = codegen_iv_mul(v[154], tmp4);
+    const codegen_iv tmp36 = codegen_iv_sub(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_mul(v[155], tmp4);
+    const codegen_iv tmp38 = codegen_iv_sub(tmp36, tmp37);
+    const codegen_iv tmp39 = codegen_iv_mul(v[156], tmp9);
+    const codegen_iv tmp40 = codegen_iv_add(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_mul(v[156], tmp10);
+    const codegen_iv tmp42 = codegen_iv_add(tmp40, tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(v[156], tmp2);
+    const codegen_iv tmp44 = codegen_iv_sub(tmp42, tmp43);
+    const codegen_iv tmp45 = codegen_iv_sub(tmp44, v[168]);
+    const codegen_iv tmp46 = codegen_iv_mul(v[157], tmp13);
+    const codegen_iv tmp47 = codegen_iv_add(tmp45, tmp46);
+    const codegen_iv tmp48 = codegen_iv_mul(v[158], tmp8);
+    const codegen_iv tmp49 = codegen_iv_sub(tmp47, tmp48);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp6, x_S);
+    const codegen_iv tmp51 = codegen_iv_sub(tmp49, tmp50);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp9, v[153]);
+    const codegen_iv tmp53 = codegen_iv_sub(tmp51, tmp52);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp10, v[153]);
+    const codegen_iv tmp55 = codegen_iv_sub(tmp53, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp21, tmp22);
+    const codegen_iv tmp57 = codegen_iv_add(tmp55, tmp56);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp21, y_S);
+    const codegen_iv tmp59 = codegen_iv_sub(tmp57, tmp58);
+    const codegen_iv tmp60 = codegen_iv_mul(tmp1, v[152]);
+    const codegen_iv tmp61 = codegen_iv_add(tmp59, tmp60);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp2, v[153]);
+    const codegen_iv tmp63 = codegen_iv_sub(tmp61, tmp62);
+    const codegen_iv tmp64 = codegen_iv_sub(tmp63, v[169]);
+    const codegen_iv tmp65 = codegen_iv_add(tmp64, v[170]);
+    const codegen_iv tmp66 = codegen_iv_mul(v[171], tmp13);
+    const codegen_iv tmp67 = codegen_iv_sub(tmp65, tmp66);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp20, tmp22);
+    const codegen_iv tmp69 = codegen_iv_mul(tmp68, x_S);
+    const codegen_iv tmp70 = codegen_iv_sub(tmp67, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp20, tmp1);
+    const codegen_iv tmp72 = codegen_iv_mul(tmp71, y_S);
+    const codegen_iv tmp73 = codegen_iv_add(tmp70, tmp72);
+    const codegen_iv tmp74 = codegen_iv_mul(v[172], tmp8);
+    const codegen_iv tmp75 = codegen_iv_mul(tmp74, tmp0);
+    const codegen_iv tmp76 = codegen_iv_add(tmp73, tmp75);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp5, tmp76);
+    const codegen_iv tmp78 = codegen_iv_sqrt(tmp77, iv_flags);
+    const codegen_iv tmp80 = codegen_iv_pow(tmp78, 1);
+    const codegen_iv tmp81 = codegen_iv_div(codegen_iv_point(1), tmp80, iv_flags);
+    const codegen_iv tmp83 = codegen_iv_pow(tmp20, 1);
+    const codegen_iv tmp84 = codegen_iv_div(codegen_iv_point(1), tmp83, iv_flags);
+    const codegen_iv tmp86 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp87 = codegen_iv_div(codegen_iv_point(1), tmp86, iv_flags);
+    const codegen_iv tmp89 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp90 = codegen_iv_div(codegen_iv_point(1), tmp89, iv_flags);
+    (void)tmp81;
+    (void)tmp78;
+    (void)tmp84;
+    (void)tmp20;
+    (void)tmp87;
+    (void)tmp90;
+#endif
+}
+
+
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative), enclosed in outward-rounded interval arithmetic.
- * At each theta, 673 instructions (as a program, over the slots v from 280); the 177 theta does not reach
+ * At each theta, 673 instructions (as a program, over the slots v from 326); the 177 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -11771,679 +11981,679 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[673] = {
-        {CODEGEN_IV_COS, 294, 293, 0},
-        {CODEGEN_IV_MUL, 295, 281, 294},
-        {CODEGEN_IV_MUL, 298, 280, 295},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 298},
-        {CODEGEN_IV_SUB, 300, 153, 299},
-        {CODEGEN_IV_CONST, 301, 1, 0},
-        {CODEGEN_IV_POW, 302, 300, 2},
-        {CODEGEN_IV_DIV, 302, 301, 302},
-        {CODEGEN_IV_CONST, 301, 1, 0},
-        {CODEGEN_IV_POW, 303, 300, 1},
-        {CODEGEN_IV_DIV, 303, 301, 303},
-        {CODEGEN_IV_MUL, 312, 294, 161},
-        {CODEGEN_IV_MUL, 315, 294, 163},
-        {CODEGEN_IV_MUL, 316, 280, 315},
-        {CODEGEN_IV_MUL, 317, 315, 289},
-        {CODEGEN_IV_SIN, 318, 293, 0},
-        {CODEGEN_IV_MUL, 293, 163, 318},
-        {CODEGEN_IV_MUL, 319, 293, 290},
-        {CODEGEN_IV_MUL, 320, 295, 289},
-        {CODEGEN_IV_MUL, 321, 159, 320},
-        {CODEGEN_IV_MUL, 322, 281, 318},
-        {CODEGEN_IV_MUL, 323, 322, 290},
-        {CODEGEN_IV_MUL, 324, 159, 323},
-        {CODEGEN_IV_MUL, 325, 320, 152},
-        {CODEGEN_IV_MUL, 326, 159, 298},
-        {CODEGEN_IV_MUL, 327, 155, 298},
-        {CODEGEN_IV_MUL, 328, 155, 320},
-        {CODEGEN_IV_MUL, 329, 155, 323},
-        {CODEGEN_IV_MUL, 330, 157, 299},
-        {CODEGEN_IV_MUL, 331, 158, 299},
-        {CODEGEN_IV_MUL, 332, 323, 152},
-        {CODEGEN_IV_POW, 333, 294, 2},
-        {CODEGEN_IV_CONST, 334, 0, 0},
-        {CODEGEN_IV_MUL, 334, 334, 333},
-        {CODEGEN_IV_MUL, 337, 294, 151},
-        {CODEGEN_IV_MUL, 338, 318, 337},
-        {CODEGEN_IV_MUL, 340, 151, 333},
-        {CODEGEN_IV_SUB, 283, 167, 299},
-        {CODEGEN_IV_ADD, 282, 168, 300},
-        {CODEGEN_IV_MUL, 341, 283, 282},
-        {CODEGEN_IV_NEG, 342, 341, 0},
-        {CODEGEN_IV_SQRT, 342, 342, 0},
-        {CODEGEN_IV_MUL, 343, 322, 289},
-        {CODEGEN_IV_MUL, 344, 342, 343},
-        {CODEGEN_IV_MUL, 345, 280, 322},
-        {CODEGEN_IV_MUL, 346, 342, 345},
-        {CODEGEN_IV_MUL, 347, 295, 290},
-        {CODEGEN_IV_MUL, 348, 342, 347},
-        {CODEGEN_IV_ADD, 349, 169, 312},
-        {CODEGEN_IV_SUB, 349, 349, 162},
-        {CODEGEN_IV_ADD, 349, 349, 316},
-        {CODEGEN_IV_SUB, 349, 349, 317},
-        {CODEGEN_IV_SUB, 349, 349, 319},
-        {CODEGEN_IV_ADD, 349, 349, 321},
-        {CODEGEN_IV_ADD, 349, 349, 324},
-        {CODEGEN_IV_ADD, 349, 349, 325},
-        {CODEGEN_IV_SUB, 349, 349, 326},
-        {CODEGEN_IV_SUB, 349, 349, 327},
-        {CODEGEN_IV_SUB, 349, 349, 328},
-        {CODEGEN_IV_SUB, 349, 349, 329},
-        {CODEGEN_IV_SUB, 349, 349, 330},
-        {CODEGEN_IV_SUB, 349, 349, 331},
-        {CODEGEN_IV_SUB, 349, 349, 332},
-        {CODEGEN_IV_ADD, 349, 349, 344},
-        {CODEGEN_IV_SUB, 349, 349, 346},
-        {CODEGEN_IV_SUB, 349, 349, 348},
-        {CODEGEN_IV_SUB, 350, 349, 170},
-        {CODEGEN_IV_ADD, 349, 350, 171},
-        {CODEGEN_IV_SUB, 350, 349, 172},
-        {CODEGEN_IV_ADD, 349, 350, 173},
-        {CODEGEN_IV_ADD, 350, 349, 174},
-        {CODEGEN_IV_ADD, 349, 350, 175},
-        {CODEGEN_IV_ADD, 350, 349, 176},
-        {CODEGEN_IV_MUL, 349, 162, 334},
-        {CODEGEN_IV_ADD, 349, 350, 349},
-        {CODEGEN_IV_MUL, 350, 164, 342},
-        {CODEGEN_IV_ADD, 350, 349, 350},
-        {CODEGEN_IV_MUL, 349, 165, 338},
-        {CODEGEN_IV_ADD, 349, 350, 349},
-        {CODEGEN_IV_MUL, 350, 166, 340},
-        {CODEGEN_IV_SUB, 350, 349, 350},
-        {CODEGEN_IV_MUL, 305, 350, 300},
-        {CODEGEN_IV_SQRT, 305, 305, 0},
-        {CODEGEN_IV_MUL, 351, 305, 303},
-        {CODEGEN_IV_ADD, 351, 177, 351},
-        {CODEGEN_IV_MUL, 288, 287, 351},
-        {CODEGEN_IV_MUL, 288, 288, 302},
-        {CODEGEN_IV_CONST, 349, 0, 0},
-        {CODEGEN_IV_MUL, 349, 349, 345},
-        {CODEGEN_IV_MUL, 352, 305, 349},
-        {CODEGEN_IV_MUL, 354, 294, 178},
-        {CODEGEN_IV_MUL, 355, 342, 354},
-        {CODEGEN_IV_MUL, 357, 294, 179},
-        {CODEGEN_IV_MUL, 358, 342, 357},
-        {CODEGEN_IV_CONST, 359, 2, 0},
-        {CODEGEN_IV_MUL, 359, 359, 333},
-        {CODEGEN_IV_MUL, 361, 337, 166},
-        {CODEGEN_IV_POW, 363, 294, 3},
-        {CODEGEN_IV_MUL, 364, 152, 363},
-        {CODEGEN_IV_MUL, 365, 181, 364},
-        {CODEGEN_IV_MUL, 367, 318, 179},
-        {CODEGEN_IV_MUL, 370, 318, 166},
-        {CODEGEN_IV_MUL, 371, 294, 156},
-        {CODEGEN_IV_MUL, 372, 318, 341},
-        {CODEGEN_IV_MUL, 374, 294, 185},
-        {CODEGEN_IV_CONST, 379, 0, 0},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_MUL, 380, 318, 152},
-        {CODEGEN_IV_CONST, 381, 2, 0},
-        {CODEGEN_IV_MUL, 381, 381, 340},
-        {CODEGEN_IV_MUL, 382, 281, 333},
-        {CODEGEN_IV_POW, 384, 318, 2},
-        {CODEGEN_IV_MUL, 385, 281, 384},
-        {CODEGEN_IV_MUL, 387, 382, 189},
-        {CODEGEN_IV_MUL, 388, 385, 189},
-        {CODEGEN_IV_MUL, 386, 316, 318},
-        {CODEGEN_IV_CONST, 389, 3, 0},
-        {CODEGEN_IV_MUL, 389, 389, 312},
-        {CODEGEN_IV_MUL, 389, 389, 318},
-        {CODEGEN_IV_MUL, 390, 387, 342},
-        {CODEGEN_IV_MUL, 391, 388, 342},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 386, 183},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 386, 184},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 389, 155},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 389, 159},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 156, 370},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_CONST, 391, 0, 0},
-        {CODEGEN_IV_MUL, 391, 391, 318},
-        {CODEGEN_IV_MUL, 391, 391, 182},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 151, 372},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 152, 372},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_CONST, 390, 4, 0},
-        {CODEGEN_IV_MUL, 390, 390, 340},
-        {CODEGEN_IV_MUL, 390, 390, 367},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 342, 371},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 342, 374},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 178, 370},
-        {CODEGEN_IV_ADD, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 181, 367},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 367, 183},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 367, 184},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 294, 160},
-        {CODEGEN_IV_MUL, 391, 391, 342},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 294, 322},
-        {CODEGEN_IV_MUL, 390, 390, 186},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 294, 187},
-        {CODEGEN_IV_MUL, 391, 391, 379},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 190, 315},
-        {CODEGEN_IV_MUL, 390, 390, 318},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 191, 293},
-        {CODEGEN_IV_MUL, 391, 391, 363},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 156, 359},
-        {CODEGEN_IV_MUL, 390, 390, 380},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 159, 337},
-        {CODEGEN_IV_MUL, 391, 391, 342},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 160, 318},
-        {CODEGEN_IV_MUL, 390, 390, 381},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 192, 379},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_CONST, 390, 5, 0},
-        {CODEGEN_IV_MUL, 390, 390, 333},
-        {CODEGEN_IV_MUL, 390, 390, 178},
-        {CODEGEN_IV_MUL, 390, 390, 380},
-        {CODEGEN_IV_ADD, 390, 391, 390},
-        {CODEGEN_IV_MUL, 391, 342, 382},
-        {CODEGEN_IV_MUL, 391, 391, 188},
-        {CODEGEN_IV_SUB, 391, 390, 391},
-        {CODEGEN_IV_MUL, 390, 342, 188},
-        {CODEGEN_IV_MUL, 390, 390, 385},
-        {CODEGEN_IV_SUB, 390, 391, 390},
-        {CODEGEN_IV_ADD, 385, 390, 355},
-        {CODEGEN_IV_ADD, 385, 385, 358},
-        {CODEGEN_IV_MUL, 383, 342, 361},
-        {CODEGEN_IV_ADD, 383, 385, 383},
-        {CODEGEN_IV_MUL, 385, 342, 365},
-        {CODEGEN_IV_ADD, 385, 383, 385},
-        {CODEGEN_IV_MUL, 383, 161, 342},
-        {CODEGEN_IV_MUL, 383, 383, 359},
-        {CODEGEN_IV_SUB, 383, 385, 383},
-        {CODEGEN_IV_MUL, 385, 342, 359},
-        {CODEGEN_IV_MUL, 385, 385, 180},
-        {CODEGEN_IV_SUB, 385, 383, 385},
-        {CODEGEN_IV_CONST, 383, 1, 0},
-        {CODEGEN_IV_POW, 380, 342, 1},
-        {CODEGEN_IV_DIV, 380, 383, 380},
-        {CODEGEN_IV_MUL, 383, 292, 380},
-        {CODEGEN_IV_MUL, 379, 193, 302},
-        {CODEGEN_IV_CONST, 372, 6, 0},
-        {CODEGEN_IV_MUL, 372, 372, 333},
-        {CODEGEN_IV_MUL, 370, 152, 337},
-        {CODEGEN_IV_CONST, 367, 3, 0},
-        {CODEGEN_IV_MUL, 367, 367, 370},
-        {CODEGEN_IV_MUL, 389, 194, 364},
-        {CODEGEN_IV_CONST, 386, 7, 0},
-        {CODEGEN_IV_MUL, 386, 386, 355},
-        {CODEGEN_IV_ADD, 386, 390, 386},
-        {CODEGEN_IV_CONST, 391, 7, 0},
-        {CODEGEN_IV_MUL, 391, 391, 358},
-        {CODEGEN_IV_ADD, 391, 386, 391},
-        {CODEGEN_IV_MUL, 386, 367, 342},
-        {CODEGEN_IV_ADD, 386, 391, 386},
-        {CODEGEN_IV_MUL, 391, 389, 342},
-        {CODEGEN_IV_ADD, 391, 386, 391},
-        {CODEGEN_IV_MUL, 386, 372, 161},
-        {CODEGEN_IV_MUL, 386, 386, 342},
-        {CODEGEN_IV_SUB, 386, 391, 386},
-        {CODEGEN_IV_MUL, 391, 372, 342},
-        {CODEGEN_IV_MUL, 391, 391, 180},
-        {CODEGEN_IV_SUB, 391, 386, 391},
-        {CODEGEN_IV_MUL, 358, 285, 383},
-        {CODEGEN_IV_MUL, 358, 358, 391},
-        {CODEGEN_IV_CONST, 355, 1, 0},
-        {CODEGEN_IV_POW, 390, 305, 1},
-        {CODEGEN_IV_DIV, 390, 355, 390},
-        {CODEGEN_IV_MUL, 355, 283, 349},
-        {CODEGEN_IV_NEG, 355, 355, 0},
-        {CODEGEN_IV_MUL, 386, 282, 349},
-        {CODEGEN_IV_SUB, 386, 355, 386},
-        {CODEGEN_IV_CONST, 355, 8, 0},
-        {CODEGEN_IV_MUL, 355, 355, 380},
-        {CODEGEN_IV_MUL, 392, 386, 355},
-        {CODEGEN_IV_SUB, 393, 195, 343},
-        {CODEGEN_IV_ADD, 393, 393, 345},
-        {CODEGEN_IV_ADD, 393, 393, 347},
-        {CODEGEN_IV_MUL, 394, 393, 300},
-        {CODEGEN_IV_CONST, 395, 2, 0},
-        {CODEGEN_IV_MUL, 395, 395, 318},
-        {CODEGEN_IV_MUL, 396, 280, 293},
-        {CODEGEN_IV_NEG, 396, 396, 0},
-        {CODEGEN_IV_MUL, 397, 155, 343},
-        {CODEGEN_IV_ADD, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 155, 345},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 155, 347},
-        {CODEGEN_IV_SUB, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 370, 395},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 157, 349},
-        {CODEGEN_IV_ADD, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 158, 349},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 159, 343},
-        {CODEGEN_IV_SUB, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 159, 345},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 159, 347},
-        {CODEGEN_IV_ADD, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 161, 318},
-        {CODEGEN_IV_SUB, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 315, 290},
-        {CODEGEN_IV_SUB, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 293, 289},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 320, 342},
-        {CODEGEN_IV_ADD, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 323, 342},
-        {CODEGEN_IV_ADD, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 152, 343},
-        {CODEGEN_IV_SUB, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 152, 347},
-        {CODEGEN_IV_SUB, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 165, 340},
-        {CODEGEN_IV_ADD, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 298, 342},
-        {CODEGEN_IV_SUB, 396, 397, 396},
-        {CODEGEN_IV_MUL, 397, 294, 395},
-        {CODEGEN_IV_MUL, 397, 397, 162},
-        {CODEGEN_IV_SUB, 397, 396, 397},
-        {CODEGEN_IV_MUL, 396, 196, 384},
-        {CODEGEN_IV_SUB, 396, 397, 396},
-        {CODEGEN_IV_MUL, 290, 392, 394},
-        {CODEGEN_IV_NEG, 290, 290, 0},
-        {CODEGEN_IV_MUL, 289, 396, 300},
-        {CODEGEN_IV_ADD, 289, 290, 289},
-        {CODEGEN_IV_MUL, 290, 350, 349},
-        {CODEGEN_IV_ADD, 290, 289, 290},
-        {CODEGEN_IV_CONST, 289, 8, 0},
-        {CODEGEN_IV_MUL, 289, 289, 290},
-        {CODEGEN_IV_MUL, 347, 351, 303},
-        {CODEGEN_IV_CONST, 343, 1, 0},
-        {CODEGEN_IV_POW, 298, 300, 3},
-        {CODEGEN_IV_DIV, 298, 343, 298},
-        {CODEGEN_IV_MUL, 343, 287, 298},
-        {CODEGEN_IV_MUL, 336, 290, 345},
-        {CODEGEN_IV_MUL, 293, 318, 342},
-        {CODEGEN_IV_MUL, 315, 293, 178},
-        {CODEGEN_IV_MUL, 308, 293, 179},
-        {CODEGEN_IV_MUL, 307, 293, 152},
-        {CODEGEN_IV_MUL, 307, 307, 340},
-        {CODEGEN_IV_MUL, 395, 180, 384},
-        {CODEGEN_IV_MUL, 360, 198, 384},
-        {CODEGEN_IV_MUL, 311, 152, 384},
-        {CODEGEN_IV_CONST, 370, 0, 0},
-        {CODEGEN_IV_MUL, 370, 370, 294},
-        {CODEGEN_IV_MUL, 370, 370, 182},
-        {CODEGEN_IV_NEG, 370, 370, 0},
-        {CODEGEN_IV_CONST, 397, 5, 0},
-        {CODEGEN_IV_POW, 398, 294, 4},
-        {CODEGEN_IV_MUL, 398, 397, 398},
-        {CODEGEN_IV_MUL, 398, 398, 197},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 372, 197},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 155, 360},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 293, 156},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 293, 185},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 199, 364},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 395, 183},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 395, 184},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 360, 159},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_CONST, 370, 4, 0},
-        {CODEGEN_IV_MUL, 370, 370, 311},
-        {CODEGEN_IV_MUL, 370, 370, 354},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 200, 337},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 334, 187},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 166, 371},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 357, 183},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 357, 184},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 186, 382},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 201, 384},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 202, 384},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_CONST, 398, 2, 0},
-        {CODEGEN_IV_MUL, 398, 398, 294},
-        {CODEGEN_IV_MUL, 398, 398, 151},
-        {CODEGEN_IV_MUL, 398, 398, 179},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 294, 152},
-        {CODEGEN_IV_MUL, 370, 370, 341},
-        {CODEGEN_IV_ADD, 370, 398, 370},
-        {CODEGEN_IV_CONST, 398, 0, 0},
-        {CODEGEN_IV_MUL, 398, 398, 294},
-        {CODEGEN_IV_MUL, 398, 398, 152},
-        {CODEGEN_IV_MUL, 398, 398, 178},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 203, 384},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 204, 363},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 205, 363},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 206, 357},
-        {CODEGEN_IV_MUL, 398, 398, 384},
-        {CODEGEN_IV_ADD, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 207, 363},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 208, 333},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 209, 333},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 210, 333},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 211, 333},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 294, 151},
-        {CODEGEN_IV_MUL, 398, 398, 283},
-        {CODEGEN_IV_MUL, 398, 398, 282},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 212, 333},
-        {CODEGEN_IV_MUL, 370, 370, 384},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 398, 159, 318},
-        {CODEGEN_IV_MUL, 398, 398, 151},
-        {CODEGEN_IV_MUL, 398, 398, 342},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_MUL, 370, 159, 318},
-        {CODEGEN_IV_MUL, 370, 370, 152},
-        {CODEGEN_IV_MUL, 370, 370, 342},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_CONST, 398, 5, 0},
-        {CODEGEN_IV_MUL, 398, 398, 294},
-        {CODEGEN_IV_MUL, 398, 398, 155},
-        {CODEGEN_IV_MUL, 398, 398, 151},
-        {CODEGEN_IV_MUL, 398, 398, 152},
-        {CODEGEN_IV_MUL, 398, 398, 384},
-        {CODEGEN_IV_SUB, 398, 370, 398},
-        {CODEGEN_IV_CONST, 370, 5, 0},
-        {CODEGEN_IV_MUL, 370, 370, 294},
-        {CODEGEN_IV_MUL, 370, 370, 159},
-        {CODEGEN_IV_MUL, 370, 370, 151},
-        {CODEGEN_IV_MUL, 370, 370, 152},
-        {CODEGEN_IV_MUL, 370, 370, 384},
-        {CODEGEN_IV_SUB, 370, 398, 370},
-        {CODEGEN_IV_MUL, 382, 293, 166},
-        {CODEGEN_IV_NEG, 339, 320, 0},
-        {CODEGEN_IV_SUB, 339, 339, 323},
-        {CODEGEN_IV_MUL, 378, 213, 294},
-        {CODEGEN_IV_ADD, 378, 339, 378},
-        {CODEGEN_IV_MUL, 378, 300, 378},
-        {CODEGEN_IV_CONST, 323, 1, 0},
-        {CODEGEN_IV_MUL, 320, 283, 282},
-        {CODEGEN_IV_DIV, 320, 323, 320},
-        {CODEGEN_IV_MUL, 323, 380, 386},
-        {CODEGEN_IV_MUL, 339, 286, 385},
-        {CODEGEN_IV_MUL, 377, 280, 298},
-        {CODEGEN_IV_MUL, 377, 377, 318},
-        {CODEGEN_IV_MUL, 377, 377, 151},
-        {CODEGEN_IV_ADD, 376, 387, 388},
-        {CODEGEN_IV_ADD, 376, 376, 382},
-        {CODEGEN_IV_ADD, 376, 376, 371},
-        {CODEGEN_IV_ADD, 376, 376, 374},
-        {CODEGEN_IV_MUL, 375, 294, 159},
-        {CODEGEN_IV_MUL, 375, 375, 151},
-        {CODEGEN_IV_SUB, 375, 376, 375},
-        {CODEGEN_IV_MUL, 376, 294, 159},
-        {CODEGEN_IV_MUL, 376, 376, 152},
-        {CODEGEN_IV_SUB, 376, 375, 376},
-        {CODEGEN_IV_CONST, 375, 0, 0},
-        {CODEGEN_IV_MUL, 375, 375, 318},
-        {CODEGEN_IV_MUL, 375, 375, 151},
-        {CODEGEN_IV_MUL, 375, 375, 342},
-        {CODEGEN_IV_SUB, 375, 376, 375},
-        {CODEGEN_IV_MUL, 376, 214, 333},
-        {CODEGEN_IV_SUB, 376, 375, 376},
-        {CODEGEN_IV_MUL, 375, 215, 384},
-        {CODEGEN_IV_SUB, 375, 376, 375},
-        {CODEGEN_IV_MUL, 374, 292, 379},
-        {CODEGEN_IV_MUL, 374, 374, 320},
-        {CODEGEN_IV_MUL, 309, 295, 150},
-        {CODEGEN_IV_ADD, 309, 216, 309},
-        {CODEGEN_IV_MUL, 371, 379, 358},
-        {CODEGEN_IV_ADD, 371, 309, 371},
-        {CODEGEN_IV_MUL, 309, 288, 352},
-        {CODEGEN_IV_SUB, 309, 371, 309},
-        {CODEGEN_IV_MUL, 371, 287, 390},
-        {CODEGEN_IV_MUL, 371, 371, 289},
-        {CODEGEN_IV_MUL, 371, 371, 347},
-        {CODEGEN_IV_ADD, 371, 309, 371},
-        {CODEGEN_IV_MUL, 309, 286, 385},
-        {CODEGEN_IV_MUL, 309, 309, 383},
-        {CODEGEN_IV_MUL, 309, 309, 379},
-        {CODEGEN_IV_ADD, 309, 371, 309},
-        {CODEGEN_IV_MUL, 379, 358, 377},
-        {CODEGEN_IV_NEG, 379, 379, 0},
-        {CODEGEN_IV_MUL, 385, 285, 391},
-        {CODEGEN_IV_MUL, 385, 385, 374},
-        {CODEGEN_IV_NEG, 385, 385, 0},
-        {CODEGEN_IV_MUL, 295, 217, 380},
-        {CODEGEN_IV_MUL, 295, 295, 302},
-        {CODEGEN_IV_NEG, 291, 367, 0},
-        {CODEGEN_IV_SUB, 291, 291, 389},
-        {CODEGEN_IV_SUB, 291, 291, 375},
-        {CODEGEN_IV_CONST, 371, 7, 0},
-        {CODEGEN_IV_MUL, 371, 371, 354},
-        {CODEGEN_IV_SUB, 371, 291, 371},
-        {CODEGEN_IV_CONST, 291, 7, 0},
-        {CODEGEN_IV_MUL, 291, 291, 357},
-        {CODEGEN_IV_SUB, 291, 371, 291},
-        {CODEGEN_IV_MUL, 371, 218, 333},
-        {CODEGEN_IV_ADD, 371, 291, 371},
-        {CODEGEN_IV_MUL, 291, 219, 333},
-        {CODEGEN_IV_ADD, 291, 371, 291},
-        {CODEGEN_IV_MUL, 291, 295, 291},
-        {CODEGEN_IV_ADD, 291, 385, 291},
-        {CODEGEN_IV_MUL, 291, 392, 291},
-        {CODEGEN_IV_SUB, 291, 379, 291},
-        {CODEGEN_IV_MUL, 379, 339, 374},
-        {CODEGEN_IV_NEG, 379, 379, 0},
-        {CODEGEN_IV_MUL, 385, 220, 380},
-        {CODEGEN_IV_MUL, 385, 385, 302},
-        {CODEGEN_IV_NEG, 295, 375, 0},
-        {CODEGEN_IV_SUB, 295, 295, 354},
-        {CODEGEN_IV_SUB, 295, 295, 357},
-        {CODEGEN_IV_SUB, 295, 295, 361},
-        {CODEGEN_IV_SUB, 295, 295, 365},
-        {CODEGEN_IV_MUL, 371, 221, 333},
-        {CODEGEN_IV_ADD, 371, 295, 371},
-        {CODEGEN_IV_MUL, 295, 222, 333},
-        {CODEGEN_IV_ADD, 295, 371, 295},
-        {CODEGEN_IV_MUL, 295, 385, 295},
-        {CODEGEN_IV_ADD, 295, 379, 295},
-        {CODEGEN_IV_MUL, 295, 392, 295},
-        {CODEGEN_IV_SUB, 295, 291, 295},
-        {CODEGEN_IV_MUL, 291, 343, 336},
-        {CODEGEN_IV_SUB, 291, 295, 291},
-        {CODEGEN_IV_MUL, 295, 150, 322},
-        {CODEGEN_IV_SUB, 295, 291, 295},
-        {CODEGEN_IV_MUL, 291, 383, 339},
-        {CODEGEN_IV_MUL, 291, 291, 377},
-        {CODEGEN_IV_SUB, 291, 295, 291},
-        {CODEGEN_IV_CONST, 295, 8, 0},
-        {CODEGEN_IV_MUL, 295, 295, 390},
-        {CODEGEN_IV_MUL, 295, 295, 290},
-        {CODEGEN_IV_MUL, 379, 343, 352},
-        {CODEGEN_IV_NEG, 379, 379, 0},
-        {CODEGEN_IV_MUL, 385, 288, 349},
-        {CODEGEN_IV_SUB, 385, 379, 385},
-        {CODEGEN_IV_MUL, 379, 289, 288},
-        {CODEGEN_IV_DIV, 379, 379, 350},
-        {CODEGEN_IV_SUB, 379, 385, 379},
-        {CODEGEN_IV_MUL, 385, 223, 390},
-        {CODEGEN_IV_MUL, 385, 385, 290},
-        {CODEGEN_IV_MUL, 385, 385, 302},
-        {CODEGEN_IV_ADD, 385, 379, 385},
-        {CODEGEN_IV_MUL, 385, 295, 385},
-        {CODEGEN_IV_ADD, 385, 291, 385},
-        {CODEGEN_IV_MUL, 291, 390, 336},
-        {CODEGEN_IV_MUL, 291, 291, 288},
-        {CODEGEN_IV_SUB, 291, 385, 291},
-        {CODEGEN_IV_MUL, 385, 299, 305},
-        {CODEGEN_IV_MUL, 385, 385, 288},
-        {CODEGEN_IV_SUB, 385, 291, 385},
-        {CODEGEN_IV_MUL, 291, 224, 390},
-        {CODEGEN_IV_MUL, 291, 291, 347},
-        {CODEGEN_IV_MUL, 291, 291, 323},
-        {CODEGEN_IV_MUL, 295, 393, 349},
-        {CODEGEN_IV_ADD, 295, 378, 295},
-        {CODEGEN_IV_CONST, 379, 8, 0},
-        {CODEGEN_IV_MUL, 379, 379, 386},
-        {CODEGEN_IV_MUL, 379, 379, 394},
-        {CODEGEN_IV_MUL, 379, 379, 320},
-        {CODEGEN_IV_ADD, 379, 295, 379},
-        {CODEGEN_IV_MUL, 379, 291, 379},
-        {CODEGEN_IV_SUB, 379, 385, 379},
-        {CODEGEN_IV_MUL, 385, 225, 390},
-        {CODEGEN_IV_MUL, 385, 385, 351},
-        {CODEGEN_IV_MUL, 385, 385, 303},
-        {CODEGEN_IV_MUL, 291, 392, 378},
-        {CODEGEN_IV_NEG, 291, 291, 0},
-        {CODEGEN_IV_CONST, 295, 2, 0},
-        {CODEGEN_IV_MUL, 295, 295, 396},
-        {CODEGEN_IV_MUL, 295, 295, 345},
-        {CODEGEN_IV_ADD, 295, 291, 295},
-        {CODEGEN_IV_MUL, 291, 299, 350},
-        {CODEGEN_IV_ADD, 291, 295, 291},
-        {CODEGEN_IV_NEG, 295, 312, 0},
-        {CODEGEN_IV_SUB, 295, 295, 316},
-        {CODEGEN_IV_ADD, 295, 295, 317},
-        {CODEGEN_IV_ADD, 295, 295, 319},
-        {CODEGEN_IV_SUB, 295, 295, 321},
-        {CODEGEN_IV_SUB, 295, 295, 324},
-        {CODEGEN_IV_SUB, 295, 295, 325},
-        {CODEGEN_IV_ADD, 295, 295, 326},
-        {CODEGEN_IV_ADD, 295, 295, 327},
-        {CODEGEN_IV_ADD, 295, 295, 328},
-        {CODEGEN_IV_ADD, 295, 295, 329},
-        {CODEGEN_IV_ADD, 295, 295, 330},
-        {CODEGEN_IV_ADD, 295, 295, 331},
-        {CODEGEN_IV_ADD, 295, 295, 332},
-        {CODEGEN_IV_SUB, 295, 295, 344},
-        {CODEGEN_IV_ADD, 295, 295, 346},
-        {CODEGEN_IV_ADD, 295, 295, 348},
-        {CODEGEN_IV_MUL, 371, 311, 181},
-        {CODEGEN_IV_SUB, 371, 295, 371},
-        {CODEGEN_IV_MUL, 295, 162, 359},
-        {CODEGEN_IV_SUB, 295, 371, 295},
-        {CODEGEN_IV_MUL, 371, 226, 384},
-        {CODEGEN_IV_ADD, 371, 295, 371},
-        {CODEGEN_IV_MUL, 295, 152, 381},
-        {CODEGEN_IV_ADD, 295, 371, 295},
-        {CODEGEN_IV_MUL, 371, 227, 338},
-        {CODEGEN_IV_SUB, 371, 295, 371},
-        {CODEGEN_IV_MUL, 371, 300, 371},
-        {CODEGEN_IV_ADD, 371, 291, 371},
-        {CODEGEN_IV_MUL, 291, 355, 394},
-        {CODEGEN_IV_CONST, 295, 5, 0},
-        {CODEGEN_IV_MUL, 295, 295, 311},
-        {CODEGEN_IV_MUL, 295, 295, 151},
-        {CODEGEN_IV_NEG, 295, 295, 0},
-        {CODEGEN_IV_MUL, 304, 283, 299},
-        {CODEGEN_IV_SUB, 304, 295, 304},
-        {CODEGEN_IV_MUL, 295, 282, 299},
-        {CODEGEN_IV_SUB, 295, 304, 295},
-        {CODEGEN_IV_MUL, 295, 291, 295},
-        {CODEGEN_IV_SUB, 295, 371, 295},
-        {CODEGEN_IV_MUL, 371, 393, 323},
-        {CODEGEN_IV_MUL, 371, 371, 345},
-        {CODEGEN_IV_SUB, 371, 295, 371},
-        {CODEGEN_IV_MUL, 371, 385, 371},
-        {CODEGEN_IV_ADD, 371, 379, 371},
-        {CODEGEN_IV_MUL, 379, 228, 380},
-        {CODEGEN_IV_MUL, 379, 379, 302},
-        {CODEGEN_IV_CONST, 385, 7, 0},
-        {CODEGEN_IV_MUL, 385, 385, 315},
-        {CODEGEN_IV_NEG, 385, 385, 0},
-        {CODEGEN_IV_CONST, 295, 7, 0},
-        {CODEGEN_IV_MUL, 295, 295, 308},
-        {CODEGEN_IV_SUB, 295, 385, 295},
-        {CODEGEN_IV_CONST, 385, 9, 0},
-        {CODEGEN_IV_MUL, 385, 385, 307},
-        {CODEGEN_IV_SUB, 385, 295, 385},
-        {CODEGEN_IV_SUB, 385, 385, 370},
-        {CODEGEN_IV_CONST, 295, 3, 0},
-        {CODEGEN_IV_MUL, 295, 295, 293},
-        {CODEGEN_IV_MUL, 295, 295, 151},
-        {CODEGEN_IV_MUL, 295, 295, 152},
-        {CODEGEN_IV_SUB, 295, 385, 295},
-        {CODEGEN_IV_MUL, 385, 229, 294},
-        {CODEGEN_IV_MUL, 385, 385, 154},
-        {CODEGEN_IV_MUL, 385, 385, 318},
-        {CODEGEN_IV_MUL, 385, 385, 342},
-        {CODEGEN_IV_ADD, 385, 295, 385},
-        {CODEGEN_IV_MUL, 295, 230, 294},
-        {CODEGEN_IV_MUL, 295, 295, 163},
-        {CODEGEN_IV_MUL, 295, 295, 318},
-        {CODEGEN_IV_MUL, 295, 295, 342},
-        {CODEGEN_IV_ADD, 295, 385, 295},
-        {CODEGEN_IV_MUL, 295, 379, 295},
-        {CODEGEN_IV_ADD, 295, 371, 295},
-        {CODEGEN_IV_MUL, 371, 231, 380},
-        {CODEGEN_IV_MUL, 371, 371, 302},
-        {CODEGEN_IV_NEG, 379, 315, 0},
-        {CODEGEN_IV_SUB, 379, 379, 308},
-        {CODEGEN_IV_CONST, 385, 6, 0},
-        {CODEGEN_IV_MUL, 385, 385, 307},
-        {CODEGEN_IV_SUB, 385, 379, 385},
-        {CODEGEN_IV_SUB, 385, 385, 370},
-        {CODEGEN_IV_MUL, 379, 382, 151},
-        {CODEGEN_IV_SUB, 379, 385, 379},
-        {CODEGEN_IV_MUL, 385, 232, 294},
-        {CODEGEN_IV_MUL, 385, 385, 154},
-        {CODEGEN_IV_MUL, 385, 385, 318},
-        {CODEGEN_IV_MUL, 385, 385, 342},
-        {CODEGEN_IV_ADD, 385, 379, 385},
-        {CODEGEN_IV_MUL, 379, 233, 294},
-        {CODEGEN_IV_MUL, 379, 379, 163},
-        {CODEGEN_IV_MUL, 379, 379, 318},
-        {CODEGEN_IV_MUL, 379, 379, 342},
-        {CODEGEN_IV_ADD, 379, 385, 379},
-        {CODEGEN_IV_MUL, 379, 371, 379},
-        {CODEGEN_IV_ADD, 379, 295, 379},
-        {CODEGEN_IV_MUL, 295, 234, 298},
-        {CODEGEN_IV_MUL, 295, 295, 151},
-        {CODEGEN_IV_MUL, 295, 295, 152},
-        {CODEGEN_IV_MUL, 295, 295, 350},
-        {CODEGEN_IV_MUL, 295, 295, 384},
-        {CODEGEN_IV_ADD, 295, 379, 295},
-        {CODEGEN_IV_MUL, 379, 235, 298},
-        {CODEGEN_IV_MUL, 379, 379, 151},
-        {CODEGEN_IV_MUL, 379, 379, 152},
-        {CODEGEN_IV_MUL, 379, 379, 305},
-        {CODEGEN_IV_MUL, 379, 379, 351},
-        {CODEGEN_IV_MUL, 379, 379, 384},
-        {CODEGEN_IV_ADD, 379, 295, 379},
+        {CODEGEN_IV_COS, 340, 339, 0},
+        {CODEGEN_IV_MUL, 341, 327, 340},
+        {CODEGEN_IV_MUL, 344, 326, 341},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 344},
+        {CODEGEN_IV_SUB, 346, 176, 345},
+        {CODEGEN_IV_CONST, 347, 1, 0},
+        {CODEGEN_IV_POW, 348, 346, 2},
+        {CODEGEN_IV_DIV, 348, 347, 348},
+        {CODEGEN_IV_CONST, 347, 1, 0},
+        {CODEGEN_IV_POW, 349, 346, 1},
+        {CODEGEN_IV_DIV, 349, 347, 349},
+        {CODEGEN_IV_MUL, 358, 340, 184},
+        {CODEGEN_IV_MUL, 361, 340, 186},
+        {CODEGEN_IV_MUL, 362, 326, 361},
+        {CODEGEN_IV_MUL, 363, 361, 335},
+        {CODEGEN_IV_SIN, 364, 339, 0},
+        {CODEGEN_IV_MUL, 339, 186, 364},
+        {CODEGEN_IV_MUL, 365, 339, 336},
+        {CODEGEN_IV_MUL, 366, 341, 335},
+        {CODEGEN_IV_MUL, 367, 182, 366},
+        {CODEGEN_IV_MUL, 368, 327, 364},
+        {CODEGEN_IV_MUL, 369, 368, 336},
+        {CODEGEN_IV_MUL, 370, 182, 369},
+        {CODEGEN_IV_MUL, 371, 366, 175},
+        {CODEGEN_IV_MUL, 372, 182, 344},
+        {CODEGEN_IV_MUL, 373, 178, 344},
+        {CODEGEN_IV_MUL, 374, 178, 366},
+        {CODEGEN_IV_MUL, 375, 178, 369},
+        {CODEGEN_IV_MUL, 376, 180, 345},
+        {CODEGEN_IV_MUL, 377, 181, 345},
+        {CODEGEN_IV_MUL, 378, 369, 175},
+        {CODEGEN_IV_POW, 379, 340, 2},
+        {CODEGEN_IV_CONST, 380, 0, 0},
+        {CODEGEN_IV_MUL, 380, 380, 379},
+        {CODEGEN_IV_MUL, 383, 340, 174},
+        {CODEGEN_IV_MUL, 384, 364, 383},
+        {CODEGEN_IV_MUL, 386, 174, 379},
+        {CODEGEN_IV_SUB, 329, 190, 345},
+        {CODEGEN_IV_ADD, 328, 191, 346},
+        {CODEGEN_IV_MUL, 387, 329, 328},
+        {CODEGEN_IV_NEG, 388, 387, 0},
+        {CODEGEN_IV_SQRT, 388, 388, 0},
+        {CODEGEN_IV_MUL, 389, 368, 335},
+        {CODEGEN_IV_MUL, 390, 388, 389},
+        {CODEGEN_IV_MUL, 391, 326, 368},
+        {CODEGEN_IV_MUL, 392, 388, 391},
+        {CODEGEN_IV_MUL, 393, 341, 336},
+        {CODEGEN_IV_MUL, 394, 388, 393},
+        {CODEGEN_IV_ADD, 395, 192, 358},
+        {CODEGEN_IV_SUB, 395, 395, 185},
+        {CODEGEN_IV_ADD, 395, 395, 362},
+        {CODEGEN_IV_SUB, 395, 395, 363},
+        {CODEGEN_IV_SUB, 395, 395, 365},
+        {CODEGEN_IV_ADD, 395, 395, 367},
+        {CODEGEN_IV_ADD, 395, 395, 370},
+        {CODEGEN_IV_ADD, 395, 395, 371},
+        {CODEGEN_IV_SUB, 395, 395, 372},
+        {CODEGEN_IV_SUB, 395, 395, 373},
+        {CODEGEN_IV_SUB, 395, 395, 374},
+        {CODEGEN_IV_SUB, 395, 395, 375},
+        {CODEGEN_IV_SUB, 395, 395, 376},
+        {CODEGEN_IV_SUB, 395, 395, 377},
+        {CODEGEN_IV_SUB, 395, 395, 378},
+        {CODEGEN_IV_ADD, 395, 395, 390},
+        {CODEGEN_IV_SUB, 395, 395, 392},
+        {CODEGEN_IV_SUB, 395, 395, 394},
+        {CODEGEN_IV_SUB, 396, 395, 193},
+        {CODEGEN_IV_ADD, 395, 396, 194},
+        {CODEGEN_IV_SUB, 396, 395, 195},
+        {CODEGEN_IV_ADD, 395, 396, 196},
+        {CODEGEN_IV_ADD, 396, 395, 197},
+        {CODEGEN_IV_ADD, 395, 396, 198},
+        {CODEGEN_IV_ADD, 396, 395, 199},
+        {CODEGEN_IV_MUL, 395, 185, 380},
+        {CODEGEN_IV_ADD, 395, 396, 395},
+        {CODEGEN_IV_MUL, 396, 187, 388},
+        {CODEGEN_IV_ADD, 396, 395, 396},
+        {CODEGEN_IV_MUL, 395, 188, 384},
+        {CODEGEN_IV_ADD, 395, 396, 395},
+        {CODEGEN_IV_MUL, 396, 189, 386},
+        {CODEGEN_IV_SUB, 396, 395, 396},
+        {CODEGEN_IV_MUL, 351, 396, 346},
+        {CODEGEN_IV_SQRT, 351, 351, 0},
+        {CODEGEN_IV_MUL, 397, 351, 349},
+        {CODEGEN_IV_ADD, 397, 200, 397},
+        {CODEGEN_IV_MUL, 334, 333, 397},
+        {CODEGEN_IV_MUL, 334, 334, 348},
+        {CODEGEN_IV_CONST, 395, 0, 0},
+        {CODEGEN_IV_MUL, 395, 395, 391},
+        {CODEGEN_IV_MUL, 398, 351, 395},
+        {CODEGEN_IV_MUL, 400, 340, 201},
+        {CODEGEN_IV_MUL, 401, 388, 400},
+        {CODEGEN_IV_MUL, 403, 340, 202},
+        {CODEGEN_IV_MUL, 404, 388, 403},
+        {CODEGEN_IV_CONST, 405, 2, 0},
+        {CODEGEN_IV_MUL, 405, 405, 379},
+        {CODEGEN_IV_MUL, 407, 383, 189},
+        {CODEGEN_IV_POW, 409, 340, 3},
+        {CODEGEN_IV_MUL, 410, 175, 409},
+        {CODEGEN_IV_MUL, 411, 204, 410},
+        {CODEGEN_IV_MUL, 413, 364, 202},
+        {CODEGEN_IV_MUL, 416, 364, 189},
+        {CODEGEN_IV_MUL, 417, 340, 179},
+        {CODEGEN_IV_MUL, 418, 364, 387},
+        {CODEGEN_IV_MUL, 420, 340, 208},
+        {CODEGEN_IV_CONST, 425, 0, 0},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_MUL, 426, 364, 175},
+        {CODEGEN_IV_CONST, 427, 2, 0},
+        {CODEGEN_IV_MUL, 427, 427, 386},
+        {CODEGEN_IV_MUL, 428, 327, 379},
+        {CODEGEN_IV_POW, 430, 364, 2},
+        {CODEGEN_IV_MUL, 431, 327, 430},
+        {CODEGEN_IV_MUL, 433, 428, 212},
+        {CODEGEN_IV_MUL, 434, 431, 212},
+        {CODEGEN_IV_MUL, 432, 362, 364},
+        {CODEGEN_IV_CONST, 435, 3, 0},
+        {CODEGEN_IV_MUL, 435, 435, 358},
+        {CODEGEN_IV_MUL, 435, 435, 364},
+        {CODEGEN_IV_MUL, 436, 433, 388},
+        {CODEGEN_IV_MUL, 437, 434, 388},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 432, 206},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 432, 207},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 435, 178},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 435, 182},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 179, 416},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_CONST, 437, 0, 0},
+        {CODEGEN_IV_MUL, 437, 437, 364},
+        {CODEGEN_IV_MUL, 437, 437, 205},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 174, 418},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 175, 418},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_CONST, 436, 4, 0},
+        {CODEGEN_IV_MUL, 436, 436, 386},
+        {CODEGEN_IV_MUL, 436, 436, 413},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 388, 417},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 388, 420},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 201, 416},
+        {CODEGEN_IV_ADD, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 204, 413},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 413, 206},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 413, 207},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 340, 183},
+        {CODEGEN_IV_MUL, 437, 437, 388},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 340, 368},
+        {CODEGEN_IV_MUL, 436, 436, 209},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 340, 210},
+        {CODEGEN_IV_MUL, 437, 437, 425},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 213, 361},
+        {CODEGEN_IV_MUL, 436, 436, 364},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 214, 339},
+        {CODEGEN_IV_MUL, 437, 437, 409},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 179, 405},
+        {CODEGEN_IV_MUL, 436, 436, 426},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 182, 383},
+        {CODEGEN_IV_MUL, 437, 437, 388},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 183, 364},
+        {CODEGEN_IV_MUL, 436, 436, 427},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 215, 425},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_CONST, 436, 5, 0},
+        {CODEGEN_IV_MUL, 436, 436, 379},
+        {CODEGEN_IV_MUL, 436, 436, 201},
+        {CODEGEN_IV_MUL, 436, 436, 426},
+        {CODEGEN_IV_ADD, 436, 437, 436},
+        {CODEGEN_IV_MUL, 437, 388, 428},
+        {CODEGEN_IV_MUL, 437, 437, 211},
+        {CODEGEN_IV_SUB, 437, 436, 437},
+        {CODEGEN_IV_MUL, 436, 388, 211},
+        {CODEGEN_IV_MUL, 436, 436, 431},
+        {CODEGEN_IV_SUB, 436, 437, 436},
+        {CODEGEN_IV_ADD, 431, 436, 401},
+        {CODEGEN_IV_ADD, 431, 431, 404},
+        {CODEGEN_IV_MUL, 429, 388, 407},
+        {CODEGEN_IV_ADD, 429, 431, 429},
+        {CODEGEN_IV_MUL, 431, 388, 411},
+        {CODEGEN_IV_ADD, 431, 429, 431},
+        {CODEGEN_IV_MUL, 429, 184, 388},
+        {CODEGEN_IV_MUL, 429, 429, 405},
+        {CODEGEN_IV_SUB, 429, 431, 429},
+        {CODEGEN_IV_MUL, 431, 388, 405},
+        {CODEGEN_IV_MUL, 431, 431, 203},
+        {CODEGEN_IV_SUB, 431, 429, 431},
+        {CODEGEN_IV_CONST, 429, 1, 0},
+        {CODEGEN_IV_POW, 426, 388, 1},
+        {CODEGEN_IV_DIV, 426, 429, 426},
+        {CODEGEN_IV_MUL, 429, 338, 426},
+        {CODEGEN_IV_MUL, 425, 216, 348},
+        {CODEGEN_IV_CONST, 418, 6, 0},
+        {CODEGEN_IV_MUL, 418, 418, 379},
+        {CODEGEN_IV_MUL, 416, 175, 383},
+        {CODEGEN_IV_CONST, 413, 3, 0},
+        {CODEGEN_IV_MUL, 413, 413, 416},
+        {CODEGEN_IV_MUL, 435, 217, 410},
+        {CODEGEN_IV_CONST, 432, 7, 0},
+        {CODEGEN_IV_MUL, 432, 432, 401},
+        {CODEGEN_IV_ADD, 432, 436, 432},
+        {CODEGEN_IV_CONST, 437, 7, 0},
+        {CODEGEN_IV_MUL, 437, 437, 404},
+        {CODEGEN_IV_ADD, 437, 432, 437},
+        {CODEGEN_IV_MUL, 432, 413, 388},
+        {CODEGEN_IV_ADD, 432, 437, 432},
+        {CODEGEN_IV_MUL, 437, 435, 388},
+        {CODEGEN_IV_ADD, 437, 432, 437},
+        {CODEGEN_IV_MUL, 432, 418, 184},
+        {CODEGEN_IV_MUL, 432, 432, 388},
+        {CODEGEN_IV_SUB, 432, 437, 432},
+        {CODEGEN_IV_MUL, 437, 418, 388},
+        {CODEGEN_IV_MUL, 437, 437, 203},
+        {CODEGEN_IV_SUB, 437, 432, 437},
+        {CODEGEN_IV_MUL, 404, 331, 429},
+        {CODEGEN_IV_MUL, 404, 404, 437},
+        {CODEGEN_IV_CONST, 401, 1, 0},
+        {CODEGEN_IV_POW, 436, 351, 1},
+        {CODEGEN_IV_DIV, 436, 401, 436},
+        {CODEGEN_IV_MUL, 401, 329, 395},
+        {CODEGEN_IV_NEG, 401, 401, 0},
+        {CODEGEN_IV_MUL, 432, 328, 395},
+        {CODEGEN_IV_SUB, 432, 401, 432},
+        {CODEGEN_IV_CONST, 401, 8, 0},
+        {CODEGEN_IV_MUL, 401, 401, 426},
+        {CODEGEN_IV_MUL, 438, 432, 401},
+        {CODEGEN_IV_SUB, 439, 218, 389},
+        {CODEGEN_IV_ADD, 439, 439, 391},
+        {CODEGEN_IV_ADD, 439, 439, 393},
+        {CODEGEN_IV_MUL, 440, 439, 346},
+        {CODEGEN_IV_CONST, 441, 2, 0},
+        {CODEGEN_IV_MUL, 441, 441, 364},
+        {CODEGEN_IV_MUL, 442, 326, 339},
+        {CODEGEN_IV_NEG, 442, 442, 0},
+        {CODEGEN_IV_MUL, 443, 178, 389},
+        {CODEGEN_IV_ADD, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 178, 391},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 178, 393},
+        {CODEGEN_IV_SUB, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 416, 441},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 180, 395},
+        {CODEGEN_IV_ADD, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 181, 395},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 182, 389},
+        {CODEGEN_IV_SUB, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 182, 391},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 182, 393},
+        {CODEGEN_IV_ADD, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 184, 364},
+        {CODEGEN_IV_SUB, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 361, 336},
+        {CODEGEN_IV_SUB, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 339, 335},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 366, 388},
+        {CODEGEN_IV_ADD, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 369, 388},
+        {CODEGEN_IV_ADD, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 175, 389},
+        {CODEGEN_IV_SUB, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 175, 393},
+        {CODEGEN_IV_SUB, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 188, 386},
+        {CODEGEN_IV_ADD, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 344, 388},
+        {CODEGEN_IV_SUB, 442, 443, 442},
+        {CODEGEN_IV_MUL, 443, 340, 441},
+        {CODEGEN_IV_MUL, 443, 443, 185},
+        {CODEGEN_IV_SUB, 443, 442, 443},
+        {CODEGEN_IV_MUL, 442, 219, 430},
+        {CODEGEN_IV_SUB, 442, 443, 442},
+        {CODEGEN_IV_MUL, 336, 438, 440},
+        {CODEGEN_IV_NEG, 336, 336, 0},
+        {CODEGEN_IV_MUL, 335, 442, 346},
+        {CODEGEN_IV_ADD, 335, 336, 335},
+        {CODEGEN_IV_MUL, 336, 396, 395},
+        {CODEGEN_IV_ADD, 336, 335, 336},
+        {CODEGEN_IV_CONST, 335, 8, 0},
+        {CODEGEN_IV_MUL, 335, 335, 336},
+        {CODEGEN_IV_MUL, 393, 397, 349},
+        {CODEGEN_IV_CONST, 389, 1, 0},
+        {CODEGEN_IV_POW, 344, 346, 3},
+        {CODEGEN_IV_DIV, 344, 389, 344},
+        {CODEGEN_IV_MUL, 389, 333, 344},
+        {CODEGEN_IV_MUL, 382, 336, 391},
+        {CODEGEN_IV_MUL, 339, 364, 388},
+        {CODEGEN_IV_MUL, 361, 339, 201},
+        {CODEGEN_IV_MUL, 354, 339, 202},
+        {CODEGEN_IV_MUL, 353, 339, 175},
+        {CODEGEN_IV_MUL, 353, 353, 386},
+        {CODEGEN_IV_MUL, 441, 203, 430},
+        {CODEGEN_IV_MUL, 406, 221, 430},
+        {CODEGEN_IV_MUL, 357, 175, 430},
+        {CODEGEN_IV_CONST, 416, 0, 0},
+        {CODEGEN_IV_MUL, 416, 416, 340},
+        {CODEGEN_IV_MUL, 416, 416, 205},
+        {CODEGEN_IV_NEG, 416, 416, 0},
+        {CODEGEN_IV_CONST, 443, 5, 0},
+        {CODEGEN_IV_POW, 444, 340, 4},
+        {CODEGEN_IV_MUL, 444, 443, 444},
+        {CODEGEN_IV_MUL, 444, 444, 220},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 418, 220},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 178, 406},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 339, 179},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 339, 208},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 222, 410},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 441, 206},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 441, 207},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 406, 182},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_CONST, 416, 4, 0},
+        {CODEGEN_IV_MUL, 416, 416, 357},
+        {CODEGEN_IV_MUL, 416, 416, 400},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 223, 383},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 380, 210},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 189, 417},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 403, 206},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 403, 207},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 209, 428},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 224, 430},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 225, 430},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_CONST, 444, 2, 0},
+        {CODEGEN_IV_MUL, 444, 444, 340},
+        {CODEGEN_IV_MUL, 444, 444, 174},
+        {CODEGEN_IV_MUL, 444, 444, 202},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 340, 175},
+        {CODEGEN_IV_MUL, 416, 416, 387},
+        {CODEGEN_IV_ADD, 416, 444, 416},
+        {CODEGEN_IV_CONST, 444, 0, 0},
+        {CODEGEN_IV_MUL, 444, 444, 340},
+        {CODEGEN_IV_MUL, 444, 444, 175},
+        {CODEGEN_IV_MUL, 444, 444, 201},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 226, 430},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 227, 409},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 228, 409},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 229, 403},
+        {CODEGEN_IV_MUL, 444, 444, 430},
+        {CODEGEN_IV_ADD, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 230, 409},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 231, 379},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 232, 379},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 233, 379},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 234, 379},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 340, 174},
+        {CODEGEN_IV_MUL, 444, 444, 329},
+        {CODEGEN_IV_MUL, 444, 444, 328},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 235, 379},
+        {CODEGEN_IV_MUL, 416, 416, 430},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 444, 182, 364},
+        {CODEGEN_IV_MUL, 444, 444, 174},
+        {CODEGEN_IV_MUL, 444, 444, 388},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_MUL, 416, 182, 364},
+        {CODEGEN_IV_MUL, 416, 416, 175},
+        {CODEGEN_IV_MUL, 416, 416, 388},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_CONST, 444, 5, 0},
+        {CODEGEN_IV_MUL, 444, 444, 340},
+        {CODEGEN_IV_MUL, 444, 444, 178},
+        {CODEGEN_IV_MUL, 444, 444, 174},
+        {CODEGEN_IV_MUL, 444, 444, 175},
+        {CODEGEN_IV_MUL, 444, 444, 430},
+        {CODEGEN_IV_SUB, 444, 416, 444},
+        {CODEGEN_IV_CONST, 416, 5, 0},
+        {CODEGEN_IV_MUL, 416, 416, 340},
+        {CODEGEN_IV_MUL, 416, 416, 182},
+        {CODEGEN_IV_MUL, 416, 416, 174},
+        {CODEGEN_IV_MUL, 416, 416, 175},
+        {CODEGEN_IV_MUL, 416, 416, 430},
+        {CODEGEN_IV_SUB, 416, 444, 416},
+        {CODEGEN_IV_MUL, 428, 339, 189},
+        {CODEGEN_IV_NEG, 385, 366, 0},
+        {CODEGEN_IV_SUB, 385, 385, 369},
+        {CODEGEN_IV_MUL, 424, 236, 340},
+        {CODEGEN_IV_ADD, 424, 385, 424},
+        {CODEGEN_IV_MUL, 424, 346, 424},
+        {CODEGEN_IV_CONST, 369, 1, 0},
+        {CODEGEN_IV_MUL, 366, 329, 328},
+        {CODEGEN_IV_DIV, 366, 369, 366},
+        {CODEGEN_IV_MUL, 369, 426, 432},
+        {CODEGEN_IV_MUL, 385, 332, 431},
+        {CODEGEN_IV_MUL, 423, 326, 344},
+        {CODEGEN_IV_MUL, 423, 423, 364},
+        {CODEGEN_IV_MUL, 423, 423, 174},
+        {CODEGEN_IV_ADD, 422, 433, 434},
+        {CODEGEN_IV_ADD, 422, 422, 428},
+        {CODEGEN_IV_ADD, 422, 422, 417},
+        {CODEGEN_IV_ADD, 422, 422, 420},
+        {CODEGEN_IV_MUL, 421, 340, 182},
+        {CODEGEN_IV_MUL, 421, 421, 174},
+        {CODEGEN_IV_SUB, 421, 422, 421},
+        {CODEGEN_IV_MUL, 422, 340, 182},
+        {CODEGEN_IV_MUL, 422, 422, 175},
+        {CODEGEN_IV_SUB, 422, 421, 422},
+        {CODEGEN_IV_CONST, 421, 0, 0},
+        {CODEGEN_IV_MUL, 421, 421, 364},
+        {CODEGEN_IV_MUL, 421, 421, 174},
+        {CODEGEN_IV_MUL, 421, 421, 388},
+        {CODEGEN_IV_SUB, 421, 422, 421},
+        {CODEGEN_IV_MUL, 422, 237, 379},
+        {CODEGEN_IV_SUB, 422, 421, 422},
+        {CODEGEN_IV_MUL, 421, 238, 430},
+        {CODEGEN_IV_SUB, 421, 422, 421},
+        {CODEGEN_IV_MUL, 420, 338, 425},
+        {CODEGEN_IV_MUL, 420, 420, 366},
+        {CODEGEN_IV_MUL, 355, 341, 173},
+        {CODEGEN_IV_ADD, 355, 239, 355},
+        {CODEGEN_IV_MUL, 417, 425, 404},
+        {CODEGEN_IV_ADD, 417, 355, 417},
+        {CODEGEN_IV_MUL, 355, 334, 398},
+        {CODEGEN_IV_SUB, 355, 417, 355},
+        {CODEGEN_IV_MUL, 417, 333, 436},
+        {CODEGEN_IV_MUL, 417, 417, 335},
+        {CODEGEN_IV_MUL, 417, 417, 393},
+        {CODEGEN_IV_ADD, 417, 355, 417},
+        {CODEGEN_IV_MUL, 355, 332, 431},
+        {CODEGEN_IV_MUL, 355, 355, 429},
+        {CODEGEN_IV_MUL, 355, 355, 425},
+        {CODEGEN_IV_ADD, 355, 417, 355},
+        {CODEGEN_IV_MUL, 425, 404, 423},
+        {CODEGEN_IV_NEG, 425, 425, 0},
+        {CODEGEN_IV_MUL, 431, 331, 437},
+        {CODEGEN_IV_MUL, 431, 431, 420},
+        {CODEGEN_IV_NEG, 431, 431, 0},
+        {CODEGEN_IV_MUL, 341, 240, 426},
+        {CODEGEN_IV_MUL, 341, 341, 348},
+        {CODEGEN_IV_NEG, 337, 413, 0},
+        {CODEGEN_IV_SUB, 337, 337, 435},
+        {CODEGEN_IV_SUB, 337, 337, 421},
+        {CODEGEN_IV_CONST, 417, 7, 0},
+        {CODEGEN_IV_MUL, 417, 417, 400},
+        {CODEGEN_IV_SUB, 417, 337, 417},
+        {CODEGEN_IV_CONST, 337, 7, 0},
+        {CODEGEN_IV_MUL, 337, 337, 403},
+        {CODEGEN_IV_SUB, 337, 417, 337},
+        {CODEGEN_IV_MUL, 417, 241, 379},
+        {CODEGEN_IV_ADD, 417, 337, 417},
+        {CODEGEN_IV_MUL, 337, 242, 379},
+        {CODEGEN_IV_ADD, 337, 417, 337},
+        {CODEGEN_IV_MUL, 337, 341, 337},
+        {CODEGEN_IV_ADD, 337, 431, 337},
+        {CODEGEN_IV_MUL, 337, 438, 337},
+        {CODEGEN_IV_SUB, 337, 425, 337},
+        {CODEGEN_IV_MUL, 425, 385, 420},
+        {CODEGEN_IV_NEG, 425, 425, 0},
+        {CODEGEN_IV_MUL, 431, 243, 426},
+        {CODEGEN_IV_MUL, 431, 431, 348},
+        {CODEGEN_IV_NEG, 341, 421, 0},
+        {CODEGEN_IV_SUB, 341, 341, 400},
+        {CODEGEN_IV_SUB, 341, 341, 403},
+        {CODEGEN_IV_SUB, 341, 341, 407},
+        {CODEGEN_IV_SUB, 341, 341, 411},
+        {CODEGEN_IV_MUL, 417, 244, 379},
+        {CODEGEN_IV_ADD, 417, 341, 417},
+        {CODEGEN_IV_MUL, 341, 245, 379},
+        {CODEGEN_IV_ADD, 341, 417, 341},
+        {CODEGEN_IV_MUL, 341, 431, 341},
+        {CODEGEN_IV_ADD, 341, 425, 341},
+        {CODEGEN_IV_MUL, 341, 438, 341},
+        {CODEGEN_IV_SUB, 341, 337, 341},
+        {CODEGEN_IV_MUL, 337, 389, 382},
+        {CODEGEN_IV_SUB, 337, 341, 337},
+        {CODEGEN_IV_MUL, 341, 173, 368},
+        {CODEGEN_IV_SUB, 341, 337, 341},
+        {CODEGEN_IV_MUL, 337, 429, 385},
+        {CODEGEN_IV_MUL, 337, 337, 423},
+        {CODEGEN_IV_SUB, 337, 341, 337},
+        {CODEGEN_IV_CONST, 341, 8, 0},
+        {CODEGEN_IV_MUL, 341, 341, 436},
+        {CODEGEN_IV_MUL, 341, 341, 336},
+        {CODEGEN_IV_MUL, 425, 389, 398},
+        {CODEGEN_IV_NEG, 425, 425, 0},
+        {CODEGEN_IV_MUL, 431, 334, 395},
+        {CODEGEN_IV_SUB, 431, 425, 431},
+        {CODEGEN_IV_MUL, 425, 335, 334},
+        {CODEGEN_IV_DIV, 425, 425, 396},
+        {CODEGEN_IV_SUB, 425, 431, 425},
+        {CODEGEN_IV_MUL, 431, 246, 436},
+        {CODEGEN_IV_MUL, 431, 431, 336},
+        {CODEGEN_IV_MUL, 431, 431, 348},
+        {CODEGEN_IV_ADD, 431, 425, 431},
+        {CODEGEN_IV_MUL, 431, 341, 431},
+        {CODEGEN_IV_ADD, 431, 337, 431},
+        {CODEGEN_IV_MUL, 337, 436, 382},
+        {CODEGEN_IV_MUL, 337, 337, 334},
+        {CODEGEN_IV_SUB, 337, 431, 337},
+        {CODEGEN_IV_MUL, 431, 345, 351},
+        {CODEGEN_IV_MUL, 431, 431, 334},
+        {CODEGEN_IV_SUB, 431, 337, 431},
+        {CODEGEN_IV_MUL, 337, 247, 436},
+        {CODEGEN_IV_MUL, 337, 337, 393},
+        {CODEGEN_IV_MUL, 337, 337, 369},
+        {CODEGEN_IV_MUL, 341, 439, 395},
+        {CODEGEN_IV_ADD, 341, 424, 341},
+        {CODEGEN_IV_CONST, 425, 8, 0},
+        {CODEGEN_IV_MUL, 425, 425, 432},
+        {CODEGEN_IV_MUL, 425, 425, 440},
+        {CODEGEN_IV_MUL, 425, 425, 366},
+        {CODEGEN_IV_ADD, 425, 341, 425},
+        {CODEGEN_IV_MUL, 425, 337, 425},
+        {CODEGEN_IV_SUB, 425, 431, 425},
+        {CODEGEN_IV_MUL, 431, 248, 436},
+        {CODEGEN_IV_MUL, 431, 431, 397},
+        {CODEGEN_IV_MUL, 431, 431, 349},
+        {CODEGEN_IV_MUL, 337, 438, 424},
+        {CODEGEN_IV_NEG, 337, 337, 0},
+        {CODEGEN_IV_CONST, 341, 2, 0},
+        {CODEGEN_IV_MUL, 341, 341, 442},
+        {CODEGEN_IV_MUL, 341, 341, 391},
+        {CODEGEN_IV_ADD, 341, 337, 341},
+        {CODEGEN_IV_MUL, 337, 345, 396},
+        {CODEGEN_IV_ADD, 337, 341, 337},
+        {CODEGEN_IV_NEG, 341, 358, 0},
+        {CODEGEN_IV_SUB, 341, 341, 362},
+        {CODEGEN_IV_ADD, 341, 341, 363},
+        {CODEGEN_IV_ADD, 341, 341, 365},
+        {CODEGEN_IV_SUB, 341, 341, 367},
+        {CODEGEN_IV_SUB, 341, 341, 370},
+        {CODEGEN_IV_SUB, 341, 341, 371},
+        {CODEGEN_IV_ADD, 341, 341, 372},
+        {CODEGEN_IV_ADD, 341, 341, 373},
+        {CODEGEN_IV_ADD, 341, 341, 374},
+        {CODEGEN_IV_ADD, 341, 341, 375},
+        {CODEGEN_IV_ADD, 341, 341, 376},
+        {CODEGEN_IV_ADD, 341, 341, 377},
+        {CODEGEN_IV_ADD, 341, 341, 378},
+        {CODEGEN_IV_SUB, 341, 341, 390},
+        {CODEGEN_IV_ADD, 341, 341, 392},
+        {CODEGEN_IV_ADD, 341, 341, 394},
+        {CODEGEN_IV_MUL, 417, 357, 204},
+        {CODEGEN_IV_SUB, 417, 341, 417},
+        {CODEGEN_IV_MUL, 341, 185, 405},
+        {CODEGEN_IV_SUB, 341, 417, 341},
+        {CODEGEN_IV_MUL, 417, 249, 430},
+        {CODEGEN_IV_ADD, 417, 341, 417},
+        {CODEGEN_IV_MUL, 341, 175, 427},
+        {CODEGEN_IV_ADD, 341, 417, 341},
+        {CODEGEN_IV_MUL, 417, 250, 384},
+        {CODEGEN_IV_SUB, 417, 341, 417},
+        {CODEGEN_IV_MUL, 417, 346, 417},
+        {CODEGEN_IV_ADD, 417, 337, 417},
+        {CODEGEN_IV_MUL, 337, 401, 440},
+        {CODEGEN_IV_CONST, 341, 5, 0},
+        {CODEGEN_IV_MUL, 341, 341, 357},
+        {CODEGEN_IV_MUL, 341, 341, 174},
+        {CODEGEN_IV_NEG, 341, 341, 0},
+        {CODEGEN_IV_MUL, 350, 329, 345},
+        {CODEGEN_IV_SUB, 350, 341, 350},
+        {CODEGEN_IV_MUL, 341, 328, 345},
+        {CODEGEN_IV_SUB, 341, 350, 341},
+        {CODEGEN_IV_MUL, 341, 337, 341},
+        {CODEGEN_IV_SUB, 341, 417, 341},
+        {CODEGEN_IV_MUL, 417, 439, 369},
+        {CODEGEN_IV_MUL, 417, 417, 391},
+        {CODEGEN_IV_SUB, 417, 341, 417},
+        {CODEGEN_IV_MUL, 417, 431, 417},
+        {CODEGEN_IV_ADD, 417, 425, 417},
+        {CODEGEN_IV_MUL, 425, 251, 426},
+        {CODEGEN_IV_MUL, 425, 425, 348},
+        {CODEGEN_IV_CONST, 431, 7, 0},
+        {CODEGEN_IV_MUL, 431, 431, 361},
+        {CODEGEN_IV_NEG, 431, 431, 0},
+        {CODEGEN_IV_CONST, 341, 7, 0},
+        {CODEGEN_IV_MUL, 341, 341, 354},
+        {CODEGEN_IV_SUB, 341, 431, 341},
+        {CODEGEN_IV_CONST, 431, 9, 0},
+        {CODEGEN_IV_MUL, 431, 431, 353},
+        {CODEGEN_IV_SUB, 431, 341, 431},
+        {CODEGEN_IV_SUB, 431, 431, 416},
+        {CODEGEN_IV_CONST, 341, 3, 0},
+        {CODEGEN_IV_MUL, 341, 341, 339},
+        {CODEGEN_IV_MUL, 341, 341, 174},
+        {CODEGEN_IV_MUL, 341, 341, 175},
+        {CODEGEN_IV_SUB, 341, 431, 341},
+        {CODEGEN_IV_MUL, 431, 252, 340},
+        {CODEGEN_IV_MUL, 431, 431, 177},
+        {CODEGEN_IV_MUL, 431, 431, 364},
+        {CODEGEN_IV_MUL, 431, 431, 388},
+        {CODEGEN_IV_ADD, 431, 341, 431},
+        {CODEGEN_IV_MUL, 341, 253, 340},
+        {CODEGEN_IV_MUL, 341, 341, 186},
+        {CODEGEN_IV_MUL, 341, 341, 364},
+        {CODEGEN_IV_MUL, 341, 341, 388},
+        {CODEGEN_IV_ADD, 341, 431, 341},
+        {CODEGEN_IV_MUL, 341, 425, 341},
+        {CODEGEN_IV_ADD, 341, 417, 341},
+        {CODEGEN_IV_MUL, 417, 254, 426},
+        {CODEGEN_IV_MUL, 417, 417, 348},
+        {CODEGEN_IV_NEG, 425, 361, 0},
+        {CODEGEN_IV_SUB, 425, 425, 354},
+        {CODEGEN_IV_CONST, 431, 6, 0},
+        {CODEGEN_IV_MUL, 431, 431, 353},
+        {CODEGEN_IV_SUB, 431, 425, 431},
+        {CODEGEN_IV_SUB, 431, 431, 416},
+        {CODEGEN_IV_MUL, 425, 428, 174},
+        {CODEGEN_IV_SUB, 425, 431, 425},
+        {CODEGEN_IV_MUL, 431, 255, 340},
+        {CODEGEN_IV_MUL, 431, 431, 177},
+        {CODEGEN_IV_MUL, 431, 431, 364},
+        {CODEGEN_IV_MUL, 431, 431, 388},
+        {CODEGEN_IV_ADD, 431, 425, 431},
+        {CODEGEN_IV_MUL, 425, 256, 340},
+        {CODEGEN_IV_MUL, 425, 425, 186},
+        {CODEGEN_IV_MUL, 425, 425, 364},
+        {CODEGEN_IV_MUL, 425, 425, 388},
+        {CODEGEN_IV_ADD, 425, 431, 425},
+        {CODEGEN_IV_MUL, 425, 417, 425},
+        {CODEGEN_IV_ADD, 425, 341, 425},
+        {CODEGEN_IV_MUL, 341, 257, 344},
+        {CODEGEN_IV_MUL, 341, 341, 174},
+        {CODEGEN_IV_MUL, 341, 341, 175},
+        {CODEGEN_IV_MUL, 341, 341, 396},
+        {CODEGEN_IV_MUL, 341, 341, 430},
+        {CODEGEN_IV_ADD, 341, 425, 341},
+        {CODEGEN_IV_MUL, 425, 258, 344},
+        {CODEGEN_IV_MUL, 425, 425, 174},
+        {CODEGEN_IV_MUL, 425, 425, 175},
+        {CODEGEN_IV_MUL, 425, 425, 351},
+        {CODEGEN_IV_MUL, 425, 425, 397},
+        {CODEGEN_IV_MUL, 425, 425, 430},
+        {CODEGEN_IV_ADD, 425, 341, 425},
     };
     static const codegen_iv constants[10] = {
         {2, 2},
@@ -12457,18 +12667,18 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
         {CODEGEN_R(0.5), CODEGEN_R(0.5)},
         {36, 36}
     };
-    v[280] = codegen_iv_point(params->d);
-    v[281] = codegen_iv_point(params->a_2);
-    v[285] = codegen_iv_point(params->m_3);
-    v[286] = codegen_iv_point(params->m_4);
-    v[287] = codegen_iv_point(params->k);
-    v[289] = codegen_iv_point(params->x_S);
-    v[290] = codegen_iv_point(params->y_S);
-    v[292] = codegen_iv_point(params->g);
-    v[293] = theta;
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[331] = codegen_iv_point(params->m_3);
+    v[332] = codegen_iv_point(params->m_4);
+    v[333] = codegen_iv_point(params->k);
+    v[335] = codegen_iv_point(params->x_S);
+    v[336] = codegen_iv_point(params->y_S);
+    v[338] = codegen_iv_point(params->g);
+    v[339] = theta;
     codegen_iv_run(program, 673, constants, v, iv_flags);
-    *iv_g = v[309];
-    *iv_dg = v[379];
+    *iv_g = v[355];
+    *iv_dg = v[425];
 #else
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
@@ -12482,38 +12692,38 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
     const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
     const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
-    const codegen_iv tmp5 = codegen_iv_sub(v[153], tmp4);
+    const codegen_iv tmp5 = codegen_iv_sub(v[176], tmp4);
     const codegen_iv tmp7 = codegen_iv_pow(tmp5, 2);
     const codegen_iv tmp8 = codegen_iv_div(codegen_iv_point(1), tmp7, iv_flags);
     const codegen_iv tmp10 = codegen_iv_pow(tmp5, 1);
     const codegen_iv tmp11 = codegen_iv_div(codegen_iv_point(1), tmp10, iv_flags);
-    const codegen_iv tmp12 = codegen_iv_mul(tmp0, v[161]);
-    const codegen_iv tmp13 = codegen_iv_mul(tmp0, v[163]);
+    const codegen_iv tmp12 = codegen_iv_mul(tmp0, v[184]);
+    const codegen_iv tmp13 = codegen_iv_mul(tmp0, v[186]);
     const codegen_iv tmp14 = codegen_iv_mul(d, tmp13);
     const codegen_iv tmp15 = codegen_iv_mul(tmp13, x_S);
     const codegen_iv tmp16 = codegen_iv_sin(theta);
-    const codegen_iv tmp17 = codegen_iv_mul(v[163], tmp16);
+    const codegen_iv tmp17 = codegen_iv_mul(v[186], tmp16);
     const codegen_iv tmp18 = codegen_iv_mul(tmp17, y_S);
     const codegen_iv tmp19 = codegen_iv_mul(tmp1, x_S);
-    const codegen_iv tmp20 = codegen_iv_mul(v[159], tmp19);
+    const codegen_iv tmp20 = codegen_iv_mul(v[182], tmp19);
     const codegen_iv tmp21 = codegen_iv_mul(a_2, tmp16);
     const codegen_iv tmp22 = codegen_iv_mul(tmp21, y_S);
-    const codegen_iv tmp23 = codegen_iv_mul(v[159], tmp22);
-    const codegen_iv tmp24 = codegen_iv_mul(tmp19, v[152]);
-    const codegen_iv tmp25 = codegen_iv_mul(v[159], tmp2);
-    const codegen_iv tmp26 = codegen_iv_mul(v[155], tmp2);
-    const codegen_iv tmp27 = codegen_iv_mul(v[155], tmp19);
-    const codegen_iv tmp28 = codegen_iv_mul(v[155], tmp22);
-    const codegen_iv tmp29 = codegen_iv_mul(v[157], tmp4);
-    const codegen_iv tmp30 = codegen_iv_mul(v[158], tmp4);
-    const codegen_iv tmp31 = codegen_iv_mul(tmp22, v[152]);
+    const codegen_iv tmp23 = codegen_iv_mul(v[182], tmp22);
+    const codegen_iv tmp24 = codegen_iv_mul(tmp19, v[175]);
+    const codegen_iv tmp25 = codegen_iv_mul(v[182], tmp2);
+    const codegen_iv tmp26 = codegen_iv_mul(v[178], tmp2);
+    const codegen_iv tmp27 = codegen_iv_mul(v[178], tmp19);
+    const codegen_iv tmp28 = codegen_iv_mul(v[178], tmp22);
+    const codegen_iv tmp29 = codegen_iv_mul(v[180], tmp4);
+    const codegen_iv tmp30 = codegen_iv_mul(v[181], tmp4);
+    const codegen_iv tmp31 = codegen_iv_mul(tmp22, v[175]);
     const codegen_iv tmp32 = codegen_iv_pow(tmp0, 2);
     const codegen_iv tmp34 = codegen_iv_mul(codegen_iv_point(2), tmp32);
-    const codegen_iv tmp35 = codegen_iv_mul(tmp0, v[151]);
+    const codegen_iv tmp35 = codegen_iv_mul(tmp0, v[174]);
     const codegen_iv tmp36 = codegen_iv_mul(tmp16, tmp35);
-    const codegen_iv tmp37 = codegen_iv_mul(v[151], tmp32);
-    const codegen_iv tmp38 = codegen_iv_sub(v[167], tmp4);
-    const codegen_iv tmp39 = codegen_iv_add(v[168], tmp5);
+    const codegen_iv tmp37 = codegen_iv_mul(v[174], tmp32);
+    const codegen_iv tmp38 = codegen_iv_sub(v[190], tmp4);
+    const codegen_iv tmp39 = codegen_iv_add(v[191], tmp5);
     const codegen_iv tmp40 = codegen_iv_mul(tmp38, tmp39);
     const codegen_iv tmp41 = codegen_iv_neg(tmp40);
     const codegen_iv tmp42 = codegen_iv_sqrt(tmp41, iv_flags);
@@ -12523,8 +12733,8 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp46 = codegen_iv_mul(tmp42, tmp45);
     const codegen_iv tmp47 = codegen_iv_mul(tmp1, y_S);
     const codegen_iv tmp48 = codegen_iv_mul(tmp42, tmp47);
-    const codegen_iv tmp49 = codegen_iv_add(v[169], tmp12);
-    const codegen_iv tmp50 = codegen_iv_sub(tmp49, v[162]);
+    const codegen_iv tmp49 = codegen_iv_add(v[192], tmp12);
+    const codegen_iv tmp50 = codegen_iv_sub(tmp49, v[185]);
     const codegen_iv tmp51 = codegen_iv_add(tmp50, tmp14);
     const codegen_iv tmp52 = codegen_iv_sub(tmp51, tmp15);
     const codegen_iv tmp53 = codegen_iv_sub(tmp52, tmp18);
@@ -12541,73 +12751,73 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp64 = codegen_iv_add(tmp63, tmp44);
     const codegen_iv tmp65 = codegen_iv_sub(tmp64, tmp46);
     const codegen_iv tmp66 = codegen_iv_sub(tmp65, tmp48);
-    const codegen_iv tmp67 = codegen_iv_sub(tmp66, v[170]);
-    const codegen_iv tmp68 = codegen_iv_add(tmp67, v[171]);
-    const codegen_iv tmp69 = codegen_iv_sub(tmp68, v[172]);
-    const codegen_iv tmp70 = codegen_iv_add(tmp69, v[173]);
-    const codegen_iv tmp71 = codegen_iv_add(tmp70, v[174]);
-    const codegen_iv tmp72 = codegen_iv_add(tmp71, v[175]);
-    const codegen_iv tmp73 = codegen_iv_add(tmp72, v[176]);
-    const codegen_iv tmp74 = codegen_iv_mul(v[162], tmp34);
+    const codegen_iv tmp67 = codegen_iv_sub(tmp66, v[193]);
+    const codegen_iv tmp68 = codegen_iv_add(tmp67, v[194]);
+    const codegen_iv tmp69 = codegen_iv_sub(tmp68, v[195]);
+    const codegen_iv tmp70 = codegen_iv_add(tmp69, v[196]);
+    const codegen_iv tmp71 = codegen_iv_add(tmp70, v[197]);
+    const codegen_iv tmp72 = codegen_iv_add(tmp71, v[198]);
+    const codegen_iv tmp73 = codegen_iv_add(tmp72, v[199]);
+    const codegen_iv tmp74 = codegen_iv_mul(v[185], tmp34);
     const codegen_iv tmp75 = codegen_iv_add(tmp73, tmp74);
-    const codegen_iv tmp76 = codegen_iv_mul(v[164], tmp42);
+    const codegen_iv tmp76 = codegen_iv_mul(v[187], tmp42);
     const codegen_iv tmp77 = codegen_iv_add(tmp75, tmp76);
-    const codegen_iv tmp78 = codegen_iv_mul(v[165], tmp36);
+    const codegen_iv tmp78 = codegen_iv_mul(v[188], tmp36);
     const codegen_iv tmp79 = codegen_iv_add(tmp77, tmp78);
-    const codegen_iv tmp80 = codegen_iv_mul(v[166], tmp37);
+    const codegen_iv tmp80 = codegen_iv_mul(v[189], tmp37);
     const codegen_iv tmp81 = codegen_iv_sub(tmp79, tmp80);
     const codegen_iv tmp82 = codegen_iv_mul(tmp81, tmp5);
     const codegen_iv tmp83 = codegen_iv_sqrt(tmp82, iv_flags);
     const codegen_iv tmp84 = codegen_iv_mul(tmp83, tmp11);
-    const codegen_iv tmp85 = codegen_iv_add(v[177], tmp84);
+    const codegen_iv tmp85 = codegen_iv_add(v[200], tmp84);
     const codegen_iv tmp86 = codegen_iv_mul(k, tmp85);
     const codegen_iv tmp87 = codegen_iv_mul(tmp86, tmp8);
     const codegen_iv tmp89 = codegen_iv_mul(codegen_iv_point(2), tmp45);
     const codegen_iv tmp90 = codegen_iv_mul(tmp83, tmp89);
-    const codegen_iv tmp91 = codegen_iv_mul(tmp0, v[178]);
+    const codegen_iv tmp91 = codegen_iv_mul(tmp0, v[201]);
     const codegen_iv tmp92 = codegen_iv_mul(tmp42, tmp91);
-    const codegen_iv tmp93 = codegen_iv_mul(tmp0, v[179]);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp0, v[202]);
     const codegen_iv tmp94 = codegen_iv_mul(tmp42, tmp93);
     const codegen_iv tmp96 = codegen_iv_mul(codegen_iv_point(4), tmp32);
-    const codegen_iv tmp97 = codegen_iv_mul(tmp35, v[166]);
+    const codegen_iv tmp97 = codegen_iv_mul(tmp35, v[189]);
     const codegen_iv tmp98 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp99 = codegen_iv_mul(v[152], tmp98);
-    const codegen_iv tmp100 = codegen_iv_mul(v[181], tmp99);
-    const codegen_iv tmp101 = codegen_iv_mul(tmp16, v[179]);
-    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[166]);
-    const codegen_iv tmp103 = codegen_iv_mul(tmp0, v[156]);
+    const codegen_iv tmp99 = codegen_iv_mul(v[175], tmp98);
+    const codegen_iv tmp100 = codegen_iv_mul(v[204], tmp99);
+    const codegen_iv tmp101 = codegen_iv_mul(tmp16, v[202]);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[189]);
+    const codegen_iv tmp103 = codegen_iv_mul(tmp0, v[179]);
     const codegen_iv tmp104 = codegen_iv_mul(tmp16, tmp40);
-    const codegen_iv tmp105 = codegen_iv_mul(tmp0, v[185]);
+    const codegen_iv tmp105 = codegen_iv_mul(tmp0, v[208]);
     const codegen_iv tmp107 = codegen_iv_mul(codegen_iv_point(2), tmp16);
-    const codegen_iv tmp108 = codegen_iv_mul(tmp16, v[152]);
+    const codegen_iv tmp108 = codegen_iv_mul(tmp16, v[175]);
     const codegen_iv tmp110 = codegen_iv_mul(codegen_iv_point(4), tmp37);
     const codegen_iv tmp111 = codegen_iv_mul(a_2, tmp32);
     const codegen_iv tmp112 = codegen_iv_pow(tmp16, 2);
     const codegen_iv tmp113 = codegen_iv_mul(a_2, tmp112);
-    const codegen_iv tmp114 = codegen_iv_mul(tmp111, v[189]);
-    const codegen_iv tmp115 = codegen_iv_mul(tmp113, v[189]);
+    const codegen_iv tmp114 = codegen_iv_mul(tmp111, v[212]);
+    const codegen_iv tmp115 = codegen_iv_mul(tmp113, v[212]);
     const codegen_iv tmp116 = codegen_iv_mul(tmp14, tmp16);
     const codegen_iv tmp118 = codegen_iv_mul(codegen_iv_point(6), tmp12);
     const codegen_iv tmp119 = codegen_iv_mul(tmp118, tmp16);
     const codegen_iv tmp120 = codegen_iv_mul(tmp114, tmp42);
     const codegen_iv tmp121 = codegen_iv_mul(tmp115, tmp42);
     const codegen_iv tmp122 = codegen_iv_add(tmp120, tmp121);
-    const codegen_iv tmp123 = codegen_iv_mul(tmp116, v[183]);
+    const codegen_iv tmp123 = codegen_iv_mul(tmp116, v[206]);
     const codegen_iv tmp124 = codegen_iv_add(tmp122, tmp123);
-    const codegen_iv tmp125 = codegen_iv_mul(tmp116, v[184]);
+    const codegen_iv tmp125 = codegen_iv_mul(tmp116, v[207]);
     const codegen_iv tmp126 = codegen_iv_add(tmp124, tmp125);
-    const codegen_iv tmp127 = codegen_iv_mul(tmp119, v[155]);
+    const codegen_iv tmp127 = codegen_iv_mul(tmp119, v[178]);
     const codegen_iv tmp128 = codegen_iv_add(tmp126, tmp127);
-    const codegen_iv tmp129 = codegen_iv_mul(tmp119, v[159]);
+    const codegen_iv tmp129 = codegen_iv_mul(tmp119, v[182]);
     const codegen_iv tmp130 = codegen_iv_add(tmp128, tmp129);
-    const codegen_iv tmp131 = codegen_iv_mul(v[156], tmp102);
+    const codegen_iv tmp131 = codegen_iv_mul(v[179], tmp102);
     const codegen_iv tmp132 = codegen_iv_sub(tmp130, tmp131);
     const codegen_iv tmp134 = codegen_iv_mul(codegen_iv_point(2), tmp16);
-    const codegen_iv tmp135 = codegen_iv_mul(tmp134, v[182]);
+    const codegen_iv tmp135 = codegen_iv_mul(tmp134, v[205]);
     const codegen_iv tmp136 = codegen_iv_add(tmp132, tmp135);
-    const codegen_iv tmp137 = codegen_iv_mul(v[151], tmp104);
+    const codegen_iv tmp137 = codegen_iv_mul(v[174], tmp104);
     const codegen_iv tmp138 = codegen_iv_add(tmp136, tmp137);
-    const codegen_iv tmp139 = codegen_iv_mul(v[152], tmp104);
+    const codegen_iv tmp139 = codegen_iv_mul(v[175], tmp104);
     const codegen_iv tmp140 = codegen_iv_sub(tmp138, tmp139);
     const codegen_iv tmp142 = codegen_iv_mul(codegen_iv_point(16), tmp37);
     const codegen_iv tmp143 = codegen_iv_mul(tmp142, tmp101);
@@ -12616,48 +12826,48 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp146 = codegen_iv_add(tmp144, tmp145);
     const codegen_iv tmp147 = codegen_iv_mul(tmp42, tmp105);
     const codegen_iv tmp148 = codegen_iv_add(tmp146, tmp147);
-    const codegen_iv tmp149 = codegen_iv_mul(v[178], tmp102);
+    const codegen_iv tmp149 = codegen_iv_mul(v[201], tmp102);
     const codegen_iv tmp150 = codegen_iv_add(tmp148, tmp149);
-    const codegen_iv tmp151 = codegen_iv_mul(v[181], tmp101);
+    const codegen_iv tmp151 = codegen_iv_mul(v[204], tmp101);
     const codegen_iv tmp152 = codegen_iv_add(tmp150, tmp151);
-    const codegen_iv tmp153 = codegen_iv_mul(tmp101, v[183]);
+    const codegen_iv tmp153 = codegen_iv_mul(tmp101, v[206]);
     const codegen_iv tmp154 = codegen_iv_sub(tmp152, tmp153);
-    const codegen_iv tmp155 = codegen_iv_mul(tmp101, v[184]);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp101, v[207]);
     const codegen_iv tmp156 = codegen_iv_sub(tmp154, tmp155);
-    const codegen_iv tmp157 = codegen_iv_mul(tmp0, v[160]);
+    const codegen_iv tmp157 = codegen_iv_mul(tmp0, v[183]);
     const codegen_iv tmp158 = codegen_iv_mul(tmp157, tmp42);
     const codegen_iv tmp159 = codegen_iv_sub(tmp156, tmp158);
     const codegen_iv tmp160 = codegen_iv_mul(tmp0, tmp21);
-    const codegen_iv tmp161 = codegen_iv_mul(tmp160, v[186]);
+    const codegen_iv tmp161 = codegen_iv_mul(tmp160, v[209]);
     const codegen_iv tmp162 = codegen_iv_sub(tmp159, tmp161);
-    const codegen_iv tmp163 = codegen_iv_mul(tmp0, v[187]);
+    const codegen_iv tmp163 = codegen_iv_mul(tmp0, v[210]);
     const codegen_iv tmp164 = codegen_iv_mul(tmp163, tmp107);
     const codegen_iv tmp165 = codegen_iv_sub(tmp162, tmp164);
-    const codegen_iv tmp166 = codegen_iv_mul(v[190], tmp13);
+    const codegen_iv tmp166 = codegen_iv_mul(v[213], tmp13);
     const codegen_iv tmp167 = codegen_iv_mul(tmp166, tmp16);
     const codegen_iv tmp168 = codegen_iv_sub(tmp165, tmp167);
-    const codegen_iv tmp169 = codegen_iv_mul(v[191], tmp17);
+    const codegen_iv tmp169 = codegen_iv_mul(v[214], tmp17);
     const codegen_iv tmp170 = codegen_iv_mul(tmp169, tmp98);
     const codegen_iv tmp171 = codegen_iv_sub(tmp168, tmp170);
-    const codegen_iv tmp172 = codegen_iv_mul(v[156], tmp96);
+    const codegen_iv tmp172 = codegen_iv_mul(v[179], tmp96);
     const codegen_iv tmp173 = codegen_iv_mul(tmp172, tmp108);
     const codegen_iv tmp174 = codegen_iv_sub(tmp171, tmp173);
-    const codegen_iv tmp175 = codegen_iv_mul(v[159], tmp35);
+    const codegen_iv tmp175 = codegen_iv_mul(v[182], tmp35);
     const codegen_iv tmp176 = codegen_iv_mul(tmp175, tmp42);
     const codegen_iv tmp177 = codegen_iv_sub(tmp174, tmp176);
-    const codegen_iv tmp178 = codegen_iv_mul(v[160], tmp16);
+    const codegen_iv tmp178 = codegen_iv_mul(v[183], tmp16);
     const codegen_iv tmp179 = codegen_iv_mul(tmp178, tmp110);
     const codegen_iv tmp180 = codegen_iv_sub(tmp177, tmp179);
-    const codegen_iv tmp181 = codegen_iv_mul(v[192], tmp107);
+    const codegen_iv tmp181 = codegen_iv_mul(v[215], tmp107);
     const codegen_iv tmp182 = codegen_iv_sub(tmp180, tmp181);
     const codegen_iv tmp184 = codegen_iv_mul(codegen_iv_point(8), tmp32);
-    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[178]);
+    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[201]);
     const codegen_iv tmp186 = codegen_iv_mul(tmp185, tmp108);
     const codegen_iv tmp187 = codegen_iv_add(tmp182, tmp186);
     const codegen_iv tmp188 = codegen_iv_mul(tmp42, tmp111);
-    const codegen_iv tmp189 = codegen_iv_mul(tmp188, v[188]);
+    const codegen_iv tmp189 = codegen_iv_mul(tmp188, v[211]);
     const codegen_iv tmp190 = codegen_iv_sub(tmp187, tmp189);
-    const codegen_iv tmp191 = codegen_iv_mul(tmp42, v[188]);
+    const codegen_iv tmp191 = codegen_iv_mul(tmp42, v[211]);
     const codegen_iv tmp192 = codegen_iv_mul(tmp191, tmp113);
     const codegen_iv tmp193 = codegen_iv_sub(tmp190, tmp192);
     const codegen_iv tmp194 = codegen_iv_add(tmp193, tmp92);
@@ -12666,20 +12876,20 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp197 = codegen_iv_add(tmp195, tmp196);
     const codegen_iv tmp198 = codegen_iv_mul(tmp42, tmp100);
     const codegen_iv tmp199 = codegen_iv_add(tmp197, tmp198);
-    const codegen_iv tmp200 = codegen_iv_mul(v[161], tmp42);
+    const codegen_iv tmp200 = codegen_iv_mul(v[184], tmp42);
     const codegen_iv tmp201 = codegen_iv_mul(tmp200, tmp96);
     const codegen_iv tmp202 = codegen_iv_sub(tmp199, tmp201);
     const codegen_iv tmp203 = codegen_iv_mul(tmp42, tmp96);
-    const codegen_iv tmp204 = codegen_iv_mul(tmp203, v[180]);
+    const codegen_iv tmp204 = codegen_iv_mul(tmp203, v[203]);
     const codegen_iv tmp205 = codegen_iv_sub(tmp202, tmp204);
     const codegen_iv tmp207 = codegen_iv_pow(tmp42, 1);
     const codegen_iv tmp208 = codegen_iv_div(codegen_iv_point(1), tmp207, iv_flags);
     const codegen_iv tmp209 = codegen_iv_mul(g, tmp208);
-    const codegen_iv tmp210 = codegen_iv_mul(v[193], tmp8);
+    const codegen_iv tmp210 = codegen_iv_mul(v[216], tmp8);
     const codegen_iv tmp212 = codegen_iv_mul(codegen_iv_point(12), tmp32);
-    const codegen_iv tmp213 = codegen_iv_mul(v[152], tmp35);
+    const codegen_iv tmp213 = codegen_iv_mul(v[175], tmp35);
     const codegen_iv tmp215 = codegen_iv_mul(codegen_iv_point(6), tmp213);
-    const codegen_iv tmp216 = codegen_iv_mul(v[194], tmp99);
+    const codegen_iv tmp216 = codegen_iv_mul(v[217], tmp99);
     const codegen_iv tmp218 = codegen_iv_mul(codegen_iv_point(3), tmp92);
     const codegen_iv tmp219 = codegen_iv_add(tmp193, tmp218);
     const codegen_iv tmp221 = codegen_iv_mul(codegen_iv_point(3), tmp94);
@@ -12688,11 +12898,11 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp224 = codegen_iv_add(tmp222, tmp223);
     const codegen_iv tmp225 = codegen_iv_mul(tmp216, tmp42);
     const codegen_iv tmp226 = codegen_iv_add(tmp224, tmp225);
-    const codegen_iv tmp227 = codegen_iv_mul(tmp212, v[161]);
+    const codegen_iv tmp227 = codegen_iv_mul(tmp212, v[184]);
     const codegen_iv tmp228 = codegen_iv_mul(tmp227, tmp42);
     const codegen_iv tmp229 = codegen_iv_sub(tmp226, tmp228);
     const codegen_iv tmp230 = codegen_iv_mul(tmp212, tmp42);
-    const codegen_iv tmp231 = codegen_iv_mul(tmp230, v[180]);
+    const codegen_iv tmp231 = codegen_iv_mul(tmp230, v[203]);
     const codegen_iv tmp232 = codegen_iv_sub(tmp229, tmp231);
     const codegen_iv tmp233 = codegen_iv_mul(m_3, tmp209);
     const codegen_iv tmp234 = codegen_iv_mul(tmp233, tmp232);
@@ -12704,32 +12914,32 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp241 = codegen_iv_sub(tmp239, tmp240);
     const codegen_iv tmp243 = codegen_iv_mul(codegen_iv_point(CODEGEN_R(0.5)), tmp208);
     const codegen_iv tmp244 = codegen_iv_mul(tmp241, tmp243);
-    const codegen_iv tmp245 = codegen_iv_sub(v[195], tmp43);
+    const codegen_iv tmp245 = codegen_iv_sub(v[218], tmp43);
     const codegen_iv tmp246 = codegen_iv_add(tmp245, tmp45);
     const codegen_iv tmp247 = codegen_iv_add(tmp246, tmp47);
     const codegen_iv tmp248 = codegen_iv_mul(tmp247, tmp5);
     const codegen_iv tmp250 = codegen_iv_mul(codegen_iv_point(4), tmp16);
     const codegen_iv tmp251 = codegen_iv_mul(d, tmp17);
     const codegen_iv tmp252 = codegen_iv_neg(tmp251);
-    const codegen_iv tmp253 = codegen_iv_mul(v[155], tmp43);
+    const codegen_iv tmp253 = codegen_iv_mul(v[178], tmp43);
     const codegen_iv tmp254 = codegen_iv_add(tmp252, tmp253);
-    const codegen_iv tmp255 = codegen_iv_mul(v[155], tmp45);
+    const codegen_iv tmp255 = codegen_iv_mul(v[178], tmp45);
     const codegen_iv tmp256 = codegen_iv_add(tmp254, tmp255);
-    const codegen_iv tmp257 = codegen_iv_mul(v[155], tmp47);
+    const codegen_iv tmp257 = codegen_iv_mul(v[178], tmp47);
     const codegen_iv tmp258 = codegen_iv_sub(tmp256, tmp257);
     const codegen_iv tmp259 = codegen_iv_mul(tmp213, tmp250);
     const codegen_iv tmp260 = codegen_iv_add(tmp258, tmp259);
-    const codegen_iv tmp261 = codegen_iv_mul(v[157], tmp89);
+    const codegen_iv tmp261 = codegen_iv_mul(v[180], tmp89);
     const codegen_iv tmp262 = codegen_iv_add(tmp260, tmp261);
-    const codegen_iv tmp263 = codegen_iv_mul(v[158], tmp89);
+    const codegen_iv tmp263 = codegen_iv_mul(v[181], tmp89);
     const codegen_iv tmp264 = codegen_iv_add(tmp262, tmp263);
-    const codegen_iv tmp265 = codegen_iv_mul(v[159], tmp43);
+    const codegen_iv tmp265 = codegen_iv_mul(v[182], tmp43);
     const codegen_iv tmp266 = codegen_iv_sub(tmp264, tmp265);
-    const codegen_iv tmp267 = codegen_iv_mul(v[159], tmp45);
+    const codegen_iv tmp267 = codegen_iv_mul(v[182], tmp45);
     const codegen_iv tmp268 = codegen_iv_add(tmp266, tmp267);
-    const codegen_iv tmp269 = codegen_iv_mul(v[159], tmp47);
+    const codegen_iv tmp269 = codegen_iv_mul(v[182], tmp47);
     const codegen_iv tmp270 = codegen_iv_add(tmp268, tmp269);
-    const codegen_iv tmp271 = codegen_iv_mul(v[161], tmp16);
+    const codegen_iv tmp271 = codegen_iv_mul(v[184], tmp16);
     const codegen_iv tmp272 = codegen_iv_sub(tmp270, tmp271);
     const codegen_iv tmp273 = codegen_iv_mul(tmp13, y_S);
     const codegen_iv tmp274 = codegen_iv_sub(tmp272, tmp273);
@@ -12739,18 +12949,18 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp278 = codegen_iv_add(tmp276, tmp277);
     const codegen_iv tmp279 = codegen_iv_mul(tmp22, tmp42);
     const codegen_iv tmp280 = codegen_iv_add(tmp278, tmp279);
-    const codegen_iv tmp281 = codegen_iv_mul(v[152], tmp43);
+    const codegen_iv tmp281 = codegen_iv_mul(v[175], tmp43);
     const codegen_iv tmp282 = codegen_iv_sub(tmp280, tmp281);
-    const codegen_iv tmp283 = codegen_iv_mul(v[152], tmp47);
+    const codegen_iv tmp283 = codegen_iv_mul(v[175], tmp47);
     const codegen_iv tmp284 = codegen_iv_sub(tmp282, tmp283);
-    const codegen_iv tmp285 = codegen_iv_mul(v[165], tmp37);
+    const codegen_iv tmp285 = codegen_iv_mul(v[188], tmp37);
     const codegen_iv tmp286 = codegen_iv_add(tmp284, tmp285);
     const codegen_iv tmp287 = codegen_iv_mul(tmp2, tmp42);
     const codegen_iv tmp288 = codegen_iv_sub(tmp286, tmp287);
     const codegen_iv tmp289 = codegen_iv_mul(tmp0, tmp250);
-    const codegen_iv tmp290 = codegen_iv_mul(tmp289, v[162]);
+    const codegen_iv tmp290 = codegen_iv_mul(tmp289, v[185]);
     const codegen_iv tmp291 = codegen_iv_sub(tmp288, tmp290);
-    const codegen_iv tmp292 = codegen_iv_mul(v[196], tmp112);
+    const codegen_iv tmp292 = codegen_iv_mul(v[219], tmp112);
     const codegen_iv tmp293 = codegen_iv_sub(tmp291, tmp292);
     const codegen_iv tmp294 = codegen_iv_mul(tmp244, tmp248);
     const codegen_iv tmp295 = codegen_iv_neg(tmp294);
@@ -12765,116 +12975,116 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp306 = codegen_iv_mul(k, tmp305);
     const codegen_iv tmp307 = codegen_iv_mul(tmp299, tmp45);
     const codegen_iv tmp308 = codegen_iv_mul(tmp16, tmp42);
-    const codegen_iv tmp309 = codegen_iv_mul(tmp308, v[178]);
-    const codegen_iv tmp310 = codegen_iv_mul(tmp308, v[179]);
-    const codegen_iv tmp311 = codegen_iv_mul(tmp308, v[152]);
+    const codegen_iv tmp309 = codegen_iv_mul(tmp308, v[201]);
+    const codegen_iv tmp310 = codegen_iv_mul(tmp308, v[202]);
+    const codegen_iv tmp311 = codegen_iv_mul(tmp308, v[175]);
     const codegen_iv tmp312 = codegen_iv_mul(tmp311, tmp37);
-    const codegen_iv tmp313 = codegen_iv_mul(v[180], tmp112);
-    const codegen_iv tmp314 = codegen_iv_mul(v[198], tmp112);
-    const codegen_iv tmp315 = codegen_iv_mul(v[152], tmp112);
+    const codegen_iv tmp313 = codegen_iv_mul(v[203], tmp112);
+    const codegen_iv tmp314 = codegen_iv_mul(v[221], tmp112);
+    const codegen_iv tmp315 = codegen_iv_mul(v[175], tmp112);
     const codegen_iv tmp317 = codegen_iv_mul(codegen_iv_point(2), tmp0);
-    const codegen_iv tmp318 = codegen_iv_mul(tmp317, v[182]);
+    const codegen_iv tmp318 = codegen_iv_mul(tmp317, v[205]);
     const codegen_iv tmp319 = codegen_iv_neg(tmp318);
     const codegen_iv tmp321 = codegen_iv_pow(tmp0, 4);
     const codegen_iv tmp322 = codegen_iv_mul(codegen_iv_point(8), tmp321);
-    const codegen_iv tmp323 = codegen_iv_mul(tmp322, v[197]);
+    const codegen_iv tmp323 = codegen_iv_mul(tmp322, v[220]);
     const codegen_iv tmp324 = codegen_iv_add(tmp319, tmp323);
-    const codegen_iv tmp325 = codegen_iv_mul(tmp212, v[197]);
+    const codegen_iv tmp325 = codegen_iv_mul(tmp212, v[220]);
     const codegen_iv tmp326 = codegen_iv_add(tmp324, tmp325);
-    const codegen_iv tmp327 = codegen_iv_mul(v[155], tmp314);
+    const codegen_iv tmp327 = codegen_iv_mul(v[178], tmp314);
     const codegen_iv tmp328 = codegen_iv_add(tmp326, tmp327);
-    const codegen_iv tmp329 = codegen_iv_mul(tmp308, v[156]);
+    const codegen_iv tmp329 = codegen_iv_mul(tmp308, v[179]);
     const codegen_iv tmp330 = codegen_iv_add(tmp328, tmp329);
-    const codegen_iv tmp331 = codegen_iv_mul(tmp308, v[185]);
+    const codegen_iv tmp331 = codegen_iv_mul(tmp308, v[208]);
     const codegen_iv tmp332 = codegen_iv_add(tmp330, tmp331);
-    const codegen_iv tmp333 = codegen_iv_mul(v[199], tmp99);
+    const codegen_iv tmp333 = codegen_iv_mul(v[222], tmp99);
     const codegen_iv tmp334 = codegen_iv_add(tmp332, tmp333);
-    const codegen_iv tmp335 = codegen_iv_mul(tmp313, v[183]);
+    const codegen_iv tmp335 = codegen_iv_mul(tmp313, v[206]);
     const codegen_iv tmp336 = codegen_iv_add(tmp334, tmp335);
-    const codegen_iv tmp337 = codegen_iv_mul(tmp313, v[184]);
+    const codegen_iv tmp337 = codegen_iv_mul(tmp313, v[207]);
     const codegen_iv tmp338 = codegen_iv_add(tmp336, tmp337);
-    const codegen_iv tmp339 = codegen_iv_mul(tmp314, v[159]);
+    const codegen_iv tmp339 = codegen_iv_mul(tmp314, v[182]);
     const codegen_iv tmp340 = codegen_iv_add(tmp338, tmp339);
     const codegen_iv tmp342 = codegen_iv_mul(codegen_iv_point(16), tmp315);
     const codegen_iv tmp343 = codegen_iv_mul(tmp342, tmp91);
     const codegen_iv tmp344 = codegen_iv_add(tmp340, tmp343);
-    const codegen_iv tmp345 = codegen_iv_mul(v[200], tmp35);
+    const codegen_iv tmp345 = codegen_iv_mul(v[223], tmp35);
     const codegen_iv tmp346 = codegen_iv_add(tmp344, tmp345);
-    const codegen_iv tmp347 = codegen_iv_mul(tmp34, v[187]);
+    const codegen_iv tmp347 = codegen_iv_mul(tmp34, v[210]);
     const codegen_iv tmp348 = codegen_iv_add(tmp346, tmp347);
-    const codegen_iv tmp349 = codegen_iv_mul(v[166], tmp103);
+    const codegen_iv tmp349 = codegen_iv_mul(v[189], tmp103);
     const codegen_iv tmp350 = codegen_iv_add(tmp348, tmp349);
-    const codegen_iv tmp351 = codegen_iv_mul(tmp93, v[183]);
+    const codegen_iv tmp351 = codegen_iv_mul(tmp93, v[206]);
     const codegen_iv tmp352 = codegen_iv_add(tmp350, tmp351);
-    const codegen_iv tmp353 = codegen_iv_mul(tmp93, v[184]);
+    const codegen_iv tmp353 = codegen_iv_mul(tmp93, v[207]);
     const codegen_iv tmp354 = codegen_iv_add(tmp352, tmp353);
-    const codegen_iv tmp355 = codegen_iv_mul(v[186], tmp111);
+    const codegen_iv tmp355 = codegen_iv_mul(v[209], tmp111);
     const codegen_iv tmp356 = codegen_iv_add(tmp354, tmp355);
-    const codegen_iv tmp357 = codegen_iv_mul(v[201], tmp112);
+    const codegen_iv tmp357 = codegen_iv_mul(v[224], tmp112);
     const codegen_iv tmp358 = codegen_iv_sub(tmp356, tmp357);
-    const codegen_iv tmp359 = codegen_iv_mul(v[202], tmp112);
+    const codegen_iv tmp359 = codegen_iv_mul(v[225], tmp112);
     const codegen_iv tmp360 = codegen_iv_sub(tmp358, tmp359);
     const codegen_iv tmp362 = codegen_iv_mul(codegen_iv_point(4), tmp0);
-    const codegen_iv tmp363 = codegen_iv_mul(tmp362, v[151]);
-    const codegen_iv tmp364 = codegen_iv_mul(tmp363, v[179]);
+    const codegen_iv tmp363 = codegen_iv_mul(tmp362, v[174]);
+    const codegen_iv tmp364 = codegen_iv_mul(tmp363, v[202]);
     const codegen_iv tmp365 = codegen_iv_sub(tmp360, tmp364);
-    const codegen_iv tmp366 = codegen_iv_mul(tmp0, v[152]);
+    const codegen_iv tmp366 = codegen_iv_mul(tmp0, v[175]);
     const codegen_iv tmp367 = codegen_iv_mul(tmp366, tmp40);
     const codegen_iv tmp368 = codegen_iv_add(tmp365, tmp367);
     const codegen_iv tmp370 = codegen_iv_mul(codegen_iv_point(2), tmp0);
-    const codegen_iv tmp371 = codegen_iv_mul(tmp370, v[152]);
-    const codegen_iv tmp372 = codegen_iv_mul(tmp371, v[178]);
+    const codegen_iv tmp371 = codegen_iv_mul(tmp370, v[175]);
+    const codegen_iv tmp372 = codegen_iv_mul(tmp371, v[201]);
     const codegen_iv tmp373 = codegen_iv_sub(tmp368, tmp372);
-    const codegen_iv tmp374 = codegen_iv_mul(v[203], tmp112);
+    const codegen_iv tmp374 = codegen_iv_mul(v[226], tmp112);
     const codegen_iv tmp375 = codegen_iv_sub(tmp373, tmp374);
-    const codegen_iv tmp376 = codegen_iv_mul(v[204], tmp98);
+    const codegen_iv tmp376 = codegen_iv_mul(v[227], tmp98);
     const codegen_iv tmp377 = codegen_iv_add(tmp375, tmp376);
-    const codegen_iv tmp378 = codegen_iv_mul(v[205], tmp98);
+    const codegen_iv tmp378 = codegen_iv_mul(v[228], tmp98);
     const codegen_iv tmp379 = codegen_iv_sub(tmp377, tmp378);
-    const codegen_iv tmp380 = codegen_iv_mul(v[206], tmp93);
+    const codegen_iv tmp380 = codegen_iv_mul(v[229], tmp93);
     const codegen_iv tmp381 = codegen_iv_mul(tmp380, tmp112);
     const codegen_iv tmp382 = codegen_iv_add(tmp379, tmp381);
-    const codegen_iv tmp383 = codegen_iv_mul(v[207], tmp98);
+    const codegen_iv tmp383 = codegen_iv_mul(v[230], tmp98);
     const codegen_iv tmp384 = codegen_iv_sub(tmp382, tmp383);
-    const codegen_iv tmp385 = codegen_iv_mul(v[208], tmp32);
+    const codegen_iv tmp385 = codegen_iv_mul(v[231], tmp32);
     const codegen_iv tmp386 = codegen_iv_sub(tmp384, tmp385);
-    const codegen_iv tmp387 = codegen_iv_mul(v[209], tmp32);
+    const codegen_iv tmp387 = codegen_iv_mul(v[232], tmp32);
     const codegen_iv tmp388 = codegen_iv_sub(tmp386, tmp387);
-    const codegen_iv tmp389 = codegen_iv_mul(v[210], tmp32);
+    const codegen_iv tmp389 = codegen_iv_mul(v[233], tmp32);
     const codegen_iv tmp390 = codegen_iv_sub(tmp388, tmp389);
-    const codegen_iv tmp391 = codegen_iv_mul(v[211], tmp32);
+    const codegen_iv tmp391 = codegen_iv_mul(v[234], tmp32);
     const codegen_iv tmp392 = codegen_iv_sub(tmp390, tmp391);
-    const codegen_iv tmp393 = codegen_iv_mul(tmp0, v[151]);
+    const codegen_iv tmp393 = codegen_iv_mul(tmp0, v[174]);
     const codegen_iv tmp394 = codegen_iv_mul(tmp393, tmp38);
     const codegen_iv tmp395 = codegen_iv_mul(tmp394, tmp39);
     const codegen_iv tmp396 = codegen_iv_sub(tmp392, tmp395);
-    const codegen_iv tmp397 = codegen_iv_mul(v[212], tmp32);
+    const codegen_iv tmp397 = codegen_iv_mul(v[235], tmp32);
     const codegen_iv tmp398 = codegen_iv_mul(tmp397, tmp112);
     const codegen_iv tmp399 = codegen_iv_sub(tmp396, tmp398);
-    const codegen_iv tmp400 = codegen_iv_mul(v[159], tmp16);
-    const codegen_iv tmp401 = codegen_iv_mul(tmp400, v[151]);
+    const codegen_iv tmp400 = codegen_iv_mul(v[182], tmp16);
+    const codegen_iv tmp401 = codegen_iv_mul(tmp400, v[174]);
     const codegen_iv tmp402 = codegen_iv_mul(tmp401, tmp42);
     const codegen_iv tmp403 = codegen_iv_sub(tmp399, tmp402);
-    const codegen_iv tmp404 = codegen_iv_mul(v[159], tmp16);
-    const codegen_iv tmp405 = codegen_iv_mul(tmp404, v[152]);
+    const codegen_iv tmp404 = codegen_iv_mul(v[182], tmp16);
+    const codegen_iv tmp405 = codegen_iv_mul(tmp404, v[175]);
     const codegen_iv tmp406 = codegen_iv_mul(tmp405, tmp42);
     const codegen_iv tmp407 = codegen_iv_sub(tmp403, tmp406);
     const codegen_iv tmp409 = codegen_iv_mul(codegen_iv_point(8), tmp0);
-    const codegen_iv tmp410 = codegen_iv_mul(tmp409, v[155]);
-    const codegen_iv tmp411 = codegen_iv_mul(tmp410, v[151]);
-    const codegen_iv tmp412 = codegen_iv_mul(tmp411, v[152]);
+    const codegen_iv tmp410 = codegen_iv_mul(tmp409, v[178]);
+    const codegen_iv tmp411 = codegen_iv_mul(tmp410, v[174]);
+    const codegen_iv tmp412 = codegen_iv_mul(tmp411, v[175]);
     const codegen_iv tmp413 = codegen_iv_mul(tmp412, tmp112);
     const codegen_iv tmp414 = codegen_iv_sub(tmp407, tmp413);
     const codegen_iv tmp416 = codegen_iv_mul(codegen_iv_point(8), tmp0);
-    const codegen_iv tmp417 = codegen_iv_mul(tmp416, v[159]);
-    const codegen_iv tmp418 = codegen_iv_mul(tmp417, v[151]);
-    const codegen_iv tmp419 = codegen_iv_mul(tmp418, v[152]);
+    const codegen_iv tmp417 = codegen_iv_mul(tmp416, v[182]);
+    const codegen_iv tmp418 = codegen_iv_mul(tmp417, v[174]);
+    const codegen_iv tmp419 = codegen_iv_mul(tmp418, v[175]);
     const codegen_iv tmp420 = codegen_iv_mul(tmp419, tmp112);
     const codegen_iv tmp421 = codegen_iv_sub(tmp414, tmp420);
-    const codegen_iv tmp422 = codegen_iv_mul(tmp308, v[166]);
+    const codegen_iv tmp422 = codegen_iv_mul(tmp308, v[189]);
     const codegen_iv tmp423 = codegen_iv_neg(tmp19);
     const codegen_iv tmp424 = codegen_iv_sub(tmp423, tmp22);
-    const codegen_iv tmp425 = codegen_iv_mul(v[213], tmp0);
+    const codegen_iv tmp425 = codegen_iv_mul(v[236], tmp0);
     const codegen_iv tmp426 = codegen_iv_add(tmp424, tmp425);
     const codegen_iv tmp427 = codegen_iv_mul(tmp5, tmp426);
     const codegen_iv tmp429 = codegen_iv_mul(tmp38, tmp39);
@@ -12883,29 +13093,29 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp432 = codegen_iv_mul(m_4, tmp205);
     const codegen_iv tmp433 = codegen_iv_mul(d, tmp305);
     const codegen_iv tmp434 = codegen_iv_mul(tmp433, tmp16);
-    const codegen_iv tmp435 = codegen_iv_mul(tmp434, v[151]);
+    const codegen_iv tmp435 = codegen_iv_mul(tmp434, v[174]);
     const codegen_iv tmp436 = codegen_iv_add(tmp114, tmp115);
     const codegen_iv tmp437 = codegen_iv_add(tmp436, tmp422);
     const codegen_iv tmp438 = codegen_iv_add(tmp437, tmp103);
     const codegen_iv tmp439 = codegen_iv_add(tmp438, tmp105);
-    const codegen_iv tmp440 = codegen_iv_mul(tmp0, v[159]);
-    const codegen_iv tmp441 = codegen_iv_mul(tmp440, v[151]);
+    const codegen_iv tmp440 = codegen_iv_mul(tmp0, v[182]);
+    const codegen_iv tmp441 = codegen_iv_mul(tmp440, v[174]);
     const codegen_iv tmp442 = codegen_iv_sub(tmp439, tmp441);
-    const codegen_iv tmp443 = codegen_iv_mul(tmp0, v[159]);
-    const codegen_iv tmp444 = codegen_iv_mul(tmp443, v[152]);
+    const codegen_iv tmp443 = codegen_iv_mul(tmp0, v[182]);
+    const codegen_iv tmp444 = codegen_iv_mul(tmp443, v[175]);
     const codegen_iv tmp445 = codegen_iv_sub(tmp442, tmp444);
     const codegen_iv tmp447 = codegen_iv_mul(codegen_iv_point(2), tmp16);
-    const codegen_iv tmp448 = codegen_iv_mul(tmp447, v[151]);
+    const codegen_iv tmp448 = codegen_iv_mul(tmp447, v[174]);
     const codegen_iv tmp449 = codegen_iv_mul(tmp448, tmp42);
     const codegen_iv tmp450 = codegen_iv_sub(tmp445, tmp449);
-    const codegen_iv tmp451 = codegen_iv_mul(v[214], tmp32);
+    const codegen_iv tmp451 = codegen_iv_mul(v[237], tmp32);
     const codegen_iv tmp452 = codegen_iv_sub(tmp450, tmp451);
-    const codegen_iv tmp453 = codegen_iv_mul(v[215], tmp112);
+    const codegen_iv tmp453 = codegen_iv_mul(v[238], tmp112);
     const codegen_iv tmp454 = codegen_iv_sub(tmp452, tmp453);
     const codegen_iv tmp455 = codegen_iv_mul(g, tmp210);
     const codegen_iv tmp456 = codegen_iv_mul(tmp455, tmp430);
-    const codegen_iv tmp457 = codegen_iv_mul(tmp1, v[150]);
-    const codegen_iv tmp458 = codegen_iv_add(v[216], tmp457);
+    const codegen_iv tmp457 = codegen_iv_mul(tmp1, v[173]);
+    const codegen_iv tmp458 = codegen_iv_add(v[239], tmp457);
     const codegen_iv tmp459 = codegen_iv_mul(tmp210, tmp234);
     const codegen_iv tmp460 = codegen_iv_add(tmp458, tmp459);
     const codegen_iv tmp461 = codegen_iv_mul(tmp87, tmp90);
@@ -12923,7 +13133,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp473 = codegen_iv_mul(m_3, tmp232);
     const codegen_iv tmp474 = codegen_iv_mul(tmp473, tmp456);
     const codegen_iv tmp475 = codegen_iv_neg(tmp474);
-    const codegen_iv tmp476 = codegen_iv_mul(v[217], tmp208);
+    const codegen_iv tmp476 = codegen_iv_mul(v[240], tmp208);
     const codegen_iv tmp477 = codegen_iv_mul(tmp476, tmp8);
     const codegen_iv tmp478 = codegen_iv_neg(tmp215);
     const codegen_iv tmp479 = codegen_iv_sub(tmp478, tmp216);
@@ -12932,9 +13142,9 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp483 = codegen_iv_sub(tmp480, tmp482);
     const codegen_iv tmp485 = codegen_iv_mul(codegen_iv_point(3), tmp93);
     const codegen_iv tmp486 = codegen_iv_sub(tmp483, tmp485);
-    const codegen_iv tmp487 = codegen_iv_mul(v[218], tmp32);
+    const codegen_iv tmp487 = codegen_iv_mul(v[241], tmp32);
     const codegen_iv tmp488 = codegen_iv_add(tmp486, tmp487);
-    const codegen_iv tmp489 = codegen_iv_mul(v[219], tmp32);
+    const codegen_iv tmp489 = codegen_iv_mul(v[242], tmp32);
     const codegen_iv tmp490 = codegen_iv_add(tmp488, tmp489);
     const codegen_iv tmp491 = codegen_iv_mul(tmp477, tmp490);
     const codegen_iv tmp492 = codegen_iv_add(tmp475, tmp491);
@@ -12942,16 +13152,16 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp494 = codegen_iv_sub(tmp472, tmp493);
     const codegen_iv tmp495 = codegen_iv_mul(tmp432, tmp456);
     const codegen_iv tmp496 = codegen_iv_neg(tmp495);
-    const codegen_iv tmp497 = codegen_iv_mul(v[220], tmp208);
+    const codegen_iv tmp497 = codegen_iv_mul(v[243], tmp208);
     const codegen_iv tmp498 = codegen_iv_mul(tmp497, tmp8);
     const codegen_iv tmp499 = codegen_iv_neg(tmp454);
     const codegen_iv tmp500 = codegen_iv_sub(tmp499, tmp91);
     const codegen_iv tmp501 = codegen_iv_sub(tmp500, tmp93);
     const codegen_iv tmp502 = codegen_iv_sub(tmp501, tmp97);
     const codegen_iv tmp503 = codegen_iv_sub(tmp502, tmp100);
-    const codegen_iv tmp504 = codegen_iv_mul(v[221], tmp32);
+    const codegen_iv tmp504 = codegen_iv_mul(v[244], tmp32);
     const codegen_iv tmp505 = codegen_iv_add(tmp503, tmp504);
-    const codegen_iv tmp506 = codegen_iv_mul(v[222], tmp32);
+    const codegen_iv tmp506 = codegen_iv_mul(v[245], tmp32);
     const codegen_iv tmp507 = codegen_iv_add(tmp505, tmp506);
     const codegen_iv tmp508 = codegen_iv_mul(tmp498, tmp507);
     const codegen_iv tmp509 = codegen_iv_add(tmp496, tmp508);
@@ -12959,7 +13169,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp511 = codegen_iv_sub(tmp494, tmp510);
     const codegen_iv tmp512 = codegen_iv_mul(tmp306, tmp307);
     const codegen_iv tmp513 = codegen_iv_sub(tmp511, tmp512);
-    const codegen_iv tmp514 = codegen_iv_mul(v[150], tmp21);
+    const codegen_iv tmp514 = codegen_iv_mul(v[173], tmp21);
     const codegen_iv tmp515 = codegen_iv_sub(tmp513, tmp514);
     const codegen_iv tmp516 = codegen_iv_mul(tmp209, tmp432);
     const codegen_iv tmp517 = codegen_iv_mul(tmp516, tmp435);
@@ -12973,7 +13183,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp526 = codegen_iv_mul(tmp301, tmp87);
     const codegen_iv tmp527 = codegen_iv_div(tmp526, tmp81, iv_flags);
     const codegen_iv tmp528 = codegen_iv_sub(tmp525, tmp527);
-    const codegen_iv tmp529 = codegen_iv_mul(v[223], tmp237);
+    const codegen_iv tmp529 = codegen_iv_mul(v[246], tmp237);
     const codegen_iv tmp530 = codegen_iv_mul(tmp529, tmp299);
     const codegen_iv tmp531 = codegen_iv_mul(tmp530, tmp8);
     const codegen_iv tmp532 = codegen_iv_add(tmp528, tmp531);
@@ -12985,7 +13195,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp538 = codegen_iv_mul(tmp4, tmp83);
     const codegen_iv tmp539 = codegen_iv_mul(tmp538, tmp87);
     const codegen_iv tmp540 = codegen_iv_sub(tmp537, tmp539);
-    const codegen_iv tmp541 = codegen_iv_mul(v[224], tmp237);
+    const codegen_iv tmp541 = codegen_iv_mul(v[247], tmp237);
     const codegen_iv tmp542 = codegen_iv_mul(tmp541, tmp302);
     const codegen_iv tmp543 = codegen_iv_mul(tmp542, tmp431);
     const codegen_iv tmp544 = codegen_iv_mul(tmp247, tmp89);
@@ -12996,7 +13206,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp550 = codegen_iv_add(tmp545, tmp549);
     const codegen_iv tmp551 = codegen_iv_mul(tmp543, tmp550);
     const codegen_iv tmp552 = codegen_iv_sub(tmp540, tmp551);
-    const codegen_iv tmp553 = codegen_iv_mul(v[225], tmp237);
+    const codegen_iv tmp553 = codegen_iv_mul(v[248], tmp237);
     const codegen_iv tmp554 = codegen_iv_mul(tmp553, tmp85);
     const codegen_iv tmp555 = codegen_iv_mul(tmp554, tmp11);
     const codegen_iv tmp556 = codegen_iv_mul(tmp244, tmp427);
@@ -13023,21 +13233,21 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp578 = codegen_iv_sub(tmp577, tmp44);
     const codegen_iv tmp579 = codegen_iv_add(tmp578, tmp46);
     const codegen_iv tmp580 = codegen_iv_add(tmp579, tmp48);
-    const codegen_iv tmp581 = codegen_iv_mul(tmp315, v[181]);
+    const codegen_iv tmp581 = codegen_iv_mul(tmp315, v[204]);
     const codegen_iv tmp582 = codegen_iv_sub(tmp580, tmp581);
-    const codegen_iv tmp583 = codegen_iv_mul(v[162], tmp96);
+    const codegen_iv tmp583 = codegen_iv_mul(v[185], tmp96);
     const codegen_iv tmp584 = codegen_iv_sub(tmp582, tmp583);
-    const codegen_iv tmp585 = codegen_iv_mul(v[226], tmp112);
+    const codegen_iv tmp585 = codegen_iv_mul(v[249], tmp112);
     const codegen_iv tmp586 = codegen_iv_add(tmp584, tmp585);
-    const codegen_iv tmp587 = codegen_iv_mul(v[152], tmp110);
+    const codegen_iv tmp587 = codegen_iv_mul(v[175], tmp110);
     const codegen_iv tmp588 = codegen_iv_add(tmp586, tmp587);
-    const codegen_iv tmp589 = codegen_iv_mul(v[227], tmp36);
+    const codegen_iv tmp589 = codegen_iv_mul(v[250], tmp36);
     const codegen_iv tmp590 = codegen_iv_sub(tmp588, tmp589);
     const codegen_iv tmp591 = codegen_iv_mul(tmp5, tmp590);
     const codegen_iv tmp592 = codegen_iv_add(tmp563, tmp591);
     const codegen_iv tmp593 = codegen_iv_mul(tmp243, tmp248);
     const codegen_iv tmp595 = codegen_iv_mul(codegen_iv_point(8), tmp315);
-    const codegen_iv tmp596 = codegen_iv_mul(tmp595, v[151]);
+    const codegen_iv tmp596 = codegen_iv_mul(tmp595, v[174]);
     const codegen_iv tmp597 = codegen_iv_neg(tmp596);
     const codegen_iv tmp598 = codegen_iv_mul(tmp38, tmp4);
     const codegen_iv tmp599 = codegen_iv_sub(tmp597, tmp598);
@@ -13050,7 +13260,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp606 = codegen_iv_sub(tmp603, tmp605);
     const codegen_iv tmp607 = codegen_iv_mul(tmp555, tmp606);
     const codegen_iv tmp608 = codegen_iv_add(tmp552, tmp607);
-    const codegen_iv tmp609 = codegen_iv_mul(v[228], tmp208);
+    const codegen_iv tmp609 = codegen_iv_mul(v[251], tmp208);
     const codegen_iv tmp610 = codegen_iv_mul(tmp609, tmp8);
     const codegen_iv tmp612 = codegen_iv_mul(codegen_iv_point(3), tmp309);
     const codegen_iv tmp613 = codegen_iv_neg(tmp612);
@@ -13060,51 +13270,51 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
     const codegen_iv tmp619 = codegen_iv_sub(tmp616, tmp618);
     const codegen_iv tmp620 = codegen_iv_sub(tmp619, tmp421);
     const codegen_iv tmp622 = codegen_iv_mul(codegen_iv_point(6), tmp308);
-    const codegen_iv tmp623 = codegen_iv_mul(tmp622, v[151]);
-    const codegen_iv tmp624 = codegen_iv_mul(tmp623, v[152]);
+    const codegen_iv tmp623 = codegen_iv_mul(tmp622, v[174]);
+    const codegen_iv tmp624 = codegen_iv_mul(tmp623, v[175]);
     const codegen_iv tmp625 = codegen_iv_sub(tmp620, tmp624);
-    const codegen_iv tmp626 = codegen_iv_mul(v[229], tmp0);
-    const codegen_iv tmp627 = codegen_iv_mul(tmp626, v[154]);
+    const codegen_iv tmp626 = codegen_iv_mul(v[252], tmp0);
+    const codegen_iv tmp627 = codegen_iv_mul(tmp626, v[177]);
     const codegen_iv tmp628 = codegen_iv_mul(tmp627, tmp16);
     const codegen_iv tmp629 = codegen_iv_mul(tmp628, tmp42);
     const codegen_iv tmp630 = codegen_iv_add(tmp625, tmp629);
-    const codegen_iv tmp631 = codegen_iv_mul(v[230], tmp0);
-    const codegen_iv tmp632 = codegen_iv_mul(tmp631, v[163]);
+    const codegen_iv tmp631 = codegen_iv_mul(v[253], tmp0);
+    const codegen_iv tmp632 = codegen_iv_mul(tmp631, v[186]);
     const codegen_iv tmp633 = codegen_iv_mul(tmp632, tmp16);
     const codegen_iv tmp634 = codegen_iv_mul(tmp633, tmp42);
     const codegen_iv tmp635 = codegen_iv_add(tmp630, tmp634);
     const codegen_iv tmp636 = codegen_iv_mul(tmp610, tmp635);
     const codegen_iv tmp637 = codegen_iv_add(tmp608, tmp636);
-    const codegen_iv tmp638 = codegen_iv_mul(v[231], tmp208);
+    const codegen_iv tmp638 = codegen_iv_mul(v[254], tmp208);
     const codegen_iv tmp639 = codegen_iv_mul(tmp638, tmp8);
     const codegen_iv tmp640 = codegen_iv_neg(tmp309);
     const codegen_iv tmp641 = codegen_iv_sub(tmp640, tmp310);
     const codegen_iv tmp643 = codegen_iv_mul(codegen_iv_point(12), tmp312);
     const codegen_iv tmp644 = codegen_iv_sub(tmp641, tmp643);
     const codegen_iv tmp645 = codegen_iv_sub(tmp644, tmp421);
-    const codegen_iv tmp646 = codegen_iv_mul(tmp422, v[151]);
+    const codegen_iv tmp646 = codegen_iv_mul(tmp422, v[174]);
     const codegen_iv tmp647 = codegen_iv_sub(tmp645, tmp646);
-    const codegen_iv tmp648 = codegen_iv_mul(v[232], tmp0);
-    const codegen_iv tmp649 = codegen_iv_mul(tmp648, v[154]);
+    const codegen_iv tmp648 = codegen_iv_mul(v[255], tmp0);
+    const codegen_iv tmp649 = codegen_iv_mul(tmp648, v[177]);
     const codegen_iv tmp650 = codegen_iv_mul(tmp649, tmp16);
     const codegen_iv tmp651 = codegen_iv_mul(tmp650, tmp42);
     const codegen_iv tmp652 = codegen_iv_add(tmp647, tmp651);
-    const codegen_iv tmp653 = codegen_iv_mul(v[233], tmp0);
-    const codegen_iv tmp654 = codegen_iv_mul(tmp653, v[163]);
+    const codegen_iv tmp653 = codegen_iv_mul(v[256], tmp0);
+    const codegen_iv tmp654 = codegen_iv_mul(tmp653, v[186]);
     const codegen_iv tmp655 = codegen_iv_mul(tmp654, tmp16);
     const codegen_iv tmp656 = codegen_iv_mul(tmp655, tmp42);
     const codegen_iv tmp657 = codegen_iv_add(tmp652, tmp656);
     const codegen_iv tmp658 = codegen_iv_mul(tmp639, tmp657);
     const codegen_iv tmp659 = codegen_iv_add(tmp637, tmp658);
-    const codegen_iv tmp660 = codegen_iv_mul(v[234], tmp305);
-    const codegen_iv tmp661 = codegen_iv_mul(tmp660, v[151]);
-    const codegen_iv tmp662 = codegen_iv_mul(tmp661, v[152]);
+    const codegen_iv tmp660 = codegen_iv_mul(v[257], tmp305);
+    const codegen_iv tmp661 = codegen_iv_mul(tmp660, v[174]);
+    const codegen_iv tmp662 = codegen_iv_mul(tmp661, v[175]);
     const codegen_iv tmp663 = codegen_iv_mul(tmp662, tmp81);
     const codegen_iv tmp664 = codegen_iv_mul(tmp663, tmp112);
     const codegen_iv tmp665 = codegen_iv_add(tmp659, tmp664);
-    const codegen_iv tmp666 = codegen_iv_mul(v[235], tmp305);
-    const codegen_iv tmp667 = codegen_iv_mul(tmp666, v[151]);
-    const codegen_iv tmp668 = codegen_iv_mul(tmp667, v[152]);
+    const codegen_iv tmp666 = codegen_iv_mul(v[258], tmp305);
+    const codegen_iv tmp667 = codegen_iv_mul(tmp666, v[174]);
+    const codegen_iv tmp668 = codegen_iv_mul(tmp667, v[175]);
     const codegen_iv tmp669 = codegen_iv_mul(tmp668, tmp83);
     const codegen_iv tmp670 = codegen_iv_mul(tmp669, tmp85);
     const codegen_iv tmp671 = codegen_iv_mul(tmp670, tmp112);
@@ -13116,7 +13326,7 @@ static void enclose_mode_1(const four_bar_params *params, codegen_iv theta,
 
 
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
- * At each theta, 297 instructions (as a program, over the slots v from 280); the 63 theta does not reach
+ * At each theta, 297 instructions (as a program, over the slots v from 326); the 63 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -13124,303 +13334,303 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[297] = {
-        {CODEGEN_IV_COS, 294, 293, 0},
-        {CODEGEN_IV_MUL, 295, 281, 294},
-        {CODEGEN_IV_MUL, 298, 280, 295},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 298},
-        {CODEGEN_IV_SUB, 300, 238, 299},
-        {CODEGEN_IV_MUL, 310, 294, 246},
-        {CODEGEN_IV_MUL, 313, 294, 248},
-        {CODEGEN_IV_MUL, 314, 280, 313},
-        {CODEGEN_IV_SIN, 315, 293, 0},
-        {CODEGEN_IV_MUL, 293, 248, 315},
-        {CODEGEN_IV_MUL, 316, 295, 289},
-        {CODEGEN_IV_MUL, 317, 281, 315},
-        {CODEGEN_IV_MUL, 318, 317, 290},
-        {CODEGEN_IV_POW, 319, 294, 2},
-        {CODEGEN_IV_CONST, 320, 0, 0},
-        {CODEGEN_IV_MUL, 320, 320, 319},
-        {CODEGEN_IV_CONST, 323, 0, 0},
-        {CODEGEN_IV_MUL, 323, 323, 315},
-        {CODEGEN_IV_MUL, 324, 294, 323},
-        {CODEGEN_IV_SUB, 283, 252, 299},
-        {CODEGEN_IV_SUB, 283, 283, 240},
-        {CODEGEN_IV_ADD, 282, 253, 300},
-        {CODEGEN_IV_SUB, 282, 282, 240},
-        {CODEGEN_IV_MUL, 326, 283, 282},
-        {CODEGEN_IV_NEG, 327, 326, 0},
-        {CODEGEN_IV_SQRT, 327, 327, 0},
-        {CODEGEN_IV_MUL, 328, 317, 289},
-        {CODEGEN_IV_MUL, 329, 280, 317},
-        {CODEGEN_IV_MUL, 330, 295, 290},
-        {CODEGEN_IV_ADD, 331, 254, 310},
-        {CODEGEN_IV_SUB, 331, 331, 247},
-        {CODEGEN_IV_ADD, 331, 331, 314},
-        {CODEGEN_IV_ADD, 332, 331, 255},
-        {CODEGEN_IV_ADD, 331, 332, 256},
-        {CODEGEN_IV_MUL, 332, 242, 299},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_ADD, 331, 332, 257},
-        {CODEGEN_IV_ADD, 332, 331, 258},
-        {CODEGEN_IV_MUL, 331, 243, 299},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 244, 316},
-        {CODEGEN_IV_ADD, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 244, 318},
-        {CODEGEN_IV_ADD, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 244, 298},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_SUB, 331, 332, 259},
-        {CODEGEN_IV_MUL, 332, 247, 320},
-        {CODEGEN_IV_ADD, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 313, 289},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 293, 290},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 316, 237},
-        {CODEGEN_IV_ADD, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 316, 240},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 318, 237},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 318, 240},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 320, 251},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 249, 327},
-        {CODEGEN_IV_ADD, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 250, 324},
-        {CODEGEN_IV_ADD, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 327, 328},
-        {CODEGEN_IV_ADD, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 327, 329},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_MUL, 332, 327, 330},
-        {CODEGEN_IV_SUB, 332, 331, 332},
-        {CODEGEN_IV_MUL, 331, 298, 240},
-        {CODEGEN_IV_SUB, 331, 332, 331},
-        {CODEGEN_IV_SUB, 332, 331, 260},
-        {CODEGEN_IV_ADD, 331, 332, 261},
-        {CODEGEN_IV_MUL, 303, 331, 300},
-        {CODEGEN_IV_SQRT, 303, 303, 0},
-        {CODEGEN_IV_CONST, 299, 1, 0},
-        {CODEGEN_IV_POW, 332, 300, 2},
-        {CODEGEN_IV_DIV, 332, 299, 332},
-        {CODEGEN_IV_CONST, 299, 0, 0},
-        {CODEGEN_IV_MUL, 299, 299, 329},
-        {CODEGEN_IV_CONST, 333, 1, 0},
-        {CODEGEN_IV_POW, 334, 300, 1},
-        {CODEGEN_IV_DIV, 334, 333, 334},
-        {CODEGEN_IV_MUL, 335, 303, 334},
-        {CODEGEN_IV_ADD, 335, 262, 335},
-        {CODEGEN_IV_MUL, 335, 287, 335},
-        {CODEGEN_IV_MUL, 287, 294, 327},
-        {CODEGEN_IV_MUL, 333, 263, 287},
-        {CODEGEN_IV_MUL, 337, 287, 264},
-        {CODEGEN_IV_CONST, 338, 2, 0},
-        {CODEGEN_IV_MUL, 338, 338, 319},
-        {CODEGEN_IV_MUL, 339, 327, 338},
-        {CODEGEN_IV_MUL, 312, 251, 287},
-        {CODEGEN_IV_POW, 341, 294, 3},
-        {CODEGEN_IV_MUL, 343, 323, 264},
-        {CODEGEN_IV_MUL, 344, 237, 323},
-        {CODEGEN_IV_MUL, 345, 236, 315},
-        {CODEGEN_IV_MUL, 346, 264, 345},
-        {CODEGEN_IV_MUL, 336, 315, 237},
-        {CODEGEN_IV_MUL, 347, 319, 336},
-        {CODEGEN_IV_MUL, 348, 267, 327},
-        {CODEGEN_IV_MUL, 349, 348, 240},
-        {CODEGEN_IV_CONST, 350, 0, 0},
-        {CODEGEN_IV_POW, 351, 315, 2},
-        {CODEGEN_IV_MUL, 351, 350, 351},
-        {CODEGEN_IV_MUL, 350, 244, 348},
-        {CODEGEN_IV_MUL, 348, 314, 323},
-        {CODEGEN_IV_CONST, 314, 3, 0},
-        {CODEGEN_IV_MUL, 314, 314, 310},
-        {CODEGEN_IV_MUL, 314, 314, 315},
-        {CODEGEN_IV_CONST, 310, 2, 0},
-        {CODEGEN_IV_MUL, 310, 310, 346},
-        {CODEGEN_IV_MUL, 352, 268, 323},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 241, 287},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 241, 344},
-        {CODEGEN_IV_SUB, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 269, 347},
-        {CODEGEN_IV_SUB, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 244, 343},
-        {CODEGEN_IV_SUB, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 244, 348},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 244, 314},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 245, 287},
-        {CODEGEN_IV_SUB, 310, 352, 310},
-        {CODEGEN_IV_CONST, 352, 4, 0},
-        {CODEGEN_IV_MUL, 352, 352, 319},
-        {CODEGEN_IV_MUL, 352, 352, 346},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 320, 349},
-        {CODEGEN_IV_SUB, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 320, 350},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 326, 345},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 326, 336},
-        {CODEGEN_IV_SUB, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 263, 344},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 270, 347},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 343, 240},
-        {CODEGEN_IV_SUB, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 349, 351},
-        {CODEGEN_IV_SUB, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 351, 350},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 348, 240},
-        {CODEGEN_IV_ADD, 352, 310, 352},
-        {CODEGEN_IV_MUL, 310, 314, 240},
-        {CODEGEN_IV_ADD, 310, 352, 310},
-        {CODEGEN_IV_MUL, 352, 271, 324},
-        {CODEGEN_IV_SUB, 352, 310, 352},
-        {CODEGEN_IV_MUL, 353, 272, 294},
-        {CODEGEN_IV_MUL, 353, 353, 317},
-        {CODEGEN_IV_SUB, 353, 352, 353},
-        {CODEGEN_IV_MUL, 352, 273, 287},
-        {CODEGEN_IV_SUB, 352, 353, 352},
-        {CODEGEN_IV_MUL, 353, 274, 323},
-        {CODEGEN_IV_SUB, 353, 352, 353},
-        {CODEGEN_IV_MUL, 352, 245, 338},
-        {CODEGEN_IV_MUL, 352, 352, 345},
-        {CODEGEN_IV_SUB, 352, 353, 352},
-        {CODEGEN_IV_CONST, 353, 5, 0},
-        {CODEGEN_IV_MUL, 353, 353, 313},
-        {CODEGEN_IV_MUL, 353, 353, 315},
-        {CODEGEN_IV_MUL, 353, 353, 239},
-        {CODEGEN_IV_SUB, 353, 352, 353},
-        {CODEGEN_IV_CONST, 352, 6, 0},
-        {CODEGEN_IV_MUL, 352, 352, 293},
-        {CODEGEN_IV_MUL, 352, 352, 341},
-        {CODEGEN_IV_MUL, 352, 352, 239},
-        {CODEGEN_IV_SUB, 352, 353, 352},
-        {CODEGEN_IV_MUL, 353, 237, 287},
-        {CODEGEN_IV_MUL, 353, 353, 240},
-        {CODEGEN_IV_ADD, 353, 352, 353},
-        {CODEGEN_IV_CONST, 301, 1, 0},
-        {CODEGEN_IV_POW, 314, 327, 1},
-        {CODEGEN_IV_DIV, 314, 301, 314},
-        {CODEGEN_IV_MUL, 301, 275, 332},
-        {CODEGEN_IV_MUL, 301, 301, 314},
-        {CODEGEN_IV_CONST, 281, 5, 0},
-        {CODEGEN_IV_MUL, 281, 281, 327},
-        {CODEGEN_IV_MUL, 348, 319, 281},
-        {CODEGEN_IV_MUL, 319, 294, 315},
-        {CODEGEN_IV_MUL, 350, 277, 295},
-        {CODEGEN_IV_ADD, 350, 276, 350},
-        {CODEGEN_IV_MUL, 294, 285, 301},
-        {CODEGEN_IV_CONST, 349, 7, 0},
-        {CODEGEN_IV_MUL, 349, 349, 333},
-        {CODEGEN_IV_CONST, 347, 7, 0},
-        {CODEGEN_IV_MUL, 347, 347, 337},
-        {CODEGEN_IV_ADD, 347, 349, 347},
-        {CODEGEN_IV_CONST, 349, 3, 0},
-        {CODEGEN_IV_MUL, 349, 349, 312},
-        {CODEGEN_IV_ADD, 349, 347, 349},
-        {CODEGEN_IV_ADD, 349, 349, 353},
-        {CODEGEN_IV_MUL, 347, 246, 348},
-        {CODEGEN_IV_SUB, 347, 349, 347},
-        {CODEGEN_IV_MUL, 349, 265, 348},
-        {CODEGEN_IV_SUB, 349, 347, 349},
-        {CODEGEN_IV_MUL, 347, 251, 341},
-        {CODEGEN_IV_MUL, 347, 347, 281},
-        {CODEGEN_IV_ADD, 347, 349, 347},
-        {CODEGEN_IV_MUL, 347, 294, 347},
-        {CODEGEN_IV_ADD, 347, 350, 347},
-        {CODEGEN_IV_MUL, 350, 286, 301},
-        {CODEGEN_IV_ADD, 294, 333, 337},
-        {CODEGEN_IV_CONST, 349, 0, 0},
-        {CODEGEN_IV_MUL, 349, 349, 312},
-        {CODEGEN_IV_ADD, 349, 294, 349},
-        {CODEGEN_IV_ADD, 349, 349, 353},
-        {CODEGEN_IV_MUL, 294, 246, 339},
-        {CODEGEN_IV_SUB, 294, 349, 294},
-        {CODEGEN_IV_MUL, 349, 339, 265},
-        {CODEGEN_IV_SUB, 349, 294, 349},
-        {CODEGEN_IV_MUL, 294, 327, 341},
-        {CODEGEN_IV_MUL, 294, 294, 266},
-        {CODEGEN_IV_ADD, 294, 349, 294},
-        {CODEGEN_IV_MUL, 294, 350, 294},
-        {CODEGEN_IV_ADD, 294, 347, 294},
-        {CODEGEN_IV_CONST, 347, 8, 0},
-        {CODEGEN_IV_MUL, 347, 347, 334},
-        {CODEGEN_IV_MUL, 347, 347, 335},
-        {CODEGEN_IV_MUL, 350, 331, 299},
-        {CODEGEN_IV_MUL, 349, 280, 293},
-        {CODEGEN_IV_NEG, 349, 349, 0},
-        {CODEGEN_IV_MUL, 336, 242, 299},
-        {CODEGEN_IV_ADD, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 243, 299},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 244, 328},
-        {CODEGEN_IV_SUB, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 244, 329},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 244, 330},
-        {CODEGEN_IV_ADD, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 246, 315},
-        {CODEGEN_IV_SUB, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 278, 319},
-        {CODEGEN_IV_SUB, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 313, 290},
-        {CODEGEN_IV_SUB, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 293, 289},
-        {CODEGEN_IV_ADD, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 316, 327},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 318, 327},
-        {CODEGEN_IV_ADD, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 320, 250},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 250, 351},
-        {CODEGEN_IV_SUB, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 237, 328},
-        {CODEGEN_IV_SUB, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 237, 330},
-        {CODEGEN_IV_SUB, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 327, 298},
-        {CODEGEN_IV_SUB, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 328, 240},
-        {CODEGEN_IV_ADD, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 329, 240},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 336, 330, 240},
-        {CODEGEN_IV_SUB, 336, 349, 336},
-        {CODEGEN_IV_MUL, 349, 266, 319},
-        {CODEGEN_IV_ADD, 349, 336, 349},
-        {CODEGEN_IV_MUL, 349, 300, 349},
-        {CODEGEN_IV_ADD, 349, 350, 349},
-        {CODEGEN_IV_CONST, 350, 8, 0},
-        {CODEGEN_IV_MUL, 350, 350, 300},
-        {CODEGEN_IV_MUL, 350, 350, 314},
-        {CODEGEN_IV_MUL, 336, 283, 299},
-        {CODEGEN_IV_NEG, 336, 336, 0},
-        {CODEGEN_IV_MUL, 346, 282, 299},
-        {CODEGEN_IV_SUB, 346, 336, 346},
-        {CODEGEN_IV_MUL, 346, 350, 346},
-        {CODEGEN_IV_SUB, 350, 279, 328},
-        {CODEGEN_IV_ADD, 350, 350, 329},
-        {CODEGEN_IV_ADD, 350, 350, 330},
-        {CODEGEN_IV_MUL, 350, 346, 350},
-        {CODEGEN_IV_SUB, 350, 349, 350},
-        {CODEGEN_IV_MUL, 350, 347, 350},
-        {CODEGEN_IV_DIV, 350, 350, 303},
-        {CODEGEN_IV_ADD, 350, 294, 350},
-        {CODEGEN_IV_MUL, 294, 303, 332},
-        {CODEGEN_IV_MUL, 294, 294, 299},
-        {CODEGEN_IV_MUL, 294, 294, 335},
-        {CODEGEN_IV_SUB, 294, 350, 294},
+        {CODEGEN_IV_COS, 340, 339, 0},
+        {CODEGEN_IV_MUL, 341, 327, 340},
+        {CODEGEN_IV_MUL, 344, 326, 341},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 344},
+        {CODEGEN_IV_SUB, 346, 261, 345},
+        {CODEGEN_IV_MUL, 356, 340, 269},
+        {CODEGEN_IV_MUL, 359, 340, 271},
+        {CODEGEN_IV_MUL, 360, 326, 359},
+        {CODEGEN_IV_SIN, 361, 339, 0},
+        {CODEGEN_IV_MUL, 339, 271, 361},
+        {CODEGEN_IV_MUL, 362, 341, 335},
+        {CODEGEN_IV_MUL, 363, 327, 361},
+        {CODEGEN_IV_MUL, 364, 363, 336},
+        {CODEGEN_IV_POW, 365, 340, 2},
+        {CODEGEN_IV_CONST, 366, 0, 0},
+        {CODEGEN_IV_MUL, 366, 366, 365},
+        {CODEGEN_IV_CONST, 369, 0, 0},
+        {CODEGEN_IV_MUL, 369, 369, 361},
+        {CODEGEN_IV_MUL, 370, 340, 369},
+        {CODEGEN_IV_SUB, 329, 275, 345},
+        {CODEGEN_IV_SUB, 329, 329, 263},
+        {CODEGEN_IV_ADD, 328, 276, 346},
+        {CODEGEN_IV_SUB, 328, 328, 263},
+        {CODEGEN_IV_MUL, 372, 329, 328},
+        {CODEGEN_IV_NEG, 373, 372, 0},
+        {CODEGEN_IV_SQRT, 373, 373, 0},
+        {CODEGEN_IV_MUL, 374, 363, 335},
+        {CODEGEN_IV_MUL, 375, 326, 363},
+        {CODEGEN_IV_MUL, 376, 341, 336},
+        {CODEGEN_IV_ADD, 377, 277, 356},
+        {CODEGEN_IV_SUB, 377, 377, 270},
+        {CODEGEN_IV_ADD, 377, 377, 360},
+        {CODEGEN_IV_ADD, 378, 377, 278},
+        {CODEGEN_IV_ADD, 377, 378, 279},
+        {CODEGEN_IV_MUL, 378, 265, 345},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_ADD, 377, 378, 280},
+        {CODEGEN_IV_ADD, 378, 377, 281},
+        {CODEGEN_IV_MUL, 377, 266, 345},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 267, 362},
+        {CODEGEN_IV_ADD, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 267, 364},
+        {CODEGEN_IV_ADD, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 267, 344},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_SUB, 377, 378, 282},
+        {CODEGEN_IV_MUL, 378, 270, 366},
+        {CODEGEN_IV_ADD, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 359, 335},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 339, 336},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 362, 260},
+        {CODEGEN_IV_ADD, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 362, 263},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 364, 260},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 364, 263},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 366, 274},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 272, 373},
+        {CODEGEN_IV_ADD, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 273, 370},
+        {CODEGEN_IV_ADD, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 373, 374},
+        {CODEGEN_IV_ADD, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 373, 375},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_MUL, 378, 373, 376},
+        {CODEGEN_IV_SUB, 378, 377, 378},
+        {CODEGEN_IV_MUL, 377, 344, 263},
+        {CODEGEN_IV_SUB, 377, 378, 377},
+        {CODEGEN_IV_SUB, 378, 377, 283},
+        {CODEGEN_IV_ADD, 377, 378, 284},
+        {CODEGEN_IV_MUL, 349, 377, 346},
+        {CODEGEN_IV_SQRT, 349, 349, 0},
+        {CODEGEN_IV_CONST, 345, 1, 0},
+        {CODEGEN_IV_POW, 378, 346, 2},
+        {CODEGEN_IV_DIV, 378, 345, 378},
+        {CODEGEN_IV_CONST, 345, 0, 0},
+        {CODEGEN_IV_MUL, 345, 345, 375},
+        {CODEGEN_IV_CONST, 379, 1, 0},
+        {CODEGEN_IV_POW, 380, 346, 1},
+        {CODEGEN_IV_DIV, 380, 379, 380},
+        {CODEGEN_IV_MUL, 381, 349, 380},
+        {CODEGEN_IV_ADD, 381, 285, 381},
+        {CODEGEN_IV_MUL, 381, 333, 381},
+        {CODEGEN_IV_MUL, 333, 340, 373},
+        {CODEGEN_IV_MUL, 379, 286, 333},
+        {CODEGEN_IV_MUL, 383, 333, 287},
+        {CODEGEN_IV_CONST, 384, 2, 0},
+        {CODEGEN_IV_MUL, 384, 384, 365},
+        {CODEGEN_IV_MUL, 385, 373, 384},
+        {CODEGEN_IV_MUL, 358, 274, 333},
+        {CODEGEN_IV_POW, 387, 340, 3},
+        {CODEGEN_IV_MUL, 389, 369, 287},
+        {CODEGEN_IV_MUL, 390, 260, 369},
+        {CODEGEN_IV_MUL, 391, 259, 361},
+        {CODEGEN_IV_MUL, 392, 287, 391},
+        {CODEGEN_IV_MUL, 382, 361, 260},
+        {CODEGEN_IV_MUL, 393, 365, 382},
+        {CODEGEN_IV_MUL, 394, 290, 373},
+        {CODEGEN_IV_MUL, 395, 394, 263},
+        {CODEGEN_IV_CONST, 396, 0, 0},
+        {CODEGEN_IV_POW, 397, 361, 2},
+        {CODEGEN_IV_MUL, 397, 396, 397},
+        {CODEGEN_IV_MUL, 396, 267, 394},
+        {CODEGEN_IV_MUL, 394, 360, 369},
+        {CODEGEN_IV_CONST, 360, 3, 0},
+        {CODEGEN_IV_MUL, 360, 360, 356},
+        {CODEGEN_IV_MUL, 360, 360, 361},
+        {CODEGEN_IV_CONST, 356, 2, 0},
+        {CODEGEN_IV_MUL, 356, 356, 392},
+        {CODEGEN_IV_MUL, 398, 291, 369},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 264, 333},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 264, 390},
+        {CODEGEN_IV_SUB, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 292, 393},
+        {CODEGEN_IV_SUB, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 267, 389},
+        {CODEGEN_IV_SUB, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 267, 394},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 267, 360},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 268, 333},
+        {CODEGEN_IV_SUB, 356, 398, 356},
+        {CODEGEN_IV_CONST, 398, 4, 0},
+        {CODEGEN_IV_MUL, 398, 398, 365},
+        {CODEGEN_IV_MUL, 398, 398, 392},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 366, 395},
+        {CODEGEN_IV_SUB, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 366, 396},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 372, 391},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 372, 382},
+        {CODEGEN_IV_SUB, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 286, 390},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 293, 393},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 389, 263},
+        {CODEGEN_IV_SUB, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 395, 397},
+        {CODEGEN_IV_SUB, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 397, 396},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 394, 263},
+        {CODEGEN_IV_ADD, 398, 356, 398},
+        {CODEGEN_IV_MUL, 356, 360, 263},
+        {CODEGEN_IV_ADD, 356, 398, 356},
+        {CODEGEN_IV_MUL, 398, 294, 370},
+        {CODEGEN_IV_SUB, 398, 356, 398},
+        {CODEGEN_IV_MUL, 399, 295, 340},
+        {CODEGEN_IV_MUL, 399, 399, 363},
+        {CODEGEN_IV_SUB, 399, 398, 399},
+        {CODEGEN_IV_MUL, 398, 296, 333},
+        {CODEGEN_IV_SUB, 398, 399, 398},
+        {CODEGEN_IV_MUL, 399, 297, 369},
+        {CODEGEN_IV_SUB, 399, 398, 399},
+        {CODEGEN_IV_MUL, 398, 268, 384},
+        {CODEGEN_IV_MUL, 398, 398, 391},
+        {CODEGEN_IV_SUB, 398, 399, 398},
+        {CODEGEN_IV_CONST, 399, 5, 0},
+        {CODEGEN_IV_MUL, 399, 399, 359},
+        {CODEGEN_IV_MUL, 399, 399, 361},
+        {CODEGEN_IV_MUL, 399, 399, 262},
+        {CODEGEN_IV_SUB, 399, 398, 399},
+        {CODEGEN_IV_CONST, 398, 6, 0},
+        {CODEGEN_IV_MUL, 398, 398, 339},
+        {CODEGEN_IV_MUL, 398, 398, 387},
+        {CODEGEN_IV_MUL, 398, 398, 262},
+        {CODEGEN_IV_SUB, 398, 399, 398},
+        {CODEGEN_IV_MUL, 399, 260, 333},
+        {CODEGEN_IV_MUL, 399, 399, 263},
+        {CODEGEN_IV_ADD, 399, 398, 399},
+        {CODEGEN_IV_CONST, 347, 1, 0},
+        {CODEGEN_IV_POW, 360, 373, 1},
+        {CODEGEN_IV_DIV, 360, 347, 360},
+        {CODEGEN_IV_MUL, 347, 298, 378},
+        {CODEGEN_IV_MUL, 347, 347, 360},
+        {CODEGEN_IV_CONST, 327, 5, 0},
+        {CODEGEN_IV_MUL, 327, 327, 373},
+        {CODEGEN_IV_MUL, 394, 365, 327},
+        {CODEGEN_IV_MUL, 365, 340, 361},
+        {CODEGEN_IV_MUL, 396, 300, 341},
+        {CODEGEN_IV_ADD, 396, 299, 396},
+        {CODEGEN_IV_MUL, 340, 331, 347},
+        {CODEGEN_IV_CONST, 395, 7, 0},
+        {CODEGEN_IV_MUL, 395, 395, 379},
+        {CODEGEN_IV_CONST, 393, 7, 0},
+        {CODEGEN_IV_MUL, 393, 393, 383},
+        {CODEGEN_IV_ADD, 393, 395, 393},
+        {CODEGEN_IV_CONST, 395, 3, 0},
+        {CODEGEN_IV_MUL, 395, 395, 358},
+        {CODEGEN_IV_ADD, 395, 393, 395},
+        {CODEGEN_IV_ADD, 395, 395, 399},
+        {CODEGEN_IV_MUL, 393, 269, 394},
+        {CODEGEN_IV_SUB, 393, 395, 393},
+        {CODEGEN_IV_MUL, 395, 288, 394},
+        {CODEGEN_IV_SUB, 395, 393, 395},
+        {CODEGEN_IV_MUL, 393, 274, 387},
+        {CODEGEN_IV_MUL, 393, 393, 327},
+        {CODEGEN_IV_ADD, 393, 395, 393},
+        {CODEGEN_IV_MUL, 393, 340, 393},
+        {CODEGEN_IV_ADD, 393, 396, 393},
+        {CODEGEN_IV_MUL, 396, 332, 347},
+        {CODEGEN_IV_ADD, 340, 379, 383},
+        {CODEGEN_IV_CONST, 395, 0, 0},
+        {CODEGEN_IV_MUL, 395, 395, 358},
+        {CODEGEN_IV_ADD, 395, 340, 395},
+        {CODEGEN_IV_ADD, 395, 395, 399},
+        {CODEGEN_IV_MUL, 340, 269, 385},
+        {CODEGEN_IV_SUB, 340, 395, 340},
+        {CODEGEN_IV_MUL, 395, 385, 288},
+        {CODEGEN_IV_SUB, 395, 340, 395},
+        {CODEGEN_IV_MUL, 340, 373, 387},
+        {CODEGEN_IV_MUL, 340, 340, 289},
+        {CODEGEN_IV_ADD, 340, 395, 340},
+        {CODEGEN_IV_MUL, 340, 396, 340},
+        {CODEGEN_IV_ADD, 340, 393, 340},
+        {CODEGEN_IV_CONST, 393, 8, 0},
+        {CODEGEN_IV_MUL, 393, 393, 380},
+        {CODEGEN_IV_MUL, 393, 393, 381},
+        {CODEGEN_IV_MUL, 396, 377, 345},
+        {CODEGEN_IV_MUL, 395, 326, 339},
+        {CODEGEN_IV_NEG, 395, 395, 0},
+        {CODEGEN_IV_MUL, 382, 265, 345},
+        {CODEGEN_IV_ADD, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 266, 345},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 267, 374},
+        {CODEGEN_IV_SUB, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 267, 375},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 267, 376},
+        {CODEGEN_IV_ADD, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 269, 361},
+        {CODEGEN_IV_SUB, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 301, 365},
+        {CODEGEN_IV_SUB, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 359, 336},
+        {CODEGEN_IV_SUB, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 339, 335},
+        {CODEGEN_IV_ADD, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 362, 373},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 364, 373},
+        {CODEGEN_IV_ADD, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 366, 273},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 273, 397},
+        {CODEGEN_IV_SUB, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 260, 374},
+        {CODEGEN_IV_SUB, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 260, 376},
+        {CODEGEN_IV_SUB, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 373, 344},
+        {CODEGEN_IV_SUB, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 374, 263},
+        {CODEGEN_IV_ADD, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 375, 263},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 382, 376, 263},
+        {CODEGEN_IV_SUB, 382, 395, 382},
+        {CODEGEN_IV_MUL, 395, 289, 365},
+        {CODEGEN_IV_ADD, 395, 382, 395},
+        {CODEGEN_IV_MUL, 395, 346, 395},
+        {CODEGEN_IV_ADD, 395, 396, 395},
+        {CODEGEN_IV_CONST, 396, 8, 0},
+        {CODEGEN_IV_MUL, 396, 396, 346},
+        {CODEGEN_IV_MUL, 396, 396, 360},
+        {CODEGEN_IV_MUL, 382, 329, 345},
+        {CODEGEN_IV_NEG, 382, 382, 0},
+        {CODEGEN_IV_MUL, 392, 328, 345},
+        {CODEGEN_IV_SUB, 392, 382, 392},
+        {CODEGEN_IV_MUL, 392, 396, 392},
+        {CODEGEN_IV_SUB, 396, 302, 374},
+        {CODEGEN_IV_ADD, 396, 396, 375},
+        {CODEGEN_IV_ADD, 396, 396, 376},
+        {CODEGEN_IV_MUL, 396, 392, 396},
+        {CODEGEN_IV_SUB, 396, 395, 396},
+        {CODEGEN_IV_MUL, 396, 393, 396},
+        {CODEGEN_IV_DIV, 396, 396, 349},
+        {CODEGEN_IV_ADD, 396, 340, 396},
+        {CODEGEN_IV_MUL, 340, 349, 378},
+        {CODEGEN_IV_MUL, 340, 340, 345},
+        {CODEGEN_IV_MUL, 340, 340, 381},
+        {CODEGEN_IV_SUB, 340, 396, 340},
     };
     static const codegen_iv constants[9] = {
         {2, 2},
@@ -13433,16 +13643,16 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
         {3, 3},
         {CODEGEN_R(0.5), CODEGEN_R(0.5)}
     };
-    v[280] = codegen_iv_point(params->d);
-    v[281] = codegen_iv_point(params->a_2);
-    v[285] = codegen_iv_point(params->m_3);
-    v[286] = codegen_iv_point(params->m_4);
-    v[287] = codegen_iv_point(params->k);
-    v[289] = codegen_iv_point(params->x_S);
-    v[290] = codegen_iv_point(params->y_S);
-    v[293] = theta;
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[331] = codegen_iv_point(params->m_3);
+    v[332] = codegen_iv_point(params->m_4);
+    v[333] = codegen_iv_point(params->k);
+    v[335] = codegen_iv_point(params->x_S);
+    v[336] = codegen_iv_point(params->y_S);
+    v[339] = theta;
     codegen_iv_run(program, 297, constants, v, iv_flags);
-    *iv_g = v[294];
+    *iv_g = v[340];
 #else
     const codegen_iv d = codegen_iv_point(params->d);
     const codegen_iv a_2 = codegen_iv_point(params->a_2);
@@ -13455,12 +13665,12 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
     const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
     const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
-    const codegen_iv tmp5 = codegen_iv_sub(v[238], tmp4);
-    const codegen_iv tmp6 = codegen_iv_mul(tmp0, v[246]);
-    const codegen_iv tmp7 = codegen_iv_mul(tmp0, v[248]);
+    const codegen_iv tmp5 = codegen_iv_sub(v[261], tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(tmp0, v[269]);
+    const codegen_iv tmp7 = codegen_iv_mul(tmp0, v[271]);
     const codegen_iv tmp8 = codegen_iv_mul(d, tmp7);
     const codegen_iv tmp9 = codegen_iv_sin(theta);
-    const codegen_iv tmp10 = codegen_iv_mul(v[248], tmp9);
+    const codegen_iv tmp10 = codegen_iv_mul(v[271], tmp9);
     const codegen_iv tmp11 = codegen_iv_mul(tmp1, x_S);
     const codegen_iv tmp12 = codegen_iv_mul(a_2, tmp9);
     const codegen_iv tmp13 = codegen_iv_mul(tmp12, y_S);
@@ -13468,53 +13678,53 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp16 = codegen_iv_mul(codegen_iv_point(2), tmp14);
     const codegen_iv tmp18 = codegen_iv_mul(codegen_iv_point(2), tmp9);
     const codegen_iv tmp19 = codegen_iv_mul(tmp0, tmp18);
-    const codegen_iv tmp20 = codegen_iv_sub(v[252], tmp4);
-    const codegen_iv tmp21 = codegen_iv_sub(tmp20, v[240]);
-    const codegen_iv tmp22 = codegen_iv_add(v[253], tmp5);
-    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[240]);
+    const codegen_iv tmp20 = codegen_iv_sub(v[275], tmp4);
+    const codegen_iv tmp21 = codegen_iv_sub(tmp20, v[263]);
+    const codegen_iv tmp22 = codegen_iv_add(v[276], tmp5);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[263]);
     const codegen_iv tmp24 = codegen_iv_mul(tmp21, tmp23);
     const codegen_iv tmp25 = codegen_iv_neg(tmp24);
     const codegen_iv tmp26 = codegen_iv_sqrt(tmp25, iv_flags);
     const codegen_iv tmp27 = codegen_iv_mul(tmp12, x_S);
     const codegen_iv tmp28 = codegen_iv_mul(d, tmp12);
     const codegen_iv tmp29 = codegen_iv_mul(tmp1, y_S);
-    const codegen_iv tmp30 = codegen_iv_add(v[254], tmp6);
-    const codegen_iv tmp31 = codegen_iv_sub(tmp30, v[247]);
+    const codegen_iv tmp30 = codegen_iv_add(v[277], tmp6);
+    const codegen_iv tmp31 = codegen_iv_sub(tmp30, v[270]);
     const codegen_iv tmp32 = codegen_iv_add(tmp31, tmp8);
-    const codegen_iv tmp33 = codegen_iv_add(tmp32, v[255]);
-    const codegen_iv tmp34 = codegen_iv_add(tmp33, v[256]);
-    const codegen_iv tmp35 = codegen_iv_mul(v[242], tmp4);
+    const codegen_iv tmp33 = codegen_iv_add(tmp32, v[278]);
+    const codegen_iv tmp34 = codegen_iv_add(tmp33, v[279]);
+    const codegen_iv tmp35 = codegen_iv_mul(v[265], tmp4);
     const codegen_iv tmp36 = codegen_iv_sub(tmp34, tmp35);
-    const codegen_iv tmp37 = codegen_iv_add(tmp36, v[257]);
-    const codegen_iv tmp38 = codegen_iv_add(tmp37, v[258]);
-    const codegen_iv tmp39 = codegen_iv_mul(v[243], tmp4);
+    const codegen_iv tmp37 = codegen_iv_add(tmp36, v[280]);
+    const codegen_iv tmp38 = codegen_iv_add(tmp37, v[281]);
+    const codegen_iv tmp39 = codegen_iv_mul(v[266], tmp4);
     const codegen_iv tmp40 = codegen_iv_sub(tmp38, tmp39);
-    const codegen_iv tmp41 = codegen_iv_mul(v[244], tmp11);
+    const codegen_iv tmp41 = codegen_iv_mul(v[267], tmp11);
     const codegen_iv tmp42 = codegen_iv_add(tmp40, tmp41);
-    const codegen_iv tmp43 = codegen_iv_mul(v[244], tmp13);
+    const codegen_iv tmp43 = codegen_iv_mul(v[267], tmp13);
     const codegen_iv tmp44 = codegen_iv_add(tmp42, tmp43);
-    const codegen_iv tmp45 = codegen_iv_mul(v[244], tmp2);
+    const codegen_iv tmp45 = codegen_iv_mul(v[267], tmp2);
     const codegen_iv tmp46 = codegen_iv_sub(tmp44, tmp45);
-    const codegen_iv tmp47 = codegen_iv_sub(tmp46, v[259]);
-    const codegen_iv tmp48 = codegen_iv_mul(v[247], tmp16);
+    const codegen_iv tmp47 = codegen_iv_sub(tmp46, v[282]);
+    const codegen_iv tmp48 = codegen_iv_mul(v[270], tmp16);
     const codegen_iv tmp49 = codegen_iv_add(tmp47, tmp48);
     const codegen_iv tmp50 = codegen_iv_mul(tmp7, x_S);
     const codegen_iv tmp51 = codegen_iv_sub(tmp49, tmp50);
     const codegen_iv tmp52 = codegen_iv_mul(tmp10, y_S);
     const codegen_iv tmp53 = codegen_iv_sub(tmp51, tmp52);
-    const codegen_iv tmp54 = codegen_iv_mul(tmp11, v[237]);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp11, v[260]);
     const codegen_iv tmp55 = codegen_iv_add(tmp53, tmp54);
-    const codegen_iv tmp56 = codegen_iv_mul(tmp11, v[240]);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp11, v[263]);
     const codegen_iv tmp57 = codegen_iv_sub(tmp55, tmp56);
-    const codegen_iv tmp58 = codegen_iv_mul(tmp13, v[237]);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp13, v[260]);
     const codegen_iv tmp59 = codegen_iv_sub(tmp57, tmp58);
-    const codegen_iv tmp60 = codegen_iv_mul(tmp13, v[240]);
+    const codegen_iv tmp60 = codegen_iv_mul(tmp13, v[263]);
     const codegen_iv tmp61 = codegen_iv_sub(tmp59, tmp60);
-    const codegen_iv tmp62 = codegen_iv_mul(tmp16, v[251]);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp16, v[274]);
     const codegen_iv tmp63 = codegen_iv_sub(tmp61, tmp62);
-    const codegen_iv tmp64 = codegen_iv_mul(v[249], tmp26);
+    const codegen_iv tmp64 = codegen_iv_mul(v[272], tmp26);
     const codegen_iv tmp65 = codegen_iv_add(tmp63, tmp64);
-    const codegen_iv tmp66 = codegen_iv_mul(v[250], tmp19);
+    const codegen_iv tmp66 = codegen_iv_mul(v[273], tmp19);
     const codegen_iv tmp67 = codegen_iv_add(tmp65, tmp66);
     const codegen_iv tmp68 = codegen_iv_mul(tmp26, tmp27);
     const codegen_iv tmp69 = codegen_iv_add(tmp67, tmp68);
@@ -13522,10 +13732,10 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp71 = codegen_iv_sub(tmp69, tmp70);
     const codegen_iv tmp72 = codegen_iv_mul(tmp26, tmp29);
     const codegen_iv tmp73 = codegen_iv_sub(tmp71, tmp72);
-    const codegen_iv tmp74 = codegen_iv_mul(tmp2, v[240]);
+    const codegen_iv tmp74 = codegen_iv_mul(tmp2, v[263]);
     const codegen_iv tmp75 = codegen_iv_sub(tmp73, tmp74);
-    const codegen_iv tmp76 = codegen_iv_sub(tmp75, v[260]);
-    const codegen_iv tmp77 = codegen_iv_add(tmp76, v[261]);
+    const codegen_iv tmp76 = codegen_iv_sub(tmp75, v[283]);
+    const codegen_iv tmp77 = codegen_iv_add(tmp76, v[284]);
     const codegen_iv tmp78 = codegen_iv_mul(tmp77, tmp5);
     const codegen_iv tmp79 = codegen_iv_sqrt(tmp78, iv_flags);
     const codegen_iv tmp81 = codegen_iv_pow(tmp5, 2);
@@ -13534,45 +13744,45 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp86 = codegen_iv_pow(tmp5, 1);
     const codegen_iv tmp87 = codegen_iv_div(codegen_iv_point(1), tmp86, iv_flags);
     const codegen_iv tmp88 = codegen_iv_mul(tmp79, tmp87);
-    const codegen_iv tmp89 = codegen_iv_add(v[262], tmp88);
+    const codegen_iv tmp89 = codegen_iv_add(v[285], tmp88);
     const codegen_iv tmp90 = codegen_iv_mul(k, tmp89);
     const codegen_iv tmp91 = codegen_iv_mul(tmp0, tmp26);
-    const codegen_iv tmp92 = codegen_iv_mul(v[263], tmp91);
-    const codegen_iv tmp93 = codegen_iv_mul(tmp91, v[264]);
+    const codegen_iv tmp92 = codegen_iv_mul(v[286], tmp91);
+    const codegen_iv tmp93 = codegen_iv_mul(tmp91, v[287]);
     const codegen_iv tmp95 = codegen_iv_mul(codegen_iv_point(4), tmp14);
     const codegen_iv tmp96 = codegen_iv_mul(tmp26, tmp95);
-    const codegen_iv tmp97 = codegen_iv_mul(v[251], tmp91);
+    const codegen_iv tmp97 = codegen_iv_mul(v[274], tmp91);
     const codegen_iv tmp98 = codegen_iv_pow(tmp0, 3);
-    const codegen_iv tmp99 = codegen_iv_mul(tmp18, v[264]);
-    const codegen_iv tmp100 = codegen_iv_mul(v[237], tmp18);
-    const codegen_iv tmp101 = codegen_iv_mul(v[236], tmp9);
-    const codegen_iv tmp102 = codegen_iv_mul(v[264], tmp101);
-    const codegen_iv tmp103 = codegen_iv_mul(tmp9, v[237]);
+    const codegen_iv tmp99 = codegen_iv_mul(tmp18, v[287]);
+    const codegen_iv tmp100 = codegen_iv_mul(v[260], tmp18);
+    const codegen_iv tmp101 = codegen_iv_mul(v[259], tmp9);
+    const codegen_iv tmp102 = codegen_iv_mul(v[287], tmp101);
+    const codegen_iv tmp103 = codegen_iv_mul(tmp9, v[260]);
     const codegen_iv tmp104 = codegen_iv_mul(tmp14, tmp103);
-    const codegen_iv tmp105 = codegen_iv_mul(v[267], tmp26);
-    const codegen_iv tmp106 = codegen_iv_mul(tmp105, v[240]);
+    const codegen_iv tmp105 = codegen_iv_mul(v[290], tmp26);
+    const codegen_iv tmp106 = codegen_iv_mul(tmp105, v[263]);
     const codegen_iv tmp108 = codegen_iv_pow(tmp9, 2);
     const codegen_iv tmp109 = codegen_iv_mul(codegen_iv_point(2), tmp108);
-    const codegen_iv tmp110 = codegen_iv_mul(v[244], tmp105);
+    const codegen_iv tmp110 = codegen_iv_mul(v[267], tmp105);
     const codegen_iv tmp111 = codegen_iv_mul(tmp8, tmp18);
     const codegen_iv tmp113 = codegen_iv_mul(codegen_iv_point(6), tmp6);
     const codegen_iv tmp114 = codegen_iv_mul(tmp113, tmp9);
     const codegen_iv tmp116 = codegen_iv_mul(codegen_iv_point(4), tmp102);
-    const codegen_iv tmp117 = codegen_iv_mul(v[268], tmp18);
+    const codegen_iv tmp117 = codegen_iv_mul(v[291], tmp18);
     const codegen_iv tmp118 = codegen_iv_add(tmp116, tmp117);
-    const codegen_iv tmp119 = codegen_iv_mul(v[241], tmp91);
+    const codegen_iv tmp119 = codegen_iv_mul(v[264], tmp91);
     const codegen_iv tmp120 = codegen_iv_add(tmp118, tmp119);
-    const codegen_iv tmp121 = codegen_iv_mul(v[241], tmp100);
+    const codegen_iv tmp121 = codegen_iv_mul(v[264], tmp100);
     const codegen_iv tmp122 = codegen_iv_sub(tmp120, tmp121);
-    const codegen_iv tmp123 = codegen_iv_mul(v[269], tmp104);
+    const codegen_iv tmp123 = codegen_iv_mul(v[292], tmp104);
     const codegen_iv tmp124 = codegen_iv_sub(tmp122, tmp123);
-    const codegen_iv tmp125 = codegen_iv_mul(v[244], tmp99);
+    const codegen_iv tmp125 = codegen_iv_mul(v[267], tmp99);
     const codegen_iv tmp126 = codegen_iv_sub(tmp124, tmp125);
-    const codegen_iv tmp127 = codegen_iv_mul(v[244], tmp111);
+    const codegen_iv tmp127 = codegen_iv_mul(v[267], tmp111);
     const codegen_iv tmp128 = codegen_iv_add(tmp126, tmp127);
-    const codegen_iv tmp129 = codegen_iv_mul(v[244], tmp114);
+    const codegen_iv tmp129 = codegen_iv_mul(v[267], tmp114);
     const codegen_iv tmp130 = codegen_iv_add(tmp128, tmp129);
-    const codegen_iv tmp131 = codegen_iv_mul(v[245], tmp91);
+    const codegen_iv tmp131 = codegen_iv_mul(v[268], tmp91);
     const codegen_iv tmp132 = codegen_iv_sub(tmp130, tmp131);
     const codegen_iv tmp134 = codegen_iv_mul(codegen_iv_point(16), tmp14);
     const codegen_iv tmp135 = codegen_iv_mul(tmp134, tmp102);
@@ -13585,52 +13795,52 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp142 = codegen_iv_add(tmp140, tmp141);
     const codegen_iv tmp143 = codegen_iv_mul(tmp24, tmp103);
     const codegen_iv tmp144 = codegen_iv_sub(tmp142, tmp143);
-    const codegen_iv tmp145 = codegen_iv_mul(v[263], tmp100);
+    const codegen_iv tmp145 = codegen_iv_mul(v[286], tmp100);
     const codegen_iv tmp146 = codegen_iv_add(tmp144, tmp145);
-    const codegen_iv tmp147 = codegen_iv_mul(v[270], tmp104);
+    const codegen_iv tmp147 = codegen_iv_mul(v[293], tmp104);
     const codegen_iv tmp148 = codegen_iv_add(tmp146, tmp147);
-    const codegen_iv tmp149 = codegen_iv_mul(tmp99, v[240]);
+    const codegen_iv tmp149 = codegen_iv_mul(tmp99, v[263]);
     const codegen_iv tmp150 = codegen_iv_sub(tmp148, tmp149);
     const codegen_iv tmp151 = codegen_iv_mul(tmp106, tmp109);
     const codegen_iv tmp152 = codegen_iv_sub(tmp150, tmp151);
     const codegen_iv tmp153 = codegen_iv_mul(tmp109, tmp110);
     const codegen_iv tmp154 = codegen_iv_add(tmp152, tmp153);
-    const codegen_iv tmp155 = codegen_iv_mul(tmp111, v[240]);
+    const codegen_iv tmp155 = codegen_iv_mul(tmp111, v[263]);
     const codegen_iv tmp156 = codegen_iv_add(tmp154, tmp155);
-    const codegen_iv tmp157 = codegen_iv_mul(tmp114, v[240]);
+    const codegen_iv tmp157 = codegen_iv_mul(tmp114, v[263]);
     const codegen_iv tmp158 = codegen_iv_add(tmp156, tmp157);
-    const codegen_iv tmp159 = codegen_iv_mul(v[271], tmp19);
+    const codegen_iv tmp159 = codegen_iv_mul(v[294], tmp19);
     const codegen_iv tmp160 = codegen_iv_sub(tmp158, tmp159);
-    const codegen_iv tmp161 = codegen_iv_mul(v[272], tmp0);
+    const codegen_iv tmp161 = codegen_iv_mul(v[295], tmp0);
     const codegen_iv tmp162 = codegen_iv_mul(tmp161, tmp12);
     const codegen_iv tmp163 = codegen_iv_sub(tmp160, tmp162);
-    const codegen_iv tmp164 = codegen_iv_mul(v[273], tmp91);
+    const codegen_iv tmp164 = codegen_iv_mul(v[296], tmp91);
     const codegen_iv tmp165 = codegen_iv_sub(tmp163, tmp164);
-    const codegen_iv tmp166 = codegen_iv_mul(v[274], tmp18);
+    const codegen_iv tmp166 = codegen_iv_mul(v[297], tmp18);
     const codegen_iv tmp167 = codegen_iv_sub(tmp165, tmp166);
-    const codegen_iv tmp168 = codegen_iv_mul(v[245], tmp95);
+    const codegen_iv tmp168 = codegen_iv_mul(v[268], tmp95);
     const codegen_iv tmp169 = codegen_iv_mul(tmp168, tmp101);
     const codegen_iv tmp170 = codegen_iv_sub(tmp167, tmp169);
     const codegen_iv tmp172 = codegen_iv_mul(codegen_iv_point(12), tmp7);
     const codegen_iv tmp173 = codegen_iv_mul(tmp172, tmp9);
-    const codegen_iv tmp174 = codegen_iv_mul(tmp173, v[239]);
+    const codegen_iv tmp174 = codegen_iv_mul(tmp173, v[262]);
     const codegen_iv tmp175 = codegen_iv_sub(tmp170, tmp174);
     const codegen_iv tmp177 = codegen_iv_mul(codegen_iv_point(8), tmp10);
     const codegen_iv tmp178 = codegen_iv_mul(tmp177, tmp98);
-    const codegen_iv tmp179 = codegen_iv_mul(tmp178, v[239]);
+    const codegen_iv tmp179 = codegen_iv_mul(tmp178, v[262]);
     const codegen_iv tmp180 = codegen_iv_sub(tmp175, tmp179);
-    const codegen_iv tmp181 = codegen_iv_mul(v[237], tmp91);
-    const codegen_iv tmp182 = codegen_iv_mul(tmp181, v[240]);
+    const codegen_iv tmp181 = codegen_iv_mul(v[260], tmp91);
+    const codegen_iv tmp182 = codegen_iv_mul(tmp181, v[263]);
     const codegen_iv tmp183 = codegen_iv_add(tmp180, tmp182);
     const codegen_iv tmp185 = codegen_iv_pow(tmp26, 1);
     const codegen_iv tmp186 = codegen_iv_div(codegen_iv_point(1), tmp185, iv_flags);
-    const codegen_iv tmp187 = codegen_iv_mul(v[275], tmp82);
+    const codegen_iv tmp187 = codegen_iv_mul(v[298], tmp82);
     const codegen_iv tmp188 = codegen_iv_mul(tmp187, tmp186);
     const codegen_iv tmp190 = codegen_iv_mul(codegen_iv_point(12), tmp26);
     const codegen_iv tmp191 = codegen_iv_mul(tmp14, tmp190);
     const codegen_iv tmp192 = codegen_iv_mul(tmp0, tmp9);
-    const codegen_iv tmp193 = codegen_iv_mul(v[277], tmp1);
-    const codegen_iv tmp194 = codegen_iv_add(v[276], tmp193);
+    const codegen_iv tmp193 = codegen_iv_mul(v[300], tmp1);
+    const codegen_iv tmp194 = codegen_iv_add(v[299], tmp193);
     const codegen_iv tmp195 = codegen_iv_mul(m_3, tmp188);
     const codegen_iv tmp197 = codegen_iv_mul(codegen_iv_point(3), tmp92);
     const codegen_iv tmp199 = codegen_iv_mul(codegen_iv_point(3), tmp93);
@@ -13638,11 +13848,11 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp202 = codegen_iv_mul(codegen_iv_point(6), tmp97);
     const codegen_iv tmp203 = codegen_iv_add(tmp200, tmp202);
     const codegen_iv tmp204 = codegen_iv_add(tmp203, tmp183);
-    const codegen_iv tmp205 = codegen_iv_mul(v[246], tmp191);
+    const codegen_iv tmp205 = codegen_iv_mul(v[269], tmp191);
     const codegen_iv tmp206 = codegen_iv_sub(tmp204, tmp205);
-    const codegen_iv tmp207 = codegen_iv_mul(v[265], tmp191);
+    const codegen_iv tmp207 = codegen_iv_mul(v[288], tmp191);
     const codegen_iv tmp208 = codegen_iv_sub(tmp206, tmp207);
-    const codegen_iv tmp209 = codegen_iv_mul(v[251], tmp98);
+    const codegen_iv tmp209 = codegen_iv_mul(v[274], tmp98);
     const codegen_iv tmp210 = codegen_iv_mul(tmp209, tmp190);
     const codegen_iv tmp211 = codegen_iv_add(tmp208, tmp210);
     const codegen_iv tmp212 = codegen_iv_mul(tmp195, tmp211);
@@ -13652,12 +13862,12 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp217 = codegen_iv_mul(codegen_iv_point(2), tmp97);
     const codegen_iv tmp218 = codegen_iv_add(tmp215, tmp217);
     const codegen_iv tmp219 = codegen_iv_add(tmp218, tmp183);
-    const codegen_iv tmp220 = codegen_iv_mul(v[246], tmp96);
+    const codegen_iv tmp220 = codegen_iv_mul(v[269], tmp96);
     const codegen_iv tmp221 = codegen_iv_sub(tmp219, tmp220);
-    const codegen_iv tmp222 = codegen_iv_mul(tmp96, v[265]);
+    const codegen_iv tmp222 = codegen_iv_mul(tmp96, v[288]);
     const codegen_iv tmp223 = codegen_iv_sub(tmp221, tmp222);
     const codegen_iv tmp224 = codegen_iv_mul(tmp26, tmp98);
-    const codegen_iv tmp225 = codegen_iv_mul(tmp224, v[266]);
+    const codegen_iv tmp225 = codegen_iv_mul(tmp224, v[289]);
     const codegen_iv tmp226 = codegen_iv_add(tmp223, tmp225);
     const codegen_iv tmp227 = codegen_iv_mul(tmp214, tmp226);
     const codegen_iv tmp228 = codegen_iv_add(tmp213, tmp227);
@@ -13666,19 +13876,19 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp232 = codegen_iv_mul(tmp77, tmp84);
     const codegen_iv tmp233 = codegen_iv_mul(d, tmp10);
     const codegen_iv tmp234 = codegen_iv_neg(tmp233);
-    const codegen_iv tmp235 = codegen_iv_mul(v[242], tmp84);
+    const codegen_iv tmp235 = codegen_iv_mul(v[265], tmp84);
     const codegen_iv tmp236 = codegen_iv_add(tmp234, tmp235);
-    const codegen_iv tmp237 = codegen_iv_mul(v[243], tmp84);
+    const codegen_iv tmp237 = codegen_iv_mul(v[266], tmp84);
     const codegen_iv tmp238 = codegen_iv_add(tmp236, tmp237);
-    const codegen_iv tmp239 = codegen_iv_mul(v[244], tmp27);
+    const codegen_iv tmp239 = codegen_iv_mul(v[267], tmp27);
     const codegen_iv tmp240 = codegen_iv_sub(tmp238, tmp239);
-    const codegen_iv tmp241 = codegen_iv_mul(v[244], tmp28);
+    const codegen_iv tmp241 = codegen_iv_mul(v[267], tmp28);
     const codegen_iv tmp242 = codegen_iv_add(tmp240, tmp241);
-    const codegen_iv tmp243 = codegen_iv_mul(v[244], tmp29);
+    const codegen_iv tmp243 = codegen_iv_mul(v[267], tmp29);
     const codegen_iv tmp244 = codegen_iv_add(tmp242, tmp243);
-    const codegen_iv tmp245 = codegen_iv_mul(v[246], tmp9);
+    const codegen_iv tmp245 = codegen_iv_mul(v[269], tmp9);
     const codegen_iv tmp246 = codegen_iv_sub(tmp244, tmp245);
-    const codegen_iv tmp247 = codegen_iv_mul(v[278], tmp192);
+    const codegen_iv tmp247 = codegen_iv_mul(v[301], tmp192);
     const codegen_iv tmp248 = codegen_iv_sub(tmp246, tmp247);
     const codegen_iv tmp249 = codegen_iv_mul(tmp7, y_S);
     const codegen_iv tmp250 = codegen_iv_sub(tmp248, tmp249);
@@ -13688,23 +13898,23 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp254 = codegen_iv_add(tmp252, tmp253);
     const codegen_iv tmp255 = codegen_iv_mul(tmp13, tmp26);
     const codegen_iv tmp256 = codegen_iv_add(tmp254, tmp255);
-    const codegen_iv tmp257 = codegen_iv_mul(tmp16, v[250]);
+    const codegen_iv tmp257 = codegen_iv_mul(tmp16, v[273]);
     const codegen_iv tmp258 = codegen_iv_add(tmp256, tmp257);
-    const codegen_iv tmp259 = codegen_iv_mul(v[250], tmp109);
+    const codegen_iv tmp259 = codegen_iv_mul(v[273], tmp109);
     const codegen_iv tmp260 = codegen_iv_sub(tmp258, tmp259);
-    const codegen_iv tmp261 = codegen_iv_mul(v[237], tmp27);
+    const codegen_iv tmp261 = codegen_iv_mul(v[260], tmp27);
     const codegen_iv tmp262 = codegen_iv_sub(tmp260, tmp261);
-    const codegen_iv tmp263 = codegen_iv_mul(v[237], tmp29);
+    const codegen_iv tmp263 = codegen_iv_mul(v[260], tmp29);
     const codegen_iv tmp264 = codegen_iv_sub(tmp262, tmp263);
     const codegen_iv tmp265 = codegen_iv_mul(tmp26, tmp2);
     const codegen_iv tmp266 = codegen_iv_sub(tmp264, tmp265);
-    const codegen_iv tmp267 = codegen_iv_mul(tmp27, v[240]);
+    const codegen_iv tmp267 = codegen_iv_mul(tmp27, v[263]);
     const codegen_iv tmp268 = codegen_iv_add(tmp266, tmp267);
-    const codegen_iv tmp269 = codegen_iv_mul(tmp28, v[240]);
+    const codegen_iv tmp269 = codegen_iv_mul(tmp28, v[263]);
     const codegen_iv tmp270 = codegen_iv_add(tmp268, tmp269);
-    const codegen_iv tmp271 = codegen_iv_mul(tmp29, v[240]);
+    const codegen_iv tmp271 = codegen_iv_mul(tmp29, v[263]);
     const codegen_iv tmp272 = codegen_iv_sub(tmp270, tmp271);
-    const codegen_iv tmp273 = codegen_iv_mul(v[266], tmp192);
+    const codegen_iv tmp273 = codegen_iv_mul(v[289], tmp192);
     const codegen_iv tmp274 = codegen_iv_add(tmp272, tmp273);
     const codegen_iv tmp275 = codegen_iv_mul(tmp5, tmp274);
     const codegen_iv tmp276 = codegen_iv_add(tmp232, tmp275);
@@ -13715,7 +13925,7 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
     const codegen_iv tmp282 = codegen_iv_mul(tmp23, tmp84);
     const codegen_iv tmp283 = codegen_iv_sub(tmp281, tmp282);
     const codegen_iv tmp284 = codegen_iv_mul(tmp279, tmp283);
-    const codegen_iv tmp285 = codegen_iv_sub(v[279], tmp27);
+    const codegen_iv tmp285 = codegen_iv_sub(v[302], tmp27);
     const codegen_iv tmp286 = codegen_iv_add(tmp285, tmp28);
     const codegen_iv tmp287 = codegen_iv_add(tmp286, tmp29);
     const codegen_iv tmp288 = codegen_iv_mul(tmp284, tmp287);
@@ -13732,182 +13942,392 @@ static void enclose_value_mode_1(const four_bar_params *params, codegen_iv theta
 }
 
 
+/* The divisions and square roots of G on assembly mode 1 alone, for their flags: whether G is smooth over theta.
+ * At each theta, 91 instructions (as a program, over the slots v from 326); the 33 theta does not reach
+ * ran in prepare_enclosures. */
+static void enclose_smooth_mode_1(const four_bar_params *params, codegen_iv theta,
+                           unsigned *iv_flags, codegen_iv *v)
+{
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[91] = {
+        {CODEGEN_IV_COS, 335, 332, 0},
+        {CODEGEN_IV_MUL, 336, 327, 335},
+        {CODEGEN_IV_MUL, 337, 326, 336},
+        {CODEGEN_IV_CONST, 338, 0, 0},
+        {CODEGEN_IV_MUL, 338, 338, 337},
+        {CODEGEN_IV_SUB, 339, 304, 338},
+        {CODEGEN_IV_MUL, 348, 311, 335},
+        {CODEGEN_IV_SIN, 349, 332, 0},
+        {CODEGEN_IV_MUL, 332, 349, 331},
+        {CODEGEN_IV_MUL, 350, 336, 330},
+        {CODEGEN_IV_MUL, 351, 327, 332},
+        {CODEGEN_IV_CONST, 352, 0, 0},
+        {CODEGEN_IV_POW, 353, 335, 2},
+        {CODEGEN_IV_MUL, 353, 352, 353},
+        {CODEGEN_IV_ADD, 329, 312, 339},
+        {CODEGEN_IV_SUB, 329, 329, 306},
+        {CODEGEN_IV_SUB, 328, 313, 338},
+        {CODEGEN_IV_SUB, 328, 328, 306},
+        {CODEGEN_IV_MUL, 328, 329, 328},
+        {CODEGEN_IV_NEG, 328, 328, 0},
+        {CODEGEN_IV_SQRT, 328, 328, 0},
+        {CODEGEN_IV_MUL, 352, 326, 328},
+        {CODEGEN_IV_MUL, 329, 327, 349},
+        {CODEGEN_IV_MUL, 327, 326, 348},
+        {CODEGEN_IV_ADD, 327, 314, 327},
+        {CODEGEN_IV_ADD, 349, 327, 315},
+        {CODEGEN_IV_ADD, 327, 349, 316},
+        {CODEGEN_IV_ADD, 349, 327, 317},
+        {CODEGEN_IV_ADD, 327, 349, 318},
+        {CODEGEN_IV_ADD, 349, 327, 319},
+        {CODEGEN_IV_ADD, 327, 349, 320},
+        {CODEGEN_IV_MUL, 349, 303, 350},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 303, 351},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 307, 338},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 308, 338},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 309, 350},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 309, 351},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 309, 337},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_SUB, 327, 349, 321},
+        {CODEGEN_IV_MUL, 349, 310, 353},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 311, 332},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 348, 330},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 350, 306},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 351, 306},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 352, 329},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 352, 331},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 336, 305},
+        {CODEGEN_IV_ADD, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 337, 306},
+        {CODEGEN_IV_SUB, 349, 327, 349},
+        {CODEGEN_IV_SUB, 327, 349, 322},
+        {CODEGEN_IV_ADD, 349, 327, 323},
+        {CODEGEN_IV_MUL, 327, 324, 353},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 328, 329},
+        {CODEGEN_IV_MUL, 349, 349, 330},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 327, 328, 336},
+        {CODEGEN_IV_MUL, 327, 327, 331},
+        {CODEGEN_IV_SUB, 327, 349, 327},
+        {CODEGEN_IV_MUL, 349, 325, 332},
+        {CODEGEN_IV_MUL, 349, 349, 335},
+        {CODEGEN_IV_ADD, 349, 327, 349},
+        {CODEGEN_IV_MUL, 349, 339, 349},
+        {CODEGEN_IV_SQRT, 349, 349, 0},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 330, 349, 1},
+        {CODEGEN_IV_DIV, 330, 331, 330},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 342, 328, 1},
+        {CODEGEN_IV_DIV, 342, 331, 342},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 341, 339, 2},
+        {CODEGEN_IV_DIV, 341, 331, 341},
+        {CODEGEN_IV_CONST, 331, 1, 0},
+        {CODEGEN_IV_POW, 340, 339, 1},
+        {CODEGEN_IV_DIV, 340, 331, 340},
+    };
+    static const codegen_iv constants[2] = {
+        {2, 2},
+        {1, 1}
+    };
+    v[326] = codegen_iv_point(params->d);
+    v[327] = codegen_iv_point(params->a_2);
+    v[330] = codegen_iv_point(params->x_S);
+    v[331] = codegen_iv_point(params->y_S);
+    v[332] = theta;
+    codegen_iv_run(program, 91, constants, v, iv_flags);
+#else
+    const codegen_iv d = codegen_iv_point(params->d);
+    const codegen_iv a_2 = codegen_iv_point(params->a_2);
+    const codegen_iv x_S = codegen_iv_point(params->x_S);
+    const codegen_iv y_S = codegen_iv_point(params->y_S);
+    const codegen_iv tmp0 = codegen_iv_cos(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(a_2, tmp0);
+    const codegen_iv tmp2 = codegen_iv_mul(d, tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(codegen_iv_point(2), tmp2);
+    const codegen_iv tmp5 = codegen_iv_sub(v[304], tmp4);
+    const codegen_iv tmp6 = codegen_iv_mul(v[311], tmp0);
+    const codegen_iv tmp7 = codegen_iv_sin(theta);
+    const codegen_iv tmp8 = codegen_iv_mul(tmp7, y_S);
+    const codegen_iv tmp9 = codegen_iv_mul(tmp1, x_S);
+    const codegen_iv tmp10 = codegen_iv_mul(a_2, tmp8);
+    const codegen_iv tmp12 = codegen_iv_pow(tmp0, 2);
+    const codegen_iv tmp13 = codegen_iv_mul(codegen_iv_point(2), tmp12);
+    const codegen_iv tmp14 = codegen_iv_add(v[312], tmp5);
+    const codegen_iv tmp15 = codegen_iv_sub(tmp14, v[306]);
+    const codegen_iv tmp16 = codegen_iv_sub(v[313], tmp4);
+    const codegen_iv tmp17 = codegen_iv_sub(tmp16, v[306]);
+    const codegen_iv tmp18 = codegen_iv_mul(tmp15, tmp17);
+    const codegen_iv tmp19 = codegen_iv_neg(tmp18);
+    const codegen_iv tmp20 = codegen_iv_sqrt(tmp19, iv_flags);
+    const codegen_iv tmp21 = codegen_iv_mul(d, tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(a_2, tmp7);
+    const codegen_iv tmp23 = codegen_iv_mul(d, tmp6);
+    const codegen_iv tmp24 = codegen_iv_add(v[314], tmp23);
+    const codegen_iv tmp25 = codegen_iv_add(tmp24, v[315]);
+    const codegen_iv tmp26 = codegen_iv_add(tmp25, v[316]);
+    const codegen_iv tmp27 = codegen_iv_add(tmp26, v[317]);
+    const codegen_iv tmp28 = codegen_iv_add(tmp27, v[318]);
+    const codegen_iv tmp29 = codegen_iv_add(tmp28, v[319]);
+    const codegen_iv tmp30 = codegen_iv_add(tmp29, v[320]);
+    const codegen_iv tmp31 = codegen_iv_mul(v[303], tmp9);
+    const codegen_iv tmp32 = codegen_iv_add(tmp30, tmp31);
+    const codegen_iv tmp33 = codegen_iv_mul(v[303], tmp10);
+    const codegen_iv tmp34 = codegen_iv_sub(tmp32, tmp33);
+    const codegen_iv tmp35 = codegen_iv_mul(v[307], tmp4);
+    const codegen_iv tmp36 = codegen_iv_sub(tmp34, tmp35);
+    const codegen_iv tmp37 = codegen_iv_mul(v[308], tmp4);
+    const codegen_iv tmp38 = codegen_iv_sub(tmp36, tmp37);
+    const codegen_iv tmp39 = codegen_iv_mul(v[309], tmp9);
+    const codegen_iv tmp40 = codegen_iv_add(tmp38, tmp39);
+    const codegen_iv tmp41 = codegen_iv_mul(v[309], tmp10);
+    const codegen_iv tmp42 = codegen_iv_add(tmp40, tmp41);
+    const codegen_iv tmp43 = codegen_iv_mul(v[309], tmp2);
+    const codegen_iv tmp44 = codegen_iv_sub(tmp42, tmp43);
+    const codegen_iv tmp45 = codegen_iv_sub(tmp44, v[321]);
+    const codegen_iv tmp46 = codegen_iv_mul(v[310], tmp13);
+    const codegen_iv tmp47 = codegen_iv_add(tmp45, tmp46);
+    const codegen_iv tmp48 = codegen_iv_mul(v[311], tmp8);
+    const codegen_iv tmp49 = codegen_iv_sub(tmp47, tmp48);
+    const codegen_iv tmp50 = codegen_iv_mul(tmp6, x_S);
+    const codegen_iv tmp51 = codegen_iv_sub(tmp49, tmp50);
+    const codegen_iv tmp52 = codegen_iv_mul(tmp9, v[306]);
+    const codegen_iv tmp53 = codegen_iv_sub(tmp51, tmp52);
+    const codegen_iv tmp54 = codegen_iv_mul(tmp10, v[306]);
+    const codegen_iv tmp55 = codegen_iv_sub(tmp53, tmp54);
+    const codegen_iv tmp56 = codegen_iv_mul(tmp21, tmp22);
+    const codegen_iv tmp57 = codegen_iv_sub(tmp55, tmp56);
+    const codegen_iv tmp58 = codegen_iv_mul(tmp21, y_S);
+    const codegen_iv tmp59 = codegen_iv_add(tmp57, tmp58);
+    const codegen_iv tmp60 = codegen_iv_mul(tmp1, v[305]);
+    const codegen_iv tmp61 = codegen_iv_add(tmp59, tmp60);
+    const codegen_iv tmp62 = codegen_iv_mul(tmp2, v[306]);
+    const codegen_iv tmp63 = codegen_iv_sub(tmp61, tmp62);
+    const codegen_iv tmp64 = codegen_iv_sub(tmp63, v[322]);
+    const codegen_iv tmp65 = codegen_iv_add(tmp64, v[323]);
+    const codegen_iv tmp66 = codegen_iv_mul(v[324], tmp13);
+    const codegen_iv tmp67 = codegen_iv_sub(tmp65, tmp66);
+    const codegen_iv tmp68 = codegen_iv_mul(tmp20, tmp22);
+    const codegen_iv tmp69 = codegen_iv_mul(tmp68, x_S);
+    const codegen_iv tmp70 = codegen_iv_add(tmp67, tmp69);
+    const codegen_iv tmp71 = codegen_iv_mul(tmp20, tmp1);
+    const codegen_iv tmp72 = codegen_iv_mul(tmp71, y_S);
+    const codegen_iv tmp73 = codegen_iv_sub(tmp70, tmp72);
+    const codegen_iv tmp74 = codegen_iv_mul(v[325], tmp8);
+    const codegen_iv tmp75 = codegen_iv_mul(tmp74, tmp0);
+    const codegen_iv tmp76 = codegen_iv_add(tmp73, tmp75);
+    const codegen_iv tmp77 = codegen_iv_mul(tmp5, tmp76);
+    const codegen_iv tmp78 = codegen_iv_sqrt(tmp77, iv_flags);
+    const codegen_iv tmp80 = codegen_iv_pow(tmp78, 1);
+    const codegen_iv tmp81 = codegen_iv_div(codegen_iv_point(1), tmp80, iv_flags);
+    const codegen_iv tmp83 = codegen_iv_pow(tmp20, 1);
+    const codegen_iv tmp84 = codegen_iv_div(codegen_iv_point(1), tmp83, iv_flags);
+    const codegen_iv tmp86 = codegen_iv_pow(tmp5, 2);
+    const codegen_iv tmp87 = codegen_iv_div(codegen_iv_point(1), tmp86, iv_flags);
+    const codegen_iv tmp89 = codegen_iv_pow(tmp5, 1);
+    const codegen_iv tmp90 = codegen_iv_div(codegen_iv_point(1), tmp89, iv_flags);
+    (void)tmp81;
+    (void)tmp78;
+    (void)tmp84;
+    (void)tmp20;
+    (void)tmp87;
+    (void)tmp90;
+#endif
+}
+
+
 /* The operations of every enclosure above that theta does not reach (of the parameters
- * alone), into v[0..280): no division or square root among them, which raise flags
+ * alone), into v[0..326): no division or square root among them, which raise flags
  * (those wait for theta, so that each enclosure's flags are its own). */
 static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
 {
     unsigned flags = 0u;
     { /* enclose_mode_0 */
         static const codegen_iv_instruction program[168] = {
-            {CODEGEN_IV_POW, 0, 281, 2},
-            {CODEGEN_IV_POW, 1, 280, 2},
+            {CODEGEN_IV_POW, 0, 327, 2},
+            {CODEGEN_IV_POW, 1, 326, 2},
             {CODEGEN_IV_ADD, 2, 0, 1},
-            {CODEGEN_IV_POW, 3, 280, 3},
-            {CODEGEN_IV_POW, 4, 283, 2},
-            {CODEGEN_IV_MUL, 305, 280, 289},
+            {CODEGEN_IV_POW, 3, 326, 3},
+            {CODEGEN_IV_POW, 4, 329, 2},
+            {CODEGEN_IV_MUL, 351, 326, 335},
             {CODEGEN_IV_MUL, 5, 0, 4},
-            {CODEGEN_IV_POW, 6, 289, 2},
-            {CODEGEN_IV_POW, 7, 290, 2},
-            {CODEGEN_IV_POW, 8, 282, 2},
+            {CODEGEN_IV_POW, 6, 335, 2},
+            {CODEGEN_IV_POW, 7, 336, 2},
+            {CODEGEN_IV_POW, 8, 328, 2},
             {CODEGEN_IV_MUL, 9, 8, 1},
-            {CODEGEN_IV_MUL, 10, 281, 3},
-            {CODEGEN_IV_MUL, 11, 0, 305},
-            {CODEGEN_IV_POW, 12, 281, 3},
-            {CODEGEN_IV_MUL, 13, 280, 290},
-            {CODEGEN_IV_CONST, 337, 0, 0},
-            {CODEGEN_IV_MUL, 14, 337, 1},
-            {CODEGEN_IV_CONST, 339, 0, 0},
-            {CODEGEN_IV_MUL, 339, 339, 282},
-            {CODEGEN_IV_MUL, 339, 339, 283},
-            {CODEGEN_IV_SUB, 283, 0, 4},
-            {CODEGEN_IV_SUB, 283, 283, 8},
-            {CODEGEN_IV_ADD, 283, 283, 1},
-            {CODEGEN_IV_SUB, 15, 283, 339},
-            {CODEGEN_IV_NEG, 282, 4, 0},
-            {CODEGEN_IV_SUB, 282, 282, 8},
-            {CODEGEN_IV_ADD, 16, 282, 339},
+            {CODEGEN_IV_MUL, 10, 327, 3},
+            {CODEGEN_IV_MUL, 11, 0, 351},
+            {CODEGEN_IV_POW, 12, 327, 3},
+            {CODEGEN_IV_MUL, 13, 326, 336},
+            {CODEGEN_IV_CONST, 383, 0, 0},
+            {CODEGEN_IV_MUL, 14, 383, 1},
+            {CODEGEN_IV_CONST, 385, 0, 0},
+            {CODEGEN_IV_MUL, 385, 385, 328},
+            {CODEGEN_IV_MUL, 385, 385, 329},
+            {CODEGEN_IV_SUB, 329, 0, 4},
+            {CODEGEN_IV_SUB, 329, 329, 8},
+            {CODEGEN_IV_ADD, 329, 329, 1},
+            {CODEGEN_IV_SUB, 15, 329, 385},
+            {CODEGEN_IV_NEG, 328, 4, 0},
+            {CODEGEN_IV_SUB, 328, 328, 8},
+            {CODEGEN_IV_ADD, 16, 328, 385},
             {CODEGEN_IV_ADD, 17, 5, 9},
             {CODEGEN_IV_MUL, 18, 0, 6},
             {CODEGEN_IV_MUL, 19, 0, 7},
-            {CODEGEN_IV_MUL, 20, 4, 305},
-            {CODEGEN_IV_MUL, 21, 305, 8},
+            {CODEGEN_IV_MUL, 20, 4, 351},
+            {CODEGEN_IV_MUL, 21, 351, 8},
             {CODEGEN_IV_MUL, 22, 6, 1},
             {CODEGEN_IV_MUL, 23, 7, 1},
-            {CODEGEN_IV_CONST, 346, 0, 0},
-            {CODEGEN_IV_MUL, 24, 346, 13},
-            {CODEGEN_IV_MUL, 25, 3, 289},
-            {CODEGEN_IV_NEG, 26, 288, 0},
-            {CODEGEN_IV_CONST, 351, 1, 0},
-            {CODEGEN_IV_MUL, 27, 351, 281},
-            {CODEGEN_IV_POW, 28, 281, 4},
-            {CODEGEN_IV_POW, 29, 280, 4},
-            {CODEGEN_IV_CONST, 358, 2, 0},
-            {CODEGEN_IV_MUL, 30, 358, 1},
-            {CODEGEN_IV_CONST, 361, 3, 0},
-            {CODEGEN_IV_MUL, 31, 361, 0},
-            {CODEGEN_IV_POW, 32, 280, 6},
-            {CODEGEN_IV_CONST, 364, 0, 0},
-            {CODEGEN_IV_MUL, 33, 364, 8},
-            {CODEGEN_IV_CONST, 365, 0, 0},
-            {CODEGEN_IV_MUL, 34, 365, 4},
-            {CODEGEN_IV_MUL, 35, 4, 1},
-            {CODEGEN_IV_POW, 369, 281, 5},
-            {CODEGEN_IV_MUL, 36, 369, 280},
-            {CODEGEN_IV_CONST, 371, 4, 0},
-            {CODEGEN_IV_POW, 372, 280, 5},
-            {CODEGEN_IV_MUL, 37, 371, 372},
-            {CODEGEN_IV_MUL, 38, 280, 33},
-            {CODEGEN_IV_MUL, 39, 0, 9},
-            {CODEGEN_IV_CONST, 379, 5, 0},
-            {CODEGEN_IV_MUL, 40, 379, 0},
-            {CODEGEN_IV_CONST, 379, 0, 0},
-            {CODEGEN_IV_MUL, 41, 379, 1},
-            {CODEGEN_IV_CONST, 380, 6, 0},
-            {CODEGEN_IV_MUL, 42, 380, 0},
-            {CODEGEN_IV_MUL, 43, 5, 1},
-            {CODEGEN_IV_CONST, 379, 7, 0},
-            {CODEGEN_IV_MUL, 44, 379, 1},
-            {CODEGEN_IV_CONST, 380, 0, 0},
-            {CODEGEN_IV_MUL, 380, 380, 281},
-            {CODEGEN_IV_MUL, 380, 380, 280},
-            {CODEGEN_IV_MUL, 45, 380, 4},
-            {CODEGEN_IV_CONST, 379, 0, 0},
-            {CODEGEN_IV_MUL, 379, 379, 281},
-            {CODEGEN_IV_MUL, 379, 379, 280},
-            {CODEGEN_IV_MUL, 46, 379, 4},
-            {CODEGEN_IV_CONST, 380, 2, 0},
-            {CODEGEN_IV_MUL, 47, 380, 281},
-            {CODEGEN_IV_CONST, 379, 2, 0},
-            {CODEGEN_IV_MUL, 48, 379, 281},
-            {CODEGEN_IV_CONST, 380, 0, 0},
-            {CODEGEN_IV_MUL, 49, 380, 280},
-            {CODEGEN_IV_CONST, 379, 0, 0},
-            {CODEGEN_IV_MUL, 50, 379, 280},
-            {CODEGEN_IV_CONST, 370, 3, 0},
-            {CODEGEN_IV_MUL, 51, 370, 281},
-            {CODEGEN_IV_CONST, 363, 3, 0},
-            {CODEGEN_IV_MUL, 363, 363, 280},
-            {CODEGEN_IV_MUL, 52, 363, 12},
-            {CODEGEN_IV_CONST, 383, 5, 0},
-            {CODEGEN_IV_MUL, 53, 383, 0},
-            {CODEGEN_IV_CONST, 386, 5, 0},
-            {CODEGEN_IV_MUL, 54, 386, 281},
-            {CODEGEN_IV_CONST, 385, 5, 0},
-            {CODEGEN_IV_MUL, 385, 385, 280},
-            {CODEGEN_IV_MUL, 55, 385, 12},
-            {CODEGEN_IV_NEG, 56, 13, 0},
-            {CODEGEN_IV_MUL, 57, 281, 280},
-            {CODEGEN_IV_MUL, 393, 281, 280},
-            {CODEGEN_IV_MUL, 58, 393, 4},
             {CODEGEN_IV_CONST, 392, 0, 0},
-            {CODEGEN_IV_MUL, 392, 392, 281},
-            {CODEGEN_IV_MUL, 392, 392, 280},
-            {CODEGEN_IV_MUL, 59, 392, 6},
-            {CODEGEN_IV_CONST, 393, 0, 0},
-            {CODEGEN_IV_MUL, 393, 393, 281},
-            {CODEGEN_IV_MUL, 393, 393, 280},
-            {CODEGEN_IV_MUL, 60, 393, 7},
-            {CODEGEN_IV_MUL, 392, 281, 280},
-            {CODEGEN_IV_MUL, 61, 392, 8},
-            {CODEGEN_IV_MUL, 62, 281, 4},
-            {CODEGEN_IV_CONST, 393, 0, 0},
-            {CODEGEN_IV_MUL, 393, 393, 280},
-            {CODEGEN_IV_MUL, 63, 393, 0},
+            {CODEGEN_IV_MUL, 24, 392, 13},
+            {CODEGEN_IV_MUL, 25, 3, 335},
+            {CODEGEN_IV_NEG, 26, 334, 0},
+            {CODEGEN_IV_CONST, 397, 1, 0},
+            {CODEGEN_IV_MUL, 27, 397, 327},
+            {CODEGEN_IV_POW, 28, 327, 4},
+            {CODEGEN_IV_POW, 29, 326, 4},
+            {CODEGEN_IV_CONST, 404, 2, 0},
+            {CODEGEN_IV_MUL, 30, 404, 1},
+            {CODEGEN_IV_CONST, 407, 3, 0},
+            {CODEGEN_IV_MUL, 31, 407, 0},
+            {CODEGEN_IV_POW, 32, 326, 6},
+            {CODEGEN_IV_CONST, 410, 0, 0},
+            {CODEGEN_IV_MUL, 33, 410, 8},
+            {CODEGEN_IV_CONST, 411, 0, 0},
+            {CODEGEN_IV_MUL, 34, 411, 4},
+            {CODEGEN_IV_MUL, 35, 4, 1},
+            {CODEGEN_IV_POW, 415, 327, 5},
+            {CODEGEN_IV_MUL, 36, 415, 326},
+            {CODEGEN_IV_CONST, 417, 4, 0},
+            {CODEGEN_IV_POW, 418, 326, 5},
+            {CODEGEN_IV_MUL, 37, 417, 418},
+            {CODEGEN_IV_MUL, 38, 326, 33},
+            {CODEGEN_IV_MUL, 39, 0, 9},
+            {CODEGEN_IV_CONST, 425, 5, 0},
+            {CODEGEN_IV_MUL, 40, 425, 0},
+            {CODEGEN_IV_CONST, 425, 0, 0},
+            {CODEGEN_IV_MUL, 41, 425, 1},
+            {CODEGEN_IV_CONST, 426, 6, 0},
+            {CODEGEN_IV_MUL, 42, 426, 0},
+            {CODEGEN_IV_MUL, 43, 5, 1},
+            {CODEGEN_IV_CONST, 425, 7, 0},
+            {CODEGEN_IV_MUL, 44, 425, 1},
+            {CODEGEN_IV_CONST, 426, 0, 0},
+            {CODEGEN_IV_MUL, 426, 426, 327},
+            {CODEGEN_IV_MUL, 426, 426, 326},
+            {CODEGEN_IV_MUL, 45, 426, 4},
+            {CODEGEN_IV_CONST, 425, 0, 0},
+            {CODEGEN_IV_MUL, 425, 425, 327},
+            {CODEGEN_IV_MUL, 425, 425, 326},
+            {CODEGEN_IV_MUL, 46, 425, 4},
+            {CODEGEN_IV_CONST, 426, 2, 0},
+            {CODEGEN_IV_MUL, 47, 426, 327},
+            {CODEGEN_IV_CONST, 425, 2, 0},
+            {CODEGEN_IV_MUL, 48, 425, 327},
+            {CODEGEN_IV_CONST, 426, 0, 0},
+            {CODEGEN_IV_MUL, 49, 426, 326},
+            {CODEGEN_IV_CONST, 425, 0, 0},
+            {CODEGEN_IV_MUL, 50, 425, 326},
+            {CODEGEN_IV_CONST, 416, 3, 0},
+            {CODEGEN_IV_MUL, 51, 416, 327},
+            {CODEGEN_IV_CONST, 409, 3, 0},
+            {CODEGEN_IV_MUL, 409, 409, 326},
+            {CODEGEN_IV_MUL, 52, 409, 12},
+            {CODEGEN_IV_CONST, 429, 5, 0},
+            {CODEGEN_IV_MUL, 53, 429, 0},
+            {CODEGEN_IV_CONST, 432, 5, 0},
+            {CODEGEN_IV_MUL, 54, 432, 327},
+            {CODEGEN_IV_CONST, 431, 5, 0},
+            {CODEGEN_IV_MUL, 431, 431, 326},
+            {CODEGEN_IV_MUL, 55, 431, 12},
+            {CODEGEN_IV_NEG, 56, 13, 0},
+            {CODEGEN_IV_MUL, 57, 327, 326},
+            {CODEGEN_IV_MUL, 439, 327, 326},
+            {CODEGEN_IV_MUL, 58, 439, 4},
+            {CODEGEN_IV_CONST, 438, 0, 0},
+            {CODEGEN_IV_MUL, 438, 438, 327},
+            {CODEGEN_IV_MUL, 438, 438, 326},
+            {CODEGEN_IV_MUL, 59, 438, 6},
+            {CODEGEN_IV_CONST, 439, 0, 0},
+            {CODEGEN_IV_MUL, 439, 439, 327},
+            {CODEGEN_IV_MUL, 439, 439, 326},
+            {CODEGEN_IV_MUL, 60, 439, 7},
+            {CODEGEN_IV_MUL, 438, 327, 326},
+            {CODEGEN_IV_MUL, 61, 438, 8},
+            {CODEGEN_IV_MUL, 62, 327, 4},
+            {CODEGEN_IV_CONST, 439, 0, 0},
+            {CODEGEN_IV_MUL, 439, 439, 326},
+            {CODEGEN_IV_MUL, 63, 439, 0},
             {CODEGEN_IV_MUL, 64, 12, 3},
-            {CODEGEN_IV_CONST, 400, 2, 0},
-            {CODEGEN_IV_MUL, 65, 400, 10},
-            {CODEGEN_IV_MUL, 66, 280, 12},
-            {CODEGEN_IV_CONST, 406, 5, 0},
-            {CODEGEN_IV_MUL, 67, 406, 5},
-            {CODEGEN_IV_CONST, 406, 3, 0},
-            {CODEGEN_IV_MUL, 68, 406, 64},
-            {CODEGEN_IV_CONST, 400, 7, 0},
-            {CODEGEN_IV_MUL, 69, 400, 28},
-            {CODEGEN_IV_CONST, 400, 6, 0},
-            {CODEGEN_IV_MUL, 400, 400, 0},
-            {CODEGEN_IV_MUL, 70, 400, 29},
-            {CODEGEN_IV_CONST, 406, 8, 0},
-            {CODEGEN_IV_MUL, 71, 406, 0},
+            {CODEGEN_IV_CONST, 446, 2, 0},
+            {CODEGEN_IV_MUL, 65, 446, 10},
+            {CODEGEN_IV_MUL, 66, 326, 12},
+            {CODEGEN_IV_CONST, 452, 5, 0},
+            {CODEGEN_IV_MUL, 67, 452, 5},
+            {CODEGEN_IV_CONST, 452, 3, 0},
+            {CODEGEN_IV_MUL, 68, 452, 64},
+            {CODEGEN_IV_CONST, 446, 7, 0},
+            {CODEGEN_IV_MUL, 69, 446, 28},
+            {CODEGEN_IV_CONST, 446, 6, 0},
+            {CODEGEN_IV_MUL, 446, 446, 0},
+            {CODEGEN_IV_MUL, 70, 446, 29},
+            {CODEGEN_IV_CONST, 452, 8, 0},
+            {CODEGEN_IV_MUL, 71, 452, 0},
             {CODEGEN_IV_MUL, 72, 53, 9},
-            {CODEGEN_IV_MUL, 73, 281, 280},
-            {CODEGEN_IV_MUL, 74, 280, 0},
-            {CODEGEN_IV_CONST, 369, 0, 0},
-            {CODEGEN_IV_MUL, 75, 369, 1},
-            {CODEGEN_IV_CONST, 286, 0, 0},
-            {CODEGEN_IV_MUL, 286, 286, 281},
-            {CODEGEN_IV_MUL, 286, 286, 280},
-            {CODEGEN_IV_MUL, 76, 286, 4},
-            {CODEGEN_IV_CONST, 369, 0, 0},
-            {CODEGEN_IV_MUL, 369, 369, 281},
-            {CODEGEN_IV_MUL, 369, 369, 280},
-            {CODEGEN_IV_MUL, 77, 369, 4},
-            {CODEGEN_IV_NEG, 78, 291, 0},
-            {CODEGEN_IV_CONST, 368, 9, 0},
-            {CODEGEN_IV_MUL, 368, 368, 281},
-            {CODEGEN_IV_MUL, 368, 368, 292},
-            {CODEGEN_IV_MUL, 79, 368, 284},
-            {CODEGEN_IV_CONST, 366, 9, 0},
-            {CODEGEN_IV_MUL, 80, 366, 287},
-            {CODEGEN_IV_CONST, 348, 5, 0},
-            {CODEGEN_IV_MUL, 81, 348, 281},
-            {CODEGEN_IV_CONST, 351, 5, 0},
-            {CODEGEN_IV_MUL, 351, 351, 280},
-            {CODEGEN_IV_MUL, 82, 351, 12},
-            {CODEGEN_IV_CONST, 351, 3, 0},
-            {CODEGEN_IV_MUL, 83, 351, 281},
-            {CODEGEN_IV_CONST, 303, 3, 0},
-            {CODEGEN_IV_MUL, 303, 303, 280},
-            {CODEGEN_IV_MUL, 84, 303, 12},
-            {CODEGEN_IV_CONST, 294, 5, 0},
-            {CODEGEN_IV_MUL, 85, 294, 11},
-            {CODEGEN_IV_CONST, 385, 7, 0},
-            {CODEGEN_IV_MUL, 86, 385, 13},
-            {CODEGEN_IV_CONST, 385, 9, 0},
-            {CODEGEN_IV_MUL, 385, 385, 292},
-            {CODEGEN_IV_MUL, 87, 385, 284},
-            {CODEGEN_IV_CONST, 294, 9, 0},
-            {CODEGEN_IV_MUL, 88, 294, 287},
+            {CODEGEN_IV_MUL, 73, 327, 326},
+            {CODEGEN_IV_MUL, 74, 326, 0},
+            {CODEGEN_IV_CONST, 415, 0, 0},
+            {CODEGEN_IV_MUL, 75, 415, 1},
+            {CODEGEN_IV_CONST, 332, 0, 0},
+            {CODEGEN_IV_MUL, 332, 332, 327},
+            {CODEGEN_IV_MUL, 332, 332, 326},
+            {CODEGEN_IV_MUL, 76, 332, 4},
+            {CODEGEN_IV_CONST, 415, 0, 0},
+            {CODEGEN_IV_MUL, 415, 415, 327},
+            {CODEGEN_IV_MUL, 415, 415, 326},
+            {CODEGEN_IV_MUL, 77, 415, 4},
+            {CODEGEN_IV_NEG, 78, 337, 0},
+            {CODEGEN_IV_CONST, 414, 9, 0},
+            {CODEGEN_IV_MUL, 414, 414, 327},
+            {CODEGEN_IV_MUL, 414, 414, 338},
+            {CODEGEN_IV_MUL, 79, 414, 330},
+            {CODEGEN_IV_CONST, 412, 9, 0},
+            {CODEGEN_IV_MUL, 80, 412, 333},
+            {CODEGEN_IV_CONST, 394, 5, 0},
+            {CODEGEN_IV_MUL, 81, 394, 327},
+            {CODEGEN_IV_CONST, 397, 5, 0},
+            {CODEGEN_IV_MUL, 397, 397, 326},
+            {CODEGEN_IV_MUL, 82, 397, 12},
+            {CODEGEN_IV_CONST, 397, 3, 0},
+            {CODEGEN_IV_MUL, 83, 397, 327},
+            {CODEGEN_IV_CONST, 349, 3, 0},
+            {CODEGEN_IV_MUL, 349, 349, 326},
+            {CODEGEN_IV_MUL, 84, 349, 12},
+            {CODEGEN_IV_CONST, 340, 5, 0},
+            {CODEGEN_IV_MUL, 85, 340, 11},
+            {CODEGEN_IV_CONST, 431, 7, 0},
+            {CODEGEN_IV_MUL, 86, 431, 13},
+            {CODEGEN_IV_CONST, 431, 9, 0},
+            {CODEGEN_IV_MUL, 431, 431, 338},
+            {CODEGEN_IV_MUL, 87, 431, 330},
+            {CODEGEN_IV_CONST, 340, 9, 0},
+            {CODEGEN_IV_MUL, 88, 340, 333},
         };
         static const codegen_iv constants[10] = {
             {2, 2},
@@ -13921,132 +14341,132 @@ static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
             {32, 32},
             {CODEGEN_R(0.5), CODEGEN_R(0.5)}
         };
-        v[280] = codegen_iv_point(params->d);
-        v[281] = codegen_iv_point(params->a_2);
-        v[282] = codegen_iv_point(params->a_3);
-        v[283] = codegen_iv_point(params->a_4);
-        v[284] = codegen_iv_point(params->m_2);
-        v[287] = codegen_iv_point(params->k);
-        v[288] = codegen_iv_point(params->l_0);
-        v[289] = codegen_iv_point(params->x_S);
-        v[290] = codegen_iv_point(params->y_S);
-        v[291] = codegen_iv_point(params->T);
-        v[292] = codegen_iv_point(params->g);
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->m_2);
+        v[333] = codegen_iv_point(params->k);
+        v[334] = codegen_iv_point(params->l_0);
+        v[335] = codegen_iv_point(params->x_S);
+        v[336] = codegen_iv_point(params->y_S);
+        v[337] = codegen_iv_point(params->T);
+        v[338] = codegen_iv_point(params->g);
         codegen_iv_run(program, 168, constants, v, &flags);
     }
     { /* enclose_value_mode_0 */
         static const codegen_iv_instruction program[112] = {
-            {CODEGEN_IV_POW, 89, 281, 2},
-            {CODEGEN_IV_POW, 90, 280, 2},
+            {CODEGEN_IV_POW, 89, 327, 2},
+            {CODEGEN_IV_POW, 90, 326, 2},
             {CODEGEN_IV_ADD, 91, 89, 90},
-            {CODEGEN_IV_POW, 92, 280, 3},
-            {CODEGEN_IV_POW, 93, 283, 2},
-            {CODEGEN_IV_MUL, 303, 280, 289},
+            {CODEGEN_IV_POW, 92, 326, 3},
+            {CODEGEN_IV_POW, 93, 329, 2},
+            {CODEGEN_IV_MUL, 349, 326, 335},
             {CODEGEN_IV_MUL, 94, 89, 93},
-            {CODEGEN_IV_POW, 95, 289, 2},
-            {CODEGEN_IV_POW, 96, 290, 2},
-            {CODEGEN_IV_POW, 97, 282, 2},
-            {CODEGEN_IV_MUL, 308, 97, 90},
-            {CODEGEN_IV_MUL, 98, 281, 92},
-            {CODEGEN_IV_MUL, 99, 89, 303},
-            {CODEGEN_IV_POW, 100, 281, 3},
-            {CODEGEN_IV_MUL, 101, 280, 290},
+            {CODEGEN_IV_POW, 95, 335, 2},
+            {CODEGEN_IV_POW, 96, 336, 2},
+            {CODEGEN_IV_POW, 97, 328, 2},
+            {CODEGEN_IV_MUL, 354, 97, 90},
+            {CODEGEN_IV_MUL, 98, 327, 92},
+            {CODEGEN_IV_MUL, 99, 89, 349},
+            {CODEGEN_IV_POW, 100, 327, 3},
+            {CODEGEN_IV_MUL, 101, 326, 336},
             {CODEGEN_IV_MUL, 102, 89, 101},
             {CODEGEN_IV_MUL, 103, 89, 90},
-            {CODEGEN_IV_CONST, 324, 0, 0},
-            {CODEGEN_IV_MUL, 324, 324, 282},
-            {CODEGEN_IV_MUL, 324, 324, 283},
-            {CODEGEN_IV_SUB, 283, 89, 97},
-            {CODEGEN_IV_ADD, 283, 283, 90},
-            {CODEGEN_IV_SUB, 104, 283, 324},
-            {CODEGEN_IV_NEG, 282, 97, 0},
-            {CODEGEN_IV_ADD, 105, 282, 324},
-            {CODEGEN_IV_ADD, 328, 94, 308},
-            {CODEGEN_IV_SUB, 106, 328, 99},
+            {CODEGEN_IV_CONST, 370, 0, 0},
+            {CODEGEN_IV_MUL, 370, 370, 328},
+            {CODEGEN_IV_MUL, 370, 370, 329},
+            {CODEGEN_IV_SUB, 329, 89, 97},
+            {CODEGEN_IV_ADD, 329, 329, 90},
+            {CODEGEN_IV_SUB, 104, 329, 370},
+            {CODEGEN_IV_NEG, 328, 97, 0},
+            {CODEGEN_IV_ADD, 105, 328, 370},
+            {CODEGEN_IV_ADD, 374, 94, 354},
+            {CODEGEN_IV_SUB, 106, 374, 99},
             {CODEGEN_IV_MUL, 107, 89, 95},
             {CODEGEN_IV_MUL, 108, 89, 96},
             {CODEGEN_IV_MUL, 109, 95, 90},
             {CODEGEN_IV_MUL, 110, 96, 90},
-            {CODEGEN_IV_MUL, 111, 97, 303},
-            {CODEGEN_IV_MUL, 112, 92, 289},
-            {CODEGEN_IV_MUL, 113, 93, 303},
-            {CODEGEN_IV_NEG, 114, 288, 0},
-            {CODEGEN_IV_POW, 115, 281, 4},
-            {CODEGEN_IV_POW, 116, 280, 4},
-            {CODEGEN_IV_MUL, 340, 281, 280},
-            {CODEGEN_IV_MUL, 117, 340, 97},
-            {CODEGEN_IV_CONST, 342, 0, 0},
-            {CODEGEN_IV_POW, 343, 280, 6},
-            {CODEGEN_IV_MUL, 118, 342, 343},
-            {CODEGEN_IV_POW, 342, 281, 5},
-            {CODEGEN_IV_MUL, 119, 342, 280},
-            {CODEGEN_IV_CONST, 343, 1, 0},
-            {CODEGEN_IV_POW, 344, 280, 5},
-            {CODEGEN_IV_MUL, 120, 343, 344},
-            {CODEGEN_IV_MUL, 121, 89, 308},
-            {CODEGEN_IV_CONST, 344, 2, 0},
-            {CODEGEN_IV_MUL, 122, 344, 89},
+            {CODEGEN_IV_MUL, 111, 97, 349},
+            {CODEGEN_IV_MUL, 112, 92, 335},
+            {CODEGEN_IV_MUL, 113, 93, 349},
+            {CODEGEN_IV_NEG, 114, 334, 0},
+            {CODEGEN_IV_POW, 115, 327, 4},
+            {CODEGEN_IV_POW, 116, 326, 4},
+            {CODEGEN_IV_MUL, 386, 327, 326},
+            {CODEGEN_IV_MUL, 117, 386, 97},
+            {CODEGEN_IV_CONST, 388, 0, 0},
+            {CODEGEN_IV_POW, 389, 326, 6},
+            {CODEGEN_IV_MUL, 118, 388, 389},
+            {CODEGEN_IV_POW, 388, 327, 5},
+            {CODEGEN_IV_MUL, 119, 388, 326},
+            {CODEGEN_IV_CONST, 389, 1, 0},
+            {CODEGEN_IV_POW, 390, 326, 5},
+            {CODEGEN_IV_MUL, 120, 389, 390},
+            {CODEGEN_IV_MUL, 121, 89, 354},
+            {CODEGEN_IV_CONST, 390, 2, 0},
+            {CODEGEN_IV_MUL, 122, 390, 89},
             {CODEGEN_IV_MUL, 123, 94, 90},
-            {CODEGEN_IV_CONST, 344, 2, 0},
-            {CODEGEN_IV_MUL, 124, 344, 94},
-            {CODEGEN_IV_CONST, 342, 2, 0},
-            {CODEGEN_IV_MUL, 342, 342, 89},
-            {CODEGEN_IV_MUL, 125, 342, 308},
-            {CODEGEN_IV_CONST, 344, 3, 0},
-            {CODEGEN_IV_MUL, 126, 344, 89},
-            {CODEGEN_IV_CONST, 342, 0, 0},
-            {CODEGEN_IV_MUL, 342, 342, 281},
-            {CODEGEN_IV_MUL, 127, 342, 280},
-            {CODEGEN_IV_CONST, 344, 0, 0},
-            {CODEGEN_IV_MUL, 344, 344, 281},
-            {CODEGEN_IV_MUL, 128, 344, 280},
-            {CODEGEN_IV_CONST, 342, 4, 0},
-            {CODEGEN_IV_MUL, 129, 342, 281},
-            {CODEGEN_IV_CONST, 344, 4, 0},
-            {CODEGEN_IV_MUL, 130, 344, 281},
-            {CODEGEN_IV_CONST, 342, 0, 0},
-            {CODEGEN_IV_MUL, 131, 342, 280},
-            {CODEGEN_IV_CONST, 344, 0, 0},
-            {CODEGEN_IV_MUL, 132, 344, 280},
-            {CODEGEN_IV_CONST, 340, 5, 0},
-            {CODEGEN_IV_MUL, 340, 340, 281},
-            {CODEGEN_IV_MUL, 133, 340, 292},
-            {CODEGEN_IV_NEG, 134, 291, 0},
-            {CODEGEN_IV_CONST, 329, 6, 0},
-            {CODEGEN_IV_MUL, 135, 329, 103},
-            {CODEGEN_IV_CONST, 333, 6, 0},
-            {CODEGEN_IV_MUL, 136, 333, 281},
-            {CODEGEN_IV_CONST, 329, 6, 0},
-            {CODEGEN_IV_MUL, 329, 329, 280},
-            {CODEGEN_IV_MUL, 137, 329, 100},
-            {CODEGEN_IV_CONST, 337, 2, 0},
-            {CODEGEN_IV_MUL, 138, 337, 103},
-            {CODEGEN_IV_CONST, 333, 2, 0},
-            {CODEGEN_IV_MUL, 139, 333, 281},
-            {CODEGEN_IV_CONST, 337, 2, 0},
-            {CODEGEN_IV_MUL, 337, 337, 280},
-            {CODEGEN_IV_MUL, 140, 337, 100},
-            {CODEGEN_IV_CONST, 329, 7, 0},
-            {CODEGEN_IV_MUL, 329, 329, 281},
-            {CODEGEN_IV_MUL, 329, 329, 292},
-            {CODEGEN_IV_MUL, 141, 329, 284},
-            {CODEGEN_IV_CONST, 337, 7, 0},
-            {CODEGEN_IV_MUL, 142, 337, 287},
-            {CODEGEN_IV_MUL, 143, 281, 280},
-            {CODEGEN_IV_CONST, 288, 0, 0},
-            {CODEGEN_IV_MUL, 288, 288, 281},
-            {CODEGEN_IV_MUL, 288, 288, 280},
-            {CODEGEN_IV_MUL, 144, 288, 95},
-            {CODEGEN_IV_CONST, 333, 0, 0},
-            {CODEGEN_IV_MUL, 333, 333, 281},
-            {CODEGEN_IV_MUL, 333, 333, 280},
-            {CODEGEN_IV_MUL, 145, 333, 96},
-            {CODEGEN_IV_MUL, 288, 281, 280},
-            {CODEGEN_IV_MUL, 146, 288, 97},
-            {CODEGEN_IV_MUL, 147, 281, 280},
-            {CODEGEN_IV_CONST, 288, 0, 0},
-            {CODEGEN_IV_MUL, 288, 288, 280},
-            {CODEGEN_IV_MUL, 148, 288, 89},
+            {CODEGEN_IV_CONST, 390, 2, 0},
+            {CODEGEN_IV_MUL, 124, 390, 94},
+            {CODEGEN_IV_CONST, 388, 2, 0},
+            {CODEGEN_IV_MUL, 388, 388, 89},
+            {CODEGEN_IV_MUL, 125, 388, 354},
+            {CODEGEN_IV_CONST, 390, 3, 0},
+            {CODEGEN_IV_MUL, 126, 390, 89},
+            {CODEGEN_IV_CONST, 388, 0, 0},
+            {CODEGEN_IV_MUL, 388, 388, 327},
+            {CODEGEN_IV_MUL, 127, 388, 326},
+            {CODEGEN_IV_CONST, 390, 0, 0},
+            {CODEGEN_IV_MUL, 390, 390, 327},
+            {CODEGEN_IV_MUL, 128, 390, 326},
+            {CODEGEN_IV_CONST, 388, 4, 0},
+            {CODEGEN_IV_MUL, 129, 388, 327},
+            {CODEGEN_IV_CONST, 390, 4, 0},
+            {CODEGEN_IV_MUL, 130, 390, 327},
+            {CODEGEN_IV_CONST, 388, 0, 0},
+            {CODEGEN_IV_MUL, 131, 388, 326},
+            {CODEGEN_IV_CONST, 390, 0, 0},
+            {CODEGEN_IV_MUL, 132, 390, 326},
+            {CODEGEN_IV_CONST, 386, 5, 0},
+            {CODEGEN_IV_MUL, 386, 386, 327},
+            {CODEGEN_IV_MUL, 133, 386, 338},
+            {CODEGEN_IV_NEG, 134, 337, 0},
+            {CODEGEN_IV_CONST, 375, 6, 0},
+            {CODEGEN_IV_MUL, 135, 375, 103},
+            {CODEGEN_IV_CONST, 379, 6, 0},
+            {CODEGEN_IV_MUL, 136, 379, 327},
+            {CODEGEN_IV_CONST, 375, 6, 0},
+            {CODEGEN_IV_MUL, 375, 375, 326},
+            {CODEGEN_IV_MUL, 137, 375, 100},
+            {CODEGEN_IV_CONST, 383, 2, 0},
+            {CODEGEN_IV_MUL, 138, 383, 103},
+            {CODEGEN_IV_CONST, 379, 2, 0},
+            {CODEGEN_IV_MUL, 139, 379, 327},
+            {CODEGEN_IV_CONST, 383, 2, 0},
+            {CODEGEN_IV_MUL, 383, 383, 326},
+            {CODEGEN_IV_MUL, 140, 383, 100},
+            {CODEGEN_IV_CONST, 375, 7, 0},
+            {CODEGEN_IV_MUL, 375, 375, 327},
+            {CODEGEN_IV_MUL, 375, 375, 338},
+            {CODEGEN_IV_MUL, 141, 375, 330},
+            {CODEGEN_IV_CONST, 383, 7, 0},
+            {CODEGEN_IV_MUL, 142, 383, 333},
+            {CODEGEN_IV_MUL, 143, 327, 326},
+            {CODEGEN_IV_CONST, 334, 0, 0},
+            {CODEGEN_IV_MUL, 334, 334, 327},
+            {CODEGEN_IV_MUL, 334, 334, 326},
+            {CODEGEN_IV_MUL, 144, 334, 95},
+            {CODEGEN_IV_CONST, 379, 0, 0},
+            {CODEGEN_IV_MUL, 379, 379, 327},
+            {CODEGEN_IV_MUL, 379, 379, 326},
+            {CODEGEN_IV_MUL, 145, 379, 96},
+            {CODEGEN_IV_MUL, 334, 327, 326},
+            {CODEGEN_IV_MUL, 146, 334, 97},
+            {CODEGEN_IV_MUL, 147, 327, 326},
+            {CODEGEN_IV_CONST, 334, 0, 0},
+            {CODEGEN_IV_MUL, 334, 334, 326},
+            {CODEGEN_IV_MUL, 148, 334, 89},
             {CODEGEN_IV_NEG, 149, 101, 0},
         };
         static const codegen_iv constants[8] = {
@@ -14059,198 +14479,245 @@ static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
             {12, 12},
             {CODEGEN_R(0.5), CODEGEN_R(0.5)}
         };
-        v[280] = codegen_iv_point(params->d);
-        v[281] = codegen_iv_point(params->a_2);
-        v[282] = codegen_iv_point(params->a_3);
-        v[283] = codegen_iv_point(params->a_4);
-        v[284] = codegen_iv_point(params->m_2);
-        v[287] = codegen_iv_point(params->k);
-        v[288] = codegen_iv_point(params->l_0);
-        v[289] = codegen_iv_point(params->x_S);
-        v[290] = codegen_iv_point(params->y_S);
-        v[291] = codegen_iv_point(params->T);
-        v[292] = codegen_iv_point(params->g);
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->m_2);
+        v[333] = codegen_iv_point(params->k);
+        v[334] = codegen_iv_point(params->l_0);
+        v[335] = codegen_iv_point(params->x_S);
+        v[336] = codegen_iv_point(params->y_S);
+        v[337] = codegen_iv_point(params->T);
+        v[338] = codegen_iv_point(params->g);
         codegen_iv_run(program, 112, constants, v, &flags);
+    }
+    { /* enclose_smooth_mode_0 */
+        static const codegen_iv_instruction program[33] = {
+            {CODEGEN_IV_POW, 333, 327, 2},
+            {CODEGEN_IV_POW, 150, 326, 2},
+            {CODEGEN_IV_ADD, 151, 333, 150},
+            {CODEGEN_IV_POW, 152, 326, 3},
+            {CODEGEN_IV_POW, 153, 329, 2},
+            {CODEGEN_IV_MUL, 342, 326, 330},
+            {CODEGEN_IV_POW, 154, 330, 2},
+            {CODEGEN_IV_POW, 155, 331, 2},
+            {CODEGEN_IV_POW, 156, 328, 2},
+            {CODEGEN_IV_MUL, 157, 333, 342},
+            {CODEGEN_IV_POW, 158, 327, 3},
+            {CODEGEN_IV_CONST, 352, 0, 0},
+            {CODEGEN_IV_MUL, 352, 352, 328},
+            {CODEGEN_IV_MUL, 352, 352, 329},
+            {CODEGEN_IV_NEG, 329, 156, 0},
+            {CODEGEN_IV_ADD, 159, 329, 352},
+            {CODEGEN_IV_ADD, 328, 333, 150},
+            {CODEGEN_IV_SUB, 328, 328, 156},
+            {CODEGEN_IV_SUB, 160, 328, 352},
+            {CODEGEN_IV_NEG, 161, 157, 0},
+            {CODEGEN_IV_MUL, 162, 333, 154},
+            {CODEGEN_IV_MUL, 163, 333, 155},
+            {CODEGEN_IV_MUL, 164, 333, 153},
+            {CODEGEN_IV_MUL, 165, 150, 154},
+            {CODEGEN_IV_MUL, 166, 150, 155},
+            {CODEGEN_IV_MUL, 167, 150, 156},
+            {CODEGEN_IV_MUL, 168, 156, 342},
+            {CODEGEN_IV_MUL, 169, 152, 330},
+            {CODEGEN_IV_MUL, 170, 153, 342},
+            {CODEGEN_IV_MUL, 171, 333, 150},
+            {CODEGEN_IV_CONST, 349, 0, 0},
+            {CODEGEN_IV_MUL, 349, 349, 326},
+            {CODEGEN_IV_MUL, 172, 349, 333},
+        };
+        static const codegen_iv constants[1] = {
+            {2, 2}
+        };
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->x_S);
+        v[331] = codegen_iv_point(params->y_S);
+        codegen_iv_run(program, 33, constants, v, &flags);
     }
     { /* enclose_mode_1 */
         static const codegen_iv_instruction program[177] = {
-            {CODEGEN_IV_CONST, 296, 0, 0},
-            {CODEGEN_IV_MUL, 296, 296, 292},
-            {CODEGEN_IV_MUL, 150, 296, 284},
-            {CODEGEN_IV_POW, 151, 281, 2},
-            {CODEGEN_IV_POW, 152, 280, 2},
-            {CODEGEN_IV_ADD, 153, 151, 152},
-            {CODEGEN_IV_POW, 154, 280, 3},
-            {CODEGEN_IV_POW, 155, 283, 2},
-            {CODEGEN_IV_MUL, 305, 280, 289},
-            {CODEGEN_IV_MUL, 156, 155, 151},
-            {CODEGEN_IV_POW, 157, 289, 2},
-            {CODEGEN_IV_POW, 158, 290, 2},
-            {CODEGEN_IV_POW, 159, 282, 2},
-            {CODEGEN_IV_MUL, 160, 159, 152},
-            {CODEGEN_IV_MUL, 161, 281, 154},
-            {CODEGEN_IV_MUL, 162, 305, 151},
-            {CODEGEN_IV_POW, 163, 281, 3},
-            {CODEGEN_IV_MUL, 164, 280, 290},
-            {CODEGEN_IV_CONST, 336, 1, 0},
-            {CODEGEN_IV_MUL, 165, 336, 164},
-            {CODEGEN_IV_CONST, 339, 1, 0},
-            {CODEGEN_IV_MUL, 166, 339, 152},
-            {CODEGEN_IV_CONST, 341, 1, 0},
-            {CODEGEN_IV_MUL, 341, 341, 282},
-            {CODEGEN_IV_MUL, 341, 341, 283},
-            {CODEGEN_IV_NEG, 283, 155, 0},
-            {CODEGEN_IV_SUB, 283, 283, 159},
-            {CODEGEN_IV_ADD, 283, 283, 151},
-            {CODEGEN_IV_ADD, 283, 283, 152},
-            {CODEGEN_IV_SUB, 167, 283, 341},
-            {CODEGEN_IV_NEG, 282, 155, 0},
-            {CODEGEN_IV_SUB, 282, 282, 159},
-            {CODEGEN_IV_ADD, 168, 282, 341},
-            {CODEGEN_IV_ADD, 169, 156, 160},
-            {CODEGEN_IV_MUL, 170, 154, 289},
-            {CODEGEN_IV_MUL, 171, 155, 305},
-            {CODEGEN_IV_MUL, 172, 305, 159},
-            {CODEGEN_IV_MUL, 173, 157, 151},
-            {CODEGEN_IV_MUL, 174, 157, 152},
-            {CODEGEN_IV_MUL, 175, 158, 151},
-            {CODEGEN_IV_MUL, 176, 158, 152},
-            {CODEGEN_IV_NEG, 177, 288, 0},
-            {CODEGEN_IV_POW, 178, 281, 4},
-            {CODEGEN_IV_POW, 179, 280, 4},
-            {CODEGEN_IV_MUL, 180, 280, 163},
-            {CODEGEN_IV_CONST, 362, 2, 0},
-            {CODEGEN_IV_MUL, 181, 362, 151},
-            {CODEGEN_IV_POW, 182, 280, 6},
-            {CODEGEN_IV_CONST, 368, 1, 0},
-            {CODEGEN_IV_MUL, 183, 368, 159},
-            {CODEGEN_IV_CONST, 369, 1, 0},
-            {CODEGEN_IV_MUL, 184, 369, 155},
-            {CODEGEN_IV_MUL, 185, 155, 152},
-            {CODEGEN_IV_POW, 375, 280, 5},
-            {CODEGEN_IV_CONST, 376, 3, 0},
-            {CODEGEN_IV_MUL, 186, 376, 375},
-            {CODEGEN_IV_POW, 377, 281, 5},
-            {CODEGEN_IV_MUL, 187, 280, 377},
-            {CODEGEN_IV_MUL, 188, 280, 184},
-            {CODEGEN_IV_MUL, 189, 280, 183},
-            {CODEGEN_IV_CONST, 390, 4, 0},
-            {CODEGEN_IV_MUL, 190, 390, 154},
-            {CODEGEN_IV_CONST, 391, 5, 0},
-            {CODEGEN_IV_MUL, 191, 391, 154},
-            {CODEGEN_IV_MUL, 192, 160, 151},
-            {CODEGEN_IV_CONST, 379, 6, 0},
-            {CODEGEN_IV_MUL, 193, 379, 281},
-            {CODEGEN_IV_CONST, 389, 4, 0},
-            {CODEGEN_IV_MUL, 194, 389, 151},
-            {CODEGEN_IV_NEG, 195, 164, 0},
-            {CODEGEN_IV_CONST, 396, 1, 0},
-            {CODEGEN_IV_MUL, 396, 396, 151},
-            {CODEGEN_IV_MUL, 196, 396, 164},
-            {CODEGEN_IV_MUL, 197, 154, 163},
-            {CODEGEN_IV_CONST, 360, 7, 0},
-            {CODEGEN_IV_MUL, 198, 360, 161},
-            {CODEGEN_IV_CONST, 370, 2, 0},
-            {CODEGEN_IV_MUL, 199, 370, 156},
-            {CODEGEN_IV_CONST, 398, 1, 0},
-            {CODEGEN_IV_MUL, 200, 398, 160},
-            {CODEGEN_IV_CONST, 398, 3, 0},
-            {CODEGEN_IV_MUL, 398, 398, 281},
-            {CODEGEN_IV_MUL, 201, 398, 375},
-            {CODEGEN_IV_CONST, 370, 1, 0},
-            {CODEGEN_IV_MUL, 370, 370, 280},
-            {CODEGEN_IV_MUL, 202, 370, 377},
-            {CODEGEN_IV_CONST, 370, 4, 0},
-            {CODEGEN_IV_MUL, 370, 370, 154},
-            {CODEGEN_IV_MUL, 203, 370, 163},
-            {CODEGEN_IV_MUL, 204, 160, 181},
-            {CODEGEN_IV_CONST, 370, 8, 0},
-            {CODEGEN_IV_MUL, 370, 370, 151},
-            {CODEGEN_IV_MUL, 205, 370, 179},
-            {CODEGEN_IV_CONST, 398, 9, 0},
-            {CODEGEN_IV_MUL, 206, 398, 151},
-            {CODEGEN_IV_CONST, 370, 5, 0},
-            {CODEGEN_IV_MUL, 370, 370, 152},
-            {CODEGEN_IV_MUL, 207, 370, 178},
-            {CODEGEN_IV_CONST, 398, 7, 0},
-            {CODEGEN_IV_MUL, 398, 398, 281},
-            {CODEGEN_IV_MUL, 398, 398, 154},
-            {CODEGEN_IV_MUL, 208, 398, 155},
-            {CODEGEN_IV_CONST, 370, 7, 0},
-            {CODEGEN_IV_MUL, 370, 370, 281},
-            {CODEGEN_IV_MUL, 370, 370, 154},
-            {CODEGEN_IV_MUL, 209, 370, 159},
-            {CODEGEN_IV_CONST, 398, 1, 0},
-            {CODEGEN_IV_MUL, 398, 398, 280},
-            {CODEGEN_IV_MUL, 398, 398, 155},
-            {CODEGEN_IV_MUL, 210, 398, 163},
-            {CODEGEN_IV_CONST, 370, 1, 0},
-            {CODEGEN_IV_MUL, 370, 370, 280},
-            {CODEGEN_IV_MUL, 370, 370, 159},
-            {CODEGEN_IV_MUL, 211, 370, 163},
-            {CODEGEN_IV_CONST, 370, 10, 0},
-            {CODEGEN_IV_MUL, 370, 370, 154},
-            {CODEGEN_IV_MUL, 212, 370, 163},
-            {CODEGEN_IV_MUL, 213, 281, 280},
-            {CODEGEN_IV_CONST, 376, 1, 0},
-            {CODEGEN_IV_MUL, 376, 376, 281},
-            {CODEGEN_IV_MUL, 376, 376, 280},
-            {CODEGEN_IV_MUL, 214, 376, 155},
-            {CODEGEN_IV_CONST, 375, 1, 0},
-            {CODEGEN_IV_MUL, 375, 375, 281},
-            {CODEGEN_IV_MUL, 375, 375, 280},
-            {CODEGEN_IV_MUL, 215, 375, 155},
-            {CODEGEN_IV_NEG, 216, 291, 0},
-            {CODEGEN_IV_CONST, 295, 6, 0},
-            {CODEGEN_IV_MUL, 295, 295, 281},
-            {CODEGEN_IV_MUL, 295, 295, 292},
-            {CODEGEN_IV_MUL, 217, 295, 285},
-            {CODEGEN_IV_CONST, 371, 4, 0},
-            {CODEGEN_IV_MUL, 371, 371, 281},
-            {CODEGEN_IV_MUL, 218, 371, 154},
-            {CODEGEN_IV_CONST, 291, 4, 0},
-            {CODEGEN_IV_MUL, 291, 291, 280},
-            {CODEGEN_IV_MUL, 219, 291, 163},
-            {CODEGEN_IV_CONST, 385, 6, 0},
-            {CODEGEN_IV_MUL, 385, 385, 281},
-            {CODEGEN_IV_MUL, 385, 385, 292},
-            {CODEGEN_IV_MUL, 220, 385, 286},
-            {CODEGEN_IV_CONST, 371, 2, 0},
-            {CODEGEN_IV_MUL, 371, 371, 281},
-            {CODEGEN_IV_MUL, 221, 371, 154},
-            {CODEGEN_IV_CONST, 295, 2, 0},
-            {CODEGEN_IV_MUL, 295, 295, 280},
-            {CODEGEN_IV_MUL, 222, 295, 163},
-            {CODEGEN_IV_CONST, 385, 0, 0},
-            {CODEGEN_IV_MUL, 223, 385, 287},
-            {CODEGEN_IV_CONST, 291, 6, 0},
-            {CODEGEN_IV_MUL, 224, 291, 287},
-            {CODEGEN_IV_CONST, 385, 0, 0},
-            {CODEGEN_IV_MUL, 225, 385, 287},
-            {CODEGEN_IV_CONST, 371, 2, 0},
-            {CODEGEN_IV_MUL, 226, 371, 162},
-            {CODEGEN_IV_CONST, 371, 5, 0},
-            {CODEGEN_IV_MUL, 227, 371, 164},
-            {CODEGEN_IV_CONST, 379, 6, 0},
-            {CODEGEN_IV_MUL, 379, 379, 281},
-            {CODEGEN_IV_MUL, 379, 379, 292},
-            {CODEGEN_IV_MUL, 228, 379, 285},
-            {CODEGEN_IV_CONST, 385, 10, 0},
-            {CODEGEN_IV_MUL, 229, 385, 281},
-            {CODEGEN_IV_CONST, 295, 10, 0},
-            {CODEGEN_IV_MUL, 230, 295, 280},
-            {CODEGEN_IV_CONST, 371, 6, 0},
-            {CODEGEN_IV_MUL, 371, 371, 281},
-            {CODEGEN_IV_MUL, 371, 371, 292},
-            {CODEGEN_IV_MUL, 231, 371, 286},
-            {CODEGEN_IV_CONST, 385, 5, 0},
-            {CODEGEN_IV_MUL, 232, 385, 281},
-            {CODEGEN_IV_CONST, 379, 5, 0},
-            {CODEGEN_IV_MUL, 233, 379, 280},
-            {CODEGEN_IV_CONST, 295, 2, 0},
-            {CODEGEN_IV_MUL, 234, 295, 287},
-            {CODEGEN_IV_CONST, 379, 5, 0},
-            {CODEGEN_IV_MUL, 235, 379, 287},
+            {CODEGEN_IV_CONST, 342, 0, 0},
+            {CODEGEN_IV_MUL, 342, 342, 338},
+            {CODEGEN_IV_MUL, 173, 342, 330},
+            {CODEGEN_IV_POW, 174, 327, 2},
+            {CODEGEN_IV_POW, 175, 326, 2},
+            {CODEGEN_IV_ADD, 176, 174, 175},
+            {CODEGEN_IV_POW, 177, 326, 3},
+            {CODEGEN_IV_POW, 178, 329, 2},
+            {CODEGEN_IV_MUL, 351, 326, 335},
+            {CODEGEN_IV_MUL, 179, 178, 174},
+            {CODEGEN_IV_POW, 180, 335, 2},
+            {CODEGEN_IV_POW, 181, 336, 2},
+            {CODEGEN_IV_POW, 182, 328, 2},
+            {CODEGEN_IV_MUL, 183, 182, 175},
+            {CODEGEN_IV_MUL, 184, 327, 177},
+            {CODEGEN_IV_MUL, 185, 351, 174},
+            {CODEGEN_IV_POW, 186, 327, 3},
+            {CODEGEN_IV_MUL, 187, 326, 336},
+            {CODEGEN_IV_CONST, 382, 1, 0},
+            {CODEGEN_IV_MUL, 188, 382, 187},
+            {CODEGEN_IV_CONST, 385, 1, 0},
+            {CODEGEN_IV_MUL, 189, 385, 175},
+            {CODEGEN_IV_CONST, 387, 1, 0},
+            {CODEGEN_IV_MUL, 387, 387, 328},
+            {CODEGEN_IV_MUL, 387, 387, 329},
+            {CODEGEN_IV_NEG, 329, 178, 0},
+            {CODEGEN_IV_SUB, 329, 329, 182},
+            {CODEGEN_IV_ADD, 329, 329, 174},
+            {CODEGEN_IV_ADD, 329, 329, 175},
+            {CODEGEN_IV_SUB, 190, 329, 387},
+            {CODEGEN_IV_NEG, 328, 178, 0},
+            {CODEGEN_IV_SUB, 328, 328, 182},
+            {CODEGEN_IV_ADD, 191, 328, 387},
+            {CODEGEN_IV_ADD, 192, 179, 183},
+            {CODEGEN_IV_MUL, 193, 177, 335},
+            {CODEGEN_IV_MUL, 194, 178, 351},
+            {CODEGEN_IV_MUL, 195, 351, 182},
+            {CODEGEN_IV_MUL, 196, 180, 174},
+            {CODEGEN_IV_MUL, 197, 180, 175},
+            {CODEGEN_IV_MUL, 198, 181, 174},
+            {CODEGEN_IV_MUL, 199, 181, 175},
+            {CODEGEN_IV_NEG, 200, 334, 0},
+            {CODEGEN_IV_POW, 201, 327, 4},
+            {CODEGEN_IV_POW, 202, 326, 4},
+            {CODEGEN_IV_MUL, 203, 326, 186},
+            {CODEGEN_IV_CONST, 408, 2, 0},
+            {CODEGEN_IV_MUL, 204, 408, 174},
+            {CODEGEN_IV_POW, 205, 326, 6},
+            {CODEGEN_IV_CONST, 414, 1, 0},
+            {CODEGEN_IV_MUL, 206, 414, 182},
+            {CODEGEN_IV_CONST, 415, 1, 0},
+            {CODEGEN_IV_MUL, 207, 415, 178},
+            {CODEGEN_IV_MUL, 208, 178, 175},
+            {CODEGEN_IV_POW, 421, 326, 5},
+            {CODEGEN_IV_CONST, 422, 3, 0},
+            {CODEGEN_IV_MUL, 209, 422, 421},
+            {CODEGEN_IV_POW, 423, 327, 5},
+            {CODEGEN_IV_MUL, 210, 326, 423},
+            {CODEGEN_IV_MUL, 211, 326, 207},
+            {CODEGEN_IV_MUL, 212, 326, 206},
+            {CODEGEN_IV_CONST, 436, 4, 0},
+            {CODEGEN_IV_MUL, 213, 436, 177},
+            {CODEGEN_IV_CONST, 437, 5, 0},
+            {CODEGEN_IV_MUL, 214, 437, 177},
+            {CODEGEN_IV_MUL, 215, 183, 174},
+            {CODEGEN_IV_CONST, 425, 6, 0},
+            {CODEGEN_IV_MUL, 216, 425, 327},
+            {CODEGEN_IV_CONST, 435, 4, 0},
+            {CODEGEN_IV_MUL, 217, 435, 174},
+            {CODEGEN_IV_NEG, 218, 187, 0},
+            {CODEGEN_IV_CONST, 442, 1, 0},
+            {CODEGEN_IV_MUL, 442, 442, 174},
+            {CODEGEN_IV_MUL, 219, 442, 187},
+            {CODEGEN_IV_MUL, 220, 177, 186},
+            {CODEGEN_IV_CONST, 406, 7, 0},
+            {CODEGEN_IV_MUL, 221, 406, 184},
+            {CODEGEN_IV_CONST, 416, 2, 0},
+            {CODEGEN_IV_MUL, 222, 416, 179},
+            {CODEGEN_IV_CONST, 444, 1, 0},
+            {CODEGEN_IV_MUL, 223, 444, 183},
+            {CODEGEN_IV_CONST, 444, 3, 0},
+            {CODEGEN_IV_MUL, 444, 444, 327},
+            {CODEGEN_IV_MUL, 224, 444, 421},
+            {CODEGEN_IV_CONST, 416, 1, 0},
+            {CODEGEN_IV_MUL, 416, 416, 326},
+            {CODEGEN_IV_MUL, 225, 416, 423},
+            {CODEGEN_IV_CONST, 416, 4, 0},
+            {CODEGEN_IV_MUL, 416, 416, 177},
+            {CODEGEN_IV_MUL, 226, 416, 186},
+            {CODEGEN_IV_MUL, 227, 183, 204},
+            {CODEGEN_IV_CONST, 416, 8, 0},
+            {CODEGEN_IV_MUL, 416, 416, 174},
+            {CODEGEN_IV_MUL, 228, 416, 202},
+            {CODEGEN_IV_CONST, 444, 9, 0},
+            {CODEGEN_IV_MUL, 229, 444, 174},
+            {CODEGEN_IV_CONST, 416, 5, 0},
+            {CODEGEN_IV_MUL, 416, 416, 175},
+            {CODEGEN_IV_MUL, 230, 416, 201},
+            {CODEGEN_IV_CONST, 444, 7, 0},
+            {CODEGEN_IV_MUL, 444, 444, 327},
+            {CODEGEN_IV_MUL, 444, 444, 177},
+            {CODEGEN_IV_MUL, 231, 444, 178},
+            {CODEGEN_IV_CONST, 416, 7, 0},
+            {CODEGEN_IV_MUL, 416, 416, 327},
+            {CODEGEN_IV_MUL, 416, 416, 177},
+            {CODEGEN_IV_MUL, 232, 416, 182},
+            {CODEGEN_IV_CONST, 444, 1, 0},
+            {CODEGEN_IV_MUL, 444, 444, 326},
+            {CODEGEN_IV_MUL, 444, 444, 178},
+            {CODEGEN_IV_MUL, 233, 444, 186},
+            {CODEGEN_IV_CONST, 416, 1, 0},
+            {CODEGEN_IV_MUL, 416, 416, 326},
+            {CODEGEN_IV_MUL, 416, 416, 182},
+            {CODEGEN_IV_MUL, 234, 416, 186},
+            {CODEGEN_IV_CONST, 416, 10, 0},
+            {CODEGEN_IV_MUL, 416, 416, 177},
+            {CODEGEN_IV_MUL, 235, 416, 186},
+            {CODEGEN_IV_MUL, 236, 327, 326},
+            {CODEGEN_IV_CONST, 422, 1, 0},
+            {CODEGEN_IV_MUL, 422, 422, 327},
+            {CODEGEN_IV_MUL, 422, 422, 326},
+            {CODEGEN_IV_MUL, 237, 422, 178},
+            {CODEGEN_IV_CONST, 421, 1, 0},
+            {CODEGEN_IV_MUL, 421, 421, 327},
+            {CODEGEN_IV_MUL, 421, 421, 326},
+            {CODEGEN_IV_MUL, 238, 421, 178},
+            {CODEGEN_IV_NEG, 239, 337, 0},
+            {CODEGEN_IV_CONST, 341, 6, 0},
+            {CODEGEN_IV_MUL, 341, 341, 327},
+            {CODEGEN_IV_MUL, 341, 341, 338},
+            {CODEGEN_IV_MUL, 240, 341, 331},
+            {CODEGEN_IV_CONST, 417, 4, 0},
+            {CODEGEN_IV_MUL, 417, 417, 327},
+            {CODEGEN_IV_MUL, 241, 417, 177},
+            {CODEGEN_IV_CONST, 337, 4, 0},
+            {CODEGEN_IV_MUL, 337, 337, 326},
+            {CODEGEN_IV_MUL, 242, 337, 186},
+            {CODEGEN_IV_CONST, 431, 6, 0},
+            {CODEGEN_IV_MUL, 431, 431, 327},
+            {CODEGEN_IV_MUL, 431, 431, 338},
+            {CODEGEN_IV_MUL, 243, 431, 332},
+            {CODEGEN_IV_CONST, 417, 2, 0},
+            {CODEGEN_IV_MUL, 417, 417, 327},
+            {CODEGEN_IV_MUL, 244, 417, 177},
+            {CODEGEN_IV_CONST, 341, 2, 0},
+            {CODEGEN_IV_MUL, 341, 341, 326},
+            {CODEGEN_IV_MUL, 245, 341, 186},
+            {CODEGEN_IV_CONST, 431, 0, 0},
+            {CODEGEN_IV_MUL, 246, 431, 333},
+            {CODEGEN_IV_CONST, 337, 6, 0},
+            {CODEGEN_IV_MUL, 247, 337, 333},
+            {CODEGEN_IV_CONST, 431, 0, 0},
+            {CODEGEN_IV_MUL, 248, 431, 333},
+            {CODEGEN_IV_CONST, 417, 2, 0},
+            {CODEGEN_IV_MUL, 249, 417, 185},
+            {CODEGEN_IV_CONST, 417, 5, 0},
+            {CODEGEN_IV_MUL, 250, 417, 187},
+            {CODEGEN_IV_CONST, 425, 6, 0},
+            {CODEGEN_IV_MUL, 425, 425, 327},
+            {CODEGEN_IV_MUL, 425, 425, 338},
+            {CODEGEN_IV_MUL, 251, 425, 331},
+            {CODEGEN_IV_CONST, 431, 10, 0},
+            {CODEGEN_IV_MUL, 252, 431, 327},
+            {CODEGEN_IV_CONST, 341, 10, 0},
+            {CODEGEN_IV_MUL, 253, 341, 326},
+            {CODEGEN_IV_CONST, 417, 6, 0},
+            {CODEGEN_IV_MUL, 417, 417, 327},
+            {CODEGEN_IV_MUL, 417, 417, 338},
+            {CODEGEN_IV_MUL, 254, 417, 332},
+            {CODEGEN_IV_CONST, 431, 5, 0},
+            {CODEGEN_IV_MUL, 255, 431, 327},
+            {CODEGEN_IV_CONST, 425, 5, 0},
+            {CODEGEN_IV_MUL, 256, 425, 326},
+            {CODEGEN_IV_CONST, 341, 2, 0},
+            {CODEGEN_IV_MUL, 257, 341, 333},
+            {CODEGEN_IV_CONST, 425, 5, 0},
+            {CODEGEN_IV_MUL, 258, 425, 333},
         };
         static const codegen_iv constants[11] = {
             {CODEGEN_R(0.5), CODEGEN_R(0.5)},
@@ -14265,86 +14732,86 @@ static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
             {32, 32},
             {24, 24}
         };
-        v[280] = codegen_iv_point(params->d);
-        v[281] = codegen_iv_point(params->a_2);
-        v[282] = codegen_iv_point(params->a_3);
-        v[283] = codegen_iv_point(params->a_4);
-        v[284] = codegen_iv_point(params->m_2);
-        v[285] = codegen_iv_point(params->m_3);
-        v[286] = codegen_iv_point(params->m_4);
-        v[287] = codegen_iv_point(params->k);
-        v[288] = codegen_iv_point(params->l_0);
-        v[289] = codegen_iv_point(params->x_S);
-        v[290] = codegen_iv_point(params->y_S);
-        v[291] = codegen_iv_point(params->T);
-        v[292] = codegen_iv_point(params->g);
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->m_2);
+        v[331] = codegen_iv_point(params->m_3);
+        v[332] = codegen_iv_point(params->m_4);
+        v[333] = codegen_iv_point(params->k);
+        v[334] = codegen_iv_point(params->l_0);
+        v[335] = codegen_iv_point(params->x_S);
+        v[336] = codegen_iv_point(params->y_S);
+        v[337] = codegen_iv_point(params->T);
+        v[338] = codegen_iv_point(params->g);
         codegen_iv_run(program, 177, constants, v, &flags);
     }
     { /* enclose_value_mode_1 */
         static const codegen_iv_instruction program[63] = {
-            {CODEGEN_IV_POW, 236, 281, 2},
-            {CODEGEN_IV_POW, 237, 280, 2},
-            {CODEGEN_IV_ADD, 238, 236, 237},
-            {CODEGEN_IV_POW, 239, 280, 3},
-            {CODEGEN_IV_POW, 240, 283, 2},
-            {CODEGEN_IV_MUL, 303, 280, 289},
-            {CODEGEN_IV_MUL, 241, 236, 240},
-            {CODEGEN_IV_POW, 242, 289, 2},
-            {CODEGEN_IV_POW, 243, 290, 2},
-            {CODEGEN_IV_POW, 244, 282, 2},
-            {CODEGEN_IV_MUL, 245, 244, 237},
-            {CODEGEN_IV_MUL, 246, 281, 239},
-            {CODEGEN_IV_MUL, 247, 236, 303},
-            {CODEGEN_IV_POW, 248, 281, 3},
-            {CODEGEN_IV_MUL, 249, 280, 290},
-            {CODEGEN_IV_MUL, 250, 236, 249},
-            {CODEGEN_IV_MUL, 251, 236, 237},
-            {CODEGEN_IV_CONST, 326, 0, 0},
-            {CODEGEN_IV_MUL, 326, 326, 282},
-            {CODEGEN_IV_MUL, 326, 326, 283},
-            {CODEGEN_IV_NEG, 283, 244, 0},
-            {CODEGEN_IV_ADD, 283, 283, 236},
-            {CODEGEN_IV_ADD, 283, 283, 237},
-            {CODEGEN_IV_SUB, 252, 283, 326},
-            {CODEGEN_IV_NEG, 282, 244, 0},
-            {CODEGEN_IV_ADD, 253, 282, 326},
-            {CODEGEN_IV_ADD, 254, 241, 245},
-            {CODEGEN_IV_MUL, 255, 242, 236},
-            {CODEGEN_IV_MUL, 256, 242, 237},
-            {CODEGEN_IV_MUL, 257, 243, 236},
-            {CODEGEN_IV_MUL, 258, 243, 237},
-            {CODEGEN_IV_MUL, 259, 244, 303},
-            {CODEGEN_IV_MUL, 260, 239, 289},
-            {CODEGEN_IV_MUL, 261, 240, 303},
-            {CODEGEN_IV_NEG, 262, 288, 0},
-            {CODEGEN_IV_POW, 263, 281, 4},
-            {CODEGEN_IV_POW, 264, 280, 4},
-            {CODEGEN_IV_MUL, 265, 280, 248},
-            {CODEGEN_IV_CONST, 342, 1, 0},
-            {CODEGEN_IV_MUL, 266, 342, 251},
-            {CODEGEN_IV_MUL, 267, 281, 280},
-            {CODEGEN_IV_POW, 268, 280, 6},
-            {CODEGEN_IV_CONST, 310, 1, 0},
-            {CODEGEN_IV_MUL, 269, 310, 241},
-            {CODEGEN_IV_CONST, 352, 2, 0},
-            {CODEGEN_IV_MUL, 270, 352, 263},
-            {CODEGEN_IV_POW, 352, 281, 5},
-            {CODEGEN_IV_MUL, 271, 352, 280},
-            {CODEGEN_IV_CONST, 310, 3, 0},
-            {CODEGEN_IV_POW, 353, 280, 5},
-            {CODEGEN_IV_MUL, 272, 310, 353},
-            {CODEGEN_IV_MUL, 273, 244, 236},
-            {CODEGEN_IV_MUL, 274, 245, 236},
-            {CODEGEN_IV_CONST, 301, 4, 0},
-            {CODEGEN_IV_MUL, 301, 301, 281},
-            {CODEGEN_IV_MUL, 275, 301, 292},
-            {CODEGEN_IV_NEG, 276, 291, 0},
-            {CODEGEN_IV_CONST, 350, 5, 0},
-            {CODEGEN_IV_MUL, 350, 350, 292},
-            {CODEGEN_IV_MUL, 277, 350, 284},
-            {CODEGEN_IV_CONST, 336, 1, 0},
-            {CODEGEN_IV_MUL, 278, 336, 247},
-            {CODEGEN_IV_NEG, 279, 249, 0},
+            {CODEGEN_IV_POW, 259, 327, 2},
+            {CODEGEN_IV_POW, 260, 326, 2},
+            {CODEGEN_IV_ADD, 261, 259, 260},
+            {CODEGEN_IV_POW, 262, 326, 3},
+            {CODEGEN_IV_POW, 263, 329, 2},
+            {CODEGEN_IV_MUL, 349, 326, 335},
+            {CODEGEN_IV_MUL, 264, 259, 263},
+            {CODEGEN_IV_POW, 265, 335, 2},
+            {CODEGEN_IV_POW, 266, 336, 2},
+            {CODEGEN_IV_POW, 267, 328, 2},
+            {CODEGEN_IV_MUL, 268, 267, 260},
+            {CODEGEN_IV_MUL, 269, 327, 262},
+            {CODEGEN_IV_MUL, 270, 259, 349},
+            {CODEGEN_IV_POW, 271, 327, 3},
+            {CODEGEN_IV_MUL, 272, 326, 336},
+            {CODEGEN_IV_MUL, 273, 259, 272},
+            {CODEGEN_IV_MUL, 274, 259, 260},
+            {CODEGEN_IV_CONST, 372, 0, 0},
+            {CODEGEN_IV_MUL, 372, 372, 328},
+            {CODEGEN_IV_MUL, 372, 372, 329},
+            {CODEGEN_IV_NEG, 329, 267, 0},
+            {CODEGEN_IV_ADD, 329, 329, 259},
+            {CODEGEN_IV_ADD, 329, 329, 260},
+            {CODEGEN_IV_SUB, 275, 329, 372},
+            {CODEGEN_IV_NEG, 328, 267, 0},
+            {CODEGEN_IV_ADD, 276, 328, 372},
+            {CODEGEN_IV_ADD, 277, 264, 268},
+            {CODEGEN_IV_MUL, 278, 265, 259},
+            {CODEGEN_IV_MUL, 279, 265, 260},
+            {CODEGEN_IV_MUL, 280, 266, 259},
+            {CODEGEN_IV_MUL, 281, 266, 260},
+            {CODEGEN_IV_MUL, 282, 267, 349},
+            {CODEGEN_IV_MUL, 283, 262, 335},
+            {CODEGEN_IV_MUL, 284, 263, 349},
+            {CODEGEN_IV_NEG, 285, 334, 0},
+            {CODEGEN_IV_POW, 286, 327, 4},
+            {CODEGEN_IV_POW, 287, 326, 4},
+            {CODEGEN_IV_MUL, 288, 326, 271},
+            {CODEGEN_IV_CONST, 388, 1, 0},
+            {CODEGEN_IV_MUL, 289, 388, 274},
+            {CODEGEN_IV_MUL, 290, 327, 326},
+            {CODEGEN_IV_POW, 291, 326, 6},
+            {CODEGEN_IV_CONST, 356, 1, 0},
+            {CODEGEN_IV_MUL, 292, 356, 264},
+            {CODEGEN_IV_CONST, 398, 2, 0},
+            {CODEGEN_IV_MUL, 293, 398, 286},
+            {CODEGEN_IV_POW, 398, 327, 5},
+            {CODEGEN_IV_MUL, 294, 398, 326},
+            {CODEGEN_IV_CONST, 356, 3, 0},
+            {CODEGEN_IV_POW, 399, 326, 5},
+            {CODEGEN_IV_MUL, 295, 356, 399},
+            {CODEGEN_IV_MUL, 296, 267, 259},
+            {CODEGEN_IV_MUL, 297, 268, 259},
+            {CODEGEN_IV_CONST, 347, 4, 0},
+            {CODEGEN_IV_MUL, 347, 347, 327},
+            {CODEGEN_IV_MUL, 298, 347, 338},
+            {CODEGEN_IV_NEG, 299, 337, 0},
+            {CODEGEN_IV_CONST, 396, 5, 0},
+            {CODEGEN_IV_MUL, 396, 396, 338},
+            {CODEGEN_IV_MUL, 300, 396, 330},
+            {CODEGEN_IV_CONST, 382, 1, 0},
+            {CODEGEN_IV_MUL, 301, 382, 270},
+            {CODEGEN_IV_NEG, 302, 272, 0},
         };
         static const codegen_iv constants[6] = {
             {2, 2},
@@ -14354,17 +14821,64 @@ static void prepare_enclosures(const four_bar_params *params, codegen_iv *v)
             {CODEGEN_R(0.25), CODEGEN_R(0.25)},
             {CODEGEN_R(0.5), CODEGEN_R(0.5)}
         };
-        v[280] = codegen_iv_point(params->d);
-        v[281] = codegen_iv_point(params->a_2);
-        v[282] = codegen_iv_point(params->a_3);
-        v[283] = codegen_iv_point(params->a_4);
-        v[284] = codegen_iv_point(params->m_2);
-        v[288] = codegen_iv_point(params->l_0);
-        v[289] = codegen_iv_point(params->x_S);
-        v[290] = codegen_iv_point(params->y_S);
-        v[291] = codegen_iv_point(params->T);
-        v[292] = codegen_iv_point(params->g);
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->m_2);
+        v[334] = codegen_iv_point(params->l_0);
+        v[335] = codegen_iv_point(params->x_S);
+        v[336] = codegen_iv_point(params->y_S);
+        v[337] = codegen_iv_point(params->T);
+        v[338] = codegen_iv_point(params->g);
         codegen_iv_run(program, 63, constants, v, &flags);
+    }
+    { /* enclose_smooth_mode_1 */
+        static const codegen_iv_instruction program[33] = {
+            {CODEGEN_IV_POW, 333, 327, 2},
+            {CODEGEN_IV_POW, 303, 326, 2},
+            {CODEGEN_IV_ADD, 304, 333, 303},
+            {CODEGEN_IV_POW, 305, 326, 3},
+            {CODEGEN_IV_POW, 306, 329, 2},
+            {CODEGEN_IV_MUL, 342, 326, 330},
+            {CODEGEN_IV_POW, 307, 330, 2},
+            {CODEGEN_IV_POW, 308, 331, 2},
+            {CODEGEN_IV_POW, 309, 328, 2},
+            {CODEGEN_IV_MUL, 310, 333, 342},
+            {CODEGEN_IV_POW, 311, 327, 3},
+            {CODEGEN_IV_CONST, 352, 0, 0},
+            {CODEGEN_IV_MUL, 352, 352, 328},
+            {CODEGEN_IV_MUL, 352, 352, 329},
+            {CODEGEN_IV_NEG, 329, 309, 0},
+            {CODEGEN_IV_ADD, 312, 329, 352},
+            {CODEGEN_IV_ADD, 328, 333, 303},
+            {CODEGEN_IV_SUB, 328, 328, 309},
+            {CODEGEN_IV_SUB, 313, 328, 352},
+            {CODEGEN_IV_NEG, 314, 310, 0},
+            {CODEGEN_IV_MUL, 315, 333, 307},
+            {CODEGEN_IV_MUL, 316, 333, 308},
+            {CODEGEN_IV_MUL, 317, 333, 306},
+            {CODEGEN_IV_MUL, 318, 303, 307},
+            {CODEGEN_IV_MUL, 319, 303, 308},
+            {CODEGEN_IV_MUL, 320, 303, 309},
+            {CODEGEN_IV_MUL, 321, 309, 342},
+            {CODEGEN_IV_MUL, 322, 305, 330},
+            {CODEGEN_IV_MUL, 323, 306, 342},
+            {CODEGEN_IV_MUL, 324, 333, 303},
+            {CODEGEN_IV_CONST, 349, 0, 0},
+            {CODEGEN_IV_MUL, 349, 349, 326},
+            {CODEGEN_IV_MUL, 325, 349, 333},
+        };
+        static const codegen_iv constants[1] = {
+            {2, 2}
+        };
+        v[326] = codegen_iv_point(params->d);
+        v[327] = codegen_iv_point(params->a_2);
+        v[328] = codegen_iv_point(params->a_3);
+        v[329] = codegen_iv_point(params->a_4);
+        v[330] = codegen_iv_point(params->x_S);
+        v[331] = codegen_iv_point(params->y_S);
+        codegen_iv_run(program, 33, constants, v, &flags);
     }
     (void)params;
     (void)flags;
@@ -14385,14 +14899,18 @@ four_bar_status four_bar_enclosure_kernel_prepared(const four_bar_params *params
     *flags = 0u;
     switch (mode) {
     case 0u:
-        if (dg == NULL) {
+        if (g == NULL) {
+            enclose_smooth_mode_0(params, theta, flags, slots);
+        } else if (dg == NULL) {
             enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
             enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return FOUR_BAR_OK;
     case 1u:
-        if (dg == NULL) {
+        if (g == NULL) {
+            enclose_smooth_mode_1(params, theta, flags, slots);
+        } else if (dg == NULL) {
             enclose_value_mode_1(params, theta, g, flags, slots);
         } else {
             enclose_mode_1(params, theta, g, dg, flags, slots);

@@ -40,7 +40,7 @@ extern "C" {
 #define FOUR_BAR_N_REDUCED 3
 #define FOUR_BAR_N_ROOTS 2
 #define FOUR_BAR_N_SIGMA 29
-#define FOUR_BAR_ENCLOSURE_SLOTS 407 /* the interval programs' slots (280 kept per parameter set) */
+#define FOUR_BAR_ENCLOSURE_SLOTS 453 /* the interval programs' slots (326 kept per parameter set) */
 #define FOUR_BAR_SIGMA_VALUES 128 /* its double-double program's values */
 
 /* Status codes: FOUR_BAR_OK is zero; four_bar_status_message() explains the others. */

@@ -177,7 +177,8 @@ four_bar_status four_bar_poly_real_roots_kernel_work(const codegen_real sigma[FO
 
 /* four_bar_enclosure on an interval of codegen_iv (mode < FOUR_BAR_N_MODES, else
  * FOUR_BAR_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
- * (a smaller program; the flags are those G's own operations raise). */
+ * (a smaller program; the flags are those G's own operations raise); with g NULL too, only
+ * G's divisions and square roots run, for their flags (whether G is smooth over theta). */
 four_bar_status four_bar_enclosure_kernel(const four_bar_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

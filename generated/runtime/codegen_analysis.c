@@ -600,15 +600,20 @@ typedef enum span_outcome {
 /* Whether G of one mode vanishes in [lo, hi], an interval that holds at most one root of the
  * polynomial, a simple one. Every zero of G on any mode is a root of the polynomial (the
  * product of G's numerators over every branch, elimination.py), so G has at most one zero
- * there, simple; where G is continuous on [lo, hi] (its enclosure is finite: no pole, every
- * square root defined) it has one exactly where it changes sign between the ends. *smooth = 0
- * where a pole or a square root's edge may lie inside (no interval around it will do). */
-static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real hi,
+ * there, simple; where G is continuous on [lo, hi] (its divisions and square roots raise no
+ * flag there: no pole, every square root defined) it has one exactly where it changes sign
+ * between the ends. expecting: the branch nearest zero at the span's root is this mode's, so
+ * G's enclosure over [lo, hi] would hold 0 anyway: only the flags are asked (the divisions
+ * and square roots alone, a fraction of G's operations); otherwise G's enclosure first, which
+ * settles most spans that hold no zero of this mode at once. *smooth = 0 where a pole or a
+ * square root's edge may lie inside (no interval around it will do). */
+static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real hi, int expecting,
                      span_outcome *outcome, int *smooth)
 {
     codegen_iv g, g_lo, g_hi;
     unsigned flags, flags_lo, flags_hi;
-    int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(lo, hi), &g, NULL, &flags);
+    int status = c->model->enclose(&c->enclosure, mode, codegen_iv_make(lo, hi),
+                                   expecting ? NULL : &g, NULL, &flags);
     *outcome = SPAN_UNDECIDED;
     *smooth = 1;
     if (status != 0 || (flags & CODEGEN_IV_OUTSIDE) != 0u) { /* OUTSIDE: no state on [lo, hi] */
@@ -619,7 +624,7 @@ static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real
         *smooth = 0;
         return CODEGEN_OK;
     }
-    if (!codegen_iv_has_zero(g)) {
+    if (!expecting && !codegen_iv_has_zero(g)) {
         *outcome = SPAN_NO_ZERO;
         return CODEGEN_OK;
     }
@@ -655,20 +660,20 @@ static void grow_span(codegen_real *lo, codegen_real *hi, const codegen_root_spa
  * its own ends are within G's rounding of 0. Only if that cannot decide (it may take in a
  * pole or a square root's edge that the span does not hold) does the sequence run from the
  * span itself. */
-static int span_zeros(const call *c, unsigned mode, const codegen_root_span *s,
+static int span_zeros(const call *c, unsigned mode, const codegen_root_span *s, int expecting,
                       span_outcome *outcome)
 {
     codegen_real lo = s->lo, hi = s->hi;
     int smooth, status;
     grow_span(&lo, &hi, s);
-    status = sign_test(c, mode, lo, hi, outcome, &smooth);
+    status = sign_test(c, mode, lo, hi, expecting, outcome, &smooth);
     if (status != CODEGEN_OK || *outcome != SPAN_UNDECIDED) {
         return status;
     }
     lo = s->lo;
     hi = s->hi;
     for (;;) {
-        status = sign_test(c, mode, lo, hi, outcome, &smooth);
+        status = sign_test(c, mode, lo, hi, expecting, outcome, &smooth);
         if (status != CODEGEN_OK || *outcome != SPAN_UNDECIDED || !smooth
             || (lo <= s->free_lo && hi >= s->free_hi)) {
             return status;
@@ -852,7 +857,7 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     for (k = 0u; k < (unsigned)model->n_modes; ++k) {
         const unsigned mode = k == 0u ? first : k <= first ? k - 1u : k;
         span_outcome outcome;
-        status = span_zeros(c, mode, s, &outcome);
+        status = span_zeros(c, mode, s, k == 0u && kind != CODEGEN_EXTRANEOUS, &outcome);
         if (status != CODEGEN_OK) {
             return status;
         }

@@ -301,8 +301,10 @@ void codegen_iv_run(const codegen_iv_instruction *program, size_t count,
 
 /* Enclosures of G and G' over theta for one assembly mode (or branch) of a mechanism,
  * and the flags its square roots and divisions raised. With dg NULL, G alone (cheaper; the
- * flags are then those of G's own operations). Returns 0, or a nonzero status that
- * codegen_isolate passes on unchanged (bad parameters, say). */
+ * flags are then those of G's own operations); with g NULL too, the flags alone, from G's
+ * divisions and square roots (cheaper still: whether G is smooth over theta; the analysis'
+ * sign tests ask it of the generated enclosures, codegen_isolate never does). Returns 0, or a
+ * nonzero status that codegen_isolate passes on unchanged (bad parameters, say). */
 typedef int (*codegen_enclosure)(const void *context, unsigned mode, codegen_iv theta,
                                  codegen_iv *g, codegen_iv *dg, unsigned *flags);
 

@@ -4922,10 +4922,10 @@ slider_crank_status slider_crank_poly_real_roots(const codegen_real sigma[SLIDER
  * inline form's temporaries take their own stack slots, up to ~20 KB in one frame). The
  * same bounds bit for bit either way. The
  * operations theta does not reach run once per parameter set (prepare_enclosures), their
- * values kept in v[0..90). */
+ * values kept in v[0..106). */
 
 /* G (eq. -) and its slope G' on assembly mode 0 (as declared), enclosed in outward-rounded interval arithmetic.
- * At each theta, 283 instructions (as a program, over the slots v from 90); the 37 theta does not reach
+ * At each theta, 283 instructions (as a program, over the slots v from 106); the 37 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -4934,289 +4934,289 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta,
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[283] = {
-        {CODEGEN_IV_COS, 103, 102, 0},
-        {CODEGEN_IV_SIN, 99, 102, 0},
-        {CODEGEN_IV_MUL, 102, 90, 99},
-        {CODEGEN_IV_SUB, 105, 1, 102},
-        {CODEGEN_IV_SUB, 106, 2, 102},
-        {CODEGEN_IV_MUL, 91, 105, 106},
-        {CODEGEN_IV_NEG, 107, 91, 0},
-        {CODEGEN_IV_SQRT, 108, 107, 0},
-        {CODEGEN_IV_MUL, 109, 99, 108},
-        {CODEGEN_IV_NEG, 110, 109, 0},
-        {CODEGEN_IV_MUL, 111, 92, 103},
-        {CODEGEN_IV_ADD, 111, 110, 111},
-        {CODEGEN_IV_MUL, 110, 103, 102},
-        {CODEGEN_IV_SUB, 110, 111, 110},
-        {CODEGEN_IV_DIV, 110, 110, 108},
-        {CODEGEN_IV_MUL, 114, 90, 103},
-        {CODEGEN_IV_POW, 117, 103, 2},
-        {CODEGEN_IV_MUL, 118, 7, 117},
-        {CODEGEN_IV_MUL, 119, 6, 108},
-        {CODEGEN_IV_ADD, 120, 8, 118},
-        {CODEGEN_IV_SUB, 120, 120, 119},
-        {CODEGEN_IV_ADD, 120, 120, 107},
-        {CODEGEN_IV_ADD, 121, 120, 9},
-        {CODEGEN_IV_SUB, 120, 121, 10},
-        {CODEGEN_IV_MUL, 121, 114, 6},
-        {CODEGEN_IV_SUB, 121, 120, 121},
-        {CODEGEN_IV_CONST, 120, 0, 0},
-        {CODEGEN_IV_MUL, 120, 120, 114},
-        {CODEGEN_IV_MUL, 120, 120, 108},
-        {CODEGEN_IV_ADD, 120, 121, 120},
-        {CODEGEN_IV_SQRT, 98, 120, 0},
-        {CODEGEN_IV_MUL, 95, 12, 102},
-        {CODEGEN_IV_SQRT, 122, 107, 0},
-        {CODEGEN_IV_POW, 122, 122, 3},
-        {CODEGEN_IV_CONST, 123, 1, 0},
-        {CODEGEN_IV_POW, 124, 122, 1},
-        {CODEGEN_IV_DIV, 124, 123, 124},
-        {CODEGEN_IV_MUL, 123, 90, 117},
-        {CODEGEN_IV_MUL, 125, 3, 123},
-        {CODEGEN_IV_POW, 127, 99, 2},
-        {CODEGEN_IV_MUL, 128, 117, 13},
-        {CODEGEN_IV_MUL, 128, 128, 127},
-        {CODEGEN_IV_MUL, 117, 5, 99},
-        {CODEGEN_IV_MUL, 129, 118, 117},
-        {CODEGEN_IV_MUL, 130, 92, 99},
-        {CODEGEN_IV_MUL, 99, 130, 91},
-        {CODEGEN_IV_MUL, 131, 90, 127},
-        {CODEGEN_IV_MUL, 132, 131, 91},
-        {CODEGEN_IV_MUL, 133, 103, 122},
-        {CODEGEN_IV_MUL, 134, 123, 91},
-        {CODEGEN_IV_SQRT, 135, 120, 0},
-        {CODEGEN_IV_POW, 135, 135, 3},
-        {CODEGEN_IV_MUL, 136, 96, 131},
-        {CODEGEN_IV_MUL, 137, 96, 91},
-        {CODEGEN_IV_CONST, 138, 0, 0},
-        {CODEGEN_IV_MUL, 138, 138, 91},
-        {CODEGEN_IV_MUL, 139, 92, 103},
-        {CODEGEN_IV_MUL, 139, 139, 102},
-        {CODEGEN_IV_MUL, 102, 96, 139},
-        {CODEGEN_IV_POW, 140, 105, 2},
-        {CODEGEN_IV_POW, 141, 106, 2},
-        {CODEGEN_IV_MUL, 141, 140, 141},
-        {CODEGEN_IV_POW, 105, 103, 3},
-        {CODEGEN_IV_MUL, 140, 96, 105},
-        {CODEGEN_IV_MUL, 142, 14, 140},
-        {CODEGEN_IV_MUL, 143, 13, 140},
-        {CODEGEN_IV_MUL, 144, 96, 122},
-        {CODEGEN_IV_MUL, 145, 122, 136},
-        {CODEGEN_IV_MUL, 147, 127, 15},
-        {CODEGEN_IV_MUL, 148, 140, 147},
-        {CODEGEN_IV_MUL, 149, 7, 91},
-        {CODEGEN_IV_MUL, 150, 96, 127},
-        {CODEGEN_IV_POW, 152, 103, 4},
-        {CODEGEN_IV_MUL, 153, 96, 108},
-        {CODEGEN_IV_MUL, 154, 152, 153},
-        {CODEGEN_IV_MUL, 155, 103, 141},
-        {CODEGEN_IV_MUL, 156, 7, 150},
-        {CODEGEN_IV_MUL, 116, 4, 153},
-        {CODEGEN_IV_CONST, 153, 2, 0},
-        {CODEGEN_IV_MUL, 153, 153, 144},
-        {CODEGEN_IV_MUL, 157, 18, 109},
-        {CODEGEN_IV_MUL, 113, 135, 97},
-        {CODEGEN_IV_MUL, 158, 96, 120},
-        {CODEGEN_IV_MUL, 159, 105, 158},
-        {CODEGEN_IV_MUL, 160, 158, 97},
-        {CODEGEN_IV_MUL, 161, 13, 117},
-        {CODEGEN_IV_MUL, 117, 135, 105},
-        {CODEGEN_IV_MUL, 105, 120, 144},
-        {CODEGEN_IV_CONST, 162, 3, 0},
-        {CODEGEN_IV_MUL, 162, 162, 139},
-        {CODEGEN_IV_MUL, 162, 162, 91},
-        {CODEGEN_IV_MUL, 163, 103, 135},
-        {CODEGEN_IV_MUL, 164, 122, 135},
-        {CODEGEN_IV_CONST, 122, 3, 0},
-        {CODEGEN_IV_MUL, 122, 122, 127},
-        {CODEGEN_IV_MUL, 122, 122, 149},
-        {CODEGEN_IV_CONST, 165, 0, 0},
-        {CODEGEN_IV_MUL, 165, 165, 164},
-        {CODEGEN_IV_MUL, 167, 0, 110},
-        {CODEGEN_IV_SUB, 167, 19, 167},
-        {CODEGEN_IV_MUL, 166, 20, 103},
-        {CODEGEN_IV_ADD, 166, 167, 166},
-        {CODEGEN_IV_MUL, 167, 21, 103},
-        {CODEGEN_IV_ADD, 167, 166, 167},
-        {CODEGEN_IV_MUL, 166, 110, 11},
-        {CODEGEN_IV_SUB, 168, 96, 98},
-        {CODEGEN_IV_MUL, 168, 166, 168},
-        {CODEGEN_IV_ADD, 166, 114, 108},
-        {CODEGEN_IV_SUB, 166, 166, 97},
-        {CODEGEN_IV_MUL, 166, 168, 166},
-        {CODEGEN_IV_DIV, 166, 166, 98},
-        {CODEGEN_IV_SUB, 166, 167, 166},
-        {CODEGEN_IV_MUL, 108, 93, 95},
-        {CODEGEN_IV_NEG, 108, 108, 0},
-        {CODEGEN_IV_MUL, 98, 94, 95},
-        {CODEGEN_IV_SUB, 98, 108, 98},
-        {CODEGEN_IV_MUL, 108, 0, 124},
-        {CODEGEN_IV_ADD, 114, 125, 128},
-        {CODEGEN_IV_SUB, 114, 114, 129},
-        {CODEGEN_IV_SUB, 114, 114, 99},
-        {CODEGEN_IV_ADD, 114, 114, 132},
-        {CODEGEN_IV_ADD, 114, 114, 133},
-        {CODEGEN_IV_SUB, 114, 114, 134},
-        {CODEGEN_IV_MUL, 114, 108, 114},
-        {CODEGEN_IV_ADD, 114, 98, 114},
-        {CODEGEN_IV_MUL, 98, 11, 124},
-        {CODEGEN_IV_MUL, 108, 4, 145},
-        {CODEGEN_IV_MUL, 110, 119, 142},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 119, 148},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_CONST, 110, 0, 0},
-        {CODEGEN_IV_MUL, 110, 110, 120},
-        {CODEGEN_IV_MUL, 110, 110, 145},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_CONST, 108, 0, 0},
-        {CODEGEN_IV_MUL, 108, 108, 123},
-        {CODEGEN_IV_MUL, 108, 108, 105},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 123, 165},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 125, 144},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 125, 116},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 125, 113},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 125, 160},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 128, 116},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 128, 153},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 128, 113},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 128, 160},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 129, 113},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 129, 160},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 130, 105},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 130, 164},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_CONST, 108, 2, 0},
-        {CODEGEN_IV_MUL, 108, 108, 99},
-        {CODEGEN_IV_MUL, 108, 108, 143},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 99, 113},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 99, 160},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 131, 165},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 132, 113},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 132, 160},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 133, 113},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 133, 160},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 134, 113},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 134, 160},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 135, 162},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_SQRT, 110, 107, 0},
-        {CODEGEN_IV_POW, 110, 110, 5},
-        {CODEGEN_IV_MUL, 110, 136, 110},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 138, 142},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_CONST, 110, 0, 0},
-        {CODEGEN_IV_MUL, 110, 110, 102},
-        {CODEGEN_IV_MUL, 110, 110, 141},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 141, 163},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 14, 159},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 14, 117},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 147, 159},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 147, 117},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_CONST, 110, 4, 0},
-        {CODEGEN_IV_MUL, 110, 110, 148},
-        {CODEGEN_IV_MUL, 110, 110, 91},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 149, 159},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 149, 117},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_CONST, 108, 4, 0},
-        {CODEGEN_IV_MUL, 108, 108, 155},
-        {CODEGEN_IV_MUL, 108, 108, 156},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 155, 158},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 158, 162},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 159, 161},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 161, 117},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 163, 122},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 22, 127},
-        {CODEGEN_IV_MUL, 108, 108, 154},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 103, 158},
-        {CODEGEN_IV_MUL, 110, 110, 122},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 23, 154},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 4, 118},
-        {CODEGEN_IV_MUL, 110, 110, 157},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 4, 138},
-        {CODEGEN_IV_MUL, 108, 108, 102},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 6, 125},
-        {CODEGEN_IV_MUL, 110, 110, 137},
-        {CODEGEN_IV_ADD, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 6, 136},
-        {CODEGEN_IV_MUL, 108, 108, 141},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 118, 130},
-        {CODEGEN_IV_MUL, 110, 110, 153},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 128, 137},
-        {CODEGEN_IV_MUL, 108, 108, 17},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 133, 17},
-        {CODEGEN_IV_MUL, 110, 110, 156},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 139, 144},
-        {CODEGEN_IV_MUL, 108, 108, 16},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 15, 152},
-        {CODEGEN_IV_MUL, 110, 110, 157},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_MUL, 108, 92, 143},
-        {CODEGEN_IV_MUL, 108, 108, 16},
-        {CODEGEN_IV_MUL, 108, 108, 109},
-        {CODEGEN_IV_ADD, 108, 110, 108},
-        {CODEGEN_IV_MUL, 110, 24, 118},
-        {CODEGEN_IV_MUL, 110, 110, 99},
-        {CODEGEN_IV_MUL, 110, 110, 97},
-        {CODEGEN_IV_SUB, 110, 108, 110},
-        {CODEGEN_IV_CONST, 108, 0, 0},
-        {CODEGEN_IV_MUL, 108, 108, 103},
-        {CODEGEN_IV_MUL, 108, 108, 4},
-        {CODEGEN_IV_MUL, 108, 108, 149},
-        {CODEGEN_IV_MUL, 108, 108, 150},
-        {CODEGEN_IV_SUB, 108, 110, 108},
-        {CODEGEN_IV_MUL, 108, 98, 108},
-        {CODEGEN_IV_DIV, 108, 108, 135},
-        {CODEGEN_IV_ADD, 108, 114, 108},
+        {CODEGEN_IV_COS, 119, 118, 0},
+        {CODEGEN_IV_SIN, 115, 118, 0},
+        {CODEGEN_IV_MUL, 118, 106, 115},
+        {CODEGEN_IV_SUB, 121, 1, 118},
+        {CODEGEN_IV_SUB, 122, 2, 118},
+        {CODEGEN_IV_MUL, 107, 121, 122},
+        {CODEGEN_IV_NEG, 123, 107, 0},
+        {CODEGEN_IV_SQRT, 124, 123, 0},
+        {CODEGEN_IV_MUL, 125, 115, 124},
+        {CODEGEN_IV_NEG, 126, 125, 0},
+        {CODEGEN_IV_MUL, 127, 108, 119},
+        {CODEGEN_IV_ADD, 127, 126, 127},
+        {CODEGEN_IV_MUL, 126, 119, 118},
+        {CODEGEN_IV_SUB, 126, 127, 126},
+        {CODEGEN_IV_DIV, 126, 126, 124},
+        {CODEGEN_IV_MUL, 130, 106, 119},
+        {CODEGEN_IV_POW, 133, 119, 2},
+        {CODEGEN_IV_MUL, 134, 7, 133},
+        {CODEGEN_IV_MUL, 135, 6, 124},
+        {CODEGEN_IV_ADD, 136, 8, 134},
+        {CODEGEN_IV_SUB, 136, 136, 135},
+        {CODEGEN_IV_ADD, 136, 136, 123},
+        {CODEGEN_IV_ADD, 137, 136, 9},
+        {CODEGEN_IV_SUB, 136, 137, 10},
+        {CODEGEN_IV_MUL, 137, 130, 6},
+        {CODEGEN_IV_SUB, 137, 136, 137},
+        {CODEGEN_IV_CONST, 136, 0, 0},
+        {CODEGEN_IV_MUL, 136, 136, 130},
+        {CODEGEN_IV_MUL, 136, 136, 124},
+        {CODEGEN_IV_ADD, 136, 137, 136},
+        {CODEGEN_IV_SQRT, 114, 136, 0},
+        {CODEGEN_IV_MUL, 111, 12, 118},
+        {CODEGEN_IV_SQRT, 138, 123, 0},
+        {CODEGEN_IV_POW, 138, 138, 3},
+        {CODEGEN_IV_CONST, 139, 1, 0},
+        {CODEGEN_IV_POW, 140, 138, 1},
+        {CODEGEN_IV_DIV, 140, 139, 140},
+        {CODEGEN_IV_MUL, 139, 106, 133},
+        {CODEGEN_IV_MUL, 141, 3, 139},
+        {CODEGEN_IV_POW, 143, 115, 2},
+        {CODEGEN_IV_MUL, 144, 133, 13},
+        {CODEGEN_IV_MUL, 144, 144, 143},
+        {CODEGEN_IV_MUL, 133, 5, 115},
+        {CODEGEN_IV_MUL, 145, 134, 133},
+        {CODEGEN_IV_MUL, 146, 108, 115},
+        {CODEGEN_IV_MUL, 115, 146, 107},
+        {CODEGEN_IV_MUL, 147, 106, 143},
+        {CODEGEN_IV_MUL, 148, 147, 107},
+        {CODEGEN_IV_MUL, 149, 119, 138},
+        {CODEGEN_IV_MUL, 150, 139, 107},
+        {CODEGEN_IV_SQRT, 151, 136, 0},
+        {CODEGEN_IV_POW, 151, 151, 3},
+        {CODEGEN_IV_MUL, 152, 112, 147},
+        {CODEGEN_IV_MUL, 153, 112, 107},
+        {CODEGEN_IV_CONST, 154, 0, 0},
+        {CODEGEN_IV_MUL, 154, 154, 107},
+        {CODEGEN_IV_MUL, 155, 108, 119},
+        {CODEGEN_IV_MUL, 155, 155, 118},
+        {CODEGEN_IV_MUL, 118, 112, 155},
+        {CODEGEN_IV_POW, 156, 121, 2},
+        {CODEGEN_IV_POW, 157, 122, 2},
+        {CODEGEN_IV_MUL, 157, 156, 157},
+        {CODEGEN_IV_POW, 121, 119, 3},
+        {CODEGEN_IV_MUL, 156, 112, 121},
+        {CODEGEN_IV_MUL, 158, 14, 156},
+        {CODEGEN_IV_MUL, 159, 13, 156},
+        {CODEGEN_IV_MUL, 160, 112, 138},
+        {CODEGEN_IV_MUL, 161, 138, 152},
+        {CODEGEN_IV_MUL, 163, 143, 15},
+        {CODEGEN_IV_MUL, 164, 156, 163},
+        {CODEGEN_IV_MUL, 165, 7, 107},
+        {CODEGEN_IV_MUL, 166, 112, 143},
+        {CODEGEN_IV_POW, 168, 119, 4},
+        {CODEGEN_IV_MUL, 169, 112, 124},
+        {CODEGEN_IV_MUL, 170, 168, 169},
+        {CODEGEN_IV_MUL, 171, 119, 157},
+        {CODEGEN_IV_MUL, 172, 7, 166},
+        {CODEGEN_IV_MUL, 132, 4, 169},
+        {CODEGEN_IV_CONST, 169, 2, 0},
+        {CODEGEN_IV_MUL, 169, 169, 160},
+        {CODEGEN_IV_MUL, 173, 18, 125},
+        {CODEGEN_IV_MUL, 129, 151, 113},
+        {CODEGEN_IV_MUL, 174, 112, 136},
+        {CODEGEN_IV_MUL, 175, 121, 174},
+        {CODEGEN_IV_MUL, 176, 174, 113},
+        {CODEGEN_IV_MUL, 177, 13, 133},
+        {CODEGEN_IV_MUL, 133, 151, 121},
+        {CODEGEN_IV_MUL, 121, 136, 160},
+        {CODEGEN_IV_CONST, 178, 3, 0},
+        {CODEGEN_IV_MUL, 178, 178, 155},
+        {CODEGEN_IV_MUL, 178, 178, 107},
+        {CODEGEN_IV_MUL, 179, 119, 151},
+        {CODEGEN_IV_MUL, 180, 138, 151},
+        {CODEGEN_IV_CONST, 138, 3, 0},
+        {CODEGEN_IV_MUL, 138, 138, 143},
+        {CODEGEN_IV_MUL, 138, 138, 165},
+        {CODEGEN_IV_CONST, 181, 0, 0},
+        {CODEGEN_IV_MUL, 181, 181, 180},
+        {CODEGEN_IV_MUL, 183, 0, 126},
+        {CODEGEN_IV_SUB, 183, 19, 183},
+        {CODEGEN_IV_MUL, 182, 20, 119},
+        {CODEGEN_IV_ADD, 182, 183, 182},
+        {CODEGEN_IV_MUL, 183, 21, 119},
+        {CODEGEN_IV_ADD, 183, 182, 183},
+        {CODEGEN_IV_MUL, 182, 126, 11},
+        {CODEGEN_IV_SUB, 184, 112, 114},
+        {CODEGEN_IV_MUL, 184, 182, 184},
+        {CODEGEN_IV_ADD, 182, 130, 124},
+        {CODEGEN_IV_SUB, 182, 182, 113},
+        {CODEGEN_IV_MUL, 182, 184, 182},
+        {CODEGEN_IV_DIV, 182, 182, 114},
+        {CODEGEN_IV_SUB, 182, 183, 182},
+        {CODEGEN_IV_MUL, 124, 109, 111},
+        {CODEGEN_IV_NEG, 124, 124, 0},
+        {CODEGEN_IV_MUL, 114, 110, 111},
+        {CODEGEN_IV_SUB, 114, 124, 114},
+        {CODEGEN_IV_MUL, 124, 0, 140},
+        {CODEGEN_IV_ADD, 130, 141, 144},
+        {CODEGEN_IV_SUB, 130, 130, 145},
+        {CODEGEN_IV_SUB, 130, 130, 115},
+        {CODEGEN_IV_ADD, 130, 130, 148},
+        {CODEGEN_IV_ADD, 130, 130, 149},
+        {CODEGEN_IV_SUB, 130, 130, 150},
+        {CODEGEN_IV_MUL, 130, 124, 130},
+        {CODEGEN_IV_ADD, 130, 114, 130},
+        {CODEGEN_IV_MUL, 114, 11, 140},
+        {CODEGEN_IV_MUL, 124, 4, 161},
+        {CODEGEN_IV_MUL, 126, 135, 158},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 135, 164},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_CONST, 126, 0, 0},
+        {CODEGEN_IV_MUL, 126, 126, 136},
+        {CODEGEN_IV_MUL, 126, 126, 161},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_CONST, 124, 0, 0},
+        {CODEGEN_IV_MUL, 124, 124, 139},
+        {CODEGEN_IV_MUL, 124, 124, 121},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 139, 181},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 141, 160},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 141, 132},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 141, 129},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 141, 176},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 144, 132},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 144, 169},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 144, 129},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 144, 176},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 145, 129},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 145, 176},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 146, 121},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 146, 180},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_CONST, 124, 2, 0},
+        {CODEGEN_IV_MUL, 124, 124, 115},
+        {CODEGEN_IV_MUL, 124, 124, 159},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 115, 129},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 115, 176},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 147, 181},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 148, 129},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 148, 176},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 149, 129},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 149, 176},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 150, 129},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 150, 176},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 151, 178},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_SQRT, 126, 123, 0},
+        {CODEGEN_IV_POW, 126, 126, 5},
+        {CODEGEN_IV_MUL, 126, 152, 126},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 154, 158},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_CONST, 126, 0, 0},
+        {CODEGEN_IV_MUL, 126, 126, 118},
+        {CODEGEN_IV_MUL, 126, 126, 157},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 157, 179},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 14, 175},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 14, 133},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 163, 175},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 163, 133},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_CONST, 126, 4, 0},
+        {CODEGEN_IV_MUL, 126, 126, 164},
+        {CODEGEN_IV_MUL, 126, 126, 107},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 165, 175},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 165, 133},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_CONST, 124, 4, 0},
+        {CODEGEN_IV_MUL, 124, 124, 171},
+        {CODEGEN_IV_MUL, 124, 124, 172},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 171, 174},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 174, 178},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 175, 177},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 177, 133},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 179, 138},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 22, 143},
+        {CODEGEN_IV_MUL, 124, 124, 170},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 119, 174},
+        {CODEGEN_IV_MUL, 126, 126, 138},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 23, 170},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 4, 134},
+        {CODEGEN_IV_MUL, 126, 126, 173},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 4, 154},
+        {CODEGEN_IV_MUL, 124, 124, 118},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 6, 141},
+        {CODEGEN_IV_MUL, 126, 126, 153},
+        {CODEGEN_IV_ADD, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 6, 152},
+        {CODEGEN_IV_MUL, 124, 124, 157},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 134, 146},
+        {CODEGEN_IV_MUL, 126, 126, 169},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 144, 153},
+        {CODEGEN_IV_MUL, 124, 124, 17},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 149, 17},
+        {CODEGEN_IV_MUL, 126, 126, 172},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 155, 160},
+        {CODEGEN_IV_MUL, 124, 124, 16},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 15, 168},
+        {CODEGEN_IV_MUL, 126, 126, 173},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_MUL, 124, 108, 159},
+        {CODEGEN_IV_MUL, 124, 124, 16},
+        {CODEGEN_IV_MUL, 124, 124, 125},
+        {CODEGEN_IV_ADD, 124, 126, 124},
+        {CODEGEN_IV_MUL, 126, 24, 134},
+        {CODEGEN_IV_MUL, 126, 126, 115},
+        {CODEGEN_IV_MUL, 126, 126, 113},
+        {CODEGEN_IV_SUB, 126, 124, 126},
+        {CODEGEN_IV_CONST, 124, 0, 0},
+        {CODEGEN_IV_MUL, 124, 124, 119},
+        {CODEGEN_IV_MUL, 124, 124, 4},
+        {CODEGEN_IV_MUL, 124, 124, 165},
+        {CODEGEN_IV_MUL, 124, 124, 166},
+        {CODEGEN_IV_SUB, 124, 126, 124},
+        {CODEGEN_IV_MUL, 124, 114, 124},
+        {CODEGEN_IV_DIV, 124, 124, 151},
+        {CODEGEN_IV_ADD, 124, 130, 124},
     };
     static const codegen_iv constants[5] = {
         {2, 2},
@@ -5225,16 +5225,16 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta,
         {3, 3},
         {4, 4}
     };
-    v[90] = codegen_iv_point(params->R);
-    v[92] = codegen_iv_point(params->e);
-    v[93] = codegen_iv_point(params->m_1);
-    v[94] = codegen_iv_point(params->m_2);
-    v[96] = codegen_iv_point(params->l_0);
-    v[97] = codegen_iv_point(params->x_S);
-    v[102] = theta;
+    v[106] = codegen_iv_point(params->R);
+    v[108] = codegen_iv_point(params->e);
+    v[109] = codegen_iv_point(params->m_1);
+    v[110] = codegen_iv_point(params->m_2);
+    v[112] = codegen_iv_point(params->l_0);
+    v[113] = codegen_iv_point(params->x_S);
+    v[118] = theta;
     codegen_iv_run(program, 283, constants, v, iv_flags);
-    *iv_g = v[166];
-    *iv_dg = v[108];
+    *iv_g = v[182];
+    *iv_dg = v[124];
 #else
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -5518,7 +5518,7 @@ static void enclose_mode_0(const slider_crank_params *params, codegen_iv theta,
 
 
 /* G alone on assembly mode 0, as above: for a point where only G's value is wanted.
- * At each theta, 46 instructions (as a program, over the slots v from 90); the 20 theta does not reach
+ * At each theta, 46 instructions (as a program, over the slots v from 106); the 20 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -5526,65 +5526,65 @@ static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv t
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[46] = {
-        {CODEGEN_IV_COS, 103, 102, 0},
-        {CODEGEN_IV_SIN, 104, 102, 0},
-        {CODEGEN_IV_MUL, 102, 90, 104},
-        {CODEGEN_IV_SUB, 105, 25, 102},
-        {CODEGEN_IV_SUB, 106, 26, 102},
-        {CODEGEN_IV_MUL, 106, 105, 106},
-        {CODEGEN_IV_NEG, 106, 106, 0},
-        {CODEGEN_IV_SQRT, 91, 106, 0},
-        {CODEGEN_IV_MUL, 105, 92, 103},
-        {CODEGEN_IV_MUL, 107, 103, 102},
-        {CODEGEN_IV_SUB, 107, 105, 107},
-        {CODEGEN_IV_MUL, 105, 104, 91},
-        {CODEGEN_IV_SUB, 105, 107, 105},
-        {CODEGEN_IV_MUL, 105, 90, 105},
-        {CODEGEN_IV_DIV, 105, 105, 91},
-        {CODEGEN_IV_MUL, 102, 90, 103},
-        {CODEGEN_IV_ADD, 107, 28, 106},
-        {CODEGEN_IV_ADD, 108, 107, 29},
-        {CODEGEN_IV_ADD, 107, 108, 30},
-        {CODEGEN_IV_POW, 109, 103, 2},
-        {CODEGEN_IV_MUL, 109, 31, 109},
-        {CODEGEN_IV_ADD, 109, 107, 109},
-        {CODEGEN_IV_SUB, 107, 109, 32},
-        {CODEGEN_IV_CONST, 109, 0, 0},
-        {CODEGEN_IV_MUL, 109, 109, 91},
-        {CODEGEN_IV_MUL, 109, 109, 102},
-        {CODEGEN_IV_ADD, 109, 107, 109},
-        {CODEGEN_IV_MUL, 107, 91, 27},
-        {CODEGEN_IV_SUB, 107, 109, 107},
-        {CODEGEN_IV_MUL, 109, 102, 27},
-        {CODEGEN_IV_SUB, 109, 107, 109},
-        {CODEGEN_IV_SQRT, 109, 109, 0},
-        {CODEGEN_IV_MUL, 104, 99, 105},
-        {CODEGEN_IV_SUB, 104, 33, 104},
-        {CODEGEN_IV_MUL, 98, 34, 103},
-        {CODEGEN_IV_ADD, 98, 104, 98},
-        {CODEGEN_IV_MUL, 104, 35, 103},
-        {CODEGEN_IV_ADD, 104, 98, 104},
-        {CODEGEN_IV_MUL, 98, 95, 105},
-        {CODEGEN_IV_SUB, 106, 96, 109},
-        {CODEGEN_IV_MUL, 106, 98, 106},
-        {CODEGEN_IV_ADD, 98, 91, 102},
-        {CODEGEN_IV_SUB, 98, 98, 97},
-        {CODEGEN_IV_MUL, 98, 106, 98},
-        {CODEGEN_IV_DIV, 98, 98, 109},
-        {CODEGEN_IV_SUB, 98, 104, 98},
+        {CODEGEN_IV_COS, 119, 118, 0},
+        {CODEGEN_IV_SIN, 120, 118, 0},
+        {CODEGEN_IV_MUL, 118, 106, 120},
+        {CODEGEN_IV_SUB, 121, 25, 118},
+        {CODEGEN_IV_SUB, 122, 26, 118},
+        {CODEGEN_IV_MUL, 122, 121, 122},
+        {CODEGEN_IV_NEG, 122, 122, 0},
+        {CODEGEN_IV_SQRT, 107, 122, 0},
+        {CODEGEN_IV_MUL, 121, 108, 119},
+        {CODEGEN_IV_MUL, 123, 119, 118},
+        {CODEGEN_IV_SUB, 123, 121, 123},
+        {CODEGEN_IV_MUL, 121, 120, 107},
+        {CODEGEN_IV_SUB, 121, 123, 121},
+        {CODEGEN_IV_MUL, 121, 106, 121},
+        {CODEGEN_IV_DIV, 121, 121, 107},
+        {CODEGEN_IV_MUL, 118, 106, 119},
+        {CODEGEN_IV_ADD, 123, 28, 122},
+        {CODEGEN_IV_ADD, 124, 123, 29},
+        {CODEGEN_IV_ADD, 123, 124, 30},
+        {CODEGEN_IV_POW, 125, 119, 2},
+        {CODEGEN_IV_MUL, 125, 31, 125},
+        {CODEGEN_IV_ADD, 125, 123, 125},
+        {CODEGEN_IV_SUB, 123, 125, 32},
+        {CODEGEN_IV_CONST, 125, 0, 0},
+        {CODEGEN_IV_MUL, 125, 125, 107},
+        {CODEGEN_IV_MUL, 125, 125, 118},
+        {CODEGEN_IV_ADD, 125, 123, 125},
+        {CODEGEN_IV_MUL, 123, 107, 27},
+        {CODEGEN_IV_SUB, 123, 125, 123},
+        {CODEGEN_IV_MUL, 125, 118, 27},
+        {CODEGEN_IV_SUB, 125, 123, 125},
+        {CODEGEN_IV_SQRT, 125, 125, 0},
+        {CODEGEN_IV_MUL, 120, 115, 121},
+        {CODEGEN_IV_SUB, 120, 33, 120},
+        {CODEGEN_IV_MUL, 114, 34, 119},
+        {CODEGEN_IV_ADD, 114, 120, 114},
+        {CODEGEN_IV_MUL, 120, 35, 119},
+        {CODEGEN_IV_ADD, 120, 114, 120},
+        {CODEGEN_IV_MUL, 114, 111, 121},
+        {CODEGEN_IV_SUB, 122, 112, 125},
+        {CODEGEN_IV_MUL, 122, 114, 122},
+        {CODEGEN_IV_ADD, 114, 107, 118},
+        {CODEGEN_IV_SUB, 114, 114, 113},
+        {CODEGEN_IV_MUL, 114, 122, 114},
+        {CODEGEN_IV_DIV, 114, 114, 125},
+        {CODEGEN_IV_SUB, 114, 120, 114},
     };
     static const codegen_iv constants[1] = {
         {2, 2}
     };
-    v[90] = codegen_iv_point(params->R);
-    v[92] = codegen_iv_point(params->e);
-    v[95] = codegen_iv_point(params->k);
-    v[96] = codegen_iv_point(params->l_0);
-    v[97] = codegen_iv_point(params->x_S);
-    v[99] = codegen_iv_point(params->F);
-    v[102] = theta;
+    v[106] = codegen_iv_point(params->R);
+    v[108] = codegen_iv_point(params->e);
+    v[111] = codegen_iv_point(params->k);
+    v[112] = codegen_iv_point(params->l_0);
+    v[113] = codegen_iv_point(params->x_S);
+    v[115] = codegen_iv_point(params->F);
+    v[118] = theta;
     codegen_iv_run(program, 46, constants, v, iv_flags);
-    *iv_g = v[98];
+    *iv_g = v[114];
 #else
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -5642,8 +5642,93 @@ static void enclose_value_mode_0(const slider_crank_params *params, codegen_iv t
 }
 
 
+/* The divisions and square roots of G on assembly mode 0 alone, for their flags: whether G is smooth over theta.
+ * At each theta, 31 instructions (as a program, over the slots v from 106); the 11 theta does not reach
+ * ran in prepare_enclosures. */
+static void enclose_smooth_mode_0(const slider_crank_params *params, codegen_iv theta,
+                           unsigned *iv_flags, codegen_iv *v)
+{
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[31] = {
+        {CODEGEN_IV_SIN, 112, 111, 0},
+        {CODEGEN_IV_MUL, 112, 106, 112},
+        {CODEGEN_IV_SUB, 113, 36, 112},
+        {CODEGEN_IV_SUB, 114, 37, 112},
+        {CODEGEN_IV_MUL, 114, 113, 114},
+        {CODEGEN_IV_NEG, 114, 114, 0},
+        {CODEGEN_IV_SQRT, 112, 114, 0},
+        {CODEGEN_IV_COS, 113, 111, 0},
+        {CODEGEN_IV_MUL, 111, 106, 113},
+        {CODEGEN_IV_ADD, 115, 39, 114},
+        {CODEGEN_IV_ADD, 116, 115, 40},
+        {CODEGEN_IV_ADD, 115, 116, 41},
+        {CODEGEN_IV_POW, 117, 113, 2},
+        {CODEGEN_IV_MUL, 117, 42, 117},
+        {CODEGEN_IV_ADD, 117, 115, 117},
+        {CODEGEN_IV_SUB, 115, 117, 43},
+        {CODEGEN_IV_MUL, 117, 112, 38},
+        {CODEGEN_IV_SUB, 117, 115, 117},
+        {CODEGEN_IV_CONST, 115, 0, 0},
+        {CODEGEN_IV_MUL, 115, 115, 112},
+        {CODEGEN_IV_MUL, 115, 115, 111},
+        {CODEGEN_IV_ADD, 115, 117, 115},
+        {CODEGEN_IV_MUL, 117, 38, 111},
+        {CODEGEN_IV_SUB, 117, 115, 117},
+        {CODEGEN_IV_SQRT, 117, 117, 0},
+        {CODEGEN_IV_CONST, 110, 1, 0},
+        {CODEGEN_IV_POW, 109, 112, 1},
+        {CODEGEN_IV_DIV, 109, 110, 109},
+        {CODEGEN_IV_CONST, 110, 1, 0},
+        {CODEGEN_IV_POW, 111, 117, 1},
+        {CODEGEN_IV_DIV, 111, 110, 111},
+    };
+    static const codegen_iv constants[2] = {
+        {2, 2},
+        {1, 1}
+    };
+    v[106] = codegen_iv_point(params->R);
+    v[111] = theta;
+    codegen_iv_run(program, 31, constants, v, iv_flags);
+#else
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv tmp0 = codegen_iv_sin(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp2 = codegen_iv_sub(v[36], tmp1);
+    const codegen_iv tmp3 = codegen_iv_sub(v[37], tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(tmp2, tmp3);
+    const codegen_iv tmp5 = codegen_iv_neg(tmp4);
+    const codegen_iv tmp6 = codegen_iv_sqrt(tmp5, iv_flags);
+    const codegen_iv tmp7 = codegen_iv_cos(theta);
+    const codegen_iv tmp8 = codegen_iv_mul(R, tmp7);
+    const codegen_iv tmp9 = codegen_iv_add(v[39], tmp5);
+    const codegen_iv tmp10 = codegen_iv_add(tmp9, v[40]);
+    const codegen_iv tmp11 = codegen_iv_add(tmp10, v[41]);
+    const codegen_iv tmp12 = codegen_iv_pow(tmp7, 2);
+    const codegen_iv tmp13 = codegen_iv_mul(v[42], tmp12);
+    const codegen_iv tmp14 = codegen_iv_add(tmp11, tmp13);
+    const codegen_iv tmp15 = codegen_iv_sub(tmp14, v[43]);
+    const codegen_iv tmp16 = codegen_iv_mul(tmp6, v[38]);
+    const codegen_iv tmp17 = codegen_iv_sub(tmp15, tmp16);
+    const codegen_iv tmp19 = codegen_iv_mul(codegen_iv_point(2), tmp6);
+    const codegen_iv tmp20 = codegen_iv_mul(tmp19, tmp8);
+    const codegen_iv tmp21 = codegen_iv_add(tmp17, tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(v[38], tmp8);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp21, tmp22);
+    const codegen_iv tmp24 = codegen_iv_sqrt(tmp23, iv_flags);
+    const codegen_iv tmp26 = codegen_iv_pow(tmp6, 1);
+    const codegen_iv tmp27 = codegen_iv_div(codegen_iv_point(1), tmp26, iv_flags);
+    const codegen_iv tmp29 = codegen_iv_pow(tmp24, 1);
+    const codegen_iv tmp30 = codegen_iv_div(codegen_iv_point(1), tmp29, iv_flags);
+    (void)tmp27;
+    (void)tmp6;
+    (void)tmp30;
+    (void)tmp24;
+#endif
+}
+
+
 /* G (eq. -) and its slope G' on assembly mode 1 (root 0 negative), enclosed in outward-rounded interval arithmetic.
- * At each theta, 357 instructions (as a program, over the slots v from 90); the 84 theta does not reach
+ * At each theta, 357 instructions (as a program, over the slots v from 106); the 84 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -5652,363 +5737,363 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[357] = {
-        {CODEGEN_IV_COS, 103, 102, 0},
-        {CODEGEN_IV_MUL, 104, 90, 103},
-        {CODEGEN_IV_MUL, 101, 104, 36},
-        {CODEGEN_IV_SIN, 99, 102, 0},
-        {CODEGEN_IV_MUL, 102, 90, 99},
-        {CODEGEN_IV_SUB, 107, 38, 102},
-        {CODEGEN_IV_SUB, 108, 39, 102},
-        {CODEGEN_IV_MUL, 91, 107, 108},
-        {CODEGEN_IV_NEG, 109, 91, 0},
-        {CODEGEN_IV_SQRT, 110, 109, 0},
-        {CODEGEN_IV_MUL, 111, 92, 103},
-        {CODEGEN_IV_MUL, 112, 110, 99},
-        {CODEGEN_IV_ADD, 113, 111, 112},
-        {CODEGEN_IV_MUL, 114, 103, 102},
-        {CODEGEN_IV_SUB, 114, 113, 114},
-        {CODEGEN_IV_DIV, 114, 114, 110},
-        {CODEGEN_IV_POW, 119, 103, 2},
-        {CODEGEN_IV_MUL, 120, 44, 119},
-        {CODEGEN_IV_ADD, 121, 109, 40},
-        {CODEGEN_IV_ADD, 121, 121, 41},
-        {CODEGEN_IV_ADD, 121, 121, 120},
-        {CODEGEN_IV_ADD, 122, 121, 45},
-        {CODEGEN_IV_CONST, 121, 0, 0},
-        {CODEGEN_IV_MUL, 121, 121, 104},
-        {CODEGEN_IV_MUL, 121, 121, 110},
-        {CODEGEN_IV_SUB, 121, 122, 121},
-        {CODEGEN_IV_MUL, 122, 104, 43},
-        {CODEGEN_IV_SUB, 122, 121, 122},
-        {CODEGEN_IV_MUL, 121, 110, 43},
-        {CODEGEN_IV_ADD, 121, 122, 121},
-        {CODEGEN_IV_SUB, 122, 121, 46},
-        {CODEGEN_IV_SQRT, 98, 122, 0},
-        {CODEGEN_IV_MUL, 95, 36, 102},
-        {CODEGEN_IV_SQRT, 105, 109, 0},
-        {CODEGEN_IV_POW, 105, 105, 3},
-        {CODEGEN_IV_CONST, 121, 1, 0},
-        {CODEGEN_IV_POW, 123, 105, 1},
-        {CODEGEN_IV_DIV, 123, 121, 123},
-        {CODEGEN_IV_MUL, 121, 42, 99},
-        {CODEGEN_IV_MUL, 116, 120, 121},
-        {CODEGEN_IV_POW, 125, 99, 2},
-        {CODEGEN_IV_MUL, 126, 92, 99},
-        {CODEGEN_IV_MUL, 127, 126, 91},
-        {CODEGEN_IV_MUL, 128, 90, 119},
-        {CODEGEN_IV_MUL, 129, 128, 91},
-        {CODEGEN_IV_MUL, 130, 103, 105},
-        {CODEGEN_IV_SQRT, 131, 122, 0},
-        {CODEGEN_IV_POW, 131, 131, 3},
-        {CODEGEN_IV_MUL, 132, 90, 125},
-        {CODEGEN_IV_MUL, 133, 96, 132},
-        {CODEGEN_IV_POW, 134, 107, 2},
-        {CODEGEN_IV_POW, 135, 108, 2},
-        {CODEGEN_IV_MUL, 136, 134, 135},
-        {CODEGEN_IV_POW, 138, 103, 3},
-        {CODEGEN_IV_MUL, 139, 96, 138},
-        {CODEGEN_IV_MUL, 140, 139, 91},
-        {CODEGEN_IV_MUL, 141, 111, 102},
-        {CODEGEN_IV_MUL, 111, 40, 128},
-        {CODEGEN_IV_MUL, 142, 96, 105},
-        {CODEGEN_IV_MUL, 144, 125, 51},
-        {CODEGEN_IV_MUL, 146, 44, 91},
-        {CODEGEN_IV_MUL, 147, 125, 146},
-        {CODEGEN_IV_POW, 148, 103, 4},
-        {CODEGEN_IV_MUL, 149, 96, 110},
-        {CODEGEN_IV_MUL, 150, 148, 149},
-        {CODEGEN_IV_MUL, 151, 41, 149},
-        {CODEGEN_IV_MUL, 149, 119, 48},
-        {CODEGEN_IV_MUL, 149, 149, 125},
-        {CODEGEN_IV_MUL, 152, 96, 122},
-        {CODEGEN_IV_MUL, 153, 152, 97},
-        {CODEGEN_IV_MUL, 154, 131, 138},
-        {CODEGEN_IV_MUL, 155, 138, 152},
-        {CODEGEN_IV_MUL, 156, 131, 97},
-        {CODEGEN_IV_MUL, 157, 103, 131},
-        {CODEGEN_IV_MUL, 158, 105, 152},
-        {CODEGEN_IV_MUL, 160, 93, 101},
-        {CODEGEN_IV_ADD, 160, 53, 160},
-        {CODEGEN_IV_MUL, 159, 94, 101},
-        {CODEGEN_IV_ADD, 159, 160, 159},
-        {CODEGEN_IV_MUL, 160, 114, 37},
-        {CODEGEN_IV_ADD, 160, 159, 160},
-        {CODEGEN_IV_MUL, 159, 114, 47},
-        {CODEGEN_IV_SUB, 161, 96, 98},
-        {CODEGEN_IV_MUL, 161, 159, 161},
-        {CODEGEN_IV_NEG, 159, 110, 0},
-        {CODEGEN_IV_SUB, 159, 159, 97},
-        {CODEGEN_IV_MUL, 162, 90, 103},
-        {CODEGEN_IV_ADD, 162, 159, 162},
-        {CODEGEN_IV_MUL, 162, 161, 162},
-        {CODEGEN_IV_DIV, 162, 162, 98},
-        {CODEGEN_IV_ADD, 162, 160, 162},
-        {CODEGEN_IV_MUL, 101, 93, 95},
-        {CODEGEN_IV_NEG, 101, 101, 0},
-        {CODEGEN_IV_MUL, 98, 94, 95},
-        {CODEGEN_IV_SUB, 98, 101, 98},
-        {CODEGEN_IV_MUL, 101, 123, 37},
-        {CODEGEN_IV_NEG, 114, 116, 0},
-        {CODEGEN_IV_SUB, 114, 114, 127},
-        {CODEGEN_IV_SUB, 114, 114, 129},
-        {CODEGEN_IV_SUB, 114, 114, 130},
-        {CODEGEN_IV_MUL, 100, 54, 119},
-        {CODEGEN_IV_ADD, 100, 114, 100},
-        {CODEGEN_IV_MUL, 114, 119, 48},
-        {CODEGEN_IV_MUL, 114, 114, 125},
-        {CODEGEN_IV_ADD, 114, 100, 114},
-        {CODEGEN_IV_MUL, 100, 90, 125},
-        {CODEGEN_IV_MUL, 100, 100, 107},
-        {CODEGEN_IV_MUL, 100, 100, 108},
-        {CODEGEN_IV_ADD, 100, 114, 100},
-        {CODEGEN_IV_MUL, 100, 101, 100},
-        {CODEGEN_IV_SUB, 100, 98, 100},
-        {CODEGEN_IV_MUL, 98, 47, 123},
-        {CODEGEN_IV_SQRT, 101, 109, 0},
-        {CODEGEN_IV_POW, 101, 101, 5},
-        {CODEGEN_IV_MUL, 101, 101, 133},
-        {CODEGEN_IV_NEG, 101, 101, 0},
-        {CODEGEN_IV_MUL, 114, 116, 156},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 126, 158},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 127, 156},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_CONST, 101, 0, 0},
-        {CODEGEN_IV_MUL, 101, 101, 128},
-        {CODEGEN_IV_MUL, 101, 101, 158},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 129, 156},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 130, 156},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 136, 157},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 55, 140},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 49, 154},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_CONST, 101, 2, 0},
-        {CODEGEN_IV_MUL, 101, 101, 140},
-        {CODEGEN_IV_MUL, 101, 101, 144},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 111, 142},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 111, 151},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 111, 153},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_CONST, 101, 3, 0},
-        {CODEGEN_IV_MUL, 101, 101, 142},
-        {CODEGEN_IV_MUL, 101, 101, 149},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 144, 154},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 146, 155},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_CONST, 114, 4, 0},
-        {CODEGEN_IV_MUL, 114, 114, 147},
-        {CODEGEN_IV_MUL, 114, 114, 157},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 151, 149},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 149, 153},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 56, 125},
-        {CODEGEN_IV_MUL, 101, 101, 150},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 57, 150},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 41, 105},
-        {CODEGEN_IV_MUL, 101, 101, 133},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 43, 133},
-        {CODEGEN_IV_MUL, 114, 114, 136},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_CONST, 101, 0, 0},
-        {CODEGEN_IV_MUL, 101, 101, 105},
-        {CODEGEN_IV_MUL, 101, 101, 131},
-        {CODEGEN_IV_MUL, 101, 101, 132},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 121, 48},
-        {CODEGEN_IV_MUL, 114, 114, 155},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 132, 153},
-        {CODEGEN_IV_MUL, 101, 101, 91},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 136, 141},
-        {CODEGEN_IV_MUL, 114, 114, 50},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 141, 142},
-        {CODEGEN_IV_MUL, 101, 101, 52},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_CONST, 114, 4, 0},
-        {CODEGEN_IV_MUL, 114, 114, 141},
-        {CODEGEN_IV_MUL, 114, 114, 152},
-        {CODEGEN_IV_MUL, 114, 114, 91},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 58, 119},
-        {CODEGEN_IV_MUL, 101, 101, 105},
-        {CODEGEN_IV_MUL, 101, 101, 131},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 92, 105},
-        {CODEGEN_IV_MUL, 114, 114, 131},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 59, 120},
-        {CODEGEN_IV_MUL, 101, 101, 127},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 103, 41},
-        {CODEGEN_IV_MUL, 114, 114, 50},
-        {CODEGEN_IV_MUL, 114, 114, 147},
-        {CODEGEN_IV_SUB, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 60, 122},
-        {CODEGEN_IV_MUL, 101, 101, 105},
-        {CODEGEN_IV_MUL, 101, 101, 125},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 61, 119},
-        {CODEGEN_IV_MUL, 114, 114, 131},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 92, 112},
-        {CODEGEN_IV_MUL, 101, 101, 48},
-        {CODEGEN_IV_MUL, 101, 101, 139},
-        {CODEGEN_IV_MUL, 101, 101, 52},
-        {CODEGEN_IV_SUB, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 62, 131},
-        {CODEGEN_IV_MUL, 114, 114, 138},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 96, 103},
-        {CODEGEN_IV_MUL, 101, 101, 122},
-        {CODEGEN_IV_MUL, 101, 101, 105},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 96, 103},
-        {CODEGEN_IV_MUL, 114, 114, 122},
-        {CODEGEN_IV_MUL, 114, 114, 134},
-        {CODEGEN_IV_MUL, 114, 114, 135},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 63, 122},
-        {CODEGEN_IV_MUL, 101, 101, 138},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 96, 122},
-        {CODEGEN_IV_MUL, 114, 114, 125},
-        {CODEGEN_IV_MUL, 114, 114, 138},
-        {CODEGEN_IV_MUL, 114, 114, 51},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 44, 131},
-        {CODEGEN_IV_MUL, 101, 101, 138},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 119, 48},
-        {CODEGEN_IV_MUL, 114, 114, 125},
-        {CODEGEN_IV_MUL, 114, 114, 131},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 90, 125},
-        {CODEGEN_IV_MUL, 101, 101, 131},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 64, 110},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_MUL, 114, 114, 51},
-        {CODEGEN_IV_MUL, 114, 114, 148},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 65, 119},
-        {CODEGEN_IV_MUL, 101, 101, 105},
-        {CODEGEN_IV_MUL, 101, 101, 99},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 66, 103},
-        {CODEGEN_IV_MUL, 114, 114, 44},
-        {CODEGEN_IV_MUL, 114, 114, 105},
-        {CODEGEN_IV_MUL, 114, 114, 125},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 67, 103},
-        {CODEGEN_IV_MUL, 101, 101, 44},
-        {CODEGEN_IV_MUL, 101, 101, 125},
-        {CODEGEN_IV_MUL, 101, 101, 134},
-        {CODEGEN_IV_MUL, 101, 101, 135},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 68, 110},
-        {CODEGEN_IV_MUL, 114, 114, 40},
-        {CODEGEN_IV_MUL, 114, 114, 44},
-        {CODEGEN_IV_MUL, 114, 114, 138},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 69, 110},
-        {CODEGEN_IV_MUL, 101, 101, 125},
-        {CODEGEN_IV_MUL, 101, 101, 138},
-        {CODEGEN_IV_MUL, 101, 101, 51},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 70, 103},
-        {CODEGEN_IV_MUL, 114, 114, 131},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_MUL, 114, 114, 107},
-        {CODEGEN_IV_MUL, 114, 114, 108},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 71, 119},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 72, 119},
-        {CODEGEN_IV_MUL, 114, 114, 122},
-        {CODEGEN_IV_MUL, 114, 114, 107},
-        {CODEGEN_IV_MUL, 114, 114, 108},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 73, 110},
-        {CODEGEN_IV_MUL, 101, 101, 41},
-        {CODEGEN_IV_MUL, 101, 101, 44},
-        {CODEGEN_IV_MUL, 101, 101, 119},
-        {CODEGEN_IV_MUL, 101, 101, 99},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 74, 119},
-        {CODEGEN_IV_MUL, 114, 114, 122},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 75, 122},
-        {CODEGEN_IV_MUL, 101, 101, 99},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_MUL, 101, 101, 97},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 76, 138},
-        {CODEGEN_IV_MUL, 114, 114, 99},
-        {CODEGEN_IV_MUL, 114, 114, 107},
-        {CODEGEN_IV_MUL, 114, 114, 108},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 77, 103},
-        {CODEGEN_IV_MUL, 101, 101, 44},
-        {CODEGEN_IV_MUL, 101, 101, 122},
-        {CODEGEN_IV_MUL, 101, 101, 125},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 114, 78, 119},
-        {CODEGEN_IV_MUL, 114, 114, 48},
-        {CODEGEN_IV_MUL, 114, 114, 125},
-        {CODEGEN_IV_MUL, 114, 114, 107},
-        {CODEGEN_IV_MUL, 114, 114, 108},
-        {CODEGEN_IV_MUL, 114, 114, 97},
-        {CODEGEN_IV_ADD, 114, 101, 114},
-        {CODEGEN_IV_MUL, 101, 79, 103},
-        {CODEGEN_IV_MUL, 101, 101, 41},
-        {CODEGEN_IV_MUL, 101, 101, 99},
-        {CODEGEN_IV_MUL, 101, 101, 107},
-        {CODEGEN_IV_MUL, 101, 101, 108},
-        {CODEGEN_IV_ADD, 101, 114, 101},
-        {CODEGEN_IV_MUL, 101, 98, 101},
-        {CODEGEN_IV_DIV, 101, 101, 131},
-        {CODEGEN_IV_SUB, 101, 100, 101},
+        {CODEGEN_IV_COS, 119, 118, 0},
+        {CODEGEN_IV_MUL, 120, 106, 119},
+        {CODEGEN_IV_MUL, 117, 120, 44},
+        {CODEGEN_IV_SIN, 115, 118, 0},
+        {CODEGEN_IV_MUL, 118, 106, 115},
+        {CODEGEN_IV_SUB, 123, 46, 118},
+        {CODEGEN_IV_SUB, 124, 47, 118},
+        {CODEGEN_IV_MUL, 107, 123, 124},
+        {CODEGEN_IV_NEG, 125, 107, 0},
+        {CODEGEN_IV_SQRT, 126, 125, 0},
+        {CODEGEN_IV_MUL, 127, 108, 119},
+        {CODEGEN_IV_MUL, 128, 126, 115},
+        {CODEGEN_IV_ADD, 129, 127, 128},
+        {CODEGEN_IV_MUL, 130, 119, 118},
+        {CODEGEN_IV_SUB, 130, 129, 130},
+        {CODEGEN_IV_DIV, 130, 130, 126},
+        {CODEGEN_IV_POW, 135, 119, 2},
+        {CODEGEN_IV_MUL, 136, 52, 135},
+        {CODEGEN_IV_ADD, 137, 125, 48},
+        {CODEGEN_IV_ADD, 137, 137, 49},
+        {CODEGEN_IV_ADD, 137, 137, 136},
+        {CODEGEN_IV_ADD, 138, 137, 53},
+        {CODEGEN_IV_CONST, 137, 0, 0},
+        {CODEGEN_IV_MUL, 137, 137, 120},
+        {CODEGEN_IV_MUL, 137, 137, 126},
+        {CODEGEN_IV_SUB, 137, 138, 137},
+        {CODEGEN_IV_MUL, 138, 120, 51},
+        {CODEGEN_IV_SUB, 138, 137, 138},
+        {CODEGEN_IV_MUL, 137, 126, 51},
+        {CODEGEN_IV_ADD, 137, 138, 137},
+        {CODEGEN_IV_SUB, 138, 137, 54},
+        {CODEGEN_IV_SQRT, 114, 138, 0},
+        {CODEGEN_IV_MUL, 111, 44, 118},
+        {CODEGEN_IV_SQRT, 121, 125, 0},
+        {CODEGEN_IV_POW, 121, 121, 3},
+        {CODEGEN_IV_CONST, 137, 1, 0},
+        {CODEGEN_IV_POW, 139, 121, 1},
+        {CODEGEN_IV_DIV, 139, 137, 139},
+        {CODEGEN_IV_MUL, 137, 50, 115},
+        {CODEGEN_IV_MUL, 132, 136, 137},
+        {CODEGEN_IV_POW, 141, 115, 2},
+        {CODEGEN_IV_MUL, 142, 108, 115},
+        {CODEGEN_IV_MUL, 143, 142, 107},
+        {CODEGEN_IV_MUL, 144, 106, 135},
+        {CODEGEN_IV_MUL, 145, 144, 107},
+        {CODEGEN_IV_MUL, 146, 119, 121},
+        {CODEGEN_IV_SQRT, 147, 138, 0},
+        {CODEGEN_IV_POW, 147, 147, 3},
+        {CODEGEN_IV_MUL, 148, 106, 141},
+        {CODEGEN_IV_MUL, 149, 112, 148},
+        {CODEGEN_IV_POW, 150, 123, 2},
+        {CODEGEN_IV_POW, 151, 124, 2},
+        {CODEGEN_IV_MUL, 152, 150, 151},
+        {CODEGEN_IV_POW, 154, 119, 3},
+        {CODEGEN_IV_MUL, 155, 112, 154},
+        {CODEGEN_IV_MUL, 156, 155, 107},
+        {CODEGEN_IV_MUL, 157, 127, 118},
+        {CODEGEN_IV_MUL, 127, 48, 144},
+        {CODEGEN_IV_MUL, 158, 112, 121},
+        {CODEGEN_IV_MUL, 160, 141, 59},
+        {CODEGEN_IV_MUL, 162, 52, 107},
+        {CODEGEN_IV_MUL, 163, 141, 162},
+        {CODEGEN_IV_POW, 164, 119, 4},
+        {CODEGEN_IV_MUL, 165, 112, 126},
+        {CODEGEN_IV_MUL, 166, 164, 165},
+        {CODEGEN_IV_MUL, 167, 49, 165},
+        {CODEGEN_IV_MUL, 165, 135, 56},
+        {CODEGEN_IV_MUL, 165, 165, 141},
+        {CODEGEN_IV_MUL, 168, 112, 138},
+        {CODEGEN_IV_MUL, 169, 168, 113},
+        {CODEGEN_IV_MUL, 170, 147, 154},
+        {CODEGEN_IV_MUL, 171, 154, 168},
+        {CODEGEN_IV_MUL, 172, 147, 113},
+        {CODEGEN_IV_MUL, 173, 119, 147},
+        {CODEGEN_IV_MUL, 174, 121, 168},
+        {CODEGEN_IV_MUL, 176, 109, 117},
+        {CODEGEN_IV_ADD, 176, 61, 176},
+        {CODEGEN_IV_MUL, 175, 110, 117},
+        {CODEGEN_IV_ADD, 175, 176, 175},
+        {CODEGEN_IV_MUL, 176, 130, 45},
+        {CODEGEN_IV_ADD, 176, 175, 176},
+        {CODEGEN_IV_MUL, 175, 130, 55},
+        {CODEGEN_IV_SUB, 177, 112, 114},
+        {CODEGEN_IV_MUL, 177, 175, 177},
+        {CODEGEN_IV_NEG, 175, 126, 0},
+        {CODEGEN_IV_SUB, 175, 175, 113},
+        {CODEGEN_IV_MUL, 178, 106, 119},
+        {CODEGEN_IV_ADD, 178, 175, 178},
+        {CODEGEN_IV_MUL, 178, 177, 178},
+        {CODEGEN_IV_DIV, 178, 178, 114},
+        {CODEGEN_IV_ADD, 178, 176, 178},
+        {CODEGEN_IV_MUL, 117, 109, 111},
+        {CODEGEN_IV_NEG, 117, 117, 0},
+        {CODEGEN_IV_MUL, 114, 110, 111},
+        {CODEGEN_IV_SUB, 114, 117, 114},
+        {CODEGEN_IV_MUL, 117, 139, 45},
+        {CODEGEN_IV_NEG, 130, 132, 0},
+        {CODEGEN_IV_SUB, 130, 130, 143},
+        {CODEGEN_IV_SUB, 130, 130, 145},
+        {CODEGEN_IV_SUB, 130, 130, 146},
+        {CODEGEN_IV_MUL, 116, 62, 135},
+        {CODEGEN_IV_ADD, 116, 130, 116},
+        {CODEGEN_IV_MUL, 130, 135, 56},
+        {CODEGEN_IV_MUL, 130, 130, 141},
+        {CODEGEN_IV_ADD, 130, 116, 130},
+        {CODEGEN_IV_MUL, 116, 106, 141},
+        {CODEGEN_IV_MUL, 116, 116, 123},
+        {CODEGEN_IV_MUL, 116, 116, 124},
+        {CODEGEN_IV_ADD, 116, 130, 116},
+        {CODEGEN_IV_MUL, 116, 117, 116},
+        {CODEGEN_IV_SUB, 116, 114, 116},
+        {CODEGEN_IV_MUL, 114, 55, 139},
+        {CODEGEN_IV_SQRT, 117, 125, 0},
+        {CODEGEN_IV_POW, 117, 117, 5},
+        {CODEGEN_IV_MUL, 117, 117, 149},
+        {CODEGEN_IV_NEG, 117, 117, 0},
+        {CODEGEN_IV_MUL, 130, 132, 172},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 142, 174},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 143, 172},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_CONST, 117, 0, 0},
+        {CODEGEN_IV_MUL, 117, 117, 144},
+        {CODEGEN_IV_MUL, 117, 117, 174},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 145, 172},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 146, 172},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 152, 173},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 63, 156},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 57, 170},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_CONST, 117, 2, 0},
+        {CODEGEN_IV_MUL, 117, 117, 156},
+        {CODEGEN_IV_MUL, 117, 117, 160},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 127, 158},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 127, 167},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 127, 169},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_CONST, 117, 3, 0},
+        {CODEGEN_IV_MUL, 117, 117, 158},
+        {CODEGEN_IV_MUL, 117, 117, 165},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 160, 170},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 162, 171},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_CONST, 130, 4, 0},
+        {CODEGEN_IV_MUL, 130, 130, 163},
+        {CODEGEN_IV_MUL, 130, 130, 173},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 167, 165},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 165, 169},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 64, 141},
+        {CODEGEN_IV_MUL, 117, 117, 166},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 65, 166},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 49, 121},
+        {CODEGEN_IV_MUL, 117, 117, 149},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 51, 149},
+        {CODEGEN_IV_MUL, 130, 130, 152},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_CONST, 117, 0, 0},
+        {CODEGEN_IV_MUL, 117, 117, 121},
+        {CODEGEN_IV_MUL, 117, 117, 147},
+        {CODEGEN_IV_MUL, 117, 117, 148},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 137, 56},
+        {CODEGEN_IV_MUL, 130, 130, 171},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 148, 169},
+        {CODEGEN_IV_MUL, 117, 117, 107},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 152, 157},
+        {CODEGEN_IV_MUL, 130, 130, 58},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 157, 158},
+        {CODEGEN_IV_MUL, 117, 117, 60},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_CONST, 130, 4, 0},
+        {CODEGEN_IV_MUL, 130, 130, 157},
+        {CODEGEN_IV_MUL, 130, 130, 168},
+        {CODEGEN_IV_MUL, 130, 130, 107},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 66, 135},
+        {CODEGEN_IV_MUL, 117, 117, 121},
+        {CODEGEN_IV_MUL, 117, 117, 147},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 108, 121},
+        {CODEGEN_IV_MUL, 130, 130, 147},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 67, 136},
+        {CODEGEN_IV_MUL, 117, 117, 143},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 119, 49},
+        {CODEGEN_IV_MUL, 130, 130, 58},
+        {CODEGEN_IV_MUL, 130, 130, 163},
+        {CODEGEN_IV_SUB, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 68, 138},
+        {CODEGEN_IV_MUL, 117, 117, 121},
+        {CODEGEN_IV_MUL, 117, 117, 141},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 69, 135},
+        {CODEGEN_IV_MUL, 130, 130, 147},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 108, 128},
+        {CODEGEN_IV_MUL, 117, 117, 56},
+        {CODEGEN_IV_MUL, 117, 117, 155},
+        {CODEGEN_IV_MUL, 117, 117, 60},
+        {CODEGEN_IV_SUB, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 70, 147},
+        {CODEGEN_IV_MUL, 130, 130, 154},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 112, 119},
+        {CODEGEN_IV_MUL, 117, 117, 138},
+        {CODEGEN_IV_MUL, 117, 117, 121},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 112, 119},
+        {CODEGEN_IV_MUL, 130, 130, 138},
+        {CODEGEN_IV_MUL, 130, 130, 150},
+        {CODEGEN_IV_MUL, 130, 130, 151},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 71, 138},
+        {CODEGEN_IV_MUL, 117, 117, 154},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 112, 138},
+        {CODEGEN_IV_MUL, 130, 130, 141},
+        {CODEGEN_IV_MUL, 130, 130, 154},
+        {CODEGEN_IV_MUL, 130, 130, 59},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 52, 147},
+        {CODEGEN_IV_MUL, 117, 117, 154},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 135, 56},
+        {CODEGEN_IV_MUL, 130, 130, 141},
+        {CODEGEN_IV_MUL, 130, 130, 147},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 106, 141},
+        {CODEGEN_IV_MUL, 117, 117, 147},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 72, 126},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_MUL, 130, 130, 59},
+        {CODEGEN_IV_MUL, 130, 130, 164},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 73, 135},
+        {CODEGEN_IV_MUL, 117, 117, 121},
+        {CODEGEN_IV_MUL, 117, 117, 115},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 74, 119},
+        {CODEGEN_IV_MUL, 130, 130, 52},
+        {CODEGEN_IV_MUL, 130, 130, 121},
+        {CODEGEN_IV_MUL, 130, 130, 141},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 75, 119},
+        {CODEGEN_IV_MUL, 117, 117, 52},
+        {CODEGEN_IV_MUL, 117, 117, 141},
+        {CODEGEN_IV_MUL, 117, 117, 150},
+        {CODEGEN_IV_MUL, 117, 117, 151},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 76, 126},
+        {CODEGEN_IV_MUL, 130, 130, 48},
+        {CODEGEN_IV_MUL, 130, 130, 52},
+        {CODEGEN_IV_MUL, 130, 130, 154},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 77, 126},
+        {CODEGEN_IV_MUL, 117, 117, 141},
+        {CODEGEN_IV_MUL, 117, 117, 154},
+        {CODEGEN_IV_MUL, 117, 117, 59},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 78, 119},
+        {CODEGEN_IV_MUL, 130, 130, 147},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_MUL, 130, 130, 123},
+        {CODEGEN_IV_MUL, 130, 130, 124},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 79, 135},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 80, 135},
+        {CODEGEN_IV_MUL, 130, 130, 138},
+        {CODEGEN_IV_MUL, 130, 130, 123},
+        {CODEGEN_IV_MUL, 130, 130, 124},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 81, 126},
+        {CODEGEN_IV_MUL, 117, 117, 49},
+        {CODEGEN_IV_MUL, 117, 117, 52},
+        {CODEGEN_IV_MUL, 117, 117, 135},
+        {CODEGEN_IV_MUL, 117, 117, 115},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 82, 135},
+        {CODEGEN_IV_MUL, 130, 130, 138},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 83, 138},
+        {CODEGEN_IV_MUL, 117, 117, 115},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_MUL, 117, 117, 113},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 84, 154},
+        {CODEGEN_IV_MUL, 130, 130, 115},
+        {CODEGEN_IV_MUL, 130, 130, 123},
+        {CODEGEN_IV_MUL, 130, 130, 124},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 85, 119},
+        {CODEGEN_IV_MUL, 117, 117, 52},
+        {CODEGEN_IV_MUL, 117, 117, 138},
+        {CODEGEN_IV_MUL, 117, 117, 141},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 130, 86, 135},
+        {CODEGEN_IV_MUL, 130, 130, 56},
+        {CODEGEN_IV_MUL, 130, 130, 141},
+        {CODEGEN_IV_MUL, 130, 130, 123},
+        {CODEGEN_IV_MUL, 130, 130, 124},
+        {CODEGEN_IV_MUL, 130, 130, 113},
+        {CODEGEN_IV_ADD, 130, 117, 130},
+        {CODEGEN_IV_MUL, 117, 87, 119},
+        {CODEGEN_IV_MUL, 117, 117, 49},
+        {CODEGEN_IV_MUL, 117, 117, 115},
+        {CODEGEN_IV_MUL, 117, 117, 123},
+        {CODEGEN_IV_MUL, 117, 117, 124},
+        {CODEGEN_IV_ADD, 117, 130, 117},
+        {CODEGEN_IV_MUL, 117, 114, 117},
+        {CODEGEN_IV_DIV, 117, 117, 147},
+        {CODEGEN_IV_SUB, 117, 116, 117},
     };
     static const codegen_iv constants[5] = {
         {2, 2},
@@ -6017,16 +6102,16 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
         {6, 6},
         {3, 3}
     };
-    v[90] = codegen_iv_point(params->R);
-    v[92] = codegen_iv_point(params->e);
-    v[93] = codegen_iv_point(params->m_1);
-    v[94] = codegen_iv_point(params->m_2);
-    v[96] = codegen_iv_point(params->l_0);
-    v[97] = codegen_iv_point(params->x_S);
-    v[102] = theta;
+    v[106] = codegen_iv_point(params->R);
+    v[108] = codegen_iv_point(params->e);
+    v[109] = codegen_iv_point(params->m_1);
+    v[110] = codegen_iv_point(params->m_2);
+    v[112] = codegen_iv_point(params->l_0);
+    v[113] = codegen_iv_point(params->x_S);
+    v[118] = theta;
     codegen_iv_run(program, 357, constants, v, iv_flags);
-    *iv_g = v[162];
-    *iv_dg = v[101];
+    *iv_g = v[178];
+    *iv_dg = v[117];
 #else
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -6036,11 +6121,11 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv x_S = codegen_iv_point(params->x_S);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(tmp1, v[36]);
+    const codegen_iv tmp2 = codegen_iv_mul(tmp1, v[44]);
     const codegen_iv tmp3 = codegen_iv_sin(theta);
     const codegen_iv tmp4 = codegen_iv_mul(R, tmp3);
-    const codegen_iv tmp5 = codegen_iv_sub(v[38], tmp4);
-    const codegen_iv tmp6 = codegen_iv_sub(v[39], tmp4);
+    const codegen_iv tmp5 = codegen_iv_sub(v[46], tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(v[47], tmp4);
     const codegen_iv tmp7 = codegen_iv_mul(tmp5, tmp6);
     const codegen_iv tmp8 = codegen_iv_neg(tmp7);
     const codegen_iv tmp9 = codegen_iv_sqrt(tmp8, iv_flags);
@@ -6051,26 +6136,26 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp14 = codegen_iv_sub(tmp12, tmp13);
     const codegen_iv tmp15 = codegen_iv_div(tmp14, tmp9, iv_flags);
     const codegen_iv tmp16 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp17 = codegen_iv_mul(v[44], tmp16);
-    const codegen_iv tmp18 = codegen_iv_add(tmp8, v[40]);
-    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[41]);
+    const codegen_iv tmp17 = codegen_iv_mul(v[52], tmp16);
+    const codegen_iv tmp18 = codegen_iv_add(tmp8, v[48]);
+    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[49]);
     const codegen_iv tmp20 = codegen_iv_add(tmp19, tmp17);
-    const codegen_iv tmp21 = codegen_iv_add(tmp20, v[45]);
+    const codegen_iv tmp21 = codegen_iv_add(tmp20, v[53]);
     const codegen_iv tmp23 = codegen_iv_mul(codegen_iv_point(2), tmp1);
     const codegen_iv tmp24 = codegen_iv_mul(tmp23, tmp9);
     const codegen_iv tmp25 = codegen_iv_sub(tmp21, tmp24);
-    const codegen_iv tmp26 = codegen_iv_mul(tmp1, v[43]);
+    const codegen_iv tmp26 = codegen_iv_mul(tmp1, v[51]);
     const codegen_iv tmp27 = codegen_iv_sub(tmp25, tmp26);
-    const codegen_iv tmp28 = codegen_iv_mul(tmp9, v[43]);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp9, v[51]);
     const codegen_iv tmp29 = codegen_iv_add(tmp27, tmp28);
-    const codegen_iv tmp30 = codegen_iv_sub(tmp29, v[46]);
+    const codegen_iv tmp30 = codegen_iv_sub(tmp29, v[54]);
     const codegen_iv tmp31 = codegen_iv_sqrt(tmp30, iv_flags);
-    const codegen_iv tmp32 = codegen_iv_mul(v[36], tmp4);
+    const codegen_iv tmp32 = codegen_iv_mul(v[44], tmp4);
     const codegen_iv tmp33 = codegen_iv_sqrt(tmp8, iv_flags);
     const codegen_iv tmp34 = codegen_iv_pow(tmp33, 3);
     const codegen_iv tmp36 = codegen_iv_pow(tmp34, 1);
     const codegen_iv tmp37 = codegen_iv_div(codegen_iv_point(1), tmp36, iv_flags);
-    const codegen_iv tmp38 = codegen_iv_mul(v[42], tmp3);
+    const codegen_iv tmp38 = codegen_iv_mul(v[50], tmp3);
     const codegen_iv tmp39 = codegen_iv_mul(tmp17, tmp38);
     const codegen_iv tmp40 = codegen_iv_pow(tmp3, 2);
     const codegen_iv tmp41 = codegen_iv_mul(e, tmp3);
@@ -6089,16 +6174,16 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp54 = codegen_iv_mul(l_0, tmp53);
     const codegen_iv tmp55 = codegen_iv_mul(tmp54, tmp7);
     const codegen_iv tmp56 = codegen_iv_mul(tmp10, tmp4);
-    const codegen_iv tmp57 = codegen_iv_mul(v[40], tmp43);
+    const codegen_iv tmp57 = codegen_iv_mul(v[48], tmp43);
     const codegen_iv tmp58 = codegen_iv_mul(l_0, tmp34);
-    const codegen_iv tmp59 = codegen_iv_mul(tmp40, v[51]);
-    const codegen_iv tmp60 = codegen_iv_mul(v[44], tmp7);
+    const codegen_iv tmp59 = codegen_iv_mul(tmp40, v[59]);
+    const codegen_iv tmp60 = codegen_iv_mul(v[52], tmp7);
     const codegen_iv tmp61 = codegen_iv_mul(tmp40, tmp60);
     const codegen_iv tmp62 = codegen_iv_pow(tmp0, 4);
     const codegen_iv tmp63 = codegen_iv_mul(l_0, tmp9);
     const codegen_iv tmp64 = codegen_iv_mul(tmp62, tmp63);
-    const codegen_iv tmp65 = codegen_iv_mul(v[41], tmp63);
-    const codegen_iv tmp66 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp65 = codegen_iv_mul(v[49], tmp63);
+    const codegen_iv tmp66 = codegen_iv_mul(tmp16, v[56]);
     const codegen_iv tmp67 = codegen_iv_mul(tmp66, tmp40);
     const codegen_iv tmp68 = codegen_iv_mul(l_0, tmp30);
     const codegen_iv tmp69 = codegen_iv_mul(tmp68, x_S);
@@ -6108,12 +6193,12 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp73 = codegen_iv_mul(tmp0, tmp47);
     const codegen_iv tmp74 = codegen_iv_mul(tmp34, tmp68);
     const codegen_iv tmp75 = codegen_iv_mul(m_1, tmp2);
-    const codegen_iv tmp76 = codegen_iv_add(v[53], tmp75);
+    const codegen_iv tmp76 = codegen_iv_add(v[61], tmp75);
     const codegen_iv tmp77 = codegen_iv_mul(m_2, tmp2);
     const codegen_iv tmp78 = codegen_iv_add(tmp76, tmp77);
-    const codegen_iv tmp79 = codegen_iv_mul(tmp15, v[37]);
+    const codegen_iv tmp79 = codegen_iv_mul(tmp15, v[45]);
     const codegen_iv tmp80 = codegen_iv_add(tmp78, tmp79);
-    const codegen_iv tmp81 = codegen_iv_mul(tmp15, v[47]);
+    const codegen_iv tmp81 = codegen_iv_mul(tmp15, v[55]);
     const codegen_iv tmp82 = codegen_iv_sub(l_0, tmp31);
     const codegen_iv tmp83 = codegen_iv_mul(tmp81, tmp82);
     const codegen_iv tmp84 = codegen_iv_neg(tmp9);
@@ -6127,14 +6212,14 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp92 = codegen_iv_neg(tmp91);
     const codegen_iv tmp93 = codegen_iv_mul(m_2, tmp32);
     const codegen_iv tmp94 = codegen_iv_sub(tmp92, tmp93);
-    const codegen_iv tmp95 = codegen_iv_mul(tmp37, v[37]);
+    const codegen_iv tmp95 = codegen_iv_mul(tmp37, v[45]);
     const codegen_iv tmp96 = codegen_iv_neg(tmp39);
     const codegen_iv tmp97 = codegen_iv_sub(tmp96, tmp42);
     const codegen_iv tmp98 = codegen_iv_sub(tmp97, tmp44);
     const codegen_iv tmp99 = codegen_iv_sub(tmp98, tmp45);
-    const codegen_iv tmp100 = codegen_iv_mul(v[54], tmp16);
+    const codegen_iv tmp100 = codegen_iv_mul(v[62], tmp16);
     const codegen_iv tmp101 = codegen_iv_add(tmp99, tmp100);
-    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp102 = codegen_iv_mul(tmp16, v[56]);
     const codegen_iv tmp103 = codegen_iv_mul(tmp102, tmp40);
     const codegen_iv tmp104 = codegen_iv_add(tmp101, tmp103);
     const codegen_iv tmp105 = codegen_iv_mul(R, tmp40);
@@ -6143,7 +6228,7 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp108 = codegen_iv_add(tmp104, tmp107);
     const codegen_iv tmp109 = codegen_iv_mul(tmp95, tmp108);
     const codegen_iv tmp110 = codegen_iv_sub(tmp94, tmp109);
-    const codegen_iv tmp111 = codegen_iv_mul(v[47], tmp37);
+    const codegen_iv tmp111 = codegen_iv_mul(v[55], tmp37);
     const codegen_iv tmp112 = codegen_iv_sqrt(tmp8, iv_flags);
     const codegen_iv tmp113 = codegen_iv_pow(tmp112, 5);
     const codegen_iv tmp114 = codegen_iv_mul(tmp113, tmp49);
@@ -6163,9 +6248,9 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp129 = codegen_iv_sub(tmp127, tmp128);
     const codegen_iv tmp130 = codegen_iv_mul(tmp52, tmp73);
     const codegen_iv tmp131 = codegen_iv_sub(tmp129, tmp130);
-    const codegen_iv tmp132 = codegen_iv_mul(v[55], tmp55);
+    const codegen_iv tmp132 = codegen_iv_mul(v[63], tmp55);
     const codegen_iv tmp133 = codegen_iv_sub(tmp131, tmp132);
-    const codegen_iv tmp134 = codegen_iv_mul(v[49], tmp70);
+    const codegen_iv tmp134 = codegen_iv_mul(v[57], tmp70);
     const codegen_iv tmp135 = codegen_iv_sub(tmp133, tmp134);
     const codegen_iv tmp137 = codegen_iv_mul(codegen_iv_point(4), tmp55);
     const codegen_iv tmp138 = codegen_iv_mul(tmp137, tmp59);
@@ -6190,38 +6275,38 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp159 = codegen_iv_sub(tmp157, tmp158);
     const codegen_iv tmp160 = codegen_iv_mul(tmp67, tmp69);
     const codegen_iv tmp161 = codegen_iv_sub(tmp159, tmp160);
-    const codegen_iv tmp162 = codegen_iv_mul(v[56], tmp40);
+    const codegen_iv tmp162 = codegen_iv_mul(v[64], tmp40);
     const codegen_iv tmp163 = codegen_iv_mul(tmp162, tmp64);
     const codegen_iv tmp164 = codegen_iv_sub(tmp161, tmp163);
-    const codegen_iv tmp165 = codegen_iv_mul(v[57], tmp64);
+    const codegen_iv tmp165 = codegen_iv_mul(v[65], tmp64);
     const codegen_iv tmp166 = codegen_iv_sub(tmp164, tmp165);
-    const codegen_iv tmp167 = codegen_iv_mul(v[41], tmp34);
+    const codegen_iv tmp167 = codegen_iv_mul(v[49], tmp34);
     const codegen_iv tmp168 = codegen_iv_mul(tmp167, tmp49);
     const codegen_iv tmp169 = codegen_iv_sub(tmp166, tmp168);
-    const codegen_iv tmp170 = codegen_iv_mul(v[43], tmp49);
+    const codegen_iv tmp170 = codegen_iv_mul(v[51], tmp49);
     const codegen_iv tmp171 = codegen_iv_mul(tmp170, tmp52);
     const codegen_iv tmp172 = codegen_iv_sub(tmp169, tmp171);
     const codegen_iv tmp174 = codegen_iv_mul(codegen_iv_point(2), tmp34);
     const codegen_iv tmp175 = codegen_iv_mul(tmp174, tmp47);
     const codegen_iv tmp176 = codegen_iv_mul(tmp175, tmp48);
     const codegen_iv tmp177 = codegen_iv_sub(tmp172, tmp176);
-    const codegen_iv tmp178 = codegen_iv_mul(tmp38, v[48]);
+    const codegen_iv tmp178 = codegen_iv_mul(tmp38, v[56]);
     const codegen_iv tmp179 = codegen_iv_mul(tmp178, tmp71);
     const codegen_iv tmp180 = codegen_iv_sub(tmp177, tmp179);
     const codegen_iv tmp181 = codegen_iv_mul(tmp48, tmp69);
     const codegen_iv tmp182 = codegen_iv_mul(tmp181, tmp7);
     const codegen_iv tmp183 = codegen_iv_sub(tmp180, tmp182);
     const codegen_iv tmp184 = codegen_iv_mul(tmp52, tmp56);
-    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[50]);
+    const codegen_iv tmp185 = codegen_iv_mul(tmp184, v[58]);
     const codegen_iv tmp186 = codegen_iv_sub(tmp183, tmp185);
     const codegen_iv tmp187 = codegen_iv_mul(tmp56, tmp58);
-    const codegen_iv tmp188 = codegen_iv_mul(tmp187, v[52]);
+    const codegen_iv tmp188 = codegen_iv_mul(tmp187, v[60]);
     const codegen_iv tmp189 = codegen_iv_sub(tmp186, tmp188);
     const codegen_iv tmp191 = codegen_iv_mul(codegen_iv_point(3), tmp56);
     const codegen_iv tmp192 = codegen_iv_mul(tmp191, tmp68);
     const codegen_iv tmp193 = codegen_iv_mul(tmp192, tmp7);
     const codegen_iv tmp194 = codegen_iv_sub(tmp189, tmp193);
-    const codegen_iv tmp195 = codegen_iv_mul(v[58], tmp16);
+    const codegen_iv tmp195 = codegen_iv_mul(v[66], tmp16);
     const codegen_iv tmp196 = codegen_iv_mul(tmp195, tmp34);
     const codegen_iv tmp197 = codegen_iv_mul(tmp196, tmp47);
     const codegen_iv tmp198 = codegen_iv_add(tmp194, tmp197);
@@ -6229,28 +6314,28 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp200 = codegen_iv_mul(tmp199, tmp47);
     const codegen_iv tmp201 = codegen_iv_mul(tmp200, tmp3);
     const codegen_iv tmp202 = codegen_iv_add(tmp198, tmp201);
-    const codegen_iv tmp203 = codegen_iv_mul(v[59], tmp17);
+    const codegen_iv tmp203 = codegen_iv_mul(v[67], tmp17);
     const codegen_iv tmp204 = codegen_iv_mul(tmp203, tmp42);
     const codegen_iv tmp205 = codegen_iv_mul(tmp204, x_S);
     const codegen_iv tmp206 = codegen_iv_sub(tmp202, tmp205);
-    const codegen_iv tmp207 = codegen_iv_mul(tmp0, v[41]);
-    const codegen_iv tmp208 = codegen_iv_mul(tmp207, v[50]);
+    const codegen_iv tmp207 = codegen_iv_mul(tmp0, v[49]);
+    const codegen_iv tmp208 = codegen_iv_mul(tmp207, v[58]);
     const codegen_iv tmp209 = codegen_iv_mul(tmp208, tmp61);
     const codegen_iv tmp210 = codegen_iv_sub(tmp206, tmp209);
-    const codegen_iv tmp211 = codegen_iv_mul(v[60], tmp30);
+    const codegen_iv tmp211 = codegen_iv_mul(v[68], tmp30);
     const codegen_iv tmp212 = codegen_iv_mul(tmp211, tmp34);
     const codegen_iv tmp213 = codegen_iv_mul(tmp212, tmp40);
     const codegen_iv tmp214 = codegen_iv_add(tmp210, tmp213);
-    const codegen_iv tmp215 = codegen_iv_mul(v[61], tmp16);
+    const codegen_iv tmp215 = codegen_iv_mul(v[69], tmp16);
     const codegen_iv tmp216 = codegen_iv_mul(tmp215, tmp47);
     const codegen_iv tmp217 = codegen_iv_mul(tmp216, x_S);
     const codegen_iv tmp218 = codegen_iv_add(tmp214, tmp217);
     const codegen_iv tmp219 = codegen_iv_mul(e, tmp11);
-    const codegen_iv tmp220 = codegen_iv_mul(tmp219, v[48]);
+    const codegen_iv tmp220 = codegen_iv_mul(tmp219, v[56]);
     const codegen_iv tmp221 = codegen_iv_mul(tmp220, tmp54);
-    const codegen_iv tmp222 = codegen_iv_mul(tmp221, v[52]);
+    const codegen_iv tmp222 = codegen_iv_mul(tmp221, v[60]);
     const codegen_iv tmp223 = codegen_iv_sub(tmp218, tmp222);
-    const codegen_iv tmp224 = codegen_iv_mul(v[62], tmp47);
+    const codegen_iv tmp224 = codegen_iv_mul(v[70], tmp47);
     const codegen_iv tmp225 = codegen_iv_mul(tmp224, tmp53);
     const codegen_iv tmp226 = codegen_iv_mul(tmp225, tmp3);
     const codegen_iv tmp227 = codegen_iv_add(tmp223, tmp226);
@@ -6264,20 +6349,20 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp235 = codegen_iv_mul(tmp234, tmp50);
     const codegen_iv tmp236 = codegen_iv_mul(tmp235, tmp51);
     const codegen_iv tmp237 = codegen_iv_add(tmp232, tmp236);
-    const codegen_iv tmp238 = codegen_iv_mul(v[63], tmp30);
+    const codegen_iv tmp238 = codegen_iv_mul(v[71], tmp30);
     const codegen_iv tmp239 = codegen_iv_mul(tmp238, tmp53);
     const codegen_iv tmp240 = codegen_iv_add(tmp237, tmp239);
     const codegen_iv tmp241 = codegen_iv_mul(l_0, tmp30);
     const codegen_iv tmp242 = codegen_iv_mul(tmp241, tmp40);
     const codegen_iv tmp243 = codegen_iv_mul(tmp242, tmp53);
-    const codegen_iv tmp244 = codegen_iv_mul(tmp243, v[51]);
+    const codegen_iv tmp244 = codegen_iv_mul(tmp243, v[59]);
     const codegen_iv tmp245 = codegen_iv_add(tmp240, tmp244);
-    const codegen_iv tmp246 = codegen_iv_mul(v[44], tmp47);
+    const codegen_iv tmp246 = codegen_iv_mul(v[52], tmp47);
     const codegen_iv tmp247 = codegen_iv_mul(tmp246, tmp53);
     const codegen_iv tmp248 = codegen_iv_mul(tmp247, tmp5);
     const codegen_iv tmp249 = codegen_iv_mul(tmp248, tmp6);
     const codegen_iv tmp250 = codegen_iv_add(tmp245, tmp249);
-    const codegen_iv tmp251 = codegen_iv_mul(tmp16, v[48]);
+    const codegen_iv tmp251 = codegen_iv_mul(tmp16, v[56]);
     const codegen_iv tmp252 = codegen_iv_mul(tmp251, tmp40);
     const codegen_iv tmp253 = codegen_iv_mul(tmp252, tmp47);
     const codegen_iv tmp254 = codegen_iv_mul(tmp253, x_S);
@@ -6288,94 +6373,94 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
     const codegen_iv tmp259 = codegen_iv_mul(tmp258, tmp6);
     const codegen_iv tmp260 = codegen_iv_mul(tmp259, x_S);
     const codegen_iv tmp261 = codegen_iv_add(tmp255, tmp260);
-    const codegen_iv tmp262 = codegen_iv_mul(v[64], tmp9);
+    const codegen_iv tmp262 = codegen_iv_mul(v[72], tmp9);
     const codegen_iv tmp263 = codegen_iv_mul(tmp262, tmp3);
-    const codegen_iv tmp264 = codegen_iv_mul(tmp263, v[51]);
+    const codegen_iv tmp264 = codegen_iv_mul(tmp263, v[59]);
     const codegen_iv tmp265 = codegen_iv_mul(tmp264, tmp62);
     const codegen_iv tmp266 = codegen_iv_add(tmp261, tmp265);
-    const codegen_iv tmp267 = codegen_iv_mul(v[65], tmp16);
+    const codegen_iv tmp267 = codegen_iv_mul(v[73], tmp16);
     const codegen_iv tmp268 = codegen_iv_mul(tmp267, tmp34);
     const codegen_iv tmp269 = codegen_iv_mul(tmp268, tmp3);
     const codegen_iv tmp270 = codegen_iv_add(tmp266, tmp269);
-    const codegen_iv tmp271 = codegen_iv_mul(v[66], tmp0);
-    const codegen_iv tmp272 = codegen_iv_mul(tmp271, v[44]);
+    const codegen_iv tmp271 = codegen_iv_mul(v[74], tmp0);
+    const codegen_iv tmp272 = codegen_iv_mul(tmp271, v[52]);
     const codegen_iv tmp273 = codegen_iv_mul(tmp272, tmp34);
     const codegen_iv tmp274 = codegen_iv_mul(tmp273, tmp40);
     const codegen_iv tmp275 = codegen_iv_mul(tmp274, x_S);
     const codegen_iv tmp276 = codegen_iv_add(tmp270, tmp275);
-    const codegen_iv tmp277 = codegen_iv_mul(v[67], tmp0);
-    const codegen_iv tmp278 = codegen_iv_mul(tmp277, v[44]);
+    const codegen_iv tmp277 = codegen_iv_mul(v[75], tmp0);
+    const codegen_iv tmp278 = codegen_iv_mul(tmp277, v[52]);
     const codegen_iv tmp279 = codegen_iv_mul(tmp278, tmp40);
     const codegen_iv tmp280 = codegen_iv_mul(tmp279, tmp50);
     const codegen_iv tmp281 = codegen_iv_mul(tmp280, tmp51);
     const codegen_iv tmp282 = codegen_iv_add(tmp276, tmp281);
-    const codegen_iv tmp283 = codegen_iv_mul(v[68], tmp9);
-    const codegen_iv tmp284 = codegen_iv_mul(tmp283, v[40]);
-    const codegen_iv tmp285 = codegen_iv_mul(tmp284, v[44]);
+    const codegen_iv tmp283 = codegen_iv_mul(v[76], tmp9);
+    const codegen_iv tmp284 = codegen_iv_mul(tmp283, v[48]);
+    const codegen_iv tmp285 = codegen_iv_mul(tmp284, v[52]);
     const codegen_iv tmp286 = codegen_iv_mul(tmp285, tmp53);
     const codegen_iv tmp287 = codegen_iv_mul(tmp286, x_S);
     const codegen_iv tmp288 = codegen_iv_add(tmp282, tmp287);
-    const codegen_iv tmp289 = codegen_iv_mul(v[69], tmp9);
+    const codegen_iv tmp289 = codegen_iv_mul(v[77], tmp9);
     const codegen_iv tmp290 = codegen_iv_mul(tmp289, tmp40);
     const codegen_iv tmp291 = codegen_iv_mul(tmp290, tmp53);
-    const codegen_iv tmp292 = codegen_iv_mul(tmp291, v[51]);
+    const codegen_iv tmp292 = codegen_iv_mul(tmp291, v[59]);
     const codegen_iv tmp293 = codegen_iv_mul(tmp292, x_S);
     const codegen_iv tmp294 = codegen_iv_add(tmp288, tmp293);
-    const codegen_iv tmp295 = codegen_iv_mul(v[70], tmp0);
+    const codegen_iv tmp295 = codegen_iv_mul(v[78], tmp0);
     const codegen_iv tmp296 = codegen_iv_mul(tmp295, tmp47);
     const codegen_iv tmp297 = codegen_iv_mul(tmp296, tmp3);
     const codegen_iv tmp298 = codegen_iv_mul(tmp297, tmp5);
     const codegen_iv tmp299 = codegen_iv_mul(tmp298, tmp6);
     const codegen_iv tmp300 = codegen_iv_add(tmp294, tmp299);
-    const codegen_iv tmp301 = codegen_iv_mul(v[71], tmp16);
+    const codegen_iv tmp301 = codegen_iv_mul(v[79], tmp16);
     const codegen_iv tmp302 = codegen_iv_mul(tmp301, tmp5);
     const codegen_iv tmp303 = codegen_iv_mul(tmp302, tmp6);
     const codegen_iv tmp304 = codegen_iv_mul(tmp303, x_S);
     const codegen_iv tmp305 = codegen_iv_add(tmp300, tmp304);
-    const codegen_iv tmp306 = codegen_iv_mul(v[72], tmp16);
+    const codegen_iv tmp306 = codegen_iv_mul(v[80], tmp16);
     const codegen_iv tmp307 = codegen_iv_mul(tmp306, tmp30);
     const codegen_iv tmp308 = codegen_iv_mul(tmp307, tmp5);
     const codegen_iv tmp309 = codegen_iv_mul(tmp308, tmp6);
     const codegen_iv tmp310 = codegen_iv_mul(tmp309, x_S);
     const codegen_iv tmp311 = codegen_iv_add(tmp305, tmp310);
-    const codegen_iv tmp312 = codegen_iv_mul(v[73], tmp9);
-    const codegen_iv tmp313 = codegen_iv_mul(tmp312, v[41]);
-    const codegen_iv tmp314 = codegen_iv_mul(tmp313, v[44]);
+    const codegen_iv tmp312 = codegen_iv_mul(v[81], tmp9);
+    const codegen_iv tmp313 = codegen_iv_mul(tmp312, v[49]);
+    const codegen_iv tmp314 = codegen_iv_mul(tmp313, v[52]);
     const codegen_iv tmp315 = codegen_iv_mul(tmp314, tmp16);
     const codegen_iv tmp316 = codegen_iv_mul(tmp315, tmp3);
     const codegen_iv tmp317 = codegen_iv_add(tmp311, tmp316);
-    const codegen_iv tmp318 = codegen_iv_mul(v[74], tmp16);
+    const codegen_iv tmp318 = codegen_iv_mul(v[82], tmp16);
     const codegen_iv tmp319 = codegen_iv_mul(tmp318, tmp30);
     const codegen_iv tmp320 = codegen_iv_mul(tmp319, tmp3);
     const codegen_iv tmp321 = codegen_iv_mul(tmp320, x_S);
     const codegen_iv tmp322 = codegen_iv_add(tmp317, tmp321);
-    const codegen_iv tmp323 = codegen_iv_mul(v[75], tmp30);
+    const codegen_iv tmp323 = codegen_iv_mul(v[83], tmp30);
     const codegen_iv tmp324 = codegen_iv_mul(tmp323, tmp3);
     const codegen_iv tmp325 = codegen_iv_mul(tmp324, tmp5);
     const codegen_iv tmp326 = codegen_iv_mul(tmp325, tmp6);
     const codegen_iv tmp327 = codegen_iv_mul(tmp326, x_S);
     const codegen_iv tmp328 = codegen_iv_add(tmp322, tmp327);
-    const codegen_iv tmp329 = codegen_iv_mul(v[76], tmp53);
+    const codegen_iv tmp329 = codegen_iv_mul(v[84], tmp53);
     const codegen_iv tmp330 = codegen_iv_mul(tmp329, tmp3);
     const codegen_iv tmp331 = codegen_iv_mul(tmp330, tmp5);
     const codegen_iv tmp332 = codegen_iv_mul(tmp331, tmp6);
     const codegen_iv tmp333 = codegen_iv_add(tmp328, tmp332);
-    const codegen_iv tmp334 = codegen_iv_mul(v[77], tmp0);
-    const codegen_iv tmp335 = codegen_iv_mul(tmp334, v[44]);
+    const codegen_iv tmp334 = codegen_iv_mul(v[85], tmp0);
+    const codegen_iv tmp335 = codegen_iv_mul(tmp334, v[52]);
     const codegen_iv tmp336 = codegen_iv_mul(tmp335, tmp30);
     const codegen_iv tmp337 = codegen_iv_mul(tmp336, tmp40);
     const codegen_iv tmp338 = codegen_iv_mul(tmp337, tmp5);
     const codegen_iv tmp339 = codegen_iv_mul(tmp338, tmp6);
     const codegen_iv tmp340 = codegen_iv_add(tmp333, tmp339);
-    const codegen_iv tmp341 = codegen_iv_mul(v[78], tmp16);
-    const codegen_iv tmp342 = codegen_iv_mul(tmp341, v[48]);
+    const codegen_iv tmp341 = codegen_iv_mul(v[86], tmp16);
+    const codegen_iv tmp342 = codegen_iv_mul(tmp341, v[56]);
     const codegen_iv tmp343 = codegen_iv_mul(tmp342, tmp40);
     const codegen_iv tmp344 = codegen_iv_mul(tmp343, tmp5);
     const codegen_iv tmp345 = codegen_iv_mul(tmp344, tmp6);
     const codegen_iv tmp346 = codegen_iv_mul(tmp345, x_S);
     const codegen_iv tmp347 = codegen_iv_add(tmp340, tmp346);
-    const codegen_iv tmp348 = codegen_iv_mul(v[79], tmp0);
-    const codegen_iv tmp349 = codegen_iv_mul(tmp348, v[41]);
+    const codegen_iv tmp348 = codegen_iv_mul(v[87], tmp0);
+    const codegen_iv tmp349 = codegen_iv_mul(tmp348, v[49]);
     const codegen_iv tmp350 = codegen_iv_mul(tmp349, tmp3);
     const codegen_iv tmp351 = codegen_iv_mul(tmp350, tmp5);
     const codegen_iv tmp352 = codegen_iv_mul(tmp351, tmp6);
@@ -6390,7 +6475,7 @@ static void enclose_mode_1(const slider_crank_params *params, codegen_iv theta,
 
 
 /* G alone on assembly mode 1, as above: for a point where only G's value is wanted.
- * At each theta, 49 instructions (as a program, over the slots v from 90); the 14 theta does not reach
+ * At each theta, 49 instructions (as a program, over the slots v from 106); the 14 theta does not reach
  * ran in prepare_enclosures. */
 static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv theta,
                            codegen_iv *iv_g,
@@ -6398,70 +6483,70 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
 {
 #ifndef CODEGEN_INLINE_INTERVALS
     static const codegen_iv_instruction program[49] = {
-        {CODEGEN_IV_COS, 103, 102, 0},
-        {CODEGEN_IV_MUL, 104, 90, 103},
-        {CODEGEN_IV_MUL, 105, 80, 104},
-        {CODEGEN_IV_SIN, 101, 102, 0},
-        {CODEGEN_IV_MUL, 102, 90, 101},
-        {CODEGEN_IV_SUB, 106, 81, 102},
-        {CODEGEN_IV_SUB, 107, 82, 102},
-        {CODEGEN_IV_MUL, 107, 106, 107},
-        {CODEGEN_IV_NEG, 107, 107, 0},
-        {CODEGEN_IV_SQRT, 91, 107, 0},
-        {CODEGEN_IV_MUL, 106, 92, 103},
-        {CODEGEN_IV_MUL, 108, 103, 102},
-        {CODEGEN_IV_SUB, 108, 106, 108},
-        {CODEGEN_IV_MUL, 106, 101, 91},
-        {CODEGEN_IV_ADD, 106, 108, 106},
-        {CODEGEN_IV_MUL, 106, 90, 106},
-        {CODEGEN_IV_DIV, 106, 106, 91},
-        {CODEGEN_IV_ADD, 101, 84, 107},
-        {CODEGEN_IV_ADD, 108, 101, 85},
-        {CODEGEN_IV_ADD, 101, 108, 86},
-        {CODEGEN_IV_POW, 109, 103, 2},
-        {CODEGEN_IV_MUL, 109, 87, 109},
-        {CODEGEN_IV_ADD, 109, 101, 109},
-        {CODEGEN_IV_SUB, 101, 109, 88},
-        {CODEGEN_IV_CONST, 109, 0, 0},
-        {CODEGEN_IV_MUL, 109, 109, 104},
-        {CODEGEN_IV_MUL, 109, 109, 91},
-        {CODEGEN_IV_SUB, 109, 101, 109},
-        {CODEGEN_IV_MUL, 101, 104, 83},
-        {CODEGEN_IV_SUB, 101, 109, 101},
-        {CODEGEN_IV_MUL, 109, 91, 83},
-        {CODEGEN_IV_ADD, 109, 101, 109},
-        {CODEGEN_IV_SQRT, 109, 109, 0},
-        {CODEGEN_IV_MUL, 102, 99, 106},
-        {CODEGEN_IV_ADD, 102, 89, 102},
-        {CODEGEN_IV_MUL, 98, 93, 105},
-        {CODEGEN_IV_ADD, 98, 102, 98},
-        {CODEGEN_IV_MUL, 102, 94, 105},
-        {CODEGEN_IV_ADD, 102, 98, 102},
-        {CODEGEN_IV_MUL, 98, 95, 106},
-        {CODEGEN_IV_SUB, 107, 96, 109},
-        {CODEGEN_IV_MUL, 107, 98, 107},
-        {CODEGEN_IV_NEG, 98, 91, 0},
-        {CODEGEN_IV_SUB, 98, 98, 97},
-        {CODEGEN_IV_MUL, 104, 90, 103},
-        {CODEGEN_IV_ADD, 104, 98, 104},
-        {CODEGEN_IV_MUL, 104, 107, 104},
-        {CODEGEN_IV_DIV, 104, 104, 109},
-        {CODEGEN_IV_ADD, 104, 102, 104},
+        {CODEGEN_IV_COS, 119, 118, 0},
+        {CODEGEN_IV_MUL, 120, 106, 119},
+        {CODEGEN_IV_MUL, 121, 88, 120},
+        {CODEGEN_IV_SIN, 117, 118, 0},
+        {CODEGEN_IV_MUL, 118, 106, 117},
+        {CODEGEN_IV_SUB, 122, 89, 118},
+        {CODEGEN_IV_SUB, 123, 90, 118},
+        {CODEGEN_IV_MUL, 123, 122, 123},
+        {CODEGEN_IV_NEG, 123, 123, 0},
+        {CODEGEN_IV_SQRT, 107, 123, 0},
+        {CODEGEN_IV_MUL, 122, 108, 119},
+        {CODEGEN_IV_MUL, 124, 119, 118},
+        {CODEGEN_IV_SUB, 124, 122, 124},
+        {CODEGEN_IV_MUL, 122, 117, 107},
+        {CODEGEN_IV_ADD, 122, 124, 122},
+        {CODEGEN_IV_MUL, 122, 106, 122},
+        {CODEGEN_IV_DIV, 122, 122, 107},
+        {CODEGEN_IV_ADD, 117, 92, 123},
+        {CODEGEN_IV_ADD, 124, 117, 93},
+        {CODEGEN_IV_ADD, 117, 124, 94},
+        {CODEGEN_IV_POW, 125, 119, 2},
+        {CODEGEN_IV_MUL, 125, 95, 125},
+        {CODEGEN_IV_ADD, 125, 117, 125},
+        {CODEGEN_IV_SUB, 117, 125, 96},
+        {CODEGEN_IV_CONST, 125, 0, 0},
+        {CODEGEN_IV_MUL, 125, 125, 120},
+        {CODEGEN_IV_MUL, 125, 125, 107},
+        {CODEGEN_IV_SUB, 125, 117, 125},
+        {CODEGEN_IV_MUL, 117, 120, 91},
+        {CODEGEN_IV_SUB, 117, 125, 117},
+        {CODEGEN_IV_MUL, 125, 107, 91},
+        {CODEGEN_IV_ADD, 125, 117, 125},
+        {CODEGEN_IV_SQRT, 125, 125, 0},
+        {CODEGEN_IV_MUL, 118, 115, 122},
+        {CODEGEN_IV_ADD, 118, 97, 118},
+        {CODEGEN_IV_MUL, 114, 109, 121},
+        {CODEGEN_IV_ADD, 114, 118, 114},
+        {CODEGEN_IV_MUL, 118, 110, 121},
+        {CODEGEN_IV_ADD, 118, 114, 118},
+        {CODEGEN_IV_MUL, 114, 111, 122},
+        {CODEGEN_IV_SUB, 123, 112, 125},
+        {CODEGEN_IV_MUL, 123, 114, 123},
+        {CODEGEN_IV_NEG, 114, 107, 0},
+        {CODEGEN_IV_SUB, 114, 114, 113},
+        {CODEGEN_IV_MUL, 120, 106, 119},
+        {CODEGEN_IV_ADD, 120, 114, 120},
+        {CODEGEN_IV_MUL, 120, 123, 120},
+        {CODEGEN_IV_DIV, 120, 120, 125},
+        {CODEGEN_IV_ADD, 120, 118, 120},
     };
     static const codegen_iv constants[1] = {
         {2, 2}
     };
-    v[90] = codegen_iv_point(params->R);
-    v[92] = codegen_iv_point(params->e);
-    v[93] = codegen_iv_point(params->m_1);
-    v[94] = codegen_iv_point(params->m_2);
-    v[95] = codegen_iv_point(params->k);
-    v[96] = codegen_iv_point(params->l_0);
-    v[97] = codegen_iv_point(params->x_S);
-    v[99] = codegen_iv_point(params->F);
-    v[102] = theta;
+    v[106] = codegen_iv_point(params->R);
+    v[108] = codegen_iv_point(params->e);
+    v[109] = codegen_iv_point(params->m_1);
+    v[110] = codegen_iv_point(params->m_2);
+    v[111] = codegen_iv_point(params->k);
+    v[112] = codegen_iv_point(params->l_0);
+    v[113] = codegen_iv_point(params->x_S);
+    v[115] = codegen_iv_point(params->F);
+    v[118] = theta;
     codegen_iv_run(program, 49, constants, v, iv_flags);
-    *iv_g = v[104];
+    *iv_g = v[120];
 #else
     const codegen_iv R = codegen_iv_point(params->R);
     const codegen_iv e = codegen_iv_point(params->e);
@@ -6473,11 +6558,11 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
     const codegen_iv F = codegen_iv_point(params->F);
     const codegen_iv tmp0 = codegen_iv_cos(theta);
     const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
-    const codegen_iv tmp2 = codegen_iv_mul(v[80], tmp1);
+    const codegen_iv tmp2 = codegen_iv_mul(v[88], tmp1);
     const codegen_iv tmp3 = codegen_iv_sin(theta);
     const codegen_iv tmp4 = codegen_iv_mul(R, tmp3);
-    const codegen_iv tmp5 = codegen_iv_sub(v[81], tmp4);
-    const codegen_iv tmp6 = codegen_iv_sub(v[82], tmp4);
+    const codegen_iv tmp5 = codegen_iv_sub(v[89], tmp4);
+    const codegen_iv tmp6 = codegen_iv_sub(v[90], tmp4);
     const codegen_iv tmp7 = codegen_iv_mul(tmp5, tmp6);
     const codegen_iv tmp8 = codegen_iv_neg(tmp7);
     const codegen_iv tmp9 = codegen_iv_sqrt(tmp8, iv_flags);
@@ -6488,23 +6573,23 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
     const codegen_iv tmp14 = codegen_iv_add(tmp12, tmp13);
     const codegen_iv tmp15 = codegen_iv_mul(R, tmp14);
     const codegen_iv tmp16 = codegen_iv_div(tmp15, tmp9, iv_flags);
-    const codegen_iv tmp17 = codegen_iv_add(v[84], tmp8);
-    const codegen_iv tmp18 = codegen_iv_add(tmp17, v[85]);
-    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[86]);
+    const codegen_iv tmp17 = codegen_iv_add(v[92], tmp8);
+    const codegen_iv tmp18 = codegen_iv_add(tmp17, v[93]);
+    const codegen_iv tmp19 = codegen_iv_add(tmp18, v[94]);
     const codegen_iv tmp20 = codegen_iv_pow(tmp0, 2);
-    const codegen_iv tmp21 = codegen_iv_mul(v[87], tmp20);
+    const codegen_iv tmp21 = codegen_iv_mul(v[95], tmp20);
     const codegen_iv tmp22 = codegen_iv_add(tmp19, tmp21);
-    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[88]);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp22, v[96]);
     const codegen_iv tmp25 = codegen_iv_mul(codegen_iv_point(2), tmp1);
     const codegen_iv tmp26 = codegen_iv_mul(tmp25, tmp9);
     const codegen_iv tmp27 = codegen_iv_sub(tmp23, tmp26);
-    const codegen_iv tmp28 = codegen_iv_mul(tmp1, v[83]);
+    const codegen_iv tmp28 = codegen_iv_mul(tmp1, v[91]);
     const codegen_iv tmp29 = codegen_iv_sub(tmp27, tmp28);
-    const codegen_iv tmp30 = codegen_iv_mul(tmp9, v[83]);
+    const codegen_iv tmp30 = codegen_iv_mul(tmp9, v[91]);
     const codegen_iv tmp31 = codegen_iv_add(tmp29, tmp30);
     const codegen_iv tmp32 = codegen_iv_sqrt(tmp31, iv_flags);
     const codegen_iv tmp33 = codegen_iv_mul(F, tmp16);
-    const codegen_iv tmp34 = codegen_iv_add(v[89], tmp33);
+    const codegen_iv tmp34 = codegen_iv_add(v[97], tmp33);
     const codegen_iv tmp35 = codegen_iv_mul(m_1, tmp2);
     const codegen_iv tmp36 = codegen_iv_add(tmp34, tmp35);
     const codegen_iv tmp37 = codegen_iv_mul(m_2, tmp2);
@@ -6524,51 +6609,136 @@ static void enclose_value_mode_1(const slider_crank_params *params, codegen_iv t
 }
 
 
+/* The divisions and square roots of G on assembly mode 1 alone, for their flags: whether G is smooth over theta.
+ * At each theta, 31 instructions (as a program, over the slots v from 106); the 11 theta does not reach
+ * ran in prepare_enclosures. */
+static void enclose_smooth_mode_1(const slider_crank_params *params, codegen_iv theta,
+                           unsigned *iv_flags, codegen_iv *v)
+{
+#ifndef CODEGEN_INLINE_INTERVALS
+    static const codegen_iv_instruction program[31] = {
+        {CODEGEN_IV_SIN, 112, 111, 0},
+        {CODEGEN_IV_MUL, 112, 106, 112},
+        {CODEGEN_IV_SUB, 113, 98, 112},
+        {CODEGEN_IV_SUB, 114, 99, 112},
+        {CODEGEN_IV_MUL, 114, 113, 114},
+        {CODEGEN_IV_NEG, 114, 114, 0},
+        {CODEGEN_IV_SQRT, 112, 114, 0},
+        {CODEGEN_IV_COS, 113, 111, 0},
+        {CODEGEN_IV_MUL, 111, 106, 113},
+        {CODEGEN_IV_ADD, 115, 101, 114},
+        {CODEGEN_IV_ADD, 116, 115, 102},
+        {CODEGEN_IV_ADD, 115, 116, 103},
+        {CODEGEN_IV_POW, 117, 113, 2},
+        {CODEGEN_IV_MUL, 117, 104, 117},
+        {CODEGEN_IV_ADD, 117, 115, 117},
+        {CODEGEN_IV_SUB, 115, 117, 105},
+        {CODEGEN_IV_MUL, 117, 112, 100},
+        {CODEGEN_IV_ADD, 117, 115, 117},
+        {CODEGEN_IV_CONST, 115, 0, 0},
+        {CODEGEN_IV_MUL, 115, 115, 112},
+        {CODEGEN_IV_MUL, 115, 115, 111},
+        {CODEGEN_IV_SUB, 115, 117, 115},
+        {CODEGEN_IV_MUL, 117, 100, 111},
+        {CODEGEN_IV_SUB, 117, 115, 117},
+        {CODEGEN_IV_SQRT, 117, 117, 0},
+        {CODEGEN_IV_CONST, 110, 1, 0},
+        {CODEGEN_IV_POW, 109, 112, 1},
+        {CODEGEN_IV_DIV, 109, 110, 109},
+        {CODEGEN_IV_CONST, 110, 1, 0},
+        {CODEGEN_IV_POW, 111, 117, 1},
+        {CODEGEN_IV_DIV, 111, 110, 111},
+    };
+    static const codegen_iv constants[2] = {
+        {2, 2},
+        {1, 1}
+    };
+    v[106] = codegen_iv_point(params->R);
+    v[111] = theta;
+    codegen_iv_run(program, 31, constants, v, iv_flags);
+#else
+    const codegen_iv R = codegen_iv_point(params->R);
+    const codegen_iv tmp0 = codegen_iv_sin(theta);
+    const codegen_iv tmp1 = codegen_iv_mul(R, tmp0);
+    const codegen_iv tmp2 = codegen_iv_sub(v[98], tmp1);
+    const codegen_iv tmp3 = codegen_iv_sub(v[99], tmp1);
+    const codegen_iv tmp4 = codegen_iv_mul(tmp2, tmp3);
+    const codegen_iv tmp5 = codegen_iv_neg(tmp4);
+    const codegen_iv tmp6 = codegen_iv_sqrt(tmp5, iv_flags);
+    const codegen_iv tmp7 = codegen_iv_cos(theta);
+    const codegen_iv tmp8 = codegen_iv_mul(R, tmp7);
+    const codegen_iv tmp9 = codegen_iv_add(v[101], tmp5);
+    const codegen_iv tmp10 = codegen_iv_add(tmp9, v[102]);
+    const codegen_iv tmp11 = codegen_iv_add(tmp10, v[103]);
+    const codegen_iv tmp12 = codegen_iv_pow(tmp7, 2);
+    const codegen_iv tmp13 = codegen_iv_mul(v[104], tmp12);
+    const codegen_iv tmp14 = codegen_iv_add(tmp11, tmp13);
+    const codegen_iv tmp15 = codegen_iv_sub(tmp14, v[105]);
+    const codegen_iv tmp16 = codegen_iv_mul(tmp6, v[100]);
+    const codegen_iv tmp17 = codegen_iv_add(tmp15, tmp16);
+    const codegen_iv tmp19 = codegen_iv_mul(codegen_iv_point(2), tmp6);
+    const codegen_iv tmp20 = codegen_iv_mul(tmp19, tmp8);
+    const codegen_iv tmp21 = codegen_iv_sub(tmp17, tmp20);
+    const codegen_iv tmp22 = codegen_iv_mul(v[100], tmp8);
+    const codegen_iv tmp23 = codegen_iv_sub(tmp21, tmp22);
+    const codegen_iv tmp24 = codegen_iv_sqrt(tmp23, iv_flags);
+    const codegen_iv tmp26 = codegen_iv_pow(tmp6, 1);
+    const codegen_iv tmp27 = codegen_iv_div(codegen_iv_point(1), tmp26, iv_flags);
+    const codegen_iv tmp29 = codegen_iv_pow(tmp24, 1);
+    const codegen_iv tmp30 = codegen_iv_div(codegen_iv_point(1), tmp29, iv_flags);
+    (void)tmp27;
+    (void)tmp6;
+    (void)tmp30;
+    (void)tmp24;
+#endif
+}
+
+
 /* The operations of every enclosure above that theta does not reach (of the parameters
- * alone), into v[0..90): no division or square root among them, which raise flags
+ * alone), into v[0..106): no division or square root among them, which raise flags
  * (those wait for theta, so that each enclosure's flags are its own). */
 static void prepare_enclosures(const slider_crank_params *params, codegen_iv *v)
 {
     unsigned flags = 0u;
     { /* enclose_mode_0 */
         static const codegen_iv_instruction program[37] = {
-            {CODEGEN_IV_MUL, 0, 99, 90},
-            {CODEGEN_IV_ADD, 1, 92, 91},
-            {CODEGEN_IV_SUB, 2, 92, 91},
-            {CODEGEN_IV_POW, 3, 92, 2},
-            {CODEGEN_IV_POW, 4, 97, 2},
-            {CODEGEN_IV_CONST, 113, 0, 0},
-            {CODEGEN_IV_MUL, 5, 113, 92},
-            {CODEGEN_IV_CONST, 115, 0, 0},
-            {CODEGEN_IV_MUL, 6, 115, 97},
-            {CODEGEN_IV_POW, 7, 90, 2},
+            {CODEGEN_IV_MUL, 0, 115, 106},
+            {CODEGEN_IV_ADD, 1, 108, 107},
+            {CODEGEN_IV_SUB, 2, 108, 107},
+            {CODEGEN_IV_POW, 3, 108, 2},
+            {CODEGEN_IV_POW, 4, 113, 2},
+            {CODEGEN_IV_CONST, 129, 0, 0},
+            {CODEGEN_IV_MUL, 5, 129, 108},
+            {CODEGEN_IV_CONST, 131, 0, 0},
+            {CODEGEN_IV_MUL, 6, 131, 113},
+            {CODEGEN_IV_POW, 7, 106, 2},
             {CODEGEN_IV_ADD, 8, 3, 4},
-            {CODEGEN_IV_POW, 9, 98, 2},
-            {CODEGEN_IV_MUL, 10, 5, 98},
-            {CODEGEN_IV_MUL, 11, 90, 95},
-            {CODEGEN_IV_CONST, 95, 1, 0},
-            {CODEGEN_IV_MUL, 12, 95, 101},
-            {CODEGEN_IV_POW, 13, 90, 3},
+            {CODEGEN_IV_POW, 9, 114, 2},
+            {CODEGEN_IV_MUL, 10, 5, 114},
+            {CODEGEN_IV_MUL, 11, 106, 111},
+            {CODEGEN_IV_CONST, 111, 1, 0},
+            {CODEGEN_IV_MUL, 12, 111, 117},
+            {CODEGEN_IV_POW, 13, 106, 3},
             {CODEGEN_IV_MUL, 14, 3, 7},
-            {CODEGEN_IV_POW, 15, 90, 4},
-            {CODEGEN_IV_CONST, 140, 2, 0},
-            {CODEGEN_IV_MUL, 16, 140, 97},
-            {CODEGEN_IV_CONST, 151, 3, 0},
-            {CODEGEN_IV_MUL, 17, 151, 97},
-            {CODEGEN_IV_MUL, 18, 96, 5},
-            {CODEGEN_IV_NEG, 19, 100, 0},
-            {CODEGEN_IV_CONST, 166, 1, 0},
-            {CODEGEN_IV_MUL, 166, 166, 90},
-            {CODEGEN_IV_MUL, 166, 166, 101},
-            {CODEGEN_IV_MUL, 20, 166, 93},
-            {CODEGEN_IV_CONST, 167, 1, 0},
-            {CODEGEN_IV_MUL, 167, 167, 90},
-            {CODEGEN_IV_MUL, 167, 167, 101},
-            {CODEGEN_IV_MUL, 21, 167, 94},
-            {CODEGEN_IV_POW, 22, 90, 5},
+            {CODEGEN_IV_POW, 15, 106, 4},
+            {CODEGEN_IV_CONST, 156, 2, 0},
+            {CODEGEN_IV_MUL, 16, 156, 113},
+            {CODEGEN_IV_CONST, 167, 3, 0},
+            {CODEGEN_IV_MUL, 17, 167, 113},
+            {CODEGEN_IV_MUL, 18, 112, 5},
+            {CODEGEN_IV_NEG, 19, 116, 0},
+            {CODEGEN_IV_CONST, 182, 1, 0},
+            {CODEGEN_IV_MUL, 182, 182, 106},
+            {CODEGEN_IV_MUL, 182, 182, 117},
+            {CODEGEN_IV_MUL, 20, 182, 109},
+            {CODEGEN_IV_CONST, 183, 1, 0},
+            {CODEGEN_IV_MUL, 183, 183, 106},
+            {CODEGEN_IV_MUL, 183, 183, 117},
+            {CODEGEN_IV_MUL, 21, 183, 110},
+            {CODEGEN_IV_POW, 22, 106, 5},
             {CODEGEN_IV_MUL, 23, 3, 13},
-            {CODEGEN_IV_CONST, 110, 4, 0},
-            {CODEGEN_IV_MUL, 24, 110, 96},
+            {CODEGEN_IV_CONST, 126, 4, 0},
+            {CODEGEN_IV_MUL, 24, 126, 112},
         };
         static const codegen_iv constants[5] = {
             {2, 2},
@@ -6577,144 +6747,168 @@ static void prepare_enclosures(const slider_crank_params *params, codegen_iv *v)
             {6, 6},
             {8, 8}
         };
-        v[90] = codegen_iv_point(params->R);
-        v[91] = codegen_iv_point(params->l);
-        v[92] = codegen_iv_point(params->e);
-        v[93] = codegen_iv_point(params->m_1);
-        v[94] = codegen_iv_point(params->m_2);
-        v[95] = codegen_iv_point(params->k);
-        v[96] = codegen_iv_point(params->l_0);
-        v[97] = codegen_iv_point(params->x_S);
-        v[98] = codegen_iv_point(params->y_S);
-        v[99] = codegen_iv_point(params->F);
-        v[100] = codegen_iv_point(params->T);
-        v[101] = codegen_iv_point(params->g);
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[109] = codegen_iv_point(params->m_1);
+        v[110] = codegen_iv_point(params->m_2);
+        v[111] = codegen_iv_point(params->k);
+        v[112] = codegen_iv_point(params->l_0);
+        v[113] = codegen_iv_point(params->x_S);
+        v[114] = codegen_iv_point(params->y_S);
+        v[115] = codegen_iv_point(params->F);
+        v[116] = codegen_iv_point(params->T);
+        v[117] = codegen_iv_point(params->g);
         codegen_iv_run(program, 37, constants, v, &flags);
     }
     { /* enclose_value_mode_0 */
         static const codegen_iv_instruction program[20] = {
-            {CODEGEN_IV_SUB, 25, 92, 91},
-            {CODEGEN_IV_ADD, 26, 92, 91},
-            {CODEGEN_IV_CONST, 104, 0, 0},
-            {CODEGEN_IV_MUL, 27, 104, 97},
-            {CODEGEN_IV_POW, 28, 92, 2},
-            {CODEGEN_IV_POW, 29, 97, 2},
-            {CODEGEN_IV_POW, 30, 98, 2},
-            {CODEGEN_IV_POW, 31, 90, 2},
-            {CODEGEN_IV_CONST, 107, 0, 0},
-            {CODEGEN_IV_MUL, 107, 107, 92},
-            {CODEGEN_IV_MUL, 32, 107, 98},
-            {CODEGEN_IV_NEG, 33, 100, 0},
-            {CODEGEN_IV_CONST, 98, 1, 0},
-            {CODEGEN_IV_MUL, 98, 98, 90},
-            {CODEGEN_IV_MUL, 98, 98, 101},
-            {CODEGEN_IV_MUL, 34, 98, 93},
-            {CODEGEN_IV_CONST, 104, 1, 0},
-            {CODEGEN_IV_MUL, 104, 104, 90},
-            {CODEGEN_IV_MUL, 104, 104, 101},
-            {CODEGEN_IV_MUL, 35, 104, 94},
+            {CODEGEN_IV_SUB, 25, 108, 107},
+            {CODEGEN_IV_ADD, 26, 108, 107},
+            {CODEGEN_IV_CONST, 120, 0, 0},
+            {CODEGEN_IV_MUL, 27, 120, 113},
+            {CODEGEN_IV_POW, 28, 108, 2},
+            {CODEGEN_IV_POW, 29, 113, 2},
+            {CODEGEN_IV_POW, 30, 114, 2},
+            {CODEGEN_IV_POW, 31, 106, 2},
+            {CODEGEN_IV_CONST, 123, 0, 0},
+            {CODEGEN_IV_MUL, 123, 123, 108},
+            {CODEGEN_IV_MUL, 32, 123, 114},
+            {CODEGEN_IV_NEG, 33, 116, 0},
+            {CODEGEN_IV_CONST, 114, 1, 0},
+            {CODEGEN_IV_MUL, 114, 114, 106},
+            {CODEGEN_IV_MUL, 114, 114, 117},
+            {CODEGEN_IV_MUL, 34, 114, 109},
+            {CODEGEN_IV_CONST, 120, 1, 0},
+            {CODEGEN_IV_MUL, 120, 120, 106},
+            {CODEGEN_IV_MUL, 120, 120, 117},
+            {CODEGEN_IV_MUL, 35, 120, 110},
         };
         static const codegen_iv constants[2] = {
             {2, 2},
             {CODEGEN_R(0.5), CODEGEN_R(0.5)}
         };
-        v[90] = codegen_iv_point(params->R);
-        v[91] = codegen_iv_point(params->l);
-        v[92] = codegen_iv_point(params->e);
-        v[93] = codegen_iv_point(params->m_1);
-        v[94] = codegen_iv_point(params->m_2);
-        v[97] = codegen_iv_point(params->x_S);
-        v[98] = codegen_iv_point(params->y_S);
-        v[100] = codegen_iv_point(params->T);
-        v[101] = codegen_iv_point(params->g);
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[109] = codegen_iv_point(params->m_1);
+        v[110] = codegen_iv_point(params->m_2);
+        v[113] = codegen_iv_point(params->x_S);
+        v[114] = codegen_iv_point(params->y_S);
+        v[116] = codegen_iv_point(params->T);
+        v[117] = codegen_iv_point(params->g);
         codegen_iv_run(program, 20, constants, v, &flags);
+    }
+    { /* enclose_smooth_mode_0 */
+        static const codegen_iv_instruction program[11] = {
+            {CODEGEN_IV_SUB, 36, 108, 107},
+            {CODEGEN_IV_ADD, 37, 108, 107},
+            {CODEGEN_IV_CONST, 107, 0, 0},
+            {CODEGEN_IV_MUL, 38, 107, 109},
+            {CODEGEN_IV_POW, 39, 108, 2},
+            {CODEGEN_IV_POW, 40, 109, 2},
+            {CODEGEN_IV_POW, 41, 110, 2},
+            {CODEGEN_IV_POW, 42, 106, 2},
+            {CODEGEN_IV_CONST, 115, 0, 0},
+            {CODEGEN_IV_MUL, 115, 115, 108},
+            {CODEGEN_IV_MUL, 43, 115, 110},
+        };
+        static const codegen_iv constants[1] = {
+            {2, 2}
+        };
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[109] = codegen_iv_point(params->x_S);
+        v[110] = codegen_iv_point(params->y_S);
+        codegen_iv_run(program, 11, constants, v, &flags);
     }
     { /* enclose_mode_1 */
         static const codegen_iv_instruction program[84] = {
-            {CODEGEN_IV_CONST, 105, 0, 0},
-            {CODEGEN_IV_MUL, 36, 105, 101},
-            {CODEGEN_IV_MUL, 37, 99, 90},
-            {CODEGEN_IV_ADD, 38, 92, 91},
-            {CODEGEN_IV_SUB, 39, 92, 91},
-            {CODEGEN_IV_POW, 40, 92, 2},
-            {CODEGEN_IV_POW, 41, 97, 2},
-            {CODEGEN_IV_CONST, 116, 1, 0},
-            {CODEGEN_IV_MUL, 42, 116, 92},
+            {CODEGEN_IV_CONST, 121, 0, 0},
+            {CODEGEN_IV_MUL, 44, 121, 117},
+            {CODEGEN_IV_MUL, 45, 115, 106},
+            {CODEGEN_IV_ADD, 46, 108, 107},
+            {CODEGEN_IV_SUB, 47, 108, 107},
+            {CODEGEN_IV_POW, 48, 108, 2},
+            {CODEGEN_IV_POW, 49, 113, 2},
+            {CODEGEN_IV_CONST, 132, 1, 0},
+            {CODEGEN_IV_MUL, 50, 132, 108},
+            {CODEGEN_IV_CONST, 133, 1, 0},
+            {CODEGEN_IV_MUL, 51, 133, 113},
+            {CODEGEN_IV_POW, 52, 106, 2},
+            {CODEGEN_IV_POW, 53, 114, 2},
+            {CODEGEN_IV_MUL, 54, 50, 114},
+            {CODEGEN_IV_MUL, 55, 106, 111},
+            {CODEGEN_IV_POW, 56, 106, 3},
+            {CODEGEN_IV_MUL, 57, 48, 52},
+            {CODEGEN_IV_CONST, 118, 1, 0},
+            {CODEGEN_IV_MUL, 58, 118, 112},
+            {CODEGEN_IV_POW, 59, 106, 4},
+            {CODEGEN_IV_CONST, 161, 2, 0},
+            {CODEGEN_IV_MUL, 60, 161, 113},
+            {CODEGEN_IV_NEG, 61, 116, 0},
+            {CODEGEN_IV_MUL, 62, 106, 48},
             {CODEGEN_IV_CONST, 117, 1, 0},
-            {CODEGEN_IV_MUL, 43, 117, 97},
-            {CODEGEN_IV_POW, 44, 90, 2},
-            {CODEGEN_IV_POW, 45, 98, 2},
-            {CODEGEN_IV_MUL, 46, 42, 98},
-            {CODEGEN_IV_MUL, 47, 90, 95},
-            {CODEGEN_IV_POW, 48, 90, 3},
-            {CODEGEN_IV_MUL, 49, 40, 44},
-            {CODEGEN_IV_CONST, 102, 1, 0},
-            {CODEGEN_IV_MUL, 50, 102, 96},
-            {CODEGEN_IV_POW, 51, 90, 4},
-            {CODEGEN_IV_CONST, 145, 2, 0},
-            {CODEGEN_IV_MUL, 52, 145, 97},
-            {CODEGEN_IV_NEG, 53, 100, 0},
-            {CODEGEN_IV_MUL, 54, 90, 40},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 55, 101, 49},
-            {CODEGEN_IV_POW, 56, 90, 5},
-            {CODEGEN_IV_MUL, 57, 40, 48},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 58, 101, 90},
-            {CODEGEN_IV_CONST, 101, 3, 0},
-            {CODEGEN_IV_MUL, 59, 101, 96},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 101, 101, 90},
-            {CODEGEN_IV_MUL, 60, 101, 96},
-            {CODEGEN_IV_MUL, 61, 90, 40},
-            {CODEGEN_IV_CONST, 114, 1, 0},
-            {CODEGEN_IV_MUL, 114, 114, 92},
-            {CODEGEN_IV_MUL, 62, 114, 48},
-            {CODEGEN_IV_MUL, 101, 96, 40},
-            {CODEGEN_IV_MUL, 63, 101, 44},
-            {CODEGEN_IV_CONST, 114, 1, 0},
-            {CODEGEN_IV_MUL, 114, 114, 92},
-            {CODEGEN_IV_MUL, 64, 114, 96},
-            {CODEGEN_IV_CONST, 101, 4, 0},
-            {CODEGEN_IV_MUL, 101, 101, 92},
-            {CODEGEN_IV_MUL, 101, 101, 96},
-            {CODEGEN_IV_MUL, 65, 101, 44},
-            {CODEGEN_IV_CONST, 114, 4, 0},
-            {CODEGEN_IV_MUL, 66, 114, 96},
-            {CODEGEN_IV_CONST, 101, 2, 0},
-            {CODEGEN_IV_MUL, 67, 101, 96},
-            {CODEGEN_IV_CONST, 114, 1, 0},
-            {CODEGEN_IV_MUL, 68, 114, 96},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 69, 101, 96},
-            {CODEGEN_IV_CONST, 114, 5, 0},
-            {CODEGEN_IV_MUL, 114, 114, 90},
-            {CODEGEN_IV_MUL, 70, 114, 92},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 101, 101, 90},
-            {CODEGEN_IV_MUL, 101, 101, 96},
-            {CODEGEN_IV_MUL, 71, 101, 40},
-            {CODEGEN_IV_MUL, 72, 90, 96},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 101, 101, 92},
-            {CODEGEN_IV_MUL, 73, 101, 96},
-            {CODEGEN_IV_CONST, 114, 1, 0},
-            {CODEGEN_IV_MUL, 114, 114, 92},
-            {CODEGEN_IV_MUL, 114, 114, 96},
-            {CODEGEN_IV_MUL, 74, 114, 44},
-            {CODEGEN_IV_MUL, 75, 92, 96},
-            {CODEGEN_IV_CONST, 114, 4, 0},
-            {CODEGEN_IV_MUL, 114, 114, 92},
-            {CODEGEN_IV_MUL, 114, 114, 96},
-            {CODEGEN_IV_MUL, 76, 114, 48},
-            {CODEGEN_IV_CONST, 101, 5, 0},
-            {CODEGEN_IV_MUL, 77, 101, 96},
-            {CODEGEN_IV_CONST, 114, 4, 0},
-            {CODEGEN_IV_MUL, 78, 114, 96},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 101, 101, 90},
-            {CODEGEN_IV_MUL, 101, 101, 92},
-            {CODEGEN_IV_MUL, 79, 101, 96},
+            {CODEGEN_IV_MUL, 63, 117, 57},
+            {CODEGEN_IV_POW, 64, 106, 5},
+            {CODEGEN_IV_MUL, 65, 48, 56},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 66, 117, 106},
+            {CODEGEN_IV_CONST, 117, 3, 0},
+            {CODEGEN_IV_MUL, 67, 117, 112},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 117, 117, 106},
+            {CODEGEN_IV_MUL, 68, 117, 112},
+            {CODEGEN_IV_MUL, 69, 106, 48},
+            {CODEGEN_IV_CONST, 130, 1, 0},
+            {CODEGEN_IV_MUL, 130, 130, 108},
+            {CODEGEN_IV_MUL, 70, 130, 56},
+            {CODEGEN_IV_MUL, 117, 112, 48},
+            {CODEGEN_IV_MUL, 71, 117, 52},
+            {CODEGEN_IV_CONST, 130, 1, 0},
+            {CODEGEN_IV_MUL, 130, 130, 108},
+            {CODEGEN_IV_MUL, 72, 130, 112},
+            {CODEGEN_IV_CONST, 117, 4, 0},
+            {CODEGEN_IV_MUL, 117, 117, 108},
+            {CODEGEN_IV_MUL, 117, 117, 112},
+            {CODEGEN_IV_MUL, 73, 117, 52},
+            {CODEGEN_IV_CONST, 130, 4, 0},
+            {CODEGEN_IV_MUL, 74, 130, 112},
+            {CODEGEN_IV_CONST, 117, 2, 0},
+            {CODEGEN_IV_MUL, 75, 117, 112},
+            {CODEGEN_IV_CONST, 130, 1, 0},
+            {CODEGEN_IV_MUL, 76, 130, 112},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 77, 117, 112},
+            {CODEGEN_IV_CONST, 130, 5, 0},
+            {CODEGEN_IV_MUL, 130, 130, 106},
+            {CODEGEN_IV_MUL, 78, 130, 108},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 117, 117, 106},
+            {CODEGEN_IV_MUL, 117, 117, 112},
+            {CODEGEN_IV_MUL, 79, 117, 48},
+            {CODEGEN_IV_MUL, 80, 106, 112},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 117, 117, 108},
+            {CODEGEN_IV_MUL, 81, 117, 112},
+            {CODEGEN_IV_CONST, 130, 1, 0},
+            {CODEGEN_IV_MUL, 130, 130, 108},
+            {CODEGEN_IV_MUL, 130, 130, 112},
+            {CODEGEN_IV_MUL, 82, 130, 52},
+            {CODEGEN_IV_MUL, 83, 108, 112},
+            {CODEGEN_IV_CONST, 130, 4, 0},
+            {CODEGEN_IV_MUL, 130, 130, 108},
+            {CODEGEN_IV_MUL, 130, 130, 112},
+            {CODEGEN_IV_MUL, 84, 130, 56},
+            {CODEGEN_IV_CONST, 117, 5, 0},
+            {CODEGEN_IV_MUL, 85, 117, 112},
+            {CODEGEN_IV_CONST, 130, 4, 0},
+            {CODEGEN_IV_MUL, 86, 130, 112},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 117, 117, 106},
+            {CODEGEN_IV_MUL, 117, 117, 108},
+            {CODEGEN_IV_MUL, 87, 117, 112},
         };
         static const codegen_iv constants[6] = {
             {CODEGEN_R(0.5), CODEGEN_R(0.5)},
@@ -6724,47 +6918,71 @@ static void prepare_enclosures(const slider_crank_params *params, codegen_iv *v)
             {6, 6},
             {3, 3}
         };
-        v[90] = codegen_iv_point(params->R);
-        v[91] = codegen_iv_point(params->l);
-        v[92] = codegen_iv_point(params->e);
-        v[95] = codegen_iv_point(params->k);
-        v[96] = codegen_iv_point(params->l_0);
-        v[97] = codegen_iv_point(params->x_S);
-        v[98] = codegen_iv_point(params->y_S);
-        v[99] = codegen_iv_point(params->F);
-        v[100] = codegen_iv_point(params->T);
-        v[101] = codegen_iv_point(params->g);
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[111] = codegen_iv_point(params->k);
+        v[112] = codegen_iv_point(params->l_0);
+        v[113] = codegen_iv_point(params->x_S);
+        v[114] = codegen_iv_point(params->y_S);
+        v[115] = codegen_iv_point(params->F);
+        v[116] = codegen_iv_point(params->T);
+        v[117] = codegen_iv_point(params->g);
         codegen_iv_run(program, 84, constants, v, &flags);
     }
     { /* enclose_value_mode_1 */
         static const codegen_iv_instruction program[14] = {
-            {CODEGEN_IV_CONST, 105, 0, 0},
-            {CODEGEN_IV_MUL, 80, 105, 101},
-            {CODEGEN_IV_SUB, 81, 92, 91},
-            {CODEGEN_IV_ADD, 82, 92, 91},
-            {CODEGEN_IV_CONST, 102, 1, 0},
-            {CODEGEN_IV_MUL, 83, 102, 97},
-            {CODEGEN_IV_POW, 84, 92, 2},
-            {CODEGEN_IV_POW, 85, 97, 2},
-            {CODEGEN_IV_POW, 86, 98, 2},
-            {CODEGEN_IV_POW, 87, 90, 2},
-            {CODEGEN_IV_CONST, 101, 1, 0},
-            {CODEGEN_IV_MUL, 101, 101, 92},
-            {CODEGEN_IV_MUL, 88, 101, 98},
-            {CODEGEN_IV_NEG, 89, 100, 0},
+            {CODEGEN_IV_CONST, 121, 0, 0},
+            {CODEGEN_IV_MUL, 88, 121, 117},
+            {CODEGEN_IV_SUB, 89, 108, 107},
+            {CODEGEN_IV_ADD, 90, 108, 107},
+            {CODEGEN_IV_CONST, 118, 1, 0},
+            {CODEGEN_IV_MUL, 91, 118, 113},
+            {CODEGEN_IV_POW, 92, 108, 2},
+            {CODEGEN_IV_POW, 93, 113, 2},
+            {CODEGEN_IV_POW, 94, 114, 2},
+            {CODEGEN_IV_POW, 95, 106, 2},
+            {CODEGEN_IV_CONST, 117, 1, 0},
+            {CODEGEN_IV_MUL, 117, 117, 108},
+            {CODEGEN_IV_MUL, 96, 117, 114},
+            {CODEGEN_IV_NEG, 97, 116, 0},
         };
         static const codegen_iv constants[2] = {
             {CODEGEN_R(0.5), CODEGEN_R(0.5)},
             {2, 2}
         };
-        v[90] = codegen_iv_point(params->R);
-        v[91] = codegen_iv_point(params->l);
-        v[92] = codegen_iv_point(params->e);
-        v[97] = codegen_iv_point(params->x_S);
-        v[98] = codegen_iv_point(params->y_S);
-        v[100] = codegen_iv_point(params->T);
-        v[101] = codegen_iv_point(params->g);
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[113] = codegen_iv_point(params->x_S);
+        v[114] = codegen_iv_point(params->y_S);
+        v[116] = codegen_iv_point(params->T);
+        v[117] = codegen_iv_point(params->g);
         codegen_iv_run(program, 14, constants, v, &flags);
+    }
+    { /* enclose_smooth_mode_1 */
+        static const codegen_iv_instruction program[11] = {
+            {CODEGEN_IV_SUB, 98, 108, 107},
+            {CODEGEN_IV_ADD, 99, 108, 107},
+            {CODEGEN_IV_CONST, 107, 0, 0},
+            {CODEGEN_IV_MUL, 100, 107, 109},
+            {CODEGEN_IV_POW, 101, 108, 2},
+            {CODEGEN_IV_POW, 102, 109, 2},
+            {CODEGEN_IV_POW, 103, 110, 2},
+            {CODEGEN_IV_POW, 104, 106, 2},
+            {CODEGEN_IV_CONST, 115, 0, 0},
+            {CODEGEN_IV_MUL, 115, 115, 108},
+            {CODEGEN_IV_MUL, 105, 115, 110},
+        };
+        static const codegen_iv constants[1] = {
+            {2, 2}
+        };
+        v[106] = codegen_iv_point(params->R);
+        v[107] = codegen_iv_point(params->l);
+        v[108] = codegen_iv_point(params->e);
+        v[109] = codegen_iv_point(params->x_S);
+        v[110] = codegen_iv_point(params->y_S);
+        codegen_iv_run(program, 11, constants, v, &flags);
     }
     (void)params;
     (void)flags;
@@ -6785,14 +7003,18 @@ slider_crank_status slider_crank_enclosure_kernel_prepared(const slider_crank_pa
     *flags = 0u;
     switch (mode) {
     case 0u:
-        if (dg == NULL) {
+        if (g == NULL) {
+            enclose_smooth_mode_0(params, theta, flags, slots);
+        } else if (dg == NULL) {
             enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
             enclose_mode_0(params, theta, g, dg, flags, slots);
         }
         return SLIDER_CRANK_OK;
     case 1u:
-        if (dg == NULL) {
+        if (g == NULL) {
+            enclose_smooth_mode_1(params, theta, flags, slots);
+        } else if (dg == NULL) {
             enclose_value_mode_1(params, theta, g, flags, slots);
         } else {
             enclose_mode_1(params, theta, g, dg, flags, slots);

@@ -40,7 +40,7 @@ extern "C" {
 #define SLIDER_CRANK_N_REDUCED 3
 #define SLIDER_CRANK_N_ROOTS 2
 #define SLIDER_CRANK_N_SIGMA 25
-#define SLIDER_CRANK_ENCLOSURE_SLOTS 169 /* the interval programs' slots (90 kept per parameter set) */
+#define SLIDER_CRANK_ENCLOSURE_SLOTS 185 /* the interval programs' slots (106 kept per parameter set) */
 #define SLIDER_CRANK_SIGMA_VALUES 98 /* its double-double program's values */
 
 /* Status codes: SLIDER_CRANK_OK is zero; slider_crank_status_message() explains the others. */

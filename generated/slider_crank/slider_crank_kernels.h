@@ -177,7 +177,8 @@ slider_crank_status slider_crank_poly_real_roots_kernel_work(const codegen_real 
 
 /* slider_crank_enclosure on an interval of codegen_iv (mode < SLIDER_CRANK_N_MODES, else
  * SLIDER_CRANK_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
- * (a smaller program; the flags are those G's own operations raise). */
+ * (a smaller program; the flags are those G's own operations raise); with g NULL too, only
+ * G's divisions and square roots run, for their flags (whether G is smooth over theta). */
 slider_crank_status slider_crank_enclosure_kernel(const slider_crank_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

@@ -781,6 +781,32 @@ static void enclose_value_mode_0(const torsion_pendulum_params *params, codegen_
 }
 
 
+/* The divisions and square roots of G on assembly mode 0 alone, for their flags: whether G is smooth over theta.
+ * At each theta, 1 instructions (as a program, over the slots v from 6); the 0 theta does not reach
+ * ran in prepare_enclosures. */
+static void enclose_smooth_mode_0(const torsion_pendulum_params *params, codegen_iv theta,
+                           unsigned *iv_flags, codegen_iv *v)
+{
+#ifndef CODEGEN_INLINE_INTERVALS
+    (void)params;
+    (void)theta;
+    static const codegen_iv_instruction program[1] = {
+        {CODEGEN_IV_CONST, 6, 0, 0},
+    };
+    static const codegen_iv constants[1] = {
+        {0, 0}
+    };
+    codegen_iv_run(program, 1, constants, v, iv_flags);
+#else
+    (void)theta;
+    (void)params;
+    (void)iv_flags;
+    (void)v;
+    (void)codegen_iv_point(0);
+#endif
+}
+
+
 /* The operations of every enclosure above that theta does not reach (of the parameters
  * alone), into v[0..6): no division or square root among them, which raise flags
  * (those wait for theta, so that each enclosure's flags are its own). */
@@ -841,7 +867,9 @@ torsion_pendulum_status torsion_pendulum_enclosure_kernel_prepared(const torsion
     *flags = 0u;
     switch (mode) {
     case 0u:
-        if (dg == NULL) {
+        if (g == NULL) {
+            enclose_smooth_mode_0(params, theta, flags, slots);
+        } else if (dg == NULL) {
             enclose_value_mode_0(params, theta, g, flags, slots);
         } else {
             enclose_mode_0(params, theta, g, dg, flags, slots);

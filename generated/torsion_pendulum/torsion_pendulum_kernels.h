@@ -91,7 +91,8 @@ void torsion_pendulum_equilibrium_state_kernel(const torsion_pendulum_params *pa
 
 /* torsion_pendulum_enclosure on an interval of codegen_iv (mode < TORSION_PENDULUM_N_MODES, else
  * TORSION_PENDULUM_ERR_ARGUMENT); *flags is set, not or-ed. With dg NULL, G alone is enclosed
- * (a smaller program; the flags are those G's own operations raise). */
+ * (a smaller program; the flags are those G's own operations raise); with g NULL too, only
+ * G's divisions and square roots run, for their flags (whether G is smooth over theta). */
 torsion_pendulum_status torsion_pendulum_enclosure_kernel(const torsion_pendulum_params *params, unsigned mode,
                                        codegen_iv theta, codegen_iv *g, codegen_iv *dg,
                                        unsigned *flags);

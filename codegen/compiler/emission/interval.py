@@ -411,6 +411,17 @@ class _Writer:
         raise ValueError(f"no interval rule for the power {exp} in {base ** exp}")
 
 
+def singular_parts(expr: sp.Expr, definitions=()) -> list[sp.Expr]:
+    """Every division and root that evaluating expr (and the ``definitions`` it reads)
+    performs: the powers with a negative or a fractional exponent, whose interval operations
+    alone raise the flags (a pole, a square root's edge, no state). An interval program of
+    these tells whether expr is smooth on an interval for a fraction of expr's cost."""
+    exprs = [sp.sympify(expr), *(sp.sympify(e) for _, e in needed_definitions(definitions, [expr]))]
+    parts = {p for e in exprs for p in e.atoms(sp.Pow)
+             if p.exp.is_negative or not p.exp.is_integer}
+    return sorted(parts, key=sp.default_sort_key)
+
+
 def interval_body(exprs: list[sp.Expr], parameters: tuple[str, ...], inputs: set[str],
                   definitions=()) -> IntervalBody:
     """exprs (in the parameters and ``inputs``, and the symbols of ``definitions``, a

@@ -16,7 +16,7 @@ import jinja2
 import sympy as sp
 
 from ... import __version__
-from .interval import inline_tail, inputs_read, interval_body, split_program
+from .interval import inline_tail, inputs_read, interval_body, singular_parts, split_program
 from .multibody import MultibodyPlan
 from .plan import CFunction, Plan
 from .printer import CTarget, PrintedBody, print_body
@@ -223,37 +223,44 @@ def _has_denominator(expr) -> bool:
     return any(p.exp.is_negative for p in sp.sympify(expr).atoms(sp.Pow)) or expr.has(sp.atan2)
 
 
+#: Each mode's interval programs, by the name of their C function: G and G', G alone, and
+#: the divisions and roots alone (whether G is smooth: its flags).
+_ENCLOSURE_KINDS = (("body", "enclose_mode"), ("value", "enclose_value_mode"),
+                    ("smooth", "enclose_smooth_mode"))
+
+
 def _enclosure(plan: Plan) -> dict:
-    """Each mode's interval programs of G and G' and of G alone, and how the modes are
-    labelled."""
+    """Each mode's interval programs (_ENCLOSURE_KINDS), and how the modes are labelled."""
     enclosure = plan.enclosure
     names = tuple(symbol for symbol, _ in plan.reads)
     theta = enclosure.theta.name
     assembly = [i for i, kind in enumerate(plan.root_kinds) if kind == "assembly"]
     modes = []
     for k, (g, dg) in enumerate(zip(enclosure.residuals, enclosure.slopes)):
-        body = interval_body([sp.sympify(g), sp.sympify(dg)], names, {theta},
-                             enclosure.definitions)
-        value = interval_body([sp.sympify(g)], names, {theta},   # G alone: cheaper
-                              enclosure.definitions)
+        g = sp.sympify(g)
+        bodies = {"body": [g, sp.sympify(dg)], "value": [g],   # G alone: cheaper
+                  "smooth": singular_parts(g, enclosure.definitions) or [sp.S.Zero]}
+        mode = {kind: interval_body(exprs, names, {theta}, enclosure.definitions)
+                for kind, exprs in bodies.items()}
         flipped = [f"root {i} negative" for n, i in enumerate(assembly) if k >> n & 1]
-        modes.append({"body": body, "value": value, "label": ", ".join(flipped) or "as declared"})
-    programs = [m[k].program for m in modes for k in ("body", "value")]
+        mode["label"] = ", ".join(flipped) or "as declared"
+        modes.append(mode)
+    programs = [m[kind].program for m in modes for kind, _ in _ENCLOSURE_KINDS]
     # theta's operations apart from the parameters' (run once per parameter set), the
     # latter's values in slots [0, fixed) below every program's own
     fixed = sum(split_program(p, {theta}, 0, 0).n_fixed for p in programs)
     first = 0
     for m in modes:
-        for k in ("body", "value"):
-            split = split_program(m[k].program, {theta}, first, fixed)
+        for kind, _ in _ENCLOSURE_KINDS:
+            split = split_program(m[kind].program, {theta}, first, fixed)
             first += split.n_fixed
-            m[f"{k}_split"] = {"head": split.head, "tail": split.tail,
-                               "head_inputs": inputs_read(split.head),
-                               "tail_inputs": inputs_read(split.tail),
-                               "inline": inline_tail(split.tail, {theta}, "iv_flags")}
-    heads = [(f"enclose_{'' if k == 'body' else 'value_'}mode_{n}", m[f"{k}_split"])
-             for n, m in enumerate(modes) for k in ("body", "value")
-             if m[f"{k}_split"]["head"].instructions]
+            m[f"{kind}_split"] = {"head": split.head, "tail": split.tail,
+                                  "head_inputs": inputs_read(split.head),
+                                  "tail_inputs": inputs_read(split.tail),
+                                  "inline": inline_tail(split.tail, {theta}, "iv_flags")}
+    heads = [(f"{function}_{n}", m[f"{kind}_split"])
+             for n, m in enumerate(modes) for kind, function in _ENCLOSURE_KINDS
+             if m[f"{kind}_split"]["head"].instructions]
     slots = fixed + max(p.n_slots for p in programs)
     instructions = sum(len(p.instructions) for p in programs)
     return {"theta": theta, "equation": enclosure.equation, "modes": modes, "slots": slots,
