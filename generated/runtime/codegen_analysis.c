@@ -604,7 +604,8 @@ typedef enum span_outcome {
  * flag there: no pole, every square root defined) it has one exactly where it changes sign
  * between the ends. expecting: the branch nearest zero at the span's root is this mode's, so
  * G's enclosure over [lo, hi] would hold 0 anyway: only the flags are asked (the divisions
- * and square roots alone, a fraction of G's operations); otherwise G's enclosure first, which
+ * and square roots alone, a fraction of G's operations: the model's enclose_flags_alone);
+ * otherwise G's enclosure first, which
  * settles most spans that hold no zero of this mode at once. *smooth = 0 where a pole or a
  * square root's edge may lie inside (no interval around it will do). */
 static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real hi, int expecting,
@@ -857,7 +858,9 @@ static int study_simple_span(const call *c, const codegen_root_span *s, void *wo
     for (k = 0u; k < (unsigned)model->n_modes; ++k) {
         const unsigned mode = k == 0u ? first : k <= first ? k - 1u : k;
         span_outcome outcome;
-        status = span_zeros(c, mode, s, k == 0u && kind != CODEGEN_EXTRANEOUS, &outcome);
+        status = span_zeros(c, mode, s,
+                            k == 0u && kind != CODEGEN_EXTRANEOUS && model->enclose_flags_alone,
+                            &outcome);
         if (status != CODEGEN_OK) {
             return status;
         }

@@ -172,6 +172,7 @@ static const codegen_model model = {
     .assembly_conditions = assembly_conditions,
     .enclose = enclose,
     .prepare_enclosure = prepare_enclosure,
+    .enclose_flags_alone = 1,
     .sigma = sigma,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,

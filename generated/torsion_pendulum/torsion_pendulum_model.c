@@ -91,6 +91,7 @@ static const codegen_model model = {
     .equilibrium_state = equilibrium_state,
     .enclose = enclose,
     .prepare_enclosure = prepare_enclosure,
+    .enclose_flags_alone = 1,
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
     .linearisation = linearisation,

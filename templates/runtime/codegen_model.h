@@ -211,6 +211,9 @@ struct codegen_model {
      * ready for its parameters by prepare_enclosure (NULL: nothing to prepare) */
     codegen_enclosure enclose;
     void (*prepare_enclosure)(const void *context);
+    /* 1 where enclose, given g NULL (and dg NULL), runs G's divisions and square roots alone
+     * and sets only the flags (the generated libraries' do); 0: never asked so */
+    int enclose_flags_alone;
     /* the polynomial's coefficients (NULL: no polynomial route) and, unless bound is NULL, a
      * bound on each one's error (CODEGEN_HUGE where there is none); values and errors: its
      * program's memory */
