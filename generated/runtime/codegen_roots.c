@@ -632,7 +632,8 @@ static inline void steer_next(steer *h)
     h->g = h->g * h->ax + codegen_fabs(*h->c);
 }
 
-/* out: p (2), p' (2), sum |a_i| |x|^i */
+/* out: p (2), p' (2), sum |a_i| |x|^i, the chart's point x + iy (2) */
+#define STEER_VALUES 7
 static void steer_end(const steer *h, codegen_real *out)
 {
     out[0] = h->b1 - h->x * h->b2;
@@ -640,11 +641,13 @@ static void steer_end(const steer *h, codegen_real *out)
     out[2] = h->b2 - 2 * h->y * h->y * h->d2;
     out[3] = 2 * h->y * (h->d1 - h->x * h->d2);
     out[4] = h->g;
+    out[5] = h->x;
+    out[6] = h->y;
 }
 
 /* p and p' in the charts of two points at once: two independent chains (one where k < 0). */
 static void steer_values(const codegen_real *a, int m, const codegen_real *zr, const codegen_real *zi,
-                         int i, int k, int *reversed, codegen_real (*out)[5])
+                         int i, int k, int *reversed, codegen_real (*out)[STEER_VALUES])
 {
     steer h[2];
     const int n = k < 0 ? 1 : 2;
@@ -670,7 +673,7 @@ static void steer_values(const codegen_real *a, int m, const codegen_real *zr, c
 }
 
 /* The Newton correction N = p(z) / p'(z) from steer_values' v in z's chart; for |z| > 1
- * from r at y = 1/z: N = z / (m - y r'(y) / r(y)).
+ * from r at y = 1/z (v's chart point): N = z / (m - y r'(y) / r(y)).
  * *small = 1 when |p(z)| is within Horner's error bound: z is a root to working precision.
  * Returns 0 where the correction does not exist (p'(z) = 0, or not finite). */
 static int newton_ratio(const codegen_real *v, int reversed, int m, codegen_real zr, codegen_real zi,
@@ -688,7 +691,7 @@ static int newton_ratio(const codegen_real *v, int reversed, int m, codegen_real
     if (!cdiv(v[2], v[3], v[0], v[1], &qr, &qi)) {
         return 0;
     }
-    const codegen_real z2 = zr * zr + zi * zi, yr = zr / z2, yi = -zi / z2;
+    const codegen_real yr = v[5], yi = v[6];
     return cdiv(zr, zi, (codegen_real)m - (yr * qr - yi * qi), -(yr * qi + yi * qr), nr, ni);
 }
 
@@ -753,7 +756,7 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
         done[i] = 0;
     }
     for (int it = 0; it < CR_FAST_MAXIT && left > 0; ++it) {
-        codegen_real values[2][5];
+        codegen_real values[2][STEER_VALUES];
         int reversed[2], ahead = -1;
         for (int i = 0; i < m; ++i) {
             codegen_real nr, ni, sr = 0, si = 0, wr, wi;

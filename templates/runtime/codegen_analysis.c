@@ -605,9 +605,9 @@ typedef enum span_outcome {
  * between the ends. expecting: the branch nearest zero at the span's root is this mode's, so
  * G's enclosure over [lo, hi] would hold 0 anyway: only the flags are asked (the divisions
  * and square roots alone, a fraction of G's operations: the model's enclose_flags_alone);
- * otherwise G's enclosure first, which
- * settles most spans that hold no zero of this mode at once. *smooth = 0 where a pole or a
- * square root's edge may lie inside (no interval around it will do). */
+ * otherwise G's enclosure first, which settles most spans that hold no zero of this mode at
+ * once. *smooth = 0 where a pole or a square root's edge may lie inside (no interval around
+ * it will do). */
 static int sign_test(const call *c, unsigned mode, codegen_real lo, codegen_real hi, int expecting,
                      span_outcome *outcome, int *smooth)
 {
