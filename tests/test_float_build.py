@@ -138,8 +138,18 @@ def _run(binary: Path, sets: np.ndarray, *route: str) -> list:
 
 
 def _inside(theta: float, lo: float, hi: float) -> bool:
+    """theta in [lo, hi] as angles: an interval may be written across pi (lo or hi beyond it),
+    and one 2 pi wide or more holds every angle."""
     margin = 4e-15 * max(abs(theta), 1.0)  # the double root's own rounding
-    return lo - margin <= theta <= hi + margin
+    if hi - lo >= 2 * np.pi:
+        return True
+    turned = lo - margin + (theta - (lo - margin)) % (2 * np.pi)  # theta's turn from lo on
+    return turned <= hi + margin
+
+
+def _overlap(lo: float, hi: float, other_lo: float, other_hi: float) -> bool:
+    """Whether two angle intervals meet, as _inside takes them."""
+    return _inside(lo, other_lo, other_hi) or _inside(other_lo, lo, hi)
 
 
 def silent_disagreements(double: dict, single: dict) -> list[str]:
@@ -161,7 +171,7 @@ def silent_disagreements(double: dict, single: dict) -> list[str]:
                 problems.append(f"equilibrium {theta!r}: K {k} in double, {match[5]} in float")
     for kind, certified, theta, lo, hi, k in sure:
         held = any(_inside(r[2], lo, hi) for r in double["roots"] if r[0] == kind)
-        covered = any(u[1] <= hi and lo <= u[2] for u in double["uncertain"])
+        covered = any(_overlap(lo, hi, u[1], u[2]) for u in double["uncertain"])
         uncertified = any(lo - 1e-6 <= r[2] <= hi + 1e-6 and not r[1] for r in double["roots"])
         if not (held or covered or uncertified):
             problems.append(f"float equilibrium in [{lo!r}, {hi!r}] (kind {kind}) invented")

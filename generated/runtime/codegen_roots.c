@@ -672,34 +672,57 @@ static void steer_values(const codegen_real *a, int m, const codegen_real *zr, c
     }
 }
 
-/* The Newton correction N = p(z) / p'(z) from steer_values' v in z's chart; for |z| > 1
- * from r at y = 1/z (v's chart point): N = z / (m - y r'(y) / r(y)).
- * *small = 1 when |p(z)| is within Horner's error bound: z is a root to working precision.
- * Returns 0 where the correction does not exist (p'(z) = 0, or not finite). */
-static int newton_ratio(const codegen_real *v, int reversed, int m, codegen_real zr, codegen_real zi,
-                        codegen_real *nr, codegen_real *ni, int *small)
+/* The Newton correction N = p(z) / p'(z) as a fraction num / den, from steer_values' v in
+ * z's chart; for |z| > 1 from r at y = 1/z (v's chart point): N = z r(y) / (m r(y) - y r'(y)).
+ * Kept a fraction so that the Aberth step N / (1 - N S) = num / (den - num S) takes one complex
+ * division, not three. Returns 1, and leaves num and den, where |p(z)| is within Horner's
+ * error bound: z is a root to working precision. */
+static int newton_parts(const codegen_real *v, int reversed, int m, codegen_real zr, codegen_real zi,
+                        codegen_real *num, codegen_real *den)
 {
     const codegen_real err = CR_HORNER_ERR(m, v[4]);
-    *small = v[0] * v[0] + v[1] * v[1] <= err * err;
-    if (*small) {
+    if (v[0] * v[0] + v[1] * v[1] <= err * err) {
         return 1;
     }
     if (!reversed) {
-        return cdiv(v[0], v[1], v[2], v[3], nr, ni);
+        num[0] = v[0];
+        num[1] = v[1];
+        den[0] = v[2];
+        den[1] = v[3];
+    } else {
+        const codegen_real yr = v[5], yi = v[6];
+        num[0] = zr * v[0] - zi * v[1];
+        num[1] = zr * v[1] + zi * v[0];
+        den[0] = (codegen_real)m * v[0] - (yr * v[2] - yi * v[3]);
+        den[1] = (codegen_real)m * v[1] - (yr * v[3] + yi * v[2]);
     }
-    codegen_real qr, qi;                                  /* r'(y) / r(y), then y times it */
-    if (!cdiv(v[2], v[3], v[0], v[1], &qr, &qi)) {
-        return 0;
-    }
-    const codegen_real yr = v[5], yi = v[6];
-    return cdiv(zr, zi, (codegen_real)m - (yr * qr - yi * qi), -(yr * qi + yi * qr), nr, ni);
+    return 0;
+}
+
+/* log2 |x| (x not 0) to within 0.005: the binary exponent, and the mantissa's by a quadratic
+ * through its ends and middle. Only +, *, frexp: the same value on every libm. */
+static codegen_real rough_log2(codegen_real x)
+{
+    int e;
+    const codegen_real t = 2 * codegen_frexp(codegen_fabs(x), &e) - 1; /* |x| = (1 + t) 2^(e - 1) */
+    return (codegen_real)(e - 1) + t * (CODEGEN_R(1.3465) - CODEGEN_R(0.3465) * t);
+}
+
+/* 2^y to within 0.3 %, as rough_log2: the integer part by ldexp, the fraction by a quadratic. */
+static codegen_real rough_exp2(codegen_real y)
+{
+    int n = (int)y;
+    n -= (codegen_real)n > y;
+    const codegen_real s = y - (codegen_real)n;          /* in [0, 1) */
+    return codegen_ldexp(1 + s * (CODEGEN_R(0.6565) + CODEGEN_R(0.3435) * s), n);
 }
 
 /* Starting points: for each edge of the upper convex hull of (k, log2 |a_k|) (the Newton
  * polygon: its slopes give the roots' magnitudes), as many points as the edge is long, on the
  * circle of that radius, turned by the golden angle from one point to the next so that none
- * is symmetric to another about the real axis. Exponents and radii are powers of two (frexp,
- * ldexp): the same starts on every libm. hull: m + 1 values of scratch. */
+ * is symmetric to another about the real axis. The hull is taken on binary exponents, the radii
+ * to about 1 % by rough_log2 and rough_exp2: the same starts on every libm. hull: m + 1
+ * values of scratch. */
 static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi,
                          codegen_real *hull)
 {
@@ -725,14 +748,9 @@ static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen
     int n = 0;
     for (int t = 0; t + 1 < h; ++t) {
         const int k1 = (int)hull[t], k2 = (int)hull[t + 1];
-        int e1, e2;
-        (void)codegen_frexp(a[k1], &e1);
-        (void)codegen_frexp(a[k2], &e2);
         const int span = k2 - k1;
-        /* |root| ~ (|a_k1| / |a_k2|)^(1 / span), rounded to a power of two */
-        const int num = e1 - e2;
-        const int er = num >= 0 ? (2 * num + span) / (2 * span) : -((span - 2 * num - 1) / (2 * span));
-        const codegen_real rho = codegen_ldexp((codegen_real)1, er);
+        /* |root| ~ (|a_k1| / |a_k2|)^(1 / span) */
+        const codegen_real rho = rough_exp2((rough_log2(a[k1]) - rough_log2(a[k2])) / (codegen_real)span);
         for (int j = 0; j < span; ++j) {
             const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
             ci = cr * CR_ROT_S + ci * CR_ROT_C;
@@ -742,6 +760,49 @@ static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen
             ++n;
         }
     }
+}
+
+/* S = sum_{j != i} 1 / (z_i - z_j) into (*sr, *si), the terms taken in pairs with one division
+ * each, 1 / d + 1 / e = (conj(d) |e|^2 + conj(e) |d|^2) / (|d|^2 |e|^2), where that product is
+ * normal and finite (else term by term). Returns 0 where two points coincide. */
+static int repulsion(const codegen_real *zr, const codegen_real *zi, int m, int i, codegen_real *sr,
+                     codegen_real *si)
+{
+    codegen_real r = 0, s = 0, pr = 0, pi = 0, pn = 0;
+    int pending = 0;
+    for (int j = 0; j < m; ++j) {
+        if (j == i) {
+            continue;
+        }
+        const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j], n = dr * dr + di * di;
+        if (!(n > 0)) {
+            return 0;
+        }
+        if (!pending) {
+            pr = dr;
+            pi = di;
+            pn = n;
+            pending = 1;
+            continue;
+        }
+        const codegen_real both = pn * n;
+        if (both >= CODEGEN_REAL_MIN && both < CODEGEN_REAL_MAX) {
+            const codegen_real inv = 1 / both;
+            r += (pr * n + dr * pn) * inv;
+            s -= (pi * n + di * pn) * inv;
+        } else {
+            r += pr / pn + dr / n;
+            s -= pi / pn + di / n;
+        }
+        pending = 0;
+    }
+    if (pending) {
+        r += pr / pn;
+        s -= pi / pn;
+    }
+    *sr = r;
+    *si = s;
+    return 1;
 }
 
 /* Gauss-Seidel Ehrlich-Aberth sweeps: z_i -= N / (1 - N sum_{j != i} 1 / (z_i - z_j)), N the
@@ -759,8 +820,8 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
         codegen_real values[2][STEER_VALUES];
         int reversed[2], ahead = -1;
         for (int i = 0; i < m; ++i) {
-            codegen_real nr, ni, sr = 0, si = 0, wr, wi;
-            int small, t = 1;
+            codegen_real num[2], den[2], sr, si, wr, wi;
+            int t = 1;
             if (done[i] != 0) {
                 continue;
             }
@@ -773,27 +834,16 @@ static int aberth(const codegen_real *a, int m, codegen_real *zr, codegen_real *
                 steer_values(a, m, zr, zi, i, ahead, reversed, values);
                 t = 0;
             }
-            if (!newton_ratio(values[t], reversed[t], m, zr[i], zi[i], &nr, &ni, &small)) {
-                return 0;
-            }
-            if (small) {
+            if (newton_parts(values[t], reversed[t], m, zr[i], zi[i], num, den)) {
                 done[i] = 1;
                 --left;
                 continue;
             }
-            for (int j = 0; j < m; ++j) {
-                if (j != i) {
-                    const codegen_real dr = zr[i] - zr[j], di = zi[i] - zi[j];
-                    const codegen_real den = dr * dr + di * di;
-                    if (!(den > 0)) {
-                        return 0;
-                    }
-                    const codegen_real inv = 1 / den;
-                    sr += dr * inv;
-                    si -= di * inv;
-                }
+            if (!repulsion(zr, zi, m, i, &sr, &si)) {
+                return 0;
             }
-            if (!cdiv(nr, ni, 1 - (nr * sr - ni * si), -(nr * si + ni * sr), &wr, &wi)) {
+            if (!cdiv(num[0], num[1], den[0] - (num[0] * sr - num[1] * si),
+                      den[1] - (num[0] * si + num[1] * sr), &wr, &wi)) {
                 return 0;
             }
             zr[i] -= wr;
