@@ -521,6 +521,7 @@ static int isolated_roots(const codegen_real *a, const codegen_real *q, int m, c
  * bracketed by its disc for solve().
  * ------------------------------------------------------------------------------------------ */
 
+#define CR_NEAR_I CODEGEN_R(0.25)        /* |w| of the roots started near tau = +-i (aberth_start) */
 #define CR_FAST_MAXIT 50                  /* Aberth sweeps before giving up (converged ones skip) */
 #define CR_FAST_MARGIN (CODEGEN_R(4.0) * CR_PAIR)  /* in chart units: twice as far as rule 5 acts */
 #define CR_ROT_C CODEGEN_R(-0.737368878078319901518240381368) /* cos and sin of the golden angle */
@@ -717,47 +718,147 @@ static codegen_real rough_exp2(codegen_real y)
     return codegen_ldexp(1 + s * (CODEGEN_R(0.6565) + CODEGEN_R(0.3435) * s), n);
 }
 
-/* Starting points: for each edge of the upper convex hull of (k, log2 |a_k|) (the Newton
- * polygon: its slopes give the roots' magnitudes), as many points as the edge is long, on the
- * circle of that radius, turned by the golden angle from one point to the next so that none
- * is symmetric to another about the real axis. The hull is taken on binary exponents, the radii
- * to about 1 % by rough_log2 and rough_exp2: the same starts on every libm. hull: m + 1
- * values of scratch. */
-static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi,
-                         codegen_real *hull)
+/* lg[k] = log2 |c_k| to within 0.005 (rough_log2), or -CODEGEN_HUGE where c_k = 0. */
+static void rough_logs(const codegen_real *c, int m, codegen_real *lg)
+{
+    for (int k = 0; k <= m; ++k) {
+        lg[k] = c[k] != 0 ? rough_log2(c[k]) : -CODEGEN_HUGE;
+    }
+}
+
+/* The vertices k of the upper convex hull of (k, lg[k]) over the k with c_k not 0 (rough_logs),
+ * into hull (as reals); returns their count. */
+static int newton_hull(const codegen_real *lg, int m, codegen_real *hull)
 {
     int h = 0;
     for (int k = 0; k <= m; ++k) {
-        if (a[k] == 0) {
+        if (!(lg[k] > -CODEGEN_HUGE)) {
             continue;
         }
-        int ek, e1, e2;
-        (void)codegen_frexp(a[k], &ek);
         while (h >= 2) {                        /* drop the last vertex if not above the chord */
             const int k1 = (int)hull[h - 2], k2 = (int)hull[h - 1];
-            (void)codegen_frexp(a[k1], &e1);
-            (void)codegen_frexp(a[k2], &e2);
-            if ((long)(e2 - e1) * (k - k1) > (long)(ek - e1) * (k2 - k1)) {
+            if ((lg[k2] - lg[k1]) * (codegen_real)(k - k1) > (lg[k] - lg[k1]) * (codegen_real)(k2 - k1)) {
                 break;
             }
             --h;
         }
         hull[h++] = (codegen_real)k;
     }
+    return h;
+}
+
+/* The radius of the roots that an edge k1 < k2 of the Newton polygon stands for:
+ * (|c_k1| / |c_k2|)^(1 / (k2 - k1)), to about 1 %. */
+static codegen_real edge_radius(const codegen_real *lg, int k1, int k2)
+{
+    return rough_exp2((lg[k1] - lg[k2]) / (codegen_real)(k2 - k1));
+}
+
+/* The next point on the unit circle, turned by the golden angle from (*cr, *ci). */
+static void golden_turn(codegen_real *cr, codegen_real *ci)
+{
+    const codegen_real nc = *cr * CR_ROT_C - *ci * CR_ROT_S;
+    *ci = *cr * CR_ROT_S + *ci * CR_ROT_C;
+    *cr = nc;
+}
+
+/* |c_j| (to within a factor sqrt 2: |Re| + |Im|) of c(w) = (w + 1)^m p(tau), tau = -i (w - 1) /
+ * (w + 1): the polynomial in w = (1 + i tau) / (1 - i tau) = e^(i theta), whose roots near 0 and
+ * infinity are p's near tau = i and -i. By Horner's rule on sum_k a_k u^k v^(m - k) (u = -i (w -
+ * 1), v = w + 1): c <- c u + a_k v^(m - k), one pass per k from the top coefficient down (each
+ * c_(j-1) read before it is overwritten). mag, im, v: m + 1 values each; mag receives |c_j|. */
+static void unit_circle_magnitudes(const codegen_real *a, int m, codegen_real *mag, codegen_real *im,
+                                   codegen_real *v)
+{
+    codegen_real *const re = mag;
+    re[0] = a[m];
+    im[0] = 0;
+    v[0] = 1;
+    for (int k = m - 1, d = 0; k >= 0; --k, ++d) { /* c and v of degree d, then d + 1 */
+        /* (c (w - 1))_j = c_(j-1) - c_j; times -i: (x + iy)(-i) = y - ix; plus a_k v_j */
+        v[d + 1] = v[d];
+        re[d + 1] = im[d] + a[k] * v[d + 1];
+        im[d + 1] = -re[d];
+        for (int j = d; j >= 1; --j) {
+            const codegen_real at = re[j];
+            v[j] += v[j - 1];
+            re[j] = (im[j - 1] - im[j]) + a[k] * v[j];
+            im[j] = at - re[j - 1];
+        }
+        const codegen_real at = re[0];                 /* v_0 stays 1 */
+        re[0] = a[k] - im[0];
+        im[0] = at;
+    }
+    for (int j = 0; j <= m; ++j) {
+        mag[j] = codegen_fabs(re[j]) + codegen_fabs(im[j]);
+    }
+}
+
+/* tau = -i (w - 1) / (w + 1) for w = rho (cr + i ci) (|cr + i ci| = 1, rho far from 1), from
+ * 1 / w where rho > 1, so that nothing overflows. */
+static void tau_of_w(codegen_real rho, codegen_real cr, codegen_real ci, codegen_real *tr, codegen_real *ti)
+{
+    const int far = rho > 1;
+    const codegen_real r = far ? 1 / rho : rho, x = r * cr, y = far ? -r * ci : r * ci;
+    const codegen_real d = (1 + x) * (1 + x) + y * y, up = 1 - r * r;  /* |1 + w|^2 (w or 1 / w) */
+    *tr = (far ? -2 * y : 2 * y) / d;
+    *ti = (far ? -up : up) / d;
+}
+
+/* Starting points: for each edge of the Newton polygon of p (the upper convex hull of (k, log2
+ * |a_k|): its slopes give the roots' magnitudes), as many points as the edge is long, on the
+ * circle of that radius, turned by the golden angle from one point to the next so that none
+ * is symmetric to another about the real axis. Roots near tau = +-i (theta -> -+i infinity,
+ * where sigma's outermost Fourier terms are small: a cluster the polygon cannot tell from the
+ * roots of modulus 1) are seen by the Newton polygon of the same polynomial in w = e^(i theta)
+ * (unit_circle_magnitudes) as roots near w = 0 and infinity: as many of p's points as it has
+ * there (on edges of radius below CR_NEAR_I, or above its inverse) are moved from the circles
+ * nearest |tau| = 1 to its circles, mapped back to tau. The radii are to about 1 % (rough_log2,
+ * rough_exp2): the same starts on every libm. scratch: 3 (m + 1) values. */
+static void aberth_start(const codegen_real *a, int m, codegen_real *zr, codegen_real *zi,
+                         codegen_real *scratch)
+{
+    codegen_real *const lg = scratch, *const other = lg + (m + 1), *const hull = other + (m + 1);
     codegen_real cr = 1, ci = 0;
     int n = 0;
+    rough_logs(a, m, lg);
+    int h = newton_hull(lg, m, hull);
     for (int t = 0; t + 1 < h; ++t) {
         const int k1 = (int)hull[t], k2 = (int)hull[t + 1];
-        const int span = k2 - k1;
-        /* |root| ~ (|a_k1| / |a_k2|)^(1 / span) */
-        const codegen_real rho = rough_exp2((rough_log2(a[k1]) - rough_log2(a[k2])) / (codegen_real)span);
-        for (int j = 0; j < span; ++j) {
-            const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
-            ci = cr * CR_ROT_S + ci * CR_ROT_C;
-            cr = nc;
+        const codegen_real rho = edge_radius(lg, k1, k2);
+        for (int j = k1; j < k2; ++j) {
+            golden_turn(&cr, &ci);
             zr[n] = rho * cr;
             zi[n] = rho * ci;
             ++n;
+        }
+    }
+    unit_circle_magnitudes(a, m, lg, other, hull);
+    rough_logs(lg, m, lg);
+    h = newton_hull(lg, m, hull);
+    codegen_real *const off = other;                   /* |log |tau|| grows with it; HUGE: moved */
+    for (int i = 0; i < n; ++i) {
+        const codegen_real r2 = zr[i] * zr[i] + zi[i] * zi[i];
+        off[i] = r2 >= 1 ? r2 : 1 / r2;
+    }
+    for (int t = 0; t + 1 < h; ++t) {
+        const int k1 = (int)hull[t], k2 = (int)hull[t + 1];
+        const codegen_real rho = edge_radius(lg, k1, k2);
+        if (!(rho >= CODEGEN_SQRT_EPSILON && rho <= CR_NEAR_I)
+            && !(rho <= 1 / CODEGEN_SQRT_EPSILON && rho >= 1 / CR_NEAR_I)) {
+            continue;
+        }
+        for (int j = k1; j < k2; ++j) { /* onto the point nearest |tau| = 1 not yet moved */
+            int best = 0;
+            for (int i = 1; i < n; ++i) {
+                best = off[i] < off[best] ? i : best;
+            }
+            if (n == 0 || !(off[best] < CODEGEN_HUGE)) {
+                return;
+            }
+            golden_turn(&cr, &ci);
+            tau_of_w(rho, cr, ci, &zr[best], &zi[best]);
+            off[best] = CODEGEN_HUGE;
         }
     }
 }
@@ -959,7 +1060,7 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
                       codegen_real *work, const codegen_real *iterated)
 {
     codegen_real *const zr = work, *const zi = zr + m, *const rad = zi + m, *const scratch = rad + m;
-    codegen_real *const da = scratch + (m + 1), *const dq = da + m;   /* scratch: hull, then done */
+    codegen_real *const da = scratch + (m + 1), *const dq = da + m;   /* scratch: the starts', then done */
     if (iterated != NULL) { /* the iteration's result on this same a, from the spans */
         for (int i = 0; i < 2 * m; ++i) {
             zr[i] = iterated[i];
@@ -1050,8 +1151,8 @@ static int fast_roots(const codegen_real *a, const codegen_real *q, int m, codeg
 
 /* Where codegen_poly_root_spans leaves its iteration's result in work (as it was when the
  * iteration stopped: real parts, then imaginary), beyond its own arrays (13 degree + 4) and
- * everything real_roots' fast path writes before reading it (fast_roots' arrays end below
- * 12 degree + 7). */
+ * everything real_roots' fast path writes before reading it (fast_roots' arrays and
+ * aberth_start's scratch end below 12 degree + 9). */
 #define SPANS_ITERATED(work, degree) ((work) + 14 * (degree) + 16)
 
 static codegen_real span_reach_lo(const codegen_root_span *s)
@@ -1136,16 +1237,16 @@ static void chart_to_theta(codegen_real lo, codegen_real hi, int reversed, codeg
 }
 
 /* Starting points for all m roots: aberth_start's, then any left (roots at 0, where trailing
- * coefficients vanish) on a small circle. */
+ * coefficients vanish) on a small circle. scratch: 3 (m + 1) values. */
 static void span_start(const codegen_real *b, int m, codegen_real *zr, codegen_real *zi,
-                       codegen_real *hull)
+                       codegen_real *scratch)
 {
     int first = 0;
     codegen_real cr = 1, ci = 0;
     while (b[first] == 0) {
         ++first;
     }
-    aberth_start(b, m, zr, zi, hull);
+    aberth_start(b, m, zr, zi, scratch);
     for (int n = m - first; n < m; ++n) {
         const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
         ci = cr * CR_ROT_S + ci * CR_ROT_C;
