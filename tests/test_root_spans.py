@@ -180,6 +180,41 @@ def _perturbed_real_roots(sigma, bound, rng):
                 if abs(mpmath.im(r)) <= mpmath.mpf(10) ** -40 * max(1, abs(r))]
 
 
+def test_a_cluster_near_plus_minus_i_leaves_every_real_root_simple(spans_lib):
+    """The slider-crank's sigma at its example, rebuilt from its roots (mpmath): ten real ones
+    from 0.0099 to 37.8 and seven complex pairs, four of them within 0.08 of +-i, where the
+    outermost Fourier terms are small. Every real root is proven in a span of its own."""
+    real = [-23.2305, -1.30022, -0.0580039, -0.0536696, 0.00988584, 0.0733879, 1.68822,
+            20.9523, 36.1523, 37.7904]
+    pairs = [(-0.0575669, 1.05314), (-0.0289763, 1.02862), (0.0264245, 0.972169),
+             (0.043034, 0.950091), (-0.00785973, 0.496104), (0.0196355, 0.620778),
+             (0.0259984, 0.371988)]
+    sigma, bound = rounded(exact_polynomial(real, pairs))
+    status, spans = spans_of(spans_lib, sigma, bound)
+    assert status == OK
+    thetas = [theta_of(r) for r in real]
+    check(spans, thetas, [1] * len(thetas))
+    assert len(spans) == len(real) and all(s[3] for s in spans)
+
+
+@settings(max_examples=40, deadline=None)
+@given(real=st.lists(st.floats(-50, 50, allow_nan=False).filter(lambda x: abs(x) > 1e-3),
+                     min_size=0, max_size=8),
+       near_i=st.lists(st.tuples(st.floats(-0.1, 0.1), st.floats(0.9, 1.1)), min_size=1,
+                       max_size=5),
+       extra=st.sampled_from([0.0, 1e-15]))
+def test_every_real_root_is_in_a_span_beside_clusters_near_plus_minus_i(
+        spans_lib, real, near_i, extra):
+    """Complex pairs clustered around +-i (where aberth_start takes its starts from the
+    polynomial in e^(i theta)) beside real roots: none of the real ones is missed."""
+    sigma, bound = rounded(exact_polynomial(real, near_i), extra)
+    status, spans = spans_of(spans_lib, sigma, bound)
+    assert status in (OK, UNPROVEN)
+    if status == OK:
+        thetas = [theta_of(r) for r in real]
+        check(spans, thetas, [thetas.count(t) for t in thetas])
+
+
 @settings(max_examples=60, deadline=None)
 @given(real=st.lists(st.floats(-50, 50, allow_nan=False).filter(lambda x: abs(x) > 1e-3),
                      min_size=0, max_size=8),
