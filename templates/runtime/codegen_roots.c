@@ -1248,9 +1248,7 @@ static void span_start(const codegen_real *b, int m, codegen_real *zr, codegen_r
     }
     aberth_start(b, m, zr, zi, scratch);
     for (int n = m - first; n < m; ++n) {
-        const codegen_real nc = cr * CR_ROT_C - ci * CR_ROT_S;
-        ci = cr * CR_ROT_S + ci * CR_ROT_C;
-        cr = nc;
+        golden_turn(&cr, &ci);
         zr[n] = CODEGEN_R(0x1p-20) * cr;
         zi[n] = CODEGEN_R(0x1p-20) * ci;
     }
