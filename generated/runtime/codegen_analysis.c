@@ -892,6 +892,27 @@ static int in_cluster(const codegen_root_span *spans, int n, codegen_real theta)
     return 0;
 }
 
+/* Whether G of some mode may vanish at theta, or is not smooth there, as its enclosure at the
+ * point says: a root of a cluster's span is listed as extraneous only where every mode's G is
+ * certainly not 0 (where rounding cannot tell, it is no extraneous root but part of the
+ * span's uncertain interval). */
+static int may_be_equilibrium(const call *c, codegen_real theta)
+{
+    unsigned mode;
+    for (mode = 0u; mode < (unsigned)c->model->n_modes; ++mode) {
+        codegen_iv g;
+        unsigned flags;
+        if (c->model->enclose(&c->enclosure, mode, codegen_iv_point(theta), &g, NULL, &flags) != 0) {
+            return 1;
+        }
+        if (!(flags & CODEGEN_IV_OUTSIDE)
+            && ((flags & (CODEGEN_IV_POLE | CODEGEN_IV_EDGE)) != 0u || codegen_iv_has_zero(g))) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Whether an extraneous root at theta would be merged with one listed (see split_pair), or
  * the result is full: extraneous roots are listed for what they say of the polynomial, and
  * never at the cost of a failure. */
@@ -924,7 +945,7 @@ static int list_cluster_lengths(const call *c, const codegen_root_span *s, const
             continue;
         }
         root = wrap(solve_on_branch(c, j, s->free_lo, s->free_hi, g_lo, g_hi));
-        if (extraneous_listed(model, work, root)) {
+        if (extraneous_listed(model, work, root) || may_be_equilibrium(c, root)) {
             continue;
         }
         status = linearise(c, 0u, root, e);
@@ -977,7 +998,7 @@ static int list_cluster_roots(const call *c, void *workspace, const result_view 
                 at[(*listed)++] = wrap(theta[i]);
             }
         } else if (status == CODEGEN_OK && e->kind == CODEGEN_EXTRANEOUS
-                   && !extraneous_listed(model, work, e->theta)) {
+                   && !extraneous_listed(model, work, e->theta) && !may_be_equilibrium(c, e->theta)) {
             ++*work->n_roots;
         }
         status = CODEGEN_OK; /* a root that cannot be studied is not listed: no equilibrium */

@@ -335,17 +335,48 @@ static int unresolved(isolation *s, const box *b, unsigned flags)
     }
 }
 
+/* Whether G is not smooth (or the mechanism may not exist) at theta itself, enclosed as a point:
+ * within rounding of a pole or a square root's zero. */
+static int rough_at(isolation *s, codegen_real theta, int *rough)
+{
+    codegen_iv g, dg;
+    unsigned flags;
+    const int status = enclose_box(s, theta, theta, &g, &dg, &flags);
+    *rough = status == 0 && (flags & SMOOTHNESS_FLAGS) != 0u && !(flags & CODEGEN_IV_OUTSIDE);
+    return status;
+}
+
 /* Whether b is as narrow as double resolves (absolute for |theta| < 1), or, where G is
  * smooth, G's sign is within rounding at both ends and the middle: splitting cannot decide
  * more (a fold, or a zero where G's rounding spreads wide). A box where G is not smooth is split
- * down to the resolution (its ends may lie outside the mechanism's domain, its middle not). */
+ * down to the resolution (its ends may lie outside the mechanism's domain, its middle not),
+ * unless it is narrow (SQRT_EPSILON of its angle) and G is not smooth even at its ends and its
+ * middle as points: a square root whose argument only touches zero (a four-bar's change point)
+ * stays within rounding of zero over ~1e-7 rad, which would take ~1e8 boxes of the resolution. */
 static int hopeless(isolation *s, box *b, codegen_real mid, codegen_iv g_mid, unsigned flags,
                     int *result)
 {
     const codegen_real scale = codegen_fmax(codegen_fmax(codegen_fabs(b->lo), codegen_fabs(b->hi)), (codegen_real)1);
     int status = 0;
     *result = b->hi - b->lo <= RESOLUTION * CODEGEN_EPSILON * scale || !(mid > b->lo && mid < b->hi);
-    if (*result || flags || !codegen_iv_has_zero(g_mid)) {
+    if (*result) {
+        return 0;
+    }
+    if (flags & SMOOTHNESS_FLAGS) {
+        int rough = b->hi - b->lo <= CODEGEN_SQRT_EPSILON * scale;
+        if (rough) {
+            status = rough_at(s, b->lo, &rough);
+        }
+        if (status == 0 && rough) {
+            status = rough_at(s, b->hi, &rough);
+        }
+        if (status == 0 && rough) {
+            status = rough_at(s, mid, &rough);
+        }
+        *result = status == 0 && rough;
+        return status;
+    }
+    if (!codegen_iv_has_zero(g_mid)) {
         return 0;
     }
     status = end_signs(s, b);

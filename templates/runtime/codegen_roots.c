@@ -1254,6 +1254,166 @@ static void span_start(const codegen_real *b, int m, codegen_real *zr, codegen_r
     }
 }
 
+/* ---- clusters of centres ----
+ * Braess & Hadeler's discs hold for any m distinct nodes, but a disc's radius divides by the
+ * distances to the other nodes: k centres of a multiple root, or of roots closer than the
+ * coefficients' bounds resolve, lie so close together that their discs cover the whole plane
+ * (a four-bar's change point: a four-fold root of sigma at theta = 0 gave discs of radius 48 in
+ * tau, one span of every angle). Such a cluster's k nodes are moved onto a circle of radius rho
+ * around their centroid, rho chosen to make the cluster's discs smallest: their radii are then
+ * ~ (m / k) rho, and the discs still hold every root (the theorem asks nothing of the nodes). */
+#define CLUSTER_GAP CODEGEN_R(16.0)   /* a cluster's centres: this much closer than any other */
+#define CLUSTER_TRIES 48              /* radii rho tried, doubling */
+
+/* cos and sin of 2 pi t for 0 <= t < 1, from + and * alone (the same nodes on every libm);
+ * to ~1e-8, which is all a node's place needs. */
+static void unit_turn(codegen_real t, codegen_real *c, codegen_real *s)
+{
+    const codegen_real x = CODEGEN_R(2.0) * CR_PI * (t > CODEGEN_R(0.5) ? t - 1 : t), x2 = x * x;
+    codegen_real cs = 0, sn = 0;
+    for (int k = 9; k >= 1; --k) { /* Horner on the Taylor series to x^18 and x^19 */
+        cs = 1 - x2 * cs / (codegen_real)((2 * k - 1) * (2 * k));
+        sn = 1 - x2 * sn / (codegen_real)((2 * k) * (2 * k + 1));
+    }
+    *c = cs;
+    *s = x * sn;
+}
+
+/* The k nearest centres to z_i (k >= 2, as few as possible) that lie CLUSTER_GAP times closer
+ * to their centroid than any other centre: their indices first in order[], their centroid
+ * (real where they straddle the axis), their spread (the farthest from the centroid) and the
+ * gap (the nearest other centre). Returns k, or 0 where no such cluster exists. */
+static int cluster_at(const codegen_real *zr, const codegen_real *zi, int m, int i,
+                      codegen_real *dist, codegen_real *order, codegen_real *cr, codegen_real *ci,
+                      codegen_real *spread, codegen_real *gap)
+{
+    for (int j = 0; j < m; ++j) { /* by distance from z_i (insertion sort: m is small) */
+        const codegen_real d = codegen_fabs(zr[j] - zr[i]) + codegen_fabs(zi[j] - zi[i]);
+        int at = j;
+        while (at > 0 && dist[at - 1] > d) {
+            dist[at] = dist[at - 1];
+            order[at] = order[at - 1];
+            --at;
+        }
+        dist[at] = d;
+        order[at] = (codegen_real)j;
+    }
+    for (int k = 2; k < m; ++k) {
+        codegen_real sr = 0, si = 0, far = 0, near = CODEGEN_HUGE;
+        for (int j = 0; j < k; ++j) {
+            sr += zr[(int)order[j]];
+            si += zi[(int)order[j]];
+        }
+        sr /= (codegen_real)k;
+        si /= (codegen_real)k;
+        for (int j = 0; j < m; ++j) {
+            const int n = (int)order[j];
+            const codegen_real dr = zr[n] - sr, di = zi[n] - si, d = codegen_sqrt(dr * dr + di * di);
+            if (j < k) {
+                far = codegen_fmax(far, d);
+            } else {
+                near = codegen_fmin(near, d);
+            }
+        }
+        if (near > CLUSTER_GAP * far) {
+            *cr = sr;
+            *ci = codegen_fabs(si) <= far ? 0 : si;
+            *spread = far;
+            *gap = near;
+            return k;
+        }
+    }
+    return 0;
+}
+
+/* The cluster's k nodes (indices in order[]) on the circle of radius rho around c, turned by
+ * half a step so that no node is real for even k (a real node would be polished as a root);
+ * the largest reach rho + radius of their discs. */
+static codegen_real place_cluster(const codegen_real *a, const codegen_real *bound, int m,
+                                  codegen_real *zr, codegen_real *zi, codegen_real *rad,
+                                  const codegen_real *order, int k, codegen_real cr, codegen_real ci,
+                                  codegen_real rho)
+{
+    codegen_real reach = 0;
+    for (int j = 0; j < k; ++j) {
+        codegen_real c, s;
+        unit_turn(((codegen_real)j + CODEGEN_R(0.5)) / (codegen_real)k, &c, &s);
+        zr[(int)order[j]] = cr + rho * c;
+        zi[(int)order[j]] = ci + rho * s;
+    }
+    for (int j = 0; j < k; ++j) {
+        const int n = (int)order[j];
+        rad[n] = inclusion_radius(a, bound, m, zr, zi, n, -1);
+        reach = codegen_fmax(reach, rho + rad[n]);
+    }
+    return reach;
+}
+
+/* Every cluster of centres whose discs reach beyond half the distance to their nearest
+ * neighbour, spread out (above) where that makes its discs smaller; then every disc's radius
+ * afresh, since each depends on every node. value[i]: the bound on |p(z_i)| the caller
+ * computed for a real centre (else -1). in[], dist[], order[]: m values each; keep[]: 2 m. */
+static void spread_clusters(const codegen_real *a, const codegen_real *bound, int m,
+                            codegen_real *zr, codegen_real *zi, codegen_real *rad,
+                            codegen_real *value, codegen_real *in, codegen_real *dist,
+                            codegen_real *order, codegen_real *keep)
+{
+    int moved = 0;
+    for (int i = 0; i < m; ++i) {
+        in[i] = 0;
+    }
+    for (int i = 0; i < m; ++i) {
+        codegen_real nearest = CODEGEN_HUGE, cr, ci, spread, gap;
+        for (int j = 0; j < m; ++j) {
+            if (j != i) {
+                nearest = codegen_fmin(nearest, codegen_fabs(zr[j] - zr[i]) + codegen_fabs(zi[j] - zi[i]));
+            }
+        }
+        if (in[i] != 0 || !(rad[i] > CODEGEN_R(0.5) * nearest)) {
+            continue;
+        }
+        const int k = cluster_at(zr, zi, m, i, dist, order, &cr, &ci, &spread, &gap);
+        int member = 0;
+        for (int j = 0; j < k; ++j) {
+            member |= in[(int)order[j]] != 0;
+        }
+        if (k == 0 || member) {
+            continue;
+        }
+        codegen_real before = 0, best = CODEGEN_HUGE, best_rho = 0;
+        for (int j = 0; j < k; ++j) {
+            const int n = (int)order[j];
+            keep[2 * j] = zr[n];
+            keep[2 * j + 1] = zi[n];
+            before = codegen_fmax(before, codegen_sqrt((zr[n] - cr) * (zr[n] - cr) + (zi[n] - ci) * (zi[n] - ci)) + rad[n]);
+        }
+        codegen_real rho = codegen_fmax(spread, CODEGEN_EPSILON * codegen_fmax(codegen_fabs(cr) + codegen_fabs(ci), 1));
+        for (int t = 0; t < CLUSTER_TRIES && CODEGEN_R(4.0) * rho < gap; ++t, rho *= 2) {
+            const codegen_real reach = place_cluster(a, bound, m, zr, zi, rad, order, k, cr, ci, rho);
+            if (reach < best) {
+                best = reach;
+                best_rho = rho;
+            }
+        }
+        if (best < before && best < CODEGEN_R(0.5) * gap) {
+            (void)place_cluster(a, bound, m, zr, zi, rad, order, k, cr, ci, best_rho);
+            for (int j = 0; j < k; ++j) {
+                in[(int)order[j]] = 1;
+                value[(int)order[j]] = -1;
+            }
+            moved = 1;
+        } else {
+            for (int j = 0; j < k; ++j) {
+                zr[(int)order[j]] = keep[2 * j];
+                zi[(int)order[j]] = keep[2 * j + 1];
+            }
+        }
+    }
+    for (int i = 0; i < m && moved; ++i) {
+        rad[i] = inclusion_radius(a, bound, m, zr, zi, i, value[i]);
+    }
+}
+
 /* The label of i's set (union-find over discs that meet, labels stored as reals). */
 static int span_find(codegen_real *label, int i)
 {
@@ -1366,6 +1526,10 @@ codegen_roots_status codegen_poly_root_spans(const codegen_real *sigma, const co
             value = real_value_bound(v, mag, m);
         }
         rad[i] = inclusion_radius(b, db, m, zr, zi, i, value);
+        seg_lo[i] = value;
+    }
+    spread_clusters(b, db, m, zr, zi, rad, seg_lo, label, seg_hi, seg_of, dp);
+    for (int i = 0; i < m; ++i) {
         if (!(rad[i] < CODEGEN_HUGE) || !isfinite(zr[i]) || !isfinite(zi[i])) {
             return CODEGEN_ROOTS_UNPROVEN;
         }
