@@ -546,6 +546,20 @@ static int cdiv(codegen_real ar, codegen_real ai, codegen_real br, codegen_real 
     return 1;
 }
 
+/* |x + iy|, as sqrt(x^2 + y^2) where the squares stay normal and else scaled by the larger
+ * part: in float, |p(z)| ~ 1e-24 near a root of a small polynomial squares to 0, which made a
+ * disc that must hold a root 4e4 times too small (a double root of doughty's sigma at
+ * theta ~ 1e-9 rad, read as a complex pair: an equilibrium lost without a word). */
+static codegen_real modulus(codegen_real x, codegen_real y)
+{
+    const codegen_real ax = codegen_fabs(x), ay = codegen_fabs(y);
+    const codegen_real big = codegen_fmax(ax, ay), small = codegen_fmin(ax, ay);
+    if (big * big >= CODEGEN_REAL_MIN / CODEGEN_EPSILON || big == 0) {
+        return codegen_sqrt(x * x + y * y);
+    }
+    return big * codegen_sqrt(1 + (small / big) * (small / big));
+}
+
 /* p at the complex point x by Horner's rule, where p has the coefficients a[0..m], or a[m..0]
  * when reversed (the polynomial x^m p(1/x)); *mag receives sum |a_i| |x|^i. Complex Horner
  * is within 8 (m + 1) eps of *mag of the truth (each complex product and sum adds at most
@@ -553,7 +567,7 @@ static int cdiv(codegen_real ar, codegen_real ai, codegen_real br, codegen_real 
 static void chorner(const codegen_real *a, int m, int reversed, codegen_real xr, codegen_real xi,
                     codegen_real *s, codegen_real *mag)
 {
-    const codegen_real ax = codegen_sqrt(xr * xr + xi * xi);
+    const codegen_real ax = modulus(xr, xi);
     const int step = reversed ? 1 : -1;                 /* from the top coefficient down */
     const codegen_real *c = reversed ? a : a + m;
     codegen_real sr = *c, si = 0;
@@ -985,7 +999,7 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
                                      const codegen_real *zr, const codegen_real *zi, int i,
                                      codegen_real value)
 {
-    const codegen_real z2 = zr[i] * zr[i] + zi[i] * zi[i], az = codegen_sqrt(z2);
+    const codegen_real z2 = zr[i] * zr[i] + zi[i] * zi[i], az = modulus(zr[i], zi[i]);
     const int reversed = z2 > 1; /* the chart chorner_at takes (it runs only where no value is given) */
     const codegen_real ax = reversed ? 1 / az : az;
     const codegen_real widen = bound != NULL ? bound_sum(bound, m, reversed, ax) * (1 + CODEGEN_EPSILON) : 0;
@@ -993,7 +1007,7 @@ static codegen_real inclusion_radius(const codegen_real *a, const codegen_real *
     if (!(value >= 0)) {
         codegen_real s[2], mag;
         (void)chorner_at(a, m, zr[i], zi[i], s, &mag);
-        value = codegen_sqrt(s[0] * s[0] + s[1] * s[1]) + CR_HORNER_ERR(m, mag);
+        value = modulus(s[0], s[1]) + CR_HORNER_ERR(m, mag);
     }
     codegen_real t = (codegen_real)m * (value + widen) / lead;
     /* prod_j (f / |z_i - z_j|), f = |z_i| or 1, as one over the square root of the product of

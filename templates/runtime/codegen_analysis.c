@@ -704,6 +704,18 @@ static int isolate_span(const call *c, unsigned mode, const codegen_root_span *s
  * angle and G is zero there to working precision, as polish leaves a root (symmetric
  * mechanisms have their equilibria exactly there, and a table shows pi, not its
  * neighbour), and linearised there. */
+/* [lo, hi] turned by turns (-1, 0 or 1) times 2 pi, outward-rounded: 2 pi is enclosed, and so
+ * is each sum. A proven interval moved by the working precision's 2 pi instead lands up to
+ * 1.7e-7 rad off in float, past the zero it was proven to hold. */
+static codegen_iv turned(codegen_real lo, codegen_real hi, int turns)
+{
+    const codegen_iv two_pi = codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
+                                              CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2));
+    const codegen_iv interval = codegen_iv_make(lo, hi);
+    return turns > 0 ? codegen_iv_add(interval, two_pi)
+         : turns < 0 ? codegen_iv_sub(interval, two_pi) : interval;
+}
+
 static int exact_angle(const call *c, codegen_equilibrium *e)
 {
     const codegen_real pi = CODEGEN_R(3.14159265358979323846);
@@ -711,9 +723,10 @@ static int exact_angle(const call *c, codegen_equilibrium *e)
     codegen_real *at = c->at_next, scale, candidate;
     codegen_equilibrium moved;
     if (e->theta <= -pi + PI_SNAP) { /* pi, where (-pi, pi] puts it (see wrap) */
+        const codegen_iv proven = turned(e->theta_lo, e->theta_hi, 1);
         e->theta += CODEGEN_R(2.0) * pi;
-        e->theta_lo += CODEGEN_R(2.0) * pi;
-        e->theta_hi += CODEGEN_R(2.0) * pi;
+        e->theta_lo = proven.lo;
+        e->theta_hi = proven.hi;
     }
     candidate = e->theta_lo <= 0 && e->theta_hi >= 0 ? 0
               : e->theta_lo <= pi && e->theta_hi >= pi ? pi : e->theta;
@@ -776,8 +789,11 @@ static int add_span_zero(const call *c, unsigned mode, const codegen_root_span *
     e->kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
     e->genuine = mode == 0u;
     e->certified = 1;
-    e->theta_lo = s->lo - shift;
-    e->theta_hi = s->hi - shift;
+    {
+        const codegen_iv proven = turned(s->lo, s->hi, shift != 0 ? -1 : 0);
+        e->theta_lo = proven.lo;
+        e->theta_hi = proven.hi;
+    }
     status = vibrate(e);
     if (status == CODEGEN_OK) {
         ++*work->n_roots;
@@ -1151,14 +1167,35 @@ static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, co
 /* [lo, hi], moved up by 2 pi if up, outward-rounded: 2 pi is enclosed, and so is each sum. */
 static codegen_iv moved_up(codegen_real lo, codegen_real hi, int up)
 {
-    return codegen_iv_add(codegen_iv_make(lo, hi),
-                          !up ? codegen_iv_point(0)
-                          : codegen_iv_make(CODEGEN_BOUND(0x1.921fb54442d18p+2, 0x1.921fb4p+2),
-                                            CODEGEN_BOUND(0x1.921fb54442d19p+2, 0x1.921fb6p+2)));
+    return turned(lo, hi, up ? 1 : 0);
 }
 
 /* An interval the isolation could not decide, into work, or joined to one listed there
  * (listed_as): the isolation leaves a limit position of a chain as a run of slivers. */
+/* The result holds max_uncertain intervals: u is joined to the listed one nearest to it (of its
+ * mode where there is one), which then covers both and what lies between. Coarser, but every
+ * zero that either interval may hold is still inside one; a result never fails for want of
+ * room. The join is singular where either was, and claims no sign change. */
+static void absorb_in_nearest(const result_view *work, const codegen_uncertain *u)
+{
+    codegen_uncertain *nearest = NULL;
+    codegen_real best = 0;
+    int i, same_mode = 0;
+    for (i = 0; i < *work->n_uncertain; ++i) {
+        codegen_uncertain *v = &work->uncertain[i];
+        const codegen_real gap = v->lo > u->hi ? v->lo - u->hi : u->lo > v->hi ? u->lo - v->hi : 0;
+        const int mine = v->mode == u->mode;
+        if (nearest == NULL || (mine && !same_mode) || (mine == same_mode && gap < best)) {
+            nearest = v;
+            best = gap;
+            same_mode = mine;
+        }
+    }
+    widen(nearest, u);
+    nearest->kind = nearest->kind == u->kind ? u->kind : CODEGEN_SINGULAR;
+    nearest->sign_change = 0;
+}
+
 static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
 {
@@ -1175,7 +1212,11 @@ static int add_uncertain(const codegen_model *model, const result_view *work, co
         return CODEGEN_OK;
     }
     if (*work->n_uncertain == model->max_uncertain) {
-        return CODEGEN_ERR_CAPACITY;
+        if (model->max_uncertain == 0) {
+            return CODEGEN_ERR_CAPACITY;
+        }
+        absorb_in_nearest(work, &u);
+        return CODEGEN_OK;
     }
     /* bytes, not a struct assignment: the slot's padding stays the zeroed result's, so a
      * workspace reused dirty gives the same bytes as a fresh one */
