@@ -485,15 +485,30 @@ class Writer:
         self._sink.writelines(",".join(row) + "\n" for row in zip(*fields))
 
     def close(self, error: bool = False) -> None:
-        """Finish the file and move it into place (or, after an error, remove it)."""
-        if self._sink is not None:
+        """Finish the file and move it into place; after an error, or when finishing it
+        fails (a full disk, the file-size limit), remove it."""
+        placed = False
+        try:
+            self._close_sink(quiet=error)
+            if not error:
+                if self._sink is None:
+                    raise ValueError(f"{self.path}: no rows were given to write")
+                os.replace(self.partial, self.path)
+                placed = True
+        finally:
+            if not placed:
+                self.partial.unlink(missing_ok=True)
+
+    def _close_sink(self, quiet: bool) -> None:
+        """Close the stream; ``quiet``: after an error, which its own failure (flushing
+        what the error left, into the same full disk) would only hide."""
+        if self._sink is None:
+            return
+        try:
             self._sink.close()
-        if error:
-            self.partial.unlink(missing_ok=True)
-        elif self._sink is None:
-            raise ValueError(f"{self.path}: no rows were given to write")
-        else:
-            os.replace(self.partial, self.path)
+        except Exception:
+            if not quiet:
+                raise
 
     def __enter__(self) -> Writer:
         return self
