@@ -5,34 +5,65 @@ the call, in the target's folder (so that the final rename is atomic), and repla
 only once complete. An exception (KeyboardInterrupt included) removes the temporary file and
 leaves the old target as it was; so does SIGTERM or SIGHUP in the command line, which turns
 them into SystemExit (``exit_on_signals``). A temporary file left by a process that no longer
-exists (killed with SIGKILL) is removed the next time the same target is written.
+exists (killed with SIGKILL) is removed the next time the same target is written, when its
+name has the exact shape of ours and carries this machine's id (the folder may be shared with
+another container or host, whose process ids mean nothing here); nothing else is touched.
 """
 from __future__ import annotations
 
+import hashlib
 import os
+import re
 import secrets
 import signal
+import socket
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from functools import cache
 from pathlib import Path
 from typing import Any
 
-#: The temporary files' names: .NAME.PID.TOKEN.SUFFIX beside NAME.
+#: The temporary files' names: .NAME.PID.MACHINE.TOKEN.SUFFIX beside NAME (MACHINE: machine_id).
 _MARK = ".part"
+#: The suffixes the tool's temporary files end in (besides the target's own extension).
+_SUFFIXES = (_MARK, ".partial")
+
+
+@cache
+def machine_id() -> str:
+    """8 hex digits naming this boot of this host and its process-id namespace: only a
+    process of the same can be looked up by the pid in a temporary file's name."""
+    facts = [socket.gethostname()]
+    try:   # Linux: a reboot or another container (pid namespace) is another machine
+        facts.append(Path("/proc/sys/kernel/random/boot_id").read_text().strip())
+        facts.append(os.readlink("/proc/self/ns/pid"))
+    except OSError:   # elsewhere: the host name alone
+        pass
+    return hashlib.sha256("\n".join(facts).encode()).hexdigest()[:8]
 
 
 def temporary(path: Path, suffix: str = _MARK) -> Path:
     """A new name beside ``path`` that no other process or call uses."""
-    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{suffix}")
+    return path.with_name(f".{path.name}.{os.getpid()}.{machine_id()}."
+                          f"{secrets.token_hex(4)}{suffix}")
+
+
+def _temporary_shape(path: Path) -> re.Pattern[str]:
+    """The names ``temporary`` gives beside ``path``: (pid, machine) as groups."""
+    suffixes = "|".join(re.escape(s) for s in {*_SUFFIXES, path.suffix} if s)
+    return re.compile(rf"\.{re.escape(path.name)}\.([0-9]{{1,10}})\.([0-9a-f]{{8}})\.[0-9a-f]{{8}}"
+                      rf"(?:{suffixes})")
 
 
 def remove_orphans(path: Path) -> None:
-    """Remove the temporary files of ``path`` whose process has ended."""
+    """Remove the temporary files of ``path`` that a process of this machine left and that
+    has ended; another machine's, and any file not named by ``temporary``, stay."""
     if not path.parent.is_dir():
         return
-    for candidate in path.parent.glob(f".{path.name}.*.*"):
-        pid = candidate.name[len(path.name) + 2:].split(".", 1)[0]
-        if pid.isdigit() and not _alive(int(pid)):
+    shape = _temporary_shape(path)
+    for candidate in path.parent.iterdir():
+        match = shape.fullmatch(candidate.name)
+        if match and match[2] == machine_id() and not _alive(int(match[1])):
             candidate.unlink(missing_ok=True)
 
 
@@ -42,6 +73,8 @@ def _alive(pid: int) -> bool:
     except ProcessLookupError:
         return False
     except PermissionError:  # another user's process
+        return True
+    except OverflowError:  # no pid of this machine: keep the file
         return True
     return True
 

@@ -319,3 +319,31 @@ def test_the_unrelated_codegen_distribution_is_reported(tmp_path):
                                  "codegen 0.57 is installed"), out.stderr
     clean = cli("list", cwd=tmp_path)
     assert "warning" not in clean.stderr
+
+
+def _this_checkout() -> dict[str, str]:
+    return {**os.environ, "PYTHONPATH": str(REPO)}
+
+
+@pytest.mark.parametrize("start", ["-1e308", "-.5", "-1E+2", "-200"])
+def test_a_negative_number_is_the_value_of_its_option(tmp_path, start):
+    """Issue 48: --from -1e308 is --from=-1e308, not an unknown option -1e308."""
+    common = ("branches", "--vary", "F", "--to", "300", "--points", "11")
+    spaced = cli(*common, "--from", start, cwd=tmp_path, env=_this_checkout())
+    joined = cli(*common, f"--from={start}", cwd=tmp_path, env=_this_checkout())
+    assert spaced.returncode == 0, spaced.stderr
+    assert spaced.stdout == joined.stdout
+
+
+def test_a_negative_infinity_is_refused_as_a_value_by_name(tmp_path):
+    out = cli("branches", "--vary", "F", "--from", "-inf", "--to", "0", cwd=tmp_path,
+              env=_this_checkout())
+    assert out.returncode == 2 and "F: the range needs finite from < to" in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1, out.stderr
+
+
+def test_negative_initial_angles_in_exponent_form(tmp_path):
+    out = cli("simulate", "--theta0", "-1.6e2", "--thetadot0", "-2e1", "--to", "0.01",
+              "--points", "3", cwd=tmp_path, env=_this_checkout())
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines()[1] == "0,-160,-20"

@@ -67,3 +67,30 @@ def test_an_interrupted_sweep_says_so_and_leaves_nothing(tmp_path):
         pytest.skip("the sweep finished before the interrupt")
     assert process.returncode == 130 and err.strip().splitlines()[-1] == f"{PROG}: interrupted"
     assert "Traceback" not in err and list(tmp_path.iterdir()) == []
+
+
+def _file_size_limit(size: int):
+    """For a child process: files limited to ``size`` bytes, a longer write failing with
+    EFBIG (SIGXFSZ, which would kill it, ignored as `ulimit -f` shells often do)."""
+    import resource
+
+    def limit() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+    return limit
+
+
+@pytest.mark.parametrize("arrow", [True, False])
+@pytest.mark.parametrize("size", [4096, 50_000])   # in a write, or in the last flush (50 455 B)
+def test_a_sweep_stopped_by_the_file_size_limit_leaves_nothing(tmp_path, arrow, size):
+    """Issue 48: the temporary file goes on every error path, the stream's close failing
+    again included; the error is one line."""
+    prelude = "" if arrow else "from codegen.runtime import sweep; sweep._pyarrow = lambda: None\n"
+    code = prelude + "from codegen.cli import main; raise SystemExit(main())"
+    done = subprocess.run([sys.executable, "-c", code, "sweep", "--vary", "F=0:200:41",
+                           "--out", "s.csv", "--workers", "1"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600,
+                          preexec_fn=_file_size_limit(size),
+                          env={**os.environ, "PYTHONPATH": str(REPO)})
+    assert "File too large" in one_line(done)
+    assert list(tmp_path.iterdir()) == []

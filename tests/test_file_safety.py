@@ -141,16 +141,43 @@ def test_a_sweep_killed_with_sigterm_leaves_the_old_file_or_the_new(tmp_path, de
     assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]   # no partial file left
 
 
-def test_the_partial_file_of_a_killed_process_is_removed_by_the_next_write(tmp_path):
-    target = tmp_path / "s.csv"
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+def _dead_pid() -> str:
+    return subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True).stdout.strip()
-    orphan = tmp_path / f".s.csv.{dead}.abcd1234.partial"
+
+
+def test_the_partial_file_of_a_killed_process_is_removed_by_the_next_write(tmp_path):
+    target, ours = tmp_path / "s.csv", files.machine_id()
+    orphan = tmp_path / f".s.csv.{_dead_pid()}.{ours}.abcd1234.partial"
     orphan.write_text("600 MB")
-    live = tmp_path / f".s.csv.{os.getpid()}.abcd1234.partial"  # a run still going: kept
+    live = tmp_path / f".s.csv.{os.getpid()}.{ours}.abcd1234.partial"  # a run still going
     live.write_text("busy")
     files.write_text(target, "new")
     assert not orphan.exists() and live.exists() and target.read_text() == "new"
+
+
+def test_a_sweep_removes_neither_users_files_nor_another_machines_partial(tmp_path):
+    """Issue 48: beside the target, only our own temporary files of a dead process of this
+    machine go; a pid written by another container or host means nothing here."""
+    from codegen.runtime import sweep
+
+    lib = load("doughty")
+    rows = sweep.sweep(lib, sweep.grid(lib, {"F": [1.0, 2.0]}))
+    dead, ours = _dead_pid(), files.machine_id()
+    other = "0123abcd" if ours != "0123abcd" else "fedc3210"
+    kept = [f".s.csv.{dead}.notes", f".s.csv.2024.notes", f".s.csv.{dead}.x.partial",
+            f".s.csv.{dead}.{other}.abcd1234.partial", f".s.csv.{dead}.{ours}.abcd1234.notes"]
+    stale = f".s.csv.{dead}.{ours}.abcd1234.partial"
+    for name in (*kept, stale):
+        (tmp_path / name).write_text("mine")
+    sweep.write(rows, tmp_path / "s.csv")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*kept, "s.csv"])
+
+
+def test_the_machine_id_names_this_boot_of_this_host():
+    machine = files.machine_id()
+    assert len(machine) == 8 and int(machine, 16) >= 0
+    assert files.temporary(Path("/x/s.csv")).name.split(".")[4] == machine
 
 
 def _pendulum(k: str) -> str:

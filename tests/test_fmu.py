@@ -293,3 +293,82 @@ def test_the_python_snippet_of_the_guide_runs(tmp_path, monkeypatch):
     exec(compile(code, "docs/fmu.md", "exec"), scope)
     assert (tmp_path / "doughty.fmu").is_file()
     assert len(scope["result"]) == 2001 and np.all(np.isfinite(scope["result"]["theta"]))
+
+
+def _quiet_callbacks():
+    """FMI 2.0 callbacks of this instance alone: fmpy's default ones log through a proxy that
+    all its instances share, left pointing at the logger of whichever ran last."""
+    from fmpy.fmi2 import (calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, free)
+
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(lambda *args: None)
+    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    return callbacks
+
+
+def _model_exchange(unit: Path, version: str, folder: Path):
+    """An initialised Model Exchange instance of the FMU (fmpy raises on an FMI error)."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Model
+    from fmpy.fmi3 import FMU3Model
+
+    description = read_model_description(str(unit))
+    instance = (FMU2Model if version == "2" else FMU3Model)(
+        guid=description.guid, unzipDirectory=extract(str(unit), str(folder)),
+        modelIdentifier=description.modelExchange.modelIdentifier, instanceName="x")
+    if version == "2":
+        instance.instantiate(callbacks=_quiet_callbacks())
+        instance.setupExperiment(startTime=0.0)
+    else:
+        instance.instantiate(logMessage=lambda *args: None)
+    instance.enterInitializationMode()
+    instance.exitInitializationMode()
+    return instance, {v.name: v.valueReference for v in description.modelVariables}
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+@pytest.mark.parametrize("version", ["2", "3"])
+@pytest.mark.parametrize("name", every(FMI3))
+def test_a_state_set_to_nan_or_an_infinity_is_refused(fmus, fmus3, name, version, bad,
+                                                       tmp_path):
+    """Issue 48: whichever mechanism and FMI version, set one by one (SetReal, SetFloat64)
+    or all at once (SetContinuousStates), and the states stay as they were."""
+    import ctypes
+
+    unit = (fmus if version == "2" else fmus3)[name]
+    instance, vr = _model_exchange(unit, version, tmp_path)
+    state = load(name).SPEC["coordinates"][0]["name"] if name in SEVERAL else "theta"
+    get, set_ = ((instance.getReal, instance.setReal) if version == "2" else
+                 (instance.getFloat64, instance.setFloat64))
+    before = get([vr[state]])
+    with pytest.raises(Exception, match=f"fmi{version}Set(Real|Float64)"):
+        set_([vr[state], vr[f"{state}_d"]], [0.5, bad])
+    assert get([vr[state]]) == before    # nothing of the call was set
+
+    states = np.zeros(2 * load(name).dof)
+    pointer = states.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+    instance.getContinuousStates(pointer, len(states))
+    kept = states.copy()
+    states[-1] = bad
+    with pytest.raises(Exception, match=f"fmi{version}SetContinuousStates"):
+        instance.setContinuousStates(pointer, len(states))
+    instance.getContinuousStates(pointer, len(states))
+    assert np.array_equal(states, kept)
+    instance.terminate()
+    instance.freeInstance()
+
+
+@pytest.mark.parametrize("version", ["2", "3"])
+def test_a_nan_state_is_named_in_the_log(fmus, fmus3, version):
+    messages = []
+
+    def logger(*args):
+        messages.append(args[-1].decode())
+
+    unit = (fmus if version == "2" else fmus3)["doughty"]
+    with pytest.raises(Exception, match="failed with status 3"):
+        simulate_fmu(str(unit), fmi_type="ModelExchange", stop_time=0.1,
+                     start_values={"theta_d": float("nan")}, logger=logger)
+    assert any("state 1 is nan, not a finite number" in m for m in messages), messages

@@ -9,6 +9,9 @@ import os
 import re
 import subprocess
 import sys
+import threading
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -270,10 +273,14 @@ def test_progress_bar_draws_on_a_terminal_only():
 
 # --------------------------------------------------------------------------- the command
 
+REPO = Path(__file__).resolve().parent.parent
+
+
 def mechvib(*args, cwd, env_extra=None):
+    """`mechvib sweep ARGS` of this checkout."""
     return subprocess.run([sys.executable, "-m", "codegen", "sweep", *args], cwd=cwd,
                           capture_output=True, text=True, timeout=120,
-                          env={**os.environ, **(env_extra or {})})
+                          env={**os.environ, "PYTHONPATH": str(REPO), **(env_extra or {})})
 
 
 def test_cli_grid_to_csv_is_the_python_sweep(tmp_path):
@@ -401,3 +408,63 @@ def test_cli_scheduler_without_workers_is_one_line(tmp_path):
                       env_extra={"MECHVIB_WORKER_WAIT": "2"})
     assert out.returncode == 2 and "no worker joined the scheduler" in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1 and list(tmp_path.iterdir()) == []
+
+
+def _deserted_cluster(distributed):
+    """A cluster, and its client, whose only worker has been closed."""
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                       dashboard_address=None)
+    client = distributed.Client(cluster)
+    client.wait_for_workers(1, timeout=30)
+    cluster.scale(0)
+    deadline = time.monotonic() + 30
+    while client.nthreads() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return cluster, client
+
+
+def test_a_sweep_on_a_cluster_without_workers_fails_in_one_line(monkeypatch):
+    """Issue 48: its tasks would wait forever; after MECHVIB_WORKER_WAIT seconds without any
+    worker, the sweep stops with an error that says so."""
+    distributed = pytest.importorskip("distributed")
+    monkeypatch.setenv("MECHVIB_WORKER_WAIT", "1")
+    lib = load("doughty")
+    cluster, client = _deserted_cluster(distributed)
+    errors = []
+
+    def run():
+        try:
+            list(sw.stream(lib, _sets(lib, 600, 3), client=client, chunk=100))
+        except Exception as error:
+            errors.append(error)
+    thread = threading.Thread(target=run, daemon=True)
+    with cluster, client:
+        thread.start()
+        thread.join(60)
+        assert not thread.is_alive(), "the sweep still waits for a worker after 60 s"
+    (error,) = errors
+    assert isinstance(error, TimeoutError) and "no worker is left" in str(error)
+    assert "\n" not in str(error)
+
+
+def test_cli_sweep_whose_workers_all_leave_is_one_line(tmp_path):
+    """The workers closed mid-sweep: one line naming that no worker is left, no file."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  protocol="tcp", dashboard_address=None) as cluster:
+        run = subprocess.Popen(
+            [sys.executable, "-m", "codegen", "sweep", "--vary", "F=0:200:200001",
+             "--out", "d.csv", "--chunk", "100", "--scheduler", cluster.scheduler_address],
+            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            env={**os.environ, "PYTHONPATH": str(REPO), "MECHVIB_WORKER_WAIT": "2"})
+        deadline = time.monotonic() + 60
+        while not cluster.scheduler.tasks and time.monotonic() < deadline:
+            time.sleep(0.05)
+        cluster.scale(0)
+        try:
+            out, err = run.communicate(timeout=60)
+        finally:
+            run.kill()
+    assert run.returncode == 2 and out == "", (out, err)
+    assert len(err.strip().splitlines()) == 1 and "no worker is left" in err, err
+    assert list(tmp_path.iterdir()) == []

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -45,8 +46,19 @@ examples:
   {prog} frf --equilibrium 5 --plot frf.png   the frequency response about an equilibrium
   {prog} fmu --out doughty.fmu                the mechanism as an FMU for simulators"""
 
+#: A negative number as the command line writes one (-1e308, -.5, -inf, -90deg): a value,
+#: where argparse's own pattern (-1, -0.5 only) takes -1e308 for an unknown option.
+NEGATIVE_NUMBER = re.compile(r"^-(?:(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|inf(?:inity)?|nan)"
+                             r"(?:deg|rad)?$", re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors: 'PROG: error: MESSAGE (see PROG --help)'."""
+    """argparse with one-line errors: 'PROG: error: MESSAGE (see PROG --help)', and
+    negative numbers in any form read as values."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER   # no option looks like one
 
     def error(self, message: str):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")

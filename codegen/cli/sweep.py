@@ -63,11 +63,6 @@ def _sweep_sets(library, args):
     return sweep.sample(library, args.sample, ranges, base, args.seed)
 
 
-#: Seconds to wait for a scheduler to answer, and then for its first worker (the
-#: environment's MECHVIB_WORKER_WAIT, if set).
-WORKER_WAIT = 30
-
-
 def _dask_client(address: str | None):
     """A context holding a dask.distributed Client of the scheduler at address (None: no
     address, no client)."""
@@ -80,7 +75,9 @@ def _dask_client(address: str | None):
     except ImportError:
         raise ValueError("--scheduler needs dask.distributed: pip install 'mechvib[dask]'"
                          ) from None
-    wait = float(os.environ.get("MECHVIB_WORKER_WAIT", WORKER_WAIT))
+    from ..runtime.sweep import worker_wait
+
+    wait = worker_wait()   # for the scheduler to answer, then for its first worker
     try:
         client = Client(address, timeout=wait)
     except OSError as error:   # a refused or timed-out connection

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -308,8 +309,6 @@ def _distributed(client: Any, parts: list[tuple[int, Any]], arguments: tuple[Any
     """One analyze_chunk task per part on a dask.distributed cluster, gathered in order.
     ``arguments``: (library, method, roots, workers), passed by position (``workers`` is
     also a keyword of Client.submit)."""
-    from distributed import as_completed
-
     library, *options = arguments
     if parts and isinstance(parts[0][1], np.ndarray):
         # Each chunk travels inside its task, not scattered ahead: data scattered to one
@@ -325,12 +324,59 @@ def _distributed(client: Any, parts: list[tuple[int, Any]], arguments: tuple[Any
     order = {future.key: i for i, future in enumerate(futures)}
     done: dict[int, np.ndarray] = {}
     ready = 0
-    for future in as_completed(futures):
+    for future in _finished(client, futures):
         done[order[future.key]] = future.result()
         future.release()
         while ready in done:
             yield done.pop(ready)
             ready += 1
+
+
+#: Seconds a cluster may be without any worker before a sweep on it fails (the environment's
+#: MECHVIB_WORKER_WAIT, if set); the command line waits as long for a scheduler to answer.
+WORKER_WAIT = 30.0
+
+
+def worker_wait() -> float:
+    return float(os.environ.get("MECHVIB_WORKER_WAIT", WORKER_WAIT))
+
+
+def _finished(client: Any, futures: list[Any]) -> Iterator[Any]:
+    """The futures as they finish. TimeoutError once the cluster has had no worker for
+    ``worker_wait()`` seconds: its tasks would wait, silently, for one that may never come."""
+    from distributed import as_completed
+
+    pending, watch = as_completed(futures), _WorkerWatch(client, worker_wait())
+    while not pending.is_empty():
+        batch = pending.next_batch(block=False)
+        if batch:
+            yield from batch
+        elif watch.deserted():
+            client.cancel(futures)
+            raise TimeoutError(f"no worker is left on the Dask cluster (none for "
+                               f"{watch.wait:g} s): its tasks would wait forever")
+        else:
+            time.sleep(0.02)   # none finished yet: look again soon (as as_completed does)
+
+
+class _WorkerWatch:
+    """Whether a cluster has been without any worker for ``wait`` seconds, asked at most
+    every second (each look is a call to the scheduler)."""
+
+    def __init__(self, client: Any, wait: float) -> None:
+        self.client, self.wait = client, wait
+        self.looked = -math.inf
+        self.alone_since: float | None = None
+
+    def deserted(self) -> bool:
+        now = time.monotonic()
+        if now - self.looked >= min(1.0, self.wait / 4):
+            self.looked = now
+            if self.client.nthreads():
+                self.alone_since = None
+            elif self.alone_since is None:
+                self.alone_since = now
+        return self.alone_since is not None and now - self.alone_since >= self.wait
 
 
 def _default_client() -> Any:
@@ -485,15 +531,30 @@ class Writer:
         self._sink.writelines(",".join(row) + "\n" for row in zip(*fields))
 
     def close(self, error: bool = False) -> None:
-        """Finish the file and move it into place (or, after an error, remove it)."""
-        if self._sink is not None:
+        """Finish the file and move it into place; after an error, or when finishing it
+        fails (a full disk, the file-size limit), remove it."""
+        placed = False
+        try:
+            self._close_sink(quiet=error)
+            if not error:
+                if self._sink is None:
+                    raise ValueError(f"{self.path}: no rows were given to write")
+                os.replace(self.partial, self.path)
+                placed = True
+        finally:
+            if not placed:
+                self.partial.unlink(missing_ok=True)
+
+    def _close_sink(self, quiet: bool) -> None:
+        """Close the stream; ``quiet``: after an error, which its own failure (flushing
+        what the error left, into the same full disk) would only hide."""
+        if self._sink is None:
+            return
+        try:
             self._sink.close()
-        if error:
-            self.partial.unlink(missing_ok=True)
-        elif self._sink is None:
-            raise ValueError(f"{self.path}: no rows were given to write")
-        else:
-            os.replace(self.partial, self.path)
+        except Exception:
+            if not quiet:
+                raise
 
     def __enter__(self) -> Writer:
         return self

@@ -7,9 +7,11 @@
  * Dormand-Prince 5(4) at the experiment's tolerance; a change of a parameter, an input or a
  * state restarts it from the current state. A state where the motion is not defined (a
  * spring of zero length, a lost assembly) or a parameter the library refuses is an error
- * with the library's one-line reason in the log, never a NaN. Memory: allocated when the
- * instance is made, released when it is freed; nothing between.
+ * with the library's one-line reason in the log, never a NaN; so is a state set to NaN or an
+ * infinity (refused, the state kept as it was). Memory: allocated when the instance is made,
+ * released when it is freed; nothing between.
  */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -240,10 +242,29 @@ int codegen_fmi_get(codegen_fmi_instance *c, const unsigned *vr, size_t n, doubl
     return CODEGEN_FMI_OK;
 }
 
+/* Whether a state's new value is a number the motion can start from (else an error in the
+ * log): a NaN or an infinity would only come back as NaN, later and from elsewhere. */
+static int finite_state(codegen_fmi_instance *c, const char *what, size_t k, double value)
+{
+    if (isfinite(value)) {
+        return 1;
+    }
+    codegen_fmi_fail(c, "%s: state %lu is %g, not a finite number", what, (unsigned long)k,
+                     value);
+    return 0;
+}
+
 int codegen_fmi_set(codegen_fmi_instance *c, const unsigned *vr, size_t n, const double *values)
 {
     const codegen_fmi_model *m = c->model;
     size_t i;
+    for (i = 0; i < n; ++i) {   /* every state checked before anything is set */
+        const unsigned r = vr[i];
+        if (r >= VR_STATES(m) && r < VR_STATES(m) + N_STATES(m)
+            && !finite_state(c, "set", r - VR_STATES(m), values[i])) {
+            return CODEGEN_FMI_ERROR;
+        }
+    }
     for (i = 0; i < n; ++i) {
         const unsigned r = vr[i];
         if (r < VR_STATES(m)) {
@@ -293,8 +314,14 @@ static int all_states(codegen_fmi_instance *c, size_t n, const char *what)
 
 int codegen_fmi_set_states(codegen_fmi_instance *c, const double *x, size_t n)
 {
+    size_t k;
     if (!all_states(c, n, "setting the states")) {
         return CODEGEN_FMI_ERROR;
+    }
+    for (k = 0; k < n; ++k) {
+        if (!finite_state(c, "setting the states", k, x[k])) {
+            return CODEGEN_FMI_ERROR;
+        }
     }
     memcpy(c->x, x, n * sizeof(double));
     c->running = 0;
