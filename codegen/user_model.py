@@ -1,9 +1,11 @@
 """A user's model file as a loaded Library, built once and reused.
 
 The library of a model file is generated and built into a folder, and a stamp written last
-records what it was built from: a hash of the model file's bytes and of the package
-(generate.fingerprint: its sources, templates and the SymPy, Jinja2 and Python versions).
-While both are unchanged the folder is loaded as it is. Without a folder of the caller's the
+records what it was built from: a hash of the model file's bytes, of the user's modules it
+imports (each file's path and bytes; not Python's, installed packages' or this package's) and
+of the package (generate.fingerprint: its sources, templates and the SymPy, Jinja2 and Python
+versions).
+While all are unchanged the folder is loaded as it is. Without a folder of the caller's the
 build goes to the per-user cache, ``$XDG_CACHE_HOME/mechvib/`` (else ``~/.cache/mechvib/``),
 one entry per stamp, built in a temporary folder beside it and renamed into place: another
 run sees a complete entry or none.
@@ -44,10 +46,11 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     that folder already holds this model's build (``rebuild``: build it anyway). ``progress``
     is told each stage (deriving: STEP, emitting C, building)."""
     from .compiler import generate
-    from .compiler.model import load
+    from .compiler.model import load_with_sources
 
-    mechanism = load(str(model))  # checked: a ModelError names the problem before any build
-    key = _key(generate, Path(model), mechanism.name)
+    # checked: a ModelError names the problem before any build
+    mechanism, sources = load_with_sources(str(model))
+    key = _key(generate, Path(model), sources, mechanism.name)
     folder = Path(out) if out is not None else cache_root() / (key or mechanism.name)
     if key is None or rebuild or _stamp(folder) != key:
         # derived and checked against the model before anything is written
@@ -61,12 +64,15 @@ def library(model: str | os.PathLike[str], out: str | os.PathLike[str] | None = 
     return load_from(folder, mechanism.name)
 
 
-def _key(generate, model: Path, name: str) -> str | None:
-    """What a build is made from: the model file's bytes and the package's fingerprint (None
-    for a shipped mechanism named through --model: there is no file)."""
+def _key(generate, model: Path, sources: tuple[Path, ...], name: str) -> str | None:
+    """What a build is made from: the model file's bytes, each module it imports of the
+    user's (path and bytes: a changed helper is a changed model) and the package's
+    fingerprint (None for a shipped mechanism named through --model: there is no file)."""
     if not model.is_file():
         return None
     digest = hashlib.sha256(model.read_bytes() + b"\0" + generate.fingerprint(name).encode())
+    for source in sources:
+        digest.update(b"\0" + str(source).encode() + b"\0" + source.read_bytes())
     return digest.hexdigest()[:32]
 
 
