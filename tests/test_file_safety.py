@@ -191,3 +191,37 @@ def test_concurrent_sweeps_to_one_file_each_write_a_whole_file(tmp_path):
     rows = [int(out.split("Wrote ")[1].split(" rows")[0].replace(",", "")) for out, _ in outputs]
     assert len((tmp_path / "s.csv").read_text().splitlines()) - 1 in rows
     assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]
+
+
+def _damage_truncated(library: Path) -> None:
+    library.write_bytes(library.read_bytes()[:4096])
+
+
+def _damage_garbled(library: Path) -> None:
+    """The same size, its middle overwritten: only the hash tells."""
+    data = bytearray(library.read_bytes())
+    middle = len(data) // 2
+    data[middle:middle + 4096] = b"\xff" * 4096
+    library.write_bytes(bytes(data))
+
+
+def test_a_damaged_cached_library_is_built_again(tmp_path):
+    """A cache entry's compiled library truncated or overwritten after its build is built
+    again on the next run, which prints the model's analysis, not a traceback."""
+    (tmp_path / "mine.py").write_text(_pendulum("20"))
+    env = {**os.environ, "PYTHONPATH": str(REPO), "XDG_CACHE_HOME": str(tmp_path / "cache")}
+
+    def analyze() -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "codegen", "analyze", "--json", "--model",
+                               "mine.py"], cwd=tmp_path, capture_output=True, text=True,
+                              timeout=600, env=env)
+
+    first = analyze()
+    assert first.returncode == 0, first.stderr
+    for damage in (_damage_truncated, _damage_garbled):
+        (library,) = (tmp_path / "cache").glob("mechvib/*/_native_spring_pendulum.*")
+        damage(library)
+        again = analyze()
+        assert again.returncode == 0 and "Traceback" not in again.stderr, again.stderr
+        assert "building" in again.stderr, damage.__name__
+        assert json.loads(again.stdout) == json.loads(first.stdout), damage.__name__
