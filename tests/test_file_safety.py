@@ -225,3 +225,21 @@ def test_a_damaged_cached_library_is_built_again(tmp_path):
         assert again.returncode == 0 and "Traceback" not in again.stderr, again.stderr
         assert "building" in again.stderr, damage.__name__
         assert json.loads(again.stdout) == json.loads(first.stdout), damage.__name__
+
+
+def test_a_model_build_compiles_only_the_files_generate_wrote(tmp_path):
+    """C files of the user's in --out (one valid, defining a symbol, one not C at all) are
+    left alone: neither compiled nor linked into the library."""
+    (tmp_path / "mine.py").write_text(_pendulum("20"))
+    users = {"runtime/extra.c": "int users_own_symbol_48 = 42;\n",
+             "runtime/broken.c": "this is not C\n",
+             "spring_pendulum/mine_too.c": "int users_other_symbol_48 = 7;\n"}
+    for name, text in users.items():
+        (tmp_path / "lib" / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / "lib" / name).write_text(text)
+    done = codegen(tmp_path, "generate", "--model", "mine.py", "--out", "lib")
+    assert done.returncode == 0, done.stderr
+    (library,) = (tmp_path / "lib").glob("_native_spring_pendulum.*")
+    assert b"users_own_symbol_48" not in library.read_bytes()
+    assert b"users_other_symbol_48" not in library.read_bytes()
+    assert all((tmp_path / "lib" / name).read_text() == text for name, text in users.items())

@@ -25,6 +25,8 @@ GENERATED = ROOT / "generated"
 #: True when this file is in a source tree (setup.py beside codegen/), not installed.
 SOURCE_TREE = (ROOT / "setup.py").is_file()
 RUNTIME = "runtime"
+#: generate.MANIFEST (this file imports nothing of codegen): the files generate wrote there.
+MANIFEST = ".mechvib-manifest"
 #: The enclosures inline: the faster form on a host (codegen_interval.h, interval programs).
 COMPILE_FLAGS = ["-std=c99", "-O2", "-DCODEGEN_INLINE_INTERVALS"]
 
@@ -44,13 +46,24 @@ def libraries(generated: Path = GENERATED) -> list[str]:
                   if (p / f"{p.name}_api.json").is_file()) if generated.is_dir() else []
 
 
+def _sources(folder: Path) -> list[Path]:
+    """The C files of a folder to compile: those generate wrote there (its manifest), never a
+    file of the user's beside them; every one where there is no manifest (a checkout's
+    generated/, which only generate writes)."""
+    try:
+        names = json.loads((folder / MANIFEST).read_text())
+    except FileNotFoundError:
+        return sorted(folder.glob("*.c"))
+    return sorted(folder / n for n in names if n.endswith(".c"))
+
+
 def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.") -> FFI:
     folder = generated / name
     spec = (folder / f"{name}_api.json").read_text()
     ffi = FFI()
     ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
-    sources = sorted(folder.glob("*.c")) + sorted((generated / RUNTIME).glob("*.c"))
+    sources = _sources(folder) + _sources(generated / RUNTIME)
     # Python.h (included first) asks for POSIX and GNU extensions, under which <math.h>
     # defines names plain C99 leaves free, such as M_PI; a parameter of such a name is a
     # field of NAME_params, so the wrapper undefines it before the header declares the struct.
