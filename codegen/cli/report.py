@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Callable
 
+from . import common
 from ..runtime.analysis import KINDS, STABILITY, Analysis, Equilibrium
 
 if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
@@ -161,7 +162,8 @@ def branch_summary(result: Branches) -> str:
     """The branches of a ``codegen.runtime.branches.Branches`` for a terminal: what was varied,
     a line per branch (where it runs and its stability), a line per event."""
     name, unit = result.parameter, result.unit
-    others = ", ".join(f"{k}={v:g}" for k, v in vars(result.base).items() if k != name)
+    others = common.params_line({k: v for k, v in vars(result.base).items() if k != name},
+                                result.library.UNITS)
     kinds = [e.kind for e in result.events]
     counted = [_plural(result.count, "branch"), *(
         _plural(kinds.count(k), k) for k in ("fold", "pitchfork") if k in kinds)]
