@@ -16,6 +16,7 @@ import json
 import os
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from cffi import FFI
@@ -46,10 +47,9 @@ def libraries(generated: Path = GENERATED) -> list[str]:
                   if (p / f"{p.name}_api.json").is_file()) if generated.is_dir() else []
 
 
-def _sources(folder: Path) -> list[Path]:
-    """The C files of a folder to compile: those generate wrote there (its manifest), never a
-    file of the user's beside them; every one where there is no manifest (a checkout's
-    generated/, which only generate writes)."""
+def _written(folder: Path) -> list[Path]:
+    """The C files generate wrote into a folder (its manifest), never a file of the user's
+    beside them; every one where there is no manifest (a library copied without it)."""
     try:
         names = json.loads((folder / MANIFEST).read_text())
     except FileNotFoundError:
@@ -57,13 +57,20 @@ def _sources(folder: Path) -> list[Path]:
     return sorted(folder / n for n in names if n.endswith(".c"))
 
 
-def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.") -> FFI:
+def _every(folder: Path) -> list[Path]:
+    """Every C file of a folder: a checkout's generated/ holds only the committed library
+    (its manifest is local and may predate a pulled change)."""
+    return sorted(folder.glob("*.c"))
+
+
+def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.",
+                 sources_of: Callable[[Path], list[Path]] = _every) -> FFI:
     folder = generated / name
     spec = (folder / f"{name}_api.json").read_text()
     ffi = FFI()
     ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
-    sources = _sources(folder) + _sources(generated / RUNTIME)
+    sources = sources_of(folder) + sources_of(generated / RUNTIME)
     # Python.h (included first) asks for POSIX and GNU extensions, under which <math.h>
     # defines names plain C99 leaves free, such as M_PI; a parameter of such a name is a
     # field of NAME_params, so the wrapper undefines it before the header declares the struct.
@@ -83,9 +90,10 @@ def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen
 
 
 def build_into(out: Path, name: str) -> Path:
-    """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*"""
+    """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*,
+    from the C files generate wrote there only (each folder's manifest)."""
     out = Path(out).resolve()
-    ffi = make_builder(name, out, package="")
+    ffi = make_builder(name, out, package="", sources_of=_written)
     work = tempfile.mkdtemp(prefix=".build-", dir=out)  # this build's alone
     try:
         built = ffi.compile(tmpdir=work, verbose=False)
