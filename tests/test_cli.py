@@ -347,3 +347,53 @@ def test_negative_initial_angles_in_exponent_form(tmp_path):
               "--points", "3", cwd=tmp_path, env=_this_checkout())
     assert out.returncode == 0, out.stderr
     assert out.stdout.splitlines()[1] == "0,-160,-20"
+
+
+def _mechvib(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(REPO), env.get("PYTHONPATH")]))
+    return subprocess.run([sys.executable, "-m", "codegen", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+def _header_value(text: str, name: str) -> str:
+    """NAME's value in a header's 'NAME=VALUE, ...' list, line wrapping undone."""
+    return re.search(rf"\b{name}=([^,;\s]+)", prose(text)).group(1)
+
+
+@pytest.mark.parametrize("mechanism, angle", [("torsion_pendulum", "theta_0"),
+                                              ("double_pendulum", "alpha_1")])
+def test_an_angle_copied_from_the_header_gives_the_same_analysis(mechanism, angle):
+    """The header prints an angle parameter as --set reads it back (degrees), not radians
+    that --set would take for degrees; JSON names it with its unit."""
+    shown = run("--mechanism", mechanism, "--set", f"{angle}=60")
+    assert shown.returncode == 0, shown.stderr
+    value = _header_value(shown.stdout, angle)
+    again = run("--mechanism", mechanism, "--set", f"{angle}={value}")
+    assert again.stdout == shown.stdout
+    if mechanism == "torsion_pendulum":   # one coordinate: the JSON has the parameters
+        data = json.loads(run("--mechanism", mechanism, "--json", "--set", f"{angle}={value}"
+                              ).stdout)
+        assert data["params"][f"{angle}_deg"] == pytest.approx(60, rel=1e-12)
+        assert angle not in data["params"]
+
+
+def test_branches_show_angle_parameters_as_they_are_read(tmp_path):
+    """The other parameters of the header read back through --set; a varied angle's column
+    is in degrees under NAME_deg, as every angle of a file."""
+    others = _mechvib("branches", "--mechanism", "torsion_pendulum", "--vary", "k_t", "--from",
+                      "1", "--to", "50", "--points", "20", "--set", "theta_0=60",
+                      "--out", str(tmp_path / "k.json"))
+    assert others.returncode == 0, others.stderr
+    assert _header_value(others.stdout, "theta_0") in ("60deg", "60 deg")
+    data = json.loads((tmp_path / "k.json").read_text())
+    assert data["params"]["theta_0_deg"] == pytest.approx(60, rel=1e-12)
+    varied = _mechvib("branches", "--mechanism", "torsion_pendulum", "--vary", "theta_0",
+                      "--from", "0", "--to", "90", "--points", "20",
+                      "--out", str(tmp_path / "theta_0.csv"))
+    assert varied.returncode == 0, varied.stderr
+    header, first = (tmp_path / "theta_0.csv").read_text().splitlines()[:2]
+    assert '"theta_0_deg"' in header.split(",") and '"theta_0"' not in header.split(",")
+    assert float(first.split(",")[header.split(",").index('"theta_0_deg"')]) == 0.0
+    assert max(float(line.split(",")[2]) for line in
+               (tmp_path / "theta_0.csv").read_text().splitlines()[1:]) == pytest.approx(90)

@@ -218,3 +218,55 @@ def test_concurrent_sweeps_to_one_file_each_write_a_whole_file(tmp_path):
     rows = [int(out.split("Wrote ")[1].split(" rows")[0].replace(",", "")) for out, _ in outputs]
     assert len((tmp_path / "s.csv").read_text().splitlines()) - 1 in rows
     assert [p.name for p in tmp_path.iterdir()] == ["s.csv"]
+
+
+def _damage_truncated(library: Path) -> None:
+    library.write_bytes(library.read_bytes()[:4096])
+
+
+def _damage_garbled(library: Path) -> None:
+    """The same size, its middle overwritten: only the hash tells."""
+    data = bytearray(library.read_bytes())
+    middle = len(data) // 2
+    data[middle:middle + 4096] = b"\xff" * 4096
+    library.write_bytes(bytes(data))
+
+
+def test_a_damaged_cached_library_is_built_again(tmp_path):
+    """A cache entry's compiled library truncated or overwritten after its build is built
+    again on the next run, which prints the model's analysis, not a traceback."""
+    (tmp_path / "mine.py").write_text(_pendulum("20"))
+    env = {**os.environ, "PYTHONPATH": str(REPO), "XDG_CACHE_HOME": str(tmp_path / "cache")}
+
+    def analyze() -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "codegen", "analyze", "--json", "--model",
+                               "mine.py"], cwd=tmp_path, capture_output=True, text=True,
+                              timeout=600, env=env)
+
+    first = analyze()
+    assert first.returncode == 0, first.stderr
+    for damage in (_damage_truncated, _damage_garbled):
+        (library,) = (tmp_path / "cache").glob("mechvib/*/_native_spring_pendulum.*")
+        damage(library)
+        again = analyze()
+        assert again.returncode == 0 and "Traceback" not in again.stderr, again.stderr
+        assert "building" in again.stderr, damage.__name__
+        assert json.loads(again.stdout) == json.loads(first.stdout), damage.__name__
+
+
+def test_a_model_build_compiles_only_the_files_generate_wrote(tmp_path):
+    """C files of the user's in --out (one valid, defining a symbol, one not C at all) are
+    left alone: neither compiled nor linked into the library."""
+    (tmp_path / "mine.py").write_text(_pendulum("20"))
+    users = {"runtime/extra.c": "int users_own_symbol_48 = 42;\n",
+             "runtime/broken.c": "this is not C\n",
+             "spring_pendulum/mine_too.c": "int users_other_symbol_48 = 7;\n"}
+    for name, text in users.items():
+        (tmp_path / "lib" / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / "lib" / name).write_text(text)
+    done = codegen(tmp_path, "generate", "--model", "mine.py", "--out", "lib")
+    assert done.returncode == 0, done.stderr
+    (library,) = (tmp_path / "lib").glob("_native_spring_pendulum.*")
+    assert b"users_own_symbol_48" not in library.read_bytes()
+    assert b"users_other_symbol_48" not in library.read_bytes()
+    assert all((tmp_path / "lib" / name).read_text() == text for name, text in users.items())

@@ -143,3 +143,55 @@ def test_a_value_that_is_not_a_number_is_named(call, words):
 def test_numbers_of_other_types_become_floats():
     params = lib.example_params(F=np.float32(2.5), k=2000)
     assert (params.F, params.k) == (2.5, 2000.0) and type(params.k) is float
+
+
+@pytest.mark.parametrize("b", [1e154, 1e200, 1e300, 1.7e308])
+def test_a_huge_damping_gives_finite_eigenvalues_where_they_are_representable(b):
+    """B/(2M) squared overflows but the eigenvalues of M s^2 + B s + K do not: the analysis
+    gives them finite, with the sum -B/M and the product K/M they must have."""
+    from codegen.runtime.analysis import analyze
+
+    equilibria = [r for r in analyze(lib.example_params(b=b)).roots if r.genuine]
+    assert equilibria
+    for r in equilibria:
+        values = [r.omega_n, r.zeta, *r.eigenvalues]
+        assert all(np.isfinite(z.real) and np.isfinite(z.imag) for z in values), values
+        first, second = r.eigenvalues
+        assert (first + second).real == pytest.approx(-r.B / r.M, rel=1e-12)
+        assert (first * second).real == pytest.approx(r.K / r.M, rel=1e-12)
+
+
+def test_eigenvalues_too_large_to_represent_are_an_overflow_not_success():
+    """B/M beyond the range of double: a status saying so, never OK with an infinity."""
+    from codegen.runtime.analysis import analyze
+
+    tiny = dict(m_A=1e-30, m_B=1e-30, m_C=1e-30)
+    with pytest.raises(lib.LibraryError, match="too large to represent"):
+        analyze(lib.example_params(b=1e300, **tiny))
+
+
+def test_the_cli_prints_huge_damping_finite_and_short():
+    """--json has no null eigenvalue and the table no value hundreds of digits long."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    repo = Path(__file__).resolve().parent.parent
+    env = {**os.environ, "PYTHONPATH": str(repo)}
+
+    def analyze(*extra: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "codegen", "analyze", "--set", "b=1e300",
+                               *extra], capture_output=True, text=True, env=env, timeout=120)
+
+    data = json.loads(analyze("--json").stdout)
+    genuine = [r for r in data["roots"] if r["genuine"]]
+    assert genuine and all(None not in z for r in genuine for z in r["eigenvalues"])
+    table = analyze("--wide")
+    assert table.returncode == 0, table.stderr
+    numbers = [word for word in table.stdout.split() if any(c.isdigit() for c in word)]
+    assert max(len(word) for word in numbers) < 20, table.stdout
+    tiny = analyze("--set", "m_A=1e-30", "--set", "m_B=1e-30", "--set", "m_C=1e-30")
+    assert tiny.returncode == 2 and "too large to represent" in tiny.stderr
+    assert "Traceback" not in tiny.stderr and tiny.stdout == ""

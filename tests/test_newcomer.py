@@ -143,7 +143,7 @@ def test_set_theta_0_90_is_90_degrees(tmp_path):
     runs = [json.loads(mechvib("analyze", "--mechanism", "torsion_pendulum", "--json", "--set",
                                f"theta_0={value}", cwd=tmp_path).stdout)
             for value in ("60", "60deg", f"{math.radians(60)!r}rad")]
-    assert runs[0]["params"]["theta_0"] == pytest.approx(math.radians(60), rel=1e-15)
+    assert runs[0]["params"]["theta_0_deg"] == pytest.approx(60, rel=1e-15)
     assert runs[0] == runs[1] == runs[2]
     helped = mechvib("analyze", "--help", cwd=tmp_path).stdout
     assert "degrees" in " ".join(helped.split()) and "90deg" in helped

@@ -296,3 +296,38 @@ def test_branches_of_the_user_model_follow_the_independent_equilibria(workdir):
     k_fold = folds[0]["value"]
     assert len(zeros(dict(EXAMPLE, k=k_fold - 1e-5))) == 2
     assert len(zeros(dict(EXAMPLE, k=k_fold + 1e-5))) == 4
+
+
+# --------------------------------------------------------------------------- helper modules
+
+#: MODEL with its bar's inertia factor taken from a helper module beside the model file.
+MODEL_WITH_HELPER = MODEL.replace(
+    "import sympy as sp\n", "import sympy as sp\nfrom hb_geom import INERTIA_FACTOR\n", 1
+).replace("inertia=m * l**2 / 12", "inertia=m * l**2 * INERTIA_FACTOR")
+
+
+def helper_module(factor: str) -> str:
+    return f"import sympy as sp\n\nINERTIA_FACTOR = sp.Rational({factor})\n"
+
+
+def pivot_inertia(data: dict) -> set[float]:
+    """M of every equilibrium: the bar's inertia about the pivot."""
+    return {round(r["M"], 12) for r in data["roots"] if r["genuine"]}
+
+
+def test_a_changed_helper_module_rebuilds_the_cached_model(tmp_path):
+    """A model imports a module beside it with no PYTHONPATH for its folder (the run is
+    from another folder), and the cached build follows a change of that module."""
+    assert "INERTIA_FACTOR" in MODEL_WITH_HELPER.split("def build", 1)[1]
+    models = tmp_path / "models"
+    models.mkdir()
+    (models / "mine.py").write_text(MODEL_WITH_HELPER)
+    (models / "hb_geom.py").write_text(helper_module("1, 12"))
+    first = codegen(tmp_path, "analyze", "--model", "models/mine.py", "--json")
+    assert first.returncode == 0, first.stderr
+    assert pivot_inertia(json.loads(first.stdout)) == {round(1 / 12 + 1 / 4, 12)}
+    (models / "hb_geom.py").write_text(helper_module("1, 3"))
+    second = codegen(tmp_path, "analyze", "--model", "models/mine.py", "--json")
+    assert second.returncode == 0, second.stderr
+    assert "building" in second.stderr   # built again, not the first build reused
+    assert pivot_inertia(json.loads(second.stdout)) == {round(1 / 3 + 1 / 4, 12)}

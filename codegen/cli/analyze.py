@@ -27,7 +27,7 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(result.to_dict(), indent=1))
     else:
-        values = ", ".join(f"{k}={v:g}" for k, v in vars(params).items())
+        values = common.params_line(vars(params), library.UNITS)
         print(paragraph(f"Vibration analysis of {library.TITLE}: {values}") + "\n")
         print(table(result, wide=args.wide, sigma=args.sigma))
     return 0
@@ -52,7 +52,7 @@ def _several_coordinates(library, params, as_json: bool) -> int:
         return [math.degrees(v) if unit == "rad" else v for v, unit in zip(values, units)]
 
     names = [f"{c} [{'deg' if u == 'rad' else u}]" for c, u in zip(result.coordinates, units)]
-    values = ", ".join(f"{k}={v:g}" for k, v in vars(params).items())
+    values = common.params_line(vars(params), library.UNITS)
     print(paragraph(f"Vibration analysis of {library.TITLE}: {values}") + "\n")
     modes = [f"{h} {j + 1}" for j in range(library.dof) for h in ("omega_n", "zeta")]
     header = ["#", *names, "stability", *modes]

@@ -77,6 +77,23 @@ def number(name: str, text: str, unit: str | None = None) -> float:
     return number * scale if scale != 1.0 else number
 
 
+def shown(value: float, unit: str | None) -> str:
+    """A parameter's value as ``number`` reads it back: an angle (unit rad) with its unit, in
+    degrees (90deg) unless only radians say it in as few digits (1rad, not 57.2958deg, which
+    reads back as another angle); anything else as it is."""
+    if unit != "rad":
+        return f"{value:g}"
+    degrees = f"{math.degrees(value):g}"
+    if math.radians(float(degrees)) == value or float(f"{value:g}") != value:
+        return f"{degrees}deg"
+    return f"{value:g}rad"
+
+
+def params_line(values: dict[str, float], units: dict[str, str]) -> str:
+    """NAME=VALUE, ... of a parameter set, each value as --set reads it back."""
+    return ", ".join(f"{name}={shown(value, units.get(name))}" for name, value in values.items())
+
+
 def overrides(pairs: list[tuple[str, str]], units: dict[str, str] | None = None
               ) -> dict[str, float]:
     """Values as numbers in SI units (``units``: each parameter's unit, so that an angle is

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Callable
 
+from . import common
 from ..runtime.analysis import KINDS, STABILITY, Analysis, Equilibrium
 
 if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
@@ -20,10 +21,16 @@ if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
 WIDTH = 100
 
 
+#: Fixed decimals up to here; a larger value in scientific notation (not hundreds of digits).
+LARGEST_FIXED = 1e10
+
+
 def _number(x: float, digits: int = 4) -> str:
-    """Fixed decimals like the paper's Table 3, scientific below 1e-2; never a negative zero."""
+    """Fixed decimals like the paper's Table 3, scientific below 1e-2 and from LARGEST_FIXED;
+    never a negative zero."""
     x += 0.0  # -0.0 + 0.0 is +0.0
-    return f"{x:.{digits}f}" if x == 0 or abs(x) >= 1e-2 else f"{x:.{digits}e}"
+    fixed = x == 0 or 1e-2 <= abs(x) < LARGEST_FIXED
+    return f"{x:.{digits}f}" if fixed else f"{x:.{digits}e}"
 
 
 def _complex(z: complex, digits: int = 4) -> str:
@@ -161,7 +168,8 @@ def branch_summary(result: Branches) -> str:
     """The branches of a ``codegen.runtime.branches.Branches`` for a terminal: what was varied,
     a line per branch (where it runs and its stability), a line per event."""
     name, unit = result.parameter, result.unit
-    others = ", ".join(f"{k}={v:g}" for k, v in vars(result.base).items() if k != name)
+    others = common.params_line({k: v for k, v in vars(result.base).items() if k != name},
+                                result.library.UNITS)
     kinds = [e.kind for e in result.events]
     counted = [_plural(result.count, "branch"), *(
         _plural(kinds.count(k), k) for k in ("fold", "pitchfork") if k in kinds)]

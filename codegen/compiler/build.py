@@ -16,6 +16,7 @@ import json
 import os
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from cffi import FFI
@@ -25,6 +26,8 @@ GENERATED = ROOT / "generated"
 #: True when this file is in a source tree (setup.py beside codegen/), not installed.
 SOURCE_TREE = (ROOT / "setup.py").is_file()
 RUNTIME = "runtime"
+#: generate.MANIFEST (this file imports nothing of codegen): the files generate wrote there.
+MANIFEST = ".mechvib-manifest"
 #: The enclosures inline: the faster form on a host (codegen_interval.h, interval programs).
 COMPILE_FLAGS = ["-std=c99", "-O2", "-DCODEGEN_INLINE_INTERVALS"]
 
@@ -44,13 +47,30 @@ def libraries(generated: Path = GENERATED) -> list[str]:
                   if (p / f"{p.name}_api.json").is_file()) if generated.is_dir() else []
 
 
-def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.") -> FFI:
+def _written(folder: Path) -> list[Path]:
+    """The C files generate wrote into a folder (its manifest), never a file of the user's
+    beside them; every one where there is no manifest (a library copied without it)."""
+    try:
+        names = json.loads((folder / MANIFEST).read_text())
+    except FileNotFoundError:
+        return sorted(folder.glob("*.c"))
+    return sorted(folder / n for n in names if n.endswith(".c"))
+
+
+def _every(folder: Path) -> list[Path]:
+    """Every C file of a folder: a checkout's generated/ holds only the committed library
+    (its manifest is local and may predate a pulled change)."""
+    return sorted(folder.glob("*.c"))
+
+
+def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen.",
+                 sources_of: Callable[[Path], list[Path]] = _every) -> FFI:
     folder = generated / name
     spec = (folder / f"{name}_api.json").read_text()
     ffi = FFI()
     ffi.cdef((folder / f"{name}.cdef").read_text())
     ffi.cdef("const char *codegen_api_spec(void);")
-    sources = sorted(folder.glob("*.c")) + sorted((generated / RUNTIME).glob("*.c"))
+    sources = sources_of(folder) + sources_of(generated / RUNTIME)
     # Python.h (included first) asks for POSIX and GNU extensions, under which <math.h>
     # defines names plain C99 leaves free, such as M_PI; a parameter of such a name is a
     # field of NAME_params, so the wrapper undefines it before the header declares the struct.
@@ -70,9 +90,10 @@ def make_builder(name: str, generated: Path = GENERATED, package: str = "codegen
 
 
 def build_into(out: Path, name: str) -> Path:
-    """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*"""
+    """Compile the library generated into out/NAME (with out/runtime) as out/_native_NAME.*,
+    from the C files generate wrote there only (each folder's manifest)."""
     out = Path(out).resolve()
-    ffi = make_builder(name, out, package="")
+    ffi = make_builder(name, out, package="", sources_of=_written)
     work = tempfile.mkdtemp(prefix=".build-", dir=out)  # this build's alone
     try:
         built = ffi.compile(tmpdir=work, verbose=False)

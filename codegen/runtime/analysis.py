@@ -39,7 +39,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .library import Library, ParameterSet
+from .library import Library, ParameterSet, params_shown
 
 # The C enums' values, in order (templates/analysis.h.j2).
 STABILITY = ("stable", "marginal", "unstable")
@@ -167,7 +167,7 @@ class Analysis:
             return [finite(z.real), finite(z.imag)]
 
         return {
-            "params": asdict(self.params),
+            "params": params_shown(asdict(self.params), self.library.UNITS),
             "method": self.method,
             "sigma": list(self.sigma),
             "roots": [{

@@ -37,7 +37,7 @@ import numpy as np
 from . import analysis, folds, joining, sweep
 from .. import files
 from ..errors import real_number
-from .library import Library, ParameterSet, ParamsLike
+from .library import Library, ParameterSet, ParamsLike, params_shown
 
 #: What happens at an event (see the module's docstring).
 EVENTS = ("fold", "pitchfork", "end", "stability change")
@@ -132,9 +132,12 @@ class Branches:
 
     def table(self) -> np.ndarray:
         """The points as a file writes them: the parameter's column under its name (or
-        param_NAME where that is another column's), ``theta_deg`` in degrees."""
-        column = self.parameter if self.parameter not in POINT_DTYPE.names + ("theta_deg",) \
-            else f"param_{self.parameter}"
+        param_NAME where that is another column's; an angle in degrees as NAME_deg, as every
+        angle of a file), ``theta_deg`` in degrees."""
+        angle = self.library.UNITS.get(self.parameter) == "rad"
+        column = f"{self.parameter}_deg" if angle else self.parameter
+        if column in POINT_DTYPE.names + ("theta_deg",):
+            column = f"param_{column}"
         names = [(column if n == "value" else "theta_deg" if n == "theta" else n)
                  for n in POINT_DTYPE.names]
         out = np.empty(len(self.points), np.dtype(
@@ -142,6 +145,8 @@ class Branches:
         for name, n in zip(names, POINT_DTYPE.names):
             out[name] = self.points[n]
         out["theta_deg"] = np.degrees(self.points["theta"])
+        if angle:
+            out[column] = np.degrees(self.points["value"])
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -160,7 +165,8 @@ class Branches:
             "parameter": self.parameter, "unit": self.unit, "method": self.method,
             "from": float(self.values[0]), "to": float(self.values[-1]),
             "samples": len(self.values), "tolerance": self.tolerance,
-            "params": {k: v for k, v in vars(self.base).items() if k != self.parameter},
+            "params": params_shown({k: v for k, v in vars(self.base).items()
+                                    if k != self.parameter}, self.library.UNITS),
             "failed": [{"value": float(v), "status": names.get(int(s), int(s))}
                        for v, s in zip(self.values, self.statuses) if s != 0],
             "branches": ranges,

@@ -58,6 +58,15 @@ class ParameterSet(Protocol):
 #: [SI units] also does.
 ParamsLike = ParameterSet | Mapping[str, float]
 
+def params_shown(values: Mapping[str, float], units: Mapping[str, str]) -> dict[str, float]:
+    """Parameter values as a file shows them: an angle (unit rad) in degrees under NAME_deg,
+    as every angle of a file is (a bare name would hold radians where the command line reads
+    degrees), the rest SI under its own name."""
+    return {(f"{name}_deg" if units.get(name) == "rad" else name):
+            (math.degrees(value) if units.get(name) == "rad" else value)
+            for name, value in values.items()}
+
+
 class Library:
     """The functions, parameters and status codes of one mechanism's compiled library.
 

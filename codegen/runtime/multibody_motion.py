@@ -22,6 +22,7 @@ import numpy as np
 from . import figures, multibody
 from .simulation import integration_error, ode_options, times_of
 from .. import files
+from .library import params_shown
 
 #: Statuses of a failure after the start: the outputs before it are a trajectory.
 _AFTER_START = ("ERR_STEP_BUDGET", "ERR_STEP_SIZE", "ERR_SINGULAR_STATE")
@@ -208,7 +209,8 @@ def to_dict(trajectory: MultibodyTrajectory, linear: MultibodyLinearResponse | N
 
     result: dict[str, Any] = {
         "mechanism": trajectory.library.PREFIX, "coordinates": trajectory.coordinates,
-        "params": asdict(trajectory.params), "rtol": trajectory.rtol, "atol": trajectory.atol,
+        "params": params_shown(asdict(trajectory.params), trajectory.library.UNITS),
+        "rtol": trajectory.rtol, "atol": trajectory.atol,
         "t_s": trajectory.t.tolist(), **table(trajectory), "linearised": None}
     if linear is not None:
         e = linear.equilibrium

@@ -25,7 +25,7 @@ import numpy as np
 from . import figures
 from .. import files
 from .analysis import Equilibrium, Method, analyze, library_of_params
-from .library import Library, ParameterSet
+from .library import Library, ParameterSet, params_shown
 from .simulation import is_stable
 
 #: The file types ``write`` writes (by the path's suffix).
@@ -169,7 +169,7 @@ def to_dict(response: FrequencyResponse) -> dict[str, Any]:
     """JSON-ready: frequencies in Hz and rad/s, H as amplitude, phase [deg] and parts."""
     e = response.equilibrium
     return {
-        "mechanism": response.library.PREFIX, "params": asdict(response.params),
+        "mechanism": response.library.PREFIX, "params": params_shown(asdict(response.params), response.library.UNITS),
         "equilibrium": {"theta_deg": math.degrees(e.theta), "M": e.M, "B": e.B, "K": e.K,
                         "natural_frequency_hz": response.natural_frequency,
                         "zeta": float(e.zeta.real)},

@@ -28,7 +28,7 @@ from . import figures
 from .. import files
 from .analysis import Equilibrium, Method, analyze, library_of_params
 from ..errors import LibraryError
-from .library import Library, ParameterSet
+from .library import Library, ParameterSet, params_shown
 
 #: Output points per progress report: a hundredth of them (a progress bar's resolution).
 PROGRESS_STEPS = 100
@@ -356,10 +356,11 @@ def plot(trajectory: Trajectory, path: str | Path, linear: LinearResponse | None
 
 
 def to_dict(trajectory: Trajectory, linear: LinearResponse | None = None) -> dict[str, Any]:
-    """JSON-ready: angles in degrees, rates in deg/s, times in s, parameters SI."""
+    """JSON-ready: angles in degrees (an angle parameter too, as NAME_deg), rates in deg/s,
+    times in s, other parameters SI."""
     library = trajectory.library
     result: dict[str, Any] = {
-        "mechanism": library.PREFIX, "params": asdict(trajectory.params),
+        "mechanism": library.PREFIX, "params": params_shown(asdict(trajectory.params), library.UNITS),
         "rtol": trajectory.rtol, "atol": trajectory.atol, "steps": trajectory.steps,
         "rejected": trajectory.rejected, "evaluations": trajectory.evaluations,
         "t_s": trajectory.t.tolist(), "theta_deg": trajectory.theta_deg.tolist(),

@@ -141,13 +141,37 @@ static int residual_scale(const codegen_model *model, const codegen_real *at, co
     return status;
 }
 
+/* eigenvalues where (B/2M)^2 - K/M overflows: with s = max(|h|, sqrt(|K|/M)), h = B/2M, the
+ * discriminant is s^2 ((h/s)^2 - (K/M)/s^2) and that factor is at most 2, so the roots are
+ * finite wherever they are representable (an infinite s or root: the caller reports it). */
+static void eigenvalues_scaled(codegen_real m, codegen_real half_b, codegen_real k, codegen_real re[2],
+                               codegen_real im[2])
+{
+    const codegen_real root_k = codegen_sqrt(codegen_fabs(k)) / codegen_sqrt(m);
+    const codegen_real s = codegen_fmax(codegen_fabs(half_b), root_k);
+    const codegen_real h_s = half_b / s, k_s = codegen_copysign(root_k / s, k) * (root_k / s);
+    const codegen_real disc = h_s * h_s - k_s;
+    if (disc < 0) {
+        re[0] = re[1] = -half_b;
+        im[0] = s * codegen_sqrt(-disc);
+        im[1] = -im[0];
+    } else {
+        const codegen_real q = -(half_b + codegen_copysign(s * codegen_sqrt(disc), half_b));
+        re[0] = q;
+        re[1] = q != 0 ? codegen_copysign(root_k, k) * (root_k / q) : 0; /* (K/M) / q */
+        im[0] = im[1] = 0;
+    }
+}
+
 /* Roots of M s^2 + B s + K = 0, without cancellation; M > 0. Divided by M first: B^2 and
- * M K can overflow where B/M and K/M do not. */
+ * M K can overflow where B/M and K/M do not; where the discriminant still does, scaled. */
 static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_real re[2], codegen_real im[2])
 {
     const codegen_real half_b = CODEGEN_R(0.5) * (b / m), k_m = k / m;
     const codegen_real disc = half_b * half_b - k_m;
-    if (disc < 0) {
+    if (!isfinite(disc)) {
+        eigenvalues_scaled(m, half_b, k, re, im);
+    } else if (disc < 0) {
         re[0] = re[1] = -half_b;
         im[0] = codegen_sqrt(-disc);
         im[1] = -im[0];
@@ -162,7 +186,10 @@ static void eigenvalues(codegen_real m, codegen_real b, codegen_real k, codegen_
 /* omega_n = sqrt(K/M) and zeta = B / (2 M omega_n) as complex numbers (54)-(55). */
 static void frequency(codegen_real m, codegen_real b, codegen_real k, codegen_equilibrium *e)
 {
-    const codegen_real w = codegen_sqrt(codegen_fabs(k) / m);
+    codegen_real w = codegen_sqrt(codegen_fabs(k) / m);
+    if (isinf(w)) { /* |K|/M overflowed, its square root may not */
+        w = codegen_sqrt(codegen_fabs(k)) / codegen_sqrt(m);
+    }
     e->omega_n[0] = k >= 0 ? w : 0;
     e->omega_n[1] = k >= 0 ? 0 : w;
     e->zeta[0] = e->zeta[1] = 0;
@@ -195,6 +222,16 @@ static void classify_motion(codegen_real b, codegen_real k, codegen_equilibrium 
     }
 }
 
+/* Whether omega_n, zeta and the eigenvalues are all representable: zeta alone may be +inf,
+ * on purpose, where omega_n = 0 and B > 0 (K = 0); any other infinity or NaN overflowed. */
+static int vibration_finite(const codegen_equilibrium *e)
+{
+    const int zeta_infinite_on_purpose = e->omega_n[0] == 0 && e->omega_n[1] == 0
+                                         && e->zeta[0] > 0 && e->zeta[1] == 0;
+    return all_finite(e->omega_n, 2) && all_finite(e->eigen_re, 2) && all_finite(e->eigen_im, 2)
+           && (all_finite(e->zeta, 2) || zeta_infinite_on_purpose);
+}
+
 /* The vibration about an equilibrium from its M, B, K. Where M = 0 (no inertia at this angle:
  * statics need none) omega_n, zeta and the eigenvalues are undefined (NaN); K and B alone
  * still say whether a perturbation grows. */
@@ -210,9 +247,8 @@ static int vibrate(codegen_equilibrium *e)
     }
     frequency(e->M, e->B, e->K, e);
     eigenvalues(e->M, e->B, e->K, e->eigen_re, e->eigen_im);
-    if (isnan(e->omega_n[0] + e->omega_n[1] + e->zeta[1] + e->eigen_re[0] + e->eigen_re[1]
-              + e->eigen_im[0]) || isnan(e->zeta[0])) {
-        return CODEGEN_ERR_OVERFLOW; /* (zeta may be +inf on purpose: B > 0, K = 0) */
+    if (!vibration_finite(e)) {
+        return CODEGEN_ERR_OVERFLOW;
     }
     classify_motion(e->B, e->K, e);
     return CODEGEN_OK;
