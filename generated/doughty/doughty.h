@@ -365,6 +365,7 @@ typedef struct doughty_workspace {
     codegen_iv enclosure_slots[DOUGHTY_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[DOUGHTY_MAX_ROOTS + DOUGHTY_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    doughty_params scaled_params; /* the parameters in the analysis' units */
     codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(9, DOUGHTY_N_BRANCHES, DOUGHTY_N_MODES, DOUGHTY_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } doughty_workspace;
 /* doughty_analyze and doughty_isolate in the caller's working memory (NULL:

@@ -83,6 +83,21 @@ static void linearisation(const void *p, unsigned signs, codegen_real theta, cod
     doughty_linearisation_kernel(params, theta, out);
 }
 
+/* Each parameter's powers of (m, kg, s), as its unit says: the analysis divides them out. */
+static const signed char parameter_units[DOUGHTY_N_PARAMS * 3] = {
+    1, 0, 0,
+    1, 0, 0,
+    1, 0, 0,
+    0, 1, 0,
+    0, 1, 0,
+    0, 1, 0,
+    0, 1, -2,
+    0, 1, -1,
+    1, 0, 0,
+    1, 1, -2,
+    1, 0, -2,
+};
+
 static const codegen_model model = {
     .params_size = sizeof(doughty_params),
     .n_modes = DOUGHTY_N_MODES,
@@ -120,6 +135,12 @@ static const codegen_model model = {
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
     .linearisation = linearisation,
+    .units = {
+        .n_params = DOUGHTY_N_PARAMS,
+        .parameter = parameter_units,
+        .force = { 2, 1, -2 },  /* G, K [N m] */
+        .sigma = { 6, 2, -4 },
+    },
     .analysis = {
         .size = sizeof(doughty_analysis),
         .sigma = offsetof(doughty_analysis, sigma),
@@ -147,6 +168,7 @@ static const codegen_model model = {
         .found = offsetof(doughty_workspace, found),
         .boxes = offsetof(doughty_workspace, boxes),
         .scratch = offsetof(doughty_workspace, scratch),
+        .scaled_params = offsetof(doughty_workspace, scaled_params),
     },
     .simulation = {
         .params = offsetof(doughty_simulation, params),

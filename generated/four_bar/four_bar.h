@@ -383,6 +383,7 @@ typedef struct four_bar_workspace {
     codegen_iv enclosure_slots[FOUR_BAR_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[FOUR_BAR_MAX_ROOTS + FOUR_BAR_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    four_bar_params scaled_params; /* the parameters in the analysis' units */
     codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, FOUR_BAR_N_BRANCHES, FOUR_BAR_N_MODES, FOUR_BAR_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } four_bar_workspace;
 /* four_bar_analyze and four_bar_isolate in the caller's working memory (NULL:

@@ -383,6 +383,7 @@ typedef struct slider_crank_workspace {
     codegen_iv enclosure_slots[SLIDER_CRANK_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[SLIDER_CRANK_MAX_ROOTS + SLIDER_CRANK_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    slider_crank_params scaled_params; /* the parameters in the analysis' units */
     codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(13, SLIDER_CRANK_N_BRANCHES, SLIDER_CRANK_N_MODES, SLIDER_CRANK_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } slider_crank_workspace;
 /* slider_crank_analyze and slider_crank_isolate in the caller's working memory (NULL:

@@ -130,6 +130,24 @@ static const unsigned condition_bit[SLIDER_CRANK_N_CONDITIONS] = {
 /* The sign choice the model's conditions declare at theta (codegen_declared_signs). */
 static unsigned declared_signs(const void *params, codegen_real theta);
 
+/* Each parameter's powers of (m, kg, s), as its unit says: the analysis divides them out. */
+static const signed char parameter_units[SLIDER_CRANK_N_PARAMS * 3] = {
+    1, 0, 0,
+    1, 0, 0,
+    1, 0, 0,
+    0, 1, 0,
+    0, 1, 0,
+    0, 1, 0,
+    0, 1, -2,
+    1, 0, 0,
+    1, 0, 0,
+    1, 0, 0,
+    0, 1, -1,
+    1, 1, -2,
+    2, 1, -2,
+    1, 0, -2,
+};
+
 static const codegen_model model = {
     .params_size = sizeof(slider_crank_params),
     .n_modes = SLIDER_CRANK_N_MODES,
@@ -178,6 +196,12 @@ static const codegen_model model = {
     .angular_acceleration = angular_acceleration,
     .linearisation = linearisation,
     .declared_signs = declared_signs,
+    .units = {
+        .n_params = SLIDER_CRANK_N_PARAMS,
+        .parameter = parameter_units,
+        .force = { 2, 1, -2 },  /* G, K [N m] */
+        .sigma = { 16, 4, -8 },
+    },
     .analysis = {
         .size = sizeof(slider_crank_analysis),
         .sigma = offsetof(slider_crank_analysis, sigma),
@@ -205,6 +229,7 @@ static const codegen_model model = {
         .found = offsetof(slider_crank_workspace, found),
         .boxes = offsetof(slider_crank_workspace, boxes),
         .scratch = offsetof(slider_crank_workspace, scratch),
+        .scaled_params = offsetof(slider_crank_workspace, scaled_params),
     },
     .simulation = {
         .params = offsetof(slider_crank_simulation, params),

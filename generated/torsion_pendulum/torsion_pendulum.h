@@ -251,6 +251,7 @@ typedef struct torsion_pendulum_workspace {
     codegen_iv enclosure_slots[TORSION_PENDULUM_ENCLOSURE_SLOTS];  /* where the enclosures run */
     codegen_isolated found[TORSION_PENDULUM_MAX_ROOTS + TORSION_PENDULUM_MAX_UNCERTAIN]; /* one mode's isolation */
     codegen_isolation_box boxes[CODEGEN_ISOLATE_DEPTH];                 /* and its subdivision */
+    torsion_pendulum_params scaled_params; /* the parameters in the analysis' units */
     codegen_real scratch[CODEGEN_ANALYSIS_SCRATCH(5, TORSION_PENDULUM_N_BRANCHES, TORSION_PENDULUM_N_MODES, TORSION_PENDULUM_N_MODE_CONDITIONS)]; /* states and branch values at work */
 } torsion_pendulum_workspace;
 /* torsion_pendulum_analyze and torsion_pendulum_isolate in the caller's working memory (NULL:

@@ -66,6 +66,18 @@ static void linearisation(const void *p, unsigned signs, codegen_real theta, cod
     torsion_pendulum_linearisation_kernel(params, theta, out);
 }
 
+/* Each parameter's powers of (m, kg, s), as its unit says: the analysis divides them out. */
+static const signed char parameter_units[TORSION_PENDULUM_N_PARAMS * 3] = {
+    1, 0, 0,
+    0, 1, 0,
+    0, 1, 0,
+    2, 1, -2,
+    0, 0, 0,
+    2, 1, -1,
+    1, 1, -2,
+    1, 0, -2,
+};
+
 static const codegen_model model = {
     .params_size = sizeof(torsion_pendulum_params),
     .n_modes = TORSION_PENDULUM_N_MODES,
@@ -95,6 +107,12 @@ static const codegen_model model = {
     .range_centre = range_centre,
     .angular_acceleration = angular_acceleration,
     .linearisation = linearisation,
+    .units = {
+        .n_params = TORSION_PENDULUM_N_PARAMS,
+        .parameter = parameter_units,
+        .force = { 2, 1, -2 },  /* G, K [N m] */
+        .sigma = { 0, 0, 0 },
+    },
     .analysis = {
         .size = sizeof(torsion_pendulum_analysis),
         .n_roots = offsetof(torsion_pendulum_analysis, n_roots),
@@ -113,6 +131,7 @@ static const codegen_model model = {
         .found = offsetof(torsion_pendulum_workspace, found),
         .boxes = offsetof(torsion_pendulum_workspace, boxes),
         .scratch = offsetof(torsion_pendulum_workspace, scratch),
+        .scaled_params = offsetof(torsion_pendulum_workspace, scaled_params),
     },
     .simulation = {
         .params = offsetof(torsion_pendulum_simulation, params),

@@ -1541,6 +1541,127 @@ static int run(const call *c, codegen_route route, void *workspace)
     return status;
 }
 
+/* ==== Units ==== */
+
+/* The powers of two (of a length, a mass and a time: x[0..2]) that bring the parameters
+ * nearest to 1: least squares on their binary exponents, e_i ~ d_i . x, over the nonzero
+ * parameters with a unit (d_i their powers of m, kg, s). A tiny ridge leaves an axis no
+ * parameter names at 0. Exponents from frexp, the solution rounded: the same on every libm,
+ * and a copy of the mechanism in other units gets the same scaled parameters up to a factor
+ * 2 and rounding. */
+static void characteristic_units(const codegen_units *u, const codegen_real *p, int x[3])
+{
+    codegen_real a[3][4];
+    int i, r, c, k;
+    memset(a, 0, sizeof a);
+    for (r = 0; r < 3; ++r) {
+        a[r][r] = CODEGEN_R(1e-3);
+    }
+    for (i = 0; i < u->n_params; ++i) {
+        const signed char *d = u->parameter + 3 * i;
+        int e;
+        if (p[i] == 0 || (d[0] == 0 && d[1] == 0 && d[2] == 0)) {
+            continue;
+        }
+        (void)codegen_frexp(codegen_fabs(p[i]), &e);
+        for (r = 0; r < 3; ++r) {
+            for (c = 0; c < 3; ++c) {
+                a[r][c] += (codegen_real)(d[r] * d[c]);
+            }
+            a[r][3] += (codegen_real)d[r] * (codegen_real)e;
+        }
+    }
+    for (k = 0; k < 3; ++k) { /* Gaussian elimination; the matrix is positive definite */
+        for (r = k + 1; r < 3; ++r) {
+            const codegen_real f = a[r][k] / a[k][k];
+            for (c = k; c < 4; ++c) {
+                a[r][c] -= f * a[k][c];
+            }
+        }
+    }
+    for (k = 2; k >= 0; --k) {
+        codegen_real v = a[k][3];
+        for (c = k + 1; c < 3; ++c) {
+            v -= a[k][c] * (codegen_real)x[c];
+        }
+        v /= a[k][k];
+        x[k] = v > CODEGEN_R(4096.0) ? 4096 : v < CODEGEN_R(-4096.0) ? -4096
+             : v >= 0 ? (int)(v + CODEGEN_R(0.5)) : -(int)(CODEGEN_R(0.5) - v);
+    }
+}
+
+static int power_of(const signed char d[3], const int x[3])
+{
+    return d[0] * x[0] + d[1] * x[1] + d[2] * x[2];
+}
+
+/* The parameters divided by their units' characteristic powers into scaled (x as chosen), or
+ * params itself with x = 0 where the model keeps its units or a scaled value would leave the
+ * normal range. */
+static const void *in_units(const codegen_model *model, const void *params, void *scaled,
+                            int x[3])
+{
+    const codegen_units *u = &model->units;
+    const codegen_real *p = (const codegen_real *)params;
+    codegen_real *q = (codegen_real *)scaled;
+    int i;
+    x[0] = x[1] = x[2] = 0;
+    if (u->n_params == 0) {
+        return params;
+    }
+    characteristic_units(u, p, x);
+    for (i = 0; i < u->n_params; ++i) {
+        q[i] = codegen_ldexp(p[i], -power_of(u->parameter + 3 * i, x));
+        if (!isfinite(q[i]) || (p[i] != 0 && !(codegen_fabs(q[i]) >= CODEGEN_REAL_MIN))) {
+            x[0] = x[1] = x[2] = 0;
+            return params;
+        }
+    }
+    return scaled;
+}
+
+/* v times 2^(d . x), the unit d's share of the scale; 0 where v is finite and the product
+ * is not (an overflow). */
+static int times_units(codegen_real *v, int count, const signed char d[3], const int x[3])
+{
+    const int n = power_of(d, x);
+    int i, finite = 1;
+    for (i = 0; i < count && n != 0; ++i) {
+        v[i] = codegen_ldexp(v[i], n);
+        finite = finite && isfinite(v[i]);
+    }
+    return finite;
+}
+
+/* The result back in the user's units: G, K and the residuals in the force's, M and B with
+ * s^2 and s more, the frequencies and eigenvalues per second, sigma in its own. */
+static int out_of_units(const codegen_model *model, const result_view *r, const int x[3])
+{
+    const codegen_units *u = &model->units;
+    const signed char per_second[3] = {0, 0, -1};
+    const signed char mass[3] = {u->force[0], u->force[1], (signed char)(u->force[2] + 2)};
+    const signed char damping[3] = {u->force[0], u->force[1], (signed char)(u->force[2] + 1)};
+    int i, finite = 1;
+    if (x[0] == 0 && x[1] == 0 && x[2] == 0) {
+        return CODEGEN_OK;
+    }
+    if (model->sigma != NULL) {
+        finite = times_units(r->sigma, model->degree + 1, u->sigma, x);
+    }
+    for (i = 0; i < *r->n_roots; ++i) {
+        codegen_equilibrium *e = &r->roots[i];
+        finite = times_units(&e->residual, 1, u->force, x) && finite;
+        finite = times_units(&e->residual_scale, 1, u->force, x) && finite;
+        finite = times_units(&e->K, 1, u->force, x) && finite;
+        finite = times_units(&e->M, 1, mass, x) && finite;
+        finite = times_units(&e->B, 1, damping, x) && finite;
+        finite = times_units(e->omega_n, 2, per_second, x) && finite;
+        finite = times_units(e->eigen_re, 2, per_second, x) && finite;
+        finite = times_units(e->eigen_im, 2, per_second, x) && finite;
+    }
+    return finite ? CODEGEN_OK : CODEGEN_ERR_OVERFLOW;
+}
+
 int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
                          void *result, void *workspace)
 {
@@ -1557,7 +1678,8 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     c = (call *)field(workspace, model->workspace.call);
     scratch = (codegen_real *)field(workspace, model->workspace.scratch);
     c->model = model;
-    c->enclosure.params = params;
+    c->enclosure.params = in_units(model, params, field(workspace, model->workspace.scaled_params),
+                                   c->units);
     c->enclosure.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
     if (model->prepare_enclosure != NULL) {
         model->prepare_enclosure(&c->enclosure);
@@ -1574,6 +1696,17 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
         c->polynomial = results_in(model, field(workspace, model->workspace.polynomial));
     }
     status = run(c, route, workspace);
+    if (status == CODEGEN_OK) {
+        status = out_of_units(model, &c->result, c->units);
+    }
+    if (status == CODEGEN_ERR_OVERFLOW && route != CODEGEN_ROUTE_ISOLATION && model->sigma != NULL) {
+        /* sigma beyond the range in the user's units (a four-bar in kilometres' sigma
+         * ~ L^30): the isolation's result, whose sigma is 0 */
+        status = run(c, CODEGEN_ROUTE_ISOLATION, workspace);
+        if (status == CODEGEN_OK) {
+            status = out_of_units(model, &c->result, c->units);
+        }
+    }
     if (status == CODEGEN_OK) {
         memcpy(result, field(workspace, model->workspace.result), model->analysis.size);
     }

@@ -146,6 +146,7 @@ typedef struct codegen_analysis_call {
     codegen_real *modes;         /* M, B, K of every mode */
     codegen_real *conditions;    /* the assembly-mode conditions of every mode, and scales */
     codegen_analysis_view result, polynomial;
+    int units[3];                /* the characteristic length, mass, time: these powers of 2 */
 } codegen_analysis_call;
 
 /* Where the fields of a library's NAME_analysis lie (offsetof; sigma: none without the
@@ -160,7 +161,7 @@ typedef struct codegen_analysis_layout {
  * conditions) reals. */
 typedef struct codegen_workspace_layout {
     size_t call, result, polynomial, roots, spans, sigma_bound, theta, branches, sigma_values,
-        sigma_errors, enclosure_slots, found, boxes, scratch;
+        sigma_errors, enclosure_slots, found, boxes, scratch, scaled_params;
 } codegen_workspace_layout;
 
 /* The reals of the analysis' scratch: three states, four sets of branch values, M, B, K of
@@ -177,6 +178,15 @@ typedef struct codegen_simulation_layout {
 typedef struct codegen_state_layout {
     int size, residual, scale, m, b, k, branch_residuals, radicands, radicand_scales;
 } codegen_state_layout;
+
+/* The units the analysis divides out (codegen_analysis.c): each parameter's powers of metre,
+ * kilogram and second, and those of G (and K) and of sigma's coefficients, which it
+ * multiplies back into its results. n_params 0: the analysis keeps the user's units. */
+typedef struct codegen_units {
+    int n_params;
+    const signed char *parameter;   /* 3 per parameter, in the order of NAME_params */
+    signed char force[3], sigma[3];
+} codegen_units;
 
 /* A library's mechanism, as the runtime's analysis and time response see it. Kernels are
  * unchecked: the runtime calls them only with parameters check_params accepted. */
@@ -231,6 +241,7 @@ struct codegen_model {
      * where they decide none, n_modes + 1 where there is no state (codegen_declared_signs;
      * NULL: always 0, the model declares no conditions) */
     unsigned (*declared_signs)(const void *params, codegen_real theta);
+    codegen_units units;
     codegen_analysis_layout analysis;
     codegen_workspace_layout workspace;
     codegen_simulation_layout simulation;

@@ -12,6 +12,7 @@ import sympy as sp
 
 from ..derivation import Derivation
 from ..derivation.algebra import written_out
+from .scaling import Scaling, unit_scaling
 
 
 @dataclass(frozen=True)
@@ -149,6 +150,8 @@ class Plan:
     # motion_signs<j>: the functions of one angle on sign choice j > 0 in one kernel, which
     # the public ones take their outputs from there (CFunction.on_signs); not public
     mode_functions: tuple[CFunction, ...] = ()
+    # the units the analysis divides out and multiplies back (None: it keeps the user's)
+    scaling: Scaling | None = None
 
     @property
     def reads(self) -> tuple[tuple[str, str], ...]:
@@ -471,6 +474,7 @@ def build_plan(d: Derivation) -> Plan:
                             tuple(mode.stiffness for mode in lin.modes),
                             m.equations.get("equilibrium_residual", ""), program),
         mode_functions=mode_functions,
+        scaling=unit_scaling(d),
         functions=(constrained + general + branched + polynomial + dynamics_at_rest + other_modes
                    + declared_modes + fused),
     )

@@ -354,6 +354,7 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "inline_intervals": enclosure["inline"],
         "periodic": plan.periodic,
         "range_centre": _range_centre(plan, printer),
+        "scaling": plan.scaling,
         # sigma as a double-double program, whose values the analysis keeps in its workspace
         "sigma_values": any(f.name == "sigma" and f.body.program for f in functions),
     }
