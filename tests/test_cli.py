@@ -238,14 +238,25 @@ def test_output_survives_a_closed_pipe(tmp_path, args):
     assert process.returncode in (0, 141)   # 0 when the output fitted the pipe before closing
 
 
-@pytest.mark.parametrize("assignment, name", [("F=1e308", "F"), ("k=1e300", "k"),
-                                              ("H=1e200", "H")])
-def test_overflow_is_one_line_naming_the_parameter(tmp_path, assignment, name):
-    out = cli("analyze", "--set", assignment, cwd=tmp_path)
+@pytest.mark.parametrize("assignments, name", [(("F=1e308", "L=100"), "L, F"),
+                                               (("k=1e300", "L=1e10"), "L, k"), (("H=1e200",), "H")])
+def test_overflow_is_one_line_naming_the_parameter(tmp_path, assignments, name):
+    """K ~ F L beyond the largest double: one line naming the parameters."""
+    out = cli("analyze", *(a for x in assignments for a in ("--set", x)), cwd=tmp_path)
     assert out.returncode == 2 and out.stdout == ""
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
     assert re.search(rf"error: {name}\b", lines[0]), lines[0]
+
+
+def test_a_huge_force_whose_results_are_representable_is_answered(tmp_path):
+    """F = 1e308 N: K ~ 9e307 N m fits a double, and the analysis, in units of the
+    parameters' own scale, proves both equilibria (it overflowed before)."""
+    out = cli("analyze", "--set", "F=1e308", "--json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    roots = json.loads(out.stdout)["roots"]
+    assert [round(r["theta_deg"], 6) for r in roots] == [-90.0, 90.0]
+    assert all(r["certified"] for r in roots)
 
 
 SHIPPED = ["doughty", "slider_crank", "four_bar", "torsion_pendulum"]

@@ -151,8 +151,16 @@ def test_overflow_is_reported_not_inf():
     status = lib.doughty_sigma(_c_params(k=1e300), out)
     assert status == api.STATUS["ERR_OVERFLOW"] and list(out) == [SENTINEL] * 13
     with pytest.raises(ValueError, match="too large"):
-        analyze(api.example_params(k=1e300))
-    _cli_fails(["--set", "k=1e300"], "too large")
+        analyze(api.example_params(H=1e200))
+    _cli_fails(["--set", "H=1e200"], "too large")
+
+
+def test_a_stiffness_of_1e300_is_answered_where_its_results_fit():
+    """k = 1e300 N/m: K ~ 5e299 N m fits a double. sigma (~ k^2) does not, so the analysis
+    takes the isolation's route, in units where the forces are near 1 (it overflowed)."""
+    result = analyze(api.example_params(k=1e300))
+    assert len(result.equilibria) == 6 and all(e.certified for e in result.equilibria)
+    assert all(math.isfinite(e.K) and abs(e.K) > 1e299 for e in result.equilibria)
 
 
 def test_neutral_mechanism_says_every_angle_is_an_equilibrium():

@@ -338,6 +338,7 @@ WORKER_WAIT = 30.0
 
 
 def worker_wait() -> float:
+    """Seconds a Dask sweep waits for a worker (MECHVIB_WORKER_WAIT, else WORKER_WAIT)."""
     return float(os.environ.get("MECHVIB_WORKER_WAIT", WORKER_WAIT))
 
 

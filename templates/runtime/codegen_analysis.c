@@ -317,10 +317,20 @@ static int linearise_at(const call *c, unsigned mode, codegen_real theta, const 
     return status;
 }
 
+static int check_state(const codegen_model *model, const codegen_real *at, int *assembled);
+
+/* linearise_at at theta. M, B or K not finite where no square root is near zero is no
+ * singular state but an overflow (K ~ k L^2 beyond the largest real). */
 static int linearise(const call *c, unsigned mode, codegen_real theta, codegen_equilibrium *e)
 {
+    int status, assembled;
     state_at(c, theta, c->at_line);
-    return linearise_at(c, mode, theta, c->at_line, e);
+    status = linearise_at(c, mode, theta, c->at_line, e);
+    if (status == CODEGEN_ERR_SINGULAR_STATE && mode == 0u
+        && check_state(c->model, c->at_line, &assembled) == CODEGEN_OK) {
+        return CODEGEN_ERR_OVERFLOW;
+    }
+    return status;
 }
 
 /* Sort roots by theta (insertion sort: the lists are short and nearly sorted). */
@@ -1115,6 +1125,26 @@ ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_v
 /* The polynomial's roots where the spans cannot be proven, into *work: each classified and
  * linearised (study_root), none proven; complete_by_isolation takes the equilibria from the
  * isolation of G and the rest from here. */
+/* Whether G on the declared mode is within rounding of 0, and finite, wherever a few angles
+ * spread over the range probe it: what a vanishing polynomial must be confirmed by. */
+static int vanishing_everywhere(const call *c)
+{
+    const codegen_real centre = c->model->range_centre(c->enclosure.params);
+    const codegen_real offsets[3] = {CODEGEN_R(0.7), CODEGEN_R(-1.9), CODEGEN_R(2.6)};
+    int i;
+    for (i = 0; i < 3; ++i) {
+        codegen_iv g;
+        unsigned flags;
+        if (c->model->enclose(&c->enclosure, 0u, codegen_iv_point(centre + offsets[i]), &g, NULL,
+                              &flags) != 0
+            || (flags & CODEGEN_IV_OUTSIDE) != 0u || !isfinite(g.lo) || !isfinite(g.hi)
+            || !codegen_iv_has_zero(g)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
@@ -1133,7 +1163,11 @@ static int analyze_polynomial(const call *c, void *workspace, const result_view 
         status = (int)codegen_poly_real_roots_work(work->sigma, model->degree, theta, &count,
                                                    (codegen_real *)field(workspace, ws->roots));
         if (status == CODEGEN_ERR_ZERO_POLYNOMIAL) {
-            status = CODEGEN_ERR_EVERY_ANGLE; /* the polynomial vanishes because G does */
+            /* the polynomial vanishes because G does (every angle), or its coefficients
+             * underflowed (float, a linkage that closes nowhere): then no roots to list, and
+             * the isolation of G decides */
+            status = vanishing_everywhere(c) ? CODEGEN_ERR_EVERY_ANGLE : CODEGEN_OK;
+            count = 0;
         }
     }
     for (i = 0; i < count && status == CODEGEN_OK; ++i) {
@@ -1300,7 +1334,14 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     }
     if (whole && count == 1 && found[0].kind == CODEGEN_ISOLATED_CLUSTER && found[0].lo == lo
         && found[0].hi == hi) {
-        return CODEGEN_ERR_EVERY_ANGLE; /* G within rounding of 0 everywhere */
+        /* G within rounding of 0 everywhere, or beyond the range of the reals (an anchor
+         * 1e200 m away): only a finite G that holds 0 says every angle */
+        codegen_iv g;
+        unsigned flags;
+        const int status = model->enclose(&c->enclosure, mode, codegen_iv_point(found[0].theta),
+                                          &g, NULL, &flags);
+        return status != 0 ? status
+             : isfinite(g.lo) && isfinite(g.hi) ? CODEGEN_ERR_EVERY_ANGLE : CODEGEN_ERR_OVERFLOW;
     }
     for (i = 0; i < count; ++i) {
         const codegen_real shift = found[i].theta <= below ? two_pi : 0;
@@ -1543,50 +1584,63 @@ static int run(const call *c, codegen_route route, void *workspace)
 
 /* ==== Units ==== */
 
-/* The powers of two (of a length, a mass and a time: x[0..2]) that bring the parameters
- * nearest to 1: least squares on their binary exponents, e_i ~ d_i . x, over the nonzero
- * parameters with a unit (d_i their powers of m, kg, s). A tiny ridge leaves an axis no
- * parameter names at 0. Exponents from frexp, the solution rounded: the same on every libm,
- * and a copy of the mechanism in other units gets the same scaled parameters up to a factor
- * 2 and rounding. */
-static void characteristic_units(const codegen_units *u, const codegen_real *p, int x[3])
+/* What parameter i says of axis (0 length, 1 mass, 2 time) as a binary exponent, given those
+ * of the axes before it in x: a length's or a mass's own exponent (from frexp: the same on
+ * every libm), or, for time, the exponent its unit leaves to the time's powers where that is
+ * s^-2 (a force, a stiffness, a torque, an acceleration: what G is made of; a damper or a
+ * mass does not enter the equilibrium). 0 where it says nothing (zero, another unit). */
+static int estimate(const codegen_units *u, const codegen_real *p, int i, int axis,
+                    const int x[3], codegen_real *value)
 {
-    codegen_real a[3][4];
-    int i, r, c, k;
-    memset(a, 0, sizeof a);
-    for (r = 0; r < 3; ++r) {
-        a[r][r] = CODEGEN_R(1e-3);
+    const signed char *d = u->parameter + 3 * i;
+    int e;
+    if (p[i] == 0 || (axis < 2 && !(d[axis] == 1 && d[1 - axis] == 0 && d[2] == 0))
+        || (axis == 2 && d[2] != -2)) {
+        return 0;
+    }
+    (void)codegen_frexp(codegen_fabs(p[i]), &e);
+    *value = axis < 2 ? (codegen_real)e
+           : (codegen_real)(e - d[0] * x[0] - d[1] * x[1]) / (codegen_real)d[2];
+    return 1;
+}
+
+/* The lower median of what the parameters say of axis, rounded (0 where none says). */
+static int median_exponent(const codegen_units *u, const codegen_real *p, int axis, const int x[3])
+{
+    int i, j, n = 0;
+    codegen_real v, w;
+    for (i = 0; i < u->n_params; ++i) {
+        n += estimate(u, p, i, axis, x, &v);
     }
     for (i = 0; i < u->n_params; ++i) {
-        const signed char *d = u->parameter + 3 * i;
-        int e;
-        if (p[i] == 0 || (d[0] == 0 && d[1] == 0 && d[2] == 0)) {
+        int below = 0, same = 0;
+        if (!estimate(u, p, i, axis, x, &v)) {
             continue;
         }
-        (void)codegen_frexp(codegen_fabs(p[i]), &e);
-        for (r = 0; r < 3; ++r) {
-            for (c = 0; c < 3; ++c) {
-                a[r][c] += (codegen_real)(d[r] * d[c]);
-            }
-            a[r][3] += (codegen_real)d[r] * (codegen_real)e;
-        }
-    }
-    for (k = 0; k < 3; ++k) { /* Gaussian elimination; the matrix is positive definite */
-        for (r = k + 1; r < 3; ++r) {
-            const codegen_real f = a[r][k] / a[k][k];
-            for (c = k; c < 4; ++c) {
-                a[r][c] -= f * a[k][c];
+        for (j = 0; j < u->n_params; ++j) {
+            if (estimate(u, p, j, axis, x, &w)) {
+                below += w < v;
+                same += w == v;
             }
         }
-    }
-    for (k = 2; k >= 0; --k) {
-        codegen_real v = a[k][3];
-        for (c = k + 1; c < 3; ++c) {
-            v -= a[k][c] * (codegen_real)x[c];
+        if (below <= (n - 1) / 2 && (n - 1) / 2 < below + same) {
+            return v >= 0 ? (int)(v + CODEGEN_R(0.5)) : -(int)(CODEGEN_R(0.5) - v);
         }
-        v /= a[k][k];
-        x[k] = v > CODEGEN_R(4096.0) ? 4096 : v < CODEGEN_R(-4096.0) ? -4096
-             : v >= 0 ? (int)(v + CODEGEN_R(0.5)) : -(int)(CODEGEN_R(0.5) - v);
+    }
+    return 0;
+}
+
+/* The powers of two of a length, a mass and a time (x[0..2]) the analysis works in: the
+ * median exponent of the lengths, then of the masses, then of what each of G's parameters
+ * (estimate) leaves to the time. A median moves with a change of units as the units
+ * do, and an outlier (k = 1e300 beside forces of 100 N) cannot drag the others out of range,
+ * as a mean or least squares would. */
+static void characteristic_units(const codegen_units *u, const codegen_real *p, int x[3])
+{
+    int axis;
+    x[0] = x[1] = x[2] = 0;
+    for (axis = 0; axis < 3; ++axis) {
+        x[axis] = median_exponent(u, p, axis, x);
     }
 }
 
@@ -1621,45 +1675,76 @@ static const void *in_units(const codegen_model *model, const void *params, void
 }
 
 /* v times 2^(d . x), the unit d's share of the scale; 0 where v is finite and the product
- * is not (an overflow). */
+ * is not (an overflow; a NaN, as omega_n where M = 0, stays what it was). */
 static int times_units(codegen_real *v, int count, const signed char d[3], const int x[3])
 {
     const int n = power_of(d, x);
     int i, finite = 1;
     for (i = 0; i < count && n != 0; ++i) {
+        const int was = isfinite(v[i]);
         v[i] = codegen_ldexp(v[i], n);
-        finite = finite && isfinite(v[i]);
+        finite = finite && (isfinite(v[i]) || !was);
     }
     return finite;
 }
 
 /* The result back in the user's units: G, K and the residuals in the force's, M and B with
- * s^2 and s more, the frequencies and eigenvalues per second, sigma in its own. */
+ * s^2 and s more, sigma in its own; the vibration (omega_n, zeta, the eigenvalues) computed
+ * afresh from M, B and K there, as it would have been in those units. An extraneous root
+ * whose vibration overflows is dropped, as the analysis drops it in its own units. */
 static int out_of_units(const codegen_model *model, const result_view *r, const int x[3])
 {
     const codegen_units *u = &model->units;
-    const signed char per_second[3] = {0, 0, -1};
     const signed char mass[3] = {u->force[0], u->force[1], (signed char)(u->force[2] + 2)};
     const signed char damping[3] = {u->force[0], u->force[1], (signed char)(u->force[2] + 1)};
-    int i, finite = 1;
+    int i, kept = 0, finite = 1;
     if (x[0] == 0 && x[1] == 0 && x[2] == 0) {
         return CODEGEN_OK;
     }
     if (model->sigma != NULL) {
         finite = times_units(r->sigma, model->degree + 1, u->sigma, x);
     }
-    for (i = 0; i < *r->n_roots; ++i) {
+    for (i = 0; i < *r->n_roots && finite; ++i) {
         codegen_equilibrium *e = &r->roots[i];
-        finite = times_units(&e->residual, 1, u->force, x) && finite;
-        finite = times_units(&e->residual_scale, 1, u->force, x) && finite;
-        finite = times_units(&e->K, 1, u->force, x) && finite;
-        finite = times_units(&e->M, 1, mass, x) && finite;
-        finite = times_units(&e->B, 1, damping, x) && finite;
-        finite = times_units(e->omega_n, 2, per_second, x) && finite;
-        finite = times_units(e->eigen_re, 2, per_second, x) && finite;
-        finite = times_units(e->eigen_im, 2, per_second, x) && finite;
+        finite = times_units(&e->residual, 1, u->force, x)
+              && times_units(&e->residual_scale, 1, u->force, x)
+              && times_units(&e->K, 1, u->force, x) && times_units(&e->M, 1, mass, x)
+              && times_units(&e->B, 1, damping, x) && vibrate(e) == CODEGEN_OK;
+        if (!finite && e->kind == CODEGEN_EXTRANEOUS) {
+            finite = 1;
+            continue;
+        }
+        if (kept != i) {
+            memcpy(&r->roots[kept], e, sizeof *e);
+        }
+        ++kept;
     }
+    *r->n_roots = kept;
     return finite ? CODEGEN_OK : CODEGEN_ERR_OVERFLOW;
+}
+
+/* The analysis of params (in the units c->units names) into c->result, in the user's units:
+ * run, its results multiplied back (out_of_units), and where sigma overflows the isolation's
+ * result instead, whose sigma is 0 and which overflows in its turn only where G does. */
+static int run_in(call *c, codegen_route route, void *workspace, const void *params)
+{
+    const codegen_model *model = c->model;
+    int status;
+    c->enclosure.params = params;
+    if (model->prepare_enclosure != NULL) {
+        model->prepare_enclosure(&c->enclosure);
+    }
+    status = run(c, route, workspace);
+    if (status == CODEGEN_OK) {
+        status = out_of_units(model, &c->result, c->units);
+    }
+    if (status == CODEGEN_ERR_OVERFLOW && route != CODEGEN_ROUTE_ISOLATION && model->sigma != NULL) {
+        status = run(c, CODEGEN_ROUTE_ISOLATION, workspace);
+        if (status == CODEGEN_OK) {
+            status = out_of_units(model, &c->result, c->units);
+        }
+    }
+    return status;
 }
 
 int codegen_analysis_run(const codegen_model *model, codegen_route route, const void *params,
@@ -1678,12 +1763,7 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     c = (call *)field(workspace, model->workspace.call);
     scratch = (codegen_real *)field(workspace, model->workspace.scratch);
     c->model = model;
-    c->enclosure.params = in_units(model, params, field(workspace, model->workspace.scaled_params),
-                                   c->units);
     c->enclosure.slots = (codegen_iv *)field(workspace, model->workspace.enclosure_slots);
-    if (model->prepare_enclosure != NULL) {
-        model->prepare_enclosure(&c->enclosure);
-    }
     c->at_root = scratch;
     c->at_next = c->at_root + model->state.size;
     c->at_line = c->at_next + model->state.size;
@@ -1695,17 +1775,14 @@ int codegen_analysis_run(const codegen_model *model, codegen_route route, const 
     if (model->sigma != NULL) {
         c->polynomial = results_in(model, field(workspace, model->workspace.polynomial));
     }
-    status = run(c, route, workspace);
-    if (status == CODEGEN_OK) {
-        status = out_of_units(model, &c->result, c->units);
-    }
-    if (status == CODEGEN_ERR_OVERFLOW && route != CODEGEN_ROUTE_ISOLATION && model->sigma != NULL) {
-        /* sigma beyond the range in the user's units (a four-bar in kilometres' sigma
-         * ~ L^30): the isolation's result, whose sigma is 0 */
-        status = run(c, CODEGEN_ROUTE_ISOLATION, workspace);
-        if (status == CODEGEN_OK) {
-            status = out_of_units(model, &c->result, c->units);
-        }
+    status = run_in(c, route, workspace,
+                    in_units(model, params, field(workspace, model->workspace.scaled_params),
+                             c->units));
+    if (status == CODEGEN_ERR_OVERFLOW && (c->units[0] != 0 || c->units[1] != 0 || c->units[2] != 0)) {
+        /* scaled, an intermediate overflowed that does not in the user's units (b near the
+         * largest double times lengths scaled up): the analysis in those units */
+        c->units[0] = c->units[1] = c->units[2] = 0;
+        status = run_in(c, route, workspace, params);
     }
     if (status == CODEGEN_OK) {
         memcpy(result, field(workspace, model->workspace.result), model->analysis.size);
