@@ -21,7 +21,8 @@ from .derivation.multibody import Multibody
 from .emission.multibody import MultibodyPlan
 from .verification import SEED, SETS, VerificationError, parameter_sets, potential_parts
 
-POINTS = 6                 # points per parameter set
+POINTS = 6                 # points per parameter set where every loop closes ...
+DRAWS = 10 * POINTS        # ... out of at most this many drawn (one that does not: ~ms)
 STEP = mpmath.mpf("1e-6")  # the stencils' step: truncation ~1e-24, rounding ~1e-24 at 30 digits
 TOLERANCE = 1e-9           # relative to the size of the quantity's terms
 DIGITS = 30
@@ -38,13 +39,27 @@ def verify_multibody(d: Multibody, plan: MultibodyPlan) -> int:
         for values in parameter_sets(m, rng, SETS):
             params = {p.symbol: mpmath.mpf(values[p.symbol.name]) for p in m.parameters}
             centres = [mpmath.mpf(float(sp.sympify(c).subs(params))) for c in m.centres]
-            for _ in range(POINTS):
-                theta = [c + mpmath.mpf(rng.uniform(-3.0, 3.0)) for c in centres]
+            p = [params[s] for s in model.symbols]
+            for theta in drawn_points(rng, centres, lambda t: model._assembled(p, t)):
                 compared += model.check(plan, params, theta)
     if not compared:
         raise VerificationError(f"{d.user.name}: the mechanism cannot be assembled at any of "
                                 "the points drawn to check it")
     return compared
+
+
+def drawn_points(rng: np.random.Generator, centres: list, closes):
+    """POINTS points drawn over the box of the ranges about ``centres`` where ``closes``
+    (a function of the point); fewer where DRAWS draws do not find them (a loop that closes
+    on a small part of the box), so that a set is never searched for long."""
+    found = 0
+    for _ in range(DRAWS):
+        theta = [c + rng.uniform(-3.0, 3.0) for c in centres]
+        if closes(theta):
+            yield theta
+            found += 1
+            if found == POINTS:
+                return
 
 
 class NotAssembled(ArithmeticError):
@@ -232,8 +247,8 @@ COMPILED = {"generalised_force": "generalised_force", "stiffness_matrix": "stiff
 
 def verify_compiled_multibody(d: Multibody, library) -> int:
     """Raise VerificationError unless the compiled library (a loaded Library) gives the
-    plan's values at the parameter sets and points ``verify_multibody`` uses; the number of
-    values compared."""
+    plan's values at parameter sets and points drawn as ``verify_multibody`` draws them; the
+    number of values compared."""
     m = d.mechanism
     rng = np.random.default_rng(SEED)
     args = list(m.symbols) + list(d.theta)
@@ -245,12 +260,15 @@ def verify_compiled_multibody(d: Multibody, library) -> int:
                         (values[p.symbol.name] for p in m.parameters)))
         centres = [float(sp.sympify(c).subs({s: values[s.name] for s in m.symbols}))
                    for c in m.centres]
-        for _ in range(POINTS):
-            theta = [c + rng.uniform(-3.0, 3.0) for c in centres]
+        numbers = [values[s.name] for s in m.symbols]
+
+        def closes(theta):
+            return _finite(expected["positions"], numbers, theta)
+
+        for theta in drawn_points(rng, centres, closes):
             for name, f in expected.items():
-                with np.errstate(invalid="ignore"):  # NaN where the loop does not close
-                    want = np.array(f(*(values[s.name] for s in m.symbols), *theta),
-                                    dtype=float)
+                with np.errstate(all="ignore"):  # at a dead point G divides by zero
+                    want = np.array(f(*numbers, *theta), dtype=float)
                 if not np.all(np.isfinite(want)):
                     continue
                 try:
@@ -265,3 +283,9 @@ def verify_compiled_multibody(d: Multibody, library) -> int:
                         f"{at}: {got.tolist()} against {want.tolist()}")
                 compared += want.size
     return compared
+
+
+def _finite(f, numbers: list, theta: list) -> bool:
+    """Whether f (a numpy program) is finite at theta: NaN where a loop does not close."""
+    with np.errstate(invalid="ignore"):
+        return bool(np.all(np.isfinite(np.array(f(*numbers, *theta), dtype=float))))
