@@ -482,3 +482,77 @@ def test_a_chains_limit_positions_are_one_interval_each(builds):
             assert len(found) == len(expected) and all(
                 angle_gap(a, b) <= 1e-8 for a, b in zip(found, expected)), (far, mode, found,
                                                                           expected)
+
+# ------------------------------------------------------ six-bars at every assembled state
+#
+# Issue 48: a user's six-bar whose coupler drives a second dyad was refused at generation,
+# its compiled dependent_state NaN at a drawn parameter set where its expression was finite.
+# Not reproduced with these three six-bars (their libraries agree with the geometry below at
+# every state where both dyads close, over sets drawn far wider than generation draws); this
+# keeps it so.
+
+def _joint_left_of(P, r_P, Q, r_Q):
+    """The joint X at r_P from P and r_Q from Q on the left of the line P -> Q (the
+    declared assembly mode of each dyad of these six-bars), and its clearance: the squared
+    distance from X to that line over r_P^2 (negative where the dyad cannot close)."""
+    ux, uy = Q[0] - P[0], Q[1] - P[1]
+    r = math.hypot(ux, uy)
+    along = (r_P**2 - r_Q**2 + r**2) / (2 * r)
+    across2 = r_P**2 - along**2
+    across = math.sqrt(max(across2, 0.0))
+    return (P[0] + (along * ux - across * uy) / r,
+            P[1] + (along * uy + across * ux) / r), across2 / r_P**2
+
+
+#: The point of the first loop that drives the second dyad, from (p, A, phi_3, phi_4).
+SIX_BAR_DRIVERS = {
+    "watt_six_bar": lambda p, A, phi_3, phi_4: (
+        p["d"] + p["a_4p"] * math.cos(phi_4 + p["beta"]), p["a_4p"] * math.sin(phi_4 + p["beta"])),
+    "stephenson_six_bar": lambda p, A, phi_3, phi_4: (
+        A[0] + p["a_3p"] * math.cos(phi_3), A[1] + p["a_3p"] * math.sin(phi_3)),
+    "coupler_point_six_bar": lambda p, A, phi_3, phi_4: (
+        A[0] + p["c"] * math.cos(phi_3 + p["gamma"]), A[1] + p["c"] * math.sin(phi_3 + p["gamma"])),
+}
+#: Parameters drawn with either sign (pivots, angles, loads); the others keep the example's.
+SIGNED = {"beta", "gamma", "x_6", "y_6", "x_S", "y_S", "T"}
+
+
+def _six_bar_angles(model: str, p: dict, theta: float):
+    """(phi_3, phi_4, phi_5, phi_6) in the declared modes, and the smaller clearance."""
+    A = (p["a_2"] * math.cos(theta), p["a_2"] * math.sin(theta))
+    B, first = _joint_left_of(A, p["a_3"], (p["d"], 0.0), p["a_4"])
+    phi_3 = math.atan2(B[1] - A[1], B[0] - A[0])
+    phi_4 = math.atan2(B[1], B[0] - p["d"])
+    C = SIX_BAR_DRIVERS[model](p, A, phi_3, phi_4)
+    D, second = _joint_left_of(C, p["a_5"], (p["x_6"], p["y_6"]), p["a_6"])
+    return ([phi_3, phi_4, math.atan2(D[1] - C[1], D[0] - C[0]),
+             math.atan2(D[1] - p["y_6"], D[0] - p["x_6"])], min(first, second))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model", sorted(SIX_BAR_DRIVERS))
+def test_a_six_bars_state_is_defined_wherever_both_dyads_close(model, builds):
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    lib = builds(model).library()
+    example_values = example(load_model(model))
+    theta = np.linspace(-math.pi, math.pi, 1441)[1:]
+    spread = st.floats(-0.8, 0.8)
+
+    @settings(max_examples=60, deadline=None, derandomize=True,
+              suppress_health_check=[HealthCheck.too_slow])
+    @given(st.fixed_dictionaries({n: spread for n in example_values}),
+           st.fixed_dictionaries({n: st.booleans() for n in SIGNED & set(example_values)}))
+    def check(scales, flips):
+        p = {n: v * math.exp(scales[n]) * (-1 if flips.get(n) else 1)
+             for n, v in example_values.items()}
+        rows = lib.rows("dependent_state", p, (theta, np.zeros_like(theta)))
+        for th, row in zip(theta, rows):
+            angles, clearance = _six_bar_angles(model, p, th)
+            if clearance > 1e-9:   # both dyads close, not at a limit position
+                assert np.all(np.isfinite(row)), (model, p, math.degrees(th), clearance)
+                gap = np.angle(np.exp(1j * (np.array(angles) - row[1:5])))
+                assert np.abs(gap).max() < 1e-7, (model, p, math.degrees(th), gap)
+
+    check()

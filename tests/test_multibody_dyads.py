@@ -215,6 +215,51 @@ def test_a_crank_that_cannot_turn_fully_is_analysed_where_it_assembles(lib):
     assert {round(u.lo[0], 6) for u in found.uncertain} == {round(t, 6) for t in dead}
 
 
+def _long_crank_model(tmp_path) -> Path:
+    """four_bar_pendulum.py with a crank too long to turn fully (a_2 = 0.3 at its example:
+    the loop opens for crank angles near pi), renamed."""
+    text = MODEL.read_text()
+    for old, new in (('"crank length", "0.12"', '"crank length", "0.3"'),
+                     ('name="four_bar_pendulum"', 'name="long_crank_pendulum"')):
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "long_crank_pendulum.py"
+    path.write_text(text)
+    return path
+
+
+def test_the_check_at_generation_draws_other_points_where_the_loop_is_open(tmp_path):
+    """Each parameter set is checked at POINTS points where the loop closes, drawn again
+    where it does not (not fewer points for a crank that cannot turn fully)."""
+    from codegen.compiler.emission.multibody import build_multibody_plan
+    from codegen.compiler.verification import SETS
+    from codegen.compiler.verification_multibody import POINTS, verify_multibody
+
+    d = derive_multibody(load_model(str(_long_crank_model(tmp_path))))
+    n = 2   # per point: G and h (n each), K, M and B (n^2 each)
+    assert verify_multibody(d, build_multibody_plan(d)) == SETS * POINTS * (2 * n + 3 * n * n)
+
+
+def test_a_model_whose_crank_cannot_turn_fully_at_its_example_is_generated(tmp_path):
+    """Issue 48: the crank made too long for the loop to close over its whole turn at the
+    model's own example (a_2 = 0.3: the loop opens for crank angles near pi). The checks at
+    generation skip the points where the loop does not close (they crashed on mpmath's
+    complex positions), and the library's equilibria are the brute-force reference's: the
+    boxes where the loop is open hold nothing, its dead points are undecided boxes."""
+    from codegen.user_model import library
+
+    long_crank = library(_long_crank_model(tmp_path), tmp_path / "build")
+    params = {**EXAMPLE, "a_2": 0.3}
+    dead = dead_points(params)
+    assert len(dead) == 2
+    found = check_against_reference(long_crank, params, dead)
+    for t in dead:   # each dead point undecided (once per psi = +-pi/2)
+        assert any(abs(math.remainder(u.lo[0] - t, 2 * math.pi)) < 1e-6 for u in found.uncertain)
+    closed = [_joints({k: mpmath.mpf(v) for k, v in params.items()}, mpmath.mpf(e.theta[0]))
+              for e in found.equilibria]
+    assert all(c is not None for c in closed)
+
+
 def test_positions_close_the_loop_in_the_declared_mode(lib):
     rng = np.random.default_rng(3)
     for theta in rng.uniform(-math.pi, math.pi, 20):

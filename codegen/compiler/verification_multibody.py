@@ -21,7 +21,8 @@ from .derivation.multibody import Multibody
 from .emission.multibody import MultibodyPlan
 from .verification import SEED, SETS, VerificationError, parameter_sets, potential_parts
 
-POINTS = 6                 # points per parameter set
+POINTS = 6                 # points per parameter set where every loop closes ...
+DRAWS = 10 * POINTS        # ... out of at most this many drawn (one that does not: ~ms)
 STEP = mpmath.mpf("1e-6")  # the stencils' step: truncation ~1e-24, rounding ~1e-24 at 30 digits
 TOLERANCE = 1e-9           # relative to the size of the quantity's terms
 DIGITS = 30
@@ -38,8 +39,8 @@ def verify_multibody(d: Multibody, plan: MultibodyPlan) -> int:
         for values in parameter_sets(m, rng, SETS):
             params = {p.symbol: mpmath.mpf(values[p.symbol.name]) for p in m.parameters}
             centres = [mpmath.mpf(float(sp.sympify(c).subs(params))) for c in m.centres]
-            for _ in range(POINTS):
-                theta = [c + mpmath.mpf(rng.uniform(-3.0, 3.0)) for c in centres]
+            p = [params[s] for s in model.symbols]
+            for theta in drawn_points(rng, centres, lambda t: model._assembled(p, t)):
                 compared += model.check(plan, params, theta)
     if not compared:
         raise VerificationError(f"{d.user.name}: the mechanism cannot be assembled at any of "
@@ -47,10 +48,37 @@ def verify_multibody(d: Multibody, plan: MultibodyPlan) -> int:
     return compared
 
 
+def drawn_points(rng: np.random.Generator, centres: list, closes):
+    """POINTS points drawn over the box of the ranges about ``centres`` where ``closes``
+    (a function of the point); fewer where DRAWS draws do not find them (a loop that closes
+    on a small part of the box), so that a set is never searched for long."""
+    found = 0
+    for _ in range(DRAWS):
+        theta = [c + rng.uniform(-3.0, 3.0) for c in centres]
+        if closes(theta):
+            yield theta
+            found += 1
+            if found == POINTS:
+                return
+
+
+class NotAssembled(ArithmeticError):
+    """A program met a complex value (a dyad's negative radicand): the loop does not close
+    there, so there is nothing to evaluate."""
+
+
+def _real(value):
+    """value, unless it is complex (mpmath gives complex roots of negative numbers)."""
+    if isinstance(value, (mpmath.mpc, complex)):
+        raise NotAssembled
+    return value
+
+
 def in_program(args, program, exprs, module: str):
     """A function of ``args`` evaluating exprs written in a straight-line program's symbols:
     the steps in turn, then the expressions (written out, a dyad's expressions are too large
-    to evaluate at 30 digits in reasonable time)."""
+    to evaluate at 30 digits in reasonable time). In mpmath, it raises NotAssembled where a
+    step is complex (in numpy such a step is NaN)."""
     steps = [sp.lambdify(list(args) + [s for s, _ in program[:i]], value, module)
              for i, (_, value) in enumerate(program)]
     final = sp.lambdify(list(args) + [s for s, _ in program], list(exprs), module)
@@ -58,8 +86,8 @@ def in_program(args, program, exprs, module: str):
     def evaluate(*values):
         values = list(values)
         for step in steps:
-            values.append(step(*values))
-        return final(*values)
+            values.append(_real(step(*values)))
+        return [_real(x) for x in final(*values)]
     return evaluate
 
 
@@ -91,10 +119,18 @@ class _Model:
             ("h", d.velocity_terms))}
 
     def check(self, plan: MultibodyPlan, params: dict, theta: list) -> int:
+        """The number of values compared at theta: none where the loop does not close at
+        theta or at a point its stencils reach."""
         p = [params[s] for s in self.symbols]
-        n = len(theta)
         if not self._assembled(p, theta):
             return 0
+        try:
+            return self._compare_all(plan, params, p, theta)
+        except NotAssembled:  # a stencil's diagonal step just beyond a dead point
+            return 0
+
+    def _compare_all(self, plan: MultibodyPlan, params: dict, p: list, theta: list) -> int:
+        n = len(theta)
         full = self.positions(*p, *theta)
         residual = self.constraints(*p, *full)
         scale = max([1] + [abs(x) for x in full])
@@ -147,9 +183,16 @@ class _Model:
             for s in (-2, 2):
                 moved = list(theta)
                 moved[k] += s * STEP
-                if any(isinstance(x, mpmath.mpc) for x in self.positions(*p, *moved)):
+                if not self._closes(p, moved):
                     return False
-        return not any(isinstance(x, mpmath.mpc) for x in self.positions(*p, *theta))
+        return self._closes(p, theta)
+
+    def _closes(self, p, theta) -> bool:
+        try:
+            self.positions(*p, *theta)
+        except NotAssembled:
+            return False
+        return True
 
     def _speeds(self, p, theta, rates, motion) -> list:
         """Rates of each of ``motion``'s values moving theta at ``rates``, by central
@@ -204,8 +247,8 @@ COMPILED = {"generalised_force": "generalised_force", "stiffness_matrix": "stiff
 
 def verify_compiled_multibody(d: Multibody, library) -> int:
     """Raise VerificationError unless the compiled library (a loaded Library) gives the
-    plan's values at the parameter sets and points ``verify_multibody`` uses; the number of
-    values compared."""
+    plan's values at parameter sets and points drawn as ``verify_multibody`` draws them; the
+    number of values compared."""
     m = d.mechanism
     rng = np.random.default_rng(SEED)
     args = list(m.symbols) + list(d.theta)
@@ -217,19 +260,32 @@ def verify_compiled_multibody(d: Multibody, library) -> int:
                         (values[p.symbol.name] for p in m.parameters)))
         centres = [float(sp.sympify(c).subs({s: values[s.name] for s in m.symbols}))
                    for c in m.centres]
-        for _ in range(POINTS):
-            theta = [c + rng.uniform(-3.0, 3.0) for c in centres]
+        numbers = [values[s.name] for s in m.symbols]
+
+        def closes(theta):
+            return _finite(expected["positions"], numbers, theta)
+
+        for theta in drawn_points(rng, centres, closes):
             for name, f in expected.items():
-                want = np.array(f(*(values[s.name] for s in m.symbols), *theta), dtype=float)
+                with np.errstate(all="ignore"):  # at a dead point G divides by zero
+                    want = np.array(f(*numbers, *theta), dtype=float)
+                if not np.all(np.isfinite(want)):
+                    continue
                 try:
                     got = np.array(library.FUNCTIONS[name](user, theta), dtype=float).ravel()
                 except ValueError:   # a singular state the library reports: not compared
                     continue
                 scale = 1 + np.abs(want).max()
-                if np.abs(got - want).max() > COMPILED_TOLERANCE * scale:
+                if not np.abs(got - want).max() <= COMPILED_TOLERANCE * scale:  # NaN too
                     at = ", ".join(f"{t.name} = {x:.6g}" for t, x in zip(d.theta, theta))
                     raise VerificationError(
                         f"{d.user.name}: the compiled {name} differs from its expression at "
                         f"{at}: {got.tolist()} against {want.tolist()}")
                 compared += want.size
     return compared
+
+
+def _finite(f, numbers: list, theta: list) -> bool:
+    """Whether f (a numpy program) is finite at theta: NaN where a loop does not close."""
+    with np.errstate(invalid="ignore"):
+        return bool(np.all(np.isfinite(np.array(f(*numbers, *theta), dtype=float))))
