@@ -212,7 +212,7 @@ def test_float_never_silently_disagrees_across_six_decades(builds, name):
     """Every parameter drawn over 10^-3..10^3 times its example value."""
     spec = _spec(name)
     _compare(builds, name, 2000, seed=48, sets=_wide_sets(spec, 2000, 3.0, seed=48),
-             analysed=0.5)
+             analysed=0.5, roots_per_set=0.1)  # most wide four-bars close nowhere: no roots
 
 
 # Issue 48's float reproducers, doughty's parameters in the header's order: an equilibrium
@@ -238,7 +238,7 @@ def test_float_reproducers_lose_no_equilibrium(builds):
 
 
 def _compare(builds, name: str, count: int, seed: int, sets: np.ndarray | None = None,
-             analysed: float = 0.9) -> None:
+             analysed: float = 0.9, roots_per_set: float = 1.0) -> None:
     spec = _spec(name)
     sets = _sets(spec, count, 0.5, seed=seed) if sets is None else sets
     double_build, float_build = builds[name]
@@ -252,7 +252,7 @@ def _compare(builds, name: str, count: int, seed: int, sets: np.ndarray | None =
     # The comparison compared something: most sets analysed in both, equilibria matched.
     both = sum(d["status"] == 0 and s["status"] == 0 for d, s in zip(doubles, singles))
     assert both >= analysed * len(sets)
-    assert sum(len(s["roots"]) for s in singles) > len(sets)
+    assert sum(len(s["roots"]) for s in singles) > roots_per_set * len(sets)
 
 
 def test_float_table2_finds_every_root_and_classifies_it(builds):
