@@ -54,6 +54,9 @@ CASES = {
     "slotted_lever": Case("slotted_lever"),
     "two_spring_pendulum": Case("two_spring_pendulum"),
     "four_bar_coupler_spring": Case("four_bar_coupler_spring"),
+    # Issue 48: at its change point (a_2 + a_4 = a_3 + d) the two assembly modes meet at
+    # theta = 0, where G is not smooth; was undecided over the whole circle.
+    "four_bar_coupler_spring_change_point": Case("four_bar_coupler_spring", {"a_4": 0.63}),
     "scotch_yoke": Case("scotch_yoke"),
     "slider_crank_rod_spring": Case("slider_crank_rod_spring"),
     # A rod shorter than crank + offset: angles near -90 deg cannot be assembled, and the
