@@ -408,3 +408,15 @@ def test_branches_show_angle_parameters_as_they_are_read(tmp_path):
     assert float(first.split(",")[header.split(",").index('"theta_0_deg"')]) == 0.0
     assert max(float(line.split(",")[2]) for line in
                (tmp_path / "theta_0.csv").read_text().splitlines()[1:]) == pytest.approx(90)
+
+
+def test_a_varied_angle_parameter_is_shown_in_degrees(tmp_path):
+    """--from 0 --to 90 reads degrees; the summary's range, branch ends, events and
+    tolerance say degrees too (they said radians: 'from 0 to 1.5708 rad')."""
+    out = _mechvib("branches", "--mechanism", "torsion_pendulum", "--vary", "theta_0",
+                   "--from", "0", "--to", "90", "--points", "41", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    text = prose(out.stdout)
+    assert "runs from 0 to 90 deg over 41 values" in text and " rad" not in text
+    fold = next(line for line in out.stdout.splitlines() if line.startswith("fold"))
+    assert 80 < float(fold.split()[1]) < 90

@@ -168,14 +168,17 @@ def branch_summary(result: Branches) -> str:
     """The branches of a ``codegen.runtime.branches.Branches`` for a terminal: what was varied,
     a line per branch (where it runs and its stability), a line per event."""
     name, unit = result.parameter, result.unit
+    # an angle parameter shown in degrees, as --from, --to and --set read it
+    shown = math.degrees if unit == "rad" else (lambda value: value)
+    unit = "deg" if unit == "rad" else unit
     others = common.params_line({k: v for k, v in vars(result.base).items() if k != name},
                                 result.library.UNITS)
     kinds = [e.kind for e in result.events]
     counted = [_plural(result.count, "branch"), *(
         _plural(kinds.count(k), k) for k in ("fold", "pitchfork") if k in kinds)]
     lines = [paragraph(
-        f"Equilibria of {result.library.TITLE} as {name} runs from {result.values[0]:g} to "
-        f"{result.values[-1]:g} {unit} over {len(result.values):,} values (the other "
+        f"Equilibria of {result.library.TITLE} as {name} runs from {shown(result.values[0]):g} "
+        f"to {shown(result.values[-1]):g} {unit} over {len(result.values):,} values (the other "
         f"parameters: {others}; {result.method} route): {', '.join(counted)}."), ""]
     head = (f"{'branch':>6} {name + ' from':>14} {name + ' to':>14} {'theta_E from [deg]':>19} "
             f"{'to [deg]':>10}  stability")
@@ -183,7 +186,8 @@ def branch_summary(result: Branches) -> str:
     for number in range(result.count):
         rows = result.branch(number)
         ends = [math.degrees(t) + 0.0 for t in rows["theta"][[0, -1]]]
-        lines.append(f"{number:>6} {rows['value'][0]:>14.8g} {rows['value'][-1]:>14.8g} "
+        lines.append(f"{number:>6} {shown(rows['value'][0]):>14.8g} "
+                     f"{shown(rows['value'][-1]):>14.8g} "
                      f"{ends[0]:>19.4f} {ends[1]:>10.4f}  {_stabilities(rows['stability'])}")
     if result.events:
         head = (f"{'event':<16} {name + ' [' + unit + ']':>18} {'theta_E [deg]':>13} "
@@ -192,11 +196,11 @@ def branch_summary(result: Branches) -> str:
         for e in result.events:
             where = (f" ({' -> '.join(e.stability)})" if e.kind == "stability change" else
                      f" (exist {e.side})")
-            lines.append(f"{e.kind:<16} {e.value:>18.10g} {e.theta_deg + 0.0:>13.4f} "
+            lines.append(f"{e.kind:<16} {shown(e.value):>18.10g} {e.theta_deg + 0.0:>13.4f} "
                          f"{_number(e.K):>12}  {', '.join(map(str, e.branches))}{where}")
     notes = [f"A fold is where two equilibria meet and vanish, a pitchfork where two meet on a "
              f"third (K_EQ -> 0 at both); every event is located by bisection to "
-             f"{result.tolerance:.1g} {unit}." if result.events else
+             f"{shown(result.tolerance):.1g} {unit}." if result.events else
              "No branch ends or changes stability in this range."]
     if len(result.failed):
         names = {v: k for k, v in result.library.STATUS.items()}
