@@ -746,10 +746,6 @@ static int isolate_span(const call *c, unsigned mode, const codegen_root_span *s
     return isolate_mode(c, mode, s->reach_lo - shift, s->reach_hi - shift, -pi, 0, workspace, work);
 }
 
-/* A proven zero of the declared mode moved to theta = 0 or pi where its interval holds that
- * angle and G is zero there to working precision, as polish leaves a root (symmetric
- * mechanisms have their equilibria exactly there, and a table shows pi, not its
- * neighbour), and linearised there. */
 /* [lo, hi] turned by turns (-1, 0 or 1) times 2 pi, outward-rounded: 2 pi is enclosed, and so
  * is each sum. A proven interval moved by the working precision's 2 pi instead lands up to
  * 1.7e-7 rad off in float, past the zero it was proven to hold. */
@@ -762,6 +758,10 @@ static codegen_iv turned(codegen_real lo, codegen_real hi, int turns)
          : turns < 0 ? codegen_iv_sub(interval, two_pi) : interval;
 }
 
+/* A proven zero of the declared mode moved to theta = 0 or pi where its interval holds that
+ * angle and G is zero there to working precision, as polish leaves a root (symmetric
+ * mechanisms have their equilibria exactly there, and a table shows pi, not its
+ * neighbour), and linearised there. */
 static int exact_angle(const call *c, codegen_equilibrium *e)
 {
     const codegen_real pi = CODEGEN_R(3.14159265358979323846);
@@ -1122,9 +1122,6 @@ ROUTE static int analyze_by_spans(const call *c, void *workspace, const result_v
     return CODEGEN_OK;
 }
 
-/* The polynomial's roots where the spans cannot be proven, into *work: each classified and
- * linearised (study_root), none proven; complete_by_isolation takes the equilibria from the
- * isolation of G and the rest from here. */
 /* Whether G on the declared mode is within rounding of 0, and finite, wherever a few angles
  * spread over the range probe it: what a vanishing polynomial must be confirmed by. */
 static int vanishing_everywhere(const call *c)
@@ -1145,6 +1142,9 @@ static int vanishing_everywhere(const call *c)
     return 1;
 }
 
+/* The polynomial's roots where the spans cannot be proven, into *work: each classified and
+ * linearised (study_root), none proven; complete_by_isolation takes the equilibria from the
+ * isolation of G and the rest from here. */
 static int analyze_polynomial(const call *c, void *workspace, const result_view *work)
 {
     const codegen_model *model = c->model;
@@ -1234,14 +1234,6 @@ static int isolation_range(const call *c, codegen_real *lo, codegen_real *hi, co
     return CODEGEN_OK;
 }
 
-/* [lo, hi], moved up by 2 pi if up, outward-rounded: 2 pi is enclosed, and so is each sum. */
-static codegen_iv moved_up(codegen_real lo, codegen_real hi, int up)
-{
-    return turned(lo, hi, up ? 1 : 0);
-}
-
-/* An interval the isolation could not decide, into work, or joined to one listed there
- * (listed_as): the isolation leaves a limit position of a chain as a run of slivers. */
 /* The result holds max_uncertain intervals: u is joined to the listed one nearest to it (of its
  * mode where there is one), which then covers both and what lies between. Coarser, but every
  * zero that either interval may hold is still inside one; a result never fails for want of
@@ -1266,6 +1258,8 @@ static void absorb_in_nearest(const result_view *work, const codegen_uncertain *
     nearest->sign_change = 0;
 }
 
+/* An interval the isolation could not decide, into work, or joined to one listed there
+ * (listed_as): the isolation leaves a limit position of a chain as a run of slivers. */
 static int add_uncertain(const codegen_model *model, const result_view *work, codegen_real lo,
                          codegen_real hi, codegen_uncertainty kind, unsigned mode, int sign_change)
 {
@@ -1323,7 +1317,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
                                               (codegen_isolation_box *)field(workspace, model->workspace.boxes));
     if (!whole && (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET)) {
         /* a window the isolation cannot settle (G' unbounded near a pole): undecided */
-        const codegen_iv window = moved_up(lo, hi, lo <= below);
+        const codegen_iv window = turned(lo, hi, lo <= below);
         return add_uncertain(model, work, window.lo, window.hi, CODEGEN_SINGULAR, mode, 0);
     }
     if (isolated == CODEGEN_ISOLATE_FULL || isolated == CODEGEN_ISOLATE_BUDGET) {
@@ -1345,7 +1339,7 @@ static int isolate_mode(const call *c, unsigned mode, codegen_real lo, codegen_r
     }
     for (i = 0; i < count; ++i) {
         const codegen_real shift = found[i].theta <= below ? two_pi : 0;
-        const codegen_iv moved = moved_up(found[i].lo, found[i].hi, shift != 0);
+        const codegen_iv moved = turned(found[i].lo, found[i].hi, shift != 0);
         if (found[i].kind == CODEGEN_ISOLATED_ROOT) {
             codegen_equilibrium *e = &work->roots[*work->n_roots];
             const codegen_root_kind kind = mode == 0u ? CODEGEN_EQUILIBRIUM : CODEGEN_OTHER_ASSEMBLY;
@@ -1604,27 +1598,23 @@ static int estimate(const codegen_units *u, const codegen_real *p, int i, int ax
     return 1;
 }
 
-/* The lower median of what the parameters say of axis, rounded (0 where none says). */
-static int median_exponent(const codegen_units *u, const codegen_real *p, int axis, const int x[3])
+/* The lower median of what the parameters say of axis, rounded (0 where none says); said:
+ * room for one estimate per parameter. */
+static int median_exponent(const codegen_units *u, const codegen_real *p, int axis, const int x[3],
+                           codegen_real *said)
 {
     int i, j, n = 0;
-    codegen_real v, w;
     for (i = 0; i < u->n_params; ++i) {
-        n += estimate(u, p, i, axis, x, &v);
+        n += estimate(u, p, i, axis, x, &said[n]);
     }
-    for (i = 0; i < u->n_params; ++i) {
+    for (i = 0; i < n; ++i) {
         int below = 0, same = 0;
-        if (!estimate(u, p, i, axis, x, &v)) {
-            continue;
-        }
-        for (j = 0; j < u->n_params; ++j) {
-            if (estimate(u, p, j, axis, x, &w)) {
-                below += w < v;
-                same += w == v;
-            }
+        for (j = 0; j < n; ++j) {
+            below += said[j] < said[i];
+            same += said[j] == said[i];
         }
         if (below <= (n - 1) / 2 && (n - 1) / 2 < below + same) {
-            return v >= 0 ? (int)(v + CODEGEN_R(0.5)) : -(int)(CODEGEN_R(0.5) - v);
+            return said[i] >= 0 ? (int)(said[i] + CODEGEN_R(0.5)) : -(int)(CODEGEN_R(0.5) - said[i]);
         }
     }
     return 0;
@@ -1634,13 +1624,14 @@ static int median_exponent(const codegen_units *u, const codegen_real *p, int ax
  * median exponent of the lengths, then of the masses, then of what each of G's parameters
  * (estimate) leaves to the time. A median moves with a change of units as the units
  * do, and an outlier (k = 1e300 beside forces of 100 N) cannot drag the others out of range,
- * as a mean or least squares would. */
-static void characteristic_units(const codegen_units *u, const codegen_real *p, int x[3])
+ * as a mean or least squares would. said: room for one value per parameter. */
+static void characteristic_units(const codegen_units *u, const codegen_real *p, int x[3],
+                                 codegen_real *said)
 {
     int axis;
     x[0] = x[1] = x[2] = 0;
     for (axis = 0; axis < 3; ++axis) {
-        x[axis] = median_exponent(u, p, axis, x);
+        x[axis] = median_exponent(u, p, axis, x, said);
     }
 }
 
@@ -1663,7 +1654,7 @@ static const void *in_units(const codegen_model *model, const void *params, void
     if (u->n_params == 0) {
         return params;
     }
-    characteristic_units(u, p, x);
+    characteristic_units(u, p, x, q); /* q holds the estimates until it holds the values */
     for (i = 0; i < u->n_params; ++i) {
         q[i] = codegen_ldexp(p[i], -power_of(u->parameter + 3 * i, x));
         if (!isfinite(q[i]) || (p[i] != 0 && !(codegen_fabs(q[i]) >= CODEGEN_REAL_MIN))) {
