@@ -24,7 +24,7 @@ import pytest
 import codegen
 import codegen.runtime.analysis
 import codegen.api
-import codegen.runtime.branch_figure
+import codegen.presentation
 import codegen.runtime.branches
 import codegen.runtime.folds
 import codegen.runtime.joining
@@ -154,7 +154,9 @@ def test_library_methods_are_documented_with_units():
 
 PUBLIC_MODULES = (codegen.runtime.library, codegen.runtime.analysis, codegen.api,
                   codegen.runtime.sweep, codegen.runtime.branches, codegen.runtime.folds,
-                  codegen.runtime.joining, codegen.runtime.branch_figure)
+                  codegen.runtime.joining, codegen.presentation.branches,
+                  codegen.presentation.drawing, codegen.presentation.figures,
+                  codegen.presentation.motion, codegen.presentation.response)
 
 
 def _public_callables():

@@ -302,27 +302,21 @@ def test_a_table_path_is_checked(doughty_wide, tmp_path, path, message):
 @pytest.mark.parametrize("suffix, magic", [(".png", b"\x89PNG"), (".svg", b"<?xml")])
 def test_the_figure_is_written_headless(doughty_wide, tmp_path, suffix, magic):
     pytest.importorskip("matplotlib")
-    path = doughty_wide.plot(tmp_path / f"f{suffix}")
+    from codegen.presentation import plot_branches
+
+    path = plot_branches(doughty_wide, tmp_path / f"f{suffix}")
     assert path.read_bytes().startswith(magic) and path.stat().st_size > 10_000
 
 
-def test_the_figure_draws_stable_solid_unstable_dashed_and_labels_units(monkeypatch,
-                                                                         tmp_path):
-    """What plot hands to matplotlib: the lines' styles by stability, the axes' labels."""
+def test_the_figure_draws_stable_solid_unstable_dashed_and_labels_units():
+    """What the figure holds: the lines' styles by stability, the axes' labels."""
     pytest.importorskip("matplotlib")
-    from codegen.runtime import figures
+    from codegen.presentation import branches_figure, figures
 
-    drawn = {}
-
-    def keep(figure, path):
-        drawn["axes"] = figure.axes
-        figures.pyplot().close(figure)
-        return path
-
-    monkeypatch.setattr(figures, "save", keep)
     result = load("torsion_pendulum").branches("k_t", 0, 50, points=51)
-    result.plot(tmp_path / "t.png")
-    top, frequency, damping = drawn["axes"]
+    figure = branches_figure(result)
+    top, frequency, damping = figure.axes
+    figures.pyplot().close(figure)
     assert top.get_ylabel() == r"$\theta_E$ [deg]" and damping.get_xlabel() == "k_t [N m/rad]"
     assert "[rad/s]" in frequency.get_ylabel() and damping.get_yscale() == "log"
     styles = {line.get_linestyle() for line in top.get_lines() if line.get_marker() == "None"}

@@ -13,6 +13,10 @@ The modules that moved (issue 28) keep their old paths as aliases (``codegen/_mo
 ``test_old_paths`` checks that each is the new module itself, that the deprecated ones warn
 and that nothing inside codegen reaches one.
 
+The runtime computes and codegen.presentation draws (issue 49): only
+codegen.presentation.figures imports matplotlib, and no module sets another's attributes at
+import (``Branches.plot`` once drew through a function that codegen.runtime.api patched in).
+
 A submodule's import of its parent package (which Python runs first) is not counted: the
 edges are what the source names. ``from X import name`` is an edge to ``X.name`` where that
 is a module of codegen, else to ``X``. A new module has to be placed in ``LAYERS``.
@@ -42,27 +46,33 @@ LAYERS: list[tuple[str, ...]] = [
     ("codegen.compiler.verification", "codegen.compiler.verification_multibody"),
     ("codegen.compiler.generate",),
     ("codegen.compiler.build",),
-    # codegen/runtime/: its helpers (figures imports matplotlib when asked to), one compiled
-    # library, then what is computed with it, then the entry point
-    ("codegen.runtime", "codegen.runtime.joining", "codegen.runtime.figures"),
+    # codegen/runtime/: what is computed with a compiled library, returned as data (it draws
+    # nothing: no matplotlib, test_only_the_presentation_imports_matplotlib). Its helper, one
+    # compiled library, then what is computed with it, then the entry point
+    ("codegen.runtime", "codegen.runtime.joining"),
     ("codegen.runtime.library", "codegen.runtime.functions"),
     ("codegen.runtime.analysis",),
     ("codegen.runtime.batch", "codegen.runtime.folds", "codegen.runtime.simulation",
      "codegen.runtime.sweep", "codegen.runtime.multibody"),
     ("codegen.runtime.branches", "codegen.runtime.response",
-     "codegen.runtime.multibody_response", "codegen.runtime.multibody_motion"),
-    ("codegen.runtime.branch_figure", "codegen.runtime.drawing"),
+     "codegen.runtime.multibody_response", "codegen.runtime.multibody_motion",
+     "codegen.runtime.drawing"),
     ("codegen.runtime.api",),
-    # a user's model file generated, built and loaded: above both the compiler and the runtime
+    # codegen/presentation/: the runtime's results drawn; figures is where matplotlib is
+    # imported (when a figure is drawn), the rest draw through it
+    ("codegen.presentation.figures",),
+    ("codegen.presentation.*",),
+    # the products: a user's model file generated, built and loaded (user_model), a library
+    # written as an FMU (fmu); above both the compiler and the runtime, below the command line
     ("codegen.user_model", "codegen.fmu"),
     ("codegen.cli.*",),   # the verbs, what they share and report.py; codegen.cli (__init__) too
     ("codegen.__main__",),
     # the old paths of moved modules (codegen/api.py, codegen/analysis.py, ...): each aliases
     # its new module (see codegen/_moved.py), so it sits above everything it may name; nothing
     # in codegen imports one (an import of a shim from below would fail test_no_upward_import)
-    ("codegen.api", "codegen.model", "codegen.analysis", "codegen.batch", "codegen.branch_figure",
+    ("codegen.api", "codegen.model", "codegen.analysis", "codegen.batch",
      "codegen.branches", "codegen.build_ext", "codegen.derivation", "codegen.emission",
-     "codegen.figures", "codegen.folds", "codegen.functions", "codegen.generate",
+     "codegen.folds", "codegen.functions", "codegen.generate",
      "codegen.joining", "codegen.library", "codegen.report", "codegen.simulation",
      "codegen.sweep", "codegen.verification"),
 ]
@@ -124,6 +134,24 @@ def imports(module: str) -> list[tuple[str, bool]]:
     return edges
 
 
+def outside_imports(module: str) -> set[str]:
+    """The top-level names of what ``module`` imports from outside codegen (``numpy``,
+    ``matplotlib``, ...): every absolute Import and ImportFrom, lazy ones included."""
+    path = MODULES[module]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found |= {alias.name.partition(".")[0] for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            found.add(node.module.partition(".")[0])
+    return found - {"codegen"}
+
+
+#: The one module that imports matplotlib, when a figure is drawn (the ``plot`` extra); the
+#: rest of codegen.presentation draws through it, and nothing below that layer draws at all.
+MATPLOTLIB = "codegen.presentation.figures"
+
+
 def test_every_module_has_a_layer():
     for module in MODULES:
         layer_of(module)
@@ -134,6 +162,40 @@ def test_no_upward_import():
               for module in MODULES for target, _ in imports(module)
               if layer_of(target) > layer_of(module)]
     assert not upward, "imports from a higher layer:\n" + "\n".join(upward)
+
+
+def test_only_the_presentation_imports_matplotlib():
+    """The runtime and the compiler compute; codegen.presentation draws their results. Only
+    its figures module names matplotlib (directly or in a function), and importing every
+    module of the runtime and the compiler loads no matplotlib through anything else."""
+    importing = sorted(m for m in MODULES if "matplotlib" in outside_imports(m))
+    assert importing == [MATPLOTLIB], importing
+    presentation = layer_of(MATPLOTLIB)
+    for module in MODULES:
+        if module.startswith(("codegen.runtime", "codegen.compiler")):
+            assert layer_of(module) < presentation, module
+    below = sorted(m for m in MODULES if m.startswith(("codegen.runtime", "codegen.compiler")))
+    code = ("import importlib, json, sys\n"
+            "for name in json.loads(sys.argv[1]):\n"
+            "    importlib.import_module(name)\n"
+            "print(json.dumps(sorted(m for m in sys.modules if m.partition('.')[0] == "
+            "'matplotlib')))")
+    run = subprocess.run([sys.executable, "-c", code, json.dumps(below)], capture_output=True,
+                         text=True, check=True)
+    assert json.loads(run.stdout) == []
+
+
+def test_the_runtime_is_not_patched_from_above():
+    """No module assigns to another module's attribute at import (``branches.figure =
+    ...`` was one): what a module calls is what it imports."""
+    for module, path in MODULES.items():
+        tree = ast.parse(path.read_text(), str(path))
+        names = {alias.asname or alias.name.partition(".")[0] for node in tree.body
+                 if isinstance(node, (ast.Import, ast.ImportFrom)) for alias in node.names}
+        patched = [ast.unparse(target) for node in tree.body if isinstance(node, ast.Assign)
+                   for target in node.targets if isinstance(target, ast.Attribute)
+                   and isinstance(target.value, ast.Name) and target.value.id in names]
+        assert not patched, (module, patched)
 
 
 def test_type_checking_imports_are_annotations_only():
@@ -175,12 +237,15 @@ def test_the_graph_is_read():
             in imports("codegen.compiler.derivation.dynamics"))
     assert ("codegen.runtime.branches", True) in imports("codegen.cli.report")
     assert ("codegen.runtime.analysis", False) in imports("codegen.analysis")  # an old path
+    assert ("codegen.runtime.branches", False) in imports("codegen.presentation.branches")
+    assert "matplotlib" in outside_imports(MATPLOTLIB)  # in a function
+    assert {"numpy", "sympy"} <= outside_imports("codegen.runtime.drawing")  # sympy: lazy
 
 
 #: old path -> new module; the first two are supported public names, the rest deprecated.
 MOVED = {"codegen.api": "codegen.runtime.api", "codegen.model": "codegen.compiler.model",
          **{f"codegen.{m}": f"codegen.runtime.{m}" for m in (
-             "analysis", "batch", "branch_figure", "branches", "figures", "folds", "functions",
+             "analysis", "batch", "branches", "folds", "functions",
              "joining", "library", "simulation", "sweep")},
          **{f"codegen.{m}": f"codegen.compiler.{m}" for m in (
              "derivation", "emission", "generate", "verification")},

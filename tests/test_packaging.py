@@ -253,6 +253,14 @@ def test_project_metadata():
 # --------------------------------------------------------------------------- resources
 
 
+def test_every_subpackage_is_packaged():
+    """setuptools' list of packages names every folder of codegen with an __init__.py (one
+    left out is missing from the wheel, though it imports in a checkout)."""
+    folders = {".".join(p.parent.relative_to(ROOT).parts)
+               for p in (ROOT / "codegen").rglob("__init__.py")}
+    assert set(PYPROJECT["tool"]["setuptools"]["packages"]) == folders
+
+
 def test_resources_in_the_checkout():
     assert resources.in_checkout()
     assert resources.templates() == TEMPLATES and resources.generated() == GENERATED

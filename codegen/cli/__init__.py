@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 from .. import __version__, files
-from ..runtime.figures import PlotUnavailable
+from ..presentation.figures import PlotUnavailable
 from . import (analyze, branches, draw, fmu, frf, generate, listing, params, simulate, sources,
                sweep)
 

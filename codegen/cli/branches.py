@@ -22,7 +22,7 @@ of every branch (.csv, .json or .parquet), --plot the figure (.png or .svg; pip 
 def run(args) -> int:
     """Follow every equilibrium as one parameter varies; a summary on stdout, the table
     and the figure to files."""
-    from ..runtime import branch_figure, figures
+    from ..presentation import figures, plot_branches
     from ..runtime.branches import branches, check_table_path
     from .report import branch_summary
 
@@ -46,7 +46,7 @@ def run(args) -> int:
         rows = result.write(args.out)
         print(f"Wrote {rows:,} rows to {args.out}.")
     if args.plot:
-        branch_figure.plot(result, args.plot)
+        plot_branches(result, args.plot)
         print(f"Drew the figure to {args.plot}.")
     return 0
 

@@ -185,7 +185,7 @@ def method_option(verb: argparse.ArgumentParser) -> None:
 def check_outputs(args, formats: tuple[str, ...], what: str) -> None:
     """Before any work: a --plot path we draw to (and matplotlib there to draw it), and an
     --out FILE of one of ``formats`` (``what`` is written as those); ValueError otherwise."""
-    from ..runtime import figures
+    from ..presentation import figures
 
     if args.plot:
         figures.check_path(args.plot)

@@ -40,12 +40,12 @@ def geometry_of(args):
 
 
 def run(args) -> int:
-    from ..runtime import drawing, figures
+    from ..presentation import draw_mechanism, figures
 
     figures.check_path(args.output)
     figures.pyplot()   # before the work: no matplotlib fails at once, in one line
     drawn = geometry_of(args)
-    drawing.draw(drawn, args.output)
+    draw_mechanism(drawn, args.output)
     import math
     print(f"Drew {drawn.title} at theta = {math.degrees(drawn.theta):.4f} deg to {args.output}.")
     return 0

@@ -42,6 +42,7 @@ def run(args) -> int:
     """The receptance table: CSV on stdout, or files and a summary."""
     import numpy as np
 
+    from ..presentation import plot_response
     from ..runtime import response
 
     common.check_outputs(args, response.FORMATS, "the response")
@@ -64,12 +65,13 @@ def run(args) -> int:
         response.write_csv(sys.stdout, result)
         return 0
     written = [str(response.write(result, args.out))] if args.out else []
-    written += [str(response.plot(result, args.plot))] if args.plot else []
+    written += [str(plot_response(result, args.plot))] if args.plot else []
     print(_summary(result, written))
     return 0
 
 
 def _several_coordinates(library, params, omega, args) -> int:
+    from ..presentation import plot_response
     from ..runtime import multibody_response as response
     from .report import paragraph
 
@@ -84,7 +86,7 @@ def _several_coordinates(library, params, omega, args) -> int:
         response.write_csv(sys.stdout, result)
         return 0
     written = [str(response.write(result, args.out))] if args.out else []
-    written += [str(response.plot(result, args.plot))] if args.plot else []
+    written += [str(plot_response(result, args.plot))] if args.plot else []
     at = ", ".join(f"{n} = {x:.6g}" for n, x in zip(names, result.equilibrium.theta))
     natural = ", ".join(f"{f:.6g}" for f in result.natural_frequencies)
     print(paragraph(f"Frequency response of {library.TITLE} about {at}, driven on "

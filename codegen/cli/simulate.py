@@ -167,8 +167,10 @@ def _write(args, motion, trajectory, linear) -> list[str]:
     if not (args.out or args.plot):
         motion.write_csv(sys.stdout, trajectory, linear)
         return []
+    from ..presentation import plot_trajectory
+
     written = [str(motion.write(trajectory, args.out, linear))] if args.out else []
-    return written + ([str(motion.plot(trajectory, args.plot, linear))] if args.plot else [])
+    return written + ([str(plot_trajectory(trajectory, args.plot, linear))] if args.plot else [])
 
 
 def add(verbs, prog: str) -> None:

@@ -17,15 +17,11 @@ from typing import Any
 
 import numpy as np
 
-from . import (analysis, batch, branch_figure, branches, library, multibody, multibody_motion,
-               response, simulation, sweep)
+from . import (analysis, batch, branches, library, multibody, multibody_motion, response,
+               simulation, sweep)
 from ..errors import LibraryError
 from .functions import Argument, Function, LibraryFunction
 from .library import Origin, ParameterSet, ParamsLike
-
-# Branches.plot draws with branch_figure, which builds on branches (so branches cannot
-# import it); every Branches has a Library, and every Library is loaded here.
-branches.figure = branch_figure.plot
 
 
 class Library(library.Library):

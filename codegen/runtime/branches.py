@@ -20,7 +20,8 @@ on the parameter, all open brackets analysed together in one batch per halving:
 The result (``Branches``) holds every point (a structured array, a row per equilibrium per
 sample and per refined end of a bracket, with its branch), and the events. Angles in
 radians, the parameter in its own unit, everything else SI. ``Branches.write`` makes a CSV,
-Parquet or JSON file (angles in degrees there); ``Branches.plot`` a figure.
+Parquet or JSON file (angles in degrees there); ``codegen.presentation.branches`` draws
+the figure.
 """
 from __future__ import annotations
 
@@ -187,17 +188,6 @@ class Branches:
             return sweep.write(self.table(), path, labels=LABELS)
         files.write_text(path, json.dumps(self.to_dict(), indent=1) + "\n")
         return len(self.points)
-
-    def plot(self, path: str | os.PathLike[str]) -> Path:
-        """The figure (``codegen.runtime.branch_figure.plot``): .png or .svg; needs matplotlib."""
-        if figure is None:
-            raise RuntimeError("Branches.plot needs codegen.runtime.branch_figure: import codegen.runtime.api")
-        return figure(self, path)
-
-
-#: Draws a Branches to a file: ``codegen.runtime.branch_figure.plot``, set by codegen.runtime.api (the figure
-#: module builds on this one, which therefore cannot import it).
-figure: Callable[[Branches, str | os.PathLike[str]], Path] | None = None
 
 
 def check_table_path(path: str | os.PathLike[str]) -> Path:

@@ -1,23 +1,19 @@
-"""A drawing of a mechanism at one angle, from its model's points (``mechvib draw``).
+"""What a drawing of a mechanism at one angle shows, from its model's points (``mechvib draw``).
 
 ``geometry(mechanism, library, params, theta)`` places every point the model names (its
 ``points`` and its ``Sketch``'s) at the angle theta [rad]: the library's ``dependent_state``
 gives every coordinate there (the declared assembly mode), and the model's expressions of
-them give the points, so the drawing is of the same mechanism the library analyses.
-``draw(geometry, path)`` draws it with matplotlib (the ``plot`` extra; imported only here,
-through ``figures``). A model without a ``Sketch`` is drawn as its points and its bodies'
-centres of mass.
+them give the points, so the drawing is of the same mechanism the library analyses. The
+``Geometry`` is data; ``codegen.presentation.drawing`` draws it. A model without a
+``Sketch`` is drawn as its points and its bodies' centres of mass.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-from . import figures
 
 
 @dataclass
@@ -70,75 +66,3 @@ def geometry(mechanism: Any, library: Any, params: Any, theta: float) -> Geometr
             vertex, start, end = sketch.angle
             drawn.angle = (vertex, number(start), number(end))
     return drawn
-
-
-def _span(g: Geometry) -> float:
-    xy = np.array([*g.points.values(), *g.centres.values()])
-    return float(max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1]), 1e-9))
-
-
-def _spring(ax: Any, p: tuple[float, float], q: tuple[float, float], size: float) -> None:
-    """A zig-zag from p to q, straight at both ends."""
-    p_, q_ = np.array(p), np.array(q)
-    d = q_ - p_
-    length = float(np.hypot(*d))
-    if length == 0:
-        return
-    along, normal = d / length, np.array([-d[1], d[0]]) / length
-    s = np.linspace(0.2, 0.8, 13)
-    offsets = size * np.array([0, *([1, -1] * 5), 1, 0])[: len(s)]
-    zig = [p_ + along * length * t + normal * o for t, o in zip(s, offsets)]
-    line = np.array([p_, *zig, q_])
-    ax.plot(line[:, 0], line[:, 1], color="C2", lw=1.2, zorder=2)
-
-
-def draw(g: Geometry, path: str | Path) -> Path:
-    """Draw the geometry to ``path`` (.svg or .png); PlotUnavailable without matplotlib."""
-    plt = figures.pyplot()
-    from matplotlib.patches import Arc, Rectangle
-
-    size = 0.04 * _span(g)
-    figure, ax = plt.subplots(figsize=(6, 5))
-    for name, (start, end) in ((s, (g.points[s[0]], g.points[s[1]])) for s in g.springs):
-        _spring(ax, start, end, size)
-    for link in g.links:
-        xy = np.array([g.points[n] for n in link])
-        ax.plot(xy[:, 0], xy[:, 1], color="C0", lw=3, solid_capstyle="round", zorder=3)
-    for name, guide in g.sliders:
-        x, y = g.points[name]
-        u = np.array([math.cos(guide), math.sin(guide)])
-        ax.plot(*np.array([(x, y) - 4 * size * u, (x, y) + 4 * size * u]).T, color="0.5",
-                lw=1, ls="--", zorder=1)
-        ax.add_patch(Rectangle((x - 1.2 * size, y - 0.7 * size), 2.4 * size, 1.4 * size,
-                               angle=math.degrees(guide), rotation_point="center",
-                               facecolor="C1", edgecolor="k", zorder=4))
-    for name in g.fixed:
-        x, y = g.points[name]
-        ax.plot([x - size, x + size], [y - 0.8 * size] * 2, color="k", lw=1.5, zorder=2)
-        ax.plot([x, x], [y, y - 0.8 * size], color="k", lw=1, zorder=2)
-    for name, (x, y) in g.centres.items():
-        ax.plot(x, y, marker="o", color="C3", ms=4, zorder=5)
-    for name, (x, y) in g.points.items():
-        ax.plot(x, y, marker="o", color="k", ms=4, zorder=6)
-        ax.annotate(name, (x, y), xytext=(5, 5), textcoords="offset points", fontsize=11)
-    if g.angle:
-        vertex, start, end = g.angle
-        x, y = g.points[vertex]
-        low, high = sorted((math.degrees(start), math.degrees(end)))
-        radius = 3 * size
-        ax.add_patch(Arc((x, y), 2 * radius, 2 * radius, theta1=low, theta2=high, color="C4",
-                         lw=1.2, zorder=5))
-        ax.plot(*np.array([(x, y), (x + 1.6 * radius * math.cos(start),
-                                    y + 1.6 * radius * math.sin(start))]).T,
-                color="C4", lw=0.8, ls=":", zorder=5)
-        middle = math.radians((low + high) / 2)
-        ax.annotate("θ",
-                    (x + 1.25 * radius * math.cos(middle), y + 1.25 * radius * math.sin(middle)),
-                    color="C4", fontsize=12, ha="center", va="center")
-    ax.set_aspect("equal")
-    ax.margins(0.12)
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title(f"{g.title}, θ = {math.degrees(g.theta):.4g}°", fontsize=10)
-    ax.grid(True, lw=0.3, alpha=0.5)
-    return figures.save(figure, path)

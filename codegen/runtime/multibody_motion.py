@@ -1,5 +1,5 @@
 """The time response of a mechanism with n coordinates: M thetaddot + h + B thetadot + G = 0
-integrated in C, the linearised response beside it, and its table and figure.
+integrated in C, the linearised response beside it, and its table.
 
 ``simulate(library, params, theta0, theta_d0, t)`` calls the library's ``NAME_simulate``
 (the runtime's Dormand-Prince 5(4) on thetaddot = -M^-1 (h + B thetadot + G)) and returns a
@@ -7,7 +7,7 @@ integrated in C, the linearised response beside it, and its table and figure.
 is the response of M x'' + B x' + K x = 0 about the stable equilibrium nearest the start,
 exp(A t) x0 with A = [[0, I], [-M^-1 K, -M^-1 B]] at the equilibrium (the library's
 M, B, K), from the same state. ``write`` saves both as CSV or JSON (angles in degrees, as
-the command line prints them), ``plot`` draws them.
+the command line prints them); ``codegen.presentation.motion`` draws them.
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import figures, multibody
+from . import multibody
 from .simulation import integration_error, ode_options, times_of
 from .. import files
 from .library import params_shown
@@ -180,7 +180,7 @@ def linearised(trajectory: MultibodyTrajectory) -> MultibodyLinearResponse:
     return MultibodyLinearResponse(library, e, theta_e, theta_e + x[:, :n], x[:, n:])
 
 
-# --------------------------------------------------------------------------- figure, files
+# --------------------------------------------------------------------------- files
 
 def write_csv(stream: Any, trajectory: MultibodyTrajectory,
               linear: MultibodyLinearResponse | None = None) -> None:
@@ -227,30 +227,3 @@ def write(trajectory: MultibodyTrajectory, path: str | Path,
     return files.write_table(path, "a trajectory", lambda: to_dict(trajectory, linear),
                              lambda stream: write_csv(stream, trajectory, linear))
 
-
-def plot(trajectory: MultibodyTrajectory, path: str | Path,
-         linear: MultibodyLinearResponse | None = None) -> Path:
-    """Each coordinate against t above each rate, and the linearised response dashed, written
-    to .png or .svg."""
-    figures.check_path(path)
-    plt = figures.pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
-                                      constrained_layout=True)
-    coordinates, rates = trajectory.labels()
-    for i, name in enumerate(coordinates):
-        line, = top.plot(trajectory.t, trajectory.theta_shown[:, i], label=name)
-        bottom.plot(trajectory.t, trajectory.theta_d_shown[:, i], color=line.get_color(),
-                    label=rates[i])
-        if linear is not None:
-            top.plot(trajectory.t, linear.theta_shown[:, i], "--", color=line.get_color(),
-                     linewidth=1, label=f"{name}, linearised")
-            bottom.plot(trajectory.t, linear.theta_d_shown[:, i], "--",
-                        color=line.get_color(), linewidth=1)
-    top.set_ylabel("coordinates")
-    bottom.set_ylabel("rates")
-    bottom.set_xlabel("t [s]")
-    top.set_title(trajectory.library.TITLE, fontsize=10)
-    for axes in (top, bottom):
-        axes.grid(True, alpha=0.3)
-        axes.legend(loc="best", fontsize=8)
-    return figures.save(fig, path)

@@ -6,6 +6,7 @@ coordinate's amplitude and phase when a harmonic generalised force drives one of
 H(omega) = (K - omega^2 M + i omega B)^-1 of its linearisation in C (``NAME_receptance``) at
 every circular frequency asked for, by default from 0 to three times its highest natural
 frequency. Column ``drive`` of H is the response to a unit force on that coordinate.
+``write`` saves the table as CSV or JSON; ``codegen.presentation.response`` draws it.
 """
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from . import figures, multibody
+from . import multibody
 from .. import files
 from .response import POINTS, UPTO
 
@@ -113,27 +114,3 @@ def write(response: MultibodyFrequencyResponse, path: str | Path) -> Path:
     return files.write_table(path, "a frequency response", lambda: to_dict(response),
                              lambda stream: write_csv(stream, response))
 
-
-def plot(response: MultibodyFrequencyResponse, path: str | Path) -> Path:
-    """Each coordinate's amplitude (logarithmic) above its phase against the forcing
-    frequency [Hz], the natural frequencies marked, written to .png or .svg."""
-    figures.check_path(path)
-    plt = figures.pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
-                                      constrained_layout=True)
-    for i, name in enumerate(response.coordinates):
-        top.semilogy(response.frequency, np.abs(response.response[:, i]), label=name)
-        bottom.plot(response.frequency, np.degrees(np.angle(response.response[:, i])))
-    for j, f in enumerate(response.natural_frequencies):
-        for axes in (top, bottom):
-            axes.axvline(f, color="C3", linestyle="--", linewidth=1,
-                         label=rf"$f_{j + 1}$ = {f:.4g} Hz" if axes is top else None)
-    for axes in (top, bottom):
-        axes.grid(True, which="both", alpha=0.3)
-    top.set_ylabel("|H| per unit force")
-    bottom.set_ylabel("phase [deg]")
-    bottom.set_xlabel("forcing frequency [Hz]")
-    top.set_title(f"{response.library.TITLE}: a harmonic force on "
-                  f"{response.coordinates[response.drive]}", fontsize=10)
-    top.legend(loc="best", fontsize=8)
-    return figures.save(fig, path)

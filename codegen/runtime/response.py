@@ -9,8 +9,8 @@ H(omega) = 1 / (K - omega^2 M + i omega B) of its linearisation in the library's
 every circular frequency asked for, by default from 0 to three times the natural frequency.
 It returns a ``FrequencyResponse``: omega [rad/s] and H [rad/(N m)] as numpy arrays, with
 the amplitude |H|, the phase and the equilibrium's natural frequency and damping ratio.
-``figure``/``plot`` draw amplitude and phase against the forcing frequency [Hz] with the
-natural frequency marked; ``write`` saves the table as CSV or JSON.
+``write`` saves the table as CSV or JSON; ``codegen.presentation.response`` draws amplitude
+and phase against the forcing frequency [Hz] with the natural frequency marked.
 """
 from __future__ import annotations
 
@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from . import figures
 from .. import files
 from .analysis import Equilibrium, Method, analyze, library_of_params
 from .library import Library, ParameterSet, params_shown
@@ -133,37 +132,7 @@ def frequency_response(params: ParameterSet, omega: Any = None, equilibrium: int
     return FrequencyResponse(params, e, omega, receptance(params, e.theta, omega))
 
 
-# --------------------------------------------------------------------------- figure, files
-
-def figure(response: FrequencyResponse) -> Any:
-    """|H| (logarithmic) above the phase [deg] against the forcing frequency [Hz], the
-    natural frequency marked; a matplotlib Figure. Raises figures.PlotUnavailable without
-    matplotlib."""
-    plt = figures.pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
-                                      constrained_layout=True)
-    f = response.frequency
-    e = response.equilibrium
-    top.semilogy(f, response.amplitude, color="C0")
-    bottom.plot(f, np.degrees(response.phase), color="C0")
-    for axes in (top, bottom):
-        axes.axvline(response.natural_frequency, color="C3", linestyle="--", linewidth=1,
-                     label=rf"$f_n$ = {response.natural_frequency:.4g} Hz")
-        axes.grid(True, which="both", alpha=0.3)
-    top.set_ylabel("|H| [rad/(N m)]")
-    bottom.set_ylabel("phase [deg]")
-    bottom.set_xlabel("forcing frequency [Hz]")
-    top.set_title(rf"{response.library.TITLE}: about $\theta_E$ = {math.degrees(e.theta):.4f} deg "
-                  rf"($\zeta$ = {e.zeta.real:.3g})", fontsize=10)
-    top.legend(loc="best", fontsize=8)
-    return fig
-
-
-def plot(response: FrequencyResponse, path: str | Path) -> Path:
-    """``figure`` written to ``path`` (.png or .svg); the path."""
-    figures.check_path(path)
-    return figures.save(figure(response), path)
-
+# --------------------------------------------------------------------------- files
 
 def to_dict(response: FrequencyResponse) -> dict[str, Any]:
     """JSON-ready: frequencies in Hz and rad/s, H as amplitude, phase [deg] and parts."""

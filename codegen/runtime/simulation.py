@@ -9,9 +9,9 @@ Dormand-Prince 5(4), codegen_ode.c, on the unchecked kernel of thetaddot), and r
 
 ``linearised(trajectory)`` is the response of the linearisation M x'' + B x' + K x = 0
 about the stable equilibrium nearest the start (M, B, K from the library's analysis), from
-the same initial state, to set beside the nonlinear one; ``figure``/``plot`` draw theta(t)
-and thetadot(t), and ``write`` saves them as CSV or JSON (in degrees, as the command line
-prints them).
+the same initial state, to set beside the nonlinear one; ``write`` saves them as CSV or
+JSON (in degrees, as the command line prints them). ``codegen.presentation.motion`` draws
+them.
 """
 from __future__ import annotations
 
@@ -24,7 +24,6 @@ from typing import Any
 
 import numpy as np
 
-from . import figures
 from .. import files
 from .analysis import Equilibrium, Method, analyze, library_of_params
 from ..errors import LibraryError
@@ -317,43 +316,7 @@ def linearised(trajectory: Trajectory, method: Method = "auto") -> LinearRespons
     return LinearResponse(e, theta_e, theta_e + x, v)
 
 
-# --------------------------------------------------------------------------- figure, files
-
-def figure(trajectory: Trajectory, linear: LinearResponse | None = None) -> Any:
-    """theta(t) [deg] above thetadot(t) [deg/s], and the linearised response (dashed) with
-    its equilibrium (dotted) when given; a matplotlib Figure. Raises figures.PlotUnavailable
-    without matplotlib."""
-    plt = figures.pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
-                                      constrained_layout=True)
-    t = trajectory.t
-    top.plot(t, trajectory.theta_deg, color="C0", label="nonlinear")
-    bottom.plot(t, trajectory.theta_d_deg, color="C0")
-    if linear is not None:
-        e = linear.equilibrium
-        about = (rf"linearised about $\theta_E$ = {math.degrees(linear.theta_e):.2f} deg "
-                 rf"($\zeta$ = {e.zeta.real:.3g})")
-        top.plot(t, linear.theta_deg, "--", color="C1", label=about)
-        bottom.plot(t, linear.theta_d_deg, "--", color="C1")
-        top.axhline(math.degrees(linear.theta_e), color="0.5", linestyle=":", linewidth=1,
-                    label=r"$\theta_E$")
-    top.set_ylabel(r"$\theta$ [deg]")
-    bottom.set_ylabel(r"$\dot\theta$ [deg/s]")
-    bottom.set_xlabel("t [s]")
-    top.set_title(rf"{trajectory.library.TITLE}: $\theta_0$ = {trajectory.theta_deg[0]:.4g} deg, "
-                  rf"$\dot\theta_0$ = {trajectory.theta_d_deg[0]:.4g} deg/s", fontsize=10)
-    for axes in (top, bottom):
-        axes.grid(True, alpha=0.3)
-    top.legend(loc="best", fontsize=8)   # the lower panel's lines are the same
-    return fig
-
-
-def plot(trajectory: Trajectory, path: str | Path, linear: LinearResponse | None = None
-         ) -> Path:
-    """``figure`` written to ``path`` (.png or .svg); the path."""
-    figures.check_path(path)
-    return figures.save(figure(trajectory, linear), path)
-
+# --------------------------------------------------------------------------- files
 
 def to_dict(trajectory: Trajectory, linear: LinearResponse | None = None) -> dict[str, Any]:
     """JSON-ready: angles in degrees (an angle parameter too, as NAME_deg), rates in deg/s,

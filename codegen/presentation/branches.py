@@ -1,9 +1,10 @@
-"""The figure of a ``Branches``: theta_E against the parameter, stable branches solid and
-unstable dashed, the events marked; omega_n and zeta of the stable branches below it.
+"""The figure of a ``Branches`` (``codegen.runtime.branches``): theta_E against the
+parameter, stable branches solid and unstable dashed, the events marked; omega_n and zeta of
+the stable branches below it.
 
-matplotlib comes through ``codegen.runtime.figures`` (the only module importing it). Angles in
-degrees on the figure; where the coordinate is periodic a branch is drawn unwrapped, so one
-crossing +-180 deg stays one line.
+It reads the result as data (its points, events and library's SPEC) and draws it; matplotlib
+comes through ``figures``. Angles in degrees on the figure; where the coordinate is periodic a
+branch is drawn unwrapped, so one crossing +-180 deg stays one line.
 """
 from __future__ import annotations
 
@@ -15,8 +16,8 @@ from typing import Any
 import numpy as np
 
 from . import figures
-from .analysis import STABILITY
-from .branches import EVENTS, POINTS, Branches
+from ..runtime.analysis import STABILITY
+from ..runtime.branches import EVENTS, POINTS, Branches
 
 #: Line style of each stability (analysis.STABILITY order).
 STYLES = {"stable": "-", "marginal": ":", "unstable": "--"}
@@ -86,14 +87,13 @@ def _legend(top: Any, result: Branches) -> None:
     top.legend(handles=handles, loc="best", fontsize=8, framealpha=0.9)
 
 
-def plot(result: Branches, path: str | os.PathLike[str]) -> Path:
-    """Draw ``result`` to ``path`` (.png or .svg): theta_E [deg] against the parameter,
-    then omega_n [rad/s] and zeta of the branches where they vibrate (K > 0). Raises
-    ValueError for another extension, figures.PlotUnavailable without matplotlib."""
-    path = figures.check_path(path)
+def figure(result: Branches) -> Any:
+    """theta_E [deg] against the parameter, then omega_n [rad/s] and zeta of the branches
+    where they vibrate (K > 0); a matplotlib Figure. Raises figures.PlotUnavailable without
+    matplotlib."""
     plt = figures.pyplot()
-    figure, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 7.5),
-                                gridspec_kw={"height_ratios": [2.2, 1, 1]})
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 7.5),
+                             gridspec_kw={"height_ratios": [2.2, 1, 1]})
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for number in range(result.count):
         _draw_branch(axes, result, number, colours[number % len(colours)])
@@ -115,5 +115,12 @@ def plot(result: Branches, path: str | os.PathLike[str]) -> Path:
         ax.grid(True, alpha=0.3)
     damping.set_xlim(result.values[0], result.values[-1])
     _legend(top, result)
-    figure.align_ylabels(axes)
-    return figures.save(figure, path)
+    fig.align_ylabels(axes)
+    return fig
+
+
+def plot(result: Branches, path: str | os.PathLike[str]) -> Path:
+    """``figure`` written to ``path`` (.png or .svg); the path. Raises ValueError for
+    another extension, figures.PlotUnavailable without matplotlib."""
+    path = figures.check_path(path)
+    return figures.save(figure(result), path)

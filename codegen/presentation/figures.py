@@ -2,7 +2,8 @@
 
 Only this module imports matplotlib, and only when a figure is asked for, so the analysis
 and the command line work without it; a missing matplotlib is one clear error that says how
-to install it.
+to install it. The other modules of ``codegen.presentation`` draw through ``pyplot`` and
+``save``; nothing below this layer (the runtime, the compiler) draws.
 """
 from __future__ import annotations
 
@@ -30,6 +31,13 @@ def pyplot() -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
+
+
+def patches() -> Any:
+    """matplotlib.patches (Arc, Rectangle, ...), on the same terms as ``pyplot``."""
+    pyplot()
+    import matplotlib.patches
+    return matplotlib.patches
 
 
 def check_path(path: str | Path) -> Path:
