@@ -26,11 +26,11 @@ from . import (analyze, branches, draw, fmu, frf, generate, listing, params, sim
 VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, frf, draw, fmu)
 
 DESCRIPTION = """\
-Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
-vibration analysis, and run that analysis: every equilibrium of one degree of freedom, its
-stability, natural frequency and damping ratio. Angles are printed and read in degrees
-(an angle parameter too, or with its unit: 90deg, 1.5708rad; the Python API works in
-radians); everything else is SI."""
+Compile the symbolic mechanics of a planar mechanism, with one coordinate or several, into a
+verified C99 library for its vibration analysis, and run that analysis: every equilibrium,
+its stability, natural frequencies and damping ratios. Angles are printed and read in
+degrees (an angle parameter too, or with its unit: 90deg, 1.5708rad; the Python API works
+in radians); everything else is SI."""
 
 EXAMPLES = """\
 examples:
