@@ -1,8 +1,12 @@
 """The compiled libraries from Python: ``load``, ``load_from``, ``shipped``, ``Library``.
 
-A supported public name: this module *is* ``codegen.runtime.api`` (issue 28 moved it there;
-see docs/python.md, "Moved modules"), so both paths give the same objects, without a warning."""
-from ._moved import alias
-from .runtime import api as _new
+The public name of the Python API (docs/python.md); the implementation is
+``codegen.runtime.api``, whose objects these are.
+"""
+from __future__ import annotations
 
-alias(__name__, _new, deprecated=False)
+from .runtime.api import (Argument, Function, Library, LibraryError, LibraryFunction,
+                          ParameterSet, ParamsLike, load, load_from, shipped)
+
+__all__ = ["Argument", "Function", "Library", "LibraryError", "LibraryFunction",
+           "ParameterSet", "ParamsLike", "load", "load_from", "shipped"]

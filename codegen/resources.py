@@ -34,4 +34,16 @@ def generated() -> Path:
     return ROOT / "generated" if in_checkout() else DATA / "generated"
 
 
-__all__ = ["DATA", "PACKAGE", "ROOT", "generated", "in_checkout", "templates"]
+#: The file names' start of the shipped libraries' extension modules, codegen/_native_NAME.*.so.
+NATIVE = "_native_"
+
+
+def compiled() -> list[str]:
+    """Names of the mechanisms compiled into this installation, read from the extension
+    modules' file names in the package folder (nothing is imported)."""
+    return sorted({p.name.split(".")[0][len(NATIVE):] for p in PACKAGE.iterdir()
+                   if p.name.startswith(NATIVE) and p.suffix in (".so", ".pyd")})
+
+
+__all__ = ["DATA", "NATIVE", "PACKAGE", "ROOT", "compiled", "generated", "in_checkout",
+           "templates"]

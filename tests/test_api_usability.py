@@ -23,7 +23,7 @@ import pytest
 
 import codegen
 import codegen.runtime.analysis
-import codegen.api
+import codegen.runtime.api
 import codegen.presentation
 import codegen.runtime.branches
 import codegen.runtime.folds
@@ -152,7 +152,7 @@ def test_library_methods_are_documented_with_units():
     assert "params_array" in inspect.getdoc(lib.analyze_batch)
 
 
-PUBLIC_MODULES = (codegen.runtime.library, codegen.runtime.analysis, codegen.api,
+PUBLIC_MODULES = (codegen.runtime.library, codegen.runtime.analysis, codegen.runtime.api,
                   codegen.runtime.sweep, codegen.runtime.branches, codegen.runtime.folds,
                   codegen.runtime.joining, codegen.presentation.branches,
                   codegen.presentation.drawing, codegen.presentation.figures,

@@ -9,9 +9,11 @@ is left out of the cycle check; it must still point down or sideways like any ot
 ``codegen.runtime.library`` and ``codegen.runtime.functions`` use this: the two are one layer,
 the compiled library, and functions only names the Library type.
 
-The modules that moved (issue 28) keep their old paths as aliases (``codegen/_moved.py``):
-``test_old_paths`` checks that each is the new module itself, that the deprecated ones warn
-and that nothing inside codegen reaches one.
+Two short public names stand above the layers (docs/python.md, "Import paths"): ``codegen.api``
+(the objects of ``codegen.runtime.api``) and ``codegen.model.mechanism`` (those of
+``codegen.compiler.model.mechanism``, what a model file imports); ``test_public_names`` checks
+that they are those objects, that the model's loads no shipped model and no runtime, and that
+the old paths of issue 28's layout (``codegen.analysis``, ...) are gone.
 
 The runtime computes and codegen.presentation draws (issue 49): only
 codegen.presentation.figures imports matplotlib, and no module sets another's attributes at
@@ -24,10 +26,11 @@ is a module of codegen, else to ``X``. A new module has to be placed in ``LAYERS
 from __future__ import annotations
 
 import ast
+import importlib
+import inspect
 import json
 import subprocess
 import sys
-import warnings
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent.parent / "codegen"
@@ -35,9 +38,8 @@ PACKAGE = Path(__file__).resolve().parent.parent / "codegen"
 #: Bottom to top: a module may import from its own layer or one below, never from above.
 #: A name ending in ".*" is every module of that subpackage.
 LAYERS: list[tuple[str, ...]] = [
-    # plumbing, standard library and numpy only, used by both sides; codegen._moved is the
-    # helper of the old-path aliases at the top
-    ("codegen", "codegen.errors", "codegen.files", "codegen.resources", "codegen._moved"),
+    # plumbing, standard library and numpy only, used by both sides
+    ("codegen", "codegen.errors", "codegen.files", "codegen.resources"),
     # codegen/compiler/: model -> derivation -> C emission -> verification -> generation, build
     ("codegen.compiler",),
     ("codegen.compiler.model.*",),
@@ -62,19 +64,14 @@ LAYERS: list[tuple[str, ...]] = [
     # imported (when a figure is drawn), the rest draw through it
     ("codegen.presentation.figures",),
     ("codegen.presentation.*",),
+    # the public short names: codegen.api (runtime.api's objects) and codegen.model (the model
+    # file's building blocks, compiler.model.mechanism's); nothing in codegen imports them
+    ("codegen.api", "codegen.model.*"),
     # the products: a user's model file generated, built and loaded (user_model), a library
     # written as an FMU (fmu); above both the compiler and the runtime, below the command line
     ("codegen.user_model", "codegen.fmu"),
     ("codegen.cli.*",),   # the verbs, what they share and report.py; codegen.cli (__init__) too
     ("codegen.__main__",),
-    # the old paths of moved modules (codegen/api.py, codegen/analysis.py, ...): each aliases
-    # its new module (see codegen/_moved.py), so it sits above everything it may name; nothing
-    # in codegen imports one (an import of a shim from below would fail test_no_upward_import)
-    ("codegen.api", "codegen.model", "codegen.analysis", "codegen.batch",
-     "codegen.branches", "codegen.build_ext", "codegen.derivation", "codegen.emission",
-     "codegen.folds", "codegen.functions", "codegen.generate",
-     "codegen.joining", "codegen.library", "codegen.report", "codegen.simulation",
-     "codegen.sweep", "codegen.verification"),
 ]
 
 
@@ -236,56 +233,54 @@ def test_the_graph_is_read():
     assert (("codegen.compiler.model.mechanism", False)
             in imports("codegen.compiler.derivation.dynamics"))
     assert ("codegen.runtime.branches", True) in imports("codegen.cli.report")
-    assert ("codegen.runtime.analysis", False) in imports("codegen.analysis")  # an old path
     assert ("codegen.runtime.branches", False) in imports("codegen.presentation.branches")
     assert "matplotlib" in outside_imports(MATPLOTLIB)  # in a function
     assert {"numpy", "sympy"} <= outside_imports("codegen.runtime.drawing")  # sympy: lazy
+    assert ("codegen.runtime.api", False) in imports("codegen.api")  # a public short name
+    assert ("codegen.compiler.model.mechanism", False) in imports("codegen.model.mechanism")
 
 
-#: old path -> new module; the first two are supported public names, the rest deprecated.
-MOVED = {"codegen.api": "codegen.runtime.api", "codegen.model": "codegen.compiler.model",
-         **{f"codegen.{m}": f"codegen.runtime.{m}" for m in (
-             "analysis", "batch", "branches", "folds", "functions",
-             "joining", "library", "simulation", "sweep")},
-         **{f"codegen.{m}": f"codegen.compiler.{m}" for m in (
-             "derivation", "emission", "generate", "verification")},
-         "codegen.build_ext": "codegen.compiler.build", "codegen.report": "codegen.cli.report"}
+#: The old paths of issue 28's layout, removed: each module is imported from where it is.
+OLD_PATHS = ("codegen._moved", "codegen.analysis", "codegen.batch", "codegen.branch_figure",
+             "codegen.branches", "codegen.build_ext", "codegen.derivation", "codegen.emission",
+             "codegen.figures", "codegen.folds", "codegen.functions", "codegen.generate",
+             "codegen.joining", "codegen.library", "codegen.report", "codegen.simulation",
+             "codegen.sweep", "codegen.verification", "codegen.model.doughty")
+
+#: What a model file's import must not load: the shipped models, the runtime, the command line.
+SHIPPED_MODELS = ("doughty", "slider_crank", "four_bar", "torsion_pendulum", "double_pendulum",
+                  "flexible_doughty")
 
 
-def test_old_paths():
-    """Every old path is its new module (the same object, so a monkeypatch through either
-    reaches both); the deprecated ones say where it went; codegen itself uses none of them
-    (importing the runtime, the compiler and the command line warns nothing)."""
-    top = len(LAYERS) - 1
-    assert set(MOVED) == {m for m in MODULES if m.count(".") == 1 and layer_of(m) == top}
-    code = ("import warnings, importlib, json, sys; warnings.simplefilter('always'); "
-            "out = {}\n"
-            "for old, new in json.loads(sys.argv[1]).items():\n"
-            "    with warnings.catch_warnings(record=True) as caught:\n"
-            "        warnings.simplefilter('always')\n"
-            "        module = importlib.import_module(old)\n"
-            "    out[old] = [module is importlib.import_module(new), "
-            "[str(w.message) for w in caught if w.category is DeprecationWarning]]\n"
-            "print(json.dumps(out))")
-    run = subprocess.run([sys.executable, "-c", code, json.dumps(MOVED)], capture_output=True,
-                         text=True, check=True)
-    seen = json.loads(run.stdout)
-    for old, new in MOVED.items():
-        same, warned = seen[old]
-        assert same, old
-        if old in ("codegen.api", "codegen.model"):
-            assert not warned, (old, warned)
-        else:
-            assert any(new in message for message in warned), (old, warned)
-    subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c",
-                    "import codegen.runtime.api, codegen.compiler.generate, codegen.cli, "
-                    "codegen.user_model, codegen.compiler.model.four_bar"], check=True)
-    # a submodule through an old package path is the new one too
-    import codegen.compiler.model.mechanism
-    import codegen.model.mechanism  # noqa: F401
-    assert codegen.model.mechanism is codegen.compiler.model.mechanism
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import codegen.derivation.algebra  # noqa: F401
-        import codegen.compiler.derivation.algebra
-    assert codegen.derivation.algebra is codegen.compiler.derivation.algebra
+def test_public_names():
+    """codegen.api and codegen.model.mechanism are the objects of the modules that define
+    them; the old paths are gone."""
+    assert not [old for old in OLD_PATHS if old in MODULES], "old paths are back"
+    api, runtime_api = (importlib.import_module(m) for m in ("codegen.api",
+                                                             "codegen.runtime.api"))
+    assert api.__all__ and all(getattr(api, n) is getattr(runtime_api, n) for n in api.__all__)
+    assert set(api.__all__) <= set(runtime_api.__all__)
+    model, mechanism, defined = (importlib.import_module(m) for m in (
+        "codegen.model", "codegen.model.mechanism", "codegen.compiler.model.mechanism"))
+    public = {n for n, v in vars(defined).items() if not n.startswith("_") and (
+        inspect.isclass(v) or inspect.isfunction(v)) and v.__module__ == defined.__name__}
+    assert set(mechanism.__all__) == public | {"TIME"}
+    for name in mechanism.__all__:
+        assert getattr(mechanism, name) is getattr(defined, name) is getattr(model, name), name
+
+
+def test_a_model_files_import_loads_no_model_and_no_runtime():
+    """``from codegen.model.mechanism import ...`` (every model file's first line) loads the
+    model's building blocks, not the shipped models, the runtime, numpy or the compiler's
+    derivation."""
+    code = ("import sys, json; import codegen.model.mechanism; "
+            "print(json.dumps(sorted(sys.modules)))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=PACKAGE.parent)
+    loaded = json.loads(run.stdout)
+    ours = [m for m in loaded if m.split(".")[0] == "codegen"]
+    assert not [m for m in ours if m.rpartition(".")[2] in SHIPPED_MODELS], ours
+    assert not [m for m in ours if m.startswith(("codegen.runtime", "codegen.cli",
+                                                  "codegen.compiler.derivation"))], ours
+    assert not [m for m in loaded if m.split(".")[0] in ("numpy", "cffi", "jinja2")]
+    assert len(ours) <= 10, ours  # 8 now: codegen, codegen.model and compiler.model's own

@@ -5,6 +5,10 @@ branches, simulate, frf, draw, fmu), each with ``add(verbs, prog)``, which decla
 which carries it out and returns an exit status: 0 on success, 1 when a check fails, 2 for
 bad input; ``common`` has what they share. Errors are one line on stderr that names what was
 wrong; no traceback reaches the user.
+
+The parser is cheap: the verbs' modules import only the standard library at module level,
+and ``run`` imports what it computes with, so ``--help``, ``--version`` and a verb's
+``--help`` load neither numpy nor the runtime nor the compiler (tests/test_cli_imports.py).
 """
 from __future__ import annotations
 
@@ -14,8 +18,7 @@ import re
 import sys
 from pathlib import Path
 
-from .. import __version__, files
-from ..presentation.figures import PlotUnavailable
+from .. import __version__
 from . import (analyze, branches, draw, fmu, frf, generate, listing, params, simulate, sources,
                sweep)
 
@@ -23,11 +26,11 @@ from . import (analyze, branches, draw, fmu, frf, generate, listing, params, sim
 VERBS = (analyze, generate, sources, listing, params, sweep, branches, simulate, frf, draw, fmu)
 
 DESCRIPTION = """\
-Compile the symbolic mechanics of a planar mechanism into a verified C99 library for its
-vibration analysis, and run that analysis: every equilibrium of one degree of freedom, its
-stability, natural frequency and damping ratio. Angles are printed and read in degrees
-(an angle parameter too, or with its unit: 90deg, 1.5708rad; the Python API works in
-radians); everything else is SI."""
+Compile the symbolic mechanics of a planar mechanism, with one coordinate or several, into a
+verified C99 library for its vibration analysis, and run that analysis: every equilibrium,
+its stability, natural frequencies and damping ratios. Angles are printed and read in
+degrees (an angle parameter too, or with its unit: 90deg, 1.5708rad; the Python API works
+in radians); everything else is SI."""
 
 EXAMPLES = """\
 examples:
@@ -95,12 +98,15 @@ def foreign_codegen() -> str | None:
 
 def main(argv: list[str] | None = None) -> int:
     top = parser()
-    other = foreign_codegen()
+    args = top.parse_args(argv)  # --help and --version end here, having imported no more
+    other = foreign_codegen()  # (importlib.metadata reads every installed distribution)
     if other:
         print(f"{top.prog}: warning: the unrelated distribution {other} is installed in this "
               "environment and shares the import name 'codegen'; use a separate virtual "
               "environment for mechvib", file=sys.stderr)
-    args = top.parse_args(argv)
+    from .. import files
+    from ..presentation.figures import PlotUnavailable
+
     files.exit_on_signals()  # SIGTERM, SIGHUP: what is being written is removed, as on error
     if args.verb is None:
         top.print_help(sys.stderr)

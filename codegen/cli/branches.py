@@ -1,8 +1,11 @@
 """`mechvib branches`: every equilibrium as one parameter varies."""
 from __future__ import annotations
 
-from ..runtime.branches import DEFAULT_POINTS
 from . import common
+
+#: --points' default: codegen.runtime.branches.DEFAULT_POINTS (written here so that building
+#: the parser imports no runtime; tests/test_cli_imports.py holds the two equal).
+DEFAULT_POINTS = 1001
 
 EXAMPLES = """\
 examples:

@@ -1,20 +1,34 @@
 """What the verbs of the command line share: the mechanism options, parsing of
-values, loading the library, the progress bar."""
+values, loading the library, the progress bar.
+
+Building the parser (every verb's ``add``) needs only this module and the standard library:
+``mechvib --help`` and ``--version`` load neither numpy nor the runtime nor the compiler.
+What a verb computes with is imported inside the functions that run it.
+"""
 from __future__ import annotations
 
 import argparse
 import difflib
 import math
 import sys
+from functools import cache
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from tqdm import tqdm
+from ..resources import compiled
 
-from ..runtime.api import shipped
+if TYPE_CHECKING:
+    from tqdm import tqdm
 
 #: The mechanism a command works on when none is named: the paper's example.
 DEFAULT_MECHANISM = "doughty"
+
+
+@cache
+def shipped() -> tuple[str, ...]:
+    """The mechanisms compiled into this installation (``codegen.runtime.api.shipped``), read
+    once per process from the package folder's file names: nothing is imported."""
+    return tuple(compiled())
 
 
 def generator():
@@ -133,6 +147,8 @@ class ProgressBar:
 
     def __call__(self, done: int, total: int) -> None:
         if self._bar is None:   # the total is known at the first call
+            from tqdm import tqdm
+
             self._bar = tqdm(total=total, unit=self.unit, file=self.stream, disable=None,
                              leave=False, **self.options)
         self._bar.total = total

@@ -6,6 +6,10 @@ import sys
 
 from . import common
 
+#: --points' default: codegen.runtime.response.POINTS (written here so that building the
+#: parser imports no runtime; tests/test_cli_imports.py holds the two equal).
+POINTS = 801
+
 EXAMPLES = """\
 examples:
   {prog} frf                                          CSV on stdout (doughty's example)
@@ -95,12 +99,6 @@ def _several_coordinates(library, params, omega, args) -> int:
     return 0
 
 
-def response_points() -> int:
-    from ..runtime.response import POINTS
-
-    return POINTS
-
-
 def add(verbs, prog: str) -> None:
     frf = common.verb(verbs, "frf", "the frequency response about a stable equilibrium: "
                       "amplitude and phase against the forcing frequency, as CSV or JSON, "
@@ -113,8 +111,8 @@ def add(verbs, prog: str) -> None:
     frf.add_argument("--max-frequency", type=float, metavar="HZ",
                      help="the highest forcing frequency [Hz] (default: three times the "
                           "natural frequency)")
-    frf.add_argument("--points", type=common.positive, default=response_points(), metavar="N",
-                     help=f"forcing frequencies, evenly spaced from 0 (default {response_points()})")
+    frf.add_argument("--points", type=common.positive, default=POINTS, metavar="N",
+                     help=f"forcing frequencies, evenly spaced from 0 (default {POINTS})")
     frf.add_argument("--drive", metavar="NAME",
                      help="with several coordinates: the one a harmonic force drives (default "
                           "the first)")

@@ -1,7 +1,6 @@
 """`mechvib list`: the mechanisms this installation has compiled."""
 from __future__ import annotations
 
-from ..runtime.api import shipped
 from . import common
 
 EXAMPLES = """\
@@ -12,7 +11,7 @@ examples:
 def run(args) -> int:
     from ..runtime.api import load
 
-    for name in shipped():
+    for name in common.shipped():
         library = load(name)
         route = ("polynomial" if library.has_polynomial else "isolation" if library.dof == 1
                  else f"{library.dof} coordinates, box isolation")

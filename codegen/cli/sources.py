@@ -4,7 +4,6 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..runtime.api import shipped
 from . import common
 
 EXAMPLES = """\
@@ -18,7 +17,7 @@ def run(args) -> int:
     """Where the C files of a shipped library are, or a copy of them in a folder."""
     from ..resources import generated
 
-    name = common.checked_mechanism(args.mechanism or common.DEFAULT_MECHANISM, shipped())
+    name = common.checked_mechanism(args.mechanism or common.DEFAULT_MECHANISM, common.shipped())
     root = generated()
     folders = [root / name, root / "runtime"]
     if not folders[0].is_dir():

@@ -5,8 +5,11 @@ from __future__ import annotations
 import os
 import time
 
-from ..runtime.sweep import CHUNK
 from . import common
+
+#: --chunk's default: codegen.runtime.sweep.CHUNK (written here so that building the parser
+#: imports no runtime; tests/test_cli_imports.py holds the two equal).
+CHUNK = 16384
 
 EXAMPLES = """\
 examples:

@@ -155,9 +155,9 @@ def load(name: str) -> Library:
 
 def shipped() -> list[str]:
     """Names of the mechanisms compiled into this installation (no import needed)."""
-    prefix = NATIVE.format("")
-    return sorted({p.name.split(".")[0][len(prefix):] for p in Path(__file__).parents[1].iterdir()
-                   if p.name.startswith(prefix) and p.suffix in (".so", ".pyd")})
+    from ..resources import compiled
+
+    return compiled()
 
 
 def load_from(folder: str | os.PathLike[str], name: str) -> Library:

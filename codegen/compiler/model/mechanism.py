@@ -1,4 +1,4 @@
-"""A planar one-degree-of-freedom mechanism, written as data.
+"""A planar mechanism, with one coordinate or several, written as data.
 
 Nothing here is derived: a mechanism lists its parameters, generalised coordinates,
 position constraints, bodies, springs, dampers and applied forces. The derivation
