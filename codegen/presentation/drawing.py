@@ -1,4 +1,4 @@
-"""The drawing of a mechanism at one angle (``mechvib draw``): a ``Geometry``
+"""The drawing of a mechanism at one state (``mechvib draw``): a ``Geometry``
 (``codegen.runtime.drawing``, where the points are computed) drawn with matplotlib, through
 ``figures``.
 """
@@ -36,8 +36,9 @@ def _spring(ax: Any, p: tuple[float, float], q: tuple[float, float], size: float
 
 def figure(g: Geometry) -> Any:
     """The drawing of ``g`` (a ``codegen.runtime.drawing.Geometry``): the bars, sliders and
-    their guides, fixed points, springs, bodies' centres, named points and the angle theta;
-    a matplotlib Figure. Raises figures.PlotUnavailable without matplotlib."""
+    their guides, fixed points, springs, bodies' centres, named points and the sketch's angle,
+    titled with the state drawn (one coordinate: theta; several: each independent one); a
+    matplotlib Figure. Raises figures.PlotUnavailable without matplotlib."""
     plt = figures.pyplot()
     shapes = figures.patches()
     size = 0.04 * _span(g)
@@ -83,7 +84,9 @@ def figure(g: Geometry) -> Any:
     ax.margins(0.12)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(f"{g.title}, θ = {math.degrees(g.theta):.4g}°", fontsize=10)
+    at = (f"θ = {math.degrees(g.theta):.4g}°" if not isinstance(g.theta, tuple)
+          else g.at(".4g", "°"))
+    ax.set_title(f"{g.title}, {at}", fontsize=10)
     ax.grid(True, lw=0.3, alpha=0.5)
     return fig
 
