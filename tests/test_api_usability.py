@@ -62,7 +62,8 @@ def test_every_c_function_is_a_documented_python_function(library, spec):
     assert signature.return_annotation is not inspect.Signature.empty
     hints = typing.get_type_hints(f)
     assert set(hints) == set(signature.parameters) | {"return"}
-    assert hints["params"] == lib.Params | np.ndarray
+    assert hints["params"] == lib.Params | np.ndarray | None   # None: the example
+    assert typing.get_type_hints(f.batch)["params"] == lib.Params | np.ndarray
     for a in spec["inputs"]:
         assert hints[a["name"]] == (Sequence[float] | np.ndarray if a["size"]
                                     else float | np.ndarray)
@@ -91,7 +92,7 @@ def test_help_shows_the_signature_units_and_equation():
     text = pydoc.render_doc(f, renderer=pydoc.plaintext)
     assert str(inspect.signature(f)) in text
     assert text.splitlines()[2].startswith(
-        "linearisation(params: codegen._native_doughty.doughty_params | numpy.ndarray, "
+        "linearisation(params: codegen._native_doughty.doughty_params | numpy.ndarray | None, "
         "theta: float | numpy.ndarray) -> codegen._native_doughty.linearisation_result")
     for needle in ("theta", "equilibrium angle theta_E [rad]", "M_EQ [kg m^2]",
                    "B_EQ [N m s]", "K_EQ [N m]", "(46)-(53)", "doughty_linearisation_batch",

@@ -166,21 +166,24 @@ class ProgressBar:
 
 
 def mechanism_options(verb: argparse.ArgumentParser, out_help: str | None,
-                       model: bool = False) -> None:
-    """--mechanism; --model with --out DIR (its help ``out_help``), or --model alone."""
+                       model: bool = False, build_help: str | None = None) -> None:
+    """--mechanism; --model with --out DIR (its help ``out_help``), or with --build DIR (its
+    help ``build_help``: a verb whose --out is a file), or --model alone."""
     which = verb.add_mutually_exclusive_group()
     which.add_argument("--mechanism", metavar="NAME",
                        help=f"a shipped mechanism: {', '.join(shipped())} "
                             f"(default {DEFAULT_MECHANISM})")
-    if out_help is None and not model:
+    if out_help is None and build_help is None and not model:
         return
     which.add_argument("--model", metavar="FILE",
                        help="a model file of your own (Python, defining build() -> Mechanism)"
-                            + ("" if out_help else "; built into the per-user cache "
-                                                    "(~/.cache/mechvib), reused while the "
-                                                    "file and mechvib are unchanged"))
+                            + ("" if out_help or build_help else
+                               "; built into the per-user cache (~/.cache/mechvib), reused "
+                               "while the file and mechvib are unchanged"))
     if out_help is not None:
         verb.add_argument("--out", metavar="DIR", help=out_help)
+    if build_help is not None:
+        verb.add_argument("--build", metavar="DIR", help=build_help)
 
 
 def set_option(verb: argparse.ArgumentParser,

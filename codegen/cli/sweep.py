@@ -17,13 +17,17 @@ examples:
   {prog} sweep --sample 1000000 --vary F=0:200 --vary k=1000:3000 --seed 1 --out s.parquet
   {prog} sweep --vary F=0:200:201 --set b=0 --all-roots --workers 2 --out roots.csv
   {prog} sweep --sample 10000000 --vary F=0:200 --scheduler tcp://HOST:8786 --out big.parquet
+  {prog} sweep --mechanism double_pendulum --vary k_1=5:40:8 --vary F_x=0:2:3 --out dp.csv
+  {prog} sweep --model my_model.py --build build/mine --vary k=10:50:5 --out mine.csv
 
 --vary NAME=START:STOP:COUNT makes a grid axis of COUNT values from START to STOP (both
 included); with --sample N, --vary NAME=LO:HI draws each set's NAME uniformly in [LO, HI).
 The other parameters are the example's, or --set's. The file has one row per equilibrium
 (per root with --all-roots), with the set's index, parameters and status; a set that fails
 or has none has one row with an empty theta_deg. Angles in degrees there (columns NAME_deg),
-the rest SI; an angle parameter in --vary and --set is in degrees too (or 90deg, 1.5708rad)."""
+the rest SI; an angle parameter in --vary and --set is in degrees too (or 90deg, 1.5708rad).
+With several coordinates a row has a column per coordinate (NAME_deg for an angle), each
+mode's omega_n_J and zeta_J, and the number of boxes of its set left undecided."""
 
 
 def _grid_axis(name: str, spec: str, unit: str | None = None):
@@ -133,7 +137,10 @@ def run(args) -> int:
     """Analyse every set, writing the rows as they come; a summary on stdout."""
     from ..runtime import sweep
 
-    library = common.load_library(args)
+    if args.build and not args.model:
+        raise ValueError("--build DIR is where --model FILE is built: give --model too")
+    sweep.check_output(args.out)   # before a model is built, which can take minutes
+    library = common.load_library(args, args.build)
     sets = _sweep_sets(library, args)
     roots = "all" if args.all_roots else "equilibria"
     start, tally = time.perf_counter(), _Tally(library)
@@ -152,7 +159,10 @@ def run(args) -> int:
 def add(verbs, prog: str) -> None:
     swp = common.verb(verbs, "sweep", "analyse a grid or a random sample of parameter sets "
                       "into a CSV or Parquet table", EXAMPLES, prog, run)
-    common.mechanism_options(swp, None)
+    common.mechanism_options(swp, None, build_help=(
+        "with --model: where its library is generated and built (default: the per-user "
+        "cache ~/.cache/mechvib; a build there or in DIR is reused while the file is "
+        "unchanged)"))
     swp.add_argument("--vary", action="append", type=common.assignment, required=True,
                      metavar="NAME=START:STOP:COUNT",
                      help="a grid axis, COUNT values from START to STOP inclusive; with "

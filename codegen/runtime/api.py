@@ -57,7 +57,9 @@ class Library(library.Library):
     def analyze_table(self, table: np.ndarray, method: analysis.Method = "auto",
                       workers: int = 1) -> Any:
         """``analyze`` over a ``params_array`` as numpy arrays, one row per root, no Python
-        object per set, on ``workers`` threads: see ``codegen.runtime.batch.analyze_table``."""
+        object per set, on ``workers`` threads: see ``codegen.runtime.batch.analyze_table``.
+        With several coordinates, a row per proven equilibrium, its coordinates and modes in
+        arrays (``codegen.runtime.multibody.roots_dtype``), and ``.uncertain`` per set."""
         return batch.analyze_table(table, self, method, workers)
 
     def simulate(self, params: ParamsLike | None, theta0: float, theta_d0: float,

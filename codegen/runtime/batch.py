@@ -6,7 +6,8 @@ no Python object is made per set or per root. The C results are read in place th
 numpy dtype laid out from cffi's description of the C structs. ``workers=N`` splits the
 table into N contiguous chunks run on N threads: cffi releases the GIL around each C call and
 the library has no shared state, so the chunks run in parallel and the result is the same
-for any N.
+for any N. A mechanism with several coordinates runs the same way, its rows those of
+``codegen.runtime.multibody`` (``form`` tells the two apart, once).
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis
+from . import analysis, multibody
 from .library import Library
 
 #: One root of one parameter set. Angles [rad]; kind, stability and damping index
@@ -43,13 +44,17 @@ ROOT_DTYPE = np.dtype([
 @dataclass(frozen=True)
 class Table:
     """The analysis of n parameter sets: ``roots`` (ROOT_DTYPE rows, ordered by set, then
-    by angle), ``statuses`` (the C status of each set, 0 = OK; a failed set has no rows),
-    ``counts`` (rows per set) and the route taken."""
+    by angle; with several coordinates ``multibody.roots_dtype``'s, a row per proven
+    equilibrium ordered by set, then by its coordinates), ``statuses`` (the C status of each
+    set, 0 = OK; a failed set has no rows), ``counts`` (rows per set) and the route taken."""
 
     roots: np.ndarray
     statuses: np.ndarray
     counts: np.ndarray
     method: str
+    #: With several coordinates, the number of boxes of each set that double precision could
+    #: not decide (never rows: see codegen.runtime.multibody); None with one coordinate.
+    uncertain: np.ndarray | None = None
 
     @property
     def equilibria(self) -> np.ndarray:
@@ -100,9 +105,9 @@ def c_roots(library: Library, c: np.ndarray, statuses: np.ndarray
 
 
 def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
-          ) -> tuple[np.ndarray, np.ndarray]:
-    """The ROOT_DTYPE rows of a block of C results (sets first, first + 1, ...), and the
-    number of rows of each set."""
+          ) -> tuple[np.ndarray, np.ndarray, None]:
+    """The ROOT_DTYPE rows of a block of C results (sets first, first + 1, ...), the
+    number of rows of each set, and None (no count of undecided intervals)."""
     found, sets, counts = c_roots(library, c, statuses)
     rows = np.empty(len(found), dtype=ROOT_DTYPE)
     rows["set"] = sets + first
@@ -119,7 +124,38 @@ def _rows(library: Library, c: np.ndarray, statuses: np.ndarray, first: int
     rows["omega_n"] = found["omega_n"][:, 0] + 1j * found["omega_n"][:, 1]
     rows["zeta"] = found["zeta"][:, 0] + 1j * found["zeta"][:, 1]
     rows["eigenvalues"] = found["eigen_re"] + 1j * found["eigen_im"]
-    return rows, counts
+    return rows, counts, None
+
+
+@dataclass(frozen=True)
+class Form:
+    """How the sets of a library are analysed in batches, by its number of coordinates:
+    ``route(library, method)`` (the route a method name takes, or ValueError), ``entry(
+    library, route)`` (the C batch entry), ``rows(library, c, statuses, first)`` (a block of
+    C results as ``analyze_table`` rows, their count per set, and per set the boxes not
+    decided or None)."""
+
+    route: Callable[[Library, str], str]
+    entry: Callable[[Library, str], Any]
+    rows: Callable[[Library, np.ndarray, np.ndarray, int],
+                   tuple[np.ndarray, np.ndarray, np.ndarray | None]]
+
+
+ONE_COORDINATE = Form(analysis.route, lambda library, route: analysis.entry(library, route, True),
+                      _rows)
+SEVERAL_COORDINATES = Form(multibody.route, multibody.batch_entry, multibody.table_rows)
+
+
+def form(library: Library) -> Form:
+    """The batch analysis of ``library``'s sets: the one place in this module where it
+    depends on the number of coordinates."""
+    return SEVERAL_COORDINATES if library.dof > 1 else ONE_COORDINATE
+
+
+def route(library: Library, method: str = "auto") -> str:
+    """The route ``method`` takes for ``library`` ("polynomial" or "isolate"); ValueError
+    for an unknown method or one the library does not have."""
+    return form(library).route(library, method)
 
 
 #: What a block of C results becomes: (the block's C results as the analysis dtype, their
@@ -132,7 +168,7 @@ def _analyze_range(library: Library, method: str, table: np.ndarray, statuses: n
     """Sets start..stop-1 in blocks through one reused C results buffer (one per thread),
     each block made into rows by ``make`` on this thread."""
     ffi, P = library.ffi, library.PREFIX
-    entry = analysis.entry(library, method, batch=True)
+    entry = form(library).entry(library, method)
     results = ffi.new(f"{P}_analysis[]", min(BLOCK, max(stop - start, 1)))
     view = np.frombuffer(ffi.buffer(results), dtype=_analysis_dtype(library))
     c_params = ffi.from_buffer(f"{P}_params[]", table)
@@ -153,7 +189,7 @@ def analyze_blocks(table: np.ndarray, library: Library, make: BlockRows, method:
     route taken). ``workers`` threads share the work, each a contiguous part of the table."""
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer, not {workers!r}")
-    taken = analysis.route(library, method)
+    taken = route(library, method)
     table = library.table(table)
     statuses = np.zeros(len(table), dtype=np.intc)
     bounds = np.linspace(0, len(table), min(workers, max(len(table), 1)) + 1).astype(int)
@@ -174,9 +210,15 @@ def analyze_table(table: np.ndarray, library: Library, method: str = "auto",
                   workers: int = 1) -> Table:
     """Every root of every parameter set of ``table`` (a params_array), by the route
     ``method`` names, as numpy arrays (see Table); ``workers`` threads share the work, each
-    a contiguous part of the table."""
+    a contiguous part of the table. With several coordinates, every proven equilibrium (one
+    route, the isolation: "auto" or "isolate"), its coordinates in arrays of n."""
+    shape = form(library)
     blocks, statuses, taken = analyze_blocks(
-        table, library, lambda c, st, first: _rows(library, c, st, first), method, workers)
-    rows = np.concatenate([r for r, _ in blocks]) if blocks else np.empty(0, ROOT_DTYPE)
-    counts = np.concatenate([c for _, c in blocks]) if blocks else np.empty(0, np.int64)
-    return Table(rows, statuses, counts.astype(np.int64), taken)
+        table, library, lambda c, st, first: shape.rows(library, c, st, first), method, workers)
+    if not blocks:   # no sets: the rows of an empty block, of the right types
+        blocks = [shape.rows(library, np.empty(0, _analysis_dtype(library)),
+                             np.empty(0, np.intc), 0)]
+    rows, counts, uncertain = (list(part) for part in zip(*blocks))
+    return Table(np.concatenate(rows), statuses, np.concatenate(counts).astype(np.int64),
+                 taken, None if uncertain[0] is None
+                 else np.concatenate(uncertain).astype(np.int64))

@@ -4,7 +4,9 @@
 the face ``Library.FUNCTIONS`` holds: a plain function with the C function's name, a
 signature with type hints, and a docstring giving every input and output with its size and
 units, the paper's equation, batches and errors. Multi-output results are named tuples,
-one class per function, that pickle by their library's origin.
+one class per function, that pickle by their library's origin. ``params`` None is the
+model's example (``library.example_params()``), as for the library's other functions; an
+n x n matrix (M, B, K of a mechanism with n coordinates) is returned as one.
 """
 from __future__ import annotations
 
@@ -25,6 +27,10 @@ if TYPE_CHECKING:
 
 #: A scalar input or output: a float, or an array of them for a batch.
 Scalar = float | np.ndarray
+
+#: The functions whose output is an n x n matrix of a mechanism with n coordinates, stored
+#: row-major (compiler/emission/multibody.py: mass_matrix, damping_matrix, stiffness_matrix).
+MATRIX_SUFFIX = "_matrix"
 
 
 class Argument(namedtuple("Argument", ["name", "size"])):
@@ -70,6 +76,11 @@ def _reduce_result(self: Any) -> tuple[Any, ...]:
     return (_result_of, (self._library, self._function, tuple(self)))
 
 
+def _as_matrix(shape: tuple[int, ...]) -> str:
+    """', R x C' for an output returned as a matrix, else ''."""
+    return f", {shape[0]} x {shape[1]}" if len(shape) == 2 else ""
+
+
 def _python_name(name: str) -> str:
     """A C name as a Python argument name (a Python keyword gets a trailing underscore)."""
     return f"{name}_" if keyword.iskeyword(name) or name == "params" else name
@@ -92,8 +103,17 @@ class Function:
         self.c_name = f"{library.PREFIX}_{self.name}"
         self._entry = getattr(library.lib, self.c_name)
         self._batch_entry = getattr(library.lib, f"{self.c_name}_batch")
+        #: The shape of each output of one call: () for a float, (size,), or (n, n) for a
+        #: matrix of n coordinates.
+        self.shapes = tuple(self._shape(o) for o in self.outputs)
         self.result_type: type | None = self._result_type() if len(self.outputs) > 1 else None
         self.python: LibraryFunction = self._python()
+
+    def _shape(self, x: Argument) -> tuple[int, ...]:
+        n = self.library.dof
+        if x.size == n * n and self.name.endswith(MATRIX_SUFFIX):
+            return (n, n)
+        return (x.size,) if x.size else ()
 
     # -- the Python face
 
@@ -102,9 +122,10 @@ class Function:
         origin."""
         base = namedtuple(f"{self.name}_result",  # type: ignore[misc]  # a name from the spec
                           [o.name for o in self.outputs], module=self.library._module_name)
-        for o in self.outputs:
-            getattr(base, o.name).__doc__ = self._describe(o)
-        fields = "\n".join(f"    {o.name}: {self._describe(o)}" for o in self.outputs)
+        for o, shape in zip(self.outputs, self.shapes):
+            getattr(base, o.name).__doc__ = self._describe(o, shape)
+        fields = "\n".join(f"    {o.name}: {self._describe(o, shape)}"
+                           for o, shape in zip(self.outputs, self.shapes))
         cls = type(base.__name__, (base,), {
             "__slots__": (), "__module__": self.library._module_name,
             "__doc__": f"The outputs of {self.library.PREFIX}.{self.name}: floats for one "
@@ -115,12 +136,13 @@ class Function:
             "__reduce__": _reduce_result, "_library": self.library, "_function": self.name})
         return cls
 
-    def _describe(self, x: Argument) -> str:
-        size = f"array of {x.size} floats: " if x.size else ""
+    def _describe(self, x: Argument, shape: tuple[int, ...]) -> str:
+        size = f"array of {x.size} floats{_as_matrix(shape)}: " if x.size else ""
         return f"{size}{x.description or '(no description)'}"
 
-    def _annotations(self) -> tuple[dict[str, Any], Any]:
-        params = self.library.Params | np.ndarray
+    def _annotations(self, batch: bool = False) -> tuple[dict[str, Any], Any]:
+        params = self.library.Params | np.ndarray if batch else \
+            self.library.Params | np.ndarray | None
         args = {_python_name(a.name): (Sequence[float] | np.ndarray) if a.size else Scalar
                 for a in self.inputs}
         result: Any = self.result_type
@@ -131,7 +153,7 @@ class Function:
     def signature(self, batch: bool = False) -> inspect.Signature:
         """The Python signature: params, then the C inputs by name (batch: and the
         keyword raise_on_error)."""
-        arguments, result = self._annotations()  # result: Any, an annotation object
+        arguments, result = self._annotations(batch)  # result: Any, an annotation object
         kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
         parameters = [inspect.Parameter(n, kind, annotation=a) for n, a in arguments.items()]
         if batch:
@@ -152,10 +174,10 @@ class Function:
                                      subsequent_indent=" " * indent, break_long_words=False,
                                      break_on_hyphens=False) or [""])
 
-        def entry(x: Argument, what: str) -> None:
-            kind = f"array of {x.size} floats" if x.size else "float"
-            shape = f"(n, {x.size})" if x.size else "(n,)"
-            para(f"{what}: {kind}; in a batch, shape {shape}", 4)
+        def entry(x: Argument, what: str, shape: tuple[int, ...]) -> None:
+            kind = f"array of {x.size} floats{_as_matrix(shape)}" if x.size else "float"
+            batch_shape = ", ".join(["n", *map(str, shape)]) if shape else "n,"
+            para(f"{what}: {kind}; in a batch, shape ({batch_shape})", 4)
             para(x.description or "(no description)", 8)
 
         para(self.summary)
@@ -170,11 +192,12 @@ class Function:
                  "output gains it.")
         para("")
         para("Arguments:")
-        para(f"params: {P}_params, a mapping of every parameter to its value, or (a batch) "
-             "a params_array of n sets", 4)
+        para(f"params: {P}_params, a mapping of every parameter to its value, "
+             + ("" if batch else "None (the example, lib.example_params()), ")
+             + "or (a batch) a params_array of n sets", 4)
         para(f"the mechanism's parameters, SI units: {units}", 8)
         for a in self.inputs:
-            entry(a, _python_name(a.name))
+            entry(a, _python_name(a.name), (a.size,) if a.size else ())
         if batch:
             para("raise_on_error: bool, keyword only (default True)", 4)
             para("False: return (outputs, statuses) instead of raising", 8)
@@ -183,8 +206,8 @@ class Function:
             para(f"Returns a {self.result_type.__name__}, a named tuple of:")
         else:
             para("Returns:")
-        for o in self.outputs:
-            entry(o, o.name)
+        for o, shape in zip(self.outputs, self.shapes):
+            entry(o, o.name, shape)
         if batch:
             para("With raise_on_error=False: (outputs, statuses), statuses an int array of "
                  "the C status of each item (0: OK); the outputs of a failed item are "
@@ -251,10 +274,12 @@ class Function:
 
     # -- calls
 
-    def __call__(self, params: ParamsLike | np.ndarray, *args: Any) -> Any:
+    def __call__(self, params: ParamsLike | np.ndarray | None, *args: Any) -> Any:
         if len(args) != len(self.inputs):
             names = ", ".join(a.name for a in self.inputs)
             raise TypeError(f"{self.name}(params, {names}) takes {len(self.inputs)} inputs")
+        if params is None:
+            params = self.library.example_params()
         if isinstance(params, np.ndarray) or any(
                 np.ndim(a) > (1 if x.size else 0) for a, x in zip(args, self.inputs)):
             return self.batch(params, *args)
@@ -290,8 +315,8 @@ class Function:
         if status != lib.STATUS["OK"]:
             raise lib.error(status, params, rerun=self._rerun(c_args),
                             inputs={x.name: v for x, v in zip(self.inputs, args)})
-        values = [np.frombuffer(ffi.buffer(o), dtype=np.float64).copy() if x.size else o[0]
-                  for o, x in zip(outs, self.outputs)]
+        values = [np.frombuffer(ffi.buffer(o), dtype=np.float64).reshape(shape).copy()
+                  if x.size else o[0] for o, x, shape in zip(outs, self.outputs, self.shapes)]
         return values[0] if self.result_type is None else self.result_type(*values)
 
     def batch(self, params: ParamsLike | np.ndarray, *args: Any,
@@ -309,7 +334,7 @@ class Function:
             shape = (count, x.size) if x.size else (count,)
             arrays.append(np.ascontiguousarray(np.broadcast_to(
                 np.asarray(value, dtype=np.float64), shape)))
-        outputs = [np.empty((count, o.size) if o.size else (count,)) for o in self.outputs]
+        outputs = [np.empty((count, *shape)) for shape in self.shapes]
         statuses = np.zeros(count, dtype=np.intc)
         self._batch_entry(
             count, ffi.from_buffer(f"{lib.PREFIX}_params[]", table),

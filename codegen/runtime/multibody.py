@@ -6,14 +6,21 @@ codegen_multibody.c) and returns a ``MultibodyAnalysis``: ``equilibria`` (each w
 coordinates, its proven box, the undamped natural frequencies and mass-normalised mode shapes,
 the damped eigenvalues with their damping ratios, and the stability) and ``uncertain``
 (boxes, never equilibria). Angles in radians, frequencies in rad/s.
+
+Many sets at once run through ``codegen.runtime.batch`` (the C ``NAME_analyze_batch`` over
+threads, its results read in place as numpy arrays): ``equilibria`` reads a block of them,
+``table_rows`` makes ``analyze_table``'s rows of it and ``sweep_roots`` a sweep's.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
+
+from . import analysis
 
 #: codegen_multibody.h's stability codes
 STABILITY = {1: "stable", 0: "unstable", -1: "undecided"}
@@ -134,13 +141,98 @@ def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
     return out
 
 
-# --------------------------------------------------------------------------- sweeps
+# ------------------------------------------------------------------- many sets at once
 
-#: Sets analysed per C call of NAME_analyze_batch (its results buffer is reused).
-BLOCK = 256
-#: The stability codes of a sweep row, as the 1-coordinate sweep's (analysis.STABILITY:
-#: stable, marginal, unstable); an undecided one is marginal.
-SWEEP_STABILITY = {"stable": 0, "undecided": 1, "unstable": 2}
+def route(library: Any, method: str = "auto") -> str:
+    """The route a method name takes with several coordinates: "isolate", the proven
+    isolation in boxes ("auto" too). ValueError for an unknown method or "polynomial", which
+    several coordinates do not have."""
+    if method not in analysis.METHODS:
+        raise ValueError(f"method must be one of {', '.join(analysis.METHODS)}, not {method!r}")
+    if method == "polynomial":
+        raise ValueError(f"{library.PREFIX}: with several coordinates there is no polynomial "
+                         "route; its equilibria are isolated in boxes (method isolate or auto)")
+    return "isolate"
+
+
+def batch_entry(library: Any, method: str) -> Any:
+    """NAME_analyze_batch, the C analysis of many sets (its one route)."""
+    return getattr(library.lib, f"{library.PREFIX}_analyze_batch")
+
+
+#: The codes of the C stability (codegen_multibody.h: 1, 0, -1) as analysis.STABILITY's
+#: (stable, marginal, unstable): an undecided equilibrium is marginal.
+_STABILITY_CODES = np.array([analysis.STABILITY.index(s) for s in
+                             ("marginal", "unstable", "stable")], dtype=np.int8)  # C -1, 0, 1
+
+
+def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
+               ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray]:
+    """The equilibria of a block of C results (NAME_analysis structs as numpy records, as
+    codegen.runtime.batch reads them in place), in set order, then ordered by their
+    coordinates as ``analyze`` orders them: (their columns: theta, theta_lo, theta_hi,
+    omega_squared, omega_n (NaN where omega^2 < 0), shapes (n x n each), eigenvalues
+    (complex), damping_ratios, zeta (each mode's modal damping) and stability
+    (analysis.STABILITY codes); the index of each one's set in the block; each set's count
+    of equilibria; each set's count of boxes not decided). A failed set has none of either."""
+    n, count = library.dof, len(c)
+    ok = statuses == library.STATUS["OK"]
+    counts = np.where(ok, c["n_equilibria"], 0)
+    uncertain = np.where(ok, c["n_uncertain"], 0)
+    slots = c["stability"].shape[1]
+    mask = np.arange(slots) < counts[:, None]
+    sets = np.nonzero(mask)[0]
+
+    def field(name: str, *shape: int) -> np.ndarray:
+        return c[name].reshape(count, slots, *shape)[mask]
+
+    theta = field("theta", n)
+    order = np.lexsort([theta[:, k] for k in reversed(range(n))] + [sets])
+    omega_squared = field("omega_squared", n)[order]
+    with np.errstate(invalid="ignore"):
+        omega_n = np.sqrt(omega_squared)
+    columns = {
+        "theta": theta[order], "theta_lo": field("lo", n)[order],
+        "theta_hi": field("hi", n)[order], "omega_squared": omega_squared, "omega_n": omega_n,
+        "shapes": field("shapes", n, n)[order],
+        "eigenvalues": (field("s_re", 2 * n) + 1j * field("s_im", 2 * n))[order],
+        "damping_ratios": field("damping_ratio", 2 * n)[order],
+        "zeta": field("modal_damping", n)[order],
+        "stability": _STABILITY_CODES[field("stability") + 1][order]}
+    return columns, sets[order], counts, uncertain
+
+
+@lru_cache(maxsize=None)
+def roots_dtype(library: Any) -> np.dtype:
+    """A row of ``codegen.runtime.batch.analyze_table`` with n coordinates: one proven
+    equilibrium, its set's index, its coordinates and their proven box, each mode's omega^2,
+    undamped natural frequency (NaN where omega^2 < 0), modal damping ratio (zeta) and
+    mass-normalised shape (column j: mode j), the 2n damped eigenvalues with their damping
+    ratios, and the stability (analysis.STABILITY's code; undecided: marginal). ``certified``
+    and ``kind`` (equilibrium) are those of every row, as a one-coordinate table's
+    equilibria have them."""
+    n = library.dof
+    return np.dtype([
+        ("set", np.int64), ("theta", np.float64, (n,)), ("theta_lo", np.float64, (n,)),
+        ("theta_hi", np.float64, (n,)), ("certified", np.bool_), ("kind", np.int8),
+        ("omega_squared", np.float64, (n,)), ("omega_n", np.float64, (n,)),
+        ("zeta", np.float64, (n,)), ("shapes", np.float64, (n, n)),
+        ("eigenvalues", np.complex128, (2 * n,)), ("damping_ratios", np.float64, (2 * n,)),
+        ("stability", np.int8)])
+
+
+def table_rows(library: Any, c: np.ndarray, statuses: np.ndarray, first: int
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ``roots_dtype`` rows of a block of C results (sets first, first + 1, ...), the
+    number of rows of each set and the number of its boxes not decided."""
+    columns, sets, counts, uncertain = equilibria(library, c, statuses)
+    rows = np.empty(len(sets), dtype=roots_dtype(library))
+    rows["set"] = sets + first
+    rows["certified"] = True
+    rows["kind"] = analysis.KINDS.index("equilibrium")
+    for name, values in columns.items():
+        rows[name] = values
+    return rows, counts, uncertain
 
 
 def sweep_fields(library: Any) -> list[tuple[str, Any]]:
@@ -155,42 +247,16 @@ def sweep_fields(library: Any) -> list[tuple[str, Any]]:
             + [("uncertain", np.int32)])
 
 
-def sweep_rows(library: Any, table: np.ndarray, offset: int, dtype: np.dtype,
-               columns: tuple[str, ...]) -> np.ndarray:
-    """One row per equilibrium of each set (a set without one, or failed: one row of NaN),
-    sets in order, equilibria by their coordinates."""
-    ffi, P, n = library.ffi, library.PREFIX, library.dof
-    found_names = {c["name"] for c in library.SPEC["coordinates"]}
-    table = np.ascontiguousarray(table)
-    statuses = np.zeros(len(table), dtype=np.intc)
-    results = ffi.new(f"{P}_analysis[]", max(1, min(BLOCK, len(table))))
-    c_params = ffi.from_buffer(f"{P}_params[]", table)
-    c_statuses = ffi.from_buffer(f"{P}_status[]", statuses, require_writable=True)
-    pieces = []
-    for first in range(0, len(table), BLOCK):
-        count = min(BLOCK, len(table) - first)
-        getattr(library.lib, f"{P}_analyze_batch")(count, c_params + first, results,
-                                                    c_statuses + first)
-        for i in range(count):
-            s = first + i
-            found = (_read(library, results[i], n) if statuses[s] == 0
-                     else MultibodyAnalysis((), (), ()))
-            rows = np.zeros(max(1, len(found.equilibria)), dtype=dtype)
-            rows["set"] = s + offset
-            for name, column in zip(library.PARAMETER_NAMES, columns):
-                rows[column] = table[name][s]
-            rows["status"] = statuses[s]
-            rows["uncertain"] = len(found.uncertain)
-            for field in dtype.names:
-                if field in found_names or field.startswith(("omega_n_", "zeta_")):
-                    rows[field] = np.nan
-            rows["stability"] = -1
-            for r, e in enumerate(found.equilibria):
-                for name, value in zip(found.coordinates, e.theta):
-                    rows[name][r] = value
-                rows["stability"][r] = SWEEP_STABILITY[e.stability]
-                for j in range(n):
-                    rows[f"omega_n_{j + 1}"][r] = e.frequencies[j]
-                    rows[f"zeta_{j + 1}"][r] = e.modal_damping[j]
-            pieces.append(rows)
-    return np.concatenate(pieces) if pieces else np.zeros(0, dtype=dtype)
+def sweep_roots(library: Any, c: np.ndarray, statuses: np.ndarray, every_root: bool
+                ) -> tuple[dict[str, np.ndarray], np.ndarray, dict[str, np.ndarray]]:
+    """What a block of C results puts in a sweep's rows (``sweep_fields``): the columns of
+    each set (status, uncertain), the index of each equilibrium's set, and the columns of
+    each equilibrium. Every root is a proven equilibrium: ``every_root`` changes nothing."""
+    columns, sets, _, uncertain = equilibria(library, c, statuses)
+    found = {coordinate["name"]: columns["theta"][:, k]
+             for k, coordinate in enumerate(library.SPEC["coordinates"])}
+    found["stability"] = columns["stability"]
+    for j in range(library.dof):
+        found[f"omega_n_{j + 1}"] = columns["omega_n"][:, j]
+        found[f"zeta_{j + 1}"] = columns["zeta"][:, j]
+    return {"status": statuses, "uncertain": uncertain}, sets, found

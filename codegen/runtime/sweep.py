@@ -11,6 +11,10 @@ Every set has at least one row: a set that fails (``status`` != 0) or has no roo
 one row with NaN ``theta``, so a table never loses a set. The rows are the same, bit for
 bit, for any number of threads, any chunk size, and locally or on Dask: each chunk is
 analysed by the same deterministic C, and its set indices are offset by where it starts.
+
+A mechanism with several coordinates is swept the same way: its rows have a column per
+coordinate, and each mode's omega_n and zeta (``codegen.runtime.multibody.sweep_fields``);
+``_form`` is the one place here that tells the two apart.
 """
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Literal
@@ -147,28 +152,83 @@ def _as_table(library: Library, sets: Any) -> np.ndarray:
 
 # --------------------------------------------------------------------------- the table
 
+#: The value of a column on a row without a root, by its numpy kind: NaN, NO_ROOT, False.
+_NO_ROOT_VALUE = {"f": np.nan, "i": NO_ROOT, "b": False}
+
+#: What a block of C results puts in a sweep's rows: (the columns of each set of the block,
+#: the index of each root's set in the block, the columns of each root).
+Found = tuple[dict[str, np.ndarray], np.ndarray, dict[str, np.ndarray]]
+
+
+def _one_coordinate_roots(library: Library, c: np.ndarray, statuses: np.ndarray,
+                          every_root: bool) -> Found:
+    """The roots of a block of a one-coordinate library's C results (RESULT_FIELDS),
+    straight from the C structs: every classified root, or (not ``every_root``) the declared
+    mode's equilibria."""
+    found, sets, _ = batch.c_roots(library, c, statuses)
+    if not every_root:
+        keep = found["kind"] == batch.EQUILIBRIUM
+        found, sets = found[keep], sets[keep]
+    extraneous = found["kind"] == batch.EXTRANEOUS   # not an equilibrium: null in the file
+    omega, zeta = found["omega_n"], found["zeta"]    # (re, im) pairs
+    real = (omega[:, 1] == 0) & (omega[:, 0] > 0)
+    columns = {name: found[name] for name in ("theta", "kind", "K", "M", "B")}
+    columns.update(
+        certified=found["certified"] != 0,
+        stability=np.where(extraneous, NO_ROOT, found["stability"]),
+        damping=np.where(extraneous, NO_ROOT, found["damping"]),
+        omega_n=np.where(real, omega[:, 0], np.nan), zeta=np.where(real, zeta[:, 0], np.nan))
+    return {"status": statuses}, sets, columns
+
+
+@dataclass(frozen=True)
+class _Form:
+    """A sweep's rows for a number of coordinates: ``fields(library)``, the columns after
+    the parameters'; ``coordinates(library)``, the columns of the coordinates with their
+    units; ``roots(library, c, statuses, every_root)``, what a block of C results puts in
+    the rows (``Found``)."""
+
+    fields: Callable[[Library], list[tuple[str, Any]]]
+    coordinates: Callable[[Library], tuple[tuple[str, str], ...]]
+    roots: Callable[[Library, np.ndarray, np.ndarray, bool], Found]
+
+
+_ONE_COORDINATE = _Form(lambda library: RESULT_FIELDS,
+                        lambda library: tuple((name, "rad") for name in ANGLES),
+                        _one_coordinate_roots)
+_SEVERAL_COORDINATES = _Form(
+    multibody.sweep_fields,
+    lambda library: tuple((c["name"], c["unit"]) for c in library.SPEC["coordinates"]),
+    multibody.sweep_roots)
+
+
+def _form(library: Library) -> _Form:
+    """The rows of a sweep of ``library``: the one place here that depends on its number of
+    coordinates."""
+    return _SEVERAL_COORDINATES if library.dof > 1 else _ONE_COORDINATE
+
+
 def parameter_columns(library: Library) -> tuple[str, ...]:
     """The column of each parameter: its name, or ``param_NAME`` where a result column
     has that name (a model's parameter called K, say)."""
-    results = multibody.sweep_fields(library) if library.dof > 1 else RESULT_FIELDS
-    taken = {"set", *(name for name, _ in results)}
+    taken = {"set", *(name for name, _ in _form(library).fields(library))}
     return tuple(f"param_{n}" if n in taken else n for n in library.PARAMETER_NAMES)
 
 
 @lru_cache(maxsize=None)
 def dtype(library: Library) -> np.dtype:
     """The dtype of a sweep's rows: ``set`` (the set's index), one float64 column per
-    parameter (``parameter_columns``), then RESULT_FIELDS."""
-    results = multibody.sweep_fields(library) if library.dof > 1 else RESULT_FIELDS
+    parameter (``parameter_columns``), then RESULT_FIELDS (with several coordinates,
+    ``codegen.runtime.multibody.sweep_fields``)."""
     return np.dtype([("set", np.int64)] + [(c, np.float64) for c in parameter_columns(library)]
-                    + results)
+                    + _form(library).fields(library))
 
 
-def _rows(library: Library, table: np.ndarray, statuses: np.ndarray, found: np.ndarray,
-          sets: np.ndarray, offset: int) -> np.ndarray:
-    """The rows of consecutive sets (``table``, their ``statuses``), the first of them set
-    ``offset`` of the sweep: each set's kept roots by angle (``found``: the C structs of the
-    analysis, ``sets``: the index of each one's set in ``table``), or one rootless row."""
+def _rows(library: Library, table: np.ndarray, offset: int, roots: Found) -> np.ndarray:
+    """The rows of consecutive sets (``table``), the first of them set ``offset`` of the
+    sweep: each set's roots (``roots``: the columns of each set, the index of each root's
+    set in ``table``, the columns of each root), or one rootless row."""
+    per_set_columns, sets, columns = roots
     kept = np.bincount(sets, minlength=len(table))
     per_set = np.maximum(kept, 1)
     which = np.repeat(np.arange(len(table)), per_set)
@@ -181,25 +241,16 @@ def _rows(library: Library, table: np.ndarray, statuses: np.ndarray, found: np.n
     else:
         for name, column in zip(library.PARAMETER_NAMES, parameter_columns(library)):
             rows[column] = table[name][which]
-    rows["status"] = statuses[which]
-    if len(found) == len(rows):   # every set has roots (usually): its rows are its roots
+    for name, values in per_set_columns.items():
+        rows[name] = values[which]
+    if len(sets) == len(rows):   # every set has roots (usually): its rows are its roots
         at: slice | np.ndarray = slice(None)
-    else:                         # and the rest, one rootless row each
-        for name in ("theta", "omega_n", "zeta", "K", "M", "B"):
-            rows[name] = np.nan
-        rows["kind"] = rows["stability"] = rows["damping"] = NO_ROOT
-        rows["certified"] = False
+    else:                        # and the rest, one rootless row each
+        for name in columns:
+            rows[name] = _NO_ROOT_VALUE[rows.dtype[name].kind]
         at = np.repeat(kept > 0, per_set)
-    for name in ("theta", "kind", "K", "M", "B"):
-        rows[name][at] = found[name]
-    rows["certified"][at] = found["certified"] != 0
-    extraneous = found["kind"] == batch.EXTRANEOUS
-    for name in ("stability", "damping"):   # not an equilibrium: null in the file
-        rows[name][at] = np.where(extraneous, NO_ROOT, found[name])
-    omega, zeta = found["omega_n"], found["zeta"]   # (re, im) pairs
-    real = (omega[:, 1] == 0) & (omega[:, 0] > 0)
-    rows["omega_n"][at] = np.where(real, omega[:, 0], np.nan)
-    rows["zeta"][at] = np.where(real, zeta[:, 0], np.nan)
+    for name, values in columns.items():
+        rows[name][at] = values
     return rows
 
 
@@ -208,19 +259,17 @@ def _block_rows(library: Library, table: np.ndarray, offset: int, every_root: bo
     """What a block of C results becomes in a sweep whose chunk ``table`` starts at set
     ``offset``: its sets' rows, made on the thread that analysed them, straight from the C
     structs (no Table between)."""
+    roots = _form(library).roots
+
     def make(c: np.ndarray, statuses: np.ndarray, first: int) -> np.ndarray:
-        found, sets, _ = batch.c_roots(library, c, statuses)
-        if not every_root:
-            keep = found["kind"] == batch.EQUILIBRIUM
-            found, sets = found[keep], sets[keep]
-        return _rows(library, table[first:first + len(c)], statuses, found, sets,
-                     offset + first)
+        return _rows(library, table[first:first + len(c)], offset + first,
+                     roots(library, c, statuses, every_root))
     return make
 
 
 def _analyzed_rows(library: Library, table: np.ndarray, offset: int, method: analysis.Method,
                    every_root: bool, workers: int) -> np.ndarray:
-    """The sweep rows of a chunk of a 1-DOF mechanism's sets (a params_array)."""
+    """The sweep rows of a chunk of sets (a params_array)."""
     blocks, _, _ = batch.analyze_blocks(table, library,
                                         _block_rows(library, table, offset, every_root),
                                         method, workers)
@@ -247,9 +296,6 @@ def analyze_chunk(library: Library, table: np.ndarray, offset: int = 0,
     sweep: what each local step and each Dask task runs (a Library pickles by its origin,
     so a worker process loads it again)."""
     table = _as_table(library, table)
-    if library.dof > 1:   # one route, every equilibrium proven: roots are equilibria
-        return multibody.sweep_rows(library, table, offset, dtype(library),
-                                    parameter_columns(library))
     return _analyzed_rows(library, table, offset, method, roots == "all", workers)
 
 
@@ -280,28 +326,21 @@ def _local(library: Library, parts: list[tuple[int, Any]], method: analysis.Meth
     enough for every thread, each part runs on one thread, ``workers`` parts at once (no
     thread then waits at the end of a part for the other's half of it); else each part is
     split over the ``workers`` threads."""
-    whole_parts = library.dof == 1 and len(parts) >= 2 * workers
+    whole_parts = len(parts) >= 2 * workers
     threads, per_part = (workers, 1) if whole_parts else (1, workers)
 
     def analyze(offset: int, table: np.ndarray) -> np.ndarray:
-        if library.dof > 1:
-            return table
         return _analyzed_rows(library, table, offset, method, roots == "all", per_part)
 
-    def finish(offset: int, result: Future[np.ndarray]) -> np.ndarray:
-        if library.dof > 1:
-            return analyze_chunk(library, result.result(), offset, method, roots, workers)
-        return result.result()
-
     with ThreadPoolExecutor(threads) as ahead:
-        pending: deque[tuple[int, Future[np.ndarray]]] = deque()
+        pending: deque[Future[np.ndarray]] = deque()
         for offset, part in parts:
             table = _as_table(library, part if isinstance(part, np.ndarray) else part.compute())
-            pending.append((offset, ahead.submit(analyze, offset, table)))
+            pending.append(ahead.submit(analyze, offset, table))
             if len(pending) > threads:
-                yield finish(*pending.popleft())
+                yield pending.popleft().result()
         while pending:
-            yield finish(*pending.popleft())
+            yield pending.popleft().result()
 
 
 def _distributed(client: Any, parts: list[tuple[int, Any]], arguments: tuple[Any, ...]
@@ -402,8 +441,7 @@ def stream(library: Library, sets: Any, *, method: analysis.Method = "auto",
     """``sweep``'s table in consecutive pieces (one per chunk, in order, at least one),
     for writing a sweep as it runs: ``write(stream(lib, sets), "out.parquet")``. The
     arguments are ``sweep``'s; they are checked before the first piece is asked for."""
-    if library.dof == 1:
-        analysis.route(library, method)   # an unknown or unavailable route fails now
+    batch.route(library, method)   # an unknown or unavailable route fails now
     if roots not in ROOTS:
         raise ValueError(f"roots must be one of {', '.join(ROOTS)}, not {roots!r}")
     chunk = _positive("chunk", chunk)
@@ -443,7 +481,8 @@ def sweep(library: Library, sets: Any, *, method: analysis.Method = "auto",
     "equilibria" (the declared mode's) or "all" (every classified root). A failed set
     (``status`` != 0: ``library.error(status, params)`` explains it) or one without a root
     kept has one row with NaN theta and ``NO_ROOT`` codes. ``method``: the route (see
-    ``codegen.runtime.analysis``). Locally, chunks of ``chunk`` sets run one after another, each on
+    ``codegen.runtime.analysis``; several coordinates have one, the isolation, and a row
+    per proven equilibrium: ``codegen.runtime.multibody.sweep_fields``). Locally, chunks of ``chunk`` sets run one after another, each on
     ``workers`` threads (default: every CPU); with a ``dask.distributed.Client`` (or a dask
     array and a default client), one task per chunk runs on the cluster, on ``workers``
     threads each (default 1). ``progress(done, total)`` is called as chunks finish (the
@@ -471,6 +510,21 @@ def _pyarrow() -> Any:
     return pyarrow
 
 
+def check_output(path: str | os.PathLike[str]) -> Any:
+    """Raise ValueError unless a table can be written to ``path``: it ends in .csv or
+    .parquet, its folder exists, and for Parquet pyarrow is installed. Returns pyarrow, or
+    None where it is not installed."""
+    path = Path(path)
+    if path.suffix.lower() not in FORMATS:
+        raise ValueError(f"{path}: the output must end in .csv or .parquet")
+    arrow = _pyarrow()
+    if arrow is None and path.suffix.lower() == ".parquet":
+        raise ValueError(f"{path}: writing Parquet needs pyarrow: {EXTRA} (or write .csv)")
+    if not path.parent.is_dir():
+        raise ValueError(f"{path}: no folder {path.parent}")
+    return arrow
+
+
 class Writer:
     """Rows written to a .csv or .parquet file piece by piece (``write(rows)``), into a
     hidden partial file that replaces ``path`` only when the writer closes without an
@@ -487,14 +541,7 @@ class Writer:
         self.labels = labels
         self.angles = tuple(angles)
         self.format = self.path.suffix.lower()
-        if self.format not in FORMATS:
-            raise ValueError(f"{self.path}: the output must end in .csv or .parquet")
-        self.arrow = _pyarrow()
-        if self.arrow is None and self.format == ".parquet":
-            raise ValueError(f"{self.path}: writing Parquet needs pyarrow: {EXTRA} (or write "
-                             ".csv)")
-        if not self.path.parent.is_dir():
-            raise ValueError(f"{self.path}: no folder {self.path.parent}")
+        self.arrow = check_output(self.path)
         files.remove_orphans(self.path)
         self.partial = files.temporary(self.path, ".partial")  # this writer's alone
         self.rows = 0
@@ -567,8 +614,8 @@ class Writer:
 def angle_columns(library: Library) -> tuple[str, ...]:
     """The columns of a sweep of ``library`` in radians: theta (each angle coordinate's) and
     each angle parameter's."""
-    coordinates = (tuple(c["name"] for c in library.SPEC["coordinates"]
-                         if c["unit"] == "rad") if library.dof > 1 else ANGLES)
+    coordinates = tuple(name for name, unit in _form(library).coordinates(library)
+                        if unit == "rad")
     return coordinates + tuple(column for name, column in zip(library.PARAMETER_NAMES,
                                                          parameter_columns(library))
                           if library.UNITS.get(name) == "rad")
