@@ -13,13 +13,15 @@ examples:
   {prog} branches --vary F --from -200 --to 300 --out f.csv --plot docs/branches_doughty_F.png
   {prog} branches --mechanism torsion_pendulum --vary k_t --from 0 --to 50 --out k.json
   {prog} branches --mechanism slider_crank --vary T --from -20 --to 20 --points 4001 --set b=0
+  {prog} branches --mechanism double_pendulum --vary k_1 --from 5 --to 40 --set F_x=0.5
 
 The parameter runs over --points evenly spaced values from --from to --to (both included);
 the others are the example's, or --set's. The equilibria of neighbouring values are joined
 into branches, and every fold (two equilibria meet and vanish), pitchfork, branch end and
 change of stability is located by bisection on the parameter. --out writes a row per point
 of every branch (.csv, .json or .parquet), --plot the figure (.png or .svg; pip install
-'mechvib[plot]'). Angles in degrees, the parameter in its unit, the rest SI."""
+'mechvib[plot]'). Angles in degrees, the parameter in its unit, the rest SI. With several
+coordinates, each is shown by name, omega_n and zeta for every mode, and det K for K_EQ."""
 
 
 def run(args) -> int:

@@ -10,7 +10,7 @@ import math
 import textwrap
 from dataclasses import dataclass
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 from . import common
 from ..runtime.analysis import KINDS, STABILITY, Analysis, Equilibrium
@@ -164,9 +164,28 @@ def _stabilities(codes: Sequence[int]) -> str:
     return " -> ".join(seen)
 
 
+def _positions(result: Branches) -> tuple[str, Callable[[Any], str], str]:
+    """The coordinates' heading, a position's text (angles in degrees) and what K is: for
+    one coordinate theta_E and K_EQ; for n, each coordinate by name and det K."""
+    library = result.library
+    if library.dof == 1:
+        return "theta_E", lambda t: f"{math.degrees(t) + 0.0:.4f}", "K_EQ"
+    coordinates = library.SPEC["coordinates"]
+    units = ["deg" if c["unit"] == "rad" else c["unit"] for c in coordinates]
+    names = [c["name"] for c in coordinates]
+    heading = (f"{', '.join(names)} [{units[0]}]" if len(set(units)) == 1 else
+               ", ".join(f"{n} [{u}]" for n, u in zip(names, units)))
+
+    def text(theta: Any) -> str:   # rounded first: never a negative zero
+        return ", ".join(f"{round(math.degrees(v) if u == 'deg' else float(v), 4) + 0.0:.4f}"
+                         for v, u in zip(theta, units))
+    return heading, text, "det K"
+
+
 def branch_summary(result: Branches) -> str:
     """The branches of a ``codegen.runtime.branches.Branches`` for a terminal: what was varied,
-    a line per branch (where it runs and its stability), a line per event."""
+    a line per branch (where it runs and its stability), a line per event. With n
+    coordinates a position is each coordinate's value, and det K stands for K_EQ."""
     name, unit = result.parameter, result.unit
     # an angle parameter shown in degrees, as --from, --to and --set read it
     shown = math.degrees if unit == "rad" else (lambda value: value)
@@ -180,26 +199,40 @@ def branch_summary(result: Branches) -> str:
         f"Equilibria of {result.library.TITLE} as {name} runs from {shown(result.values[0]):g} "
         f"to {shown(result.values[-1]):g} {unit} over {len(result.values):,} values (the other "
         f"parameters: {others}; {result.method} route): {', '.join(counted)}."), ""]
-    head = (f"{'branch':>6} {name + ' from':>14} {name + ' to':>14} {'theta_E from [deg]':>19} "
-            f"{'to [deg]':>10}  stability")
+    heading, position, K = _positions(result)
+    one = result.library.dof == 1
+    ends = [[position(t) for t in result.branch(number)["theta"][[0, -1]]]
+            for number in range(result.count)]
+    if one:
+        start, stop = f"{heading} from [deg]", "to [deg]"
+        widths = (19, 10)
+    else:
+        start, stop = f"{heading} from", "to"
+        widths = tuple(1 + max([len(h), *(len(e[k]) for e in ends)]) for k, h in
+                       enumerate((start, stop)))
+    head = (f"{'branch':>6} {name + ' from':>14} {name + ' to':>14} {start:>{widths[0]}} "
+            f"{stop:>{widths[1]}}  stability")
     lines += [head, "-" * len(head)]
     for number in range(result.count):
         rows = result.branch(number)
-        ends = [math.degrees(t) + 0.0 for t in rows["theta"][[0, -1]]]
         lines.append(f"{number:>6} {shown(rows['value'][0]):>14.8g} "
                      f"{shown(rows['value'][-1]):>14.8g} "
-                     f"{ends[0]:>19.4f} {ends[1]:>10.4f}  {_stabilities(rows['stability'])}")
+                     f"{ends[number][0]:>{widths[0]}} {ends[number][1]:>{widths[1]}}  "
+                     f"{_stabilities(rows['stability'])}")
     if result.events:
-        head = (f"{'event':<16} {name + ' [' + unit + ']':>18} {'theta_E [deg]':>13} "
-                f"{'K_EQ':>12}  branches")
+        where = [position(e.theta) for e in result.events]
+        column = f"{heading} [deg]" if one else heading
+        width = max([13 if one else 1 + len(column), *(len(w) for w in where)])
+        head = (f"{'event':<16} {name + ' [' + unit + ']':>18} {column:>{width}} "
+                f"{K:>12}  branches")
         lines += ["", head, "-" * len(head)]
-        for e in result.events:
-            where = (f" ({' -> '.join(e.stability)})" if e.kind == "stability change" else
-                     f" (exist {e.side})")
-            lines.append(f"{e.kind:<16} {shown(e.value):>18.10g} {e.theta_deg + 0.0:>13.4f} "
-                         f"{_number(e.K):>12}  {', '.join(map(str, e.branches))}{where}")
+        for e, at in zip(result.events, where):
+            side = (f" ({' -> '.join(e.stability)})" if e.kind == "stability change" else
+                    f" (exist {e.side})")
+            lines.append(f"{e.kind:<16} {shown(e.value):>18.10g} {at:>{width}} "
+                         f"{_number(e.K):>12}  {', '.join(map(str, e.branches))}{side}")
     notes = [f"A fold is where two equilibria meet and vanish, a pitchfork where two meet on a "
-             f"third (K_EQ -> 0 at both); every event is located by bisection to "
+             f"third ({K} -> 0 at both); every event is located by bisection to "
              f"{shown(result.tolerance):.1g} {unit}." if result.events else
              "No branch ends or changes stability in this range."]
     if len(result.failed):
@@ -207,5 +240,7 @@ def branch_summary(result: Branches) -> str:
         why = sorted({names.get(int(s), str(s)) for s in result.statuses if s != 0})
         notes.append(f"{len(result.failed):,} values failed ({', '.join(why)}); the branches "
                      "are joined across them.")
-    notes.append("Angles in degrees; K_EQ in SI units of the coordinate.")
+    notes.append("Angles in degrees; K_EQ in SI units of the coordinate." if one else
+                 "Angles in degrees; det K, the stiffness matrix's determinant, in SI units "
+                 "of the coordinates.")
     return "\n".join(lines + [""] + [paragraph(n) for n in notes])

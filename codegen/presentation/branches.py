@@ -1,6 +1,7 @@
 """The figure of a ``Branches`` (``codegen.runtime.branches``): theta_E against the
 parameter, stable branches solid and unstable dashed, the events marked; omega_n and zeta of
-the stable branches below it.
+the stable branches below it. With n coordinates, a panel for each coordinate, and omega_n
+and zeta of every mode (the lowest mode's line the thickest).
 
 It reads the result as data (its points, events and library's SPEC) and draws it; matplotlib
 comes through ``figures``. Angles in degrees on the figure; where the coordinate is periodic a
@@ -28,21 +29,34 @@ MARKERS = {"fold": ("o", "fold"), "pitchfork": ("s", "pitchfork"), "end": ("x", 
 VIBRATING = (STABILITY.index("stable"), STABILITY.index("marginal"))
 
 
-def _centre(result: Branches) -> float:
-    """The middle of the coordinate's range [rad] (a number or a parameter's name)."""
-    centre = result.library.SPEC["range_centre"]
+def _coordinates(result: Branches) -> list[tuple[str, str, bool, Any]]:
+    """Each coordinate's axis label, unit, periodicity and range centre (a number or a
+    parameter's name)."""
+    spec = result.library.SPEC
+    if result.library.dof == 1:
+        return [(r"$\theta_E$", "rad", bool(spec["periodic"]), spec["range_centre"])]
+    return [(c["name"], c["unit"], bool(p), centre) for c, p, centre in
+            zip(spec["coordinates"], spec["periodic"], spec["range_centre"])]
+
+
+def _centre(result: Branches, centre: Any) -> float:
+    """The middle of a coordinate's range [rad] (a number or a parameter's name)."""
     values = vars(result.base)
     return float(values[centre]) if centre in values else float(centre)
 
 
 def _angles(result: Branches, rows: np.ndarray) -> np.ndarray:
-    """A branch's angles [deg]: unwrapped where periodic, in the turn holding most of it."""
-    theta = rows["theta"]
-    if result.library.SPEC["periodic"] and len(theta):
-        theta = np.unwrap(theta)
-        centre = _centre(result)
-        theta = theta - 2 * np.pi * np.round((np.median(theta) - centre) / (2 * np.pi))
-    return np.degrees(theta)
+    """A branch's coordinates, a column each: angles [deg] unwrapped where periodic, in the
+    turn holding most of it; lengths as they are."""
+    theta = rows["theta"].reshape(len(rows), -1).copy()
+    for k, (_, unit, periodic, centre) in enumerate(_coordinates(result)):
+        if periodic and len(theta):
+            column = np.unwrap(theta[:, k])
+            middle = _centre(result, centre)
+            theta[:, k] = column - 2 * np.pi * np.round((np.median(column) - middle) / (2 * np.pi))
+        if unit == "rad":
+            theta[:, k] = np.degrees(theta[:, k])
+    return theta
 
 
 def _runs(codes: np.ndarray) -> list[slice]:
@@ -56,21 +70,26 @@ def _runs(codes: np.ndarray) -> list[slice]:
 
 def _draw_branch(axes: Any, result: Branches, number: int, colour: str) -> None:
     rows = result.branch(number)
-    value, angle = rows["value"], _angles(result, rows)
-    top, frequency, damping = axes
-    for run in _runs(rows["stability"]):
-        style = STYLES[STABILITY[rows["stability"][run.start]]]
-        top.plot(value[run], angle[run], style, color=colour, linewidth=1.6)
-    vibrating = np.isin(rows["stability"], VIBRATING) & np.isfinite(rows["omega_n"])
-    shown = np.where(vibrating, 1.0, np.nan)   # gaps where the branch does not vibrate
-    frequency.plot(value, rows["omega_n"] * shown, "-", color=colour, linewidth=1.6)
-    damping.plot(value, rows["zeta"] * shown, "-", color=colour, linewidth=1.6)
-    for kind in EVENTS:
-        at = rows["point"] == POINTS.index(kind)
-        if np.any(at):
-            marker, _ = MARKERS[kind]
-            top.plot(value[at], angle[at], marker, color="black", markersize=6,
-                     markerfacecolor="none", zorder=3, clip_on=False)
+    value, angles = rows["value"], _angles(result, rows)
+    *tops, frequency, damping = axes
+    for top, angle in zip(tops, angles.T):
+        for run in _runs(rows["stability"]):
+            style = STYLES[STABILITY[rows["stability"][run.start]]]
+            top.plot(value[run], angle[run], style, color=colour, linewidth=1.6)
+        for kind in EVENTS:
+            at = rows["point"] == POINTS.index(kind)
+            if np.any(at):
+                marker, _ = MARKERS[kind]
+                top.plot(value[at], angle[at], marker, color="black", markersize=6,
+                         markerfacecolor="none", zorder=3, clip_on=False)
+    omega = rows["omega_n"].reshape(len(rows), -1)
+    zeta = rows["zeta"].reshape(len(rows), -1)
+    for j in range(omega.shape[1]):   # each mode; the lowest the thickest
+        vibrating = np.isin(rows["stability"], VIBRATING) & np.isfinite(omega[:, j])
+        shown = np.where(vibrating, 1.0, np.nan)   # gaps where the branch does not vibrate
+        width = 1.6 if j == 0 else 1.0
+        frequency.plot(value, omega[:, j] * shown, "-", color=colour, linewidth=width)
+        damping.plot(value, zeta[:, j] * shown, "-", color=colour, linewidth=width)
 
 
 def _legend(top: Any, result: Branches) -> None:
@@ -88,20 +107,25 @@ def _legend(top: Any, result: Branches) -> None:
 
 
 def figure(result: Branches) -> Any:
-    """theta_E [deg] against the parameter, then omega_n [rad/s] and zeta of the branches
-    where they vibrate (K > 0); a matplotlib Figure. Raises figures.PlotUnavailable without
-    matplotlib."""
+    """theta_E [deg] against the parameter (each coordinate, for n), then omega_n [rad/s]
+    and zeta of the branches where they vibrate (K > 0; each mode, for n); a matplotlib
+    Figure. Raises figures.PlotUnavailable without matplotlib."""
     plt = figures.pyplot()
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 7.5),
-                             gridspec_kw={"height_ratios": [2.2, 1, 1]})
+    coordinates = _coordinates(result)
+    n = len(coordinates)
+    heights = [2.2] if n == 1 else [1.5] * n
+    fig, axes = plt.subplots(n + 2, 1, sharex=True, figsize=(7.5, 7.5 + 1.6 * (n - 1)),
+                             gridspec_kw={"height_ratios": [*heights, 1, 1]})
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for number in range(result.count):
         _draw_branch(axes, result, number, colours[number % len(colours)])
-    top, frequency, damping = axes
+    *tops, frequency, damping = axes
+    top = tops[0]
     label = f"{result.parameter} [{result.unit}]"
     top.set_title(textwrap.fill(f"Equilibria of {result.library.TITLE} against "
                                 f"{result.parameter}", 70), fontsize=11)
-    top.set_ylabel(r"$\theta_E$ [deg]")
+    for axis, (name, unit, _, _) in zip(tops, coordinates):
+        axis.set_ylabel(f"{name} [{'deg' if unit == 'rad' else unit}]")
     frequency.set_ylabel(r"$\omega_n$ [rad/s]")
     damping.set_ylabel(r"$\zeta$ [-]")
     zeta = result.points["zeta"]
@@ -109,8 +133,9 @@ def figure(result: Branches) -> Any:
         damping.set_yscale("log")   # zeta -> infinity as K -> 0 at a fold
     damping.set_xlabel(label)
     marginal = np.any(result.points["stability"] == STABILITY.index("marginal"))
-    frequency.set_title(f"stable {'and marginal ' * bool(marginal)}branches", fontsize=9,
-                        loc="left")
+    modes = " (every mode)" if n > 1 else ""
+    frequency.set_title(f"stable {'and marginal ' * bool(marginal)}branches{modes}",
+                        fontsize=9, loc="left")
     for ax in axes:
         ax.grid(True, alpha=0.3)
     damping.set_xlim(result.values[0], result.values[-1])

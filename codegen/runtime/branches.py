@@ -22,6 +22,14 @@ sample and per refined end of a bracket, with its branch), and the events. Angle
 radians, the parameter in its own unit, everything else SI. ``Branches.write`` makes a CSV,
 Parquet or JSON file (angles in degrees there); ``codegen.presentation.branches`` draws
 the figure.
+
+A mechanism with n coordinates goes the same way, its equilibria points of the box of its
+ranges (``codegen.runtime.multibody``): a point's ``theta`` holds its n coordinates, its
+``omega_n`` and ``zeta`` each mode's, and ``K`` is det K (-> 0 at a fold); equilibria are
+joined by the least movement in coordinate space, and a fold is polished where G = 0 and
+det K = 0 together (``folds.polish_multibody``). The code differs for n in three places
+only: the rows of a sample (``_equilibria``), the polishing of a fold, and the columns of
+a file (``_coordinates``).
 """
 from __future__ import annotations
 
@@ -58,7 +66,10 @@ RELATIVE_TOLERANCE = 1e-12
 
 #: One point of a branch. value: the varied parameter [its unit]; theta [rad]; stability
 #: and damping index analysis.STABILITY and DAMPING, point indexes POINTS; omega_n and zeta
-#: real, NaN where K <= 0 (no real natural frequency) or M = 0; K, M, B SI.
+#: real, NaN where K <= 0 (no real natural frequency) or M = 0; K, M, B SI. With n
+#: coordinates a point has branch, point, value, theta (n: the coordinates [rad or m]),
+#: stability (an undecided one marginal), omega_n and zeta (n: each mode's, NaN where
+#: omega^2 <= 0) and K (det K).
 POINT_DTYPE = np.dtype([
     ("branch", np.int32), ("point", np.int8), ("value", np.float64), ("theta", np.float64),
     ("certified", np.bool_), ("stability", np.int8), ("damping", np.int8),
@@ -73,27 +84,31 @@ class Event:
     polished where G = G' = 0). ``theta`` [rad] (``theta_deg`` in degrees): the angle where
     the pair meets (a fold: the double root; a pitchfork: the middle of the pair just
     before it merges), where the branch ends, or where it changes stability; ``K`` [N m]
-    (per rad) there: -> 0 at a fold or a pitchfork."""
+    (per rad) there: -> 0 at a fold or a pitchfork. With n coordinates ``theta`` holds each
+    coordinate [rad or m] and ``K`` is det K."""
 
     kind: str                      # one of EVENTS
     value: float                   # the parameter's value there [its unit], in the bracket
     bracket: tuple[float, float]   # the event lies between these values [its unit]
-    theta: float                   # [rad]
-    K: float                       # K_EQ [N m]
+    theta: float | tuple[float, ...]   # [rad]; n coordinates: each one's
+    K: float                       # K_EQ [N m]; n coordinates: det K
     branches: tuple[int, ...]      # the branches ending there (fold: the pair), or changing
     side: str = ""                 # "below" or "above": where the ending branches exist
     stability: tuple[str, str] = ("", "")  # a stability change: (below, above) the value
 
     @property
-    def theta_deg(self) -> float:
-        """theta [deg]."""
+    def theta_deg(self) -> float | tuple[float, ...]:
+        """theta [deg] (each coordinate's in degrees, for n coordinates)."""
+        if isinstance(self.theta, tuple):
+            return tuple(math.degrees(t) for t in self.theta)
         return math.degrees(self.theta)
 
 
 @dataclass(frozen=True)
 class Branches:
     """The equilibria of the declared mode as ``parameter`` varies over ``values``, joined
-    into branches. ``points``: POINT_DTYPE rows, by branch then value (angles in radians);
+    into branches. ``points``: POINT_DTYPE rows (with n coordinates, vectors: see its
+    note), by branch then value (angles in radians);
     ``events``: by value; ``statuses``: the C status of each sample (0 = OK; a failed
     sample has no points and the branches are joined across it)."""
 
@@ -134,20 +149,28 @@ class Branches:
     def table(self) -> np.ndarray:
         """The points as a file writes them: the parameter's column under its name (or
         param_NAME where that is another column's; an angle in degrees as NAME_deg, as every
-        angle of a file), ``theta_deg`` in degrees."""
+        angle of a file), ``theta_deg`` in degrees. With n coordinates: each coordinate
+        under its name (an angle as NAME_deg, in degrees), omega_n_j and zeta_j of each
+        mode j, K det K."""
+        columns: dict[str, np.ndarray] = {}
+        for n in self.points.dtype.names:
+            values = self.points[n]
+            if n == "theta":
+                columns.update(_coordinates(self.library, values))
+            elif values.ndim == 2:   # each mode's
+                columns.update({f"{n}_{j + 1}": values[:, j] for j in range(values.shape[1])})
+            else:
+                columns[n] = values
         angle = self.library.UNITS.get(self.parameter) == "rad"
         column = f"{self.parameter}_deg" if angle else self.parameter
-        if column in POINT_DTYPE.names + ("theta_deg",):
+        if column in (*self.points.dtype.names, *columns):
             column = f"param_{column}"
-        names = [(column if n == "value" else "theta_deg" if n == "theta" else n)
-                 for n in POINT_DTYPE.names]
-        out = np.empty(len(self.points), np.dtype(
-            [(name, POINT_DTYPE[n]) for name, n in zip(names, POINT_DTYPE.names)]))
-        for name, n in zip(names, POINT_DTYPE.names):
-            out[name] = self.points[n]
-        out["theta_deg"] = np.degrees(self.points["theta"])
-        if angle:
-            out[column] = np.degrees(self.points["value"])
+        value = self.points["value"]
+        columns = {(column if n == "value" else n): (np.degrees(value) if angle and n == "value"
+                                                     else v) for n, v in columns.items()}
+        out = np.empty(len(self.points), np.dtype([(n, v.dtype) for n, v in columns.items()]))
+        for name, values in columns.items():
+            out[name] = values
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -172,7 +195,9 @@ class Branches:
                        for v, s in zip(self.values, self.statuses) if s != 0],
             "branches": ranges,
             "events": [{"kind": e.kind, "value": e.value, "bracket": list(e.bracket),
-                        "theta_deg": e.theta_deg, "K": _finite(e.K),
+                        **{k: float(v[0]) for k, v in _coordinates(
+                            self.library, np.array([e.theta])).items()},
+                        "K": _finite(e.K),
                         "branches": list(e.branches), "side": e.side or None,
                         "stability": list(e.stability) if e.stability[0] else None}
                        for e in self.events],
@@ -199,6 +224,17 @@ def check_table_path(path: str | os.PathLike[str]) -> Path:
     if not path.parent.is_dir():
         raise ValueError(f"{path}: no folder {path.parent}")
     return path
+
+
+def _coordinates(library: Library, theta: np.ndarray) -> dict[str, np.ndarray]:
+    """The columns of a file holding the coordinates of points (``theta``: one value a
+    point, or n), angles in degrees: theta_deg for one coordinate; for n, each under its
+    name (an angle as NAME_deg)."""
+    if library.dof == 1:
+        return {"theta_deg": np.degrees(theta)}
+    return {(f"{c['name']}_deg" if c["unit"] == "rad" else c["name"]):
+            (np.degrees(theta[:, k]) if c["unit"] == "rad" else theta[:, k])
+            for k, c in enumerate(library.SPEC["coordinates"])}
 
 
 def _finite(x: float) -> float | None:
@@ -239,6 +275,34 @@ class _Samples:
     count: np.ndarray
 
 
+def _equilibria(library: Library, rows: np.ndarray) -> np.ndarray:
+    """The sweep rows (``sweep.sweep``, ``sweep.analyze_chunk``) that are equilibria, as the
+    branches take them: for one coordinate, the rows themselves; for n, rows of their set,
+    status, coordinates (one vector theta), stability, each mode's omega_n and zeta (one
+    vector each) and K = det K (the library's stiffness matrix there)."""
+    if library.dof == 1:
+        return rows[rows["kind"] != sweep.NO_ROOT]
+    n = library.dof
+    theta = np.stack([rows[c["name"]] for c in library.SPEC["coordinates"]], axis=-1)
+    found = np.all(np.isfinite(theta), axis=1) & (rows["status"] == 0)
+    rows, theta = rows[found], theta[found]
+    out = np.empty(len(rows), np.dtype([
+        ("set", np.int64), ("status", np.int32), ("theta", np.float64, (n,)),
+        ("stability", np.int8), ("omega_n", np.float64, (n,)), ("zeta", np.float64, (n,)),
+        ("K", np.float64)]))
+    out["set"], out["status"], out["theta"] = rows["set"], rows["status"], theta
+    out["stability"] = rows["stability"]
+    for name in ("omega_n", "zeta"):
+        out[name] = np.stack([rows[f"{name}_{j + 1}"] for j in range(n)], axis=-1)
+    if len(rows):
+        params = np.empty(len(rows), library.PARAMS_DTYPE)
+        for name, column in zip(library.PARAMETER_NAMES, sweep.parameter_columns(library)):
+            params[name] = rows[column]
+        K = np.asarray(library.stiffness_matrix.batch(params, theta), dtype=np.float64)
+        out["K"] = np.linalg.det(K.reshape(len(rows), n, n))
+    return out
+
+
 def _sample(library: Library, table: np.ndarray, values: np.ndarray,
             method: analysis.Method, workers: int | None,
             progress: sweep.Progress | None) -> tuple[_Samples, np.ndarray]:
@@ -249,7 +313,8 @@ def _sample(library: Library, table: np.ndarray, values: np.ndarray,
     statuses = np.zeros(len(table), dtype=np.int32)
     statuses[rows["set"]] = rows["status"]
     ok = statuses == 0
-    found = rows[(rows["kind"] != sweep.NO_ROOT) & ok[rows["set"]]]
+    found = _equilibria(library, rows)
+    found = found[ok[found["set"]]]
     count = np.bincount(found["set"], minlength=len(table))[ok]
     first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
     return _Samples(found, values[found["set"]], values[ok], first, count), statuses
@@ -264,13 +329,16 @@ class _Analyser:
         self.library, self.base, self.parameter, self.method = library, base, parameter, method
 
     def __call__(self, values: list[float]) -> list[np.ndarray | None]:
-        """Per value, its equilibria (sweep rows, by angle), or None where it failed."""
+        """Per value, its equilibria (``_equilibria`` rows, by angle), or None where it
+        failed."""
         table = np.repeat(self.base, len(values))
         table[self.parameter] = values
         rows = sweep.analyze_chunk(self.library, table, 0, self.method, "equilibria")
-        pieces = np.split(rows, np.searchsorted(rows["set"], np.arange(1, len(values))))
-        return [None if piece["status"][0] != 0 else piece[piece["kind"] != sweep.NO_ROOT]
-                for piece in pieces]
+        statuses = np.zeros(len(values), dtype=np.int32)
+        statuses[rows["set"]] = rows["status"]
+        found = _equilibria(self.library, rows)
+        pieces = np.split(found, np.searchsorted(found["set"], np.arange(1, len(values))))
+        return [None if status != 0 else piece for status, piece in zip(statuses, pieces)]
 
 
 # ------------------------------------------------------------------------ joining
@@ -284,7 +352,7 @@ class _Change:
     ending: np.ndarray
 
 
-def _link(samples: _Samples, periodic: bool) -> tuple[np.ndarray, list[_Change]]:
+def _link(samples: _Samples, periodic: joining.Periodic) -> tuple[np.ndarray, list[_Change]]:
     """(previous: for each row the row it continues, or -1; the count changes)."""
     theta, first, count = samples.rows["theta"], samples.first, samples.count
     previous = np.full(len(theta), -1, dtype=np.int64)
@@ -295,8 +363,8 @@ def _link(samples: _Samples, periodic: bool) -> tuple[np.ndarray, list[_Change]]
         j = np.arange(n)
         before = first[steps][:, None] + j
         after = first[steps + 1][:, None] + j
-        shift = joining.rotations(theta[before], theta[after], periodic)
-        previous[after] = first[steps][:, None] + (j + shift[:, None]) % n
+        index = joining.follow(theta[before], theta[after], periodic)
+        previous[after] = first[steps][:, None] + index
     changes = []
     for k in np.flatnonzero(left != right):
         a = slice(first[k], first[k] + count[k])
@@ -351,7 +419,7 @@ class _StabilityBracket:
     hi: float
     low: np.void
     high: np.void
-    periodic: bool
+    periodic: joining.Periodic
     lost: bool = False   # a midpoint without equilibria: stop there
 
     def settled(self, tolerance: float) -> bool:
@@ -385,41 +453,57 @@ def _refine(brackets: list[Any], analyse: _Analyser, tolerance: float) -> None:
 
 def _points(rows: np.ndarray, value: np.ndarray | float, branch: np.ndarray | int,
             point: str) -> np.ndarray:
-    """POINT_DTYPE rows from sweep rows."""
-    out = np.empty(len(rows), POINT_DTYPE)
+    """Points (POINT_DTYPE for one coordinate) from ``_equilibria`` rows."""
+    copied = [name for name in _COPIED if name in rows.dtype.names]
+    out = np.empty(len(rows), np.dtype([(name, POINT_DTYPE[name]) for name in
+                                        ("branch", "point", "value")]
+                                       + [(name, rows.dtype[name]) for name in copied]))
     out["branch"], out["point"], out["value"] = branch, POINTS.index(point), value
-    for name in _COPIED:
+    for name in copied:
         out[name] = rows[name]
     return out
 
 
-def _pairs(ends: list[int], theta_at: Callable[[int], float],
-           gap_before: Callable[[int, int], float], periodic: bool) -> list[tuple[int, int]]:
-    """Neighbouring ending equilibria (by angle; around the circle where periodic) that
-    meet: their gap at the refined end is tiny, or small beside their gap at the sample."""
-    def meet(a: int, b: int) -> bool:
-        gap = float(joining.distance(theta_at(a), theta_at(b), periodic))
-        return gap <= MEETING or gap <= MERGE * gap_before(a, b)
+def _position(x: Any) -> float | tuple[float, ...]:
+    """An equilibrium's position as an Event holds it: a float, or n floats."""
+    x = np.asarray(x, dtype=np.float64)
+    return float(x) if x.ndim == 0 else tuple(float(v) for v in x)
 
+
+def _pairs(ends: list[int], theta_at: Callable[[int], Any],
+           gap_before: Callable[[int, int], float], periodic: joining.Periodic
+           ) -> list[tuple[int, int]]:
+    """Ending equilibria that meet, in pairs, the closest first: their gap at the refined
+    end is tiny, or small beside their gap at the sample. Each pair in the order of
+    ``ends`` (by angle; on a circle, the one the other lies ahead of the short way)."""
+    def gap(a: int, b: int) -> float:
+        return float(joining.distance(theta_at(a), theta_at(b), periodic))
+
+    meeting = []
+    for i, a in enumerate(ends):
+        for k in range(i + 1, len(ends)):
+            apart = gap(a, ends[k])
+            if apart <= MEETING or apart <= MERGE * gap_before(a, ends[k]):
+                meeting.append((apart, i, k))
+    meeting.sort()
     pairs: list[tuple[int, int]] = []
-    free = list(ends)
-    i = 0
-    while i + 1 < len(free):
-        if meet(free[i], free[i + 1]):
-            pairs.append((free.pop(i), free.pop(i)))
-        else:
-            i += 1
-    if periodic and len(free) >= 2 and meet(free[-1], free[0]):
-        pairs.append((free[-1], free[0]))
+    taken: set[int] = set()
+    for _, i, k in meeting:
+        if i in taken or k in taken:
+            continue
+        taken |= {i, k}
+        a, b = ends[i], ends[k]
+        wraps = periodic is True and float(theta_at(b)) - float(theta_at(a)) > math.pi
+        pairs.append((b, a) if wraps else (a, b))
     return pairs
 
 
-#: Polishes a fold: (start, the pair's angles, direction, first step, reach) -> a Fold.
-Polisher = Callable[[float, tuple[float, float], int, float, float], "folds.Fold | None"]
+#: Polishes a fold: (start, the pair's positions, direction, first step, reach) -> a Fold.
+Polisher = Callable[[float, tuple[Any, Any], int, float, float], "folds.Fold | None"]
 
 
 def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
-                   branch: np.ndarray, periodic: bool, polish: Polisher
+                   branch: np.ndarray, periodic: joining.Periodic, polish: Polisher
                    ) -> tuple[list[Event], list[np.ndarray]]:
     """The folds, pitchforks and ends of one change of count, and their refined points: the
     points where the pairs last exist, and each fold polished where G and G' vanish."""
@@ -435,21 +519,21 @@ def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
     def gap_before(a: int, b: int) -> float:
         return float(joining.distance(grid["theta"][a], grid["theta"][b], periodic))
 
-    pairs = _pairs(ends, lambda i: float(kept["theta"][i]), gap_before, periodic)
+    pairs = _pairs(ends, lambda i: kept["theta"][i], gap_before, periodic)
     paired = {i for pair in pairs for i in pair}
     for a, b in pairs:
-        inside = any(joining.between(float(kept["theta"][i]), float(kept["theta"][a]),
-                                     float(kept["theta"][b]), periodic)
+        ta, tb = kept["theta"][a], kept["theta"][b]
+        inside = any(joining.between(kept["theta"][i], ta, tb, periodic)
                      for i in range(len(kept)) if i not in (a, b))
         kind = "pitchfork" if inside else "fold"
-        ta, tb = float(kept["theta"][a]), float(kept["theta"][b])
         numbers = tuple(sorted(int(branch[side + i]) for i in (a, b)))
         fold = None if inside else polish(
             bracket.kept_value, (ta, ta + 2 * (joining.mean_angle(ta, tb, periodic) - ta)),
             1 if bracket.keep_low else -1, span[1] - span[0],
             float(samples.at[change.step + 1] - samples.at[change.step]))
         if fold is None:   # a pitchfork, or polishing failed: the bisection's bracket
-            events.append(Event(kind, sum(span) / 2, span, joining.mean_angle(ta, tb, periodic),
+            events.append(Event(kind, sum(span) / 2, span,
+                                _position(joining.mean_angle(ta, tb, periodic)),
                                 float(kept["K"][a] + kept["K"][b]) / 2, numbers, where))
         else:
             events.append(Event(kind, fold.value, fold.bracket, fold.theta, fold.K, numbers,
@@ -457,7 +541,7 @@ def _change_events(change: _Change, bracket: _CountBracket, samples: _Samples,
         points.append(_points(kept[[a, b]], bracket.kept_value,
                               branch[side + np.array([a, b])], kind))
     for i in (i for i in ends if i not in paired):
-        events.append(Event("end", sum(span) / 2, span, float(kept["theta"][i]),
+        events.append(Event("end", sum(span) / 2, span, _position(kept["theta"][i]),
                             float(kept["K"][i]), (int(branch[side + i]),), where))
         points.append(_points(kept[[i]], bracket.kept_value, branch[side + i], "end"))
     return events, points
@@ -467,8 +551,7 @@ def _stability_event(bracket: _StabilityBracket, number: int) -> tuple[Event, np
     """A stability change of branch ``number`` and the points on either side of it."""
     low, high = bracket.low, bracket.high
     event = Event("stability change", (bracket.lo + bracket.hi) / 2, (bracket.lo, bracket.hi),
-                  joining.mean_angle(float(low["theta"]), float(high["theta"]),
-                                     bracket.periodic),
+                  _position(joining.mean_angle(low["theta"], high["theta"], bracket.periodic)),
                   float(low["K"] + high["K"]) / 2, (number,),
                   stability=(analysis.STABILITY[low["stability"]],
                              analysis.STABILITY[high["stability"]]))
@@ -526,7 +609,7 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     samples, statuses = _sample(library, table, values, taken, workers, progress)
     if not np.any(statuses == 0):
         library.check(int(statuses[0]), dict(zip(library.PARAMETER_NAMES, table[0].tolist())))
-    periodic = bool(library.SPEC["periodic"])
+    periodic = joining.periodicity(library.SPEC["periodic"])
     previous, changes = _link(samples, periodic)
     branch = joining.labels(previous)
     tolerance = _tolerance(tolerance, start, stop, points)
@@ -540,10 +623,12 @@ def branches(library: Library, parameter: str, start: float, stop: float,
     events, extra = [], [_points(rows, samples.value, branch, "sample")]
     base_values = dict(zip(library.PARAMETER_NAMES, table[0].tolist()))
 
-    def polish(start: float, pair: tuple[float, float], direction: int, first: float,
+    polisher = folds.polish if library.dof == 1 else folds.polish_multibody
+
+    def polish(start: float, pair: tuple[Any, Any], direction: int, first: float,
                reach: float) -> folds.Fold | None:
-        return folds.polish(library, base_values, parameter, start, pair, direction, first,
-                            reach, tolerance)
+        return polisher(library, base_values, parameter, start, pair, direction, first,
+                        reach, tolerance)
 
     for change, bracket in zip(changes, changes_at):
         found, refined = _change_events(change, bracket, samples, branch, periodic, polish)

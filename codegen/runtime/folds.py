@@ -7,11 +7,18 @@ simple zero theta*(p) between the pair (where G is extremal), and g(p) = G(theta
 changes sign there, linearly in p. Both are found by bracketed root finding on the
 declared mode's compiled G and K (``equilibrium_residual``, ``linearisation``), so the fold
 is located to the given tolerance in the parameter, and its angle to working precision.
+
+With n coordinates (``polish_multibody``) a fold is where G(q, p) = 0 and det K(q, p) = 0
+together, K = dG/dq: n + 1 equations in the n coordinates and the parameter, solved by
+Newton's method from the pair's midpoint where bisection left it.
 """
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from .library import Library
 
@@ -22,11 +29,12 @@ ANGLE_TOLERANCE = 4 * 2.0**-52
 @dataclass(frozen=True)
 class Fold:
     """A polished fold: the parameter's ``value`` [its unit] within ``bracket``, the angle
-    ``theta`` [rad] of the double root, and K_EQ there [N m]."""
+    ``theta`` [rad] of the double root, and K_EQ there [N m]; for n coordinates ``theta``
+    holds each coordinate and ``K`` is det K."""
 
     value: float
     bracket: tuple[float, float]
-    theta: float
+    theta: float | tuple[float, ...]
     K: float
 
 
@@ -104,3 +112,79 @@ def polish(library: Library, values: Mapping[str, float], parameter: str, start:
         return None
     return None
 
+
+
+#: The central differences' step, relative to the scale of the coordinates and the parameter.
+STEP = 1e-6
+#: Newton's iterations before it is given up.
+ITERATIONS = 40
+#: A Newton step this small (relative to the scales) leaves an error far below rounding
+#: after it (quadratic convergence; the differences' error is ~1e-10 relative).
+SETTLED = 1e-9
+
+
+def polish_multibody(library: Library, values: Mapping[str, float], parameter: str,
+                     start: float, pair: tuple[Any, Any], direction: int, first_step: float,
+                     reach: float, tolerance: float) -> Fold | None:
+    """The fold of a mechanism with n coordinates where the pair of equilibria at positions
+    ``pair`` (n coordinates each, for ``values`` with ``parameter`` = ``start``) meets: the
+    (q, p) where G(q, p) = 0 and det K(q, p) = 0, by Newton's method from the pair's
+    midpoint at ``start``. G and K = dG/dq are the library's compiled ones
+    (``generalised_force``, ``stiffness_matrix``); dG/dp and the derivatives of det K by
+    central differences. The arguments are ``polish``'s. None where Newton's method does not
+    converge, or converges beyond ``reach`` of ``start`` in ``direction`` or away from the
+    pair, or an evaluation fails."""
+    a, b = (np.asarray(x, dtype=np.float64) for x in pair)
+    n = len(a)
+    gap = float(np.linalg.norm(b - a))
+    q, p = (a + b) / 2, float(start)
+    scale = max(abs(p), abs(first_step), abs(reach))
+    h_p, h_q = STEP * scale, STEP * max(1.0, float(np.max(np.abs(q))))
+
+    def params(p: float) -> object:
+        return library.Params(**{**values, parameter: p})
+
+    def force(q: np.ndarray, p: float) -> np.ndarray:
+        return np.asarray(library.generalised_force(params(p), q), dtype=np.float64).reshape(n)
+
+    def determinant(q: np.ndarray, p: float) -> float:
+        K = np.asarray(library.stiffness_matrix(params(p), q), dtype=np.float64)
+        return float(np.linalg.det(K.reshape(n, n)))
+
+    try:
+        K = np.asarray(library.stiffness_matrix(params(p), q), dtype=np.float64).reshape(n, n)
+        size = float(np.prod(np.linalg.norm(K, axis=1)))   # |det K| <= this (Hadamard)
+        if not size > 0:
+            return None
+        step, settled = np.full(n + 1, np.inf), False
+        for _ in range(ITERATIONS):
+            K = np.asarray(library.stiffness_matrix(params(p), q),
+                           dtype=np.float64).reshape(n, n)
+            residual = np.append(force(q, p), np.linalg.det(K) / size)
+            jacobian = np.empty((n + 1, n + 1))
+            jacobian[:n, :n] = K
+            jacobian[:n, n] = (force(q, p + h_p) - force(q, p - h_p)) / (2 * h_p)
+            for j in range(n):
+                e = np.zeros(n)
+                e[j] = h_q
+                jacobian[n, j] = (determinant(q + e, p) - determinant(q - e, p)) / (2 * h_q)
+            jacobian[n, n] = (determinant(q, p + h_p) - determinant(q, p - h_p)) / (2 * h_p)
+            jacobian[n] /= size
+            step = np.linalg.solve(jacobian, -residual)
+            q, p = q + step[:n], p + float(step[n])
+            if not np.all(np.isfinite(step)):
+                return None
+            if settled:   # one step more once the steps are small: to working precision
+                break
+            settled = bool(abs(step[n]) <= SETTLED * scale and
+                           np.max(np.abs(step[:n])) <= SETTLED * max(1.0, np.max(np.abs(q))))
+        else:
+            return None
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        return None
+    beyond = (p - start) * direction
+    near = float(np.linalg.norm(q - (a + b) / 2)) <= 2 * gap + STEP * max(1.0, np.max(np.abs(q)))
+    if not (-tolerance <= beyond <= reach + tolerance and near):
+        return None
+    half = max(tolerance / 2, abs(float(step[n])))
+    return Fold(p, (p - half, p + half), tuple(float(x) for x in q), determinant(q, p))
