@@ -17,7 +17,7 @@ CC       ?= gcc
 STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
 SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
 
-.PHONY: all help venv analyze generate check build test test-all lint sanitize example bench embedded clean
+.PHONY: all help venv analyze generate check build test test-all lint sanitize example bench same-results embedded clean
 .DEFAULT_GOAL := all
 # The targets share .venv, generated/ and the in-place extensions: one at a time, even with -j.
 .NOTPARALLEL:
@@ -27,7 +27,7 @@ all:  ## generate, then rebuild the extensions if generated/ changed, then `make
 	$(MAKE) --no-print-directory test
 
 help:  ## list the targets
-	@awk 'BEGIN {FS = ":.*## "} /^[a-z][a-z-]*:.*## / {printf "  %-9s %s\n", $$1, $$2}' \
+	@awk 'BEGIN {FS = ":.*## "} /^[a-z][a-z-]*:.*## / {printf "  %-12s %s\n", $$1, $$2}' \
 	  $(MAKEFILE_LIST)
 
 $(PY):
@@ -104,6 +104,16 @@ build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/
 # BENCH_ARGS=--quick: a smoke run of ~40 s (the derivations dominate); `--help` lists the sizes.
 bench: venv  ## the library side by side with naive SymPy C and numpy: writes benchmarks/results.md and .json (~3 min)
 	$(PY) benchmarks/run.py $(BENCH_ARGS)
+
+# Every numerics change is checked with it: BASE's generated/ (`git archive`) against the
+# working tree's, each mechanism built in double and float with both interval forms, every
+# result of SETS parameter sets compared byte for byte; exit 1 if any differs. Python's
+# standard library and gcc ($CC if set) only: no .venv. SAME_RESULTS_ARGS: more options
+# (`python3 benchmarks/same_results.py --help`).
+BASE ?= HEAD
+SETS ?= 2000
+same-results:  ## every analysis of every library, BASE's generated/ against the working tree's, bit for bit (BASE=HEAD SETS=2000)
+	$(PYTHON) benchmarks/same_results.py --base '$(BASE)' --sets $(SETS) $(SAME_RESULTS_ARGS)
 
 # The cross toolchain and QEMU: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi
 # qemu-system-arm. Its own makefile, which may run two compilers at once (.NOTPARALLEL is ours).
