@@ -115,12 +115,16 @@ def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
 
 def _start_state(library: Any, equilibrium: int | None) -> list[float]:
     """The initial coordinates: an equilibrium of the example at rest (the first stable
-    one, or the one ``equilibrium`` indexes in the analysis' list)."""
+    one, or the one ``equilibrium`` indexes, from 0, in the analysis' list: `mechvib fmu
+    --equilibrium N`, which counts from 1 as `mechvib analyze` lists them, gives N - 1)."""
     found = library.analyze(None).equilibria
     if equilibrium is not None:
+        if not found:
+            raise FmuError(f"equilibrium={equilibrium}: the example has no equilibrium")
         if not 0 <= equilibrium < len(found):
-            raise FmuError(f"--equilibrium {equilibrium}: the example has {len(found)} "
-                           f"equilibria (0 to {len(found) - 1})")
+            raise FmuError(f"equilibrium={equilibrium}: an index into the example's "
+                           f"{len(found)} equilibri{'um' if len(found) == 1 else 'a'}, from 0 "
+                           f"to {len(found) - 1} (`mechvib fmu --equilibrium N` counts from 1)")
         chosen = found[equilibrium]
     else:
         stable = [e for e in found if e.stability == "stable"]

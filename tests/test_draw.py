@@ -160,7 +160,7 @@ def test_the_command_draws_at_the_coordinates_given(tmp_path):
     (["--at", "theta_1=30", "--at", "theta_1=3"], "--at theta_1 is given twice"),
     (["--at", "theta_1=x", "--at", "delta=0"], "--at theta_1: 'x' is not a number"),
     (["--equilibrium", "4"], "has 3 equilibria at these parameters (numbered 1 to 3"),
-    (["--equilibrium", "0"], "expected a positive integer"),
+    (["--equilibrium", "0"], "--equilibrium 0: double_pendulum has 3 equilibria at these"),
     (["--equilibrium", "1", "--at", "delta=0"], "not allowed with argument"),
 ])
 def test_wrong_options_are_one_line(options, message, tmp_path):

@@ -16,7 +16,7 @@ from codegen.api import load
 from codegen.fmu import write_fmu
 
 fmpy = pytest.importorskip("fmpy")
-from fmpy import simulate_fmu  # noqa: E402
+from fmpy import read_model_description, simulate_fmu  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
 ONE_COORDINATE = ("doughty", "four_bar", "slider_crank", "torsion_pendulum")
@@ -249,16 +249,24 @@ def test_the_same_model_gives_the_same_fmu_byte_for_byte(fmus, tmp_path):
 @pytest.mark.slow
 def test_the_command_line_writes_an_fmu_and_refuses_what_it_cannot(tmp_path):
     run = [sys.executable, "-m", "codegen", "fmu"]
-    out = subprocess.run(run + ["--mechanism", "slider_crank", "--equilibrium", "0", "--fmi",
+    out = subprocess.run(run + ["--mechanism", "slider_crank", "--equilibrium", "1", "--fmi",
                                 "3.0", "--out", str(tmp_path / "s.fmu")],
                          capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert "FMI 3.0 FMU" in out.stdout and validate_fmu(str(tmp_path / "s.fmu")) == []
+    # --equilibrium 1: the first row of kind 'equilibrium' of analyze's table
+    start = {v.name: v.start for v in read_model_description(str(tmp_path / "s.fmu"))
+             .modelVariables}
+    assert float(start["theta"]) == load("slider_crank").analyze(None).equilibria[0].theta
     for extra, message in ((["--out", str(tmp_path / "s.zip")], "name ends in .fmu"),
                            (["--equilibrium", "99", "--out", str(tmp_path / "e.fmu")],
-                            "--equilibrium 99")):
+                            "--equilibrium 99: doughty has 6 equilibria at its example's "
+                            "parameters (numbered 1 to 6"),
+                           (["--equilibrium", "0", "--out", str(tmp_path / "e.fmu")],
+                            "--equilibrium 0: doughty has 6 equilibria")):
         out = subprocess.run(run + extra, capture_output=True, text=True)
-        assert out.returncode != 0 and message in out.stderr and "Traceback" not in out.stderr
+        assert out.returncode == 2 and message in out.stderr and "Traceback" not in out.stderr
+        assert len(out.stderr.strip().splitlines()) == 1, out.stderr
 
 
 @pytest.mark.slow

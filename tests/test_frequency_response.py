@@ -113,7 +113,9 @@ def frf(*args: str, cwd: Path) -> subprocess.CompletedProcess:
 
 
 def test_cli_csv_on_stdout_is_the_python_api(tmp_path):
-    out = frf("--equilibrium", "5", "--points", "21", cwd=tmp_path)
+    """--equilibrium N counts from 1 as analyze's table lists the equilibria: 6 is the
+    Python API's index 5 (176.7 deg)."""
+    out = frf("--equilibrium", "6", "--points", "21", cwd=tmp_path)
     assert out.returncode == 0 and out.stderr == ""
     rows = list(csv.reader(io.StringIO(out.stdout)))
     r = load("doughty").frequency_response(equilibrium=5, points=21)
@@ -121,9 +123,22 @@ def test_cli_csv_on_stdout_is_the_python_api(tmp_path):
     assert [float(row[2]) for row in rows[1:]] == list(r.amplitude)
 
 
+def test_cli_counts_the_equilibria_of_several_coordinates_as_analyze_numbers_them(tmp_path):
+    """With several coordinates --equilibrium N is the row # N of analyze's table: the
+    Python API's index N - 1."""
+    lib = load("double_pendulum")
+    found = lib.analyze(None).equilibria
+    for number in (1, 3):
+        out = frf("--mechanism", "double_pendulum", "--equilibrium", str(number), "--points",
+                  "5", "--out", "f.json", cwd=tmp_path)
+        assert out.returncode == 0, out.stderr
+        data = json.loads((tmp_path / "f.json").read_text())
+        assert data["equilibrium"] == found[number - 1].theta.tolist()
+
+
 def test_cli_files_and_figure(tmp_path):
     pytest.importorskip("matplotlib")
-    out = frf("--equilibrium", "5", "--max-frequency", "10", "--out", "f.json", "--plot",
+    out = frf("--equilibrium", "6", "--max-frequency", "10", "--out", "f.json", "--plot",
               "f.png", cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     assert "natural frequency 3.157" in " ".join(out.stdout.split())
@@ -132,7 +147,15 @@ def test_cli_files_and_figure(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (("--equilibrium", "0"), "is unstable"),
+    (("--equilibrium", "1"), "--equilibrium 1 is unstable"),
+    (("--equilibrium", "0"), "--equilibrium 0: doughty has 6 equilibria at these parameters "
+                             "(numbered 1 to 6"),
+    (("--equilibrium", "7"), "--equilibrium 7: doughty has 6 equilibria"),
+    (("--mechanism", "double_pendulum", "--equilibrium", "4"),
+     "--equilibrium 4: double_pendulum has 3 equilibria"),
+    (("--mechanism", "double_pendulum", "--equilibrium", "2"),
+     "--equilibrium 2 is unstable: it has no steady response to a harmonic force (the "
+     "stable ones are 1, 3)"),
     (("--max-frequency", "-1"), "--max-frequency"),
     (("--out", "f.txt"), "--out"),
 ])

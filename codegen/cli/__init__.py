@@ -46,7 +46,7 @@ examples:
   {prog} branches --vary F --from -200 --to 300 --plot f.png
                                               every equilibrium as F varies, folds located
   {prog} simulate --theta0 160 --to 2 --plot theta.png   the motion from 160 deg
-  {prog} frf --equilibrium 5 --plot frf.png   the frequency response about an equilibrium
+  {prog} frf --equilibrium 6 --plot frf.png   the frequency response about an equilibrium
   {prog} fmu --out doughty.fmu                the mechanism as an FMU for simulators"""
 
 #: A negative number as the command line writes one (-1e308, -.5, -inf, -90deg): a value,

@@ -223,6 +223,28 @@ def positive(text: str) -> int:
     return int(text)
 
 
+#: How --equilibrium counts, as `mechvib analyze` lists the equilibria (draw's, frf's and
+#: fmu's help).
+EQUILIBRIUM_NUMBERING = (
+    "numbered from 1 as `mechvib analyze` lists them: its # column with several "
+    "coordinates; with one, its rows of kind 'equilibrium' in order of angle (extraneous "
+    "roots and another assembly mode's not counted)")
+
+
+def equilibrium_index(number: int, count: int, prefix: str,
+                      where: str = "at these parameters") -> int:
+    """--equilibrium ``number`` (from 1, as `mechvib analyze` lists them) as an index into the
+    analysis' ``count`` equilibria; a ValueError (one line, naming how many there are) for 0,
+    a negative number or one past the last."""
+    if 1 <= number <= count:
+        return number - 1
+    if count == 0:
+        raise ValueError(f"--equilibrium {number}: {prefix} has no equilibrium {where}")
+    raise ValueError(f"--equilibrium {number}: {prefix} has {count} "
+                     f"equilibri{'um' if count == 1 else 'a'} {where} (numbered 1 to {count} "
+                     "as `mechvib analyze` lists them)")
+
+
 def verb(verbs, name: str, summary: str, examples: str, prog: str, run
          ) -> argparse.ArgumentParser:
     """The subcommand ``name``, which ``run(args)`` carries out; ``examples`` is its epilog,

@@ -20,11 +20,6 @@ default: the first stable equilibrium of the parameters, else the first equilibr
 the centre of the coordinates' ranges; the line printed says which. Needs matplotlib (pip
 install 'mechvib[plot]') and sympy, which reads the model (pip install 'mechvib[generate]')."""
 
-#: How --equilibrium counts (its help).
-NUMBERING = ("numbered from 1 as `mechvib analyze` lists them: its # column with several "
-             "coordinates; with one, its rows of kind 'equilibrium' in order of angle "
-             "(extraneous roots and another assembly mode's not counted)")
-
 
 def _given(args, coordinates, library) -> tuple[float, ...]:
     """--theta or the --at values, in SI units (angles in rad), one per independent
@@ -72,15 +67,8 @@ def _state(args, mechanism, library, params) -> tuple[tuple[float, ...], str]:
         return _given(args, coordinates, library), ""
     found = _equilibria(library, params)
     if args.equilibrium is not None:
-        if not found:
-            raise ValueError(f"--equilibrium {args.equilibrium}: {library.PREFIX} has no "
-                             "equilibrium at these parameters")
-        if args.equilibrium > len(found):
-            raise ValueError(f"--equilibrium {args.equilibrium}: {library.PREFIX} has "
-                             f"{len(found)} equilibri{'a' if len(found) > 1 else 'um'} at "
-                             f"these parameters (numbered 1 to {len(found)} as `mechvib "
-                             "analyze` lists them)")
-        theta, stability = found[args.equilibrium - 1]
+        theta, stability = found[common.equilibrium_index(args.equilibrium, len(found),
+                                                          library.PREFIX)]
         return theta, f" (equilibrium {args.equilibrium}, {stability})"
     for number, (theta, stability) in enumerate(found, 1):
         if stability == "stable":
@@ -130,8 +118,9 @@ def add(verbs, prog: str) -> None:
                        metavar="NAME=VALUE",
                        help="the value of an independent coordinate (repeatable, once for "
                             "each): an angle in degrees (or 30deg, 0.5rad), a length in m")
-    where.add_argument("--equilibrium", type=common.positive, metavar="N",
-                       help=f"draw the N-th equilibrium of the parameters, {NUMBERING}; "
+    where.add_argument("--equilibrium", type=int, metavar="N",
+                       help="draw the N-th equilibrium of the parameters, "
+                            f"{common.EQUILIBRIUM_NUMBERING}; "
                             "default: the first stable one, else the first, else the centre "
                             "of the coordinates' ranges")
     drw.add_argument("-o", "--output", required=True, metavar="FILE",

@@ -10,7 +10,7 @@ VERSIONS = ("2.0", "3.0")
 EXAMPLES = """\
 examples:
   {prog} fmu --out doughty.fmu
-  {prog} fmu --mechanism four_bar --equilibrium 1 --out four_bar.fmu
+  {prog} fmu --mechanism four_bar --equilibrium 2 --out four_bar.fmu
   {prog} fmu --model my_model.py --out mine.fmu
   {prog} fmu --mechanism double_pendulum --fmi 3.0 --out double_pendulum.fmu
 
@@ -19,8 +19,8 @@ of the mechanism: its parameters (tunable, the example as start values), each co
 and its rate as states, an input per load parameter (added to it), the named points'
 positions and the energies as outputs;
 the C sources, and the binary for this platform. The initial state is an equilibrium of the
-example at rest (the first stable one, or --equilibrium I of `analyze`'s list). Needs
-fmpy for FMI's standard headers: pip install 'mechvib[fmu]'."""
+example at rest (the first stable one, or --equilibrium N, numbered from 1 as `mechvib
+analyze` lists them). Needs fmpy for FMI's standard headers: pip install 'mechvib[fmu]'."""
 
 
 def run(args) -> int:
@@ -28,7 +28,12 @@ def run(args) -> int:
     from .report import paragraph
 
     library = common.load_library(args)
-    path = write_fmu(library, args.out, args.equilibrium, args.fmi)
+    chosen = None
+    if args.equilibrium is not None:   # counted as `analyze` lists them; write_fmu's, from 0
+        chosen = common.equilibrium_index(args.equilibrium,
+                                          len(library.analyze(None).equilibria),
+                                          library.PREFIX, "at its example's parameters")
+    path = write_fmu(library, args.out, chosen, args.fmi)
     inputs, outputs = len(library.SPEC["loads"]), 2 * len(library.SPEC["points"]) + 2
     print(paragraph(f"Wrote {path}: an FMI {args.fmi} FMU (Model Exchange and Co-Simulation) of "
                     f"{library.TITLE}, with {len(library.PARAMETER_NAMES)} parameters, "
@@ -43,6 +48,6 @@ def add(verbs, prog: str) -> None:
     fmu.add_argument("--out", required=True, metavar="FILE.fmu", help="the FMU to write")
     fmu.add_argument("--fmi", choices=VERSIONS, default=VERSIONS[0],
                      help="the FMI version (default 2.0, which most tools take)")
-    fmu.add_argument("--equilibrium", type=int, metavar="I",
-                     help="start at this equilibrium of the example (its index in `analyze`'s "
-                          "list, from 0; default the first stable one)")
+    fmu.add_argument("--equilibrium", type=int, metavar="N",
+                     help="start at the N-th equilibrium of the example, "
+                          f"{common.EQUILIBRIUM_NUMBERING} (default: the first stable one)")

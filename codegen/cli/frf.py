@@ -13,19 +13,21 @@ POINTS = 801
 EXAMPLES = """\
 examples:
   {prog} frf                                          CSV on stdout (doughty's example)
-  {prog} frf --equilibrium 5 --plot frf.png --out frf.json
+  {prog} frf --equilibrium 6 --plot frf.png --out frf.json
   {prog} frf --mechanism four_bar --max-frequency 20 --points 2001 --out frf.csv
   {prog} frf --mechanism double_pendulum --drive delta --plot frf.png
 
 The receptance H = 1 / (K - omega^2 M + i omega B) of the linearisation about a stable
-equilibrium (the first, or --equilibrium I of `analyze`'s list), computed in C at --points
-forcing frequencies from 0 to --max-frequency [Hz] (default: three times the natural
-frequency): the swing [rad] per unit amplitude of a harmonic torque [N m] on theta, and its
-phase lag. CSV on stdout (frequency_hz, omega, amplitude, phase_deg, H_re, H_im), or --out
-FILE.csv or FILE.json, and with --plot a figure of amplitude and phase with the natural
-frequency marked. With several coordinates a harmonic generalised force drives one
-(--drive NAME, default the first) and every coordinate's amplitude and phase are listed,
-the natural frequencies marked."""
+equilibrium (the first, or --equilibrium N, numbered from 1 as `mechvib analyze` lists
+them), computed in C at --points forcing frequencies from 0 to --max-frequency [Hz]
+(default: three times the natural frequency): the swing [rad] per unit amplitude of a
+harmonic torque [N m] on theta, and its phase lag. CSV on stdout (frequency_hz, omega,
+amplitude, phase_deg, H_re, H_im), or --out FILE.csv or FILE.json, and with --plot a figure
+of amplitude [deg/(N m)] and phase with the natural frequency marked. With several
+coordinates a harmonic generalised force (a torque [N m] on an angle, a force [N] on a
+length) drives one (--drive NAME, default the first) and every coordinate's amplitude and
+phase are listed (in SI units), the natural frequencies marked; the figure draws the
+amplitudes on a panel per unit (angles in deg, lengths in m)."""
 
 
 def _summary(response, written: list[str]) -> str:
@@ -40,6 +42,22 @@ def _summary(response, written: list[str]) -> str:
         f"1/K = {1 / e.K:.4g} rad/(N m); largest amplitude {peak:.4g} rad/(N m) at "
         f"{f_peak:.6g} Hz of the {len(response.omega):,} frequencies from 0 to "
         f"{response.frequency[-1]:.6g} Hz. Wrote {' and '.join(written)}.")
+
+
+def _chosen(args, found, stable, prefix: str) -> int | None:
+    """--equilibrium N as the index of a stable equilibrium in ``found`` (the analysis'
+    list); None without it. A ValueError (one line) for a number out of range or an
+    equilibrium that is not stable, naming the stable ones."""
+    if args.equilibrium is None:
+        return None
+    index = common.equilibrium_index(args.equilibrium, len(found), prefix)
+    if not stable(found[index]):
+        numbers = [str(i) for i, e in enumerate(found, 1) if stable(e)]
+        which = (f"the stable one{'s are' if len(numbers) > 1 else ' is'} "
+                 f"{', '.join(numbers)}" if numbers else "none is stable")
+        raise ValueError(f"--equilibrium {args.equilibrium} is {found[index].stability}: it has "
+                         f"no steady response to a harmonic force ({which})")
+    return index
 
 
 def run(args) -> int:
@@ -63,7 +81,11 @@ def run(args) -> int:
         return _several_coordinates(library, params, omega, args)
     if args.drive is not None:
         raise ValueError("--drive: only a mechanism with several coordinates has a choice")
-    result = response.frequency_response(params, omega, equilibrium=args.equilibrium,
+    from ..runtime.analysis import analyze
+    from ..runtime.simulation import is_stable
+
+    chosen = _chosen(args, analyze(params, args.method).equilibria, is_stable, library.PREFIX)
+    result = response.frequency_response(params, omega, equilibrium=chosen,
                                          method=args.method, points=args.points)
     if not (args.out or args.plot):
         response.write_csv(sys.stdout, result)
@@ -84,8 +106,9 @@ def _several_coordinates(library, params, omega, args) -> int:
         raise ValueError(f"--drive {args.drive}: not a coordinate of {library.PREFIX} "
                          f"({', '.join(names)})")
     drive = names.index(args.drive) if args.drive else 0
-    result = response.frequency_response(library, params, omega, args.equilibrium, drive,
-                                         args.points)
+    chosen = _chosen(args, library.analyze(params).equilibria, lambda e: e.stable,
+                     library.PREFIX)
+    result = response.frequency_response(library, params, omega, chosen, drive, args.points)
     if not (args.out or args.plot):
         response.write_csv(sys.stdout, result)
         return 0
@@ -105,8 +128,9 @@ def add(verbs, prog: str) -> None:
                       "and a figure", EXAMPLES, prog, run)
     common.mechanism_options(frf, None, model=True)
     common.set_option(frf)
-    frf.add_argument("--equilibrium", type=int, metavar="I",
-                     help="which equilibrium (its index in `analyze`'s list, from 0; default "
+    frf.add_argument("--equilibrium", type=int, metavar="N",
+                     help="about the N-th equilibrium, "
+                          f"{common.EQUILIBRIUM_NUMBERING}; it must be stable (default: "
                           "the first stable one)")
     frf.add_argument("--max-frequency", type=float, metavar="HZ",
                      help="the highest forcing frequency [Hz] (default: three times the "

@@ -58,3 +58,41 @@ def save(figure: Any, path: str | Path) -> Path:
     finally:
         pyplot().close(figure)
     return path
+
+
+# --------------------------------------------------------------------------- units
+# A figure shows each quantity in one unit per axis: coordinates of several units (an angle
+# and a length) go on panels of their own. Angles are shown in degrees, as everywhere the
+# command line prints them.
+
+def shown_unit(unit: str) -> str:
+    """A coordinate's SI unit as a figure shows it: rad as deg, the rest as it is."""
+    return "deg" if unit == "rad" else unit
+
+
+def shown_values(values: Any, unit: str) -> Any:
+    """Values in ``unit`` (a coordinate's SI unit) as a figure shows them: radians in
+    degrees."""
+    import numpy as np
+
+    return np.degrees(values) if unit == "rad" else values
+
+
+def load_unit(unit: str) -> str:
+    """The unit of the generalised force on a coordinate of ``unit``: its work is in J, so a
+    torque [N m] on an angle, a force [N] on a length."""
+    return {"rad": "N m", "m": "N"}.get(unit, f"J/{unit}")
+
+
+def per(unit: str, load: str) -> str:
+    """``unit`` per ``load``: deg/(N m), m/N."""
+    return f"{unit}/({load})" if " " in load or "/" in load else f"{unit}/{load}"
+
+
+def by_unit(coordinates: list[dict[str, Any]]) -> list[tuple[str, list[int]]]:
+    """The coordinates (a library's SPEC["coordinates"], each with its name and SI unit)
+    grouped by unit, in the order each unit first appears: (unit, their indices) each."""
+    groups: dict[str, list[int]] = {}
+    for i, coordinate in enumerate(coordinates):
+        groups.setdefault(coordinate["unit"], []).append(i)
+    return list(groups.items())

@@ -2,7 +2,8 @@
 ``MultibodyTrajectory`` (``codegen.runtime.multibody_motion``), with the linearised response
 beside it when given.
 
-``figure(trajectory, linear)`` draws the coordinates against t above their rates and gives the
+``figure(trajectory, linear)`` draws the coordinates against t above their rates, a panel
+per unit (angles in degrees, lengths in m: never two units on one axis), and gives the
 matplotlib Figure; ``plot(trajectory, path, linear)`` writes it to .png or .svg. Both read
 the results as data; matplotlib comes through ``figures``.
 """
@@ -21,8 +22,8 @@ def figure(trajectory: Trajectory | MultibodyTrajectory,
            linear: LinearResponse | MultibodyLinearResponse | None = None) -> Any:
     """A matplotlib Figure of ``trajectory``: theta(t) [deg] above thetadot(t) [deg/s], and
     the linearised response (dashed) with its equilibrium (dotted) when given; with several
-    coordinates each coordinate above each rate. Raises figures.PlotUnavailable without
-    matplotlib."""
+    coordinates a panel per unit (angles in deg, lengths in m) of the coordinates above one
+    per unit of the rates. Raises figures.PlotUnavailable without matplotlib."""
     if isinstance(trajectory, MultibodyTrajectory):
         return _several_coordinates(trajectory, linear)  # type: ignore[arg-type]
     plt = figures.pyplot()
@@ -52,25 +53,35 @@ def figure(trajectory: Trajectory | MultibodyTrajectory,
 
 def _several_coordinates(trajectory: MultibodyTrajectory,
                          linear: MultibodyLinearResponse | None) -> Any:
-    """Each coordinate against t above each rate, and the linearised response dashed."""
+    """A panel per unit of the coordinates (angles [deg], lengths [m]), each coordinate of
+    that unit against t, then a panel per unit of the rates ([deg/s], [m/s]); the linearised
+    response dashed, in the coordinate's colour."""
     plt = figures.pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 5.5),
-                                      constrained_layout=True)
-    coordinates, rates = trajectory.labels()
-    for i, name in enumerate(coordinates):
-        line, = top.plot(trajectory.t, trajectory.theta_shown[:, i], label=name)
-        bottom.plot(trajectory.t, trajectory.theta_d_shown[:, i], color=line.get_color(),
-                    label=rates[i])
-        if linear is not None:
-            top.plot(trajectory.t, linear.theta_shown[:, i], "--", color=line.get_color(),
-                     linewidth=1, label=f"{name}, linearised")
-            bottom.plot(trajectory.t, linear.theta_d_shown[:, i], "--",
-                        color=line.get_color(), linewidth=1)
-    top.set_ylabel("coordinates")
-    bottom.set_ylabel("rates")
-    bottom.set_xlabel("t [s]")
-    top.set_title(trajectory.library.TITLE, fontsize=10)
-    for axes in (top, bottom):
+    coordinates = trajectory.library.SPEC["coordinates"]
+    groups = figures.by_unit(coordinates)
+    fig, panels = plt.subplots(2 * len(groups), 1, sharex=True, squeeze=False,
+                               figsize=(7.5, 1.0 + 2.25 * len(groups) * 2),
+                               constrained_layout=True)
+    panels = panels[:, 0]
+    for row, (unit, members) in enumerate(groups):
+        shown = figures.shown_unit(unit)
+        for axes, kind, suffix, values, linearised in (
+                (panels[row], "coordinates", "", trajectory.theta,
+                 None if linear is None else linear.theta),
+                (panels[len(groups) + row], "rates", "dot", trajectory.theta_d,
+                 None if linear is None else linear.theta_d)):
+            for i in members:
+                name = coordinates[i]["name"] + suffix
+                color = f"C{i % 10}"
+                axes.plot(trajectory.t, figures.shown_values(values[:, i], unit), color=color,
+                          label=name)
+                if linearised is not None:
+                    axes.plot(trajectory.t, figures.shown_values(linearised[:, i], unit), "--",
+                              color=color, linewidth=1, label=f"{name}, linearised")
+            axes.set_ylabel(f"{kind} [{shown}/s]" if suffix else f"{kind} [{shown}]")
+    panels[-1].set_xlabel("t [s]")
+    panels[0].set_title(trajectory.library.TITLE, fontsize=10)
+    for axes in panels:
         axes.grid(True, alpha=0.3)
         axes.legend(loc="best", fontsize=8)
     return fig
