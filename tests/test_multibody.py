@@ -253,10 +253,16 @@ def test_a_users_three_coordinate_model_through_the_command_line(tmp_path):
     found = json.loads(out.stdout)
     params = {**reference.EXAMPLES["triple_pendulum"], **weak}
     expected = reference.equilibria("triple_pendulum", params)
-    assert not found["uncertain"]
-    assert len(found["equilibria"]) == len(expected) >= 3
-    for e, r in zip(sorted(found["equilibria"], key=lambda e: e["theta"]), expected):
-        assert np.allclose(e["theta"], r["q"], atol=1e-9)
+    assert not found["uncertain"] and found["method"] == "isolate"
+    keys = [c["key"] for c in found["coordinates"]]
+    assert keys == ["theta_1_deg", "delta_2_deg", "delta_3_deg"]
+    assert len(found["roots"]) == len(expected) >= 3
+
+    def theta(e):   # the JSON's angles are in degrees
+        return np.radians([e[k] for k in keys])
+
+    for e, r in zip(sorted(found["roots"], key=lambda e: tuple(theta(e))), expected):
+        assert np.allclose(theta(e), r["q"], atol=1e-9)
         assert (e["stability"] == "stable") == r["stable"]
         assert np.allclose(e["omega_squared"], [float(x) for x in r["omega_squared"]],
                            rtol=1e-7, atol=1e-9)
@@ -462,8 +468,7 @@ def test_a_sweep_has_a_row_per_equilibrium_as_the_analysis_finds_them():
         assert len(mine) == len(analysis.equilibria) and np.all(mine["uncertain"] == 0)
         for row, e in zip(mine, analysis.equilibria):
             assert (row["theta_1"], row["delta"]) == tuple(e.theta)
-            assert sweep.LABELS["stability"][row["stability"]] == (
-                "marginal" if e.stability == "undecided" else e.stability)
+            assert sweep.LABELS["stability"][row["stability"]] == e.stability
             assert np.array_equal([row["omega_n_1"], row["omega_n_2"]], e.frequencies,
                                   equal_nan=True)
             assert np.array_equal([row["zeta_1"], row["zeta_2"]], e.modal_damping,

@@ -73,9 +73,9 @@ def _same(a, b):
 
 
 def _stability_code(e) -> int:
-    """An equilibrium's stability as a table's code (several coordinates: undecided is
-    marginal)."""
-    return STABILITY.index({"undecided": "marginal"}.get(e.stability, e.stability))
+    """An equilibrium's stability as a table's code (one vocabulary for any number of
+    coordinates)."""
+    return STABILITY.index(e.stability)
 
 
 def _assert_one_coordinate_rows(rows, analysis):

@@ -198,7 +198,8 @@ def method_option(verb: argparse.ArgumentParser) -> None:
                       help="polynomial: the roots of sigma, classified by branch; isolate: the "
                            "zeros of G itself, each proven in an interval, with what double "
                            "precision cannot decide listed as uncertain; auto (default): "
-                           "polynomial where G is algebraic, else isolate")
+                           "polynomial where G is algebraic, else isolate (with several "
+                           "coordinates: always isolate, in boxes)")
 
 
 def check_outputs(args, formats: tuple[str, ...], what: str) -> None:

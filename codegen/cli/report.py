@@ -13,7 +13,8 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Callable
 
 from . import common
-from ..runtime.analysis import KINDS, STABILITY, Analysis, Equilibrium
+from ..runtime.analysis import (KINDS, STABILITY, Analysis, Equilibrium, MultibodyAnalysis,
+                                coordinates_of)
 
 if TYPE_CHECKING:   # branches builds on sweep: imported only for the type
     from ..runtime.branches import Branches
@@ -99,9 +100,57 @@ def paragraph(text: str) -> str:
     return textwrap.fill(text, WIDTH, break_on_hyphens=False)
 
 
-def table(analysis: Analysis, wide: bool = False, sigma: bool = False) -> str:
+def _modal(z: complex) -> str:
+    """A mode's omega_n or zeta to 6 digits, "x i" where it is imaginary (an unstable mode),
+    "-" where it is undefined, as one coordinate's table prints them."""
+    if math.isnan(z.real) or math.isnan(z.imag):
+        return "-"
+    if z.imag == 0:
+        return f"{z.real + 0.0:.6g}"
+    if z.real == 0:
+        return f"{z.imag + 0.0:.6g} i"
+    return f"{z.real + 0.0:.6g}{'+' if z.imag >= 0 else '-'}{abs(z.imag):.6g} i"
+
+
+def _several_table(analysis: MultibodyAnalysis) -> str:
+    """Every equilibrium of a mechanism with n coordinates, numbered from 1: its coordinates
+    (angles in degrees), stability, and each mode's natural frequency and damping ratio;
+    then the boxes that could not be decided."""
+    coordinates = coordinates_of(analysis.library)
+    names = [f"{c.name} [{'deg' if c.angle else c.unit}]" for c in coordinates]
+
+    def shown(values: Any) -> list[float]:
+        return [math.degrees(v) if c.angle else float(v) for v, c in zip(values, coordinates)]
+
+    n = len(coordinates)
+    modes = [f"{h} {j + 1}" for j in range(n) for h in ("omega_n", "zeta")]
+    header = ["#", *names, "stability", *modes]
+    rows = [[str(i + 1), *(f"{round(v, 6) + 0.0:.6f}" for v in shown(e.theta)), e.stability,
+             *(_modal(z) for j in range(n) for z in (e.omega_n[j], e.zeta[j]))]
+            for i, e in enumerate(analysis.equilibria)]
+    widths = [max(len(r[k]) for r in [header, *rows]) for k in range(len(header))]
+    lines = ["  ".join(cell.rjust(w) for cell, w in zip(row, widths)).rstrip()
+             for row in [header, *rows]]
+    imaginary = any(z.imag for e in analysis.equilibria for z in e.omega_n)
+    lines += ["", f"{len(analysis.equilibria)} equilibri"
+              f"{'um' if len(analysis.equilibria) == 1 else 'a'}, each proven to be the only "
+              "one in its box; omega_n [rad/s] undamped, zeta each mode's damping ratio"
+              + (" (\"x i\": imaginary, an unstable mode)" if imaginary else "")]
+    for u in analysis.uncertain:
+        box = ", ".join(f"{name} in [{a:.6f}, {b:.6f}]" for name, a, b in
+                        zip(names, shown(u.lo), shown(u.hi)))
+        lines.append(f"uncertain ({u.kind}, not an equilibrium): {box}")
+    return "\n".join(lines)
+
+
+def table(analysis: Analysis | MultibodyAnalysis, wide: bool = False,
+          sigma: bool = False) -> str:
     """A table like the paper's Table 3, plus what the paper leaves implicit; ``wide`` adds
-    every column, ``sigma`` the polynomial's coefficients."""
+    every column, ``sigma`` the polynomial's coefficients. With several coordinates, a row
+    per equilibrium numbered from 1, each mode's omega_n and zeta (``wide`` adds nothing)."""
+    if isinstance(analysis, MultibodyAnalysis):
+        return _several_table(analysis) + (
+            "\nNo sigma: the isolation route works on G itself." if sigma else "")
     lines = _rows(analysis, wide)
     count = {k: sum(r.kind == k for r in analysis.roots) for k in KINDS}
     parts = [f"{count['equilibrium']} equilibri{'um' if count['equilibrium'] == 1 else 'a'}"]

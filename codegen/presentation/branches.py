@@ -21,12 +21,14 @@ from ..runtime.analysis import STABILITY
 from ..runtime.branches import EVENTS, POINTS, Branches
 
 #: Line style of each stability (analysis.STABILITY order).
-STYLES = {"stable": "-", "marginal": ":", "unstable": "--"}
+STYLES = {"stable": "-", "marginal": ":", "unstable": "--", "undecided": "-."}
 #: Marker of each event kind.
 MARKERS = {"fold": ("o", "fold"), "pitchfork": ("s", "pitchfork"), "end": ("x", "branch end"),
            "stability change": ("D", "stability change")}
-#: Stabilities whose omega_n and zeta are drawn (a real natural frequency: K > 0).
-VIBRATING = (STABILITY.index("stable"), STABILITY.index("marginal"))
+#: Stabilities whose omega_n and zeta are drawn (a real natural frequency: K > 0; undecided:
+#: where it is within rounding of 0, drawn where it is real).
+VIBRATING = (STABILITY.index("stable"), STABILITY.index("marginal"),
+             STABILITY.index("undecided"))
 
 
 def _coordinates(result: Branches) -> list[tuple[str, str, bool, Any]]:
@@ -132,9 +134,10 @@ def figure(result: Branches) -> Any:
     if np.any(np.isfinite(zeta) & (zeta > 0)):
         damping.set_yscale("log")   # zeta -> infinity as K -> 0 at a fold
     damping.set_xlabel(label)
-    marginal = np.any(result.points["stability"] == STABILITY.index("marginal"))
+    others = "".join(f"and {name} " for name in ("marginal", "undecided")
+                     if np.any(result.points["stability"] == STABILITY.index(name)))
     modes = " (every mode)" if n > 1 else ""
-    frequency.set_title(f"stable {'and marginal ' * bool(marginal)}branches{modes}",
+    frequency.set_title(f"stable {others}branches{modes}",
                         fontsize=9, loc="left")
     for ax in axes:
         ax.grid(True, alpha=0.3)

@@ -34,13 +34,11 @@ class Library(library.Library):
         return (_unpickled_library, (self._require_origin(),))
 
     def analyze(self, params: ParamsLike | None = None, method: analysis.Method = "auto"
-                ) -> analysis.Analysis | multibody.MultibodyAnalysis:
+                ) -> analysis.Analysis | analysis.MultibodyAnalysis:
         """Every equilibrium of ``params`` (default: the example), classified and linearised,
-        by the route ``method`` names: see ``codegen.runtime.analysis.analyze``. Angles in
-        radians. With several coordinates: every equilibrium in the box of their ranges with
-        its modes (``codegen.runtime.multibody.analyze``; one route: ``method`` is not read)."""
-        if self.dof > 1:
-            return multibody.analyze(self, self._params(params))
+        by the route ``method`` names: ``codegen.runtime.analysis.analyze``, for any number of
+        coordinates (several: every equilibrium in the box of their ranges with its modes, a
+        ``MultibodyAnalysis``; one route, "isolate", which "auto" takes). Angles in radians."""
         return analysis.analyze(self._params(params), method)
 
     def receptance(self, params: ParamsLike | None, theta: Any, omega: Any) -> np.ndarray:
@@ -49,7 +47,8 @@ class Library(library.Library):
         return multibody.receptance(self, self._params(params), theta, omega)
 
     def analyze_batch(self, table: np.ndarray, method: analysis.Method = "auto"
-                      ) -> tuple[list[analysis.Analysis | None], np.ndarray]:
+                      ) -> tuple[list[analysis.Analysis | analysis.MultibodyAnalysis | None],
+                                 np.ndarray]:
         """``analyze`` over a ``params_array``, in C: (analyses, statuses), None where an
         item failed (its status says why): see ``codegen.runtime.analysis.analyze_batch``."""
         return analysis.analyze_batch(table, self, method)

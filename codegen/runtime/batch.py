@@ -143,7 +143,9 @@ class Form:
 
 ONE_COORDINATE = Form(analysis.route, lambda library, route: analysis.entry(library, route, True),
                       _rows)
-SEVERAL_COORDINATES = Form(multibody.route, multibody.batch_entry, multibody.table_rows)
+SEVERAL_COORDINATES = Form(analysis.route,
+                           lambda library, route: analysis.entry(library, route, True),
+                           multibody.table_rows)
 
 
 def form(library: Library) -> Form:

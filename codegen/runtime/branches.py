@@ -68,7 +68,7 @@ RELATIVE_TOLERANCE = 1e-12
 #: and damping index analysis.STABILITY and DAMPING, point indexes POINTS; omega_n and zeta
 #: real, NaN where K <= 0 (no real natural frequency) or M = 0; K, M, B SI. With n
 #: coordinates a point has branch, point, value, theta (n: the coordinates [rad or m]),
-#: stability (an undecided one marginal), omega_n and zeta (n: each mode's, NaN where
+#: stability (undecided where it could not be decided), omega_n and zeta (n: each mode's, NaN where
 #: omega^2 <= 0) and K (det K).
 POINT_DTYPE = np.dtype([
     ("branch", np.int32), ("point", np.int8), ("value", np.float64), ("theta", np.float64),

@@ -1,11 +1,10 @@
-"""The analysis of a mechanism with n coordinates from Python: every equilibrium, proven, with
-its modes, and the boxes the isolation could not decide.
+"""A mechanism with n coordinates from Python: its receptance, and its analyses of many sets
+at once.
 
-``analyze(library, params)`` calls the library's C ``NAME_analyze`` (the runtime's
-codegen_multibody.c) and returns a ``MultibodyAnalysis``: ``equilibria`` (each with its
-coordinates, its proven box, the undamped natural frequencies and mass-normalised mode shapes,
-the damped eigenvalues with their damping ratios, and the stability) and ``uncertain``
-(boxes, never equilibria). Angles in radians, frequencies in rad/s.
+One set's analysis is ``codegen.runtime.analysis.analyze(params)``, the same for any number
+of coordinates (``library.analyze(params)``): with several it returns a ``MultibodyAnalysis``
+(defined there, with ``MultibodyEquilibrium`` and ``UncertainBox``, and named here too).
+``analyze(library, params)`` here is a thin alias of it, kept for older callers.
 
 Many sets at once run through ``codegen.runtime.batch`` (the C ``NAME_analyze_batch`` over
 threads, its results read in place as numpy arrays): ``equilibria`` reads a block of them,
@@ -13,114 +12,25 @@ threads, its results read in place as numpy arrays): ``equilibria`` reads a bloc
 """
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
 from . import analysis
+from .analysis import MultibodyAnalysis, MultibodyEquilibrium, UncertainBox
 
-#: codegen_multibody.h's stability codes
-STABILITY = {1: "stable", 0: "unstable", -1: "undecided"}
-#: codegen_boxes.h's and codegen_multibody.h's kinds of an undecided box
-UNCERTAIN_KINDS = {1: "cluster", 2: "singular", 3: "at the end of a range"}
-
-
-@dataclass(frozen=True)
-class MultibodyEquilibrium:
-    theta: np.ndarray          # the independent coordinates [rad or m]
-    lo: np.ndarray             # the box proven to hold exactly this one equilibrium
-    hi: np.ndarray
-    omega_squared: np.ndarray  # K phi = omega^2 M phi, ascending [rad^2/s^2]
-    shapes: np.ndarray         # n x n, column j: mode j, phi^T M phi = 1
-    eigenvalues: np.ndarray    # the 2n roots s of det(M s^2 + B s + K) [1/s], complex
-    damping_ratios: np.ndarray  # -Re s / |s| of each eigenvalue
-    modal_damping: np.ndarray  # phi_j^T B phi_j / (2 omega_j): mode j's damping ratio
-    stability: str             # "stable", "unstable" or "undecided"
-
-    @property
-    def stable(self) -> bool:
-        return self.stability == "stable"
-
-    @property
-    def frequencies(self) -> np.ndarray:
-        """The undamped natural frequencies [rad/s] (NaN where omega^2 < 0)."""
-        with np.errstate(invalid="ignore"):
-            return np.sqrt(self.omega_squared)
+__all__ = ["MultibodyAnalysis", "MultibodyEquilibrium", "UncertainBox", "analyze",
+           "receptance", "equilibria", "roots_dtype", "table_rows", "sweep_fields",
+           "sweep_roots"]
 
 
-
-@dataclass(frozen=True)
-class UncertainBox:
-    lo: np.ndarray
-    hi: np.ndarray
-    kind: str   # "cluster", "singular" or "at the end of a range"
-
-
-@dataclass(frozen=True)
-class MultibodyAnalysis:
-    coordinates: tuple[str, ...]
-    equilibria: tuple[MultibodyEquilibrium, ...]
-    uncertain: tuple[UncertainBox, ...]
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain JSON types: lists and floats (NaN as None)."""
-        def plain(x):
-            return [plain(v) for v in x] if isinstance(x, (list, np.ndarray)) else (
-                None if isinstance(x, float) and math.isnan(x) else float(x))
-
-        return {
-            "coordinates": list(self.coordinates),
-            "equilibria": [{
-                "theta": plain(e.theta), "box": [plain(e.lo), plain(e.hi)],
-                "stability": e.stability, "omega_squared": plain(e.omega_squared),
-                "natural_frequencies": plain(e.frequencies),
-                "mode_shapes": plain(e.shapes),
-                "eigenvalues": [[plain(s.real), plain(s.imag)] for s in e.eigenvalues],
-                "damping_ratios": plain(e.damping_ratios),
-                "modal_damping": plain(e.modal_damping)} for e in self.equilibria],
-            "uncertain": [{"box": [plain(u.lo), plain(u.hi)], "kind": u.kind}
-                          for u in self.uncertain],
-        }
-
-
-def analyze(library: Any, params: Any) -> MultibodyAnalysis:
-    """Every equilibrium of ``params`` in the box of the coordinates' ranges, ordered by
-    their coordinates, with its modes; raises LibraryError where the C analysis fails."""
-    n = library.SPEC["dof"]
-    result = library.ffi.new(f"{library.PREFIX}_analysis *")
-    status = getattr(library.lib, f"{library.PREFIX}_analyze")(library._c_params(params), result)
-    library.check(status, params)
-    return _read(library, result, n)
-
-
-def _array(ffi: Any, field: Any, count: int) -> np.ndarray:
-    return np.frombuffer(ffi.buffer(field), dtype=np.float64)[:count].copy()
-
-
-def _read(library: Any, result: Any, n: int) -> MultibodyAnalysis:
-    ffi = library.ffi
-    count, uncertain = result.n_equilibria, result.n_uncertain
-
-    def rows(field, width):
-        return _array(ffi, field, count * width).reshape(count, width)
-
-    theta, lo, hi = rows(result.theta, n), rows(result.lo, n), rows(result.hi, n)
-    omega_squared, shapes = rows(result.omega_squared, n), rows(result.shapes, n * n)
-    s = rows(result.s_re, 2 * n) + 1j * rows(result.s_im, 2 * n)
-    zeta, modal = rows(result.damping_ratio, 2 * n), rows(result.modal_damping, n)
-    equilibria = [MultibodyEquilibrium(theta[r], lo[r], hi[r], omega_squared[r],
-                                       shapes[r].reshape(n, n), s[r], zeta[r], modal[r],
-                                       STABILITY[result.stability[r]]) for r in range(count)]
-    equilibria.sort(key=lambda e: tuple(e.theta))
-    u_lo = _array(ffi, result.uncertain_lo, uncertain * n).reshape(uncertain, n)
-    u_hi = _array(ffi, result.uncertain_hi, uncertain * n).reshape(uncertain, n)
-    boxes = [UncertainBox(u_lo[u], u_hi[u], UNCERTAIN_KINDS[result.uncertain_kind[u]])
-             for u in range(uncertain)]
-    names = tuple(c["name"] for c in library.SPEC["coordinates"])
-    return MultibodyAnalysis(names, tuple(equilibria), tuple(boxes))
+def analyze(library: Any, params: Any) -> MultibodyAnalysis | analysis.Analysis:
+    """A thin alias of ``codegen.runtime.analysis.analyze(params)`` (``params`` a Params or a
+    mapping of every parameter, None the example), kept for older callers: with several
+    coordinates every equilibrium in the box of their ranges, ordered by their coordinates,
+    with its modes; raises LibraryError where the C analysis fails."""
+    return analysis.analyze(library._params(params))
 
 
 def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
@@ -143,27 +53,10 @@ def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
 
 # ------------------------------------------------------------------- many sets at once
 
-def route(library: Any, method: str = "auto") -> str:
-    """The route a method name takes with several coordinates: "isolate", the proven
-    isolation in boxes ("auto" too). ValueError for an unknown method or "polynomial", which
-    several coordinates do not have."""
-    if method not in analysis.METHODS:
-        raise ValueError(f"method must be one of {', '.join(analysis.METHODS)}, not {method!r}")
-    if method == "polynomial":
-        raise ValueError(f"{library.PREFIX}: with several coordinates there is no polynomial "
-                         "route; its equilibria are isolated in boxes (method isolate or auto)")
-    return "isolate"
-
-
-def batch_entry(library: Any, method: str) -> Any:
-    """NAME_analyze_batch, the C analysis of many sets (its one route)."""
-    return getattr(library.lib, f"{library.PREFIX}_analyze_batch")
-
-
-#: The codes of the C stability (codegen_multibody.h: 1, 0, -1) as analysis.STABILITY's
-#: (stable, marginal, unstable): an undecided equilibrium is marginal.
+#: The codes of the C stability (codegen_multibody.h: -1, 0, 1) as analysis.STABILITY's:
+#: undecided, unstable, stable.
 _STABILITY_CODES = np.array([analysis.STABILITY.index(s) for s in
-                             ("marginal", "unstable", "stable")], dtype=np.int8)  # C -1, 0, 1
+                             ("undecided", "unstable", "stable")], dtype=np.int8)  # C -1, 0, 1
 
 
 def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
@@ -208,7 +101,7 @@ def roots_dtype(library: Any) -> np.dtype:
     equilibrium, its set's index, its coordinates and their proven box, each mode's omega^2,
     undamped natural frequency (NaN where omega^2 < 0), modal damping ratio (zeta) and
     mass-normalised shape (column j: mode j), the 2n damped eigenvalues with their damping
-    ratios, and the stability (analysis.STABILITY's code; undecided: marginal). ``certified``
+    ratios, and the stability (analysis.STABILITY's code). ``certified``
     and ``kind`` (equilibrium) are those of every row, as a one-coordinate table's
     equilibria have them."""
     n = library.dof
