@@ -7,9 +7,9 @@ Co-Simulation in one unit, with its C sources and the binary for this platform.
   it: a controller drives the load), and as outputs each named point's x and y and the
   kinetic and potential energies, with names, units and descriptions from the model;
 - ``sources/``: the library's C (NAME.c and the runtime), the FMI glue written once
-  (templates/fmi: the instance's core, codegen_fmi_core.c, and the version's front end,
+  (runtime/fmi: the instance's core, codegen_fmi_core.c, and the version's front end,
   codegen_fmi2.c or codegen_fmi3.c) and the FMU's own descriptor, NAME_fmi.c, rendered here
-  (FMI 3.0: with buildDescription.xml);
+  from templates/fmi (FMI 3.0: with buildDescription.xml);
 - ``binaries/linux64/NAME.so`` (FMI 3.0: ``x86_64-linux``), compiled from those sources
   against FMI's standard headers, which fmpy ships: ``pip install 'mechvib[fmu]'``.
 The initial state is an equilibrium of the analysis at rest (the first stable one, or the
@@ -58,7 +58,7 @@ def library_sources(library: Any) -> tuple[Path, Path]:
         root = Path(origin[1])
     else:
         root = resources.generated()
-    return root / library.PREFIX, root / "runtime"
+    return root / library.PREFIX, root / resources.RUNTIME
 
 
 def _coordinates(library: Any) -> list[tuple[str, str, str]]:
@@ -177,7 +177,7 @@ def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None,
         folder = Path(work) / "sources"
         folder.mkdir()
         for source in [*own.glob("*.[ch]"), *runtime.glob("*.[ch]"),
-                       *(resources.templates() / "fmi" / name for name in glue)]:
+                       *(resources.runtime() / "fmi" / name for name in glue)]:
             shutil.copy(source, folder / source.name)
         (folder / f"{prefix}_fmi.c").write_text(part)
         if version == "3.0":   # FMI 3.0 lists the sources beside them
@@ -221,9 +221,9 @@ def _compile(folder: Path, sources: list[str], headers: Path, binary: Path) -> N
     cc = shutil.which("cc") or shutil.which("gcc")
     if cc is None:
         raise FmuError("no C compiler (cc) to build the FMU's binary")
-    command = [cc, "-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden",
-               f"-I{folder}", f"-I{headers}", *(str(folder / s) for s in sources),
-               "-lm", "-o", str(binary)]
+    command = [cc, *resources.cflags("base", "optimize"), "-fPIC", "-shared",
+               "-fvisibility=hidden", f"-I{folder}", f"-I{headers}",
+               *(str(folder / s) for s in sources), "-lm", "-o", str(binary)]
     done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
         raise FmuError(f"the FMU's binary did not build: {done.stderr.strip()[-500:]}")
