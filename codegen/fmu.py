@@ -71,6 +71,17 @@ def _coordinates(library: Any) -> list[tuple[str, str, str]]:
     return [("theta", unit, "the independent coordinate")]
 
 
+#: The FMU's outputs after each named point's x and y [m], in value-reference order: the one
+#: list of them. Each is its variable's name, unit and description, and its value in
+#: NAME_fmi.c's outputs() (model_fmi.c.j2): a C expression of the energies the library
+#: returns there, T and V (gravity's and the springs').
+ENERGY_OUTPUTS = (
+    {"name": "kinetic_energy", "unit": "J", "description": "kinetic energy T", "value": "T"},
+    {"name": "potential_energy", "unit": "J",
+     "description": "potential energy V (gravity and springs)", "value": "V"},
+)
+
+
 def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
     """The ScalarVariables in value-reference order (codegen_fmi2.h's layout), and the
     indices (from 1) the ModelStructure lists."""
@@ -104,10 +115,9 @@ def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
         for axis in "xy":
             outputs.append(add(f"{point}.{axis}", "output", "continuous",
                                f"{axis} of the point {point}", "m", initial="calculated"))
-    outputs.append(add("kinetic_energy", "output", "continuous", "kinetic energy T", "J",
-                       initial="calculated"))
-    outputs.append(add("potential_energy", "output", "continuous",
-                       "potential energy V (gravity and springs)", "J", initial="calculated"))
+    for energy in ENERGY_OUTPUTS:
+        outputs.append(add(energy["name"], "output", "continuous", energy["description"],
+                           energy["unit"], initial="calculated"))
     assert len(var) == P + 4 * library.dof + len(spec["loads"]) + len(outputs)
     return var, {"outputs": outputs, "derivatives": derivatives,
                  "initial_unknowns": sorted(outputs + derivatives)}
@@ -172,7 +182,8 @@ def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None,
         guid=guid, starts=[repr(float(library.EXAMPLE[n])) for n in library.PARAMETER_NAMES],
         loads=[index[name] for name in library.SPEC["loads"]],
         initial=[repr(float(x)) for x in theta0] + ["0.0"] * library.dof,
-        n_outputs=2 * len(library.SPEC["points"]) + 2, dof=library.dof, **context)
+        energy_outputs=ENERGY_OUTPUTS, n_outputs=len(structure["outputs"]), dof=library.dof,
+        **context)
     with tempfile.TemporaryDirectory() as work:
         folder = Path(work) / "sources"
         folder.mkdir()

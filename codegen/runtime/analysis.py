@@ -39,13 +39,15 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .. import ccodes
 from .library import Library, ParameterSet, params_shown
 
-# The C enums' values, in order (templates/analysis.h.j2).
-STABILITY = ("stable", "marginal", "unstable")
-DAMPING = ("underdamped", "critical", "overdamped", "undamped", "none")
-KINDS = ("equilibrium", "other assembly mode", "extraneous", "mode undecided")
-UNCERTAINTIES = ("cluster", "singular")
+# The words of the C enums' codes, indexed by code: the values are codegen_model.h's, read
+# from it (codegen.ccodes); a word is its member's name unless given here.
+STABILITY = ccodes.words("codegen_stability")   # stable, marginal, unstable
+DAMPING = ccodes.words("codegen_damping", CRITICALLY_DAMPED="critical", NOT_OSCILLATORY="none")
+KINDS = ccodes.words("codegen_root_kind", OTHER_ASSEMBLY="other assembly mode")
+UNCERTAINTIES = ccodes.words("codegen_uncertainty")   # cluster, singular
 METHODS = ("auto", "polynomial", "isolate")
 
 #: The kind of root that is not an equilibrium (the squared equation's, with a negative

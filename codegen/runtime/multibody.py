@@ -20,12 +20,15 @@ from typing import Any
 
 import numpy as np
 
+from .. import ccodes
 from . import analysis
 
-#: codegen_multibody.h's stability codes
-STABILITY = {1: "stable", 0: "unstable", -1: "undecided"}
-#: codegen_boxes.h's and codegen_multibody.h's kinds of an undecided box
-UNCERTAIN_KINDS = {1: "cluster", 2: "singular", 3: "at the end of a range"}
+#: codegen_multibody.h's stability codes (their values read from it) -> words
+STABILITY = ccodes.named({"MB_STABLE": "stable", "MB_UNSTABLE": "unstable",
+                          "MB_UNDECIDED": "undecided"})
+#: codegen_boxes.h's and codegen_multibody.h's kinds of an undecided box -> words
+UNCERTAIN_KINDS = ccodes.named({"BOX_CLUSTER": "cluster", "BOX_SINGULAR": "singular",
+                                "MB_AT_RANGE_END": "at the end of a range"})
 
 
 @dataclass(frozen=True)
@@ -160,10 +163,13 @@ def batch_entry(library: Any, method: str) -> Any:
     return getattr(library.lib, f"{library.PREFIX}_analyze_batch")
 
 
-#: The codes of the C stability (codegen_multibody.h: 1, 0, -1) as analysis.STABILITY's
-#: (stable, marginal, unstable): an undecided equilibrium is marginal.
-_STABILITY_CODES = np.array([analysis.STABILITY.index(s) for s in
-                             ("marginal", "unstable", "stable")], dtype=np.int8)  # C -1, 0, 1
+#: The codes of the C stability (STABILITY: codegen_multibody.h's, read from it) as
+#: analysis.STABILITY's (stable, marginal, unstable): an undecided equilibrium is marginal.
+#: Indexed by the C code less the least of them (_LEAST_STABILITY).
+_LEAST_STABILITY = min(STABILITY)
+_STABILITY_CODES = np.array(
+    [analysis.STABILITY.index({"undecided": "marginal"}.get(STABILITY[code], STABILITY[code]))
+     for code in range(_LEAST_STABILITY, max(STABILITY) + 1)], dtype=np.int8)
 
 
 def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
@@ -198,7 +204,7 @@ def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
         "eigenvalues": (field("s_re", 2 * n) + 1j * field("s_im", 2 * n))[order],
         "damping_ratios": field("damping_ratio", 2 * n)[order],
         "zeta": field("modal_damping", n)[order],
-        "stability": _STABILITY_CODES[field("stability") + 1][order]}
+        "stability": _STABILITY_CODES[field("stability") - _LEAST_STABILITY][order]}
     return columns, sets[order], counts, uncertain
 
 
