@@ -14,8 +14,11 @@ INSTALL = $(PY) -m pip install --quiet --no-build-isolation -e '.[test]'
 PYTEST_JOBS ?= -n auto
 
 CC       ?= gcc
-STRICT    = -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Wshadow -Werror
-SANITIZE  = -std=c99 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all
+# The compiler flags' named sets (base, optimize, strict, promotion, sanitize), written once
+# in runtime/cflags.txt for every build: the Makefile, CMake, embedded/ and Python read it.
+include runtime/cflags.txt
+STRICT    = $(base) $(strict)
+SANITIZE  = $(base) $(sanitize)
 
 .PHONY: all help venv analyze generate check build test test-all lint sanitize example bench same-results embedded clean
 .DEFAULT_GOAL := all
@@ -40,7 +43,7 @@ $(VENV)/.build-requires: | $(PY)
 
 venv: $(VENV)/.installed  ## make .venv: build requirements, then this package (editable) and its test extras
 $(VENV)/.installed: pyproject.toml setup.py codegen/__init__.py codegen/compiler/build.py \
-                    $(wildcard generated/*/*) $(VENV)/.build-requires
+                    runtime/cflags.txt $(wildcard generated/*/*) $(VENV)/.build-requires
 	$(INSTALL)
 	touch $@
 
@@ -73,7 +76,7 @@ REALS = double float
 lint:  ## gcc and clang with strict warnings, and cppcheck, over every library in generated/, in double and float
 	for real in $(REALS); do for cc in gcc clang; do for lib in $(LIBS); do \
 	  for f in generated/$$lib/*.c generated/runtime/*.c; do \
-	    $$cc $(STRICT) -Wdouble-promotion -O2 $$( [ $$real = float ] && echo -DCODEGEN_FLOAT ) \
+	    $$cc $(STRICT) $(promotion) $(optimize) $$( [ $$real = float ] && echo -DCODEGEN_FLOAT ) \
 	      -Igenerated/$$lib -Igenerated/runtime -c $$f -o /dev/null || exit 1; \
 	done; done; done; done
 	for real in $(REALS); do for lib in $(LIBS); do cppcheck --quiet --error-exitcode=1 \
@@ -98,7 +101,7 @@ example: build/minimal  ## compile examples/minimal.c with the doughty library i
 
 build/minimal: examples/minimal.c $(wildcard generated/doughty/*.[ch] generated/runtime/*.[ch])
 	mkdir -p build
-	$(CC) $(STRICT) -O2 -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
+	$(CC) $(STRICT) $(optimize) -Igenerated/doughty -Igenerated/runtime examples/minimal.c \
 	  generated/doughty/*.c generated/runtime/*.c -lm -o $@
 
 # BENCH_ARGS=--quick: a smoke run of ~40 s (the derivations dominate); `--help` lists the sizes.

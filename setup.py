@@ -2,22 +2,33 @@
 # everything else is in pyproject.toml.
 # One extension per library folder in generated/ (see codegen/compiler/build.py).
 # The wheel (and a non-editable install) also carries, inside the package, the C library of
-# every shipped mechanism and the templates, where codegen.resources finds them:
+# every shipped mechanism, the C runtime and the templates, where codegen.resources finds them:
 #   generated/NAME/*, generated/runtime/*  ->  codegen/data/generated/...
-#   templates/*.j2, templates/runtime/*, templates/fmi/*  ->  codegen/data/templates/...
+#   runtime/* (the C runtime, runtime/fmi/, cflags.txt)  ->  codegen/data/runtime/...
+#   templates/*.j2, templates/fmi/*.j2  ->  codegen/data/templates/...
 # An editable install reads the checkout's own folders instead and copies nothing.
+import importlib.util
 from pathlib import Path
 
 from setuptools import setup
 from setuptools.command.build_py import build_py
 
+
+def _resources():
+    """codegen/resources.py, loaded by path (the package is not importable while it builds)."""
+    spec = importlib.util.spec_from_file_location("_mechvib_resources", "codegen/resources.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+RUNTIME = _resources().RUNTIME
 LIBRARIES = sorted(p.name for p in Path("generated").iterdir()
                    if (p / f"{p.name}_api.json").is_file())
-RUNTIME = "runtime"
-#: The template subfolders shipped whole: the hand-written runtime and the FMI glue.
-TEMPLATE_FOLDERS = (RUNTIME, "fmi")
 #: What a library folder ships (not the objects a compiler may leave beside the sources).
 SHIPPED_SUFFIXES = (".c", ".h", ".cdef", ".json")
+#: What a compiler may leave beside the runtime's sources: not shipped.
+BUILD_BYPRODUCTS = (".o",)
 
 
 def data_files() -> list[tuple[Path, Path]]:
@@ -27,17 +38,16 @@ def data_files() -> list[tuple[Path, Path]]:
         for src in sorted(Path("generated", folder).iterdir()):
             if src.is_file() and src.suffix in SHIPPED_SUFFIXES:
                 pairs.append((src, Path("data", "generated", folder, src.name)))
-    for src in sorted(Path("templates").glob("*.j2")):
-        pairs.append((src, Path("data", "templates", src.name)))
-    for folder in TEMPLATE_FOLDERS:
-        for src in sorted(Path("templates", folder).iterdir()):
-            if src.is_file():
-                pairs.append((src, Path("data", "templates", folder, src.name)))
+    for top in ("templates", RUNTIME):
+        for src in sorted(Path(top).rglob("*")):
+            if src.is_file() and src.suffix not in BUILD_BYPRODUCTS:
+                pairs.append((src, Path("data", src)))
     return pairs
 
 
 class build_py_with_data(build_py):
-    """build_py, then the generated libraries and the templates into codegen/data/."""
+    """build_py, then the generated libraries, the runtime and the templates into
+    codegen/data/."""
 
     def run(self):
         super().run()

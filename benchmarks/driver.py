@@ -9,14 +9,16 @@ from typing import Any
 
 import numpy as np
 
+from codegen.resources import cflags
 from codegen.runtime.library import Library
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
 BENCH_C = Path(__file__).resolve().parent / "bench.c"
 CC = "gcc"
-#: The flags of every C compilation of the benchmark: the library, the naive C and the driver.
-CFLAGS = ("-std=c99", "-O2")
+#: The flags of every C compilation of the benchmark: the library, the naive C and the driver
+#: (runtime/cflags.txt's sets).
+CFLAGS = tuple(cflags("base", "optimize"))
 
 
 def thetaddot_name(library: Library, theta_dd: str) -> str:

@@ -7,9 +7,9 @@ Co-Simulation in one unit, with its C sources and the binary for this platform.
   it: a controller drives the load), and as outputs each named point's x and y and the
   kinetic and potential energies, with names, units and descriptions from the model;
 - ``sources/``: the library's C (NAME.c and the runtime), the FMI glue written once
-  (templates/fmi: the instance's core, codegen_fmi_core.c, and the version's front end,
+  (runtime/fmi: the instance's core, codegen_fmi_core.c, and the version's front end,
   codegen_fmi2.c or codegen_fmi3.c) and the FMU's own descriptor, NAME_fmi.c, rendered here
-  (FMI 3.0: with buildDescription.xml);
+  from templates/fmi (FMI 3.0: with buildDescription.xml);
 - ``binaries/linux64/NAME.so`` (FMI 3.0: ``x86_64-linux``), compiled from those sources
   against FMI's standard headers, which fmpy ships: ``pip install 'mechvib[fmu]'``.
 The initial state is an equilibrium of the analysis at rest (the first stable one, or the
@@ -58,7 +58,7 @@ def library_sources(library: Any) -> tuple[Path, Path]:
         root = Path(origin[1])
     else:
         root = resources.generated()
-    return root / library.PREFIX, root / "runtime"
+    return root / library.PREFIX, root / resources.RUNTIME
 
 
 def _coordinates(library: Any) -> list[tuple[str, str, str]]:
@@ -69,6 +69,17 @@ def _coordinates(library: Any) -> list[tuple[str, str, str]]:
     angle = next(f for f in spec["functions"] if f["name"] == "angular_acceleration")
     unit = "rad" if "[rad" in angle["inputs"][0]["description"] else "m"
     return [("theta", unit, "the independent coordinate")]
+
+
+#: The FMU's outputs after each named point's x and y [m], in value-reference order: the one
+#: list of them. Each is its variable's name, unit and description, and its value in
+#: NAME_fmi.c's outputs() (model_fmi.c.j2): a C expression of the energies the library
+#: returns there, T and V (gravity's and the springs').
+ENERGY_OUTPUTS = (
+    {"name": "kinetic_energy", "unit": "J", "description": "kinetic energy T", "value": "T"},
+    {"name": "potential_energy", "unit": "J",
+     "description": "potential energy V (gravity and springs)", "value": "V"},
+)
 
 
 def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
@@ -104,10 +115,9 @@ def _variables(library: Any, start: list[float]) -> tuple[list[dict], dict]:
         for axis in "xy":
             outputs.append(add(f"{point}.{axis}", "output", "continuous",
                                f"{axis} of the point {point}", "m", initial="calculated"))
-    outputs.append(add("kinetic_energy", "output", "continuous", "kinetic energy T", "J",
-                       initial="calculated"))
-    outputs.append(add("potential_energy", "output", "continuous",
-                       "potential energy V (gravity and springs)", "J", initial="calculated"))
+    for energy in ENERGY_OUTPUTS:
+        outputs.append(add(energy["name"], "output", "continuous", energy["description"],
+                           energy["unit"], initial="calculated"))
     assert len(var) == P + 4 * library.dof + len(spec["loads"]) + len(outputs)
     return var, {"outputs": outputs, "derivatives": derivatives,
                  "initial_unknowns": sorted(outputs + derivatives)}
@@ -176,12 +186,13 @@ def write_fmu(library: Any, path: str | Path, equilibrium: int | None = None,
         guid=guid, starts=[repr(float(library.EXAMPLE[n])) for n in library.PARAMETER_NAMES],
         loads=[index[name] for name in library.SPEC["loads"]],
         initial=[repr(float(x)) for x in theta0] + ["0.0"] * library.dof,
-        n_outputs=2 * len(library.SPEC["points"]) + 2, dof=library.dof, **context)
+        energy_outputs=ENERGY_OUTPUTS, n_outputs=len(structure["outputs"]), dof=library.dof,
+        **context)
     with tempfile.TemporaryDirectory() as work:
         folder = Path(work) / "sources"
         folder.mkdir()
         for source in [*own.glob("*.[ch]"), *runtime.glob("*.[ch]"),
-                       *(resources.templates() / "fmi" / name for name in glue)]:
+                       *(resources.runtime() / "fmi" / name for name in glue)]:
             shutil.copy(source, folder / source.name)
         (folder / f"{prefix}_fmi.c").write_text(part)
         if version == "3.0":   # FMI 3.0 lists the sources beside them
@@ -225,9 +236,9 @@ def _compile(folder: Path, sources: list[str], headers: Path, binary: Path) -> N
     cc = shutil.which("cc") or shutil.which("gcc")
     if cc is None:
         raise FmuError("no C compiler (cc) to build the FMU's binary")
-    command = [cc, "-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden",
-               f"-I{folder}", f"-I{headers}", *(str(folder / s) for s in sources),
-               "-lm", "-o", str(binary)]
+    command = [cc, *resources.cflags("base", "optimize"), "-fPIC", "-shared",
+               "-fvisibility=hidden", f"-I{folder}", f"-I{headers}",
+               *(str(folder / s) for s in sources), "-lm", "-o", str(binary)]
     done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
         raise FmuError(f"the FMU's binary did not build: {done.stderr.strip()[-500:]}")

@@ -15,9 +15,11 @@ ARM_CC    = arm-none-eabi-gcc
 CPU       = -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
 # -fstack-usage and -fcallgraph-info=su leave NAME.su and NAME.ci beside each object: the
 # frames and the call graph embedded/report.py walks for the worst-case stack.
-# -ffp-contract=off: the M4's single-precision fused multiply-add stays out of the float
-# build (gcc's default in ISO C mode; said, since the host comparison rests on it).
-ARM_CFLAGS = $(CPU) -O2 -std=c99 -ffp-contract=off -Wall -Wextra -ffunction-sections \
+# runtime/cflags.txt's sets: base is -std=c99 -ffp-contract=off, which keeps the M4's
+# single-precision fused multiply-add out of the float build (gcc's default in ISO C mode;
+# said, since the host comparison rests on it); optimize is -O2.
+include runtime/cflags.txt
+ARM_CFLAGS = $(CPU) $(optimize) $(base) -Wall -Wextra -ffunction-sections \
              -fdata-sections -fstack-usage -fcallgraph-info=su
 # No --gc-sections: every function of the library stays, and with it every C library
 # function it calls, whose frames the stack report reads from the firmware.
@@ -25,7 +27,7 @@ ARM_LDFLAGS = $(CPU) -T embedded/mps2_an386.ld -nostartfiles --specs=rdimon.spec
 # The host reference: IEEE double as written (no contraction into fma; x86-64 has no excess
 # precision), so that every value can be compared bit for bit. -O0: the arithmetic is the
 # same at any level, and the largest library compiles in a second instead of half a minute.
-HOST_CFLAGS = -std=c99 -O0 -ffp-contract=off -Wall -Wextra
+HOST_CFLAGS = $(base) -O0 -Wall -Wextra
 
 # Virtual time per instruction is 2^ICOUNT_SHIFT ns: 64 ns, longer than the 40 ns tick of the
 # board's 25 MHz timer, so the count read from it is exact (platform_qemu.c).

@@ -7,6 +7,10 @@ themselves.
 
 Helpers are handed to tests as session-scoped fixtures (``random_params``, ``mp_eval``, ...)
 rather than imported from this file, so the suite works whatever the import mode.
+
+Nothing compiled is loaded at import: the doughty library (``api``) loads on first use, so
+that tests/runtime_c, which compiles the C runtime on its own and loads no mechanism's
+library, runs in a clone where nothing is generated or built.
 """
 from __future__ import annotations
 
@@ -25,9 +29,19 @@ import pytest
 import sympy as sp
 from hypothesis import settings
 
-from codegen.api import load
+from codegen import resources
 
-api = load("doughty")
+
+class _Doughty:
+    """The doughty Library (codegen.api.load), loaded when first used."""
+
+    def __getattr__(self, name):
+        from codegen.api import load
+
+        return getattr(load("doughty"), name)
+
+
+api = _Doughty()
 
 
 # Property tests are deterministic by default, so CI judges the same examples every run;
@@ -39,10 +53,8 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 SEED = 20_240_611
 #: Unit roundoff of IEEE double precision.
 UNIT_ROUNDOFF = 2.0**-53
-#: AddressSanitizer + UBSan, aborting on the first report.
-SANITIZE = ("-std=c99", "-g", "-O1", "-fsanitize=address,undefined", "-fno-sanitize-recover=all")
-
-TABLE2 = api.example_params()
+#: AddressSanitizer + UBSan, aborting on the first report (runtime/cflags.txt's sets).
+SANITIZE = tuple(resources.cflags("base", "sanitize"))
 
 
 # --------------------------------------------------------------------------- derivation
@@ -135,7 +147,8 @@ def _log_uniform(rng, low, high):
 
 def near_table2(rng) -> api.Params:
     """Table 2 with every parameter scaled by a factor around 1 (sd ~10 %)."""
-    base = {n: getattr(TABLE2, n) for n in api.PARAMETER_NAMES}
+    table2 = api.example_params()
+    base = {n: getattr(table2, n) for n in api.PARAMETER_NAMES}
     values = {n: v * math.exp(rng.normal(0.0, 0.1)) for n, v in base.items()}
     values["a"] = min(values["a"], values["L"])
     return api.Params(**values)
@@ -437,65 +450,7 @@ def sanitizer(tmp_path) -> Sanitizer:
     return Sanitizer(cc)
 
 
-# --------------------------------------------------------------------------- runtime drivers
+# --------------------------------------------------------------------------- paths
 
-#: gcc's warnings as the project holds C to them (every warning an error).
-WARNINGS = ("-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow", "-Werror")
+#: The checkout (tests/runtime_c/conftest.py holds the C runtime's drivers).
 ROOT = Path(__file__).resolve().parents[1]
-RUNTIME = ROOT / "generated" / "runtime"
-
-
-class DriverProgram:
-    """A compiled test driver: one command per line on stdin, one answer line per command."""
-
-    def __init__(self, exe: Path, env=None):
-        self.exe, self.env = exe, env
-
-    def raw(self, lines, timeout=120.0) -> str:
-        r = subprocess.run([str(self.exe)], input="\n".join(lines) + "\n", capture_output=True,
-                           text=True, env=self.env, timeout=timeout)
-        assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
-        return r.stdout
-
-    def __call__(self, lines, timeout=120.0) -> list[list[str]]:
-        """The words of each answer line."""
-        out = self.raw(lines, timeout).splitlines()
-        assert len(out) == len(lines)
-        return [line.split() for line in out]
-
-
-@dataclass(frozen=True)
-class RuntimeDriverCompiler:
-    """Builds a driver of tests/c/ with one source of generated/runtime/ (strict: -std=c99 -O2
-    and WARNINGS, unless other flags are given)."""
-
-    cc: str
-    strict: tuple[str, ...] = ("-std=c99", "-O2", *WARNINGS)
-    warnings: tuple[str, ...] = WARNINGS
-
-    def build(self, exe: Path, driver: str, runtime: str | tuple[str, ...], flags=None,
-              defines=()) -> Path:
-        sources = [RUNTIME / name for name in ((runtime,) if isinstance(runtime, str) else runtime)]
-        for source in sources:
-            if not source.exists():
-                pytest.skip(f"generated/runtime/{source.name} is missing (run `make generate`)")
-        r = subprocess.run([self.cc, *(self.strict if flags is None else flags), *defines,
-                            f"-I{RUNTIME}", str(ROOT / "tests" / "c" / driver),
-                            *map(str, sources), "-lm", "-o", str(exe)],
-                           capture_output=True, text=True)
-        assert r.returncode == 0, f"compilation failed:\n{r.stderr}"
-        return exe
-
-    @staticmethod
-    def program(exe: Path, env=None) -> DriverProgram:
-        """A built driver, to feed commands (``env``: its environment, e.g. ASAN_OPTIONS)."""
-        return DriverProgram(exe, env)
-
-
-@pytest.fixture(scope="session")
-def runtime_driver() -> RuntimeDriverCompiler:
-    """Compiles the runtime's test drivers; skips where there is no C compiler."""
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    return RuntimeDriverCompiler(cc)

@@ -15,6 +15,7 @@ import pytest
 import codegen
 from codegen.runtime.analysis import analyze
 from codegen.api import load
+from codegen.resources import cflags
 
 ROOT = Path(__file__).resolve().parent.parent
 MINIMAL = ROOT / "examples" / "minimal.c"
@@ -137,7 +138,8 @@ def test_pkg_config_consumer(prefix, tmp_path, need_tools):
     need_tools("pkg-config")
     env = {**os.environ, "PKG_CONFIG_PATH": str(prefix / "lib" / "pkgconfig")}
     flags = _run(["pkg-config", "--cflags", "--libs", "mechvib-doughty"], env=env).split()
-    _run(["cc", "-std=c99", "-O2", str(MINIMAL), *flags, "-o", str(tmp_path / "minimal")])
+    _run(["cc", *cflags("base", "optimize"), str(MINIMAL), *flags, "-o",
+          str(tmp_path / "minimal")])
     assert _run([str(tmp_path / "minimal")]) == _expected_minimal_output()
 
 

@@ -15,6 +15,7 @@ from codegen.api import load
 
 api = load("doughty")
 from codegen.runtime.analysis import analyze
+from codegen.resources import cflags
 
 REPO = Path(__file__).resolve().parent.parent
 ROW = re.compile(r"^\s*(-?\d+\.\d{4})\s+(equilibrium|extraneous)\s")
@@ -310,7 +311,7 @@ def test_sources_prints_the_folders_and_copies_a_library_that_compiles(tmp_path)
     program = tmp_path / "app.c"
     program.write_text('#include "four_bar.h"\nint main(void) { four_bar_params p = {0};\n'
                        '  return four_bar_check_params(&p) == FOUR_BAR_OK; }\n')
-    cc = cli("-std=c99", "-Ivendor", "app.c", *map(str, sources), "-lm", "-o", "app",
+    cc = cli(*cflags("base"), "-Ivendor", "app.c", *map(str, sources), "-lm", "-o", "app",
              cwd=tmp_path, command=("gcc",))
     assert cc.returncode == 0, cc.stderr
     unknown = cli("sources", "--mechanism", "nonesuch", cwd=tmp_path)

@@ -1,5 +1,5 @@
 """The root finder's fast path (Ehrlich-Aberth iteration proven by inclusion discs, in
-templates/runtime/codegen_roots.c) against its reference, the isolation by derivatives
+runtime/codegen_roots.c) against its reference, the isolation by derivatives
 (codegen_poly_real_roots_reference_work), which it must agree with wherever it answers and
 falls back to elsewhere: the same statuses and counts, and each root within the 4 eps at which
 the finder merges values, on the runtime's own hard vectors (close pairs, double roots,
@@ -13,8 +13,9 @@ import pytest
 
 from codegen.runtime import sweep
 from codegen.api import load, shipped
-from test_runtime_roots import (RUNTIME_CDEF, RUNTIME_SRC, SEED, TEMPLATES, _build,
-                                _degree12_vectors, known_case)
+from runtime_c.conftest import RUNTIME
+from runtime_c.test_runtime_roots import (RUNTIME_CDEF, RUNTIME_SRC, SEED, _build,
+                                          _degree12_vectors, known_case)
 
 CDEF = RUNTIME_CDEF + """
 codegen_roots_status codegen_poly_real_roots_work(const double *sigma, int degree,
@@ -30,7 +31,7 @@ EPS = np.finfo(float).eps
 def both(tmp_path_factory):
     d = tmp_path_factory.mktemp("fast_roots")
     return _build(d, "_fast_roots_test", CDEF, '#include "codegen_runtime.h"', [RUNTIME_SRC],
-                  [TEMPLATES])
+                  [RUNTIME])
 
 
 def _roots(both, entry, sigma):

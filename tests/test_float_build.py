@@ -20,10 +20,11 @@ import numpy as np
 import pytest
 from libraries import generated_libraries
 
+from codegen.resources import cflags
+
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
-STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-          "-Wdouble-promotion", "-Werror", "-O2"]
+STRICT = cflags("base", "strict", "promotion", "optimize")
 MECHANISMS = generated_libraries(GENERATED, several=False)  # theirs: tests/test_multibody.py
 #: Sets compared per mechanism (the isolation that the float build runs is the slow part).
 SETS = {"default": 300}
@@ -281,7 +282,7 @@ def test_flags_that_break_the_library_are_refused(tmp_path, flag, message):
         pytest.skip("needs gcc")
     for real in ([], ["-DCODEGEN_FLOAT"]):
         done = subprocess.run(
-            ["gcc", "-std=c99", flag, *real, f"-I{GENERATED / 'runtime'}", "-c",
+            ["gcc", *cflags("base"), flag, *real, f"-I{GENERATED / 'runtime'}", "-c",
              str(GENERATED / "runtime" / "codegen_roots.c"), "-o", str(tmp_path / "x.o")],
             capture_output=True, text=True)
         assert done.returncode != 0 and message in done.stderr

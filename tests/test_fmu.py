@@ -14,6 +14,7 @@ import pytest
 
 from codegen.api import load
 from codegen.fmu import write_fmu
+from codegen.resources import cflags
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy import read_model_description, simulate_fmu  # noqa: E402
@@ -287,8 +288,8 @@ def test_the_fmi_glue_and_the_fmus_own_part_compile_without_a_warning(fmus, fmus
         for source in ("codegen_fmi_core.c", "codegen_fmi2.c", "codegen_fmi3.c",
                        f"{name}_fmi.c"):
             done = subprocess.run(
-                [cc, "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion", "-Wshadow",
-                 "-Wdouble-promotion", "-Werror", "-O2", f"-I{sources}", f"-I{fmi_headers()}",
+                [cc, *cflags("base", "strict", "promotion", "optimize"), f"-I{sources}",
+                 f"-I{fmi_headers()}",
                  "-c", str(sources / source), "-o", "/dev/null"], capture_output=True, text=True)
             assert done.returncode == 0, (cc, source, done.stderr)
 @pytest.mark.slow

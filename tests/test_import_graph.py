@@ -39,7 +39,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "codegen"
 #: A name ending in ".*" is every module of that subpackage.
 LAYERS: list[tuple[str, ...]] = [
     # plumbing, standard library and numpy only, used by both sides
-    ("codegen", "codegen.errors", "codegen.files", "codegen.resources"),
+    ("codegen", "codegen.errors", "codegen.files", "codegen.resources", "codegen.ccodes"),
     # codegen/compiler/: model -> derivation -> C emission -> verification -> generation, build
     ("codegen.compiler",),
     ("codegen.compiler.model.*",),

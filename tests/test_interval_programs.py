@@ -23,6 +23,7 @@ import sympy as sp
 
 from codegen.api import load
 from codegen.compiler.emission.interval import inline_tail, interval_body, split_program
+from codegen.resources import cflags
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
@@ -80,7 +81,7 @@ def _driver(tmp: Path, name: str, flags: list[str]) -> Path:
                                 "n": len(lib.PARAMETER_NAMES), "assign": assign})
     exe = tmp / f"{name}{''.join(flags).replace('-D', '_')}"
     sources = sorted((GENERATED / name).glob("*.c")) + sorted((GENERATED / "runtime").glob("*.c"))
-    subprocess.run(["gcc", "-std=c99", "-O2", *flags, f"-I{GENERATED / name}",
+    subprocess.run(["gcc", *cflags("base", "optimize"), *flags, f"-I{GENERATED / name}",
                     f"-I{GENERATED / 'runtime'}", str(source), *map(str, sources), "-lm",
                     "-o", str(exe)], check=True)
     return exe

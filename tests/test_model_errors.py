@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 
+from codegen.resources import cflags
 from test_user_model import MODEL, NAME, PROG, codegen
 
 #: The model of docs/models.md with every name replaced by an awkward one; the three extra
@@ -96,7 +97,7 @@ def test_awkward_names_compile_strictly(awkward, tmp_path):
     sources = sorted((awkward / AWKWARD_NAME).glob("*.c"))
     for source in sources:
         out = subprocess.run(
-            [gcc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wshadow",
+            [gcc, *cflags("base", "strict"),
              f"-I{awkward / AWKWARD_NAME}", f"-I{awkward / 'runtime'}", "-c", str(source),
              "-o", str(tmp_path / f"{source.stem}.o")],
             capture_output=True, text=True, timeout=120)

@@ -39,6 +39,7 @@ tomllib = pytest.importorskip("tomllib")  # Python 3.11+
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
 TEMPLATES = ROOT / "templates"
+RUNTIME = ROOT / "runtime"
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 #: What a library folder of generated/ ships (setup.py's SHIPPED_SUFFIXES).
 SHIPPED_SUFFIXES = (".c", ".h", ".cdef", ".json")
@@ -72,17 +73,17 @@ def _phony_targets() -> list[str]:
 
 def _shipped_data() -> dict[str, Path]:
     """Path inside the installed package -> the checkout's file, for every file of
-    codegen/data/ (the generated libraries and runtime, the templates)."""
+    codegen/data/ (the generated libraries and the runtime's copy, the C runtime with its FMI
+    glue and flags, the templates)."""
     files = {}
     for folder in LIBRARIES + ["runtime"]:
         for src in sorted((GENERATED / folder).iterdir()):
             if src.is_file() and src.suffix in SHIPPED_SUFFIXES:
                 files[f"codegen/data/generated/{folder}/{src.name}"] = src
-    for src in sorted(TEMPLATES.glob("*.j2")):
-        files[f"codegen/data/templates/{src.name}"] = src
-    for src in sorted((TEMPLATES / "runtime").iterdir()):
-        if src.is_file():
-            files[f"codegen/data/templates/runtime/{src.name}"] = src
+    for top in (TEMPLATES, RUNTIME):
+        for src in sorted(top.rglob("*")):
+            if src.is_file() and src.suffix != ".o":
+                files[f"codegen/data/{src.relative_to(ROOT).as_posix()}"] = src
     return files
 
 
@@ -134,7 +135,7 @@ def _fake_tree(tmp_path: Path) -> Path:
     """The Makefile with the files its rules name, and a stand-in virtual environment."""
     tree = tmp_path / "tree"
     for name in ("Makefile", "pyproject.toml", "setup.py", "codegen/__init__.py",
-                 "codegen/compiler/build.py", "examples/minimal.c"):
+                 "codegen/compiler/build.py", "examples/minimal.c", "runtime/cflags.txt"):
         (tree / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / name, tree / name)
     shutil.copytree(GENERATED, tree / "generated",
@@ -264,6 +265,26 @@ def test_every_subpackage_is_packaged():
 def test_resources_in_the_checkout():
     assert resources.in_checkout()
     assert resources.templates() == TEMPLATES and resources.generated() == GENERATED
+    assert resources.runtime() == RUNTIME
+
+
+def test_compiler_flags_are_written_once():
+    """runtime/cflags.txt names every set of flags; nothing else spells the language, the
+    warnings or the sanitizers (a user's command in a doc or a comment aside)."""
+    sets = resources.cflag_sets()
+    assert {"base", "optimize", "strict", "promotion", "sanitize"} <= set(sets)
+    assert "-std=c99" in sets["base"] and "-Werror" in sets["strict"]
+    assert resources.cflags("base", "optimize") == sets["base"] + sets["optimize"]
+    flag = re.compile(r"(?<![-\w])-(std=c99|Wpedantic|fsanitize=)")
+    builds = [ROOT / "Makefile", ROOT / "CMakeLists.txt", *ROOT.glob("embedded/*.mk")]
+    python = [p for top in ("codegen", "tests", "benchmarks", "embedded")
+              for p in (ROOT / top).rglob("*.py") if p != Path(__file__).resolve()]
+    spelled = [f"{path.relative_to(ROOT)}: {line.strip()}" for path in builds + python
+               for line in path.read_text().splitlines()
+               if flag.search(line) and not line.lstrip().startswith("#")
+               and (path.suffix != ".py" or re.search(r"[\"']-(std=c99|Wpedantic|fsanitize=)",
+                                                       line))]
+    assert spelled == [], spelled
 
 
 def test_resources_is_standard_library_only():
@@ -287,10 +308,14 @@ def test_resources_in_an_installed_layout(tmp_path):
     package = tmp_path / "site-packages" / "codegen"
     (package / "data" / "templates").mkdir(parents=True)
     (package / "data" / "generated").mkdir()
+    (package / "data" / "runtime").mkdir()
+    shutil.copy(RUNTIME / "cflags.txt", package / "data" / "runtime" / "cflags.txt")
     installed = _load_resources(package)
     assert not installed.in_checkout()
     assert installed.templates() == package / "data" / "templates"
     assert installed.generated() == package / "data" / "generated"
+    assert installed.runtime() == package / "data" / "runtime"
+    assert installed.cflags("base") == resources.cflags("base")
     checkout = tmp_path / "repo"
     (checkout / "codegen").mkdir(parents=True)
     (checkout / "templates").mkdir()
@@ -298,6 +323,7 @@ def test_resources_in_an_installed_layout(tmp_path):
     source = _load_resources(checkout / "codegen")
     assert source.in_checkout() and source.templates() == checkout / "templates"
     assert source.generated() == checkout / "generated"
+    assert source.runtime() == checkout / "runtime"
 
 
 def test_generate_default_output(monkeypatch, tmp_path):
@@ -448,12 +474,14 @@ def test_installed_package_finds_its_copies(installed):
     where = installed.python_json(
         "import json, codegen, codegen.compiler.generate as g, codegen.resources as r; "
         "print(json.dumps([codegen.__file__, r.in_checkout(), str(r.generated()), "
-        "str(r.templates()), str(g.default_output()), str(g.TEMPLATES)]))")
+        "str(r.templates()), str(g.default_output()), str(g.TEMPLATES), str(r.runtime()), "
+        "r.cflags('base')]))")
     package = Path(where[0]).parent
     assert package.is_relative_to(installed.venv), f"codegen imported from {package}"
     assert where[1:] == [False, str(package / "data" / "generated"),
                          str(package / "data" / "templates"),
-                         str(installed.cwd / "generated"), str(package / "data" / "templates")]
+                         str(installed.cwd / "generated"), str(package / "data" / "templates"),
+                         str(package / "data" / "runtime"), resources.cflags("base")]
     shown = installed.run(sys.executable, "-m", "pip", "--python", installed.python, "show",
                           "mechvib").stdout
     assert "Name: mechvib" in shown and f"Author: {AUTHOR}" in shown
@@ -518,6 +546,6 @@ def test_installed_c_sources_compile(installed, tmp_path):
     for folder in names + ["runtime"]:
         for source in sorted((root / folder).glob("*.c")):
             obj = tmp_path / f"{folder}_{source.stem}.o"
-            installed.run("gcc", "-std=c99", "-c", f"-I{root / folder}", f"-I{root / 'runtime'}",
-                          source, "-o", obj)
+            installed.run("gcc", *resources.cflags("base"), "-c", f"-I{root / folder}",
+                          f"-I{root / 'runtime'}", source, "-o", obj)
             assert obj.stat().st_size > 0

@@ -17,6 +17,7 @@ import pytest
 import sympy as sp
 
 from codegen.api import load
+from codegen.resources import cflags
 from conftest import ROOT, mp_lambdify
 
 #: doughty only: the slider-crank's coefficients written out explicitly take sympy minutes to lambdify
@@ -59,7 +60,7 @@ def bounded(request, tmp_path_factory):
                             str(generated / "runtime" / "codegen_interval.c"),
                             str(generated / "runtime" / "codegen_roots.c")],
                    include_dirs=[str(generated / name), str(generated / "runtime")],
-                   extra_compile_args=["-std=c99", "-O1"], libraries=["m"])
+                   extra_compile_args=[*cflags("base"), "-O1"], libraries=["m"])
     path = ffi.compile(tmpdir=str(tmp_path_factory.mktemp(module)))
     spec = importlib.util.spec_from_file_location(module, path)
     compiled = importlib.util.module_from_spec(spec)

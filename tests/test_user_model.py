@@ -22,6 +22,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from codegen.resources import cflags
+
 REPO = Path(__file__).resolve().parent.parent
 NAME = "spring_pendulum"
 
@@ -236,7 +238,7 @@ def test_generated_c_compiles_standalone_strict(workdir, generated, tmp_path):
     assert len(sources) >= 3
     for source in sources:
         out = subprocess.run(
-            [gcc, "-std=c99", "-Wall", "-Wextra", "-Werror", f"-I{lib / NAME}",
+            [gcc, *cflags("base", "strict"), f"-I{lib / NAME}",
              f"-I{lib / 'runtime'}", "-c", str(source), "-o", str(tmp_path / f"{source.stem}.o")],
             capture_output=True, text=True, timeout=120)
         assert out.returncode == 0, f"{source.name}:\n{out.stderr}"

@@ -15,14 +15,14 @@ examples:
 
 def run(args) -> int:
     """Where the C files of a shipped library are, or a copy of them in a folder."""
-    from ..resources import generated
+    from ..resources import RUNTIME, generated
 
     name = common.checked_mechanism(args.mechanism or common.DEFAULT_MECHANISM, common.shipped())
     root = generated()
-    folders = [root / name, root / "runtime"]
+    folders = [root / name, root / RUNTIME]
     if not folders[0].is_dir():
         have = ", ".join(sorted(p.name for p in root.iterdir() if p.is_dir() and
-                                p.name != "runtime")) if root.is_dir() else "none"
+                                p.name != RUNTIME)) if root.is_dir() else "none"
         raise ValueError(f"{name}: no C sources in this installation (it has {have})")
     files = sorted(f for folder in folders for f in folder.iterdir()
                    if f.suffix in (".c", ".h"))

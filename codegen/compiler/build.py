@@ -5,13 +5,16 @@ every folder of generated/ holding a library (NAME/NAME_api.json) becomes the mo
 ``codegen._native_NAME``, compiled from its sources and the shared runtime. ``build_into``
 does the same for a user's library, into any folder.
 setuptools executes this file by path (not as part of the package), from the source tree
-(a checkout or an unpacked sdist): it imports nothing of codegen. Imported from an installed
-package it defines no builders (there is no source tree), and ``build_into`` still works.
+(a checkout or an unpacked sdist): it imports nothing of the codegen package, and loads
+codegen/resources.py (standard library only) by path for the runtime's name and the compiler
+flags. Imported from an installed package it defines no builders (there is no source tree),
+and ``build_into`` still works.
 The strict warning flags are applied to generated/ by the test suite (cffi's own wrapper
 code is not -Wpedantic clean, so it is not held to them here).
 """
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import shutil
@@ -25,11 +28,24 @@ ROOT = Path(__file__).resolve().parents[2]  # codegen/compiler/build.py -> the c
 GENERATED = ROOT / "generated"
 #: True when this file is in a source tree (setup.py beside codegen/), not installed.
 SOURCE_TREE = (ROOT / "setup.py").is_file()
-RUNTIME = "runtime"
+
+
+def _resources():
+    """codegen/resources.py, loaded by path (see the module docstring)."""
+    path = Path(__file__).resolve().parents[1] / "resources.py"
+    spec = importlib.util.spec_from_file_location("_mechvib_build_resources", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_RESOURCES = _resources()
+RUNTIME = _RESOURCES.RUNTIME
 #: generate.MANIFEST (this file imports nothing of codegen): the files generate wrote there.
 MANIFEST = ".mechvib-manifest"
-#: The enclosures inline: the faster form on a host (codegen_interval.h, interval programs).
-COMPILE_FLAGS = ["-std=c99", "-O2", "-DCODEGEN_INLINE_INTERVALS"]
+#: runtime/cflags.txt's, and the enclosures inline: the faster form on a host
+#: (codegen_interval.h, interval programs).
+COMPILE_FLAGS = [*_RESOURCES.cflags("base", "optimize"), "-DCODEGEN_INLINE_INTERVALS"]
 
 
 def _c_string(text: str) -> str:

@@ -1,12 +1,15 @@
 """Model -> derivation -> plan -> rendered files, written to (or compared with) a folder.
 
-Each mechanism's library goes to its own folder (generated/NAME/); the hand-written runtime
-(templates/runtime/) is copied once, unchanged, to generated/runtime/, shared by all.
+Each mechanism's library goes to its own folder (generated/NAME/); the hand-written C runtime's
+sources (runtime/*.c, *.h) are copied once, unchanged, to generated/runtime/, shared by all.
+That copy is produced, never edited: it makes generated/ whole, one folder to drop into a
+firmware or any C project with nothing else of the repository, and `generate --check` holds
+it equal to runtime/ (the runtime itself is edited, compiled and tested in runtime/).
 
-The templates are the checkout's templates/, or the copy inside an installed package
-(codegen.resources). The default output folder, ``default_output()``, is the checkout's
-generated/ in a checkout, else ./generated of the current directory: an installed package
-never writes into its own folder.
+The templates and the runtime are the checkout's templates/ and runtime/, or the copies inside
+an installed package (codegen.resources). The default output folder, ``default_output()``, is
+the checkout's generated/ in a checkout, else ./generated of the current directory: an
+installed package never writes into its own folder.
 """
 from __future__ import annotations
 
@@ -35,7 +38,10 @@ from .verification_multibody import verify_multibody
 EVERY = SHIPPED + SHIPPED_MULTIBODY
 
 TEMPLATES = resources.templates()
-RUNTIME = "runtime"
+RUNTIME = resources.RUNTIME
+#: The runtime's files that generated/runtime/ carries: its C sources (not the FMI glue in
+#: runtime/fmi/, which FMUs take, nor cflags.txt).
+RUNTIME_SOURCES = (".c", ".h")
 BUILD_BYPRODUCTS = (".o",)  # objects a compiler may leave beside the sources
 
 #: The SymPy release the committed generated/ was produced and tested with (pyproject pins it);
@@ -56,14 +62,16 @@ def default_cache() -> Path | None:
 
 def fingerprint(name: str, templates: Path = TEMPLATES) -> str:
     """A digest of everything a shipped mechanism's files are made from: every source file of
-    the package (its model included), the templates, and the SymPy, Jinja2 and Python
-    versions. Equal digests give byte-identical files, so a cached result can stand in."""
+    the package (its model included), the templates, the runtime (whose headers declare the
+    codes the cffi declarations repeat), and the SymPy, Jinja2 and Python versions. Equal
+    digests give byte-identical files, so a cached result can stand in."""
     import jinja2
 
     digest = hashlib.sha256(f"{name} {sympy.__version__} {jinja2.__version__} "
                             f"{sys.version_info[:2]}".encode())
-    sources = sorted(resources.PACKAGE.rglob("*.py")) + sorted(
-        p for p in templates.rglob("*") if p.is_file())
+    sources = sorted(resources.PACKAGE.rglob("*.py")) + [
+        p for folder in (templates, resources.runtime()) for p in sorted(folder.rglob("*"))
+        if p.is_file()]
     for path in sources:
         digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()
@@ -145,16 +153,19 @@ def verified_plan(mechanism: Mechanism, progress: Callable[[str], None] = lambda
     return plan
 
 
-def runtime(templates: Path = TEMPLATES) -> dict[str, str]:
-    """File name -> text of the shared runtime."""
-    return {p.name: p.read_text() for p in sorted((templates / RUNTIME).iterdir()) if p.is_file()}
+def runtime(folder: Path | None = None) -> dict[str, str]:
+    """File name -> text of the shared runtime's C sources (of resources.runtime() unless
+    told), as generated/runtime/ carries them: a copy, byte for byte."""
+    folder = resources.runtime() if folder is None else folder
+    return {p.name: p.read_text() for p in sorted(folder.iterdir())
+            if p.is_file() and p.suffix in RUNTIME_SOURCES}
 
 
 def emit_all(names=EVERY, templates: Path = TEMPLATES, cache: Path | None = None
              ) -> dict[str, dict[str, str]]:
     """Folder -> its files, for the runtime and every named (shipped) mechanism; with a cache
     folder, a mechanism is derived again only when its fingerprint changed."""
-    folders = {RUNTIME: runtime(templates)}
+    folders = {RUNTIME: runtime()}
     for name in names:
         folders[name] = _emit_shipped(name, templates, cache)
     return folders

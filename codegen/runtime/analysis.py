@@ -59,24 +59,29 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .. import ccodes
 from ..errors import LibraryError
 from .library import Library, ParameterSet, params_shown
 
 #: The words of stability, for any number of coordinates (their codes are the indices, in
 #: batch tables, sweeps and branches). 0-2 are one coordinate's C enum codegen_stability
-#: (templates/analysis.h.j2): "marginal" is one coordinate's only (K > 0 undamped, or K = 0
-#: exactly). "undecided" (3) is several coordinates' only: codegen_multibody.h's
-#: CODEGEN_MB_UNDECIDED, the least omega^2 within rounding of zero; no C enum holds 3.
-STABILITY = ("stable", "marginal", "unstable", "undecided")
-# The C enums' values, in order (templates/analysis.h.j2).
-DAMPING = ("underdamped", "critical", "overdamped", "undamped", "none")
-KINDS = ("equilibrium", "other assembly mode", "extraneous", "mode undecided")
+#: (codegen_model.h, read from it by codegen.ccodes): "marginal" is one coordinate's only
+#: (K > 0 undamped, or K = 0 exactly). "undecided" (3) is several coordinates' only:
+#: codegen_multibody.h's CODEGEN_MB_UNDECIDED, the least omega^2 within rounding of zero.
+STABILITY = ccodes.words("codegen_stability") + ("undecided",)
+# The words of the C enums' codes, indexed by code (a word is its member's name unless given).
+DAMPING = ccodes.words("codegen_damping", CRITICALLY_DAMPED="critical", NOT_OSCILLATORY="none")
+KINDS = ccodes.words("codegen_root_kind", OTHER_ASSEMBLY="other assembly mode")
 #: What the isolation could not decide, for any number of coordinates: one coordinate's C
-#: codes are 0 and 1, several coordinates' (codegen_boxes.h) 1, 2 and 3.
-UNCERTAINTIES = ("cluster", "singular", "at the end of a range")
+#: codes (cluster, singular) and several coordinates' end of a range.
+UNCERTAINTIES = ccodes.words("codegen_uncertainty") + ("at the end of a range",)
 METHODS = ("auto", "polynomial", "isolate")
 #: codegen_multibody.h's stability codes (1, 0, -1) as words of STABILITY.
-_SEVERAL_STABILITY = {1: "stable", 0: "unstable", -1: "undecided"}
+MULTIBODY_STABILITY = ccodes.named({"MB_STABLE": "stable", "MB_UNSTABLE": "unstable",
+                                    "MB_UNDECIDED": "undecided"})
+#: codegen_boxes.h's and codegen_multibody.h's kinds of an undecided box as UNCERTAINTIES' words.
+MULTIBODY_UNCERTAIN = ccodes.named({"BOX_CLUSTER": "cluster", "BOX_SINGULAR": "singular",
+                                   "MB_AT_RANGE_END": "at the end of a range"})
 
 #: The kind of root that is not an equilibrium (the squared equation's, with a negative
 #: length): its stability and damping are None (JSON null, empty in CSV, "-" in the table).
@@ -448,12 +453,12 @@ def _read_several(params: ParameterSet, result: Any) -> MultibodyAnalysis:
         shape = shapes[r].reshape(n, n)
         equilibria.append(MultibodyEquilibrium(
             theta[r], lo[r], hi[r], omega_squared[r], shape, s[r], ratios[r], modal[r],
-            _SEVERAL_STABILITY[result.stability[r]],
+            MULTIBODY_STABILITY[result.stability[r]],
             _modal_zeta(omega_squared[r], modal[r], shape, B), M, B, K))
     equilibria.sort(key=lambda e: tuple(e.theta))
     u_lo = _array(ffi, result.uncertain_lo, uncertain * n).reshape(uncertain, n)
     u_hi = _array(ffi, result.uncertain_hi, uncertain * n).reshape(uncertain, n)
-    boxes = [UncertainBox(u_lo[u], u_hi[u], UNCERTAINTIES[result.uncertain_kind[u] - 1])
+    boxes = [UncertainBox(u_lo[u], u_hi[u], MULTIBODY_UNCERTAIN[result.uncertain_kind[u]])
              for u in range(uncertain)]
     names = tuple(c.name for c in coordinates_of(library))
     return MultibodyAnalysis(params, names, tuple(equilibria), tuple(boxes))

@@ -53,10 +53,12 @@ def receptance(library: Any, params: Any, theta: Any, omega: Any) -> np.ndarray:
 
 # ------------------------------------------------------------------- many sets at once
 
-#: The codes of the C stability (codegen_multibody.h: -1, 0, 1) as analysis.STABILITY's:
-#: undecided, unstable, stable.
-_STABILITY_CODES = np.array([analysis.STABILITY.index(s) for s in
-                             ("undecided", "unstable", "stable")], dtype=np.int8)  # C -1, 0, 1
+#: The codes of the C stability (codegen_multibody.h's, read from it) as analysis.STABILITY's
+#: (stable, unstable, undecided), indexed by the C code less the least of them.
+_LEAST_STABILITY = min(analysis.MULTIBODY_STABILITY)
+_STABILITY_CODES = np.array(
+    [analysis.STABILITY.index(analysis.MULTIBODY_STABILITY[code])
+     for code in range(_LEAST_STABILITY, max(analysis.MULTIBODY_STABILITY) + 1)], dtype=np.int8)
 
 
 def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
@@ -91,7 +93,7 @@ def equilibria(library: Any, c: np.ndarray, statuses: np.ndarray
         "eigenvalues": (field("s_re", 2 * n) + 1j * field("s_im", 2 * n))[order],
         "damping_ratios": field("damping_ratio", 2 * n)[order],
         "zeta": field("modal_damping", n)[order],
-        "stability": _STABILITY_CODES[field("stability") + 1][order]}
+        "stability": _STABILITY_CODES[field("stability") - _LEAST_STABILITY][order]}
     return columns, sets[order], counts, uncertain
 
 

@@ -1,5 +1,5 @@
 """Straight-line polynomial programs as instructions for the runtime's
-double-double machine (templates/runtime/codegen_dd.c).
+double-double machine (runtime/codegen_dd.c).
 
 Squaring the square roots out of G cancels up to ~13 digits in sigma's low coefficients,
 so sigma is evaluated in double-double. Written as C calls, the thousands of operations of

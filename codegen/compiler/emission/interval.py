@@ -1,5 +1,5 @@
 """Expressions as interval programs for the runtime's outward-rounded arithmetic
-(templates/runtime/codegen_interval.h), for the certified isolation of G's zeros.
+(runtime/codegen_interval.h), for the certified isolation of G's zeros.
 
 Each expression becomes three-address instructions over reused slots (a program that
 codegen_iv_run executes) after one common-subexpression pass, so every value has exactly one

@@ -15,7 +15,7 @@ import json
 import jinja2
 import sympy as sp
 
-from ... import __version__
+from ... import __version__, ccodes
 from .interval import inline_tail, inputs_read, interval_body, singular_parts, split_program
 from .multibody import MultibodyPlan
 from .plan import CFunction, Plan
@@ -35,6 +35,7 @@ def environment(template_dir: str) -> jinja2.Environment:
         autoescape=False,
     )
     env.filters["prefix_with"] = lambda value, prefix: f"{prefix}{value}"
+    env.filters["c_declaration"] = ccodes.declaration
     return env
 
 
@@ -357,6 +358,8 @@ def render(plan: Plan, template_dir: Path, target: CTarget = CTarget()) -> dict[
         "scaling": plan.scaling,
         # sigma as a double-double program, whose values the analysis keeps in its workspace
         "sigma_values": any(f.name == "sigma" and f.body.program for f in functions),
+        # the runtime's enums, as its headers declare them
+        "enums": ccodes.enums(),
     }
     context.update(_model_layout(plan, functions))
     templates = {f"{prefix}.h": "library.h.j2", f"{prefix}.c": "library.c.j2",

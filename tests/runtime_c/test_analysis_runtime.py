@@ -1,6 +1,6 @@
 """Tests for the runtime's analysis and time response on their own
-(templates/runtime/codegen_analysis.c and codegen_simulation.c, copied to generated/runtime/),
-through a codegen_model written by hand in tests/c/analysis_driver.c: nothing generated.
+(runtime/codegen_analysis.c and codegen_simulation.c, copied to generated/runtime/), through
+a codegen_model written by hand in drivers/analysis_driver.c: nothing generated.
 
 Its mechanism: G(theta) = a cos(theta) + b sin(theta) + c with constant M = m and B = d. The
 references are closed forms that share nothing with the runtime: the zeros of G from

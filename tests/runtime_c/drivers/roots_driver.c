@@ -1,6 +1,6 @@
-/* Drives codegen_poly_real_roots (templates/c/codegen_roots.c) for every degree 1 ..
- * CODEGEN_MAX_DEGREE under AddressSanitizer + UBSan (see tests/test_runtime_roots.py). The
- * coefficients and the outputs live in heap blocks of exactly degree + 1, degree and 1 elements,
+/* Drives codegen_poly_real_roots (runtime/codegen_roots.c) for every degree 1 ..
+ * CODEGEN_MAX_DEGREE under AddressSanitizer + UBSan (see
+ * tests/runtime_c/test_runtime_roots.py). The coefficients and the outputs live in heap blocks of exactly degree + 1, degree and 1 elements,
  * so any read of sigma beyond sigma[degree] (or before sigma[0]), or any write past theta's
  * degree values, is reported by ASan. Inputs: random dense coefficients (fixed-seed LCG), wide
  * magnitudes with exact zeros, products of known real roots with complex pairs, close pairs and

@@ -1,4 +1,4 @@
-/* A driver for generated/runtime/codegen_modal.c, used by tests/test_modal_runtime.py: one
+/* A driver for runtime/codegen_modal.c, used by tests/runtime_c/test_modal_runtime.py: one
  * command per line on stdin, one answer line per command on stdout. Numbers travel as C99 hex
  * floats both ways (strtod reads them, %a prints them), so nothing is rounded between C and
  * Python; compiled with -DCODEGEN_FLOAT the library computes in float (inputs rounded once).

@@ -1,8 +1,8 @@
-"""The runtime's certified isolation in n dimensions (generated/runtime/codegen_boxes.c), on
+"""The runtime's certified isolation in n dimensions (runtime/codegen_boxes.c), on
 its own (issue 31): every zero of G: R^n -> R^n in a box, each proven by Krawczyk's operator,
 what cannot be decided reported, never dropped, never counted as a zero.
 
-Driven through tests/c/boxes_driver.c, whose problems are written by hand in interval
+Driven through drivers/boxes_driver.c, whose problems are written by hand in interval
 arithmetic. The references share nothing with the runtime: closed forms, and for the double
 pendulum's statics (two bars on torsional springs: G = dV/dtheta) a reduction to one
 equation in theta_2, scanned densely and refined by mpmath at 30 digits. Cases: the

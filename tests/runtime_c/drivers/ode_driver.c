@@ -1,6 +1,6 @@
-/* A driver for the integrator of generated/runtime/codegen_ode.c, used by
- * tests/test_ode_runtime.py: one command per line on stdin, one answer line per command on
- * stdout. Doubles travel as C99 hex floats both ways (strtod reads them, %a prints them), so
+/* A driver for the integrator of runtime/codegen_ode.c, used by
+ * tests/runtime_c/test_ode_runtime.py: one command per line on stdin, one answer line per
+ * command on stdout. Doubles travel as C99 hex floats both ways (strtod reads them, %a prints them), so
  * nothing is rounded between C and Python.
  *
  *   solve PROBLEM A B RTOL ATOL H_MAX MAX_STEPS N Y0.. COUNT T..

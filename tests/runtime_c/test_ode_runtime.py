@@ -1,12 +1,12 @@
-"""Tests for the runtime's integrator, templates/runtime/codegen_ode.h/.c (copied verbatim to
+"""Tests for the runtime's integrator, runtime/codegen_ode.h/.c (copied verbatim to
 generated/runtime/): Dormand-Prince 5(4) with dense output, and one RK4 step.
 
-Self-contained: tests/c/ode_driver.c is compiled here with the project's strict flags against
-generated/runtime/codegen_ode.c and fed commands on stdin; doubles travel as hex floats both
-ways. Nothing of the project is imported. The references are exact solutions: a damped
-harmonic oscillator (under-, critically, over- and undamped), exponential decay and growth, a
-time-dependent right-hand side, a rotating and decaying 3-D linear system, and y' = y^2, which
-is infinite at a known time.
+Self-contained: drivers/ode_driver.c is compiled here with the project's strict flags against
+runtime/codegen_ode.c and fed commands on stdin; doubles travel as hex floats both ways.
+Nothing of the project is imported but the flags (runtime/cflags.txt). The references are
+exact solutions: a damped harmonic oscillator (under-, critically, over- and undamped),
+exponential decay and growth, a time-dependent right-hand side, a rotating and decaying 3-D
+linear system, and y' = y^2, which is infinite at a known time.
 """
 from __future__ import annotations
 

@@ -1,9 +1,9 @@
-/* A driver for the runtime's analysis and time response (generated/runtime/codegen_analysis.c,
- * codegen_simulation.c), used by tests/test_analysis_runtime.py, on a mechanism written here
- * by hand, with nothing generated: G(theta) = a cos(theta) + b sin(theta) + c, constant
- * M = m and B = d, over the circle centred on `centre`. Its polynomial in tau = tan(theta/2)
- * is (a + c) + 2 b tau + (c - a) tau^2. One command per line on stdin, one answer line on
- * stdout; doubles travel as C99 hex floats both ways.
+/* A driver for the runtime's analysis and time response (runtime/codegen_analysis.c,
+ * codegen_simulation.c), used by tests/runtime_c/test_analysis_runtime.py, on a mechanism
+ * written here by hand, with nothing generated: G(theta) = a cos(theta) + b sin(theta) + c,
+ * constant M = m and B = d, over the circle centred on `centre`. Its polynomial in
+ * tau = tan(theta/2) is (a + c) + 2 b tau + (c - a) tau^2. One command per line on stdin,
+ * one answer line on stdout; doubles travel as C99 hex floats both ways.
  *
  *   analyze ROUTE CAPACITY A B C M D CENTRE
  *       ROUTE 0 (default) or 1 (isolation); CAPACITY: the result's roots (<= 4)

@@ -1,4 +1,4 @@
-"""codegen_poly_root_spans (templates/runtime/codegen_roots.c) on its own: where the real roots
+"""codegen_poly_root_spans (runtime/codegen_roots.c) on its own: where the real roots
 of every polynomial within bounds on its coefficients may lie. The polynomials are products of
 chosen factors, real roots and complex pairs, multiplied out exactly (fractions), rounded to
 double, each coefficient's bound its rounding error plus any extra a case adds: so the chosen
@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from test_runtime_roots import RUNTIME_CDEF, RUNTIME_SRC, TEMPLATES, _build
+from .conftest import RUNTIME
+from .test_runtime_roots import RUNTIME_CDEF, RUNTIME_SRC, _build
 
 CDEF = RUNTIME_CDEF.replace("CODEGEN_ROOTS_ERR_DEGREE = 4",
                             "CODEGEN_ROOTS_ERR_DEGREE = 4, CODEGEN_ROOTS_UNPROVEN = 5") + """
@@ -39,7 +40,7 @@ TWO_PI = 2 * math.pi
 def spans_lib(tmp_path_factory):
     d = tmp_path_factory.mktemp("root_spans")
     return _build(d, "_root_spans_test", CDEF, '#include "codegen_runtime.h"', [RUNTIME_SRC],
-                  [TEMPLATES])
+                  [RUNTIME])
 
 
 def exact_polynomial(real_roots, pairs, lead=Fraction(1), at_infinity=0):

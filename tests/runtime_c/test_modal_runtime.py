@@ -1,11 +1,11 @@
-"""The runtime's modal linear algebra (generated/runtime/codegen_modal.c), on its own, against
+"""The runtime's modal linear algebra (runtime/codegen_modal.c), on its own, against
 LAPACK through numpy and scipy (issue 31): the undamped modes of K phi = omega^2 M phi, the
 eigenvalues of M s^2 + B s + K and the receptance (K - omega^2 M + i omega B)^-1, on thousands
 of random matrices, matrices with repeated eigenvalues, defective ones (critically damped
 modes: a double eigenvalue with one eigenvector) and badly scaled ones (rows and columns
 scaled over 12 decades), in double and in float.
 
-Self-contained: tests/c/modal_driver.c is compiled here against the runtime with the
+Self-contained: drivers/modal_driver.c is compiled here against the runtime with the
 project's strict flags; numbers cross as hex floats, so nothing is rounded between C and
 Python.
 """

@@ -1,4 +1,4 @@
-/* A driver for generated/runtime/codegen_boxes.c, used by tests/test_boxes_runtime.py: one
+/* A driver for runtime/codegen_boxes.c, used by tests/runtime_c/test_boxes_runtime.py: one
  * command per line on stdin, one answer line per command on stdout, numbers as C99 hex
  * floats both ways. The work array and the results are allocated here with exactly the sizes
  * the header gives, so that a sanitizer build catches any access beyond them.

@@ -1,6 +1,6 @@
-/* Drives the interval runtime (templates/runtime/codegen_interval.h/.c) for
- * tests/test_interval_runtime.py: reads one command a line from stdin and writes one line of
- * results to stdout. Doubles are read with strtod (hex floats, inf, nan accepted) and written
+/* Drives the interval runtime (runtime/codegen_interval.h/.c) for
+ * tests/runtime_c/test_interval_runtime.py: reads one command a line from stdin and writes
+ * one line of results to stdout. Doubles are read with strtod (hex floats, inf, nan accepted) and written
  * with %a, so nothing is rounded on the way between Python and C.
  *
  * Interval operations (a, b intervals given as two doubles lo hi; flags start at 0):

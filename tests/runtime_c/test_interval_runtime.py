@@ -1,10 +1,10 @@
 """Tests for the runtime's interval arithmetic and certified zero isolation,
-templates/runtime/codegen_interval.h/.c (copied verbatim to generated/runtime/).
+runtime/codegen_interval.h/.c (copied verbatim to generated/runtime/).
 
-Self-contained: tests/c/interval_driver.c is compiled here with gcc and the project's strict
-flags against generated/runtime/codegen_interval.c, and fed commands on stdin; doubles travel as
-hex floats both ways (see the driver's header), so nothing is rounded between C and Python.
-Nothing of the project is imported.
+Self-contained: drivers/interval_driver.c is compiled here with gcc and the project's strict
+flags (runtime/cflags.txt) against runtime/codegen_interval.c, and fed commands on stdin;
+doubles travel as hex floats both ways (see the driver's header), so nothing is rounded between
+C and Python. Nothing of the project is imported but the flags.
 
 References are independent of the code under test: exact rational arithmetic on the doubles
 (fractions.Fraction) for +, -, *, / and integer powers, mpmath at 50 digits for sqrt, sin and

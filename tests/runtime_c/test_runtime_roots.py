@@ -1,8 +1,9 @@
-"""Tests for the shared runtime's root finder, templates/runtime/codegen_roots.c:
+"""Tests for the shared runtime's root finder, runtime/codegen_roots.c:
 codegen_poly_real_roots(sigma, degree, theta, n_roots), generic in the degree (1 .. 32).
 
 Self-contained: the runtime is compiled here into its own cffi extension (nothing of the project
-is imported), so these tests do not depend on the state of the generator or of generated/.
+is imported but runtime/cflags.txt's flags), so these tests do not depend on the state of the
+generator or of generated/.
 References: polynomials built in mpmath from prescribed roots and rounded once, mpmath.polyroots
 at 50 digits on the exact double coefficients, Doughty's degree-12 hard vectors among them.
 """
@@ -18,12 +19,12 @@ import mpmath
 import numpy as np
 import pytest
 
+from .conftest import DRIVERS, RUNTIME, cflags
+
 cffi = pytest.importorskip("cffi")
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-TEMPLATES = ROOT / "templates" / "runtime"
-RUNTIME_SRC = TEMPLATES / "codegen_roots.c"
-DRIVER_SRC = ROOT / "tests" / "c" / "roots_driver.c"
+RUNTIME_SRC = RUNTIME / "codegen_roots.c"
+DRIVER_SRC = DRIVERS / "roots_driver.c"
 
 MAX_DEGREE = 64
 #: Degrees swept for accuracy against known roots (random-root polynomials grow ill-conditioned
@@ -47,7 +48,7 @@ def _build(tmpdir: pathlib.Path, name, cdef, source, sources, include_dirs):
     ffi.cdef(cdef)
     ffi.set_source(name, source, sources=[str(s) for s in sources],
                    include_dirs=[str(d) for d in include_dirs],
-                   extra_compile_args=["-std=c99", "-O2"], libraries=["m"])
+                   extra_compile_args=cflags("base", "optimize"), libraries=["m"])
     path = ffi.compile(tmpdir=str(tmpdir))
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
@@ -57,10 +58,10 @@ def _build(tmpdir: pathlib.Path, name, cdef, source, sources, include_dirs):
 
 @pytest.fixture(scope="module")
 def rt(tmp_path_factory):
-    """(ffi, lib) of templates/runtime/codegen_roots.c, compiled alone."""
+    """(ffi, lib) of runtime/codegen_roots.c, compiled alone."""
     d = tmp_path_factory.mktemp("rt_roots")
     return _build(d, "_rt_roots_test", RUNTIME_CDEF, '#include "codegen_runtime.h"',
-                  [RUNTIME_SRC], [TEMPLATES])
+                  [RUNTIME_SRC], [RUNTIME])
 
 
 # ---------------------------------------------------------------------------- calling
@@ -409,10 +410,10 @@ def test_reads_exactly_degree_plus_one_coefficients(rt, degree):
 
 @pytest.mark.slow   # ~50 s under ASan and UBSan: make test-all (CI)
 def test_sanitized_driver(tmp_path, sanitizer):
-    """tests/c/roots_driver.c under AddressSanitizer + UBSan: every degree 1..CODEGEN_MAX_DEGREE
+    """drivers/roots_driver.c under AddressSanitizer + UBSan: every degree 1..CODEGEN_MAX_DEGREE
     with heap blocks of exactly degree + 1 coefficients and degree roots."""
     exe = tmp_path / "roots_driver"
-    subprocess.run([sanitizer.cc, *sanitizer.flags, f"-I{TEMPLATES}", str(DRIVER_SRC),
+    subprocess.run([sanitizer.cc, *sanitizer.flags, f"-I{RUNTIME}", str(DRIVER_SRC),
                     str(RUNTIME_SRC), "-lm",
                     "-o", str(exe)], check=True, capture_output=True, text=True)
     # The runtime allocates nothing, and the driver frees what it allocates; leak checking is
