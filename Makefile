@@ -3,7 +3,7 @@
 PYTHON ?= python3
 VENV   ?= .venv
 PY      = $(VENV)/bin/python
-# pyproject.toml's [build-system] requires (tests/test_packaging.py keeps the two equal),
+# pyproject.toml's [build-system] requires (tests/system/test_packaging.py keeps the two equal),
 # installed into .venv so that pip can build without isolation: fast, and offline.
 BUILD_REQUIRES = 'setuptools>=77' 'wheel' 'cffi>=1.16'
 INSTALL = $(PY) -m pip install --quiet --no-build-isolation -e '.[test]'
@@ -86,12 +86,12 @@ lint:  ## gcc and clang with strict warnings, and cppcheck, over every library i
 
 sanitize:  ## C drivers under AddressSanitizer + UBSan: every library (random/hostile sets), Table 2
 	mkdir -p build
-	$(CC) $(SANITIZE) -Igenerated/doughty -Igenerated/runtime tests/c/sanitize_driver.c \
+	$(CC) $(SANITIZE) -Igenerated/doughty -Igenerated/runtime tests/support/c/sanitize_driver.c \
 	  generated/doughty/*.c generated/runtime/*.c -lm \
 	  -o build/sanitize_driver
 	ASAN_OPTIONS=detect_leaks=1 ./build/sanitize_driver 5000
 	for lib in $(LIBS); do \
-	  $(PYTHON) tests/c/make_driver.py generated/$$lib build/driver_$$lib.c && \
+	  $(PYTHON) tests/support/c/make_driver.py generated/$$lib build/driver_$$lib.c && \
 	  $(CC) $(SANITIZE) -Igenerated/$$lib -Igenerated/runtime build/driver_$$lib.c \
 	    generated/$$lib/*.c generated/runtime/*.c -lm -o build/driver_$$lib && \
 	  ASAN_OPTIONS=detect_leaks=1 ./build/driver_$$lib 800 || exit 1; done

@@ -51,7 +51,22 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-CFLAGS = ("-std=c99", "-O2")
+
+
+def _flag_sets(path: Path) -> dict[str, tuple[str, ...]]:
+    """The named flag sets of runtime/cflags.txt (NAME = FLAGS per line), read without the
+    package: both revisions are built with the working tree's flags, so that only the
+    sources differ."""
+    sets = {}
+    for line in path.read_text().splitlines():
+        name, sep, flags = line.partition("=")
+        if sep and not line.lstrip().startswith("#"):
+            sets[name.strip()] = tuple(flags.split())
+    return sets
+
+
+_SETS = _flag_sets(ROOT / "runtime" / "cflags.txt")
+CFLAGS = _SETS["base"] + _SETS["optimize"]
 #: The builds, each a name and its defines; every one for both revisions.
 BUILDS = {
     "double inline": ("-DCODEGEN_INLINE_INTERVALS",),

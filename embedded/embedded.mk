@@ -1,7 +1,7 @@
 # `make embedded` (the top-level Makefile runs this file with -j2 and LIBS, the folders of
 # generated/): every library cross-compiled for a Cortex-M4F in double and with
 # CODEGEN_FLOAT, linked into the test firmware (embedded/: start-up, linker script, and a
-# main written from the library's API spec by tests/c/make_driver.py --firmware), run under
+# main written from the library's API spec by tests/support/c/make_driver.py --firmware), run under
 # QEMU's mps2-an386 and compared with the same main built for the host; embedded/report.py
 # then writes $(REPORT).md and .json (sizes, stack, instructions, the comparison).
 PYTHON   ?= python3
@@ -80,9 +80,9 @@ endef
 
 # $(1): a library; its firmware main serves every build
 define main_rule
-$(OUT)/main_$(1).c: generated/$(1)/$(1)_api.json tests/c/make_driver.py
+$(OUT)/main_$(1).c: generated/$(1)/$(1)_api.json tests/support/c/make_driver.py
 	@mkdir -p $$(@D)
-	$(PYTHON) tests/c/make_driver.py --firmware generated/$(1) $$@
+	$(PYTHON) tests/support/c/make_driver.py --firmware generated/$(1) $$@
 endef
 
 $(foreach lib,$(LIBS),$(eval $(call main_rule,$(lib))))

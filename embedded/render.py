@@ -157,7 +157,7 @@ def markdown(report: dict) -> str:
         "instruction advances virtual time by 64 ns, read from the board's 25 MHz timer, so the "
         "counts are exact: a loop of 2001 instructions is counted as "
         f"{_calibrations(report)}). The firmware's main, written per library from its API spec by "
-        "`tests/c/make_driver.py --firmware`, runs both routes on the library's example "
+        "`tests/support/c/make_driver.py --firmware`, runs both routes on the library's example "
         "parameters (the paper's Table 2 for its mechanism) and prints every result's bits; the same main built "
         "for the host (`gcc -O0 -ffp-contract=off`) is the reference. " + float_note,
         "",

@@ -8,7 +8,7 @@ wrong; no traceback reaches the user.
 
 The parser is cheap: the verbs' modules import only the standard library at module level,
 and ``run`` imports what it computes with, so ``--help``, ``--version`` and a verb's
-``--help`` load neither numpy nor the runtime nor the compiler (tests/test_cli_imports.py).
+``--help`` load neither numpy nor the runtime nor the compiler (tests/cli/test_lazy_imports.py).
 """
 from __future__ import annotations
 

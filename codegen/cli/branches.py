@@ -4,7 +4,7 @@ from __future__ import annotations
 from . import common
 
 #: --points' default: codegen.runtime.branches.DEFAULT_POINTS (written here so that building
-#: the parser imports no runtime; tests/test_cli_imports.py holds the two equal).
+#: the parser imports no runtime; tests/cli/test_lazy_imports.py holds the two equal).
 DEFAULT_POINTS = 1001
 
 EXAMPLES = """\

@@ -4,7 +4,7 @@ from __future__ import annotations
 from . import common
 
 #: --fmi's choices: codegen.fmu.VERSIONS (written here so that building the parser imports
-#: none of codegen.fmu; tests/test_cli_imports.py holds the two equal).
+#: none of codegen.fmu; tests/cli/test_lazy_imports.py holds the two equal).
 VERSIONS = ("2.0", "3.0")
 
 EXAMPLES = """\

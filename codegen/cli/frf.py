@@ -7,7 +7,7 @@ import sys
 from . import common
 
 #: --points' default: codegen.runtime.response.POINTS (written here so that building the
-#: parser imports no runtime; tests/test_cli_imports.py holds the two equal).
+#: parser imports no runtime; tests/cli/test_lazy_imports.py holds the two equal).
 POINTS = 801
 
 EXAMPLES = """\

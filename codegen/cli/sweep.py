@@ -8,7 +8,7 @@ import time
 from . import common
 
 #: --chunk's default: codegen.runtime.sweep.CHUNK (written here so that building the parser
-#: imports no runtime; tests/test_cli_imports.py holds the two equal).
+#: imports no runtime; tests/cli/test_lazy_imports.py holds the two equal).
 CHUNK = 16384
 
 EXAMPLES = """\

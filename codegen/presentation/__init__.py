@@ -5,7 +5,7 @@ a drawing's ``Geometry``, ...); the functions here take those results and draw t
 matplotlib (the ``plot`` extra: ``pip install 'mechvib[plot]'``), headless, to PNG or SVG.
 matplotlib is imported only in ``figures``, and only when a figure is drawn; without it a
 figure raises ``PlotUnavailable`` with the install command. Nothing below this layer imports
-it (tests/test_import_graph.py).
+it (tests/system/test_import_graph.py).
 
 Each ``plot_*`` writes a file (.png at 150 dpi, or .svg) and returns its path; each
 ``*_figure`` returns the matplotlib Figure instead, to change or show before saving:

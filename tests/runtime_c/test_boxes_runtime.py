@@ -33,7 +33,7 @@ def h(x: float) -> str:
 
 
 class Boxes:
-    """tests/c/boxes_driver.c: solve commands, answers parsed."""
+    """tests/support/c/boxes_driver.c: solve commands, answers parsed."""
 
     def __init__(self, program):
         self.program = program

@@ -30,7 +30,7 @@ def words(a) -> str:
 
 
 class Modal:
-    """tests/c/modal_driver.c: batches of commands as methods, the answers parsed."""
+    """tests/support/c/modal_driver.c: batches of commands as methods, the answers parsed."""
 
     def __init__(self, program):
         self.program = program

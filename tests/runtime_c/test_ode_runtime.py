@@ -38,7 +38,7 @@ class Solution:
 
 
 class Driver:
-    """tests/c/ode_driver.c: the commands as methods, the answers parsed."""
+    """tests/support/c/ode_driver.c: the commands as methods, the answers parsed."""
 
     def __init__(self, program):
         self.program = program     # conftest's DriverProgram

@@ -1,0 +1,1 @@
+"""The figures and drawings of codegen.presentation."""
