@@ -4,13 +4,16 @@
  *
  * Model Exchange: the host integrates the states; their derivatives are the rates and the
  * library's accelerations. Co-Simulation: a step integrates with the library's own adaptive
- * Dormand-Prince 5(4) at the experiment's tolerance; a change of a parameter, an input or a
- * state restarts it from the current state. A state where the motion is not defined (a
- * spring of zero length, a lost assembly) or a parameter the library refuses is an error
- * with the library's one-line reason in the log, never a NaN; so is a state set to NaN or an
- * infinity (refused, the state kept as it was). Memory: allocated when the instance is made,
- * released when it is freed; nothing between.
+ * Dormand-Prince 5(4) at the experiment's tolerance, one integration carried from each step
+ * to the next (its step size and last stage kept: a run of steps is one integration over
+ * their times, whatever the number of coordinates); a change of a parameter, an input or a
+ * state restarts it from the current state (a value set to what it was is no change). A
+ * state where the motion is not defined (a spring of zero length, a lost assembly) or a
+ * parameter the library refuses is an error with the library's one-line reason in the log,
+ * never a NaN; so is a state set to NaN or an infinity (refused, the state kept as it was).
+ * Memory: allocated when the instance is made, released when it is freed; nothing between.
  */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -254,6 +257,14 @@ static int finite_state(codegen_fmi_instance *c, const char *what, size_t k, dou
     return 0;
 }
 
+/* Whether value differs from *variable, bit for bit. Setting a variable to the value it has
+ * (a host applying a constant input at every step, or putting back the states it got) keeps
+ * the integration in progress, which is at that state already. */
+static int changes(const double *variable, double value)
+{
+    return memcmp(variable, &value, sizeof value) != 0;
+}
+
 int codegen_fmi_set(codegen_fmi_instance *c, const unsigned *vr, size_t n, const double *values)
 {
     const codegen_fmi_model *m = c->model;
@@ -267,17 +278,21 @@ int codegen_fmi_set(codegen_fmi_instance *c, const unsigned *vr, size_t n, const
     }
     for (i = 0; i < n; ++i) {
         const unsigned r = vr[i];
+        double *variable;
         if (r < VR_STATES(m)) {
-            c->params[r] = values[i];
+            variable = &c->params[r];
         } else if (r < VR_STATES(m) + N_STATES(m)) {
-            c->x[r - VR_STATES(m)] = values[i];
+            variable = &c->x[r - VR_STATES(m)];
         } else if (r >= VR_INPUTS(m) && r < VR_OUTPUTS(m)) {
-            c->inputs[r - VR_INPUTS(m)] = values[i];
+            variable = &c->inputs[r - VR_INPUTS(m)];
         } else {
             return codegen_fmi_fail(c, "set: value reference %u cannot be set", r);
         }
+        if (changes(variable, values[i])) {
+            c->running = 0;   /* co-simulation restarts from here with what was set */
+        }
+        *variable = values[i];
     }
-    c->running = 0;   /* co-simulation restarts from here with what was set */
     if (c->phase == RUNNING) {
         const int status = m->check(applied(c));
         if (status != 0) {
@@ -323,8 +338,10 @@ int codegen_fmi_set_states(codegen_fmi_instance *c, const double *x, size_t n)
             return CODEGEN_FMI_ERROR;
         }
     }
-    memcpy(c->x, x, n * sizeof(double));
-    c->running = 0;
+    if (memcmp(c->x, x, n * sizeof(double)) != 0) {
+        memcpy(c->x, x, n * sizeof(double));
+        c->running = 0;
+    }
     return CODEGEN_FMI_OK;
 }
 
@@ -348,6 +365,14 @@ int codegen_fmi_derivatives(codegen_fmi_instance *c, double *dx, size_t n)
     return CODEGEN_FMI_OK;
 }
 
+/* Whether a step from now continues the integration where the last one ended, c->time: to
+ * within the rounding of a host's sums of times (a few units in the last place); from any
+ * other time the integration restarts there. */
+static int continues(const codegen_fmi_instance *c, double now)
+{
+    return fabs(now - c->time) <= 8.0 * DBL_EPSILON * fmax(fabs(now), fabs(c->time));
+}
+
 int codegen_fmi_step(codegen_fmi_instance *c, double now, double step)
 {
     const codegen_fmi_model *m = c->model;
@@ -355,7 +380,7 @@ int codegen_fmi_step(codegen_fmi_instance *c, double now, double step)
     if (c->phase != RUNNING) {
         return codegen_fmi_fail(c, "step: not initialised, or failed before");
     }
-    if (!c->running || now != c->time) {
+    if (!c->running || !continues(c, now)) {
         status = m->start(c->simulation, applied(c), now, c->x, c->x + m->n_dof, c->rtol);
         if (status != 0) {
             return failed(c, status, "the start of the step");
