@@ -22,23 +22,12 @@ from codegen.runtime.analysis import analyze
 from codegen.cli import common
 from codegen.runtime.drawing import geometry
 from codegen.compiler.model import SHIPPED, load
+from commands import mechvib, need_matplotlib
 
 REPO = Path(__file__).resolve().parents[2]
 USER_MODEL = REPO / "tests" / "models" / "two_spring_pendulum.py"
 
 
-def mechvib(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "codegen", *args], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=600)
-
-
-def need_matplotlib() -> None:
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        if os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no"):
-            pytest.fail("matplotlib is needed (CI is set)")
-        pytest.skip("matplotlib is not installed")
 
 
 def assert_points_are_the_library_s(mechanism, library, thetas) -> None:

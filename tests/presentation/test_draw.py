@@ -23,24 +23,12 @@ from codegen.cli import draw as draw_cli
 from codegen.compiler.model import load as load_model
 from codegen.runtime import api
 from codegen.runtime.drawing import geometry, independent_coordinates
+from commands import mechvib, need_matplotlib
 
 REPO = Path(__file__).resolve().parents[2]
 FOUR_BAR_PENDULUM = REPO / "tests" / "models" / "four_bar_pendulum.py"
 
 
-def mechvib(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
-    env = dict(os.environ if env is None else env, MPLBACKEND="Agg")
-    return subprocess.run([sys.executable, "-m", "codegen", *args], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=600)
-
-
-def need_matplotlib() -> None:
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        if os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no"):
-            pytest.fail("matplotlib is needed (CI is set)")
-        pytest.skip("matplotlib is not installed")
 
 
 def assert_drawn_at_the_library_s_points(mechanism, library, params, theta) -> None:

@@ -110,7 +110,7 @@ def test_a_pool_child_that_cannot_load_the_library_reports_it(tmp_path):
     from codegen.api import load_from
 
     repo = Path(__file__).resolve().parents[2]
-    model = (repo / "tests" / "test_user_model.py").read_text()
+    model = (repo / "tests" / "system" / "test_user_model.py").read_text()
     (tmp_path / "mine.py").write_text(model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0])
     out = tmp_path / "lib"
     done = subprocess.run([sys.executable, "-m", "codegen", "generate", "--model",

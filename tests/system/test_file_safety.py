@@ -55,7 +55,7 @@ def test_a_file_generate_wrote_and_no_longer_emits_is_removed(tmp_path):
 @pytest.mark.parametrize("name", ["", ".", "..", "../escape", "/tmp/absolute", "math-lib",
                                   "math", "stdint"])
 def test_a_model_name_that_is_no_identifier_writes_nothing(tmp_path, name):
-    model = (REPO / "tests" / "test_user_model.py").read_text()
+    model = (REPO / "tests" / "system" / "test_user_model.py").read_text()
     text = model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0]
     (tmp_path / "mine.py").write_text(text.replace('name="spring_pendulum"', f"name={name!r}"))
     work = tmp_path / "work"
@@ -182,7 +182,7 @@ def test_the_machine_id_names_this_boot_of_this_host():
 
 def _pendulum(k: str) -> str:
     """The spring pendulum of docs/models.md with another example stiffness (the same name)."""
-    model = (REPO / "tests" / "test_user_model.py").read_text()
+    model = (REPO / "tests" / "system" / "test_user_model.py").read_text()
     text = model.split("MODEL = '''\\\n", 1)[1].split("'''", 1)[0]
     return text.replace('parameter("k", "N/m", "spring stiffness", "20")',
                         f'parameter("k", "N/m", "spring stiffness", "{k}")')
